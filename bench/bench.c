@@ -1,0 +1,155 @@
+/* skyd bench: renders N frames per resolution through the daemon's render path and prints
+ * per-pass GPU times (timestamp queries) and whole-frame times, medians and p99 over the
+ * frames, plus the full atmosphere LUT rebuild time. Not a test: it asserts nothing. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli_args.h"
+#include "world_render.h"
+
+#define MAX_FRAMES 1000
+#define MAX_SIZES 8
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double percentile(double *values, int n, double p)
+{
+    qsort(values, (size_t)n, sizeof *values, compare_doubles);
+    int i = (int)(p * (n - 1) + 0.5);
+    return values[i];
+}
+
+struct series {
+    const char *names[SKY_RENDER_MAX_PASSES];
+    int pass_count;
+    double pass_ms[SKY_RENDER_MAX_PASSES][MAX_FRAMES];
+    double gpu_ms[MAX_FRAMES], wall_ms[MAX_FRAMES];
+};
+
+static void print_series(const char *label, struct series *s, int n)
+{
+    printf("%-22s frame wall median %8.2f ms  p99 %8.2f ms | gpu median %8.2f ms\n", label,
+           percentile(s->wall_ms, n, 0.5), percentile(s->wall_ms, n, 0.99),
+           percentile(s->gpu_ms, n, 0.5));
+    for (int p = 0; p < s->pass_count; p++)
+        printf("    %-20s median %8.3f ms  p99 %8.3f ms\n", s->names[p],
+               percentile(s->pass_ms[p], n, 0.5), percentile(s->pass_ms[p], n, 0.99));
+}
+
+static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosphere *atm,
+                         int n, struct series *s)
+{
+    for (int i = 0; i < n; i++) {
+        struct sky_render_stats st;
+        if (sky_renderer_rebuild_atmosphere(r, atm, &st) != 0)
+            return -1;
+        s->pass_count = st.pass_count;
+        for (int p = 0; p < st.pass_count; p++) {
+            s->names[p] = st.pass_names[p];
+            s->pass_ms[p][i] = st.pass_ms[p];
+        }
+        s->gpu_ms[i] = st.gpu_ms;
+        s->wall_ms[i] = st.wall_ms;
+    }
+    print_series("atmosphere LUT rebuild", s, n);
+    return 0;
+}
+
+static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsigned w,
+                        unsigned h, int n, int warmup, struct series *s)
+{
+    struct sky_render_atmosphere atm;
+    struct sky_render_view view;
+    world_to_render_atmosphere(&c->state, &atm);
+    world_to_render_view(&c->state, w, h, SKY_RENDER_OUTPUT_SRGB8, &view);
+    size_t bytes = (size_t)w * h * 4;
+    void *pixels = malloc(bytes);
+    if (!pixels)
+        return -1;
+    for (int i = -warmup; i < n; i++) {
+        struct sky_render_stats st;
+        /* The sun moves a little every frame so per-view LUTs really are per frame. */
+        view.sun_azimuth_deg = c->state.sun.azimuth_deg + 0.01 * i;
+        if (sky_renderer_render(r, &atm, &view, pixels, bytes, &st) != 0) {
+            free(pixels);
+            return -1;
+        }
+        if (i < 0)
+            continue;
+        s->pass_count = st.pass_count;
+        for (int p = 0; p < st.pass_count; p++) {
+            s->names[p] = st.pass_names[p];
+            s->pass_ms[p][i] = st.pass_ms[p];
+        }
+        s->gpu_ms[i] = st.gpu_ms;
+        s->wall_ms[i] = st.wall_ms;
+    }
+    char label[64];
+    snprintf(label, sizeof label, "frame %ux%u", w, h);
+    print_series(label, s, n);
+    free(pixels);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    struct cli_common common;
+    cli_common_init(&common);
+    int frames = 30, rebuilds = 10;
+    unsigned sizes[MAX_SIZES][2];
+    int size_count = 0;
+    for (int i = 1; i < argc; i++) {
+        int rc = cli_parse_common(argc, argv, &i, &common);
+        if (rc < 0)
+            return 2;
+        if (rc > 0)
+            continue;
+        const char *v;
+        unsigned u;
+        if (strcmp(argv[i], "--frames") == 0 || strcmp(argv[i], "--rebuilds") == 0) {
+            if (!(v = cli_take_value(argc, argv, &i)) ||
+                !cli_parse_uint(argv[i - 1], v, 1, MAX_FRAMES, &u))
+                return 2;
+            *(argv[i - 1][2] == 'f' ? &frames : &rebuilds) = (int)u;
+        } else if (strcmp(argv[i], "--size") == 0) {
+            unsigned w, h;
+            if (!(v = cli_take_value(argc, argv, &i)) || sscanf(v, "%ux%u", &w, &h) != 2 ||
+                w == 0 || h == 0 || w > 8192 || h > 8192 || size_count == MAX_SIZES) {
+                fprintf(stderr, "bench: --size expects WxH\n");
+                return 2;
+            }
+            sizes[size_count][0] = w;
+            sizes[size_count][1] = h;
+            size_count++;
+        } else {
+            fprintf(stderr, "usage: skyd_bench [--frames N] [--rebuilds N] [--size WxH]... "
+                            "[--preset NAME] [--set PATH=VALUE] [--device NAME]\n");
+            return 2;
+        }
+    }
+    if (size_count == 0) {
+        sizes[0][0] = 640, sizes[0][1] = 360;
+        sizes[1][0] = 1280, sizes[1][1] = 720;
+        size_count = 2;
+    }
+    struct sky_renderer *r = cli_create_renderer(&common);
+    if (!r)
+        return 1;
+    printf("device: %s\n", sky_renderer_device_name(r));
+    struct series *s = calloc(1, sizeof *s);
+    struct sky_render_atmosphere atm;
+    world_to_render_atmosphere(&common.state, &atm);
+    int status = s ? 0 : 1;
+    if (status == 0)
+        status = bench_rebuild(r, &atm, rebuilds, s) == 0 ? 0 : 1;
+    for (int k = 0; k < size_count && status == 0; k++)
+        status = bench_frames(r, &common, sizes[k][0], sizes[k][1], frames, 3, s) == 0 ? 0 : 1;
+    free(s);
+    sky_renderer_destroy(&r);
+    return status;
+}

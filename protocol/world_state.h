@@ -1,0 +1,177 @@
+/* World state: the plain struct the daemon keeps, its defaults, and its JSON schema.
+ *
+ * Pure C on cJSON: no sockets, no Vulkan, no globals. Every field has a JSON path
+ * (e.g. "atmosphere.mie.g" with dots, "/atmosphere/mie/g" as a JSON Pointer), a type and a
+ * validation range. Patches are validated completely before anything changes and are applied
+ * all-or-nothing. Units are in the field names: km, per_km, deg, lux.
+ */
+#ifndef SKYD_WORLD_STATE_H
+#define SKYD_WORLD_STATE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+struct cJSON;
+
+enum sky_limb_darkening {
+    SKY_LIMB_DARKENING_NONE = 0,
+    SKY_LIMB_DARKENING_NECKEL96 = 1, /* seed 001 appendix B, listing 6 */
+    SKY_LIMB_DARKENING_HM98 = 2,     /* seed 001 appendix B, listing 7 */
+};
+
+enum sky_exposure_mode {
+    SKY_EXPOSURE_AUTO = 0,
+    SKY_EXPOSURE_MANUAL = 1,
+};
+
+enum sky_tonemap {
+    SKY_TONEMAP_ACES = 0,     /* Narkowicz's fitted ACES filmic curve */
+    SKY_TONEMAP_REINHARD = 1, /* L / (1 + L) per channel */
+    SKY_TONEMAP_CLAMP = 2,    /* linear, clamped to [0, 1] */
+};
+
+struct sky_atmosphere_state {
+    double bottom_radius_km;          /* planet radius */
+    double top_radius_km;             /* radius of the top of the atmosphere, > bottom */
+    double rayleigh_scattering_per_km[3];
+    double rayleigh_scale_height_km;
+    double mie_scattering_per_km[3];
+    double mie_absorption_per_km[3];
+    double mie_scale_height_km;
+    double mie_g[3];                  /* Cornette-Shanks asymmetry per channel */
+    double ozone_absorption_per_km[3];
+    double ozone_peak_altitude_km;    /* centre of the tent layer */
+    double ozone_width_km;            /* full width of the tent layer */
+    double ground_albedo[3];
+    double fog_density_per_km;        /* height fog: grey extra aerosol scattering at the ground */
+    double fog_scale_height_km;       /* its exponential falloff */
+};
+
+struct sky_sun_state {
+    double illuminance_lux;           /* ground illuminance with the sun at zenith (seed 001, 4.1) */
+    double angular_diameter_deg;
+    double azimuth_deg;               /* from north through east */
+    double elevation_deg;
+    enum sky_limb_darkening limb_darkening;
+};
+
+struct sky_camera_state {
+    double altitude_km;               /* above the planet surface; may be above the atmosphere */
+    double yaw_deg;                   /* view azimuth from north through east */
+    double pitch_deg;                 /* view elevation above the local horizon */
+    double fov_deg;                   /* vertical field of view */
+};
+
+struct sky_exposure_state {
+    enum sky_exposure_mode mode;
+    double ev100;                     /* used when mode is manual */
+    double compensation_ev;           /* added to the automatic exposure */
+    enum sky_tonemap tonemap;
+};
+
+struct sky_render_settings {
+    int transmittance_lut[2];         /* width, height */
+    int multiscattering_lut[2];
+    int skyview_lut[2];
+    int aerial_perspective_lut[3];    /* width, height, depth slices */
+    double aerial_perspective_max_km; /* depth covered by the froxel volume */
+};
+
+struct sky_world_state {
+    uint64_t revision;
+    struct sky_atmosphere_state atmosphere;
+    struct sky_sun_state sun;
+    struct sky_camera_state camera;
+    struct sky_exposure_state exposure;
+    struct sky_render_settings render;
+};
+
+/* One validation failure: a JSON Pointer to the field ("/atmosphere/mie/g") and a reason. */
+struct sky_field_error {
+    char pointer[128];
+    char reason[160];
+    int code; /* stable id, one of enum sky_field_error_code */
+};
+
+enum sky_field_error_code {
+    SKY_FIELD_UNKNOWN = 1,      /* no such field */
+    SKY_FIELD_WRONG_TYPE = 2,   /* e.g. a string where a number is expected */
+    SKY_FIELD_OUT_OF_RANGE = 3, /* number outside [min, max] or not finite */
+    SKY_FIELD_BAD_VALUE = 4,    /* unparsable value text, unknown enum name, wrong array length */
+    SKY_FIELD_INCONSISTENT = 5, /* fields valid alone but not together (top radius <= bottom) */
+};
+
+#define SKY_MAX_FIELD_ERRORS 32
+
+struct sky_field_errors {
+    int count;                  /* number of entries filled (at most SKY_MAX_FIELD_ERRORS) */
+    int total;                  /* number of failures found, may exceed count */
+    struct sky_field_error items[SKY_MAX_FIELD_ERRORS];
+};
+
+/* Earth defaults (DESIGN.md constants); revision 0. */
+void sky_world_state_defaults(struct sky_world_state *state);
+
+/* Validates `patch` (a JSON object, any subset of the state's tree) against the schema and
+ * applies it to *state only when every field is valid and the result is consistent. Unknown
+ * fields are errors. Returns true when applied; on false *state is untouched and *errors
+ * lists each failure. Does not change the revision. */
+bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSON *patch,
+                                struct sky_field_errors *errors);
+
+/* Applies one "dotted.path=value" assignment (value text as on a command line: a number,
+ * a JSON array "[1,2,3]", a bare number for an RGB field meaning all three channels, or an
+ * enum name). Same all-or-nothing contract as sky_world_state_apply_json. */
+bool sky_world_state_set_path(struct sky_world_state *state, const char *path,
+                              const char *value_text, struct sky_field_errors *errors);
+
+/* Serializes the whole state (including "revision") as a new cJSON object; NULL on OOM. */
+struct cJSON *sky_world_state_to_json(const struct sky_world_state *state);
+
+/* Checks cross-field consistency of a complete state; fills errors. */
+bool sky_world_state_validate(const struct sky_world_state *state, struct sky_field_errors *errors);
+
+/* Formats errors as one line per failure, "pointer: reason", into buf. */
+void sky_field_errors_format(const struct sky_field_errors *errors, char *buf, size_t buflen);
+
+/* Splits "dotted.path=value" at the first '=' (surrounding blanks ignored) and calls
+ * sky_world_state_set_path. */
+bool sky_world_state_set_assignment(struct sky_world_state *state, const char *assignment,
+                                    struct sky_field_errors *errors);
+
+/* Empties errors (count and total 0). */
+void sky_field_errors_clear(struct sky_field_errors *errors);
+
+/* Records one failure: counts it in total, stores it while there is room. Long texts are
+ * truncated. */
+void sky_field_errors_add(struct sky_field_errors *errors, int code, const char *pointer,
+                          const char *reason);
+
+/* The schema: one descriptor per leaf field. It drives validation, patching, --set,
+ * serialization, and the protocol's `set` message and its documentation. */
+enum sky_field_type {
+    SKY_FIELD_TYPE_NUMBER,     /* double */
+    SKY_FIELD_TYPE_RGB,        /* double[3]; a single number in a patch sets all three */
+    SKY_FIELD_TYPE_INT_PAIR,   /* int[2] */
+    SKY_FIELD_TYPE_INT_TRIPLE, /* int[3] */
+    SKY_FIELD_TYPE_ENUM,       /* int-sized enum, written as enum_names[value] */
+};
+
+struct sky_field_desc {
+    const char *path;              /* dotted, "atmosphere.mie.g" */
+    enum sky_field_type type;
+    size_t offset;                 /* into struct sky_world_state */
+    double min, max;               /* inclusive; for a number and for each array element */
+    const char *const *enum_names; /* ENUM only: names indexed by value */
+    int enum_count;
+    const char *description;       /* short, with the unit */
+};
+
+/* The descriptor table, in serialization order; *count receives its length. */
+const struct sky_field_desc *sky_world_state_fields(size_t *count);
+
+/* The descriptor of a leaf field by dotted path, or NULL (also for group paths like "sun"). */
+const struct sky_field_desc *sky_world_state_find_field(const char *dotted_path);
+
+#endif

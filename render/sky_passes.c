@@ -1,0 +1,442 @@
+#include "sky_passes.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "compute_pass.h"
+#include "gpu_timer.h"
+#include "vk_check.h"
+#include "vk_context.h"
+#include "vk_resources.h"
+
+#include "aerial_perspective.spv.h"
+#include "composite_linear.spv.h"
+#include "composite_srgb.spv.h"
+#include "exposure_resolve.spv.h"
+#include "irradiance.spv.h"
+#include "meter.spv.h"
+#include "multiscattering.spv.h"
+#include "probe.spv.h"
+#include "skyview.spv.h"
+#include "transmittance.spv.h"
+
+#define LUT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
+#define IRRADIANCE_SIZE 64
+#define METER_MAX_GRID 256
+
+enum pass_id {
+    PASS_TRANSMITTANCE,
+    PASS_MULTISCATTERING,
+    PASS_IRRADIANCE,
+    PASS_SKYVIEW,
+    PASS_AERIAL_PERSPECTIVE,
+    PASS_METER,
+    PASS_EXPOSURE_RESOLVE,
+    PASS_COMPOSITE_SRGB,
+    PASS_COMPOSITE_LINEAR,
+    PASS_PROBE,
+    PASS_COUNT
+};
+
+struct sky_passes {
+    VkSampler sampler;
+    struct compute_pass pass[PASS_COUNT];
+    struct gpu_image transmittance, multiscattering, irradiance, skyview;
+    struct gpu_image ap_inscatter, ap_transmittance;
+    struct gpu_buffer atmosphere_ubo, frame_ubo, exposure, meter_partials;
+    struct gpu_image output;
+    enum sky_render_output_kind output_kind;
+    struct gpu_buffer readback;
+    struct gpu_buffer probe_in, probe_out;
+    size_t probe_capacity;
+    struct sky_meter_push meter;
+    double metered_ev100;
+};
+
+#define UBO VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+#define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+#define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+#define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+#define SHADING_BINDINGS UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, SAMPLED, SAMPLED
+#define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
+
+static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
+    [PASS_TRANSMITTANCE] = { "transmittance", SPIRV(transmittance_spv), 2, { UBO, STORAGE_IMG }, 0 },
+    [PASS_MULTISCATTERING] = { "multiscattering", SPIRV(multiscattering_spv), 3,
+                               { UBO, SAMPLED, STORAGE_IMG }, 0 },
+    [PASS_IRRADIANCE] = { "irradiance", SPIRV(irradiance_spv), 4,
+                          { UBO, SAMPLED, SAMPLED, STORAGE_IMG }, 0 },
+    [PASS_SKYVIEW] = { "skyview", SPIRV(skyview_spv), 5,
+                       { UBO, UBO, SAMPLED, SAMPLED, STORAGE_IMG }, 0 },
+    [PASS_AERIAL_PERSPECTIVE] = { "aerial_perspective", SPIRV(aerial_perspective_spv), 6,
+                                  { UBO, UBO, SAMPLED, SAMPLED, STORAGE_IMG, STORAGE_IMG }, 0 },
+    [PASS_METER] = { "meter", SPIRV(meter_spv), 9, { SHADING_BINDINGS, STORAGE_BUF },
+                     sizeof(struct sky_meter_push) },
+    [PASS_EXPOSURE_RESOLVE] = { "exposure", SPIRV(exposure_resolve_spv), 3,
+                                { UBO, STORAGE_BUF, STORAGE_BUF },
+                                sizeof(struct sky_meter_push) },
+    [PASS_COMPOSITE_SRGB] = { "composite", SPIRV(composite_srgb_spv), 10,
+                              { SHADING_BINDINGS, STORAGE_BUF, STORAGE_IMG }, 0 },
+    [PASS_COMPOSITE_LINEAR] = { "composite", SPIRV(composite_linear_spv), 10,
+                                { SHADING_BINDINGS, STORAGE_BUF, STORAGE_IMG }, 0 },
+    [PASS_PROBE] = { "probe", SPIRV(probe_spv), 10, { SHADING_BINDINGS, STORAGE_BUF, STORAGE_BUF },
+                     sizeof(struct sky_probe_push) },
+};
+
+static bool format_supports(struct vk_context *ctx, VkFormat format, VkFormatFeatureFlags need)
+{
+    VkFormatProperties props;
+    vkGetPhysicalDeviceFormatProperties(ctx->physical_device, format, &props);
+    return (props.optimalTilingFeatures & need) == need;
+}
+
+static void destroy_luts(struct vk_context *ctx, struct sky_passes *p)
+{
+    gpu_image_destroy(ctx, &p->transmittance);
+    gpu_image_destroy(ctx, &p->multiscattering);
+    gpu_image_destroy(ctx, &p->irradiance);
+    gpu_image_destroy(ctx, &p->skyview);
+    gpu_image_destroy(ctx, &p->ap_inscatter);
+    gpu_image_destroy(ctx, &p->ap_transmittance);
+}
+
+static int create_luts(struct vk_context *ctx, struct sky_passes *p,
+                       const struct sky_render_lut_sizes *s)
+{
+    const uint32_t *ap = s->aerial_perspective;
+    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->transmittance[0], s->transmittance[1], 1,
+                                   "transmittance", &p->transmittance), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->multiscattering[0], s->multiscattering[1],
+                                   1, "multiscattering", &p->multiscattering), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, IRRADIANCE_SIZE, 1, 1, "irradiance",
+                                   &p->irradiance), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1, "skyview",
+                                   &p->skyview), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_inscatter",
+                                   &p->ap_inscatter), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_transmittance",
+                                   &p->ap_transmittance), fail);
+    return 0;
+fail:
+    destroy_luts(ctx, p);
+    return -1;
+}
+
+static struct compute_resource img(const struct gpu_image *image)
+{
+    return (struct compute_resource){ .image = image };
+}
+
+static struct compute_resource tex(const struct sky_passes *p, const struct gpu_image *image)
+{
+    return (struct compute_resource){ .image = image, .sampler = p->sampler };
+}
+
+static struct compute_resource buf(const struct gpu_buffer *buffer)
+{
+    return (struct compute_resource){ .buffer = buffer };
+}
+
+/* Points every pass whose resources exist at them; called after any resource changes. */
+static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
+{
+    struct compute_resource r[COMPUTE_PASS_MAX_BINDINGS];
+    r[0] = buf(&p->atmosphere_ubo);
+    r[1] = img(&p->transmittance);
+    compute_pass_bind(ctx, &p->pass[PASS_TRANSMITTANCE], r);
+    r[1] = tex(p, &p->transmittance);
+    r[2] = img(&p->multiscattering);
+    compute_pass_bind(ctx, &p->pass[PASS_MULTISCATTERING], r);
+    r[2] = tex(p, &p->multiscattering);
+    r[3] = img(&p->irradiance);
+    compute_pass_bind(ctx, &p->pass[PASS_IRRADIANCE], r);
+
+    r[1] = buf(&p->frame_ubo);
+    r[2] = tex(p, &p->transmittance);
+    r[3] = tex(p, &p->multiscattering);
+    r[4] = img(&p->skyview);
+    compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW], r);
+    r[4] = img(&p->ap_inscatter);
+    r[5] = img(&p->ap_transmittance);
+    compute_pass_bind(ctx, &p->pass[PASS_AERIAL_PERSPECTIVE], r);
+
+    /* The shading passes share bindings 0-7. */
+    r[4] = tex(p, &p->skyview);
+    r[5] = tex(p, &p->irradiance);
+    r[6] = tex(p, &p->ap_inscatter);
+    r[7] = tex(p, &p->ap_transmittance);
+    r[8] = buf(&p->meter_partials);
+    compute_pass_bind(ctx, &p->pass[PASS_METER], r);
+    if (p->output.image) {
+        r[8] = buf(&p->exposure);
+        r[9] = img(&p->output);
+        enum pass_id composite = p->output_kind == SKY_RENDER_OUTPUT_LINEAR
+                                     ? PASS_COMPOSITE_LINEAR
+                                     : PASS_COMPOSITE_SRGB;
+        compute_pass_bind(ctx, &p->pass[composite], r);
+    }
+    if (p->probe_in.buffer) {
+        r[8] = buf(&p->probe_in);
+        r[9] = buf(&p->probe_out);
+        compute_pass_bind(ctx, &p->pass[PASS_PROBE], r);
+    }
+
+    struct compute_resource resolve[3] = { buf(&p->frame_ubo), buf(&p->meter_partials),
+                                           buf(&p->exposure) };
+    compute_pass_bind(ctx, &p->pass[PASS_EXPOSURE_RESOLVE], resolve);
+}
+
+struct sky_passes *sky_passes_create(struct vk_context *ctx,
+                                     const struct sky_render_lut_sizes *sizes)
+{
+    if (!format_supports(ctx, LUT_FORMAT,
+                         VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |
+                             VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT) ||
+        !format_supports(ctx, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT)) {
+        fprintf(stderr, "skyd: render: device lacks filtered RGBA32F storage images\n");
+        return NULL;
+    }
+    struct sky_passes *p = calloc(1, sizeof *p);
+    if (!p)
+        return NULL;
+    p->metered_ev100 = NAN;
+    VK_CHECK_GOTO(gpu_linear_sampler_create(ctx, &p->sampler), fail);
+    for (int i = 0; i < PASS_COUNT; i++)
+        VK_CHECK_GOTO(compute_pass_create(ctx, &pass_descs[i], &p->pass[i]), fail);
+    VkBufferUsageFlags uniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
+    VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), uniform,
+                                    "atmosphere_ubo", &p->atmosphere_ubo), fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_frame_uniforms), uniform, "frame_ubo",
+                                    &p->frame_ubo), fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, 4 * sizeof(float), storage, "exposure", &p->exposure),
+                  fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, SKY_METER_MAX_GROUPS * 2 * sizeof(float), storage,
+                                    "meter_partials", &p->meter_partials), fail);
+    memset(p->exposure.mapped, 0, 4 * sizeof(float));
+    if (create_luts(ctx, p, sizes) != 0)
+        goto fail;
+    bind_passes(ctx, p);
+    return p;
+fail:
+    sky_passes_destroy(ctx, &p);
+    return NULL;
+}
+
+void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **pp)
+{
+    struct sky_passes *p = pp ? *pp : NULL;
+    if (!p)
+        return;
+    destroy_luts(ctx, p);
+    gpu_image_destroy(ctx, &p->output);
+    gpu_buffer_destroy(ctx, &p->readback);
+    gpu_buffer_destroy(ctx, &p->probe_in);
+    gpu_buffer_destroy(ctx, &p->probe_out);
+    gpu_buffer_destroy(ctx, &p->atmosphere_ubo);
+    gpu_buffer_destroy(ctx, &p->frame_ubo);
+    gpu_buffer_destroy(ctx, &p->exposure);
+    gpu_buffer_destroy(ctx, &p->meter_partials);
+    for (int i = 0; i < PASS_COUNT; i++)
+        compute_pass_destroy(ctx, &p->pass[i]);
+    if (p->sampler)
+        vkDestroySampler(ctx->device, p->sampler, NULL);
+    free(p);
+    *pp = NULL;
+}
+
+int sky_passes_resize_luts(struct vk_context *ctx, struct sky_passes *p,
+                           const struct sky_render_lut_sizes *sizes)
+{
+    destroy_luts(ctx, p);
+    if (create_luts(ctx, p, sizes) != 0)
+        return -1;
+    bind_passes(ctx, p);
+    return 0;
+}
+
+int sky_passes_prepare_output(struct vk_context *ctx, struct sky_passes *p, uint32_t width,
+                              uint32_t height, enum sky_render_output_kind kind)
+{
+    VkFormat format = kind == SKY_RENDER_OUTPUT_LINEAR ? LUT_FORMAT : VK_FORMAT_R8G8B8A8_UNORM;
+    if (p->output.image && p->output.width == width && p->output.height == height &&
+        p->output.format == format)
+        return 0;
+    gpu_image_destroy(ctx, &p->output);
+    gpu_buffer_destroy(ctx, &p->readback);
+    VkDeviceSize texel = kind == SKY_RENDER_OUTPUT_LINEAR ? 16 : 4;
+    VK_CHECK_GOTO(gpu_image_create(ctx, format, width, height, 1, "output", &p->output), fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, (VkDeviceSize)width * height * texel,
+                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback", &p->readback),
+                  fail);
+    p->output_kind = kind;
+    bind_passes(ctx, p);
+    return 0;
+fail:
+    gpu_image_destroy(ctx, &p->output);
+    gpu_buffer_destroy(ctx, &p->readback);
+    return -1;
+}
+
+int sky_passes_prepare_probe(struct vk_context *ctx, struct sky_passes *p, size_t count,
+                             const float (*in)[4])
+{
+    if (count == 0)
+        count = 1;
+    if (count > p->probe_capacity) {
+        gpu_buffer_destroy(ctx, &p->probe_in);
+        gpu_buffer_destroy(ctx, &p->probe_out);
+        VkDeviceSize bytes = (VkDeviceSize)count * 4 * sizeof(float);
+        VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+        VK_CHECK_GOTO(gpu_buffer_create(ctx, bytes, storage, "probe_in", &p->probe_in), fail);
+        VK_CHECK_GOTO(gpu_buffer_create(ctx, bytes, storage, "probe_out", &p->probe_out), fail);
+        p->probe_capacity = count;
+        bind_passes(ctx, p);
+    }
+    memcpy(p->probe_in.mapped, in, count * 4 * sizeof(float));
+    return 0;
+fail:
+    gpu_buffer_destroy(ctx, &p->probe_in);
+    gpu_buffer_destroy(ctx, &p->probe_out);
+    p->probe_capacity = 0;
+    return -1;
+}
+
+void sky_passes_upload_atmosphere(struct sky_passes *p, const struct sky_atmosphere_uniforms *u)
+{
+    memcpy(p->atmosphere_ubo.mapped, u, sizeof *u);
+}
+
+void sky_passes_upload_frame(struct sky_passes *p, const struct sky_frame_uniforms *u)
+{
+    memcpy(p->frame_ubo.mapped, u, sizeof *u);
+}
+
+static void record(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                   enum pass_id id, const void *push, uint32_t sx, uint32_t sy, uint32_t sz,
+                   uint32_t lx, uint32_t ly)
+{
+    const uint32_t size[3] = { sx, sy, sz };
+    const uint32_t local[3] = { lx, ly, 1 };
+    compute_pass_record(cmd, &p->pass[id], push, size, local);
+    gpu_timer_mark(timer, cmd, p->pass[id].name);
+}
+
+void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
+                                  struct gpu_timer *timer)
+{
+    record(p, cmd, timer, PASS_TRANSMITTANCE, NULL, p->transmittance.width,
+           p->transmittance.height, 1, 8, 8);
+    /* One workgroup of 64 sphere directions per texel. */
+    record(p, cmd, timer, PASS_MULTISCATTERING, NULL, p->multiscattering.width,
+           p->multiscattering.height, 1, 1, 1);
+    record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, 8, 1);
+}
+
+void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
+                                 struct gpu_timer *timer)
+{
+    record(p, cmd, timer, PASS_SKYVIEW, NULL, p->skyview.width, p->skyview.height, 1, 8, 8);
+    record(p, cmd, timer, PASS_AERIAL_PERSPECTIVE, NULL, p->ap_inscatter.width,
+           p->ap_inscatter.height, 1, 8, 8);
+}
+
+void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
+                                struct gpu_timer *timer, uint32_t width, uint32_t height)
+{
+    /* About one sample per 8x8 pixels, at most METER_MAX_GRID^2 so the partials fit. */
+    uint32_t gw = (width + 7) / 8, gh = (height + 7) / 8;
+    if (gw > METER_MAX_GRID)
+        gw = METER_MAX_GRID;
+    if (gh > METER_MAX_GRID)
+        gh = METER_MAX_GRID;
+    p->meter = (struct sky_meter_push){
+        .grid_width = gw,
+        .grid_height = gh,
+        .group_count = ((gw + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL) *
+                       ((gh + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL),
+    };
+    record(p, cmd, timer, PASS_METER, &p->meter, gw, gh, 1, SKY_METER_LOCAL, SKY_METER_LOCAL);
+    record(p, cmd, timer, PASS_EXPOSURE_RESOLVE, &p->meter, 1, 1, 1, 1, 1);
+}
+
+void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
+                                 struct gpu_timer *timer, enum sky_render_output_kind kind)
+{
+    enum pass_id id = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
+                                                       : PASS_COMPOSITE_SRGB;
+    record(p, cmd, timer, id, NULL, p->output.width, p->output.height, 1, 8, 8);
+    gpu_barrier_compute_to_transfer(cmd);
+    gpu_copy_image_to_buffer(cmd, &p->output, &p->readback);
+    gpu_barrier_to_host(cmd);
+    gpu_timer_mark(timer, cmd, "readback");
+}
+
+void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                             uint32_t mode, uint32_t count)
+{
+    struct sky_probe_push push = { .count = count, .mode = mode };
+    record(p, cmd, timer, PASS_PROBE, &push, count, 1, 1, 64, 1);
+    gpu_barrier_to_host(cmd);
+}
+
+void sky_passes_copy_output(const struct sky_passes *p, void *pixels, size_t bytes)
+{
+    memcpy(pixels, p->readback.mapped, bytes);
+}
+
+void sky_passes_read_probe(const struct sky_passes *p, size_t count, double (*out)[3])
+{
+    const float *values = p->probe_out.mapped;
+    for (size_t i = 0; i < count; i++)
+        for (int c = 0; c < 3; c++)
+            out[i][c] = values[i * 4 + (size_t)c];
+}
+
+double sky_passes_metered_ev100(const struct sky_passes *p)
+{
+    if (p->meter.group_count == 0)
+        return NAN;
+    const float *metered = p->exposure.mapped;
+    return metered[1];
+}
+
+float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const char *name,
+                           uint32_t *width, uint32_t *height)
+{
+    const struct gpu_image *image = NULL;
+    if (strcmp(name, "transmittance") == 0)
+        image = &p->transmittance;
+    else if (strcmp(name, "multiscattering") == 0)
+        image = &p->multiscattering;
+    else if (strcmp(name, "skyview") == 0)
+        image = &p->skyview;
+    else if (strcmp(name, "irradiance") == 0)
+        image = &p->irradiance;
+    if (!image)
+        return NULL;
+    size_t bytes = (size_t)image->width * image->height * 16;
+    struct gpu_buffer staging;
+    if (gpu_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "lut_readback",
+                          &staging) != VK_SUCCESS)
+        return NULL;
+    float *out = NULL;
+    VkCommandBuffer cmd;
+    if (vk_context_begin_commands(ctx, &cmd) == VK_SUCCESS) {
+        gpu_barrier_compute_to_transfer(cmd);
+        gpu_copy_image_to_buffer(cmd, image, &staging);
+        gpu_barrier_to_host(cmd);
+        if (vk_context_submit_and_wait(ctx, &cmd) == VK_SUCCESS) {
+            out = malloc(bytes);
+            if (out) {
+                memcpy(out, staging.mapped, bytes);
+                *width = image->width;
+                *height = image->height;
+            }
+        }
+    }
+    gpu_buffer_destroy(ctx, &staging);
+    return out;
+}

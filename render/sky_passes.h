@@ -1,0 +1,54 @@
+/* The sky's compute passes and the resources they share: atmosphere LUTs (transmittance,
+ * multi-scattering, ground irradiance), per-view LUTs (sky-view, aerial-perspective froxels),
+ * exposure metering, the composite and the probe. Each record_* call follows one shape:
+ * upload -> bind -> push -> dispatch (rounded up) -> barrier -> timestamp. */
+#ifndef SKYD_SKY_PASSES_H
+#define SKYD_SKY_PASSES_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <vulkan/vulkan.h>
+
+#include "sky_renderer.h"
+#include "sky_shared.h"
+
+struct vk_context;
+struct gpu_timer;
+struct sky_passes;
+
+struct sky_passes *sky_passes_create(struct vk_context *ctx,
+                                     const struct sky_render_lut_sizes *sizes);
+void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **passes);
+
+int sky_passes_resize_luts(struct vk_context *ctx, struct sky_passes *p,
+                           const struct sky_render_lut_sizes *sizes);
+/* (Re)creates the output image and readback buffer when the size or kind changes. */
+int sky_passes_prepare_output(struct vk_context *ctx, struct sky_passes *p, uint32_t width,
+                              uint32_t height, enum sky_render_output_kind kind);
+/* Grows the probe buffers to `count` and copies the inputs in. */
+int sky_passes_prepare_probe(struct vk_context *ctx, struct sky_passes *p, size_t count,
+                             const float (*in)[4]);
+
+void sky_passes_upload_atmosphere(struct sky_passes *p, const struct sky_atmosphere_uniforms *u);
+void sky_passes_upload_frame(struct sky_passes *p, const struct sky_frame_uniforms *u);
+
+void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
+                                  struct gpu_timer *timer);
+void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
+                                 struct gpu_timer *timer);
+void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
+                                struct gpu_timer *timer, uint32_t width, uint32_t height);
+/* Composite into the output image, then copy it into the readback buffer. */
+void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
+                                 struct gpu_timer *timer, enum sky_render_output_kind kind);
+void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                             uint32_t mode, uint32_t count);
+
+void sky_passes_copy_output(const struct sky_passes *p, void *pixels, size_t bytes);
+void sky_passes_read_probe(const struct sky_passes *p, size_t count, double (*out)[3]);
+/* EV100 of the last metering (NAN when none ran). */
+double sky_passes_metered_ev100(const struct sky_passes *p);
+float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const char *name,
+                           uint32_t *width, uint32_t *height);
+
+#endif

@@ -1,0 +1,359 @@
+#include "sky_renderer.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "compute_pass.h"
+#include "gpu_timer.h"
+#include "photometry.h"
+#include "sky_passes.h"
+#include "sky_shared.h"
+#include "vk_check.h"
+#include "vk_context.h"
+#include "vk_resources.h"
+
+#define DEG (3.14159265358979323846 / 180.0)
+
+struct sky_renderer {
+    struct vk_context *ctx;
+    struct gpu_timer *timer;
+    struct sky_passes *passes;
+    struct sky_render_lut_sizes sizes;
+    struct sky_render_atmosphere atmosphere; /* what the atmosphere LUTs were built from */
+    bool atmosphere_built;
+};
+
+static const struct sky_render_lut_sizes default_sizes = {
+    .transmittance = { 256, 64 },
+    .multiscattering = { 32, 32 },
+    .skyview = { 192, 108 },
+    .aerial_perspective = { 32, 32, 32 },
+};
+
+static uint32_t or_default(uint32_t value, uint32_t fallback)
+{
+    return value ? value : fallback;
+}
+
+static struct sky_render_lut_sizes sizes_with_defaults(const struct sky_render_lut_sizes *in)
+{
+    struct sky_render_lut_sizes s = default_sizes;
+    if (!in)
+        return s;
+    for (int i = 0; i < 2; i++) {
+        s.transmittance[i] = or_default(in->transmittance[i], s.transmittance[i]);
+        s.multiscattering[i] = or_default(in->multiscattering[i], s.multiscattering[i]);
+        s.skyview[i] = or_default(in->skyview[i], s.skyview[i]);
+    }
+    for (int i = 0; i < 3; i++)
+        s.aerial_perspective[i] = or_default(in->aerial_perspective[i], s.aerial_perspective[i]);
+    return s;
+}
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *params)
+{
+    struct sky_renderer_params defaults = { 0 };
+    const struct sky_renderer_params *p = params ? params : &defaults;
+    struct sky_renderer *r = calloc(1, sizeof *r);
+    if (!r)
+        return NULL;
+    struct vk_context_params ctx_params = {
+        .device_preference = p->device_preference,
+        .validation = p->validation,
+        .quiet = p->quiet,
+    };
+    r->ctx = vk_context_create(&ctx_params);
+    if (!r->ctx)
+        goto fail;
+    r->timer = gpu_timer_create(r->ctx);
+    r->sizes = sizes_with_defaults(&p->lut_sizes);
+    r->passes = sky_passes_create(r->ctx, &r->sizes);
+    if (!r->passes)
+        goto fail;
+    return r;
+fail:
+    sky_renderer_destroy(&r);
+    return NULL;
+}
+
+void sky_renderer_destroy(struct sky_renderer **pr)
+{
+    struct sky_renderer *r = pr ? *pr : NULL;
+    if (!r)
+        return;
+    if (r->ctx)
+        vkDeviceWaitIdle(r->ctx->device);
+    sky_passes_destroy(r->ctx, &r->passes);
+    gpu_timer_destroy(r->ctx, &r->timer);
+    vk_context_destroy(&r->ctx);
+    free(r);
+    *pr = NULL;
+}
+
+const char *sky_renderer_device_name(const struct sky_renderer *r)
+{
+    return r->ctx->properties.deviceName;
+}
+
+unsigned sky_renderer_validation_messages(const struct sky_renderer *r)
+{
+    return r->ctx->validation_warnings + r->ctx->validation_errors;
+}
+
+int sky_renderer_set_lut_sizes(struct sky_renderer *r, const struct sky_render_lut_sizes *sizes)
+{
+    struct sky_render_lut_sizes s = sizes_with_defaults(sizes);
+    if (memcmp(&s, &r->sizes, sizeof s) == 0)
+        return 0;
+    if (sky_passes_resize_luts(r->ctx, r->passes, &s) != 0)
+        return -1;
+    r->sizes = s;
+    r->atmosphere_built = false;
+    return 0;
+}
+
+static void fill_atmosphere_uniforms(const struct sky_render_atmosphere *a,
+                                     struct sky_atmosphere_uniforms *u)
+{
+#define V4(x_, y_, z_, w_) ((sky_vec4){ (float)(x_), (float)(y_), (float)(z_), (float)(w_) })
+    u->radii = V4(a->bottom_radius_km, a->top_radius_km, a->rayleigh_scale_height_km,
+                  a->mie_scale_height_km);
+    u->rayleigh_scattering = V4(a->rayleigh_scattering[0], a->rayleigh_scattering[1],
+                                a->rayleigh_scattering[2], a->ozone_peak_km);
+    u->mie_scattering = V4(a->mie_scattering[0], a->mie_scattering[1], a->mie_scattering[2],
+                           a->ozone_width_km);
+    u->mie_absorption = V4(a->mie_absorption[0], a->mie_absorption[1], a->mie_absorption[2],
+                           a->fog_density_per_km);
+    u->mie_extinction = V4(a->mie_scattering[0] + a->mie_absorption[0],
+                           a->mie_scattering[1] + a->mie_absorption[1],
+                           a->mie_scattering[2] + a->mie_absorption[2], a->fog_scale_height_km);
+    u->mie_g = V4(a->mie_g[0], a->mie_g[1], a->mie_g[2], 0);
+    u->ozone_absorption = V4(a->ozone_absorption[0], a->ozone_absorption[1],
+                             a->ozone_absorption[2], 0);
+    u->ground_albedo = V4(a->ground_albedo[0], a->ground_albedo[1], a->ground_albedo[2], 0);
+}
+
+static void direction_from_angles(double azimuth_deg, double elevation_deg, double out[3])
+{
+    double az = azimuth_deg * DEG, el = elevation_deg * DEG;
+    out[0] = sin(az) * cos(el);
+    out[1] = cos(az) * cos(el);
+    out[2] = sin(el);
+}
+
+static void fill_frame_uniforms(const struct sky_render_atmosphere *a,
+                                const struct sky_render_view *v, struct sky_frame_uniforms *u)
+{
+    memset(u, 0, sizeof *u);
+    double altitude = v->camera_altitude_km;
+    u->camera_position = V4(0, 0, a->bottom_radius_km + altitude, altitude);
+
+    double f[3], sun[3];
+    direction_from_angles(v->camera_yaw_deg, v->camera_pitch_deg, f);
+    /* Right from the yaw alone, so looking straight up or down stays well defined. */
+    double yaw = v->camera_yaw_deg * DEG;
+    double right[3] = { cos(yaw), -sin(yaw), 0.0 };
+    double up[3] = { right[1] * f[2] - right[2] * f[1], right[2] * f[0] - right[0] * f[2],
+                     right[0] * f[1] - right[1] * f[0] };
+    double tan_half = tan(0.5 * v->camera_fov_deg * DEG);
+    double aspect = v->height ? (double)v->width / (double)v->height : 1.0;
+    u->camera_forward = V4(f[0], f[1], f[2], tan_half);
+    u->camera_right = V4(right[0], right[1], right[2], aspect);
+    u->camera_up = V4(up[0], up[1], up[2], 0);
+
+    direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
+    double radius = 0.5 * v->sun_angular_diameter_deg * DEG;
+    u->sun_direction = V4(sun[0], sun[1], sun[2], cos(radius));
+    double e_top[3];
+    sky_sun_illuminance_top(a, v->sun_illuminance_lux, e_top);
+    u->sun_illuminance = V4(e_top[0], e_top[1], e_top[2], v->limb_darkening);
+    u->sun_disk = V4(sky_disk_solid_angle(v->sun_angular_diameter_deg), sin(radius), 0, 0);
+    u->exposure = V4(sky_ev100_to_exposure(v->ev100), v->auto_exposure ? 1 : 0,
+                     v->exposure_compensation_ev, v->tonemap);
+    u->image = V4(v->width, v->height, v->aerial_perspective_max_km, v->output);
+    /* The sky-view LUT frame puts the sun at azimuth 0: (sin zenith, 0, cos zenith). */
+    double mu_s = sun[2];
+    u->sun_local = V4(sqrt(fmax(0.0, 1.0 - mu_s * mu_s)), 0, mu_s, 0);
+#undef V4
+}
+
+static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats, double start,
+                          bool rebuilt)
+{
+    if (!stats)
+        return;
+    memset(stats, 0, sizeof *stats);
+    struct gpu_timer_result t;
+    if (gpu_timer_read(r->ctx, r->timer, &t)) {
+        stats->pass_count = t.count;
+        for (int i = 0; i < t.count && i < SKY_RENDER_MAX_PASSES; i++) {
+            stats->pass_names[i] = t.names[i];
+            stats->pass_ms[i] = t.ms[i];
+        }
+        stats->gpu_ms = t.total_ms;
+    }
+    stats->luts_rebuilt = rebuilt;
+    stats->metered_ev100 = sky_passes_metered_ev100(r->passes);
+    stats->wall_ms = now_ms() - start;
+}
+
+/* Records the atmosphere LUT rebuild when the atmosphere changed; returns true if recorded. */
+static bool record_atmosphere_if_changed(struct sky_renderer *r, VkCommandBuffer cmd,
+                                         const struct sky_render_atmosphere *a)
+{
+    if (r->atmosphere_built && memcmp(a, &r->atmosphere, sizeof *a) == 0)
+        return false;
+    struct sky_atmosphere_uniforms u;
+    fill_atmosphere_uniforms(a, &u);
+    sky_passes_upload_atmosphere(r->passes, &u);
+    sky_passes_record_atmosphere(r->passes, cmd, r->timer);
+    r->atmosphere = *a;
+    r->atmosphere_built = true;
+    return true;
+}
+
+int sky_renderer_rebuild_atmosphere(struct sky_renderer *r, const struct sky_render_atmosphere *a,
+                                    struct sky_render_stats *stats)
+{
+    double start = now_ms();
+    VkCommandBuffer cmd;
+    if (vk_context_begin_commands(r->ctx, &cmd) != VK_SUCCESS)
+        return -1;
+    gpu_timer_begin(r->timer, cmd);
+    r->atmosphere_built = false;
+    record_atmosphere_if_changed(r, cmd, a);
+    if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
+        r->atmosphere_built = false;
+        return -1;
+    }
+    collect_stats(r, stats, start, true);
+    return 0;
+}
+
+static bool camera_in_atmosphere(const struct sky_render_atmosphere *a,
+                                 const struct sky_render_view *v)
+{
+    return a->bottom_radius_km + v->camera_altitude_km < a->top_radius_km;
+}
+
+int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphere *a,
+                        const struct sky_render_view *v, void *pixels, size_t pixels_bytes,
+                        struct sky_render_stats *stats)
+{
+    double start = now_ms();
+    size_t texel = v->output == SKY_RENDER_OUTPUT_LINEAR ? 16 : 4;
+    if (v->width == 0 || v->height == 0 || pixels_bytes < (size_t)v->width * v->height * texel) {
+        fprintf(stderr, "skyd: render: output buffer too small for %ux%u\n", v->width, v->height);
+        return -1;
+    }
+    if (sky_passes_prepare_output(r->ctx, r->passes, v->width, v->height, v->output) != 0)
+        return -1;
+    struct sky_frame_uniforms fu;
+    fill_frame_uniforms(a, v, &fu);
+
+    VkCommandBuffer cmd;
+    if (vk_context_begin_commands(r->ctx, &cmd) != VK_SUCCESS)
+        return -1;
+    gpu_timer_begin(r->timer, cmd);
+    bool rebuilt = record_atmosphere_if_changed(r, cmd, a);
+    sky_passes_upload_frame(r->passes, &fu);
+    if (camera_in_atmosphere(a, v))
+        sky_passes_record_view_luts(r->passes, cmd, r->timer);
+    if (v->auto_exposure && v->output == SKY_RENDER_OUTPUT_SRGB8)
+        sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height);
+    sky_passes_record_composite(r->passes, cmd, r->timer, v->output);
+    if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
+        r->atmosphere_built = false;
+        return -1;
+    }
+    sky_passes_copy_output(r->passes, pixels, (size_t)v->width * v->height * texel);
+    collect_stats(r, stats, start, rebuilt);
+    return 0;
+}
+
+/* Records whatever a probe needs before its dispatch, runs it, and copies the results. */
+static int run_probe(struct sky_renderer *r, const struct sky_render_atmosphere *a,
+                     const struct sky_render_view *v, uint32_t mode, const float (*in)[4],
+                     size_t count, double (*out)[3])
+{
+    if (sky_passes_prepare_probe(r->ctx, r->passes, count, in) != 0)
+        return -1;
+    struct sky_frame_uniforms fu;
+    fill_frame_uniforms(a, v, &fu);
+    VkCommandBuffer cmd;
+    if (vk_context_begin_commands(r->ctx, &cmd) != VK_SUCCESS)
+        return -1;
+    gpu_timer_begin(r->timer, cmd);
+    record_atmosphere_if_changed(r, cmd, a);
+    sky_passes_upload_frame(r->passes, &fu);
+    if (mode != SKY_PROBE_TRANSMITTANCE && camera_in_atmosphere(a, v))
+        sky_passes_record_view_luts(r->passes, cmd, r->timer);
+    sky_passes_record_probe(r->passes, cmd, r->timer, mode, (uint32_t)count);
+    if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
+        r->atmosphere_built = false;
+        return -1;
+    }
+    sky_passes_read_probe(r->passes, count, out);
+    return 0;
+}
+
+static const struct sky_render_view probe_view_defaults = {
+    .width = 1,
+    .height = 1,
+    .camera_fov_deg = 60,
+    .sun_illuminance_lux = 120000,
+    .sun_angular_diameter_deg = 0.545,
+    .sun_elevation_deg = 45,
+    .aerial_perspective_max_km = 64,
+};
+
+int sky_renderer_probe_transmittance(struct sky_renderer *r, const struct sky_render_atmosphere *a,
+                                     const double *altitude_km, const double *mu, size_t count,
+                                     double (*out_rgb)[3])
+{
+    float (*in)[4] = calloc(count ? count : 1, sizeof *in);
+    if (!in)
+        return -1;
+    for (size_t i = 0; i < count; i++) {
+        in[i][0] = (float)(a->bottom_radius_km + altitude_km[i]);
+        in[i][1] = (float)mu[i];
+    }
+    int rc = run_probe(r, a, &probe_view_defaults, SKY_PROBE_TRANSMITTANCE,
+                       (const float (*)[4])in, count, out_rgb);
+    free(in);
+    return rc;
+}
+
+int sky_renderer_probe_luminance(struct sky_renderer *r, const struct sky_render_atmosphere *a,
+                                 const struct sky_render_view *v, const double (*dirs)[3],
+                                 size_t count, bool include_sun, double (*out_rgb)[3])
+{
+    float (*in)[4] = calloc(count ? count : 1, sizeof *in);
+    if (!in)
+        return -1;
+    for (size_t i = 0; i < count; i++)
+        for (int c = 0; c < 3; c++)
+            in[i][c] = (float)dirs[i][c];
+    struct sky_render_view view = *v;
+    view.width = view.height = 1;
+    uint32_t mode = include_sun ? SKY_PROBE_LUMINANCE : SKY_PROBE_SKY_LUMINANCE;
+    int rc = run_probe(r, a, &view, mode, (const float (*)[4])in, count, out_rgb);
+    free(in);
+    return rc;
+}
+
+float *sky_renderer_read_lut(struct sky_renderer *r, const char *name, uint32_t *width,
+                             uint32_t *height)
+{
+    return sky_passes_read_lut(r->ctx, r->passes, name, width, height);
+}

@@ -1,0 +1,115 @@
+/* skyd's renderer: physically based sky and aerial perspective with Vulkan compute.
+ *
+ * The public face of render/. Knows nothing of sockets, JSON or files. One thread owns a
+ * renderer (it owns every Vulkan object); calls are synchronous. Units: km, per km, degrees,
+ * lux, cd/m2. The local frame at the camera is x east, y north, z up. */
+#ifndef SKYD_SKY_RENDERER_H
+#define SKYD_SKY_RENDERER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+struct sky_render_atmosphere {
+    double bottom_radius_km, top_radius_km;
+    double rayleigh_scattering[3], rayleigh_scale_height_km;
+    double mie_scattering[3], mie_absorption[3], mie_scale_height_km, mie_g[3];
+    double ozone_absorption[3], ozone_peak_km, ozone_width_km;
+    double ground_albedo[3];
+    double fog_density_per_km, fog_scale_height_km;
+};
+
+struct sky_render_lut_sizes {
+    uint32_t transmittance[2];      /* 256 x 64 */
+    uint32_t multiscattering[2];    /* 32 x 32 */
+    uint32_t skyview[2];            /* 192 x 108 */
+    uint32_t aerial_perspective[3]; /* 32 x 32 x 32 */
+};
+
+enum sky_render_output_kind {
+    SKY_RENDER_OUTPUT_SRGB8 = 0,   /* exposed, tonemapped, sRGB-encoded RGBA8 */
+    SKY_RENDER_OUTPUT_LINEAR = 1,  /* luminance in cd/m2 as RGBA float32, before exposure */
+};
+
+struct sky_render_view {
+    uint32_t width, height;
+    double camera_altitude_km, camera_yaw_deg, camera_pitch_deg, camera_fov_deg;
+    double sun_azimuth_deg, sun_elevation_deg;
+    double sun_illuminance_lux;       /* ground illuminance with the sun at zenith */
+    double sun_angular_diameter_deg;
+    int limb_darkening;               /* SKY_LIMB_* of shaders/include/sky_shared.h */
+    bool auto_exposure;
+    double ev100;                     /* manual exposure */
+    double exposure_compensation_ev;  /* for auto exposure */
+    int tonemap;                      /* SKY_TONEMAP_OP_* */
+    double aerial_perspective_max_km;
+    enum sky_render_output_kind output;
+};
+
+struct sky_renderer_params {
+    const char *device_preference;    /* see vk_context_params; NULL = auto */
+    bool validation;                  /* Khronos validation layer, messages counted */
+    bool quiet;
+    struct sky_render_lut_sizes lut_sizes; /* zero fields take the defaults above */
+};
+
+#define SKY_RENDER_MAX_PASSES 16
+
+struct sky_render_stats {
+    int pass_count;
+    const char *pass_names[SKY_RENDER_MAX_PASSES];
+    double pass_ms[SKY_RENDER_MAX_PASSES]; /* GPU time per pass from timestamp queries */
+    double gpu_ms;                         /* sum of the passes */
+    double wall_ms;                        /* CPU wall time of the whole call */
+    bool luts_rebuilt;                     /* transmittance and multi-scattering rebuilt */
+    double metered_ev100;                  /* auto exposure result (when auto) */
+};
+
+struct sky_renderer;
+
+struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *params);
+void sky_renderer_destroy(struct sky_renderer **renderer);
+
+/* Name of the Vulkan device in use. */
+const char *sky_renderer_device_name(const struct sky_renderer *renderer);
+/* Validation-layer warnings + errors seen so far (0 when validation is off). */
+unsigned sky_renderer_validation_messages(const struct sky_renderer *renderer);
+
+/* Changes LUT sizes; images are recreated and the atmosphere LUTs rebuilt on the next call. */
+int sky_renderer_set_lut_sizes(struct sky_renderer *renderer,
+                               const struct sky_render_lut_sizes *sizes);
+
+/* Renders one frame. `pixels` receives width*height RGBA texels, 4 bytes each for SRGB8 or
+ * 4 floats each for LINEAR; its size in bytes is `pixels_bytes`. The atmosphere LUTs are
+ * rebuilt first when `atmosphere` differs from the last one. Returns 0 or -1. */
+int sky_renderer_render(struct sky_renderer *renderer,
+                        const struct sky_render_atmosphere *atmosphere,
+                        const struct sky_render_view *view, void *pixels, size_t pixels_bytes,
+                        struct sky_render_stats *stats);
+
+/* Rebuilds transmittance, multi-scattering and ground irradiance LUTs now (timed in stats). */
+int sky_renderer_rebuild_atmosphere(struct sky_renderer *renderer,
+                                    const struct sky_render_atmosphere *atmosphere,
+                                    struct sky_render_stats *stats);
+
+/* Transmittance to the top of the atmosphere from `altitude_km[i]` along cos-zenith `mu[i]`,
+ * read from the transmittance LUT as every pass does. */
+int sky_renderer_probe_transmittance(struct sky_renderer *renderer,
+                                     const struct sky_render_atmosphere *atmosphere,
+                                     const double *altitude_km, const double *mu, size_t count,
+                                     double (*out_rgb)[3]);
+
+/* Luminance (cd/m2, before exposure) seen from the view's camera in each local direction
+ * (x east, y north, z up), through the same shading as a frame; with include_sun false the
+ * sun disk is left out (sky and ground only). */
+int sky_renderer_probe_luminance(struct sky_renderer *renderer,
+                                 const struct sky_render_atmosphere *atmosphere,
+                                 const struct sky_render_view *view, const double (*dirs)[3],
+                                 size_t count, bool include_sun, double (*out_rgb)[3]);
+
+/* Reads back a LUT for tests: "transmittance", "multiscattering", "skyview", "irradiance".
+ * Fills width/height and returns a malloc'd RGBA float array (caller frees), or NULL. */
+float *sky_renderer_read_lut(struct sky_renderer *renderer, const char *name, uint32_t *width,
+                             uint32_t *height);
+
+#endif

@@ -1,0 +1,32 @@
+/* One VkResult check, always compiled in: it logs where the call failed and jumps to a
+ * cleanup label named after what that label undoes. */
+#ifndef SKYD_VK_CHECK_H
+#define SKYD_VK_CHECK_H
+
+#include <stdio.h>
+#include <vulkan/vulkan.h>
+
+const char *vk_result_name(VkResult result);
+
+#define VK_CHECK_GOTO(call, label)                                                         \
+    do {                                                                                   \
+        VkResult vk_check_result_ = (call);                                                \
+        if (vk_check_result_ != VK_SUCCESS) {                                              \
+            fprintf(stderr, "skyd: vulkan: %s failed: %s (%s:%d)\n", #call,                \
+                    vk_result_name(vk_check_result_), __FILE__, __LINE__);                 \
+            goto label;                                                                    \
+        }                                                                                  \
+    } while (0)
+
+/* For functions returning VkResult themselves: log and return the failure. */
+#define VK_CHECK_RETURN(call)                                                              \
+    do {                                                                                   \
+        VkResult vk_check_result_ = (call);                                                \
+        if (vk_check_result_ != VK_SUCCESS) {                                              \
+            fprintf(stderr, "skyd: vulkan: %s failed: %s (%s:%d)\n", #call,                \
+                    vk_result_name(vk_check_result_), __FILE__, __LINE__);                 \
+            return vk_check_result_;                                                       \
+        }                                                                                  \
+    } while (0)
+
+#endif

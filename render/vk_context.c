@@ -1,0 +1,413 @@
+#include "vk_context.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vk_check.h"
+
+#define VALIDATION_LAYER "VK_LAYER_KHRONOS_validation"
+
+const char *vk_result_name(VkResult result)
+{
+    switch (result) {
+    case VK_SUCCESS: return "VK_SUCCESS";
+    case VK_NOT_READY: return "VK_NOT_READY";
+    case VK_TIMEOUT: return "VK_TIMEOUT";
+    case VK_INCOMPLETE: return "VK_INCOMPLETE";
+    case VK_ERROR_OUT_OF_HOST_MEMORY: return "VK_ERROR_OUT_OF_HOST_MEMORY";
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
+    case VK_ERROR_INITIALIZATION_FAILED: return "VK_ERROR_INITIALIZATION_FAILED";
+    case VK_ERROR_DEVICE_LOST: return "VK_ERROR_DEVICE_LOST";
+    case VK_ERROR_MEMORY_MAP_FAILED: return "VK_ERROR_MEMORY_MAP_FAILED";
+    case VK_ERROR_LAYER_NOT_PRESENT: return "VK_ERROR_LAYER_NOT_PRESENT";
+    case VK_ERROR_EXTENSION_NOT_PRESENT: return "VK_ERROR_EXTENSION_NOT_PRESENT";
+    case VK_ERROR_FEATURE_NOT_PRESENT: return "VK_ERROR_FEATURE_NOT_PRESENT";
+    case VK_ERROR_INCOMPATIBLE_DRIVER: return "VK_ERROR_INCOMPATIBLE_DRIVER";
+    case VK_ERROR_TOO_MANY_OBJECTS: return "VK_ERROR_TOO_MANY_OBJECTS";
+    case VK_ERROR_FORMAT_NOT_SUPPORTED: return "VK_ERROR_FORMAT_NOT_SUPPORTED";
+    case VK_ERROR_FRAGMENTED_POOL: return "VK_ERROR_FRAGMENTED_POOL";
+    case VK_ERROR_OUT_OF_POOL_MEMORY: return "VK_ERROR_OUT_OF_POOL_MEMORY";
+    default: return "VkResult(other)";
+    }
+}
+
+static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(
+    VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
+    const VkDebugUtilsMessengerCallbackDataEXT *data, void *user)
+{
+    (void)types;
+    struct vk_context *ctx = user;
+    const char *level = "info";
+    if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        ctx->validation_errors++;
+        level = "error";
+    } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+        ctx->validation_warnings++;
+        level = "warning";
+    }
+    fprintf(stderr, "skyd: vulkan validation %s: %s\n", level,
+            data && data->pMessage ? data->pMessage : "(no message)");
+    return VK_FALSE;
+}
+
+static bool instance_has_layer(const char *name)
+{
+    uint32_t count = 0;
+    if (vkEnumerateInstanceLayerProperties(&count, NULL) != VK_SUCCESS)
+        return false;
+    VkLayerProperties *layers = calloc(count ? count : 1, sizeof *layers);
+    bool found = false;
+    if (layers && vkEnumerateInstanceLayerProperties(&count, layers) == VK_SUCCESS) {
+        for (uint32_t i = 0; i < count && !found; i++)
+            found = strcmp(layers[i].layerName, name) == 0;
+    }
+    free(layers);
+    return found;
+}
+
+static bool instance_has_extension(const char *name)
+{
+    uint32_t count = 0;
+    if (vkEnumerateInstanceExtensionProperties(NULL, &count, NULL) != VK_SUCCESS)
+        return false;
+    VkExtensionProperties *exts = calloc(count ? count : 1, sizeof *exts);
+    bool found = false;
+    if (exts && vkEnumerateInstanceExtensionProperties(NULL, &count, exts) == VK_SUCCESS) {
+        for (uint32_t i = 0; i < count && !found; i++)
+            found = strcmp(exts[i].extensionName, name) == 0;
+    }
+    free(exts);
+    return found;
+}
+
+static int device_kind_rank(VkPhysicalDeviceType type)
+{
+    switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
+    default: return 0;
+    }
+}
+
+static bool find_compute_queue(VkPhysicalDevice pd, uint32_t *family, uint32_t *timestamp_bits)
+{
+    uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &count, NULL);
+    VkQueueFamilyProperties *props = calloc(count ? count : 1, sizeof *props);
+    if (!props)
+        return false;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &count, props);
+    bool found = false;
+    /* Prefer a family with timestamps so per-pass timing works. */
+    for (int pass = 0; pass < 2 && !found; pass++) {
+        for (uint32_t i = 0; i < count; i++) {
+            if (!(props[i].queueFlags & VK_QUEUE_COMPUTE_BIT))
+                continue;
+            if (pass == 0 && props[i].timestampValidBits == 0)
+                continue;
+            *family = i;
+            *timestamp_bits = props[i].timestampValidBits;
+            found = true;
+            break;
+        }
+    }
+    free(props);
+    return found;
+}
+
+static bool is_decimal(const char *s)
+{
+    if (!*s)
+        return false;
+    for (; *s; s++)
+        if (*s < '0' || *s > '9')
+            return false;
+    return true;
+}
+
+/* Returns the index of the chosen device or -1; logs why nothing matched. */
+static int choose_device(VkPhysicalDevice *devices, uint32_t count, const char *preference)
+{
+    const char *pref = preference ? preference : "";
+    int best = -1, best_rank = -1;
+    for (uint32_t i = 0; i < count; i++) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(devices[i], &p);
+        uint32_t family, bits;
+        if (!find_compute_queue(devices[i], &family, &bits))
+            continue;
+        int rank = device_kind_rank(p.deviceType);
+        bool ok;
+        if (!*pref)
+            ok = true;
+        else if (strcmp(pref, "cpu") == 0)
+            ok = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+        else if (strcmp(pref, "gpu") == 0)
+            ok = p.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
+        else if (is_decimal(pref))
+            ok = (uint32_t)strtoul(pref, NULL, 10) == i;
+        else
+            ok = strstr(p.deviceName, pref) != NULL;
+        if (ok && rank > best_rank) {
+            best = (int)i;
+            best_rank = rank;
+        }
+    }
+    if (best < 0) {
+        fprintf(stderr, "skyd: vulkan: no device with a compute queue matches \"%s\"; devices:\n",
+                pref);
+        for (uint32_t i = 0; i < count; i++) {
+            VkPhysicalDeviceProperties p;
+            vkGetPhysicalDeviceProperties(devices[i], &p);
+            fprintf(stderr, "  %u: %s\n", i, p.deviceName);
+        }
+    }
+    return best;
+}
+
+static VkResult create_instance(struct vk_context *ctx, bool validation)
+{
+    const char *layers[1];
+    uint32_t layer_count = 0;
+    if (validation) {
+        if (!instance_has_layer(VALIDATION_LAYER)) {
+            fprintf(stderr, "skyd: vulkan: validation requested but %s is not installed\n",
+                    VALIDATION_LAYER);
+            return VK_ERROR_LAYER_NOT_PRESENT;
+        }
+        layers[layer_count++] = VALIDATION_LAYER;
+    }
+    const char *extensions[1];
+    uint32_t extension_count = 0;
+    bool debug_utils = instance_has_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    if (debug_utils)
+        extensions[extension_count++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
+    else if (validation) {
+        fprintf(stderr, "skyd: vulkan: validation needs %s\n", VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+        return VK_ERROR_EXTENSION_NOT_PRESENT;
+    }
+
+    VkApplicationInfo app = {
+        .sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
+        .pApplicationName = "skyd",
+        .applicationVersion = VK_MAKE_VERSION(0, 1, 0),
+        .pEngineName = "skyd",
+        .engineVersion = VK_MAKE_VERSION(0, 1, 0),
+        .apiVersion = VK_API_VERSION_1_2,
+    };
+    VkDebugUtilsMessengerCreateInfoEXT messenger_info = {
+        .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
+        .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                           VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
+        .messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT,
+        .pfnUserCallback = on_debug_message,
+        .pUserData = ctx,
+    };
+    VkInstanceCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
+        /* Chained so instance creation and destruction are validated too. */
+        .pNext = validation ? &messenger_info : NULL,
+        .pApplicationInfo = &app,
+        .enabledLayerCount = layer_count,
+        .ppEnabledLayerNames = layers,
+        .enabledExtensionCount = extension_count,
+        .ppEnabledExtensionNames = extensions,
+    };
+    VK_CHECK_RETURN(vkCreateInstance(&info, NULL, &ctx->instance));
+
+    if (validation) {
+        PFN_vkCreateDebugUtilsMessengerEXT create_messenger =
+            (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
+                ctx->instance, "vkCreateDebugUtilsMessengerEXT");
+        if (!create_messenger)
+            return VK_ERROR_EXTENSION_NOT_PRESENT;
+        VK_CHECK_RETURN(create_messenger(ctx->instance, &messenger_info, NULL, &ctx->messenger));
+        ctx->validation_enabled = true;
+    }
+    return VK_SUCCESS;
+}
+
+static VkResult pick_physical_device(struct vk_context *ctx, const struct vk_context_params *p)
+{
+    uint32_t count = 0;
+    VK_CHECK_RETURN(vkEnumeratePhysicalDevices(ctx->instance, &count, NULL));
+    if (count == 0) {
+        fprintf(stderr, "skyd: vulkan: no physical device (is mesa-vulkan-drivers installed?)\n");
+        return VK_ERROR_INITIALIZATION_FAILED;
+    }
+    VkPhysicalDevice *devices = calloc(count, sizeof *devices);
+    if (!devices)
+        return VK_ERROR_OUT_OF_HOST_MEMORY;
+    VkResult res = vkEnumeratePhysicalDevices(ctx->instance, &count, devices);
+    if (res != VK_SUCCESS && res != VK_INCOMPLETE) {
+        free(devices);
+        return res;
+    }
+    int chosen = choose_device(devices, count, p->device_preference);
+    if (chosen >= 0)
+        ctx->physical_device = devices[chosen];
+    free(devices);
+    if (chosen < 0)
+        return VK_ERROR_INITIALIZATION_FAILED;
+
+    vkGetPhysicalDeviceProperties(ctx->physical_device, &ctx->properties);
+    vkGetPhysicalDeviceMemoryProperties(ctx->physical_device, &ctx->memory_properties);
+    uint32_t timestamp_bits = 0;
+    find_compute_queue(ctx->physical_device, &ctx->queue_family, &timestamp_bits);
+    ctx->timestamp_period_ns = timestamp_bits ? ctx->properties.limits.timestampPeriod : 0.0f;
+    ctx->timestamp_mask = timestamp_bits >= 64 ? UINT64_MAX : ((1ull << timestamp_bits) - 1ull);
+    if (!p->quiet) {
+        fprintf(stderr, "skyd: vulkan device: %s (%s, Vulkan %u.%u.%u)%s\n",
+                ctx->properties.deviceName,
+                ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? "cpu" : "gpu",
+                VK_API_VERSION_MAJOR(ctx->properties.apiVersion),
+                VK_API_VERSION_MINOR(ctx->properties.apiVersion),
+                VK_API_VERSION_PATCH(ctx->properties.apiVersion),
+                ctx->validation_enabled ? ", validation on" : "");
+    }
+    return VK_SUCCESS;
+}
+
+struct vk_context *vk_context_create(const struct vk_context_params *params)
+{
+    struct vk_context_params defaults = { 0 };
+    const struct vk_context_params *p = params ? params : &defaults;
+    struct vk_context *ctx = calloc(1, sizeof *ctx);
+    if (!ctx)
+        return NULL;
+
+    VK_CHECK_GOTO(create_instance(ctx, p->validation), fail);
+    VK_CHECK_GOTO(pick_physical_device(ctx, p), fail);
+
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue_info = {
+        .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
+        .queueFamilyIndex = ctx->queue_family,
+        .queueCount = 1,
+        .pQueuePriorities = &priority,
+    };
+    VkDeviceCreateInfo device_info = {
+        .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+        .queueCreateInfoCount = 1,
+        .pQueueCreateInfos = &queue_info,
+    };
+    VK_CHECK_GOTO(vkCreateDevice(ctx->physical_device, &device_info, NULL, &ctx->device), fail);
+    vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
+
+    VkCommandPoolCreateInfo pool_info = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+        .flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT,
+        .queueFamilyIndex = ctx->queue_family,
+    };
+    VK_CHECK_GOTO(vkCreateCommandPool(ctx->device, &pool_info, NULL, &ctx->command_pool), fail);
+    VkFenceCreateInfo fence_info = { .sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO };
+    VK_CHECK_GOTO(vkCreateFence(ctx->device, &fence_info, NULL, &ctx->fence), fail);
+    return ctx;
+
+fail:
+    vk_context_destroy(&ctx);
+    return NULL;
+}
+
+void vk_context_destroy(struct vk_context **pctx)
+{
+    struct vk_context *ctx = pctx ? *pctx : NULL;
+    if (!ctx)
+        return;
+    if (ctx->device) {
+        vkDeviceWaitIdle(ctx->device);
+        if (ctx->fence)
+            vkDestroyFence(ctx->device, ctx->fence, NULL);
+        if (ctx->command_pool)
+            vkDestroyCommandPool(ctx->device, ctx->command_pool, NULL);
+        vkDestroyDevice(ctx->device, NULL);
+    }
+    if (ctx->messenger) {
+        PFN_vkDestroyDebugUtilsMessengerEXT destroy_messenger =
+            (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
+                ctx->instance, "vkDestroyDebugUtilsMessengerEXT");
+        if (destroy_messenger)
+            destroy_messenger(ctx->instance, ctx->messenger, NULL);
+    }
+    if (ctx->instance)
+        vkDestroyInstance(ctx->instance, NULL);
+    free(ctx);
+    *pctx = NULL;
+}
+
+VkResult vk_context_begin_commands(struct vk_context *ctx, VkCommandBuffer *out)
+{
+    VkCommandBufferAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+        .commandPool = ctx->command_pool,
+        .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+        .commandBufferCount = 1,
+    };
+    VK_CHECK_RETURN(vkAllocateCommandBuffers(ctx->device, &alloc, out));
+    VkCommandBufferBeginInfo begin = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+        .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT,
+    };
+    VkResult res = vkBeginCommandBuffer(*out, &begin);
+    if (res != VK_SUCCESS) {
+        vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, out);
+        *out = VK_NULL_HANDLE;
+    }
+    return res;
+}
+
+VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd)
+{
+    VkResult res = vkEndCommandBuffer(*cmd);
+    if (res == VK_SUCCESS)
+        res = vkResetFences(ctx->device, 1, &ctx->fence);
+    if (res == VK_SUCCESS) {
+        VkSubmitInfo submit = {
+            .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+            .commandBufferCount = 1,
+            .pCommandBuffers = cmd,
+        };
+        res = vkQueueSubmit(ctx->queue, 1, &submit, ctx->fence);
+    }
+    if (res == VK_SUCCESS)
+        res = vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, UINT64_MAX);
+    if (res != VK_SUCCESS)
+        fprintf(stderr, "skyd: vulkan: submit failed: %s\n", vk_result_name(res));
+    vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, cmd);
+    *cmd = VK_NULL_HANDLE;
+    return res;
+}
+
+uint32_t vk_context_find_memory_type(const struct vk_context *ctx, uint32_t type_bits,
+                                     VkMemoryPropertyFlags required)
+{
+    for (uint32_t i = 0; i < ctx->memory_properties.memoryTypeCount; i++) {
+        if ((type_bits & (1u << i)) &&
+            (ctx->memory_properties.memoryTypes[i].propertyFlags & required) == required)
+            return i;
+    }
+    return UINT32_MAX;
+}
+
+void vk_context_name_object(const struct vk_context *ctx, VkObjectType type, uint64_t handle,
+                            const char *name)
+{
+    if (!ctx->validation_enabled || !handle || !name)
+        return;
+    PFN_vkSetDebugUtilsObjectNameEXT set_name =
+        (PFN_vkSetDebugUtilsObjectNameEXT)vkGetInstanceProcAddr(ctx->instance,
+                                                                "vkSetDebugUtilsObjectNameEXT");
+    if (!set_name)
+        return;
+    VkDebugUtilsObjectNameInfoEXT info = {
+        .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT,
+        .objectType = type,
+        .objectHandle = handle,
+        .pObjectName = name,
+    };
+    set_name(ctx->device, &info);
+}

@@ -1,0 +1,208 @@
+#include "vk_resources.h"
+
+#include <string.h>
+
+#include "vk_check.h"
+#include "vk_context.h"
+
+static VkResult bind_new_memory(struct vk_context *ctx, VkMemoryRequirements req,
+                                VkMemoryPropertyFlags preferred, VkMemoryPropertyFlags required,
+                                VkDeviceMemory *out)
+{
+    uint32_t type = vk_context_find_memory_type(ctx, req.memoryTypeBits, preferred);
+    if (type == UINT32_MAX)
+        type = vk_context_find_memory_type(ctx, req.memoryTypeBits, required);
+    if (type == UINT32_MAX) {
+        fprintf(stderr, "skyd: vulkan: no memory type for %#x\n", (unsigned)required);
+        return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    }
+    VkMemoryAllocateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+        .allocationSize = req.size,
+        .memoryTypeIndex = type,
+    };
+    return vkAllocateMemory(ctx->device, &info, NULL, out);
+}
+
+VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t width,
+                          uint32_t height, uint32_t depth, const char *name,
+                          struct gpu_image *out)
+{
+    memset(out, 0, sizeof *out);
+    out->format = format;
+    out->width = width;
+    out->height = height;
+    out->depth = depth ? depth : 1;
+    VkImageType type = out->depth > 1 ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
+    VkImageCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO,
+        .imageType = type,
+        .format = format,
+        .extent = { width, height, out->depth },
+        .mipLevels = 1,
+        .arrayLayers = 1,
+        .samples = VK_SAMPLE_COUNT_1_BIT,
+        .tiling = VK_IMAGE_TILING_OPTIMAL,
+        .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+        .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+    };
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VK_CHECK_GOTO(vkCreateImage(ctx->device, &info, NULL, &out->image), fail);
+    vk_context_name_object(ctx, VK_OBJECT_TYPE_IMAGE, (uint64_t)out->image, name);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(ctx->device, out->image, &req);
+    VK_CHECK_GOTO(bind_new_memory(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, &out->memory),
+                  fail);
+    VK_CHECK_GOTO(vkBindImageMemory(ctx->device, out->image, out->memory, 0), fail);
+
+    VkImageViewCreateInfo view = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
+        .image = out->image,
+        .viewType = out->depth > 1 ? VK_IMAGE_VIEW_TYPE_3D : VK_IMAGE_VIEW_TYPE_2D,
+        .format = format,
+        .subresourceRange = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1 },
+    };
+    VK_CHECK_GOTO(vkCreateImageView(ctx->device, &view, NULL, &out->view), fail);
+
+    VK_CHECK_GOTO(vk_context_begin_commands(ctx, &cmd), fail);
+    VkImageMemoryBarrier barrier = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+        .srcAccessMask = 0,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+        .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+        .newLayout = VK_IMAGE_LAYOUT_GENERAL,
+        .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .image = out->image,
+        .subresourceRange = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1 },
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL, 0, NULL, 1, &barrier);
+    /* Start from zero so a table read before its first build is black, never garbage. */
+    VkClearColorValue zero = { .float32 = { 0, 0, 0, 0 } };
+    vkCmdClearColorImage(cmd, out->image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1,
+                         &barrier.subresourceRange);
+    gpu_barrier_compute_to_compute(cmd);
+    VK_CHECK_GOTO(vk_context_submit_and_wait(ctx, &cmd), fail);
+    return VK_SUCCESS;
+
+fail:
+    gpu_image_destroy(ctx, out);
+    return VK_ERROR_INITIALIZATION_FAILED;
+}
+
+void gpu_image_destroy(struct vk_context *ctx, struct gpu_image *image)
+{
+    if (!ctx || !image)
+        return;
+    if (image->view)
+        vkDestroyImageView(ctx->device, image->view, NULL);
+    if (image->image)
+        vkDestroyImage(ctx->device, image->image, NULL);
+    if (image->memory)
+        vkFreeMemory(ctx->device, image->memory, NULL);
+    memset(image, 0, sizeof *image);
+}
+
+VkResult gpu_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,
+                           const char *name, struct gpu_buffer *out)
+{
+    memset(out, 0, sizeof *out);
+    out->size = size;
+    VkBufferCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
+        .size = size,
+        .usage = usage,
+        .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+    };
+    VK_CHECK_GOTO(vkCreateBuffer(ctx->device, &info, NULL, &out->buffer), fail);
+    vk_context_name_object(ctx, VK_OBJECT_TYPE_BUFFER, (uint64_t)out->buffer, name);
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(ctx->device, out->buffer, &req);
+    VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                 VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    VK_CHECK_GOTO(bind_new_memory(ctx, req, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT, host,
+                                  &out->memory),
+                  fail);
+    VK_CHECK_GOTO(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0), fail);
+    VK_CHECK_GOTO(vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped), fail);
+    return VK_SUCCESS;
+
+fail:
+    gpu_buffer_destroy(ctx, out);
+    return VK_ERROR_INITIALIZATION_FAILED;
+}
+
+void gpu_buffer_destroy(struct vk_context *ctx, struct gpu_buffer *buffer)
+{
+    if (!ctx || !buffer)
+        return;
+    if (buffer->mapped)
+        vkUnmapMemory(ctx->device, buffer->memory);
+    if (buffer->buffer)
+        vkDestroyBuffer(ctx->device, buffer->buffer, NULL);
+    if (buffer->memory)
+        vkFreeMemory(ctx->device, buffer->memory, NULL);
+    memset(buffer, 0, sizeof *buffer);
+}
+
+VkResult gpu_linear_sampler_create(struct vk_context *ctx, VkSampler *out)
+{
+    VkSamplerCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = VK_FILTER_LINEAR,
+        .minFilter = VK_FILTER_LINEAR,
+        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .maxLod = 0.0f,
+    };
+    return vkCreateSampler(ctx->device, &info, NULL, out);
+}
+
+static void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage,
+                           VkAccessFlags src, VkPipelineStageFlags dst_stage, VkAccessFlags dst)
+{
+    VkMemoryBarrier barrier = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = src,
+        .dstAccessMask = dst,
+    };
+    vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &barrier, 0, NULL, 0, NULL);
+}
+
+void gpu_barrier_compute_to_compute(VkCommandBuffer cmd)
+{
+    memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+void gpu_barrier_compute_to_transfer(VkCommandBuffer cmd)
+{
+    memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+}
+
+void gpu_barrier_to_host(VkCommandBuffer cmd)
+{
+    memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+}
+
+void gpu_copy_image_to_buffer(VkCommandBuffer cmd, const struct gpu_image *image,
+                              const struct gpu_buffer *buffer)
+{
+    VkBufferImageCopy region = {
+        .bufferOffset = 0,
+        .imageSubresource = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1 },
+        .imageExtent = { image->width, image->height, image->depth },
+    };
+    vkCmdCopyImageToBuffer(cmd, image->image, VK_IMAGE_LAYOUT_GENERAL, buffer->buffer, 1,
+                           &region);
+}

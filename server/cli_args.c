@@ -1,0 +1,160 @@
+#include "cli_args.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "presets.h"
+#include "world_render.h"
+
+void cli_common_init(struct cli_common *c)
+{
+    memset(c, 0, sizeof *c);
+    sky_world_state_defaults(&c->state);
+    const char *dir = getenv("SKYD_CONFIG_DIR");
+    c->config_dir = dir && *dir ? dir : SKYD_SOURCE_DIR "/config";
+    const char *device = getenv("SKYD_DEVICE");
+    c->device = device && *device ? device : NULL;
+    const char *validation = getenv("SKYD_VALIDATION");
+    c->validation = validation && strcmp(validation, "1") == 0;
+}
+
+const char *cli_take_value(int argc, char **argv, int *i)
+{
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "skyd: %s needs a value\n", argv[*i]);
+        return NULL;
+    }
+    *i += 1;
+    return argv[*i];
+}
+
+static void print_field_errors(const char *context, const struct sky_field_errors *errors)
+{
+    char buf[4096];
+    sky_field_errors_format(errors, buf, sizeof buf);
+    fprintf(stderr, "skyd: %s:\n%s\n", context, buf);
+}
+
+static int apply_set(struct cli_common *c, const char *assignment)
+{
+    const char *eq = strchr(assignment, '=');
+    if (!eq || eq == assignment) {
+        fprintf(stderr, "skyd: --set expects PATH=VALUE, got \"%s\"\n", assignment);
+        return -1;
+    }
+    char path[256];
+    size_t len = (size_t)(eq - assignment);
+    if (len >= sizeof path) {
+        fprintf(stderr, "skyd: --set: path too long\n");
+        return -1;
+    }
+    memcpy(path, assignment, len);
+    path[len] = '\0';
+    struct sky_field_errors errors;
+    if (!sky_world_state_set_path(&c->state, path, eq + 1, &errors)) {
+        char context[300];
+        snprintf(context, sizeof context, "--set %s rejected", path);
+        print_field_errors(context, &errors);
+        return -1;
+    }
+    return 0;
+}
+
+static int apply_preset(struct cli_common *c, const char *name)
+{
+    struct sky_field_errors errors = { 0 };
+    char msg[1024] = "";
+    if (!sky_preset_apply(c->config_dir, "atmosphere", name, &c->state, &errors, msg,
+                          sizeof msg)) {
+        fprintf(stderr, "skyd: --preset %s: %s\n", name, msg);
+        if (errors.count > 0)
+            print_field_errors("preset fields", &errors);
+        return -1;
+    }
+    return 0;
+}
+
+int cli_parse_common(int argc, char **argv, int *i, struct cli_common *c)
+{
+    const char *opt = argv[*i];
+    const char *value;
+    if (strcmp(opt, "--validation") == 0) {
+        c->validation = true;
+        return 1;
+    }
+    if (strcmp(opt, "--preset") == 0) {
+        if (!(value = cli_take_value(argc, argv, i)))
+            return -1;
+        return apply_preset(c, value) == 0 ? 1 : -1;
+    }
+    if (strcmp(opt, "--set") == 0) {
+        if (!(value = cli_take_value(argc, argv, i)))
+            return -1;
+        return apply_set(c, value) == 0 ? 1 : -1;
+    }
+    if (strcmp(opt, "--config-dir") == 0) {
+        if (!(value = cli_take_value(argc, argv, i)))
+            return -1;
+        c->config_dir = value;
+        return 1;
+    }
+    if (strcmp(opt, "--device") == 0) {
+        if (!(value = cli_take_value(argc, argv, i)))
+            return -1;
+        c->device = value;
+        return 1;
+    }
+    return 0;
+}
+
+bool cli_parse_double(const char *option, const char *text, double min, double max,
+                      double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (end == text || *end != '\0' || errno == ERANGE || !isfinite(v)) {
+        fprintf(stderr, "skyd: %s: \"%s\" is not a finite number\n", option, text);
+        return false;
+    }
+    if (v < min || v > max) {
+        fprintf(stderr, "skyd: %s: %g is out of range [%g, %g]\n", option, v, min, max);
+        return false;
+    }
+    *out = v;
+    return true;
+}
+
+bool cli_parse_uint(const char *option, const char *text, unsigned min, unsigned max,
+                    unsigned *out)
+{
+    char *end = NULL;
+    errno = 0;
+    unsigned long v = strtoul(text, &end, 10);
+    if (end == text || *end != '\0' || errno == ERANGE || text[0] == '-') {
+        fprintf(stderr, "skyd: %s: \"%s\" is not a whole number\n", option, text);
+        return false;
+    }
+    if (v < min || v > max) {
+        fprintf(stderr, "skyd: %s: %lu is out of range [%u, %u]\n", option, v, min, max);
+        return false;
+    }
+    *out = (unsigned)v;
+    return true;
+}
+
+struct sky_renderer *cli_create_renderer(const struct cli_common *c)
+{
+    struct sky_renderer_params params = {
+        .device_preference = c->device,
+        .validation = c->validation,
+    };
+    world_to_lut_sizes(&c->state, &params.lut_sizes);
+    struct sky_renderer *r = sky_renderer_create(&params);
+    if (!r)
+        fprintf(stderr, "skyd: cannot start the Vulkan renderer\n");
+    return r;
+}

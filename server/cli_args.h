@@ -1,0 +1,37 @@
+/* Command-line options shared by `skyd render` and `skyd probe`: the world state built from
+ * presets and --set assignments in command-line order, and the renderer's device options. */
+#ifndef SKYD_CLI_ARGS_H
+#define SKYD_CLI_ARGS_H
+
+#include <stdbool.h>
+
+#include "sky_renderer.h"
+#include "world_state.h"
+
+struct cli_common {
+    const char *config_dir;   /* --config-dir, $SKYD_CONFIG_DIR, else the source tree's config/ */
+    const char *device;       /* --device, $SKYD_DEVICE */
+    bool validation;          /* --validation, $SKYD_VALIDATION=1 */
+    struct sky_world_state state;
+};
+
+void cli_common_init(struct cli_common *c);
+
+/* Tries the option at argv[*i] (--preset, --set, --config-dir, --device, --validation),
+ * advancing *i past its value. Returns 1 when consumed, 0 when not a common option, -1 after
+ * printing an error that names the problem. */
+int cli_parse_common(int argc, char **argv, int *i, struct cli_common *c);
+
+/* Takes the value of option argv[*i] (advancing *i), or prints "OPTION needs a value". */
+const char *cli_take_value(int argc, char **argv, int *i);
+
+/* Parses a finite number within [min, max]; prints "OPTION: ..." and returns false if not. */
+bool cli_parse_double(const char *option, const char *text, double min, double max,
+                      double *out);
+bool cli_parse_uint(const char *option, const char *text, unsigned min, unsigned max,
+                    unsigned *out);
+
+/* Creates the renderer for these options with the state's LUT sizes; NULL after a message. */
+struct sky_renderer *cli_create_renderer(const struct cli_common *c);
+
+#endif

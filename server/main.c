@@ -1,0 +1,36 @@
+/* skyd: sky and cloud weather simulator. Subcommand dispatch. */
+#include <stdio.h>
+#include <string.h>
+
+#include "commands.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "skyd %s - physically based sky renderer\n"
+            "usage: skyd <command> [options]\n"
+            "  render   render one frame to a PNG      (skyd render --help)\n"
+            "  probe    print physical quantities      (skyd probe --help)\n"
+            "  version  print the version\n",
+            SKYD_VERSION);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+        strcmp(argv[1], "help") == 0) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? SKYD_EXIT_USAGE : SKYD_EXIT_OK;
+    }
+    if (strcmp(argv[1], "render") == 0)
+        return skyd_cmd_render(argc - 2, argv + 2);
+    if (strcmp(argv[1], "probe") == 0)
+        return skyd_cmd_probe(argc - 2, argv + 2);
+    if (strcmp(argv[1], "version") == 0 || strcmp(argv[1], "--version") == 0) {
+        printf("skyd %s\n", SKYD_VERSION);
+        return SKYD_EXIT_OK;
+    }
+    fprintf(stderr, "skyd: unknown command \"%s\"\n", argv[1]);
+    usage(stderr);
+    return SKYD_EXIT_USAGE;
+}

@@ -1,0 +1,84 @@
+#include "world_render.h"
+
+#include <string.h>
+
+#include "sky_shared.h"
+
+static void copy3(double dst[3], const double src[3])
+{
+    memcpy(dst, src, 3 * sizeof(double));
+}
+
+void world_to_render_atmosphere(const struct sky_world_state *state,
+                                struct sky_render_atmosphere *out)
+{
+    const struct sky_atmosphere_state *a = &state->atmosphere;
+    memset(out, 0, sizeof *out);
+    out->bottom_radius_km = a->bottom_radius_km;
+    out->top_radius_km = a->top_radius_km;
+    copy3(out->rayleigh_scattering, a->rayleigh_scattering_per_km);
+    out->rayleigh_scale_height_km = a->rayleigh_scale_height_km;
+    copy3(out->mie_scattering, a->mie_scattering_per_km);
+    copy3(out->mie_absorption, a->mie_absorption_per_km);
+    out->mie_scale_height_km = a->mie_scale_height_km;
+    copy3(out->mie_g, a->mie_g);
+    copy3(out->ozone_absorption, a->ozone_absorption_per_km);
+    out->ozone_peak_km = a->ozone_peak_altitude_km;
+    out->ozone_width_km = a->ozone_width_km;
+    copy3(out->ground_albedo, a->ground_albedo);
+    out->fog_density_per_km = a->fog_density_per_km;
+    out->fog_scale_height_km = a->fog_scale_height_km;
+}
+
+static int limb_model(enum sky_limb_darkening model)
+{
+    switch (model) {
+    case SKY_LIMB_DARKENING_NECKEL96: return SKY_LIMB_NECKEL96;
+    case SKY_LIMB_DARKENING_HM98: return SKY_LIMB_HM98;
+    default: return SKY_LIMB_NONE;
+    }
+}
+
+static int tonemap_op(enum sky_tonemap tonemap)
+{
+    switch (tonemap) {
+    case SKY_TONEMAP_REINHARD: return SKY_TONEMAP_OP_REINHARD;
+    case SKY_TONEMAP_CLAMP: return SKY_TONEMAP_OP_CLAMP;
+    default: return SKY_TONEMAP_OP_ACES;
+    }
+}
+
+void world_to_render_view(const struct sky_world_state *state, uint32_t width, uint32_t height,
+                          enum sky_render_output_kind output, struct sky_render_view *out)
+{
+    memset(out, 0, sizeof *out);
+    out->width = width;
+    out->height = height;
+    out->camera_altitude_km = state->camera.altitude_km;
+    out->camera_yaw_deg = state->camera.yaw_deg;
+    out->camera_pitch_deg = state->camera.pitch_deg;
+    out->camera_fov_deg = state->camera.fov_deg;
+    out->sun_azimuth_deg = state->sun.azimuth_deg;
+    out->sun_elevation_deg = state->sun.elevation_deg;
+    out->sun_illuminance_lux = state->sun.illuminance_lux;
+    out->sun_angular_diameter_deg = state->sun.angular_diameter_deg;
+    out->limb_darkening = limb_model(state->sun.limb_darkening);
+    out->auto_exposure = state->exposure.mode == SKY_EXPOSURE_AUTO;
+    out->ev100 = state->exposure.ev100;
+    out->exposure_compensation_ev = state->exposure.compensation_ev;
+    out->tonemap = tonemap_op(state->exposure.tonemap);
+    out->aerial_perspective_max_km = state->render.aerial_perspective_max_km;
+    out->output = output;
+}
+
+void world_to_lut_sizes(const struct sky_world_state *state, struct sky_render_lut_sizes *out)
+{
+    const struct sky_render_settings *r = &state->render;
+    for (int i = 0; i < 2; i++) {
+        out->transmittance[i] = (uint32_t)r->transmittance_lut[i];
+        out->multiscattering[i] = (uint32_t)r->multiscattering_lut[i];
+        out->skyview[i] = (uint32_t)r->skyview_lut[i];
+    }
+    for (int i = 0; i < 3; i++)
+        out->aerial_perspective[i] = (uint32_t)r->aerial_perspective_lut[i];
+}

@@ -1,0 +1,64 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Aerial-perspective froxel volume (Hillaire 2020 section 5.4; seed 000 eq. 14.15-14.16):
+// for each froxel column over the view frustum, in-scattered luminance (per unit sun
+// illuminance) and transmittance from the camera to the end of every depth slice. Slices
+// follow a squared distribution so that near slices are thin.
+#include "sky_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
+layout(binding = 2) uniform sampler2D transmittance_lut;
+layout(binding = 3) uniform sampler2D multiscattering_lut;
+layout(binding = 4, rgba32f) uniform writeonly image3D ap_inscatter_out;
+layout(binding = 5, rgba32f) uniform writeonly image3D ap_transmittance_out;
+
+#define SKY_HAS_TRANSMITTANCE_LUT
+#define SKY_HAS_MULTISCATTERING_LUT
+#include "atmosphere.glsl"
+#include "camera.glsl"
+
+const float STEPS_PER_SLICE = 2.0;
+
+void main()
+{
+    ivec3 size = imageSize(ap_inscatter_out);
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, size.xy)))
+        return;
+    vec2 uv = (vec2(px) + 0.5) / vec2(size.xy);
+    vec3 dir = camera_ray(uv);
+    vec3 origin = frame.camera_position.xyz;
+    vec3 sun_dir = frame.sun_direction.xyz;
+    float cos_theta = dot(dir, sun_dir);
+    float phase_r = rayleigh_phase(cos_theta);
+    vec3 phase_m = mie_phase(cos_theta, atmo.mie_g.xyz);
+    float t_ground = ray_sphere_nearest(origin, dir, bottom_radius());
+    float t_max = t_ground >= 0.0 ? t_ground : 1e9;
+
+    vec3 luminance = vec3(0.0), throughput = vec3(1.0);
+    float t_prev = 0.0;
+    float slices = float(size.z);
+    for (int slice = 0; slice < size.z; slice++) {
+        float x = (float(slice) + 1.0) / slices;
+        float t_slice = frame.image.z * x * x;
+        float t_slice_end = min(t_slice, t_max);
+        float dt = (t_slice_end - t_prev) / STEPS_PER_SLICE;
+        for (float k = 0.0; k < STEPS_PER_SLICE && dt > 0.0; k += 1.0) {
+            vec3 p = origin + (t_prev + (k + 0.5) * dt) * dir;
+            float r = length(p);
+            MediumSample m = sample_medium(r - bottom_radius());
+            vec3 source = sun_transmittance(p, sun_dir)
+                              * (m.rayleigh_scattering * phase_r + m.mie_scattering * phase_m)
+                          + multiscattering(r, dot(p / r, sun_dir)) * m.scattering;
+            vec3 step_t = exp(-m.extinction * dt);
+            vec3 ext = max(m.extinction, vec3(1e-9));
+            luminance += throughput * (source - source * step_t) / ext; // seed 001 eq. 23
+            throughput *= step_t;
+        }
+        t_prev = max(t_prev, t_slice_end);
+        imageStore(ap_inscatter_out, ivec3(px, slice), vec4(luminance, 1.0));
+        imageStore(ap_transmittance_out, ivec3(px, slice), vec4(throughput, 1.0));
+    }
+}

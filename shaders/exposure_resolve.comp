@@ -1,0 +1,34 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Sums the metering partials into the log-average luminance and turns it into an exposure:
+// EV100 = log2(L_avg * S / K) with S = 100, K = 12.5, minus compensation; exposure =
+// 1 / (1.2 * 2^EV100) (Lagarde & de Rousiers 2014, saturation-based sensitivity).
+#include "sky_shared.h"
+
+layout(local_size_x = 64) in;
+layout(std140, binding = 0) uniform FrameBlock { sky_frame_uniforms frame; };
+layout(std430, binding = 1) readonly buffer Partials { vec2 partials[]; };
+layout(std430, binding = 2) writeonly buffer ExposureBlock { vec4 metered; };
+layout(push_constant) uniform MeterPush { sky_meter_push meter; };
+
+shared vec2 shared_sum[64];
+
+void main()
+{
+    uint li = gl_LocalInvocationIndex;
+    vec2 sum = vec2(0.0);
+    for (uint i = li; i < meter.group_count; i += 64u)
+        sum += partials[i];
+    shared_sum[li] = sum;
+    barrier();
+    for (uint stride = 32u; stride > 0u; stride >>= 1u) {
+        if (li < stride)
+            shared_sum[li] += shared_sum[li + stride];
+        barrier();
+    }
+    if (li == 0u) {
+        float log_avg = shared_sum[0].x / max(shared_sum[0].y, 1.0);
+        float ev100 = log_avg + log2(100.0 / 12.5) - frame.exposure.z;
+        metered = vec4(1.0 / (1.2 * exp2(ev100)), ev100, exp2(log_avg), 0.0);
+    }
+}

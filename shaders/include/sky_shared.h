@@ -1,0 +1,87 @@
+/* Uniform and push-constant layouts shared by C (render/) and GLSL (shaders/).
+ *
+ * Only vec4/ivec4 members, so std140 and C agree without padding rules. Lengths are km,
+ * coefficients per km, illuminance lux, luminance cd/m2. Coordinates: planet centred; the
+ * camera stands above the point (0, 0, bottom_radius) and the local frame there is x east,
+ * y north, z up. */
+#ifndef SKY_SHARED_H
+#define SKY_SHARED_H
+
+#if defined(VULKAN) || defined(GL_core_profile)
+#define SKY_VEC4 vec4
+#define SKY_IVEC4 ivec4
+#define SKY_UINT uint
+#else
+#include <stdint.h>
+typedef struct { float x, y, z, w; } sky_vec4;
+typedef struct { int32_t x, y, z, w; } sky_ivec4;
+#define SKY_VEC4 sky_vec4
+#define SKY_IVEC4 sky_ivec4
+#define SKY_UINT uint32_t
+#endif
+
+/* Limb darkening models (sun_illuminance.w). */
+#define SKY_LIMB_NONE 0
+#define SKY_LIMB_NECKEL96 1
+#define SKY_LIMB_HM98 2
+
+/* Tonemapping operators (exposure.w). */
+#define SKY_TONEMAP_OP_ACES 0
+#define SKY_TONEMAP_OP_REINHARD 1
+#define SKY_TONEMAP_OP_CLAMP 2
+
+/* Composite output kinds (image.w). */
+#define SKY_OUTPUT_SRGB8 0
+#define SKY_OUTPUT_LINEAR_LUMINANCE 1
+
+/* Probe modes (probe push constants). */
+#define SKY_PROBE_LUMINANCE 0
+#define SKY_PROBE_TRANSMITTANCE 1
+#define SKY_PROBE_SKY_LUMINANCE 2 /* luminance without the sun disk */
+
+/* Auto-exposure metering grid workgroup size and resolve limits. */
+#define SKY_METER_LOCAL 8
+#define SKY_METER_MAX_GROUPS 1024
+
+struct sky_atmosphere_uniforms {
+    SKY_VEC4 radii;               /* x bottom, y top, z rayleigh scale height, w mie scale height */
+    SKY_VEC4 rayleigh_scattering; /* xyz; w ozone peak altitude */
+    SKY_VEC4 mie_scattering;      /* xyz; w ozone full width */
+    SKY_VEC4 mie_absorption;      /* xyz; w fog density (scattering per km at the ground) */
+    SKY_VEC4 mie_extinction;      /* xyz = scattering + absorption; w fog scale height */
+    SKY_VEC4 mie_g;               /* xyz Cornette-Shanks asymmetry per channel */
+    SKY_VEC4 ozone_absorption;    /* xyz */
+    SKY_VEC4 ground_albedo;       /* xyz */
+};
+
+struct sky_frame_uniforms {
+    SKY_VEC4 camera_position;     /* xyz planet-centred km; w altitude km */
+    SKY_VEC4 camera_forward;      /* xyz unit; w tan(vertical fov / 2) */
+    SKY_VEC4 camera_right;        /* xyz unit; w aspect ratio (width / height) */
+    SKY_VEC4 camera_up;           /* xyz unit */
+    SKY_VEC4 sun_direction;       /* xyz unit, toward the sun; w cos(angular radius) */
+    SKY_VEC4 sun_illuminance;     /* xyz extraterrestrial illuminance per channel; w limb model */
+    SKY_VEC4 sun_disk;            /* x solid angle (sr), y sin(angular radius), zw unused */
+    SKY_VEC4 exposure;            /* x manual exposure multiplier, y 1 = auto, z compensation EV,
+                                     w tonemap operator */
+    SKY_VEC4 image;               /* x width, y height, z aerial perspective max km, w output kind */
+    SKY_VEC4 sun_local;           /* sun direction in the sky-view LUT frame (azimuth 0) */
+};
+
+/* Per-dispatch constants of the probe pass. */
+struct sky_probe_push {
+    SKY_UINT count;
+    SKY_UINT mode;
+    SKY_UINT pad0;
+    SKY_UINT pad1;
+};
+
+/* Per-dispatch constants of the metering passes. */
+struct sky_meter_push {
+    SKY_UINT grid_width;
+    SKY_UINT grid_height;
+    SKY_UINT group_count;
+    SKY_UINT pad0;
+};
+
+#endif

@@ -1,0 +1,46 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Ground irradiance LUT: horizontal irradiance at the ground from the sky (single scattering
+// plus the multiple-scattering LUT) per unit sun illuminance, against the sun's cos-zenith.
+// E = integral of L cos(theta) over the upper hemisphere (seed 000 eq. 14.3 family), by a
+// midpoint rule in zenith and azimuth.
+#include "sky_shared.h"
+
+layout(local_size_x = 8) in;
+layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+layout(binding = 1) uniform sampler2D transmittance_lut;
+layout(binding = 2) uniform sampler2D multiscattering_lut;
+layout(binding = 3, rgba32f) uniform writeonly image2D irradiance_out;
+
+#define SKY_HAS_TRANSMITTANCE_LUT
+#define SKY_HAS_MULTISCATTERING_LUT
+#include "atmosphere.glsl"
+#include "scattering_march.glsl"
+
+const int ZENITH_STEPS = 8;
+const int AZIMUTH_STEPS = 16;
+const float MARCH_STEPS = 16.0;
+
+void main()
+{
+    int size = imageSize(irradiance_out).x;
+    int px = int(gl_GlobalInvocationID.x);
+    if (px >= size)
+        return;
+    float mu_s = sub_uv_to_unit((float(px) + 0.5) / float(size), float(size)) * 2.0 - 1.0;
+    vec3 sun_dir = vec3(sqrt(max(0.0, 1.0 - mu_s * mu_s)), 0.0, mu_s);
+    vec3 origin = vec3(0.0, 0.0, bottom_radius() + 1e-3);
+    vec3 irradiance = vec3(0.0);
+    float d_theta = 0.5 * PI / float(ZENITH_STEPS);
+    float d_phi = 2.0 * PI / float(AZIMUTH_STEPS);
+    for (int i = 0; i < ZENITH_STEPS; i++) {
+        float theta = (float(i) + 0.5) * d_theta;
+        for (int j = 0; j < AZIMUTH_STEPS; j++) {
+            float phi = (float(j) + 0.5) * d_phi;
+            vec3 dir = vec3(sin(theta) * cos(phi), sin(theta) * sin(phi), cos(theta));
+            MarchResult m = march_scattering(origin, dir, sun_dir, 1e9, MARCH_STEPS);
+            irradiance += m.luminance * cos(theta) * sin(theta) * d_theta * d_phi;
+        }
+    }
+    imageStore(irradiance_out, ivec2(px, 0), vec4(irradiance, 1.0));
+}

@@ -1,0 +1,40 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Sky-view LUT (Hillaire 2020 section 5.3): in-scattered luminance per unit sun illuminance
+// for every direction around the camera, latitude/longitude with the sun at azimuth 0 and
+// horizon-dense rows. Rays below the horizon stop at the ground.
+#include "sky_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
+layout(binding = 2) uniform sampler2D transmittance_lut;
+layout(binding = 3) uniform sampler2D multiscattering_lut;
+layout(binding = 4, rgba32f) uniform writeonly image2D skyview_out;
+
+#define SKY_HAS_TRANSMITTANCE_LUT
+#define SKY_HAS_MULTISCATTERING_LUT
+#include "atmosphere.glsl"
+#include "scattering_march.glsl"
+
+const float STEPS = 40.0;
+
+void main()
+{
+    ivec2 size = imageSize(skyview_out);
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, size)))
+        return;
+    vec2 uv = (vec2(px) + 0.5) / vec2(size);
+    vec2 unit = vec2(sub_uv_to_unit(uv.x, float(size.x)), sub_uv_to_unit(uv.y, float(size.y)));
+    float r = clamp(length(frame.camera_position.xyz), bottom_radius() + 1e-3,
+                    top_radius() - 1e-3);
+    float view_zenith_cos, light_view_cos;
+    skyview_unit_to_dir(r, unit, view_zenith_cos, light_view_cos);
+    float sin_zenith = sqrt(max(0.0, 1.0 - view_zenith_cos * view_zenith_cos));
+    float sin_azimuth = sqrt(max(0.0, 1.0 - light_view_cos * light_view_cos));
+    vec3 dir = vec3(sin_zenith * light_view_cos, sin_zenith * sin_azimuth, view_zenith_cos);
+    // The local sun lies in the x-z plane (azimuth 0).
+    MarchResult m = march_scattering(vec3(0.0, 0.0, r), dir, frame.sun_local.xyz, 1e9, STEPS);
+    imageStore(skyview_out, px, vec4(m.luminance, 1.0));
+}

@@ -1,0 +1,38 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Transmittance LUT (Hillaire 2020 section 4; Bruneton 2008 parameterization): optical depth
+// from (r, mu) to the top of the atmosphere, T = exp(-tau) (seed 001 eq. 1).
+#include "sky_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+layout(binding = 1, rgba32f) uniform writeonly image2D transmittance_out;
+
+#include "atmosphere.glsl"
+
+const float STEPS = 64.0;
+
+void main()
+{
+    ivec2 size = imageSize(transmittance_out);
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, size)))
+        return;
+    vec2 uv = (vec2(px) + 0.5) / vec2(size);
+    vec2 unit = vec2(sub_uv_to_unit(uv.x, float(size.x)), sub_uv_to_unit(uv.y, float(size.y)));
+    float r, mu;
+    transmittance_unit_to_r_mu(unit, r, mu);
+    vec3 origin = vec3(0.0, 0.0, r);
+    vec3 dir = vec3(sqrt(max(0.0, 1.0 - mu * mu)), 0.0, mu);
+    float t_top = ray_sphere_nearest(origin, dir, top_radius());
+    vec3 optical_depth = vec3(0.0);
+    float t_prev = 0.0;
+    for (float i = 0.0; i < STEPS; i += 1.0) {
+        float t_next = march_boundary(0.0, t_top, i + 1.0, STEPS);
+        float t = 0.5 * (t_prev + t_next);
+        float h = length(origin + t * dir) - bottom_radius();
+        optical_depth += sample_medium(h).extinction * (t_next - t_prev);
+        t_prev = t_next;
+    }
+    imageStore(transmittance_out, px, vec4(exp(-optical_depth), 1.0));
+}
