@@ -73,9 +73,11 @@ float ray_sphere_nearest(vec3 origin, vec3 dir, float radius)
     return -1.0;
 }
 
-// Half-texel remapping so texel centres hold the values at 0 and 1 (Hillaire 2020 code).
-float unit_to_sub_uv(float u, float size) { return (u + 0.5 / size) * (size / (size + 1.0)); }
-float sub_uv_to_unit(float u, float size) { return (u - 0.5 / size) * (size / (size - 1.0)); }
+// Half-texel remapping so the first and last texel centres hold the values at 0 and 1.
+// (Hillaire 2020's code scales by size/(size+1) one way and size/(size-1) the other, which
+// are not inverses; this pair is, as the self-test checks.)
+float unit_to_sub_uv(float u, float size) { return (u * (size - 1.0) + 0.5) / size; }
+float sub_uv_to_unit(float u, float size) { return (u * size - 0.5) / (size - 1.0); }
 
 // Transmittance LUT parameterization of Bruneton & Neyret 2008 (section 4), as in Hillaire 2020.
 vec2 transmittance_r_mu_to_unit(float r, float mu)

@@ -1,0 +1,115 @@
+/* Unit tests: photometric conversions (C) and the renderer's GLSL functions run on the
+ * device (LUT parameterization round trips, phase functions integrating to 1). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "compute_pass.h"
+#include "lut_selftest.spv.h"
+#include "photometry.h"
+#include "sky_uniforms.h"
+#include "test_support.h"
+#include "vk_context.h"
+#include "vk_resources.h"
+
+static void test_photometry(void)
+{
+    /* Seed 001, 4.1: 0.545 deg -> 0.0000711 sr; 120000 lx -> 1.69e9 cd/m2. */
+    CHECK_NEAR(sky_disk_solid_angle(0.545), 7.11e-5, 0.01e-5);
+    CHECK_NEAR(sky_sun_disk_luminance(120000.0, 0.545) / 1.69e9, 1.0, 0.01);
+    /* Moon, seed 001 4.2: 0.26 lx over 0.568 deg... quoted 3658 cd/m2 for 7.11e-5 sr. */
+    CHECK_NEAR(0.26 / 7.11e-5, 3658.0, 5.0);
+    CHECK_NEAR(sky_ev100_to_exposure(0.0), 1.0 / 1.2, 1e-12);
+    CHECK_NEAR(sky_ev100_to_exposure(15.0) * pow(2.0, 15.0) * 1.2, 1.0, 1e-12);
+    CHECK_NEAR(sky_luminance_to_ev100(12.5 / 100.0 * pow(2.0, 15.0)), 15.0, 1e-12);
+    const double white[3] = { 1, 1, 1 };
+    CHECK_NEAR(sky_rgb_to_luminance(white), 1.0, 1e-12);
+
+    /* Zenith transmittance of a single exponential species: exp(-sigma H (1 - e^(-D/H))). */
+    struct sky_render_atmosphere a;
+    memset(&a, 0, sizeof a);
+    a.bottom_radius_km = 6360;
+    a.top_radius_km = 6460;
+    a.rayleigh_scale_height_km = 8;
+    a.mie_scale_height_km = 1.2;
+    a.fog_scale_height_km = 1;
+    a.ozone_width_km = 30;
+    a.rayleigh_scattering[0] = 0.01;
+    a.mie_scattering[1] = 0.02;
+    a.mie_absorption[1] = 0.005;
+    a.ozone_absorption[2] = 0.002;
+    a.ozone_peak_km = 25;
+    double t[3];
+    sky_zenith_transmittance(&a, t);
+    CHECK_NEAR(t[0], exp(-0.01 * 8 * (1 - exp(-100.0 / 8))), 1e-7);
+    CHECK_NEAR(t[1], exp(-0.025 * 1.2 * (1 - exp(-100.0 / 1.2))), 1e-7);
+    /* Tent of full width 30 km entirely inside: area 15 km. */
+    CHECK_NEAR(t[2], exp(-0.002 * 15.0), 1e-7);
+    double e[3];
+    sky_sun_illuminance_top(&a, 1000.0, e);
+    CHECK_NEAR(e[0] * t[0], 1000.0, 1e-6);
+}
+
+static void test_shader_functions(void)
+{
+    struct vk_context_params params = { .validation = test_validation_requested() };
+    struct vk_context *ctx = vk_context_create(&params);
+    CHECK(ctx != NULL);
+    if (!ctx)
+        return;
+    struct compute_pass pass;
+    struct compute_pass_desc desc = {
+        .name = "lut_selftest",
+        .spirv = lut_selftest_spv,
+        .spirv_bytes = sizeof lut_selftest_spv,
+        .binding_count = 2,
+        .bindings = { VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER },
+    };
+    struct gpu_buffer ubo = { 0 }, results = { 0 };
+    CHECK(compute_pass_create(ctx, &desc, &pass) == VK_SUCCESS);
+    CHECK(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms),
+                            VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "ubo", &ubo) == VK_SUCCESS);
+    CHECK(gpu_buffer_create(ctx, 8 * 4 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                            "results", &results) == VK_SUCCESS);
+    struct sky_render_atmosphere earth;
+    test_earth_atmosphere(&earth);
+    sky_uniforms_fill_atmosphere(&earth, ubo.mapped);
+    struct compute_resource res[2] = { { .buffer = &ubo }, { .buffer = &results } };
+    compute_pass_bind(ctx, &pass, res);
+    VkCommandBuffer cmd;
+    CHECK(vk_context_begin_commands(ctx, &cmd) == VK_SUCCESS);
+    const uint32_t size[3] = { 6, 1, 1 }, local[3] = { 1, 1, 1 };
+    compute_pass_record(cmd, &pass, NULL, size, local);
+    gpu_barrier_to_host(cmd);
+    CHECK(vk_context_submit_and_wait(ctx, &cmd) == VK_SUCCESS);
+
+    const float *r = results.mapped;
+    printf("transmittance round trip: unit %.3g, mu %.3g\n", r[0], r[1]);
+    printf("sky-view round trip: %.3g; sub-uv round trip: %.3g\n", r[4], r[8]);
+    CHECK_LE(r[0], 2e-3);
+    CHECK_LE(r[1], 2e-3);
+    CHECK_LE(r[4], 2e-3);
+    CHECK_LE(r[8], 1e-6);
+    for (int k = 3; k <= 5; k++) {
+        const float *p = r + 4 * k;
+        printf("phase integrals (g = %.1f): rayleigh %.6f, mie %.6f %.6f %.6f\n",
+               k == 3 ? 0.8 : k == 4 ? 0.5 : 0.3, p[0], p[1], p[2], p[3]);
+        CHECK_NEAR(p[0], 1.0, 1e-3);
+        CHECK_NEAR(p[1], 1.0, 1e-3);
+        CHECK_NEAR(p[2], 1.0, 1e-3);
+        CHECK_NEAR(p[3], 1.0, 1e-3);
+    }
+    gpu_buffer_destroy(ctx, &ubo);
+    gpu_buffer_destroy(ctx, &results);
+    compute_pass_destroy(ctx, &pass);
+    CHECK(ctx->validation_warnings + ctx->validation_errors == 0);
+    vk_context_destroy(&ctx);
+}
+
+int main(void)
+{
+    test_photometry();
+    test_shader_functions();
+    return check_summary();
+}
