@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "cli_args.h"
 #include "world_render.h"
@@ -28,14 +29,24 @@ struct series {
     const char *names[SKY_RENDER_MAX_PASSES];
     int pass_count;
     double pass_ms[SKY_RENDER_MAX_PASSES][MAX_FRAMES];
-    double gpu_ms[MAX_FRAMES], wall_ms[MAX_FRAMES];
+    double gpu_ms[MAX_FRAMES], wall_ms[MAX_FRAMES], cpu_ms[MAX_FRAMES];
 };
+
+/* CPU time of the whole process (lavapipe's worker threads included): unlike wall time it
+ * barely moves when other processes load the machine. */
+static double process_cpu_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
 
 static void print_series(const char *label, struct series *s, int n)
 {
-    printf("%-22s frame wall median %8.2f ms  p99 %8.2f ms | gpu median %8.2f ms\n", label,
-           percentile(s->wall_ms, n, 0.5), percentile(s->wall_ms, n, 0.99),
-           percentile(s->gpu_ms, n, 0.5));
+    printf("%-22s frame wall median %8.2f ms  p99 %8.2f ms | gpu median %8.2f ms | "
+           "process cpu median %8.2f ms\n",
+           label, percentile(s->wall_ms, n, 0.5), percentile(s->wall_ms, n, 0.99),
+           percentile(s->gpu_ms, n, 0.5), percentile(s->cpu_ms, n, 0.5));
     for (int p = 0; p < s->pass_count; p++)
         printf("    %-20s median %8.3f ms  p99 %8.3f ms\n", s->names[p],
                percentile(s->pass_ms[p], n, 0.5), percentile(s->pass_ms[p], n, 0.99));
@@ -46,8 +57,10 @@ static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosph
 {
     for (int i = 0; i < n; i++) {
         struct sky_render_stats st;
+        double cpu0 = process_cpu_ms();
         if (sky_renderer_rebuild_atmosphere(r, atm, &st) != 0)
             return -1;
+        s->cpu_ms[i] = process_cpu_ms() - cpu0;
         s->pass_count = st.pass_count;
         for (int p = 0; p < st.pass_count; p++) {
             s->names[p] = st.pass_names[p];
@@ -75,12 +88,14 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
         struct sky_render_stats st;
         /* The sun moves a little every frame so per-view LUTs really are per frame. */
         view.sun_azimuth_deg = c->state.sun.azimuth_deg + 0.01 * i;
+        double cpu0 = process_cpu_ms();
         if (sky_renderer_render(r, &atm, &view, pixels, bytes, &st) != 0) {
             free(pixels);
             return -1;
         }
         if (i < 0)
             continue;
+        s->cpu_ms[i] = process_cpu_ms() - cpu0;
         s->pass_count = st.pass_count;
         for (int p = 0; p < st.pass_count; p++) {
             s->names[p] = st.pass_names[p];

@@ -26,6 +26,7 @@ void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
     u->ozone_absorption = V4(a->ozone_absorption[0], a->ozone_absorption[1],
                              a->ozone_absorption[2], 0);
     u->ground_albedo = V4(a->ground_albedo[0], a->ground_albedo[1], a->ground_albedo[2], 0);
+    u->one = (sky_ivec4){ 1, 1, 1, 1 };
 }
 
 static void direction_from_angles(double azimuth_deg, double elevation_deg, double out[3])

@@ -27,7 +27,8 @@ void main()
         barrier();
     }
     if (li == 0u) {
-        float log_avg = shared_sum[0].x / max(shared_sum[0].y, 1.0);
+        // With nothing metered (all black) fall back to a night exposure, L_avg = 1e-3.
+        float log_avg = shared_sum[0].y > 0.0 ? shared_sum[0].x / shared_sum[0].y : log2(1e-3);
         float ev100 = log_avg + log2(100.0 / 12.5) - frame.exposure.z;
         metered = vec4(1.0 / (1.2 * exp2(ev100)), ev100, exp2(log_avg), 0.0);
     }

@@ -11,6 +11,14 @@
 
 const float PI = 3.14159265358979;
 
+// Runs the following statement only when `cond` holds for some invocation. Written as a loop
+// on purpose: lavapipe (llvmpipe) executes both sides of an if under an execution mask, so an
+// expensive rarely-taken block costs every pixel, whereas a loop exits as soon as no
+// invocation is active. The trip count comes from a uniform that is always 1 so that the
+// compiler cannot unroll the loop back into an if. On GPUs this is an ordinary branch.
+#define WHEN(cond) \
+    for (int when_once_ = 0; when_once_ < ((cond) ? atmo.one.x : 0); when_once_++)
+
 struct MediumSample {
     vec3 rayleigh_scattering;
     vec3 mie_scattering;
@@ -183,6 +191,14 @@ vec3 multiscattering(float r, float mu_s)
 }
 #endif
 
+// Far intersection t of the ray with a centred sphere, or -1 when it misses.
+float ray_sphere_far(vec3 origin, vec3 dir, float radius)
+{
+    float b = dot(origin, dir);
+    float disc = b * b - (dot(origin, origin) - radius * radius);
+    return disc < 0.0 ? -1.0 : -b + sqrt(disc);
+}
+
 // Distance range [t_start, t_end] of a ray inside the atmosphere shell, stopping at the
 // ground; false when the ray misses the atmosphere.
 bool atmosphere_segment(vec3 origin, vec3 dir, out float t_start, out float t_end,
@@ -199,13 +215,9 @@ bool atmosphere_segment(vec3 origin, vec3 dir, out float t_start, out float t_en
     }
     float t_ground = ray_sphere_nearest(origin, dir, bottom_radius());
     hits_ground = t_ground >= 0.0;
-    if (hits_ground) {
-        t_end = t_ground;
-    } else {
-        vec3 o = origin + t_start * dir;
-        float t_exit = ray_sphere_nearest(o + dir * 1e-3, dir, top);
-        t_end = t_start + max(t_exit, 0.0) + 1e-3;
-    }
+    // The exit is the far root from the original origin: re-intersecting from the entry
+    // point loses it to float rounding at planetary radii.
+    t_end = hits_ground ? t_ground : max(ray_sphere_far(origin, dir, top), 0.0);
     return t_end > t_start;
 }
 

@@ -95,47 +95,64 @@ vec3 shade_from_space(vec3 origin, vec3 dir, bool include_sun)
     vec3 sun_dir = frame.sun_direction.xyz;
     MarchResult m = march_scattering(origin, dir, sun_dir, 1e9, SPACE_MARCH_STEPS);
     vec3 L = m.luminance * frame.sun_illuminance.xyz;
-    if (m.hits_ground)
-        return L + m.transmittance * ground_luminance(origin + m.t_end * dir);
-    return include_sun ? L + m.transmittance * sun_disk_luminance(dir) : L;
+    WHEN(m.hits_ground)
+        L += m.transmittance * ground_luminance(origin + m.t_end * dir);
+    WHEN(!m.hits_ground && include_sun)
+        L += m.transmittance * sun_disk_luminance(dir);
+    return L;
 }
 
-vec3 shade_direction(vec3 dir, bool use_froxels, vec2 uv, bool include_sun)
+// Ground seen from inside the atmosphere at distance t_ground: its lit luminance through the
+// path transmittance plus the in-scattered light, from the froxels near the camera and from
+// the sky-view LUT (whose below-horizon rows end at the ground) beyond them.
+vec3 shade_ground(vec3 cam, float r, vec3 up, vec3 dir, float t_ground, vec3 sky_inscatter,
+                  bool use_froxels, vec2 uv)
 {
-    vec3 cam = frame.camera_position.xyz;
-    float r = length(cam);
-    if (r >= top_radius())
-        return shade_from_space(cam, dir, include_sun);
-    r = max(r, bottom_radius() + 1e-3);
-    vec3 up = normalize(cam);
-    cam = up * r;
-    float t_ground = ray_sphere_nearest(cam, dir, bottom_radius());
-    bool hits_ground = t_ground >= 0.0;
-    vec3 sky = textureLod(skyview_lut, skyview_uv(r, up, dir, hits_ground), 0.0).rgb
-               * frame.sun_illuminance.xyz;
-    if (!hits_ground) {
-        if (!include_sun)
-            return sky;
-        return sky + sun_disk_luminance(dir) * transmittance_to_top(r, dot(up, dir));
-    }
-
     vec3 p = cam + t_ground * dir;
     vec3 np = normalize(p);
     // Camera-to-ground transmittance from two upward LUT rays (Bruneton 2008, eq. 2 ratio).
     vec3 path_t = transmittance_to_top(bottom_radius(), dot(np, -dir))
                   / max(transmittance_to_top(r, dot(up, -dir)), vec3(1e-20));
     path_t = min(path_t, vec3(1.0));
-    vec3 inscatter = sky;
+    vec3 inscatter = sky_inscatter;
     float ap_max = frame.image.z;
-    if (use_froxels && t_ground < ap_max) {
+    WHEN(use_froxels && t_ground < ap_max) {
         vec3 ap_in, ap_t;
         sample_aerial_perspective(uv, t_ground, ap_in, ap_t);
         // Hand over to the sky-view path over the last fifth of the froxel range.
         float w = smoothstep(0.8 * ap_max, ap_max, t_ground);
-        inscatter = mix(ap_in * frame.sun_illuminance.xyz, sky, w);
+        inscatter = mix(ap_in * frame.sun_illuminance.xyz, sky_inscatter, w);
         path_t = mix(ap_t, path_t, w);
     }
     return ground_luminance(p) * path_t + inscatter;
+}
+
+vec3 shade_from_atmosphere(vec3 cam, vec3 dir, bool use_froxels, vec2 uv, bool include_sun)
+{
+    float r = max(length(cam), bottom_radius() + 1e-3);
+    vec3 up = normalize(cam);
+    cam = up * r;
+    float t_ground = ray_sphere_nearest(cam, dir, bottom_radius());
+    bool hits_ground = t_ground >= 0.0;
+    vec3 L = textureLod(skyview_lut, skyview_uv(r, up, dir, hits_ground), 0.0).rgb
+             * frame.sun_illuminance.xyz;
+    WHEN(hits_ground)
+        L = shade_ground(cam, r, up, dir, t_ground, L, use_froxels, uv);
+    WHEN(!hits_ground && include_sun && dot(dir, frame.sun_direction.xyz) >= frame.sun_direction.w)
+        L += sun_disk_luminance(dir) * transmittance_to_top(r, dot(up, dir));
+    return L;
+}
+
+vec3 shade_direction(vec3 dir, bool use_froxels, vec2 uv, bool include_sun)
+{
+    vec3 cam = frame.camera_position.xyz;
+    bool in_space = length(cam) >= top_radius();
+    vec3 L = vec3(0.0);
+    WHEN(in_space)
+        L = shade_from_space(cam, dir, include_sun);
+    WHEN(!in_space)
+        L = shade_from_atmosphere(cam, dir, use_froxels, uv, include_sun);
+    return L;
 }
 
 #endif

@@ -52,6 +52,7 @@ struct sky_atmosphere_uniforms {
     SKY_VEC4 mie_g;               /* xyz Cornette-Shanks asymmetry per channel */
     SKY_VEC4 ozone_absorption;    /* xyz */
     SKY_VEC4 ground_albedo;       /* xyz */
+    SKY_IVEC4 one;                /* x = 1, a loop bound the shader compiler cannot fold (WHEN) */
 };
 
 struct sky_frame_uniforms {
