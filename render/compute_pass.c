@@ -54,6 +54,15 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
         .pCode = desc->spirv,
     };
     VK_CHECK_GOTO(vkCreateShaderModule(ctx->device, &module_info, NULL, &module), fail);
+    VkSpecializationMapEntry entries[4];
+    for (uint32_t i = 0; i < desc->spec_count && i < 4; i++)
+        entries[i] = (VkSpecializationMapEntry){ i, i * sizeof(uint32_t), sizeof(uint32_t) };
+    VkSpecializationInfo spec = {
+        .mapEntryCount = desc->spec_count < 4 ? desc->spec_count : 4,
+        .pMapEntries = entries,
+        .dataSize = (desc->spec_count < 4 ? desc->spec_count : 4) * sizeof(uint32_t),
+        .pData = desc->spec_values,
+    };
     VkComputePipelineCreateInfo pipeline_info = {
         .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
         .stage = {
@@ -61,6 +70,7 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
             .stage = VK_SHADER_STAGE_COMPUTE_BIT,
             .module = module,
             .pName = "main",
+            .pSpecializationInfo = desc->spec_count ? &spec : NULL,
         },
         .layout = out->layout,
     };

@@ -21,6 +21,9 @@ struct compute_pass_desc {
     uint32_t binding_count;
     VkDescriptorType bindings[COMPUTE_PASS_MAX_BINDINGS];
     uint32_t push_constant_bytes;
+    /* Specialization constants: constant_id i takes spec_values[i] (booleans as 0/1). */
+    uint32_t spec_count;
+    uint32_t spec_values[4];
 };
 
 struct compute_pass {

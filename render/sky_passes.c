@@ -26,17 +26,25 @@
 #define IRRADIANCE_SIZE 64
 #define METER_MAX_GRID 256
 
+/* Shading passes come in pairs: the camera inside the atmosphere, then above it (the same
+ * SPIR-V specialized with FROM_SPACE, so each pipeline holds only its own path). */
 enum pass_id {
     PASS_TRANSMITTANCE,
     PASS_MULTISCATTERING,
     PASS_IRRADIANCE,
     PASS_SKYVIEW,
     PASS_AERIAL_PERSPECTIVE,
-    PASS_METER,
     PASS_EXPOSURE_RESOLVE,
+    PASS_METER,
+    PASS_METER_SPACE,
     PASS_COMPOSITE_SRGB,
+    PASS_COMPOSITE_SRGB_SPACE,
+    PASS_COMPOSITE_SRGB_SUN,
     PASS_COMPOSITE_LINEAR,
+    PASS_COMPOSITE_LINEAR_SPACE,
+    PASS_COMPOSITE_LINEAR_SUN,
     PASS_PROBE,
+    PASS_PROBE_SPACE,
     PASS_COUNT
 };
 
@@ -59,31 +67,57 @@ struct sky_passes {
 #define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
 #define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
 #define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-#define SHADING_BINDINGS UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, SAMPLED, SAMPLED
+#define SHADING_BINDINGS UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
+#define SHADING_PAIR(id, label, code, count, extra, push)                                 \
+    [id] = { .name = label, SPIRV(code), .binding_count = count,                          \
+             .bindings = { SHADING_BINDINGS, extra }, .push_constant_bytes = push },      \
+    [id##_SPACE] = { .name = label, SPIRV(code), .binding_count = count,                  \
+                     .bindings = { SHADING_BINDINGS, extra }, .push_constant_bytes = push,\
+                     .spec_count = 1, .spec_values = { 1 } }
+#define PAIR(...) __VA_ARGS__
 
 static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
-    [PASS_TRANSMITTANCE] = { "transmittance", SPIRV(transmittance_spv), 2, { UBO, STORAGE_IMG }, 0 },
-    [PASS_MULTISCATTERING] = { "multiscattering", SPIRV(multiscattering_spv), 3,
-                               { UBO, SAMPLED, STORAGE_IMG }, 0 },
-    [PASS_IRRADIANCE] = { "irradiance", SPIRV(irradiance_spv), 4,
-                          { UBO, SAMPLED, SAMPLED, STORAGE_IMG }, 0 },
-    [PASS_SKYVIEW] = { "skyview", SPIRV(skyview_spv), 5,
-                       { UBO, UBO, SAMPLED, SAMPLED, STORAGE_IMG }, 0 },
-    [PASS_AERIAL_PERSPECTIVE] = { "aerial_perspective", SPIRV(aerial_perspective_spv), 6,
-                                  { UBO, UBO, SAMPLED, SAMPLED, STORAGE_IMG, STORAGE_IMG }, 0 },
-    [PASS_METER] = { "meter", SPIRV(meter_spv), 9, { SHADING_BINDINGS, STORAGE_BUF },
-                     sizeof(struct sky_meter_push) },
-    [PASS_EXPOSURE_RESOLVE] = { "exposure", SPIRV(exposure_resolve_spv), 3,
-                                { UBO, STORAGE_BUF, STORAGE_BUF },
-                                sizeof(struct sky_meter_push) },
-    [PASS_COMPOSITE_SRGB] = { "composite", SPIRV(composite_srgb_spv), 10,
-                              { SHADING_BINDINGS, STORAGE_BUF, STORAGE_IMG }, 0 },
-    [PASS_COMPOSITE_LINEAR] = { "composite", SPIRV(composite_linear_spv), 10,
-                                { SHADING_BINDINGS, STORAGE_BUF, STORAGE_IMG }, 0 },
-    [PASS_PROBE] = { "probe", SPIRV(probe_spv), 10, { SHADING_BINDINGS, STORAGE_BUF, STORAGE_BUF },
-                     sizeof(struct sky_probe_push) },
+    [PASS_TRANSMITTANCE] = { .name = "transmittance", SPIRV(transmittance_spv),
+                             .binding_count = 2, .bindings = { UBO, STORAGE_IMG } },
+    [PASS_MULTISCATTERING] = { .name = "multiscattering", SPIRV(multiscattering_spv),
+                               .binding_count = 3, .bindings = { UBO, SAMPLED, STORAGE_IMG } },
+    [PASS_IRRADIANCE] = { .name = "irradiance", SPIRV(irradiance_spv), .binding_count = 4,
+                          .bindings = { UBO, SAMPLED, SAMPLED, STORAGE_IMG } },
+    [PASS_SKYVIEW] = { .name = "skyview", SPIRV(skyview_spv), .binding_count = 6,
+                       .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG } },
+    [PASS_AERIAL_PERSPECTIVE] = { .name = "aerial_perspective", SPIRV(aerial_perspective_spv),
+                                  .binding_count = 6,
+                                  .bindings = { UBO, UBO, SAMPLED, SAMPLED, STORAGE_IMG,
+                                                STORAGE_IMG } },
+    [PASS_EXPOSURE_RESOLVE] = { .name = "exposure", SPIRV(exposure_resolve_spv),
+                                .binding_count = 3, .bindings = { UBO, STORAGE_BUF, STORAGE_BUF },
+                                .push_constant_bytes = sizeof(struct sky_meter_push) },
+    SHADING_PAIR(PASS_METER, "meter", meter_spv, 7, STORAGE_BUF, sizeof(struct sky_meter_push)),
+    SHADING_PAIR(PASS_COMPOSITE_SRGB, "composite", composite_srgb_spv, 8,
+                 PAIR(STORAGE_BUF, STORAGE_IMG), sizeof(struct sky_region_push)),
+    SHADING_PAIR(PASS_COMPOSITE_LINEAR, "composite", composite_linear_spv, 8,
+                 PAIR(STORAGE_BUF, STORAGE_IMG), sizeof(struct sky_region_push)),
+    /* Composite specialized with SUN_REGION (constant_id 1): the sun-disk pass. */
+    [PASS_COMPOSITE_SRGB_SUN] = { .name = "sun_disk", SPIRV(composite_srgb_spv),
+                                  .binding_count = 8,
+                                  .bindings = { SHADING_BINDINGS, STORAGE_BUF, STORAGE_IMG },
+                                  .push_constant_bytes = sizeof(struct sky_region_push),
+                                  .spec_count = 2, .spec_values = { 0, 1 } },
+    [PASS_COMPOSITE_LINEAR_SUN] = { .name = "sun_disk", SPIRV(composite_linear_spv),
+                                    .binding_count = 8,
+                                    .bindings = { SHADING_BINDINGS, STORAGE_BUF, STORAGE_IMG },
+                                    .push_constant_bytes = sizeof(struct sky_region_push),
+                                    .spec_count = 2, .spec_values = { 0, 1 } },
+    SHADING_PAIR(PASS_PROBE, "probe", probe_spv, 8, PAIR(STORAGE_BUF, STORAGE_BUF),
+                 sizeof(struct sky_probe_push)),
 };
+
+/* The pass of a shading pair for the camera's situation. */
+static enum pass_id variant(enum pass_id inside, bool from_space)
+{
+    return from_space ? (enum pass_id)(inside + 1) : inside;
+}
 
 static bool format_supports(struct vk_context *ctx, VkFormat format, VkFormatFeatureFlags need)
 {
@@ -139,6 +173,13 @@ static struct compute_resource buf(const struct gpu_buffer *buffer)
     return (struct compute_resource){ .buffer = buffer };
 }
 
+static void bind_pair(struct vk_context *ctx, struct sky_passes *p, enum pass_id inside,
+                      const struct compute_resource *r)
+{
+    compute_pass_bind(ctx, &p->pass[inside], r);
+    compute_pass_bind(ctx, &p->pass[inside + 1], r);
+}
+
 /* Points every pass whose resources exist at them; called after any resource changes. */
 static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
 {
@@ -156,31 +197,31 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     r[1] = buf(&p->frame_ubo);
     r[2] = tex(p, &p->transmittance);
     r[3] = tex(p, &p->multiscattering);
-    r[4] = img(&p->skyview);
-    compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW], r);
     r[4] = img(&p->ap_inscatter);
     r[5] = img(&p->ap_transmittance);
     compute_pass_bind(ctx, &p->pass[PASS_AERIAL_PERSPECTIVE], r);
+    r[4] = tex(p, &p->irradiance);
+    r[5] = img(&p->skyview);
+    compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW], r);
 
-    /* The shading passes share bindings 0-7. */
+    /* The shading passes share bindings 0-5. */
     r[4] = tex(p, &p->skyview);
     r[5] = tex(p, &p->irradiance);
-    r[6] = tex(p, &p->ap_inscatter);
-    r[7] = tex(p, &p->ap_transmittance);
-    r[8] = buf(&p->meter_partials);
-    compute_pass_bind(ctx, &p->pass[PASS_METER], r);
+    r[6] = buf(&p->meter_partials);
+    bind_pair(ctx, p, PASS_METER, r);
     if (p->output.image) {
-        r[8] = buf(&p->exposure);
-        r[9] = img(&p->output);
+        r[6] = buf(&p->exposure);
+        r[7] = img(&p->output);
         enum pass_id composite = p->output_kind == SKY_RENDER_OUTPUT_LINEAR
                                      ? PASS_COMPOSITE_LINEAR
                                      : PASS_COMPOSITE_SRGB;
-        compute_pass_bind(ctx, &p->pass[composite], r);
+        bind_pair(ctx, p, composite, r);
+        compute_pass_bind(ctx, &p->pass[composite + 2], r); /* its sun-disk pass */
     }
     if (p->probe_in.buffer) {
-        r[8] = buf(&p->probe_in);
-        r[9] = buf(&p->probe_out);
-        compute_pass_bind(ctx, &p->pass[PASS_PROBE], r);
+        r[6] = buf(&p->probe_in);
+        r[7] = buf(&p->probe_out);
+        bind_pair(ctx, p, PASS_PROBE, r);
     }
 
     struct compute_resource resolve[3] = { buf(&p->frame_ubo), buf(&p->meter_partials),
@@ -344,7 +385,8 @@ void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
 }
 
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
-                                struct gpu_timer *timer, uint32_t width, uint32_t height)
+                                struct gpu_timer *timer, uint32_t width, uint32_t height,
+                                bool from_space)
 {
     /* About one sample per 8x8 pixels, at most METER_MAX_GRID^2 so the partials fit. */
     uint32_t gw = (width + 7) / 8, gh = (height + 7) / 8;
@@ -358,16 +400,30 @@ void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
         .group_count = ((gw + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL) *
                        ((gh + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL),
     };
-    record(p, cmd, timer, PASS_METER, &p->meter, gw, gh, 1, SKY_METER_LOCAL, SKY_METER_LOCAL);
+    record(p, cmd, timer, variant(PASS_METER, from_space), &p->meter, gw, gh, 1, SKY_METER_LOCAL,
+           SKY_METER_LOCAL);
     record(p, cmd, timer, PASS_EXPOSURE_RESOLVE, &p->meter, 1, 1, 1, 1, 1);
 }
 
 void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer, enum sky_render_output_kind kind)
+                                 struct gpu_timer *timer, enum sky_render_output_kind kind,
+                                 bool from_space, const int32_t *sun_rect)
 {
-    enum pass_id id = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
-                                                       : PASS_COMPOSITE_SRGB;
-    record(p, cmd, timer, id, NULL, p->output.width, p->output.height, 1, 8, 8);
+    enum pass_id main_pass = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
+                                                              : PASS_COMPOSITE_SRGB;
+    struct sky_region_push full = {
+        .rect = { 0, 0, (int32_t)p->output.width, (int32_t)p->output.height },
+    };
+    record(p, cmd, timer, variant(main_pass, from_space), &full, p->output.width,
+           p->output.height, 1, 8, 8);
+    if (!from_space && sun_rect) {
+        /* Rewrites the pixels of the sun's box with the sun included: the main pass then
+         * never carries the disk's cost. */
+        struct sky_region_push sun = { .rect = { sun_rect[0], sun_rect[1], sun_rect[2],
+                                                 sun_rect[3] } };
+        record(p, cmd, timer, main_pass + 2, &sun, (uint32_t)sun_rect[2],
+               (uint32_t)sun_rect[3], 1, 8, 8);
+    }
     gpu_barrier_compute_to_transfer(cmd);
     gpu_copy_image_to_buffer(cmd, &p->output, &p->readback);
     gpu_barrier_to_host(cmd);
@@ -375,10 +431,10 @@ void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
 }
 
 void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
-                             uint32_t mode, uint32_t count)
+                             uint32_t mode, uint32_t count, bool from_space)
 {
     struct sky_probe_push push = { .count = count, .mode = mode };
-    record(p, cmd, timer, PASS_PROBE, &push, count, 1, 1, 64, 1);
+    record(p, cmd, timer, variant(PASS_PROBE, from_space), &push, count, 1, 1, 64, 1);
     gpu_barrier_to_host(cmd);
 }
 

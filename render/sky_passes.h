@@ -5,6 +5,7 @@
 #ifndef SKYD_SKY_PASSES_H
 #define SKYD_SKY_PASSES_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <vulkan/vulkan.h>
@@ -36,13 +37,17 @@ void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
                                   struct gpu_timer *timer);
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
                                  struct gpu_timer *timer);
+/* from_space: the camera is above the atmosphere (selects the specialized pipelines). */
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
-                                struct gpu_timer *timer, uint32_t width, uint32_t height);
-/* Composite into the output image, then copy it into the readback buffer. */
+                                struct gpu_timer *timer, uint32_t width, uint32_t height,
+                                bool from_space);
+/* Composite into the output image (then the sun-disk pass over sun_rect = x0, y0, w, h when
+ * not NULL), then copy it into the readback buffer. */
 void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer, enum sky_render_output_kind kind);
+                                 struct gpu_timer *timer, enum sky_render_output_kind kind,
+                                 bool from_space, const int32_t *sun_rect);
 void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
-                             uint32_t mode, uint32_t count);
+                             uint32_t mode, uint32_t count, bool from_space);
 
 void sky_passes_copy_output(const struct sky_passes *p, void *pixels, size_t bytes);
 void sky_passes_read_probe(const struct sky_passes *p, size_t count, double (*out)[3]);

@@ -201,11 +201,15 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     gpu_timer_begin(r->timer, cmd);
     bool rebuilt = record_atmosphere_if_changed(r, cmd, a);
     sky_passes_upload_frame(r->passes, &fu);
-    if (camera_in_atmosphere(a, v))
+    bool from_space = !camera_in_atmosphere(a, v);
+    if (!from_space)
         sky_passes_record_view_luts(r->passes, cmd, r->timer);
     if (v->auto_exposure && v->output == SKY_RENDER_OUTPUT_SRGB8)
-        sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height);
-    sky_passes_record_composite(r->passes, cmd, r->timer, v->output);
+        sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space);
+    int32_t sun_rect[4];
+    bool sun_on_screen = sky_uniforms_sun_rect(v, sun_rect);
+    sky_passes_record_composite(r->passes, cmd, r->timer, v->output, from_space,
+                                sun_on_screen ? sun_rect : NULL);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
         r->atmosphere_built = false;
         return -1;
@@ -230,9 +234,10 @@ static int run_probe(struct sky_renderer *r, const struct sky_render_atmosphere 
     gpu_timer_begin(r->timer, cmd);
     record_atmosphere_if_changed(r, cmd, a);
     sky_passes_upload_frame(r->passes, &fu);
-    if (mode != SKY_PROBE_TRANSMITTANCE && camera_in_atmosphere(a, v))
+    bool from_space = !camera_in_atmosphere(a, v);
+    if (mode != SKY_PROBE_TRANSMITTANCE && !from_space)
         sky_passes_record_view_luts(r->passes, cmd, r->timer);
-    sky_passes_record_probe(r->passes, cmd, r->timer, mode, (uint32_t)count);
+    sky_passes_record_probe(r->passes, cmd, r->timer, mode, (uint32_t)count, from_space);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
         r->atmosphere_built = false;
         return -1;

@@ -5,12 +5,15 @@
 
 #include "photometry.h"
 
-#define DEG (3.14159265358979323846 / 180.0)
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+#define DEG (M_PI / 180.0)
+#define V4(x_, y_, z_, w_) ((sky_vec4){ (float)(x_), (float)(y_), (float)(z_), (float)(w_) })
 
 void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
                                      struct sky_atmosphere_uniforms *u)
 {
-#define V4(x_, y_, z_, w_) ((sky_vec4){ (float)(x_), (float)(y_), (float)(z_), (float)(w_) })
     u->radii = V4(a->bottom_radius_km, a->top_radius_km, a->rayleigh_scale_height_km,
                   a->mie_scale_height_km);
     u->rayleigh_scattering = V4(a->rayleigh_scattering[0], a->rayleigh_scattering[1],
@@ -26,7 +29,6 @@ void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
     u->ozone_absorption = V4(a->ozone_absorption[0], a->ozone_absorption[1],
                              a->ozone_absorption[2], 0);
     u->ground_albedo = V4(a->ground_albedo[0], a->ground_albedo[1], a->ground_albedo[2], 0);
-    u->one = (sky_ivec4){ 1, 1, 1, 1 };
 }
 
 static void direction_from_angles(double azimuth_deg, double elevation_deg, double out[3])
@@ -37,6 +39,75 @@ static void direction_from_angles(double azimuth_deg, double elevation_deg, doub
     out[2] = sin(el);
 }
 
+struct camera_basis {
+    double forward[3], right[3], up[3], tan_half, aspect;
+};
+
+static void camera_basis(const struct sky_render_view *v, struct camera_basis *b)
+{
+    direction_from_angles(v->camera_yaw_deg, v->camera_pitch_deg, b->forward);
+    /* Right from the yaw alone, so looking straight up or down stays well defined. */
+    double yaw = v->camera_yaw_deg * DEG;
+    const double *f = b->forward;
+    b->right[0] = cos(yaw);
+    b->right[1] = -sin(yaw);
+    b->right[2] = 0.0;
+    const double *r = b->right;
+    b->up[0] = r[1] * f[2] - r[2] * f[1];
+    b->up[1] = r[2] * f[0] - r[0] * f[2];
+    b->up[2] = r[0] * f[1] - r[1] * f[0];
+    b->tan_half = tan(0.5 * v->camera_fov_deg * DEG);
+    b->aspect = v->height ? (double)v->width / (double)v->height : 1.0;
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+bool sky_uniforms_sun_rect(const struct sky_render_view *v, int32_t rect[4])
+{
+    struct camera_basis b;
+    camera_basis(v, &b);
+    double sun[3];
+    direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
+    /* A vector basis around the sun direction, then 16 points on a circle 1.5 disk radii out:
+     * their projections bound the disk with room for bilinear edges. */
+    double helper[3] = { 0, 0, 1 };
+    if (fabs(sun[2]) > 0.9)
+        helper[0] = 1, helper[2] = 0;
+    double e1[3] = { sun[1] * helper[2] - sun[2] * helper[1], sun[2] * helper[0] - sun[0] * helper[2],
+                     sun[0] * helper[1] - sun[1] * helper[0] };
+    double n1 = sqrt(dot3(e1, e1));
+    for (int i = 0; i < 3; i++)
+        e1[i] /= n1;
+    double e2[3] = { sun[1] * e1[2] - sun[2] * e1[1], sun[2] * e1[0] - sun[0] * e1[2],
+                     sun[0] * e1[1] - sun[1] * e1[0] };
+    double angle = 1.5 * 0.5 * v->sun_angular_diameter_deg * DEG;
+    double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
+    for (int k = 0; k < 16; k++) {
+        double phi = 2.0 * M_PI * k / 16.0, d[3];
+        for (int i = 0; i < 3; i++)
+            d[i] = cos(angle) * sun[i] + sin(angle) * (cos(phi) * e1[i] + sin(phi) * e2[i]);
+        double z = dot3(d, b.forward);
+        if (z <= 1e-6)
+            return false; /* behind or beside the camera: a fov this wide never shows it */
+        double nx = dot3(d, b.right) / (z * b.tan_half * b.aspect);
+        double ny = dot3(d, b.up) / (z * b.tan_half);
+        double px = (nx * 0.5 + 0.5) * v->width, py = (0.5 - ny * 0.5) * v->height;
+        x0 = fmin(x0, px), x1 = fmax(x1, px), y0 = fmin(y0, py), y1 = fmax(y1, py);
+    }
+    x0 = fmax(floor(x0) - 1, 0), y0 = fmax(floor(y0) - 1, 0);
+    x1 = fmin(ceil(x1) + 1, v->width), y1 = fmin(ceil(y1) + 1, v->height);
+    if (x1 <= x0 || y1 <= y0)
+        return false;
+    rect[0] = (int32_t)x0;
+    rect[1] = (int32_t)y0;
+    rect[2] = (int32_t)(x1 - x0);
+    rect[3] = (int32_t)(y1 - y0);
+    return true;
+}
+
 void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
                                 const struct sky_render_view *v, struct sky_frame_uniforms *u)
 {
@@ -44,18 +115,12 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     double altitude = v->camera_altitude_km;
     u->camera_position = V4(0, 0, a->bottom_radius_km + altitude, altitude);
 
-    double f[3], sun[3];
-    direction_from_angles(v->camera_yaw_deg, v->camera_pitch_deg, f);
-    /* Right from the yaw alone, so looking straight up or down stays well defined. */
-    double yaw = v->camera_yaw_deg * DEG;
-    double right[3] = { cos(yaw), -sin(yaw), 0.0 };
-    double up[3] = { right[1] * f[2] - right[2] * f[1], right[2] * f[0] - right[0] * f[2],
-                     right[0] * f[1] - right[1] * f[0] };
-    double tan_half = tan(0.5 * v->camera_fov_deg * DEG);
-    double aspect = v->height ? (double)v->width / (double)v->height : 1.0;
-    u->camera_forward = V4(f[0], f[1], f[2], tan_half);
-    u->camera_right = V4(right[0], right[1], right[2], aspect);
-    u->camera_up = V4(up[0], up[1], up[2], 0);
+    struct camera_basis b;
+    camera_basis(v, &b);
+    double sun[3];
+    u->camera_forward = V4(b.forward[0], b.forward[1], b.forward[2], b.tan_half);
+    u->camera_right = V4(b.right[0], b.right[1], b.right[2], b.aspect);
+    u->camera_up = V4(b.up[0], b.up[1], b.up[2], 0);
 
     direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
     double radius = 0.5 * v->sun_angular_diameter_deg * DEG;
@@ -70,6 +135,10 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     /* The sky-view LUT frame puts the sun at azimuth 0: (sin zenith, 0, cos zenith). */
     double mu_s = sun[2];
     u->sun_local = V4(sqrt(fmax(0.0, 1.0 - mu_s * mu_s)), 0, mu_s, 0);
-#undef V4
+    /* The same clamp as the shaders: at least 1 m above the ground, below the top. */
+    double r = fmin(fmax(a->bottom_radius_km + altitude, a->bottom_radius_km + 1e-3),
+                    a->top_radius_km - 1e-3);
+    double beta = acos(sqrt(fmax(0.0, r * r - a->bottom_radius_km * a->bottom_radius_km)) / r);
+    u->horizon = V4(beta, M_PI - beta, cos(M_PI - beta), 0);
 }
 

@@ -3,6 +3,9 @@
 #ifndef SKYD_SKY_UNIFORMS_H
 #define SKYD_SKY_UNIFORMS_H
 
+#include <stdbool.h>
+#include <stdint.h>
+
 #include "sky_renderer.h"
 #include "sky_shared.h"
 
@@ -10,5 +13,9 @@ void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
                                   struct sky_atmosphere_uniforms *u);
 void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
                              const struct sky_render_view *v, struct sky_frame_uniforms *u);
+
+/* The sun disk's bounding box in pixels (x0, y0, width, height) with a margin, clipped to the
+ * image; false when the sun is not on screen. */
+bool sky_uniforms_sun_rect(const struct sky_render_view *v, int32_t rect[4]);
 
 #endif

@@ -2,17 +2,21 @@
 #extension GL_GOOGLE_include_directive : require
 // Final image: per-pixel luminance from sky_shading.glsl, exposure (EV100, manual or metered),
 // tonemapping and sRGB encoding into an 8-bit image; or, with SKY_OUTPUT_LINEAR, the
-// luminance itself (cd/m2) into a float image.
+// luminance itself (cd/m2) into a float image. Covers the pixel rectangle in the push
+// constants. Specialized with SUN_REGION it is the sun-disk pass: the same shading with the
+// sun included, run only over the sun's bounding box after the main pass.
 #include "sky_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "shading_bindings.glsl"
-layout(std430, binding = 8) readonly buffer ExposureBlock { vec4 metered; }; // x exposure
+layout(std430, binding = 6) readonly buffer ExposureBlock { vec4 metered; }; // x exposure
 #ifdef SKY_OUTPUT_LINEAR
-layout(binding = 9, rgba32f) uniform writeonly image2D image_out;
+layout(binding = 7, rgba32f) uniform writeonly image2D image_out;
 #else
-layout(binding = 9, rgba8) uniform writeonly image2D image_out;
+layout(binding = 7, rgba8) uniform writeonly image2D image_out;
 #endif
+layout(push_constant) uniform RegionPush { sky_region_push region; };
+layout(constant_id = 1) const bool SUN_REGION = false;
 
 #include "sky_shading.glsl"
 #include "tonemap.glsl"
@@ -20,11 +24,13 @@ layout(binding = 9, rgba8) uniform writeonly image2D image_out;
 void main()
 {
     ivec2 size = imageSize(image_out);
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(px, size)))
+    ivec2 local = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 px = region.rect.xy + local;
+    if (any(greaterThanEqual(local, region.rect.zw)) || any(greaterThanEqual(px, size)))
         return;
     vec2 uv = (vec2(px) + 0.5) / vec2(size);
-    vec3 luminance = shade_direction(camera_ray(uv), true, uv, true);
+    // From space the march adds the sun itself; inside, only the sun-region pass does.
+    vec3 luminance = shade_direction(camera_ray(uv), SUN_REGION || FROM_SPACE);
 #ifdef SKY_OUTPUT_LINEAR
     imageStore(image_out, px, vec4(luminance, 1.0));
 #else

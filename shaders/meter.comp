@@ -6,7 +6,7 @@
 
 layout(local_size_x = SKY_METER_LOCAL, local_size_y = SKY_METER_LOCAL) in;
 #include "shading_bindings.glsl"
-layout(std430, binding = 8) writeonly buffer Partials { vec2 partials[]; };
+layout(std430, binding = 6) writeonly buffer Partials { vec2 partials[]; };
 layout(push_constant) uniform MeterPush { sky_meter_push meter; };
 
 #include "sky_shading.glsl"
@@ -19,7 +19,7 @@ void main()
     vec2 value = vec2(0.0);
     if (px.x < meter.grid_width && px.y < meter.grid_height) {
         vec2 uv = (vec2(px) + 0.5) / vec2(meter.grid_width, meter.grid_height);
-        vec3 L = shade_direction(camera_ray(uv), true, uv, true);
+        vec3 L = shade_direction(camera_ray(uv), true);
         float Y = dot(L, vec3(0.2126, 0.7152, 0.0722));
         // Empty space (exactly black) carries no exposure information: leave it out.
         value = Y > 1e-7 ? vec2(log2(Y), 1.0) : vec2(0.0);

@@ -6,8 +6,8 @@
 
 layout(local_size_x = 64) in;
 #include "shading_bindings.glsl"
-layout(std430, binding = 8) readonly buffer ProbeIn { vec4 probe_in[]; };
-layout(std430, binding = 9) writeonly buffer ProbeOut { vec4 probe_out[]; };
+layout(std430, binding = 6) readonly buffer ProbeIn { vec4 probe_in[]; };
+layout(std430, binding = 7) writeonly buffer ProbeOut { vec4 probe_out[]; };
 layout(push_constant) uniform ProbePush { sky_probe_push probe; };
 
 #include "sky_shading.glsl"
@@ -22,7 +22,6 @@ void main()
     if (probe.mode == SKY_PROBE_TRANSMITTANCE)
         value = transmittance_to_top(q.x, q.y); // q.x radius km, q.y cos-zenith
     else
-        value = shade_direction(normalize(q.xyz), false, vec2(0.0),
-                                probe.mode == SKY_PROBE_LUMINANCE);
+        value = shade_direction(normalize(q.xyz), probe.mode == SKY_PROBE_LUMINANCE);
     probe_out[i] = vec4(value, 0.0);
 }

@@ -2,7 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // Sky-view LUT (Hillaire 2020 section 5.3): in-scattered luminance per unit sun illuminance
 // for every direction around the camera, latitude/longitude with the sun at azimuth 0 and
-// horizon-dense rows. Rays below the horizon stop at the ground.
+// horizon-dense rows. Rays below the horizon end at the ground, whose lit radiance is added
+// through the path's transmittance: the ground with its aerial perspective, exactly along
+// the ray.
 #include "sky_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -10,12 +12,14 @@ layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms at
 layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
 layout(binding = 2) uniform sampler2D transmittance_lut;
 layout(binding = 3) uniform sampler2D multiscattering_lut;
-layout(binding = 4, rgba32f) uniform writeonly image2D skyview_out;
+layout(binding = 4) uniform sampler2D irradiance_lut;
+layout(binding = 5, rgba32f) uniform writeonly image2D skyview_out;
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT
 #include "atmosphere.glsl"
 #include "scattering_march.glsl"
+#include "ground.glsl"
 
 const float STEPS = 40.0;
 
@@ -35,6 +39,11 @@ void main()
     float sin_azimuth = sqrt(max(0.0, 1.0 - light_view_cos * light_view_cos));
     vec3 dir = vec3(sin_zenith * light_view_cos, sin_zenith * sin_azimuth, view_zenith_cos);
     // The local sun lies in the x-z plane (azimuth 0).
-    MarchResult m = march_scattering(vec3(0.0, 0.0, r), dir, frame.sun_local.xyz, 1e9, STEPS);
-    imageStore(skyview_out, px, vec4(m.luminance, 1.0));
+    vec3 origin = vec3(0.0, 0.0, r);
+    vec3 sun_dir = frame.sun_local.xyz;
+    MarchResult m = march_scattering(origin, dir, sun_dir, 1e9, STEPS);
+    vec3 L = m.luminance;
+    if (m.hits_ground)
+        L += m.transmittance * ground_radiance_per_lux(origin + m.t_end * dir, sun_dir);
+    imageStore(skyview_out, px, vec4(L, 1.0));
 }

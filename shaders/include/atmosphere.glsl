@@ -11,14 +11,6 @@
 
 const float PI = 3.14159265358979;
 
-// Runs the following statement only when `cond` holds for some invocation. Written as a loop
-// on purpose: lavapipe (llvmpipe) executes both sides of an if under an execution mask, so an
-// expensive rarely-taken block costs every pixel, whereas a loop exits as soon as no
-// invocation is active. The trip count comes from a uniform that is always 1 so that the
-// compiler cannot unroll the loop back into an if. On GPUs this is an ordinary branch.
-#define WHEN(cond) \
-    for (int when_once_ = 0; when_once_ < ((cond) ? atmo.one.x : 0); when_once_++)
-
 struct MediumSample {
     vec3 rayleigh_scattering;
     vec3 mie_scattering;
@@ -122,11 +114,10 @@ vec2 multiscattering_r_mu_to_unit(float r, float mu_s)
 
 // Sky-view LUT: longitude/latitude around the camera with the horizon at v = 0.5 and a
 // square-root compression that puts texels near the horizon (Hillaire 2020, section 5.3).
-vec2 skyview_dir_to_unit(float r, float view_zenith_cos, float light_view_cos, bool hits_ground)
+// beta: angle between the horizon and the nadir seen from the camera, acos(sqrt(r^2-R^2)/r).
+vec2 skyview_dir_to_unit_beta(float beta, float view_zenith_cos, float light_view_cos,
+                              bool hits_ground)
 {
-    float bottom = bottom_radius();
-    float v_horizon = sqrt(max(0.0, r * r - bottom * bottom));
-    float beta = acos(clamp(v_horizon / r, -1.0, 1.0));
     float zenith_horizon_angle = PI - beta;
     float view_zenith = acos(clamp(view_zenith_cos, -1.0, 1.0));
     float v;
@@ -139,6 +130,13 @@ vec2 skyview_dir_to_unit(float r, float view_zenith_cos, float light_view_cos, b
     }
     float u = sqrt(clamp(-light_view_cos * 0.5 + 0.5, 0.0, 1.0));
     return vec2(u, v);
+}
+
+vec2 skyview_dir_to_unit(float r, float view_zenith_cos, float light_view_cos, bool hits_ground)
+{
+    float bottom = bottom_radius();
+    float beta = acos(clamp(sqrt(max(0.0, r * r - bottom * bottom)) / r, -1.0, 1.0));
+    return skyview_dir_to_unit_beta(beta, view_zenith_cos, light_view_cos, hits_ground);
 }
 
 void skyview_unit_to_dir(float r, vec2 unit, out float view_zenith_cos, out float light_view_cos)

@@ -52,7 +52,6 @@ struct sky_atmosphere_uniforms {
     SKY_VEC4 mie_g;               /* xyz Cornette-Shanks asymmetry per channel */
     SKY_VEC4 ozone_absorption;    /* xyz */
     SKY_VEC4 ground_albedo;       /* xyz */
-    SKY_IVEC4 one;                /* x = 1, a loop bound the shader compiler cannot fold (WHEN) */
 };
 
 struct sky_frame_uniforms {
@@ -67,6 +66,8 @@ struct sky_frame_uniforms {
                                      w tonemap operator */
     SKY_VEC4 image;               /* x width, y height, z aerial perspective max km, w output kind */
     SKY_VEC4 sun_local;           /* sun direction in the sky-view LUT frame (azimuth 0) */
+    SKY_VEC4 horizon;             /* camera's geometric horizon: x beta = acos(sqrt(r^2-R^2)/r),
+                                     y pi - beta (zenith angle of the horizon), z cos of that */
 };
 
 /* Per-dispatch constants of the probe pass. */
@@ -75,6 +76,12 @@ struct sky_probe_push {
     SKY_UINT mode;
     SKY_UINT pad0;
     SKY_UINT pad1;
+};
+
+/* Per-dispatch constants of the composite: the pixel rectangle it covers (the whole image,
+ * or the sun's bounding box for the sun-disk pass). */
+struct sky_region_push {
+    SKY_IVEC4 rect; /* x0, y0, width, height in pixels */
 };
 
 /* Per-dispatch constants of the metering passes. */
