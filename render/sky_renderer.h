@@ -107,7 +107,8 @@ int sky_renderer_probe_luminance(struct sky_renderer *renderer,
                                  const struct sky_render_view *view, const double (*dirs)[3],
                                  size_t count, bool include_sun, double (*out_rgb)[3]);
 
-/* Reads back a LUT for tests: "transmittance", "multiscattering", "skyview", "irradiance".
+/* Reads back a LUT for tests: "transmittance" (optical depth per channel), "multiscattering",
+ * "skyview", "irradiance".
  * Fills width/height and returns a malloc'd RGBA float array (caller frees), or NULL. */
 float *sky_renderer_read_lut(struct sky_renderer *renderer, const char *name, uint32_t *width,
                              uint32_t *height);

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "ground_transfer.h"
 #include "photometry.h"
 
 #ifndef M_PI
@@ -29,6 +30,9 @@ void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
     u->ozone_absorption = V4(a->ozone_absorption[0], a->ozone_absorption[1],
                              a->ozone_absorption[2], 0);
     u->ground_albedo = V4(a->ground_albedo[0], a->ground_albedo[1], a->ground_albedo[2], 0);
+    double transfer[3];
+    sky_ground_transfer(a, transfer);
+    u->ground_transfer = V4(transfer[0], transfer[1], transfer[2], 0);
 }
 
 static void direction_from_angles(double azimuth_deg, double elevation_deg, double out[3])
@@ -135,6 +139,9 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     /* The sky-view LUT frame puts the sun at azimuth 0: (sin zenith, 0, cos zenith). */
     double mu_s = sun[2];
     u->sun_local = V4(sqrt(fmax(0.0, 1.0 - mu_s * mu_s)), 0, mu_s, 0);
+    /* The camera's up is +z: the sun's horizontal projection is (x, y, 0). */
+    double sun_h = hypot(sun[0], sun[1]);
+    u->sun_horizontal = sun_h > 1e-7 ? V4(sun[0] / sun_h, sun[1] / sun_h, 0, 1) : V4(0, 0, 0, 0);
     /* The same clamp as the shaders: at least 1 m above the ground, below the top. */
     double r = fmin(fmax(a->bottom_radius_km + altitude, a->bottom_radius_km + 1e-3),
                     a->top_radius_km - 1e-3);

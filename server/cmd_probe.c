@@ -7,14 +7,11 @@
 
 #include "cli_args.h"
 #include "commands.h"
-#include "photometry.h"
+#include "illuminance.h"
 #include "world_render.h"
 
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
-/* Hemisphere quadrature for sky illuminance: midpoint rule in zenith and azimuth. */
-#define SKY_ZENITH_STEPS 48
-#define SKY_AZIMUTH_STEPS 96
 
 enum probe_kind { PROBE_TRANSMITTANCE, PROBE_LUMINANCE, PROBE_ILLUMINANCE };
 
@@ -144,45 +141,12 @@ static int probe_illuminance(struct sky_renderer *r, const struct cli_common *c,
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
     world_to_render_atmosphere(&c->state, &atm);
-    view_with_sun_zenith(c, 0.0, a->sun_zenith_deg, &view);
-
-    /* Sun: E_top * T(ground -> sun) * cos(zenith), zero below the horizon. */
-    double mu_s = cos(a->sun_zenith_deg * DEG), ground = 0.0, t[1][3], e_top[3], sun_rgb[3];
-    if (sky_renderer_probe_transmittance(r, &atm, &ground, &mu_s, 1, t) != 0)
+    world_to_render_view(&c->state, 1, 1, SKY_RENDER_OUTPUT_LINEAR, &view);
+    double sun_lux, sky_lux;
+    if (sky_ground_illuminance(r, &atm, &view, a->sun_zenith_deg, &sun_lux, &sky_lux) != 0)
         return SKYD_EXIT_FAILURE;
-    sky_sun_illuminance_top(&atm, view.sun_illuminance_lux, e_top);
-    for (int ch = 0; ch < 3; ch++)
-        sun_rgb[ch] = mu_s > 0.0 ? e_top[ch] * t[0][ch] * mu_s : 0.0;
-
-    /* Sky: E = sum of L cos(theta) sin(theta) dtheta dphi over the upper hemisphere. */
-    size_t n = SKY_ZENITH_STEPS * SKY_AZIMUTH_STEPS;
-    double (*dirs)[3] = malloc(n * sizeof *dirs);
-    double (*lum)[3] = malloc(n * sizeof *lum);
-    int status = SKYD_EXIT_FAILURE;
-    if (!dirs || !lum)
-        goto done;
-    double d_theta = 0.5 * PI / SKY_ZENITH_STEPS, d_phi = 2.0 * PI / SKY_AZIMUTH_STEPS;
-    for (int i = 0; i < SKY_ZENITH_STEPS; i++)
-        for (int j = 0; j < SKY_AZIMUTH_STEPS; j++)
-            local_direction((i + 0.5) * d_theta / DEG, (j + 0.5) * d_phi / DEG,
-                            dirs[i * SKY_AZIMUTH_STEPS + j]);
-    if (sky_renderer_probe_luminance(r, &atm, &view, (const double (*)[3])dirs, n, false, lum) != 0)
-        goto done;
-    double sky_rgb[3] = { 0, 0, 0 };
-    for (int i = 0; i < SKY_ZENITH_STEPS; i++) {
-        double theta = (i + 0.5) * d_theta;
-        double w = cos(theta) * sin(theta) * d_theta * d_phi;
-        for (int j = 0; j < SKY_AZIMUTH_STEPS; j++)
-            for (int ch = 0; ch < 3; ch++)
-                sky_rgb[ch] += lum[i * SKY_AZIMUTH_STEPS + j][ch] * w;
-    }
-    printf("{\"sun_lux\":%.6g,\"sky_lux\":%.6g}\n", sky_rgb_to_luminance(sun_rgb),
-           sky_rgb_to_luminance(sky_rgb));
-    status = SKYD_EXIT_OK;
-done:
-    free(dirs);
-    free(lum);
-    return status;
+    printf("{\"sun_lux\":%.6g,\"sky_lux\":%.6g}\n", sun_lux, sky_lux);
+    return SKYD_EXIT_OK;
 }
 
 int skyd_cmd_probe(int argc, char **argv)

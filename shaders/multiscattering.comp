@@ -63,6 +63,9 @@ void main()
             vec3 n = normalize(p);
             l2 += throughput * sun_transmittance(p + n * 1e-3, sun_dir)
                   * max(dot(n, sun_dir), 0.0) * atmo.ground_albedo.xyz / PI;
+            // The ground also returns the multiply-scattered light: under the same isotropic
+            // unit source it receives pi * A and reflects albedo * A (ground_transfer.h).
+            fms += throughput * atmo.ground_albedo.xyz * atmo.ground_transfer.xyz;
         }
     }
     shared_l2[dir_index] = l2;

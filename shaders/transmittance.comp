@@ -1,7 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Transmittance LUT (Hillaire 2020 section 4; Bruneton 2008 parameterization): optical depth
-// from (r, mu) to the top of the atmosphere, T = exp(-tau) (seed 001 eq. 1).
+// from (r, mu) to the top of the atmosphere; T = exp(-tau) (seed 001 eq. 1) is taken by the
+// readers.
 #include "sky_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -10,7 +11,7 @@ layout(binding = 1, rgba32f) uniform writeonly image2D transmittance_out;
 
 #include "atmosphere.glsl"
 
-const float STEPS = 64.0;
+const float STEPS = 128.0;
 
 void main()
 {
@@ -34,5 +35,7 @@ void main()
         optical_depth += sample_medium(h).extinction * (t_next - t_prev);
         t_prev = t_next;
     }
-    imageStore(transmittance_out, px, vec4(exp(-optical_depth), 1.0));
+    // The LUT holds optical depth: it varies far more linearly than exp(-tau) across a texel,
+    // so bilinear filtering of grazing rays stays accurate; readers take exp(-tau).
+    imageStore(transmittance_out, px, vec4(optical_depth, 1.0));
 }

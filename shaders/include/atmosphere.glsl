@@ -114,12 +114,22 @@ vec2 multiscattering_r_mu_to_unit(float r, float mu_s)
 
 // Sky-view LUT: longitude/latitude around the camera with the horizon at v = 0.5 and a
 // square-root compression that puts texels near the horizon (Hillaire 2020, section 5.3).
+// acos with |error| < 7e-5 rad (Abramowitz & Stegun 4.4.45): the library acos is several
+// times more expensive on CPU Vulkan, and the sky-view mapping only needs it to be smooth
+// and monotonic (the LUT is built with the same function's inverse up to that error).
+float fast_acos(float x)
+{
+    float a = abs(x);
+    float r = sqrt(1.0 - a) * (1.5707288 + a * (-0.2121144 + a * (0.0742610 - 0.0187293 * a)));
+    return x >= 0.0 ? r : PI - r;
+}
+
 // beta: angle between the horizon and the nadir seen from the camera, acos(sqrt(r^2-R^2)/r).
 vec2 skyview_dir_to_unit_beta(float beta, float view_zenith_cos, float light_view_cos,
                               bool hits_ground)
 {
     float zenith_horizon_angle = PI - beta;
-    float view_zenith = acos(clamp(view_zenith_cos, -1.0, 1.0));
+    float view_zenith = fast_acos(clamp(view_zenith_cos, -1.0, 1.0));
     float v;
     if (!hits_ground) {
         float coord = 1.0 - clamp(view_zenith / zenith_horizon_angle, 0.0, 1.0);
@@ -165,7 +175,7 @@ vec3 transmittance_to_top(float r, float mu)
     vec2 unit = transmittance_r_mu_to_unit(r, mu);
     vec2 size = vec2(textureSize(transmittance_lut, 0));
     vec2 uv = vec2(unit_to_sub_uv(unit.x, size.x), unit_to_sub_uv(unit.y, size.y));
-    return textureLod(transmittance_lut, uv, 0.0).rgb;
+    return exp(-textureLod(transmittance_lut, uv, 0.0).rgb);
 }
 
 // Transmittance from point p toward the sun, zero when the planet is in the way.

@@ -45,11 +45,13 @@ vec3 sun_disk_luminance(vec3 dir)
 // The camera's horizon angle comes from the frame uniforms (constant over the frame).
 vec2 skyview_uv(vec3 up, vec3 dir, bool hits_ground)
 {
-    vec3 sun_dir = frame.sun_direction.xyz;
+    // Azimuth from the sun's: both directions projected on the horizontal plane (the sun's
+    // projection, unit length, comes with the frame; zero when the sun is at the zenith).
     vec3 dir_h = dir - up * dot(dir, up);
-    vec3 sun_h = sun_dir - up * dot(sun_dir, up);
-    float lengths = length(dir_h) * length(sun_h);
-    float light_view_cos = lengths > 1e-7 ? dot(dir_h, sun_h) / lengths : 1.0;
+    float dir_h_len2 = dot(dir_h, dir_h);
+    float light_view_cos = dir_h_len2 > 1e-14 && frame.sun_horizontal.w > 0.5
+                               ? dot(dir_h, frame.sun_horizontal.xyz) * inversesqrt(dir_h_len2)
+                               : 1.0;
     vec2 unit = skyview_dir_to_unit_beta(frame.horizon.x, dot(dir, up), light_view_cos,
                                          hits_ground);
     vec2 size = vec2(textureSize(skyview_lut, 0));

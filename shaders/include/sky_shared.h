@@ -52,6 +52,7 @@ struct sky_atmosphere_uniforms {
     SKY_VEC4 mie_g;               /* xyz Cornette-Shanks asymmetry per channel */
     SKY_VEC4 ozone_absorption;    /* xyz */
     SKY_VEC4 ground_albedo;       /* xyz */
+    SKY_VEC4 ground_transfer;     /* xyz: A of render/ground_transfer.h */
 };
 
 struct sky_frame_uniforms {
@@ -66,6 +67,8 @@ struct sky_frame_uniforms {
                                      w tonemap operator */
     SKY_VEC4 image;               /* x width, y height, z aerial perspective max km, w output kind */
     SKY_VEC4 sun_local;           /* sun direction in the sky-view LUT frame (azimuth 0) */
+    SKY_VEC4 sun_horizontal;      /* sun direction projected on the camera's horizontal plane,
+                                     normalised; w 1, or 0 when the sun is at the zenith */
     SKY_VEC4 horizon;             /* camera's geometric horizon: x beta = acos(sqrt(r^2-R^2)/r),
                                      y pi - beta (zenith angle of the horizon), z cos of that */
 };
