@@ -21,7 +21,12 @@ layout(binding = 5, rgba32f) uniform writeonly image2D skyview_out;
 #include "scattering_march.glsl"
 #include "ground.glsl"
 
-const float STEPS = 40.0;
+// Step count grows with the ray's length (Hillaire 2020, 5.3): 16 for short upward rays,
+// up to 40 toward the horizon. Rows of the LUT share a zenith angle, so neighbouring
+// invocations take the same count.
+const float MIN_STEPS = 16.0;
+const float MAX_STEPS = 40.0;
+const float LONG_RAY_KM = 600.0;
 
 void main()
 {
@@ -41,7 +46,11 @@ void main()
     // The local sun lies in the x-z plane (azimuth 0).
     vec3 origin = vec3(0.0, 0.0, r);
     vec3 sun_dir = frame.sun_local.xyz;
-    MarchResult m = march_scattering(origin, dir, sun_dir, 1e9, STEPS);
+    float t_start, t_end;
+    bool hits;
+    atmosphere_segment(origin, dir, t_start, t_end, hits);
+    float steps = floor(mix(MIN_STEPS, MAX_STEPS, clamp((t_end - t_start) / LONG_RAY_KM, 0.0, 1.0)));
+    MarchResult m = march_scattering(origin, dir, sun_dir, 1e9, steps);
     vec3 L = m.luminance;
     if (m.hits_ground)
         L += m.transmittance * ground_radiance_per_lux(origin + m.t_end * dir, sun_dir);
