@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "cli_args.h"
+#include "trivial_write.h"
 #include "world_render.h"
 
 #define MAX_FRAMES 1000
@@ -76,6 +77,7 @@ static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosph
 static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsigned w,
                         unsigned h, int n, int warmup, struct series *s)
 {
+    double trivial = trivial_write_ms(c->device, w, h, 15);
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
     world_to_render_atmosphere(&c->state, &atm);
@@ -107,6 +109,9 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
     char label[64];
     snprintf(label, sizeof label, "frame %ux%u", w, h);
     print_series(label, s, n);
+    double wall = percentile(s->wall_ms, n, 0.5), gpu = percentile(s->gpu_ms, n, 0.5);
+    printf("    trivial write %ux%u: %.2f ms; frame/trivial: wall %.2fx, gpu %.2fx\n", w, h,
+           trivial, wall / trivial, gpu / trivial);
     free(pixels);
     return 0;
 }
@@ -162,6 +167,12 @@ int main(int argc, char **argv)
     int status = s ? 0 : 1;
     if (status == 0)
         status = bench_rebuild(r, &atm, rebuilds, s) == 0 ? 0 : 1;
+    if (status == 0) {
+        double trivial = trivial_write_ms(common.device, 1280, 720, 15);
+        double rebuild = percentile(s->wall_ms, rebuilds, 0.5);
+        printf("    trivial write 1280x720: %.2f ms; rebuild/trivial: %.2fx\n", trivial,
+               rebuild / trivial);
+    }
     for (int k = 0; k < size_count && status == 0; k++)
         status = bench_frames(r, &common, sizes[k][0], sizes[k][1], frames, 3, s) == 0 ? 0 : 1;
     free(s);

@@ -25,6 +25,7 @@
 #define LUT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
 #define IRRADIANCE_SIZE 64
 #define METER_MAX_GRID 256
+#define COMPOSITE_LOCAL 8 /* composite.comp local size */
 
 /* Shading passes come in pairs: the camera inside the atmosphere, then above it (the same
  * SPIR-V specialized with FROM_SPACE, so each pipeline holds only its own path). */
@@ -388,8 +389,9 @@ void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
                                 struct gpu_timer *timer, uint32_t width, uint32_t height,
                                 bool from_space)
 {
-    /* About one sample per 8x8 pixels, at most METER_MAX_GRID^2 so the partials fit. */
-    uint32_t gw = (width + 7) / 8, gh = (height + 7) / 8;
+    /* About one sample per 16x16 pixels (a log average of a smooth sky needs few), at most
+     * METER_MAX_GRID^2 so the partials fit. */
+    uint32_t gw = (width + 15) / 16, gh = (height + 15) / 16;
     if (gw > METER_MAX_GRID)
         gw = METER_MAX_GRID;
     if (gh > METER_MAX_GRID)
@@ -415,14 +417,14 @@ void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
         .rect = { 0, 0, (int32_t)p->output.width, (int32_t)p->output.height },
     };
     record(p, cmd, timer, variant(main_pass, from_space), &full, p->output.width,
-           p->output.height, 1, 8, 8);
+           p->output.height, 1, COMPOSITE_LOCAL, COMPOSITE_LOCAL);
     if (!from_space && sun_rect) {
         /* Rewrites the pixels of the sun's box with the sun included: the main pass then
          * never carries the disk's cost. */
         struct sky_region_push sun = { .rect = { sun_rect[0], sun_rect[1], sun_rect[2],
                                                  sun_rect[3] } };
         record(p, cmd, timer, main_pass + 2, &sun, (uint32_t)sun_rect[2],
-               (uint32_t)sun_rect[3], 1, 8, 8);
+               (uint32_t)sun_rect[3], 1, COMPOSITE_LOCAL, COMPOSITE_LOCAL);
     }
     gpu_barrier_compute_to_transfer(cmd);
     gpu_copy_image_to_buffer(cmd, &p->output, &p->readback);

@@ -130,14 +130,12 @@ vec2 skyview_dir_to_unit_beta(float beta, float view_zenith_cos, float light_vie
 {
     float zenith_horizon_angle = PI - beta;
     float view_zenith = fast_acos(clamp(view_zenith_cos, -1.0, 1.0));
-    float v;
-    if (!hits_ground) {
-        float coord = 1.0 - clamp(view_zenith / zenith_horizon_angle, 0.0, 1.0);
-        v = (1.0 - sqrt(coord)) * 0.5;
-    } else {
-        float coord = clamp((view_zenith - zenith_horizon_angle) / max(beta, 1e-6), 0.0, 1.0);
-        v = sqrt(coord) * 0.5 + 0.5;
-    }
+    // Above the horizon v = (1 - sqrt(1 - z/z_h)) / 2, below v = (1 + sqrt((z - z_h)/beta)) / 2:
+    // one square root of the selected argument.
+    float above = 1.0 - clamp(view_zenith / zenith_horizon_angle, 0.0, 1.0);
+    float below = clamp((view_zenith - zenith_horizon_angle) / max(beta, 1e-6), 0.0, 1.0);
+    float root = sqrt(hits_ground ? below : above);
+    float v = 0.5 + (hits_ground ? 0.5 : -0.5) * root;
     float u = sqrt(clamp(-light_view_cos * 0.5 + 0.5, 0.0, 1.0));
     return vec2(u, v);
 }

@@ -7,8 +7,9 @@ vec3 camera_ray(vec2 uv)
     float tan_half = frame.camera_forward.w;
     float aspect = frame.camera_right.w;
     vec2 ndc = vec2(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
-    return normalize(frame.camera_forward.xyz + frame.camera_right.xyz * ndc.x * tan_half * aspect
-                     + frame.camera_up.xyz * ndc.y * tan_half);
+    vec3 d = frame.camera_forward.xyz + frame.camera_right.xyz * (ndc.x * tan_half * aspect)
+             + frame.camera_up.xyz * (ndc.y * tan_half);
+    return d * inversesqrt(dot(d, d));
 }
 
 // Inverse of camera_ray: the uv a direction projects to (outside [0,1] when off screen).

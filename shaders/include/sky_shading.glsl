@@ -42,18 +42,15 @@ vec3 sun_disk_luminance(vec3 dir)
     return frame.sun_illuminance.xyz / frame.sun_disk.x * limb_darkening(center_to_edge) * inside;
 }
 
-// The camera's horizon angle comes from the frame uniforms (constant over the frame).
-vec2 skyview_uv(vec3 up, vec3 dir, bool hits_ground)
+// The camera stands on the +z axis, so its up is +z and horizontal projections are .xy; the
+// horizon angle and the sun's horizontal direction come with the frame uniforms.
+vec2 skyview_uv(vec3 dir, bool hits_ground)
 {
-    // Azimuth from the sun's: both directions projected on the horizontal plane (the sun's
-    // projection, unit length, comes with the frame; zero when the sun is at the zenith).
-    vec3 dir_h = dir - up * dot(dir, up);
-    float dir_h_len2 = dot(dir_h, dir_h);
+    float dir_h_len2 = dot(dir.xy, dir.xy);
     float light_view_cos = dir_h_len2 > 1e-14 && frame.sun_horizontal.w > 0.5
-                               ? dot(dir_h, frame.sun_horizontal.xyz) * inversesqrt(dir_h_len2)
+                               ? dot(dir.xy, frame.sun_horizontal.xy) * inversesqrt(dir_h_len2)
                                : 1.0;
-    vec2 unit = skyview_dir_to_unit_beta(frame.horizon.x, dot(dir, up), light_view_cos,
-                                         hits_ground);
+    vec2 unit = skyview_dir_to_unit_beta(frame.horizon.x, dir.z, light_view_cos, hits_ground);
     vec2 size = vec2(textureSize(skyview_lut, 0));
     return vec2(unit_to_sub_uv(unit.x, size.x), unit_to_sub_uv(unit.y, size.y));
 }
@@ -73,11 +70,10 @@ vec3 shade_from_space(vec3 origin, vec3 dir, bool include_sun)
 
 vec3 shade_from_atmosphere(vec3 cam, vec3 dir, bool include_sun)
 {
-    vec3 up = normalize(cam);
-    float mu = dot(dir, up);
+    float mu = dir.z;
     // The ray meets the ground when it points below the geometric horizon.
     bool hits_ground = mu < frame.horizon.z;
-    vec3 L = textureLod(skyview_lut, skyview_uv(up, dir, hits_ground), 0.0).rgb
+    vec3 L = textureLod(skyview_lut, skyview_uv(dir, hits_ground), 0.0).rgb
              * frame.sun_illuminance.xyz;
     if (include_sun) {
         float r = max(length(cam), bottom_radius() + 1e-3);
