@@ -462,7 +462,7 @@ double sky_passes_metered_ev100(const struct sky_passes *p)
 }
 
 float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const char *name,
-                           uint32_t *width, uint32_t *height)
+                           uint32_t size[3])
 {
     const struct gpu_image *image = NULL;
     if (strcmp(name, "transmittance") == 0)
@@ -473,9 +473,13 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
         image = &p->skyview;
     else if (strcmp(name, "irradiance") == 0)
         image = &p->irradiance;
+    else if (strcmp(name, "ap_inscatter") == 0)
+        image = &p->ap_inscatter;
+    else if (strcmp(name, "ap_transmittance") == 0)
+        image = &p->ap_transmittance;
     if (!image)
         return NULL;
-    size_t bytes = (size_t)image->width * image->height * 16;
+    size_t bytes = (size_t)image->width * image->height * image->depth * 16;
     struct gpu_buffer staging;
     if (gpu_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "lut_readback",
                           &staging) != VK_SUCCESS)
@@ -490,8 +494,9 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
             out = malloc(bytes);
             if (out) {
                 memcpy(out, staging.mapped, bytes);
-                *width = image->width;
-                *height = image->height;
+                size[0] = image->width;
+                size[1] = image->height;
+                size[2] = image->depth;
             }
         }
     }

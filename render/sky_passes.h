@@ -54,6 +54,6 @@ void sky_passes_read_probe(const struct sky_passes *p, size_t count, double (*ou
 /* EV100 of the last metering (NAN when none ran). */
 double sky_passes_metered_ev100(const struct sky_passes *p);
 float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const char *name,
-                           uint32_t *width, uint32_t *height);
+                           uint32_t size[3]);
 
 #endif

@@ -291,8 +291,7 @@ int sky_renderer_probe_luminance(struct sky_renderer *r, const struct sky_render
     return rc;
 }
 
-float *sky_renderer_read_lut(struct sky_renderer *r, const char *name, uint32_t *width,
-                             uint32_t *height)
+float *sky_renderer_read_lut(struct sky_renderer *r, const char *name, uint32_t size[3])
 {
-    return sky_passes_read_lut(r->ctx, r->passes, name, width, height);
+    return sky_passes_read_lut(r->ctx, r->passes, name, size);
 }

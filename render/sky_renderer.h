@@ -108,9 +108,9 @@ int sky_renderer_probe_luminance(struct sky_renderer *renderer,
                                  size_t count, bool include_sun, double (*out_rgb)[3]);
 
 /* Reads back a LUT for tests: "transmittance" (optical depth per channel), "multiscattering",
- * "skyview", "irradiance".
- * Fills width/height and returns a malloc'd RGBA float array (caller frees), or NULL. */
-float *sky_renderer_read_lut(struct sky_renderer *renderer, const char *name, uint32_t *width,
-                             uint32_t *height);
+ * "skyview", "irradiance", "ap_inscatter", "ap_transmittance" (3D, depth slices). Fills
+ * size (width, height, depth) and returns a malloc'd RGBA float array, x fastest then y then
+ * slice (caller frees), or NULL. */
+float *sky_renderer_read_lut(struct sky_renderer *renderer, const char *name, uint32_t size[3]);
 
 #endif

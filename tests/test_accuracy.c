@@ -11,6 +11,7 @@
 #include "check.h"
 #include "illuminance.h"
 #include "photometry.h"
+#include "sky_uniforms.h"
 #include "test_support.h"
 
 #define PI 3.14159265358979323846
@@ -216,6 +217,87 @@ static void test_illuminance(const struct sky_render_atmosphere *atm,
     }
 }
 
+/* The aerial-perspective froxels: transmittance from the camera to the end of every slice
+ * against the reference's exact segment transmittance, and, with the froxel range reaching
+ * past the top of the atmosphere, the in-scattering of the last slice against the reference
+ * sky radiance in that direction. */
+static void test_aerial_perspective(const struct sky_render_atmosphere *atm,
+                                    const struct ref_atmosphere *ref)
+{
+    struct sky_world_state state;
+    sky_world_state_defaults(&state);
+    state.camera.altitude_km = 0.5;
+    /* Every froxel column looks at the sky (elevations from about 10 to 60 degrees). */
+    state.camera.pitch_deg = 35;
+    state.camera.fov_deg = 40;
+    state.sun.elevation_deg = 30;
+    state.render.aerial_perspective_max_km = 1000;
+    struct sky_render_view view;
+    world_to_render_view(&state, 64, 36, SKY_RENDER_OUTPUT_LINEAR, &view);
+    static float pixels[64 * 36 * 4];
+    CHECK(sky_renderer_render(renderer, atm, &view, pixels, sizeof pixels, NULL) == 0);
+    uint32_t size[3], size_t3[3];
+    float *inscatter = sky_renderer_read_lut(renderer, "ap_inscatter", size);
+    float *transmittance = sky_renderer_read_lut(renderer, "ap_transmittance", size_t3);
+    CHECK(inscatter && transmittance);
+    if (!inscatter || !transmittance) {
+        free(inscatter);
+        free(transmittance);
+        return;
+    }
+    struct sky_frame_uniforms fu;
+    sky_uniforms_fill_frame(atm, &view, &fu);
+    double e_top[3], sun[3];
+    sky_sun_illuminance_top(atm, view.sun_illuminance_lux, e_top);
+    direction(90.0 - state.sun.elevation_deg, state.sun.azimuth_deg, sun);
+    const double cam[3] = { 0, 0, atm->bottom_radius_km + state.camera.altitude_km };
+    struct error_stats t_err = { 0 }, l_err = { 0 };
+    const uint32_t columns[3][2] = { { size[0] / 2, size[1] / 2 }, { 2, 2 },
+                                     { size[0] - 3, size[1] - 3 } };
+    for (int k = 0; k < 3; k++) {
+        uint32_t x = columns[k][0], y = columns[k][1];
+        /* The froxel column's ray, as camera.glsl builds it. */
+        double u = (x + 0.5) / size[0], v = (y + 0.5) / size[1];
+        double nx = u * 2 - 1, ny = 1 - v * 2, d[3], len = 0;
+        const sky_vec4 *f = &fu.camera_forward, *r = &fu.camera_right, *up = &fu.camera_up;
+        for (int c = 0; c < 3; c++) {
+            const float fc[3] = { f->x, f->y, f->z }, rc[3] = { r->x, r->y, r->z },
+                        uc[3] = { up->x, up->y, up->z };
+            d[c] = fc[c] + rc[c] * nx * f->w * r->w + uc[c] * ny * f->w;
+            len += d[c] * d[c];
+        }
+        for (int c = 0; c < 3; c++)
+            d[c] /= sqrt(len);
+        for (uint32_t s = 0; s < size[2]; s++) {
+            double depth = state.render.aerial_perspective_max_km * pow((s + 1.0) / size[2], 2);
+            double p[3] = { cam[0] + d[0] * depth, cam[1] + d[1] * depth, cam[2] + d[2] * depth };
+            double t[3];
+            ref_transmittance_segment(ref, cam, p, t);
+            const float *gpu = transmittance + (((size_t)s * size[1] + y) * size[0] + x) * 4;
+            for (int c = 0; c < 3; c++)
+                add_error(&t_err, fabs(gpu[c] / t[c] - 1.0));
+        }
+        double L[3], se[3];
+        ref_radiance_adaptive(ref, state.camera.altitude_km, d, sun, REF_ORDERS, REF_REL_ERROR,
+                              2000, 64000, 777 + (uint64_t)k, REF_THREADS, L, se, NULL);
+        const float *gpu = inscatter + (((size_t)(size[2] - 1) * size[1] + y) * size[0] + x) * 4;
+        for (int c = 0; c < 3; c++)
+            add_error(&l_err, fabs(gpu[c] / L[c] - 1.0));
+        printf("aerial perspective column (%u, %u): in-scattered (%.4g %.4g %.4g) cd/m2, "
+               "reference (%.4g %.4g %.4g)\n",
+               x, y, gpu[0] * e_top[0], gpu[1] * e_top[1], gpu[2] * e_top[2], L[0] * e_top[0],
+               L[1] * e_top[1], L[2] * e_top[2]);
+    }
+    printf("aerial perspective: transmittance to %d slice ends, mean rel error %.3f%%, max "
+           "%.3f%%; full-path in-scattering mean %.2f%%, max %.2f%%\n",
+           t_err.n / 3, 100 * t_err.sum / t_err.n, 100 * t_err.max, 100 * l_err.sum / l_err.n,
+           100 * l_err.max);
+    CHECK_LE(t_err.max, 0.01);
+    CHECK_LE(l_err.max, SKY_HIGH_MAX_REL);
+    free(inscatter);
+    free(transmittance);
+}
+
 int main(void)
 {
     struct sky_renderer_params params = { .validation = test_validation_requested() };
@@ -230,6 +312,7 @@ int main(void)
     test_transmittance(&atm, &ref);
     test_luminance(&atm, &ref);
     test_illuminance(&atm, &ref);
+    test_aerial_perspective(&atm, &ref);
     CHECK(sky_renderer_validation_messages(renderer) == 0);
     sky_renderer_destroy(&renderer);
     return check_summary();
