@@ -11,7 +11,7 @@ layout(binding = 1, rgba32f) uniform writeonly image2D transmittance_out;
 
 #include "atmosphere.glsl"
 
-const float STEPS = 128.0;
+const float STEPS = 96.0;
 
 void main()
 {
