@@ -2,6 +2,7 @@
 # Both install missing Debian packages first (scripts/install-deps.sh).
 
 BUILD      ?= build
+MAKEFLAGS  += --no-print-directory
 ASAN_BUILD ?= build-asan
 JOBS       ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=RelWithDebInfo

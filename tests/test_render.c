@@ -204,6 +204,72 @@ static void test_orbit_shows_planet_and_limb(struct frame *f)
     CHECK(limb_row > 4 && limb_row < H - 4);
 }
 
+/* Other LUT sizes change resolution, not the physics: the mean luminance stays within 3%. */
+static void test_lut_sizes_are_honoured(struct frame *f)
+{
+    struct sky_world_state s;
+    double base[3], small[3];
+    state_for(&s, NULL, 20);
+    s.camera.yaw_deg = s.sun.azimuth_deg + 150; /* sky and ground, no sun disk */
+    render_linear(&s, f);
+    region_mean(f, 0, 0, W, H, base);
+    struct sky_render_lut_sizes sizes = {
+        .transmittance = { 128, 32 },
+        .multiscattering = { 16, 16 },
+        .skyview = { 96, 54 },
+        .aerial_perspective = { 16, 16, 16 },
+    };
+    CHECK(sky_renderer_set_lut_sizes(renderer, &sizes) == 0);
+    render_linear(&s, f);
+    region_mean(f, 0, 0, W, H, small);
+    uint32_t size[3] = { 0, 0, 0 };
+    float *skyview = sky_renderer_read_lut(renderer, "skyview", size);
+    CHECK(skyview && size[0] == 96 && size[1] == 54);
+    free(skyview);
+    float *ap = sky_renderer_read_lut(renderer, "ap_inscatter", size);
+    CHECK(ap && size[0] == 16 && size[1] == 16 && size[2] == 16);
+    free(ap);
+    CHECK(sky_renderer_set_lut_sizes(renderer, NULL) == 0); /* back to the defaults */
+    printf("mean luminance with default LUTs %.5g, with half-size LUTs %.5g cd/m2\n",
+           luminance(base), luminance(small));
+    CHECK_NEAR(luminance(small) / luminance(base), 1.0, 0.03);
+}
+
+/* Manual exposure at the EV100 the meter chose gives back the auto-exposed image. */
+static void test_manual_exposure_matches_metered(void)
+{
+    static uint8_t auto_px[W * H * 4], manual_px[W * H * 4];
+    struct sky_world_state s;
+    state_for(&s, NULL, 30);
+    struct sky_render_atmosphere atm;
+    struct sky_render_view view;
+    struct sky_render_stats stats;
+    world_to_render_atmosphere(&s, &atm);
+    world_to_render_view(&s, W, H, SKY_RENDER_OUTPUT_SRGB8, &view);
+    CHECK(sky_renderer_render(renderer, &atm, &view, auto_px, sizeof auto_px, &stats) == 0);
+    CHECK(isfinite(stats.metered_ev100));
+    view.auto_exposure = false;
+    view.ev100 = stats.metered_ev100;
+    CHECK(sky_renderer_render(renderer, &atm, &view, manual_px, sizeof manual_px, NULL) == 0);
+    int worst = 0;
+    for (size_t i = 0; i < sizeof auto_px; i++) {
+        int d = abs((int)auto_px[i] - (int)manual_px[i]);
+        worst = d > worst ? d : worst;
+    }
+    printf("metered EV100 %.2f; manual exposure at it differs by at most %d/255\n",
+           stats.metered_ev100, worst);
+    CHECK(worst <= 1);
+    /* One stop more exposure (EV100 one lower) brightens the image. */
+    view.ev100 = stats.metered_ev100 - 1.0;
+    CHECK(sky_renderer_render(renderer, &atm, &view, manual_px, sizeof manual_px, NULL) == 0);
+    long sum_auto = 0, sum_brighter = 0;
+    for (size_t i = 0; i < sizeof auto_px; i++) {
+        sum_auto += auto_px[i];
+        sum_brighter += manual_px[i];
+    }
+    CHECK(sum_brighter > sum_auto);
+}
+
 static void write_review_images(void)
 {
     struct sky_world_state s;
@@ -242,6 +308,8 @@ int main(int argc, char **argv)
     test_sunset_redder_than_noon(f);
     test_mars_blue_sunset_halo(f);
     test_orbit_shows_planet_and_limb(f);
+    test_lut_sizes_are_honoured(f);
+    test_manual_exposure_matches_metered();
     write_review_images();
     CHECK(sky_renderer_validation_messages(renderer) == 0);
     free(f);
