@@ -53,6 +53,19 @@ static void print_series(const char *label, struct series *s, int n)
                percentile(s->pass_ms[p], n, 0.5), percentile(s->pass_ms[p], n, 0.99));
 }
 
+static void record_sample(struct series *s, int i, const struct sky_render_stats *st,
+                          double cpu_ms)
+{
+    s->cpu_ms[i] = cpu_ms;
+    s->pass_count = st->pass_count;
+    for (int p = 0; p < st->pass_count; p++) {
+        s->names[p] = st->pass_names[p];
+        s->pass_ms[p][i] = st->pass_ms[p];
+    }
+    s->gpu_ms[i] = st->gpu_ms;
+    s->wall_ms[i] = st->wall_ms;
+}
+
 static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosphere *atm,
                          int n, struct series *s)
 {
@@ -61,14 +74,7 @@ static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosph
         double cpu0 = process_cpu_ms();
         if (sky_renderer_rebuild_atmosphere(r, atm, &st) != 0)
             return -1;
-        s->cpu_ms[i] = process_cpu_ms() - cpu0;
-        s->pass_count = st.pass_count;
-        for (int p = 0; p < st.pass_count; p++) {
-            s->names[p] = st.pass_names[p];
-            s->pass_ms[p][i] = st.pass_ms[p];
-        }
-        s->gpu_ms[i] = st.gpu_ms;
-        s->wall_ms[i] = st.wall_ms;
+        record_sample(s, i, &st, process_cpu_ms() - cpu0);
     }
     print_series("atmosphere LUT rebuild", s, n);
     return 0;
@@ -95,16 +101,8 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
             free(pixels);
             return -1;
         }
-        if (i < 0)
-            continue;
-        s->cpu_ms[i] = process_cpu_ms() - cpu0;
-        s->pass_count = st.pass_count;
-        for (int p = 0; p < st.pass_count; p++) {
-            s->names[p] = st.pass_names[p];
-            s->pass_ms[p][i] = st.pass_ms[p];
-        }
-        s->gpu_ms[i] = st.gpu_ms;
-        s->wall_ms[i] = st.wall_ms;
+        if (i >= 0)
+            record_sample(s, i, &st, process_cpu_ms() - cpu0);
     }
     char label[64];
     snprintf(label, sizeof label, "frame %ux%u", w, h);

@@ -174,10 +174,31 @@ int sky_renderer_rebuild_atmosphere(struct sky_renderer *r, const struct sky_ren
     return 0;
 }
 
+
 static bool camera_in_atmosphere(const struct sky_render_atmosphere *a,
                                  const struct sky_render_view *v)
 {
     return a->bottom_radius_km + v->camera_altitude_km < a->top_radius_km;
+}
+
+/* The start every view's command buffer shares: timestamps, the atmosphere LUTs when the
+ * atmosphere changed, the frame uniforms, and the per-view LUTs when the camera is inside the
+ * atmosphere and they are wanted. */
+static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_atmosphere *a,
+                                const struct sky_render_view *v, bool want_view_luts,
+                                VkCommandBuffer *cmd, bool *from_space, bool *rebuilt)
+{
+    struct sky_frame_uniforms fu;
+    sky_uniforms_fill_frame(a, v, &fu);
+    if (vk_context_begin_commands(r->ctx, cmd) != VK_SUCCESS)
+        return false;
+    gpu_timer_begin(r->timer, *cmd);
+    *rebuilt = record_atmosphere_if_changed(r, *cmd, a);
+    sky_passes_upload_frame(r->passes, &fu);
+    *from_space = !camera_in_atmosphere(a, v);
+    if (want_view_luts && !*from_space)
+        sky_passes_record_view_luts(r->passes, *cmd, r->timer);
+    return true;
 }
 
 int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphere *a,
@@ -192,18 +213,10 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     }
     if (sky_passes_prepare_output(r->ctx, r->passes, v->width, v->height, v->output) != 0)
         return -1;
-    struct sky_frame_uniforms fu;
-    sky_uniforms_fill_frame(a, v, &fu);
-
     VkCommandBuffer cmd;
-    if (vk_context_begin_commands(r->ctx, &cmd) != VK_SUCCESS)
+    bool from_space, rebuilt;
+    if (!begin_view_commands(r, a, v, true, &cmd, &from_space, &rebuilt))
         return -1;
-    gpu_timer_begin(r->timer, cmd);
-    bool rebuilt = record_atmosphere_if_changed(r, cmd, a);
-    sky_passes_upload_frame(r->passes, &fu);
-    bool from_space = !camera_in_atmosphere(a, v);
-    if (!from_space)
-        sky_passes_record_view_luts(r->passes, cmd, r->timer);
     if (v->auto_exposure && v->output == SKY_RENDER_OUTPUT_SRGB8)
         sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space);
     int32_t sun_rect[4];
@@ -226,17 +239,11 @@ static int run_probe(struct sky_renderer *r, const struct sky_render_atmosphere 
 {
     if (sky_passes_prepare_probe(r->ctx, r->passes, count, in) != 0)
         return -1;
-    struct sky_frame_uniforms fu;
-    sky_uniforms_fill_frame(a, v, &fu);
     VkCommandBuffer cmd;
-    if (vk_context_begin_commands(r->ctx, &cmd) != VK_SUCCESS)
+    bool from_space, rebuilt;
+    if (!begin_view_commands(r, a, v, mode != SKY_PROBE_TRANSMITTANCE, &cmd, &from_space,
+                             &rebuilt))
         return -1;
-    gpu_timer_begin(r->timer, cmd);
-    record_atmosphere_if_changed(r, cmd, a);
-    sky_passes_upload_frame(r->passes, &fu);
-    bool from_space = !camera_in_atmosphere(a, v);
-    if (mode != SKY_PROBE_TRANSMITTANCE && !from_space)
-        sky_passes_record_view_luts(r->passes, cmd, r->timer);
     sky_passes_record_probe(r->passes, cmd, r->timer, mode, (uint32_t)count, from_space);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
         r->atmosphere_built = false;
