@@ -70,6 +70,7 @@ struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *param
         .device_preference = p->device_preference,
         .validation = p->validation,
         .quiet = p->quiet,
+        .validation_message_counter = p->validation_message_counter,
     };
     r->ctx = vk_context_create(&ctx_params);
     if (!r->ctx)
@@ -91,7 +92,7 @@ void sky_renderer_destroy(struct sky_renderer **pr)
     if (!r)
         return;
     if (r->ctx)
-        vkDeviceWaitIdle(r->ctx->device);
+        vk_context_wait_idle(r->ctx); /* nothing the passes own may still be in use */
     sky_passes_destroy(r->ctx, &r->passes);
     gpu_timer_destroy(r->ctx, &r->timer);
     vk_context_destroy(&r->ctx);
@@ -102,11 +103,6 @@ void sky_renderer_destroy(struct sky_renderer **pr)
 const char *sky_renderer_device_name(const struct sky_renderer *r)
 {
     return r->ctx->properties.deviceName;
-}
-
-unsigned sky_renderer_validation_messages(const struct sky_renderer *r)
-{
-    return r->ctx->validation_warnings + r->ctx->validation_errors;
 }
 
 int sky_renderer_set_lut_sizes(struct sky_renderer *r, const struct sky_render_lut_sizes *sizes)

@@ -51,6 +51,9 @@ struct sky_renderer_params {
     bool validation;                  /* Khronos validation layer, messages counted */
     bool quiet;
     struct sky_render_lut_sizes lut_sizes; /* zero fields take the defaults above */
+    /* Optional: incremented for every validation warning or error, including those raised
+     * while the renderer is destroyed. Must outlive the renderer. */
+    unsigned *validation_message_counter;
 };
 
 #define SKY_RENDER_MAX_PASSES 16
@@ -72,8 +75,6 @@ void sky_renderer_destroy(struct sky_renderer **renderer);
 
 /* Name of the Vulkan device in use. */
 const char *sky_renderer_device_name(const struct sky_renderer *renderer);
-/* Validation-layer warnings + errors seen so far (0 when validation is off). */
-unsigned sky_renderer_validation_messages(const struct sky_renderer *renderer);
 
 /* Changes LUT sizes; images are recreated and the atmosphere LUTs rebuilt on the next call. */
 int sky_renderer_set_lut_sizes(struct sky_renderer *renderer,

@@ -46,6 +46,10 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(
         ctx->validation_warnings++;
         level = "warning";
     }
+    if (ctx->validation_message_counter &&
+        (severity & (VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT)))
+        (*ctx->validation_message_counter)++;
     fprintf(stderr, "skyd: vulkan validation %s: %s\n", level,
             data && data->pMessage ? data->pMessage : "(no message)");
     return VK_FALSE;
@@ -279,6 +283,7 @@ struct vk_context *vk_context_create(const struct vk_context_params *params)
     struct vk_context *ctx = calloc(1, sizeof *ctx);
     if (!ctx)
         return NULL;
+    ctx->validation_message_counter = p->validation_message_counter;
 
     VK_CHECK_GOTO(create_instance(ctx, p->validation), fail);
     VK_CHECK_GOTO(pick_physical_device(ctx, p), fail);
@@ -319,7 +324,7 @@ void vk_context_destroy(struct vk_context **pctx)
     if (!ctx)
         return;
     if (ctx->device) {
-        vkDeviceWaitIdle(ctx->device);
+        vk_context_wait_idle(ctx);
         if (ctx->fence)
             vkDestroyFence(ctx->device, ctx->fence, NULL);
         if (ctx->command_pool)
@@ -337,6 +342,14 @@ void vk_context_destroy(struct vk_context **pctx)
         vkDestroyInstance(ctx->instance, NULL);
     free(ctx);
     *pctx = NULL;
+}
+
+VkResult vk_context_wait_idle(struct vk_context *ctx)
+{
+    VkResult res = vkDeviceWaitIdle(ctx->device);
+    if (res != VK_SUCCESS)
+        fprintf(stderr, "skyd: vulkan: vkDeviceWaitIdle failed: %s\n", vk_result_name(res));
+    return res;
 }
 
 VkResult vk_context_begin_commands(struct vk_context *ctx, VkCommandBuffer *out)

@@ -16,6 +16,9 @@ struct vk_context_params {
     const char *device_preference;
     bool validation; /* enable VK_LAYER_KHRONOS_validation and count its messages */
     bool quiet;      /* do not log the chosen device */
+    /* Optional counter of validation warnings + errors that outlives the context, so that
+     * messages raised while destroying it (objects still alive) are counted too. */
+    unsigned *validation_message_counter;
 };
 
 struct vk_context {
@@ -36,11 +39,15 @@ struct vk_context {
      * messenger callback, which runs on the thread that made the offending call). */
     unsigned validation_warnings;
     unsigned validation_errors;
+    unsigned *validation_message_counter; /* from the params, may be NULL */
 };
 
 /* Returns NULL on failure after logging why. */
 struct vk_context *vk_context_create(const struct vk_context_params *params);
 void vk_context_destroy(struct vk_context **ctx);
+
+/* Waits until the device is idle (before destroying what it may use); logs a failure. */
+VkResult vk_context_wait_idle(struct vk_context *ctx);
 
 /* Allocates a primary command buffer and begins it for one-time submission. */
 VkResult vk_context_begin_commands(struct vk_context *ctx, VkCommandBuffer *out);

@@ -12,6 +12,7 @@ struct cli_common {
     const char *config_dir;   /* --config-dir, $SKYD_CONFIG_DIR, else the source tree's config/ */
     const char *device;       /* --device, $SKYD_DEVICE */
     bool validation;          /* --validation, $SKYD_VALIDATION=1 */
+    unsigned validation_messages; /* counted by the renderer, through its destruction */
     struct sky_world_state state;
 };
 
@@ -32,6 +33,10 @@ bool cli_parse_uint(const char *option, const char *text, unsigned min, unsigned
                     unsigned *out);
 
 /* Creates the renderer for these options with the state's LUT sizes; NULL after a message. */
-struct sky_renderer *cli_create_renderer(const struct cli_common *c);
+struct sky_renderer *cli_create_renderer(struct cli_common *c);
+
+/* Destroys the renderer; with validation on, reports its messages and turns a successful
+ * status into SKYD_EXIT_VALIDATION (3) when there were any. Returns the final status. */
+int cli_finish(struct cli_common *c, struct sky_renderer **renderer, int status);
 
 #endif

@@ -192,9 +192,5 @@ int skyd_cmd_probe(int argc, char **argv)
     case PROBE_LUMINANCE: status = probe_luminance(renderer, &common, &a); break;
     default: status = probe_illuminance(renderer, &common, &a); break;
     }
-    if (common.validation && sky_renderer_validation_messages(renderer) > 0 &&
-        status == SKYD_EXIT_OK)
-        status = SKYD_EXIT_VALIDATION;
-    sky_renderer_destroy(&renderer);
-    return status;
+    return cli_finish(&common, &renderer, status);
 }

@@ -112,13 +112,7 @@ int skyd_cmd_render(int argc, char **argv)
         fprintf(stderr, "skyd render: %ux%u in %.1f ms (GPU %.1f ms)\n", width, height,
                 stats.wall_ms, stats.gpu_ms);
     }
-    if (common.validation && sky_renderer_validation_messages(renderer) > 0) {
-        fprintf(stderr, "skyd render: %u validation messages\n",
-                sky_renderer_validation_messages(renderer));
-        if (status == SKYD_EXIT_OK)
-            status = SKYD_EXIT_VALIDATION;
-    }
-    sky_renderer_destroy(&renderer);
+    status = cli_finish(&common, &renderer, status);
     free(pixels);
     return status;
 }
