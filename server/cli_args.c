@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "config.h"
 #include "presets.h"
 #include "world_render.h"
 
@@ -18,6 +19,7 @@ void cli_common_init(struct cli_common *c)
     c->config_dir = dir && *dir ? dir : SKYD_SOURCE_DIR "/config";
     const char *device = getenv("SKYD_DEVICE");
     c->device = device && *device ? device : NULL;
+    c->device_given = c->device != NULL;
     const char *validation = getenv("SKYD_VALIDATION");
     c->validation = validation && strcmp(validation, "1") == 0;
 }
@@ -78,6 +80,26 @@ static int apply_preset(struct cli_common *c, const char *name)
     return 0;
 }
 
+/* The renderer's settings from a configuration file; flags and environment keep priority. */
+static int apply_config_file(struct cli_common *c, const char *path)
+{
+    struct skyd_config config;
+    struct sky_field_errors errors;
+    char msg[512];
+    if (!skyd_config_load(path, &config, &errors, msg, sizeof msg)) {
+        fprintf(stderr, "skyd: --config: %s\n", msg);
+        if (errors.count > 0)
+            print_field_errors("configuration fields", &errors);
+        return -1;
+    }
+    if (!c->device_given && config.render_device[0]) {
+        snprintf(c->config_device, sizeof c->config_device, "%s", config.render_device);
+        c->device = c->config_device;
+    }
+    c->validation = c->validation || config.render_validation;
+    return 0;
+}
+
 int cli_parse_common(int argc, char **argv, int *i, struct cli_common *c)
 {
     const char *opt = argv[*i];
@@ -96,6 +118,11 @@ int cli_parse_common(int argc, char **argv, int *i, struct cli_common *c)
             return -1;
         return apply_set(c, value) == 0 ? 1 : -1;
     }
+    if (strcmp(opt, "--config") == 0) {
+        if (!(value = cli_take_value(argc, argv, i)))
+            return -1;
+        return apply_config_file(c, value) == 0 ? 1 : -1;
+    }
     if (strcmp(opt, "--config-dir") == 0) {
         if (!(value = cli_take_value(argc, argv, i)))
             return -1;
@@ -106,6 +133,7 @@ int cli_parse_common(int argc, char **argv, int *i, struct cli_common *c)
         if (!(value = cli_take_value(argc, argv, i)))
             return -1;
         c->device = value;
+        c->device_given = true;
         return 1;
     }
     return 0;

@@ -10,7 +10,10 @@
 
 struct cli_common {
     const char *config_dir;   /* --config-dir, $SKYD_CONFIG_DIR, else the source tree's config/ */
-    const char *device;       /* --device, $SKYD_DEVICE */
+    /* Device: --device, else $SKYD_DEVICE, else the config file's render.device (--config). */
+    const char *device;
+    bool device_given;        /* by --device or the environment: a config file does not override */
+    char config_device[64];
     bool validation;          /* --validation, $SKYD_VALIDATION=1 */
     unsigned validation_messages; /* counted by the renderer, through its destruction */
     struct sky_world_state state;
@@ -18,7 +21,8 @@ struct cli_common {
 
 void cli_common_init(struct cli_common *c);
 
-/* Tries the option at argv[*i] (--preset, --set, --config-dir, --device, --validation),
+/* Tries the option at argv[*i] (--preset, --set, --config, --config-dir, --device,
+ * --validation),
  * advancing *i past its value. Returns 1 when consumed, 0 when not a common option, -1 after
  * printing an error that names the problem. */
 int cli_parse_common(int argc, char **argv, int *i, struct cli_common *c);

@@ -32,7 +32,8 @@ static void usage(FILE *out)
             "      prints {\"luminance\":[r,g,b]} in cd/m2 before exposure; azimuth from the sun's\n"
             "  skyd probe illuminance --sun-zenith DEG\n"
             "      prints {\"sun_lux\":S,\"sky_lux\":K}, horizontal illuminance at the ground\n"
-            "common options: --preset NAME, --set PATH=VALUE, --config-dir DIR, --device NAME,"
+            "common options: --preset NAME, --set PATH=VALUE, --config FILE, --config-dir DIR,"
+            " --device NAME,"
             " --validation\n");
 }
 

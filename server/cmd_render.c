@@ -18,6 +18,7 @@ static void usage(FILE *out)
             "  --set PATH=VALUE       set a world-state field, e.g. sun.elevation_deg=5\n"
             "  --sun-azimuth DEG      shorthand for --set sun.azimuth_deg=DEG\n"
             "  --sun-elevation DEG    shorthand for --set sun.elevation_deg=DEG\n"
+            "  --config FILE          read render.device and render.validation from a skyd.json\n"
             "  --config-dir DIR       where presets live (default: the source tree's config/)\n"
             "  --device NAME          cpu, gpu, an index or part of a device name\n"
             "  --validation           enable the Vulkan validation layer (exit 3 on messages)\n"

@@ -74,5 +74,20 @@ expect_error "render needs size" 2 '--width, --height and --out are required' "$
 expect_error "render bad width" 2 '--width: 0 is out of range' "$skyd" render --width 0 --height 10 --out "$out/x.png"
 expect_error "render bad dir" 1 'cannot create' "$skyd" render --width 8 --height 8 --out /nonexistent/dir/x.png
 
+# --config: the file's render.device is used (a device that does not exist fails, naming it),
+# a flag overrides it, and a bad file is rejected field by field.
+printf '{"render":{"device":"no-such-device","validation":true}}' > "$out/config-device.json"
+expect_error "config device" 1 'matches "no-such-device"' \
+  "$skyd" probe transmittance --altitude 0 --mu 1 --config "$out/config-device.json"
+expect_ok "config device overridden" "\{\"transmittance\":\[$num,$num,$num\]\}" \
+  "$skyd" probe transmittance --altitude 0 --mu 1 --device cpu --config "$out/config-device.json"
+printf '{"render":{"device":7},"bogus":true}' > "$out/config-bad.json"
+expect_error "config bad field" 2 '/render/device' \
+  "$skyd" probe transmittance --altitude 0 --mu 1 --config "$out/config-bad.json"
+expect_error "config unknown field" 2 '/bogus' \
+  "$skyd" probe transmittance --altitude 0 --mu 1 --config "$out/config-bad.json"
+expect_ok "shipped config" "\{\"transmittance\":\[$num,$num,$num\]\}" \
+  "$skyd" probe transmittance --altitude 0 --mu 1 --config "$(dirname "$0")/../config/skyd.json"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

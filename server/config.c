@@ -1,0 +1,244 @@
+#include "config.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#define MAX_CONFIG_BYTES (1 << 20)
+
+enum config_type { CFG_STRING, CFG_INT, CFG_NUMBER, CFG_BOOL, CFG_ORIGINS };
+
+struct config_field {
+    const char *pointer; /* JSON Pointer of the field */
+    enum config_type type;
+    size_t offset;
+    size_t capacity; /* strings: buffer size */
+    double min, max; /* numbers */
+};
+
+#define FIELD_STRING(p, member) \
+    { p, CFG_STRING, offsetof(struct skyd_config, member), \
+      sizeof(((struct skyd_config *)0)->member), 0, 0 }
+#define FIELD_INT(p, member, lo, hi) { p, CFG_INT, offsetof(struct skyd_config, member), 0, lo, hi }
+#define FIELD_NUMBER(p, member, lo, hi) \
+    { p, CFG_NUMBER, offsetof(struct skyd_config, member), 0, lo, hi }
+
+static const struct config_field fields[] = {
+    FIELD_STRING("/listen/address", listen_address),
+    FIELD_INT("/listen/port", listen_port, 0, 65535),
+    FIELD_STRING("/web_root", web_root),
+    FIELD_STRING("/state_file", state_file),
+    FIELD_STRING("/render/device", render_device),
+    { "/render/validation", CFG_BOOL, offsetof(struct skyd_config, render_validation), 0, 0, 0 },
+    FIELD_INT("/limits/max_message_bytes", max_message_bytes, 256, 16 << 20),
+    FIELD_INT("/limits/max_clients", max_clients, 1, 4096),
+    FIELD_INT("/limits/max_width", max_width, 1, 16384),
+    FIELD_INT("/limits/max_height", max_height, 1, 16384),
+    FIELD_NUMBER("/limits/max_fps", max_fps, 0.1, 240),
+    FIELD_NUMBER("/limits/control_messages_per_second", control_messages_per_second, 0.1, 10000),
+    FIELD_STRING("/controller_token", controller_token),
+    { "/allowed_origins", CFG_ORIGINS, 0, 0, 0, 0 },
+};
+#define FIELD_COUNT (sizeof fields / sizeof fields[0])
+
+void skyd_config_defaults(struct skyd_config *c)
+{
+    memset(c, 0, sizeof *c);
+    snprintf(c->listen_address, sizeof c->listen_address, "127.0.0.1");
+    c->listen_port = 8080;
+    snprintf(c->web_root, sizeof c->web_root, "clients/web");
+    snprintf(c->state_file, sizeof c->state_file, "var/skyd-state.json");
+    c->max_message_bytes = 65536;
+    c->max_clients = 64;
+    c->max_width = 3840;
+    c->max_height = 2160;
+    c->max_fps = 60;
+    c->control_messages_per_second = 20;
+    c->origin_count = 2;
+    snprintf(c->allowed_origins[0], sizeof c->allowed_origins[0], "http://127.0.0.1:8080");
+    snprintf(c->allowed_origins[1], sizeof c->allowed_origins[1], "http://localhost:8080");
+}
+
+static void add_error(struct sky_field_errors *errors, int code, const char *pointer,
+                      const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+
+static void add_error(struct sky_field_errors *errors, int code, const char *pointer,
+                      const char *fmt, ...)
+{
+    errors->total++;
+    if (errors->count >= SKY_MAX_FIELD_ERRORS)
+        return;
+    struct sky_field_error *e = &errors->items[errors->count++];
+    e->code = code;
+    snprintf(e->pointer, sizeof e->pointer, "%s", pointer);
+    va_list args;
+    va_start(args, fmt);
+    vsnprintf(e->reason, sizeof e->reason, fmt, args);
+    va_end(args);
+}
+
+static const struct config_field *find_field(const char *pointer)
+{
+    for (size_t i = 0; i < FIELD_COUNT; i++)
+        if (strcmp(fields[i].pointer, pointer) == 0)
+            return &fields[i];
+    return NULL;
+}
+
+/* True when some field lives below `pointer` (so it names an object of the schema). */
+static bool is_group(const char *pointer)
+{
+    size_t n = strlen(pointer);
+    for (size_t i = 0; i < FIELD_COUNT; i++)
+        if (strncmp(fields[i].pointer, pointer, n) == 0 && fields[i].pointer[n] == '/')
+            return true;
+    return false;
+}
+
+static void apply_origins(struct skyd_config *c, const cJSON *value, const char *pointer,
+                          struct sky_field_errors *errors)
+{
+    if (!cJSON_IsArray(value)) {
+        add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected an array of strings");
+        return;
+    }
+    int n = cJSON_GetArraySize(value);
+    if (n > SKYD_CONFIG_MAX_ORIGINS) {
+        add_error(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "at most %d origins, got %d",
+                  SKYD_CONFIG_MAX_ORIGINS, n);
+        return;
+    }
+    int i = 0;
+    for (const cJSON *item = value->child; item; item = item->next, i++) {
+        char item_pointer[176];
+        snprintf(item_pointer, sizeof item_pointer, "%s/%d", pointer, i);
+        if (!cJSON_IsString(item) || strlen(item->valuestring) >= sizeof c->allowed_origins[0])
+            add_error(errors, SKY_FIELD_WRONG_TYPE, item_pointer,
+                      "expected a string of at most %zu characters",
+                      sizeof c->allowed_origins[0] - 1);
+        else
+            snprintf(c->allowed_origins[i], sizeof c->allowed_origins[i], "%s", item->valuestring);
+    }
+    c->origin_count = n;
+}
+
+static void apply_leaf(struct skyd_config *c, const struct config_field *f, const cJSON *value,
+                       const char *pointer, struct sky_field_errors *errors)
+{
+    char *base = (char *)c;
+    switch (f->type) {
+    case CFG_STRING:
+        if (!cJSON_IsString(value))
+            add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a string");
+        else if (strlen(value->valuestring) >= f->capacity)
+            add_error(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "longer than %zu characters",
+                      f->capacity - 1);
+        else
+            snprintf(base + f->offset, f->capacity, "%s", value->valuestring);
+        break;
+    case CFG_BOOL:
+        if (!cJSON_IsBool(value))
+            add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected true or false");
+        else
+            *(bool *)(base + f->offset) = cJSON_IsTrue(value);
+        break;
+    case CFG_INT:
+    case CFG_NUMBER: {
+        if (!cJSON_IsNumber(value)) {
+            add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a number");
+            break;
+        }
+        double v = value->valuedouble;
+        if (!isfinite(v) || v < f->min || v > f->max) {
+            add_error(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "must be in [%g, %g], got %g",
+                      f->min, f->max, v);
+        } else if (f->type == CFG_INT && v != floor(v)) {
+            add_error(errors, SKY_FIELD_BAD_VALUE, pointer, "must be a whole number, got %g", v);
+        } else if (f->type == CFG_INT) {
+            *(int *)(base + f->offset) = (int)v;
+        } else {
+            *(double *)(base + f->offset) = v;
+        }
+        break;
+    }
+    case CFG_ORIGINS:
+        apply_origins(c, value, pointer, errors);
+        break;
+    }
+}
+
+static void apply_object(struct skyd_config *c, const cJSON *object, const char *prefix,
+                         struct sky_field_errors *errors)
+{
+    for (const cJSON *member = object->child; member; member = member->next) {
+        char pointer[160];
+        snprintf(pointer, sizeof pointer, "%s/%s", prefix, member->string);
+        const struct config_field *f = find_field(pointer);
+        if (f)
+            apply_leaf(c, f, member, pointer, errors);
+        else if (is_group(pointer) && cJSON_IsObject(member))
+            apply_object(c, member, pointer, errors);
+        else if (is_group(pointer))
+            add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected an object");
+        else
+            add_error(errors, SKY_FIELD_UNKNOWN, pointer, "unknown field");
+    }
+}
+
+static char *read_file(const char *path, char *msg, size_t msglen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(msg, msglen, "cannot open %s: %s", path, strerror(errno));
+        return NULL;
+    }
+    char *text = malloc(MAX_CONFIG_BYTES + 1);
+    size_t n = text ? fread(text, 1, MAX_CONFIG_BYTES + 1, f) : 0;
+    bool failed = !text || ferror(f);
+    fclose(f);
+    if (failed || n > MAX_CONFIG_BYTES) {
+        snprintf(msg, msglen, "%s: %s", path, failed ? "read error" : "larger than 1 MiB");
+        free(text);
+        return NULL;
+    }
+    text[n] = '\0';
+    return text;
+}
+
+bool skyd_config_load(const char *path, struct skyd_config *config,
+                      struct sky_field_errors *errors, char *msg, size_t msglen)
+{
+    memset(errors, 0, sizeof *errors);
+    skyd_config_defaults(config);
+    char *text = read_file(path, msg, msglen);
+    if (!text)
+        return false;
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithOpts(text, &end, true);
+    if (!root) {
+        snprintf(msg, msglen, "%s: invalid JSON at byte %ld", path,
+                 end ? (long)(end - text) : 0L);
+        free(text);
+        return false;
+    }
+    struct skyd_config candidate;
+    skyd_config_defaults(&candidate);
+    if (!cJSON_IsObject(root))
+        add_error(errors, SKY_FIELD_WRONG_TYPE, "", "the configuration must be a JSON object");
+    else
+        apply_object(&candidate, root, "", errors);
+    cJSON_Delete(root);
+    free(text);
+    if (errors->total > 0) {
+        snprintf(msg, msglen, "%s: %d invalid field%s", path, errors->total,
+                 errors->total == 1 ? "" : "s");
+        return false;
+    }
+    *config = candidate;
+    return true;
+}

@@ -1,0 +1,40 @@
+/* skyd's configuration file (config/skyd.json): where to listen, what to serve, which device
+ * renders, limits and roles. Loaded once at start; every field is optional (zero means the
+ * default below) and an unknown or invalid field is an error that names it. */
+#ifndef SKYD_CONFIG_H
+#define SKYD_CONFIG_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "world_state.h"
+
+#define SKYD_CONFIG_MAX_ORIGINS 16
+#define SKYD_CONFIG_STRING 256
+
+struct skyd_config {
+    char listen_address[64];       /* "127.0.0.1" */
+    int listen_port;               /* 8080; 0 asks the kernel for a free port */
+    char web_root[SKYD_CONFIG_STRING];   /* "clients/web", relative to the config file's tree */
+    char state_file[SKYD_CONFIG_STRING]; /* "var/skyd-state.json" */
+    char render_device[64];        /* "" = automatic (a GPU when present, else lavapipe) */
+    bool render_validation;
+    int max_message_bytes;         /* 65536 */
+    int max_clients;               /* 64 */
+    int max_width, max_height;     /* 3840 x 2160 */
+    double max_fps;                /* 60 */
+    double control_messages_per_second; /* 20 */
+    char controller_token[128];    /* "" = nobody can control */
+    int origin_count;
+    char allowed_origins[SKYD_CONFIG_MAX_ORIGINS][128];
+};
+
+void skyd_config_defaults(struct skyd_config *config);
+
+/* Reads and validates `path` over the defaults. On failure *config keeps the defaults, errors
+ * lists every bad field as a JSON Pointer, and msg says what went wrong (file, parse
+ * position). */
+bool skyd_config_load(const char *path, struct skyd_config *config,
+                      struct sky_field_errors *errors, char *msg, size_t msglen);
+
+#endif

@@ -1,0 +1,101 @@
+/* The configuration file: defaults, the shipped config/skyd.json, and every class of bad
+ * input reported by JSON Pointer with a stable code, the defaults left in place. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "config.h"
+
+static char dir[] = "/tmp/skyd-config-XXXXXX";
+
+static const char *write_temp(const char *name, const char *text)
+{
+    static char path[256];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+    return path;
+}
+
+struct bad_case {
+    const char *text;
+    const char *pointer;
+    int code;
+};
+
+int main(int argc, char **argv)
+{
+    const char *shipped = argc > 1 ? argv[1] : SKYD_SOURCE_DIR "/config/skyd.json";
+    if (!mkdtemp(dir))
+        return 1;
+    struct skyd_config c, defaults;
+    struct sky_field_errors errors;
+    char msg[512];
+    skyd_config_defaults(&defaults);
+
+    CHECK(skyd_config_load(shipped, &c, &errors, msg, sizeof msg));
+    CHECK(strcmp(c.listen_address, "127.0.0.1") == 0 && c.listen_port == 8080);
+    CHECK(c.max_clients == 64 && c.max_message_bytes == 65536 && c.origin_count == 2);
+
+    const char *partial = write_temp("partial.json",
+                                     "{\"listen\":{\"port\":0},\"render\":{\"device\":\"cpu\"},"
+                                     "\"allowed_origins\":[\"http://example.test\"]}");
+    CHECK(skyd_config_load(partial, &c, &errors, msg, sizeof msg));
+    CHECK(c.listen_port == 0 && strcmp(c.render_device, "cpu") == 0);
+    CHECK(c.origin_count == 1 && strcmp(c.allowed_origins[0], "http://example.test") == 0);
+    CHECK(c.max_fps == defaults.max_fps); /* untouched fields keep their defaults */
+
+    const struct bad_case cases[] = {
+        { "{\"bogus\":1}", "/bogus", SKY_FIELD_UNKNOWN },
+        { "{\"listen\":{\"portt\":1}}", "/listen/portt", SKY_FIELD_UNKNOWN },
+        { "{\"listen\":{\"port\":\"80\"}}", "/listen/port", SKY_FIELD_WRONG_TYPE },
+        { "{\"listen\":{\"port\":70000}}", "/listen/port", SKY_FIELD_OUT_OF_RANGE },
+        { "{\"listen\":{\"port\":80.5}}", "/listen/port", SKY_FIELD_BAD_VALUE },
+        { "{\"listen\":7}", "/listen", SKY_FIELD_WRONG_TYPE },
+        { "{\"render\":{\"validation\":\"yes\"}}", "/render/validation", SKY_FIELD_WRONG_TYPE },
+        { "{\"limits\":{\"max_fps\":0}}", "/limits/max_fps", SKY_FIELD_OUT_OF_RANGE },
+        { "{\"limits\":{\"max_clients\":-1}}", "/limits/max_clients", SKY_FIELD_OUT_OF_RANGE },
+        { "{\"allowed_origins\":\"*\"}", "/allowed_origins", SKY_FIELD_WRONG_TYPE },
+        { "{\"allowed_origins\":[1]}", "/allowed_origins/0", SKY_FIELD_WRONG_TYPE },
+        { "[]", "", SKY_FIELD_WRONG_TYPE },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const char *path = write_temp("bad.json", cases[i].text);
+        bool ok = skyd_config_load(path, &c, &errors, msg, sizeof msg);
+        CHECK(!ok);
+        CHECK(errors.count >= 1);
+        if (errors.count >= 1) {
+            if (strcmp(errors.items[0].pointer, cases[i].pointer) != 0 ||
+                errors.items[0].code != cases[i].code)
+                printf("case %zu (%s): got %s code %d, expected %s code %d\n", i, cases[i].text,
+                       errors.items[0].pointer, errors.items[0].code, cases[i].pointer,
+                       cases[i].code);
+            CHECK(strcmp(errors.items[0].pointer, cases[i].pointer) == 0);
+            CHECK(errors.items[0].code == cases[i].code);
+        }
+        CHECK(memcmp(&c, &defaults, sizeof c) == 0); /* nothing half-applied */
+    }
+
+    /* Several errors at once are all reported. */
+    const char *many = write_temp("many.json", "{\"a\":1,\"listen\":{\"port\":-5},\"b\":2}");
+    CHECK(!skyd_config_load(many, &c, &errors, msg, sizeof msg));
+    CHECK(errors.total == 3);
+
+    const char *broken = write_temp("broken.json", "{\"listen\": {\"port\": 80,}");
+    CHECK(!skyd_config_load(broken, &c, &errors, msg, sizeof msg));
+    CHECK(strstr(msg, "invalid JSON at byte") != NULL);
+    CHECK(!skyd_config_load("/nonexistent/skyd.json", &c, &errors, msg, sizeof msg));
+    CHECK(strstr(msg, "cannot open") != NULL);
+
+    unlink(write_temp("partial.json", ""));
+    unlink(write_temp("bad.json", ""));
+    unlink(write_temp("many.json", ""));
+    unlink(write_temp("broken.json", ""));
+    rmdir(dir);
+    return check_summary();
+}
