@@ -1,0 +1,67 @@
+/* Binary frame header, version 1: the first 48 bytes of every binary WebSocket message the
+ * server sends, followed by payload_length bytes of image data (PNG in version 1).
+ *
+ *   offset size  field
+ *    0      4    magic "SKYF"
+ *    4      2    header_version, u16 = 1
+ *    6      2    format, u16 (1 = PNG)
+ *    8      8    frame_number, u64
+ *   16      8    state_revision, u64
+ *   24      8    simulation_time_s, IEEE 754 binary64
+ *   32      4    width, u32
+ *   36      4    height, u32
+ *   40      4    payload_length, u32
+ *   44      4    reserved, u32 = 0
+ *
+ * All integers and the double are little-endian, whatever the host's byte order.
+ */
+#ifndef SKYD_FRAME_HEADER_H
+#define SKYD_FRAME_HEADER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define SKY_FRAME_HEADER_SIZE 48
+#define SKY_FRAME_HEADER_VERSION 1
+#define SKY_FRAME_MAGIC "SKYF"
+
+enum sky_frame_format {
+    SKY_FRAME_FORMAT_PNG = 1,
+};
+
+struct sky_frame_header {
+    enum sky_frame_format format;
+    uint64_t frame_number;
+    uint64_t state_revision;
+    double simulation_time_s;
+    uint32_t width, height;  /* >= 1 */
+    uint32_t payload_length; /* bytes after the header */
+};
+
+/* Stable codes. */
+enum sky_frame_header_status {
+    SKY_FRAME_HEADER_OK = 0,
+    SKY_FRAME_HEADER_TOO_SHORT = 1,   /* fewer than 48 bytes */
+    SKY_FRAME_HEADER_BAD_MAGIC = 2,
+    SKY_FRAME_HEADER_BAD_VERSION = 3,
+    SKY_FRAME_HEADER_BAD_FORMAT = 4,  /* not a known enum sky_frame_format */
+    SKY_FRAME_HEADER_BAD_LENGTH = 5,  /* 48 + payload_length != the message's length */
+    SKY_FRAME_HEADER_BAD_RESERVED = 6,
+    SKY_FRAME_HEADER_BAD_VALUE = 7,   /* zero width or height, non-finite time */
+};
+
+/* "ok", "too_short", "bad_magic", ...; NULL for values that are not codes. */
+const char *sky_frame_header_status_name(int status);
+
+/* Writes the 48 bytes for *header (version 1, reserved 0) into out. On error out is left
+ * untouched. */
+enum sky_frame_header_status sky_frame_header_pack(const struct sky_frame_header *header,
+                                                   uint8_t out[SKY_FRAME_HEADER_SIZE]);
+
+/* Reads and validates the header at the start of a whole binary message of message_length
+ * bytes; the payload is message + SKY_FRAME_HEADER_SIZE. On error *header is left untouched. */
+enum sky_frame_header_status sky_frame_header_unpack(const uint8_t *message,
+                                                     size_t message_length,
+                                                     struct sky_frame_header *header);
+
+#endif

@@ -1,0 +1,1095 @@
+#include "messages.h"
+
+#include <cjson/cJSON.h>
+
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#if defined(__GNUC__)
+#define PRINTF_LIKE(format_index, first_arg) __attribute__((format(printf, format_index, first_arg)))
+#else
+#define PRINTF_LIKE(format_index, first_arg)
+#endif
+
+_Static_assert((int)SKY_MSG_ERR_UNKNOWN_FIELD == (int)SKY_FIELD_UNKNOWN, "shared code");
+_Static_assert((int)SKY_MSG_ERR_WRONG_TYPE == (int)SKY_FIELD_WRONG_TYPE, "shared code");
+_Static_assert((int)SKY_MSG_ERR_OUT_OF_RANGE == (int)SKY_FIELD_OUT_OF_RANGE, "shared code");
+_Static_assert((int)SKY_MSG_ERR_BAD_VALUE == (int)SKY_FIELD_BAD_VALUE, "shared code");
+_Static_assert((int)SKY_MSG_ERR_INCONSISTENT == (int)SKY_FIELD_INCONSISTENT, "shared code");
+_Static_assert(SKY_MSG_POINTER_MAX == sizeof(((struct sky_field_error *)NULL)->pointer),
+               "pointer capacity");
+
+#define COUNT_OF(array) (sizeof(array) / sizeof((array)[0]))
+#define REASON_MAX sizeof(((struct sky_field_error *)NULL)->reason)
+
+/* ---- constant tables -------------------------------------------------------------------- */
+
+static const char *const error_names[] = {
+    [SKY_MSG_OK] = "ok",
+    [SKY_MSG_ERR_UNKNOWN_FIELD] = "unknown_field",
+    [SKY_MSG_ERR_WRONG_TYPE] = "wrong_type",
+    [SKY_MSG_ERR_OUT_OF_RANGE] = "out_of_range",
+    [SKY_MSG_ERR_BAD_VALUE] = "bad_value",
+    [SKY_MSG_ERR_INCONSISTENT] = "inconsistent",
+    [SKY_MSG_ERR_MISSING_FIELD] = "missing_field",
+    [SKY_MSG_ERR_MALFORMED_JSON] = "malformed_json",
+    [SKY_MSG_ERR_MESSAGE_TOO_LARGE] = "message_too_large",
+    [SKY_MSG_ERR_NOT_AN_OBJECT] = "not_an_object",
+    [SKY_MSG_ERR_UNKNOWN_TYPE] = "unknown_type",
+    [SKY_MSG_ERR_INVALID_ENCODING] = "invalid_encoding",
+    [SKY_MSG_ERR_UNSUPPORTED_PROTOCOL] = "unsupported_protocol",
+    [SKY_MSG_ERR_FORBIDDEN] = "forbidden",
+    [SKY_MSG_ERR_AUTH_FAILED] = "auth_failed",
+    [SKY_MSG_ERR_RATE_LIMITED] = "rate_limited",
+    [SKY_MSG_ERR_NOT_FOUND] = "not_found",
+    [SKY_MSG_ERR_LIMIT_REACHED] = "limit_reached",
+    [SKY_MSG_ERR_INTERNAL] = "internal",
+};
+
+static const char *const type_names[] = {
+    [SKY_MSG_HELLO] = "hello",         [SKY_MSG_AUTH] = "auth",
+    [SKY_MSG_GET_STATE] = "get_state", [SKY_MSG_SET] = "set",
+    [SKY_MSG_SUBSCRIBE] = "subscribe", [SKY_MSG_UNSUBSCRIBE] = "unsubscribe",
+    [SKY_MSG_SNAPSHOT] = "snapshot",   [SKY_MSG_PROBE] = "probe",
+    [SKY_MSG_LIST_PRESETS] = "list_presets", [SKY_MSG_APPLY_PRESET] = "apply_preset",
+    [SKY_MSG_STATS] = "stats",
+};
+
+static const char *const capabilities[] = {
+    "hello", "auth",  "get_state",    "set",          "subscribe", "unsubscribe",
+    "snapshot", "probe", "list_presets", "apply_preset", "stats",     "png",
+};
+
+static const char *const role_names[] = {[SKY_ROLE_VIEWER] = "viewer",
+                                         [SKY_ROLE_CONTROLLER] = "controller"};
+static const char *const quantity_names[] = {"transmittance", "luminance", "illuminance"};
+static const char *const preset_kind_names[] = {"atmosphere"};
+static const char *const format_names[] = {[SKY_FRAME_FORMAT_PNG] = "png"};
+
+/* Fields of each client message after "type" and "id". */
+static const char *const hello_fields[] = {"client", "protocol"};
+static const char *const auth_fields[] = {"token"};
+static const char *const set_fields[] = {"patch"};
+static const char *const view_message_fields[] = {"view"};
+static const char *const unsubscribe_fields[] = {"subscription"};
+static const char *const probe_fields[] = {"quantity",         "altitude_km",    "mu",
+                                           "view_zenith_deg", "view_azimuth_deg",
+                                           "sun_zenith_deg"};
+static const char *const list_presets_fields[] = {"kind"};
+static const char *const apply_preset_fields[] = {"kind", "name"};
+static const char *const view_fields[] = {"camera", "width", "height", "fps", "exposure", "format"};
+static const char *const camera_fields[] = {"altitude_km", "yaw_deg", "pitch_deg", "fov_deg"};
+static const char *const exposure_fields[] = {"mode", "ev100", "compensation_ev"};
+
+#define MAX_MEMBERS 8
+
+/* Probe parameters, in probe_fields order after "quantity". */
+static const struct {
+    double min, max;
+    size_t offset;
+    unsigned used_by; /* bit per enum sky_probe_quantity */
+} probe_params[] = {
+    {0, 1e5, offsetof(struct sky_msg_probe, altitude_km), 1u << 0 | 1u << 1},
+    {-1, 1, offsetof(struct sky_msg_probe, mu), 1u << 0},
+    {0, 180, offsetof(struct sky_msg_probe, view_zenith_deg), 1u << 1},
+    {-360, 360, offsetof(struct sky_msg_probe, view_azimuth_deg), 1u << 1},
+    {0, 180, offsetof(struct sky_msg_probe, sun_zenith_deg), 1u << 1 | 1u << 2},
+};
+
+/* ---- small helpers ---------------------------------------------------------------------- */
+
+const char *sky_msg_error_name(int code)
+{
+    if (code < 0 || (size_t)code >= COUNT_OF(error_names))
+        return NULL;
+    return error_names[code];
+}
+
+const char *sky_msg_type_name(enum sky_msg_type type)
+{
+    if ((int)type <= 0 || (size_t)type >= COUNT_OF(type_names))
+        return NULL;
+    return type_names[type];
+}
+
+bool protocol_message_needs_controller(enum sky_msg_type type)
+{
+    return type == SKY_MSG_SET || type == SKY_MSG_APPLY_PRESET;
+}
+
+void sky_msg_limits_default(struct sky_msg_limits *limits)
+{
+    limits->max_message_bytes = 65536;
+    limits->max_clients = 64;
+    limits->max_width = 3840;
+    limits->max_height = 2160;
+    limits->max_fps = 60;
+    limits->control_messages_per_second = 20;
+}
+
+const char *const *sky_msg_default_capabilities(size_t *count)
+{
+    if (count)
+        *count = COUNT_OF(capabilities);
+    return capabilities;
+}
+
+static int find_name(const char *const *names, size_t count, const char *name)
+{
+    for (size_t i = 0; i < count; i++) {
+        if (names[i] && strcmp(names[i], name) == 0)
+            return (int)i;
+    }
+    return -1;
+}
+
+static void join_names(const char *const *names, size_t count, char *out, size_t capacity)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    for (size_t i = 0; i < count; i++) {
+        if (!names[i])
+            continue;
+        int written = snprintf(out + used, capacity - used, "%s%s", used ? ", " : "", names[i]);
+        if (written < 0 || (size_t)written >= capacity - used)
+            return;
+        used += (size_t)written;
+    }
+}
+
+static bool preset_name_is_valid(const char *name)
+{
+    size_t length = strlen(name);
+    if (length < 1 || length > SKY_MSG_PRESET_NAME_MAX)
+        return false;
+    return strspn(name, "abcdefghijklmnopqrstuvwxyz0123456789_-") == length;
+}
+
+/* Length of the valid UTF-8 sequence at s (at most `left` bytes), 0 when invalid. Rejects
+ * overlong forms, surrogates and code points above U+10FFFF. */
+static size_t utf8_sequence(const unsigned char *s, size_t left)
+{
+    if (s[0] < 0x80)
+        return 1;
+    size_t length;
+    unsigned min, max;
+    if (s[0] >= 0xC2 && s[0] <= 0xDF)
+        length = 2, min = 0x80, max = 0xBF;
+    else if (s[0] >= 0xE0 && s[0] <= 0xEF)
+        length = 3, min = s[0] == 0xE0 ? 0xA0 : 0x80, max = s[0] == 0xED ? 0x9F : 0xBF;
+    else if (s[0] >= 0xF0 && s[0] <= 0xF4)
+        length = 4, min = s[0] == 0xF0 ? 0x90 : 0x80, max = s[0] == 0xF4 ? 0x8F : 0xBF;
+    else
+        return 0;
+    if (left < length || s[1] < min || s[1] > max)
+        return 0;
+    for (size_t i = 2; i < length; i++) {
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+    }
+    return length;
+}
+
+/* Offset of the first byte that is not valid UTF-8, or `length` when all are. */
+static size_t utf8_invalid_offset(const char *text, size_t length)
+{
+    size_t i = 0;
+    while (i < length) {
+        size_t n = utf8_sequence((const unsigned char *)text + i, length - i);
+        if (n == 0)
+            return i;
+        i += n;
+    }
+    return length;
+}
+
+/* cJSON decodes "\u0000" to a terminator, silently truncating the string; find one in valid
+ * JSON text. Returns its offset or `length`. */
+static size_t escaped_nul_offset(const char *text, size_t length)
+{
+    bool in_string = false;
+    for (size_t i = 0; i < length; i++) {
+        if (!in_string) {
+            in_string = text[i] == '"';
+        } else if (text[i] == '"') {
+            in_string = false;
+        } else if (text[i] == '\\') {
+            if (i + 5 < length && text[i + 1] == 'u' && memcmp(text + i + 2, "0000", 4) == 0)
+                return i;
+            i++;
+        }
+    }
+    return length;
+}
+
+static size_t nul_offset(const char *text, size_t length)
+{
+    const char *nul = memchr(text, '\0', length);
+    return nul ? (size_t)(nul - text) : length;
+}
+
+/* "a/b" -> "a~1b" (RFC 6901), appended to parent after a '/'; truncated to fit. */
+static void child_pointer(char *out, const char *parent, const char *name)
+{
+    size_t used = (size_t)snprintf(out, SKY_MSG_POINTER_MAX, "%s/", parent);
+    for (const char *c = name; *c && used + 3 < SKY_MSG_POINTER_MAX; c++) {
+        if (*c == '~' || *c == '/') {
+            out[used++] = '~';
+            out[used++] = *c == '~' ? '0' : '1';
+        } else {
+            out[used++] = *c;
+        }
+    }
+    out[used < SKY_MSG_POINTER_MAX ? used : SKY_MSG_POINTER_MAX - 1] = '\0';
+}
+
+static const char *json_kind(const cJSON *value)
+{
+    if (cJSON_IsNumber(value))
+        return "a number";
+    if (cJSON_IsString(value))
+        return "a string";
+    if (cJSON_IsBool(value))
+        return "a boolean";
+    if (cJSON_IsNull(value))
+        return "null";
+    if (cJSON_IsArray(value))
+        return "an array";
+    return "an object";
+}
+
+/* ---- parsing ---------------------------------------------------------------------------- */
+
+struct parser {
+    const struct sky_msg_limits *limits;
+    struct sky_msg_parse_error *error;
+    cJSON *root;
+};
+
+PRINTF_LIKE(4, 5)
+static void fail(struct parser *p, enum sky_msg_error_code code, const char *pointer,
+                 const char *format, ...)
+{
+    char reason[REASON_MAX];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(reason, sizeof reason, format, args);
+    va_end(args);
+    sky_field_errors_add(&p->error->fields, code, pointer, reason);
+}
+
+/* Splits an object's members by name into found[] (index into names); reports unknown and
+ * duplicate members. */
+static void collect(struct parser *p, const cJSON *object, const char *pointer,
+                    const char *const *names, size_t count, const cJSON **found)
+{
+    for (size_t i = 0; i < count; i++)
+        found[i] = NULL;
+    for (const cJSON *member = object->child; member; member = member->next) {
+        char member_pointer[SKY_MSG_POINTER_MAX];
+        child_pointer(member_pointer, pointer, member->string);
+        int index = find_name(names, count, member->string);
+        if (index < 0) {
+            char expected[REASON_MAX];
+            join_names(names, count, expected, sizeof expected);
+            fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, member_pointer, "unknown field; expected one of: %s",
+                 expected);
+        } else if (found[index]) {
+            fail(p, SKY_MSG_ERR_BAD_VALUE, member_pointer, "duplicate field");
+        } else {
+            found[index] = member;
+        }
+    }
+}
+
+static bool require(struct parser *p, const cJSON *item, const char *pointer)
+{
+    if (item)
+        return true;
+    fail(p, SKY_MSG_ERR_MISSING_FIELD, pointer, "required");
+    return false;
+}
+
+static bool read_number(struct parser *p, const cJSON *item, const char *pointer, double min,
+                        double max, double *out)
+{
+    if (!cJSON_IsNumber(item)) {
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a number, got %s", json_kind(item));
+        return false;
+    }
+    double value = item->valuedouble;
+    if (!isfinite(value) || value < min || value > max) {
+        fail(p, SKY_MSG_ERR_OUT_OF_RANGE, pointer, "must be in [%.15g, %.15g], got %.15g", min,
+             max, value);
+        return false;
+    }
+    *out = value;
+    return true;
+}
+
+static bool read_integer(struct parser *p, const cJSON *item, const char *pointer, int64_t min,
+                         int64_t max, int64_t *out)
+{
+    double value;
+    if (!read_number(p, item, pointer, (double)min, (double)max, &value))
+        return false;
+    if (value != floor(value)) {
+        fail(p, SKY_MSG_ERR_BAD_VALUE, pointer, "must be an integer, got %.15g", value);
+        return false;
+    }
+    *out = (int64_t)value;
+    return true;
+}
+
+static bool read_string(struct parser *p, const cJSON *item, const char *pointer, size_t min,
+                        size_t max, char *out)
+{
+    if (!cJSON_IsString(item)) {
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a string, got %s", json_kind(item));
+        return false;
+    }
+    size_t length = strlen(item->valuestring);
+    if (length < min || length > max) {
+        fail(p, SKY_MSG_ERR_OUT_OF_RANGE, pointer, "must be %zu to %zu bytes long, got %zu", min,
+             max, length);
+        return false;
+    }
+    memcpy(out, item->valuestring, length + 1);
+    return true;
+}
+
+static int read_enum(struct parser *p, const cJSON *item, const char *pointer,
+                     const char *const *names, size_t count)
+{
+    char expected[REASON_MAX];
+    join_names(names, count, expected, sizeof expected);
+    if (!cJSON_IsString(item)) {
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected one of: %s, got %s", expected,
+             json_kind(item));
+        return -1;
+    }
+    int index = find_name(names, count, item->valuestring);
+    if (index < 0)
+        fail(p, SKY_MSG_ERR_BAD_VALUE, pointer, "expected one of: %s, got \"%.64s\"", expected,
+             item->valuestring);
+    return index;
+}
+
+/* A camera or exposure number, optional, with the world-state schema's range. */
+static void read_schema_number(struct parser *p, const cJSON *item, const char *pointer,
+                               const char *schema_path, bool *has, double *out)
+{
+    const struct sky_field_desc *field = sky_world_state_find_field(schema_path);
+    double min = field ? field->min : -DBL_MAX, max = field ? field->max : DBL_MAX;
+    if (item)
+        *has = read_number(p, item, pointer, min, max, out);
+}
+
+static void parse_id(struct parser *p, const cJSON *item, struct sky_msg_id *id)
+{
+    if (cJSON_IsString(item)) {
+        if (read_string(p, item, "/id", 1, SKY_MSG_ID_MAX, id->text))
+            id->kind = SKY_MSG_ID_STRING;
+    } else if (cJSON_IsNumber(item)) {
+        if (read_integer(p, item, "/id", -SKY_MSG_MAX_SAFE_INTEGER, SKY_MSG_MAX_SAFE_INTEGER,
+                         &id->number))
+            id->kind = SKY_MSG_ID_INTEGER;
+    } else {
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, "/id", "expected a string or an integer, got %s",
+             json_kind(item));
+    }
+}
+
+static void parse_view(struct parser *p, const cJSON *object, const char *pointer,
+                       struct sky_msg_view *view)
+{
+    if (!cJSON_IsObject(object)) {
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected an object, got %s", json_kind(object));
+        return;
+    }
+    const cJSON *found[MAX_MEMBERS];
+    char at[SKY_MSG_POINTER_MAX];
+    collect(p, object, pointer, view_fields, COUNT_OF(view_fields), found);
+    int64_t size;
+    child_pointer(at, pointer, "width");
+    if (require(p, found[1], at) && read_integer(p, found[1], at, 1, p->limits->max_width, &size))
+        view->width = (uint32_t)size;
+    child_pointer(at, pointer, "height");
+    if (require(p, found[2], at) && read_integer(p, found[2], at, 1, p->limits->max_height, &size))
+        view->height = (uint32_t)size;
+    view->fps = p->limits->max_fps < 10 ? p->limits->max_fps : 10;
+    child_pointer(at, pointer, "fps");
+    if (found[3] && cJSON_IsNumber(found[3]) && !(found[3]->valuedouble > 0))
+        fail(p, SKY_MSG_ERR_OUT_OF_RANGE, at, "must be greater than 0, got %.15g",
+             found[3]->valuedouble);
+    else if (found[3])
+        read_number(p, found[3], at, 0, p->limits->max_fps, &view->fps);
+    view->format = SKY_FRAME_FORMAT_PNG;
+    child_pointer(at, pointer, "format");
+    if (found[5] && read_enum(p, found[5], at, format_names, COUNT_OF(format_names)) < 0)
+        view->format = 0;
+
+    char group[SKY_MSG_POINTER_MAX];
+    const cJSON *members[MAX_MEMBERS];
+    child_pointer(group, pointer, "camera");
+    if (found[0] && !cJSON_IsObject(found[0])) {
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, group, "expected an object, got %s", json_kind(found[0]));
+    } else if (found[0]) {
+        collect(p, found[0], group, camera_fields, COUNT_OF(camera_fields), members);
+        bool *has[] = {&view->has_altitude_km, &view->has_yaw_deg, &view->has_pitch_deg,
+                       &view->has_fov_deg};
+        double *value[] = {&view->altitude_km, &view->yaw_deg, &view->pitch_deg, &view->fov_deg};
+        for (size_t i = 0; i < COUNT_OF(camera_fields); i++) {
+            char schema_path[64];
+            snprintf(schema_path, sizeof schema_path, "camera.%s", camera_fields[i]);
+            child_pointer(at, group, camera_fields[i]);
+            read_schema_number(p, members[i], at, schema_path, has[i], value[i]);
+        }
+    }
+    child_pointer(group, pointer, "exposure");
+    if (found[4] && !cJSON_IsObject(found[4])) {
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, group, "expected an object, got %s", json_kind(found[4]));
+    } else if (found[4]) {
+        collect(p, found[4], group, exposure_fields, COUNT_OF(exposure_fields), members);
+        const struct sky_field_desc *mode = sky_world_state_find_field("exposure.mode");
+        child_pointer(at, group, "mode");
+        if (members[0] && mode) {
+            int index = read_enum(p, members[0], at, mode->enum_names, (size_t)mode->enum_count);
+            view->has_exposure_mode = index >= 0;
+            view->exposure_mode = index >= 0 ? (enum sky_exposure_mode)index : 0;
+        }
+        child_pointer(at, group, "ev100");
+        read_schema_number(p, members[1], at, "exposure.ev100", &view->has_ev100, &view->ev100);
+        child_pointer(at, group, "compensation_ev");
+        read_schema_number(p, members[2], at, "exposure.compensation_ev",
+                           &view->has_compensation_ev, &view->compensation_ev);
+    }
+}
+
+static void parse_probe(struct parser *p, const cJSON **found, struct sky_msg_probe *probe)
+{
+    int quantity = -1;
+    if (require(p, found[0], "/quantity"))
+        quantity = read_enum(p, found[0], "/quantity", quantity_names, COUNT_OF(quantity_names));
+    if (quantity >= 0)
+        probe->quantity = (enum sky_probe_quantity)quantity;
+    for (size_t i = 0; i < COUNT_OF(probe_params); i++) {
+        char at[SKY_MSG_POINTER_MAX];
+        child_pointer(at, "", probe_fields[i + 1]);
+        const cJSON *item = found[i + 1];
+        double *value = (double *)((char *)probe + probe_params[i].offset);
+        bool used = quantity >= 0 && (probe_params[i].used_by & (1u << quantity));
+        if (quantity >= 0 && !used && item)
+            fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, at, "not a parameter of %s", quantity_names[quantity]);
+        else if (quantity >= 0 && used && !item)
+            fail(p, SKY_MSG_ERR_MISSING_FIELD, at, "required for %s", quantity_names[quantity]);
+        else if (item && !read_number(p, item, at, probe_params[i].min, probe_params[i].max, value))
+            *value = 0;
+    }
+}
+
+static void parse_fields(struct parser *p, const cJSON **found, struct sky_client_msg *msg)
+{
+    int64_t number;
+    int index;
+    switch (msg->type) {
+    case SKY_MSG_HELLO:
+        if (found[0])
+            msg->hello.has_client =
+                read_string(p, found[0], "/client", 0, SKY_MSG_CLIENT_MAX, msg->hello.client);
+        if (found[1] && read_integer(p, found[1], "/protocol", 1, INT32_MAX, &number)) {
+            if (number != SKY_PROTOCOL_VERSION)
+                fail(p, SKY_MSG_ERR_UNSUPPORTED_PROTOCOL, "/protocol",
+                     "this server speaks protocol %d, got %d", SKY_PROTOCOL_VERSION, (int)number);
+            msg->hello.protocol = (int)number;
+        }
+        break;
+    case SKY_MSG_AUTH:
+        if (require(p, found[0], "/token"))
+            read_string(p, found[0], "/token", 1, SKY_MSG_TOKEN_MAX, msg->auth.token);
+        break;
+    case SKY_MSG_SET:
+        if (!require(p, found[0], "/patch"))
+            break;
+        if (!cJSON_IsObject(found[0])) {
+            fail(p, SKY_MSG_ERR_WRONG_TYPE, "/patch", "expected an object, got %s",
+                 json_kind(found[0]));
+        } else if (sky_msg_validate_patch(found[0], "/patch", &p->error->fields) &&
+                   p->error->fields.total == 0) {
+            msg->set.patch = cJSON_DetachItemViaPointer(p->root, (cJSON *)found[0]);
+        }
+        break;
+    case SKY_MSG_SUBSCRIBE:
+    case SKY_MSG_SNAPSHOT:
+        if (require(p, found[0], "/view"))
+            parse_view(p, found[0], "/view", &msg->view);
+        break;
+    case SKY_MSG_UNSUBSCRIBE:
+        if (require(p, found[0], "/subscription") &&
+            read_integer(p, found[0], "/subscription", 1, SKY_MSG_MAX_SAFE_INTEGER, &number))
+            msg->unsubscribe.subscription = (uint64_t)number;
+        break;
+    case SKY_MSG_PROBE:
+        parse_probe(p, found, &msg->probe);
+        break;
+    case SKY_MSG_LIST_PRESETS:
+    case SKY_MSG_APPLY_PRESET:
+        if (require(p, found[0], "/kind") &&
+            (index = read_enum(p, found[0], "/kind", preset_kind_names,
+                               COUNT_OF(preset_kind_names))) >= 0)
+            msg->preset.kind = (enum sky_preset_kind)index;
+        if (msg->type == SKY_MSG_LIST_PRESETS || !require(p, found[1], "/name"))
+            break;
+        if (!cJSON_IsString(found[1]))
+            fail(p, SKY_MSG_ERR_WRONG_TYPE, "/name", "expected a string, got %s",
+                 json_kind(found[1]));
+        else if (!preset_name_is_valid(found[1]->valuestring))
+            fail(p, SKY_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
+        else
+            memcpy(msg->preset.name, found[1]->valuestring, strlen(found[1]->valuestring) + 1);
+        break;
+    case SKY_MSG_NONE:
+    case SKY_MSG_GET_STATE:
+    case SKY_MSG_STATS:
+        break;
+    }
+}
+
+static void fields_of(enum sky_msg_type type, const char *const **names, size_t *count)
+{
+#define FIELDS(table) (*names = table, *count = COUNT_OF(table))
+    switch (type) {
+    case SKY_MSG_HELLO: FIELDS(hello_fields); break;
+    case SKY_MSG_AUTH: FIELDS(auth_fields); break;
+    case SKY_MSG_SET: FIELDS(set_fields); break;
+    case SKY_MSG_SUBSCRIBE:
+    case SKY_MSG_SNAPSHOT: FIELDS(view_message_fields); break;
+    case SKY_MSG_UNSUBSCRIBE: FIELDS(unsubscribe_fields); break;
+    case SKY_MSG_PROBE: FIELDS(probe_fields); break;
+    case SKY_MSG_LIST_PRESETS: FIELDS(list_presets_fields); break;
+    case SKY_MSG_APPLY_PRESET: FIELDS(apply_preset_fields); break;
+    case SKY_MSG_NONE:
+    case SKY_MSG_GET_STATE:
+    case SKY_MSG_STATS: *names = NULL, *count = 0; break;
+    }
+#undef FIELDS
+}
+
+static void parse_object(struct parser *p, struct sky_client_msg *msg)
+{
+    const cJSON *type = cJSON_GetObjectItemCaseSensitive(p->root, "type");
+    const cJSON *id = cJSON_GetObjectItemCaseSensitive(p->root, "id");
+    if (id)
+        parse_id(p, id, &msg->id);
+    if (!require(p, type, "/type"))
+        return;
+    if (!cJSON_IsString(type)) {
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, "/type", "expected a string, got %s", json_kind(type));
+        return;
+    }
+    int index = find_name(type_names, COUNT_OF(type_names), type->valuestring);
+    if (index < 0) {
+        char expected[REASON_MAX];
+        join_names(type_names, COUNT_OF(type_names), expected, sizeof expected);
+        fail(p, SKY_MSG_ERR_UNKNOWN_TYPE, "/type", "expected one of: %s", expected);
+        return;
+    }
+    msg->type = (enum sky_msg_type)index;
+
+    const char *names[2 + MAX_MEMBERS] = {"type", "id"};
+    const char *const *specific;
+    size_t count;
+    fields_of(msg->type, &specific, &count);
+    for (size_t i = 0; i < count; i++)
+        names[2 + i] = specific[i];
+    const cJSON *found[2 + MAX_MEMBERS];
+    collect(p, p->root, "", names, 2 + count, found);
+    parse_fields(p, found + 2, msg);
+}
+
+static void summarize(struct sky_msg_parse_error *error)
+{
+    const struct sky_field_errors *fields = &error->fields;
+    if (fields->total == 0) {
+        error->code = SKY_MSG_OK;
+        return;
+    }
+    const struct sky_field_error *first = &fields->items[0];
+    error->code = (enum sky_msg_error_code)first->code;
+    char more[24] = "";
+    if (fields->total > 1)
+        snprintf(more, sizeof more, " (and %d more)", fields->total - 1);
+    snprintf(error->message, sizeof error->message, "%s%s%s%s", first->pointer,
+             first->pointer[0] ? ": " : "", first->reason, more);
+}
+
+enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
+                                      const struct sky_msg_limits *limits,
+                                      struct sky_client_msg *msg,
+                                      struct sky_msg_parse_error *error)
+{
+    memset(msg, 0, sizeof *msg);
+    memset(error, 0, sizeof *error);
+    struct parser parser = {limits, error, NULL};
+    struct parser *p = &parser;
+    size_t offset;
+    char *copy = NULL;
+    if (!text || !limits) {
+        fail(p, SKY_MSG_ERR_INTERNAL, "", "no message or no limits");
+    } else if (length > limits->max_message_bytes) {
+        fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "", "message is %zu bytes, the limit is %zu",
+             length, limits->max_message_bytes);
+    } else if ((offset = nul_offset(text, length)) < length) {
+        error->offset = offset;
+        fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "NUL byte at offset %zu", offset);
+    } else if ((offset = utf8_invalid_offset(text, length)) < length) {
+        error->offset = offset;
+        fail(p, SKY_MSG_ERR_INVALID_ENCODING, "", "invalid UTF-8 at offset %zu", offset);
+    } else if (!(copy = malloc(length + 1))) {
+        fail(p, SKY_MSG_ERR_INTERNAL, "", "out of memory");
+    } else {
+        /* A terminated copy: cJSON then never needs to honour the length bound itself. */
+        memcpy(copy, text, length);
+        copy[length] = '\0';
+        const char *end = NULL;
+        p->root = cJSON_ParseWithOpts(copy, &end, false);
+        offset = end ? (size_t)(end - copy) : 0;
+        if (p->root && end)
+            offset += strspn(end, " \t\r\n");
+        if (!p->root || offset < length) {
+            error->offset = offset;
+            fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "%s at offset %zu",
+                 p->root ? "unexpected text after the JSON value" : "invalid JSON", offset);
+        } else if ((offset = escaped_nul_offset(copy, length)) < length) {
+            error->offset = offset;
+            fail(p, SKY_MSG_ERR_BAD_VALUE, "", "\\u0000 at offset %zu: NUL is not allowed", offset);
+        } else if (!cJSON_IsObject(p->root)) {
+            fail(p, SKY_MSG_ERR_NOT_AN_OBJECT, "", "expected a JSON object, got %s",
+                 json_kind(p->root));
+        } else {
+            parse_object(p, msg);
+        }
+    }
+    cJSON_Delete(p->root);
+    free(copy);
+    summarize(error);
+    if (error->code != SKY_MSG_OK && msg->type == SKY_MSG_SET) {
+        cJSON_Delete(msg->set.patch);
+        msg->set.patch = NULL;
+    }
+    return error->code;
+}
+
+void sky_client_msg_free(struct sky_client_msg *msg)
+{
+    if (msg && msg->type == SKY_MSG_SET) {
+        cJSON_Delete(msg->set.patch);
+        msg->set.patch = NULL;
+    }
+}
+
+bool sky_msg_validate_patch(const cJSON *patch, const char *pointer_prefix,
+                            struct sky_field_errors *errors)
+{
+    struct sky_world_state scratch;
+    struct sky_field_errors found;
+    sky_world_state_defaults(&scratch);
+    sky_world_state_apply_json(&scratch, patch, &found);
+    int failures = found.total;
+    for (int i = 0; i < found.count; i++) {
+        const struct sky_field_error *item = &found.items[i];
+        if (item->code == SKY_FIELD_INCONSISTENT) {
+            failures--;
+            continue;
+        }
+        char pointer[SKY_MSG_POINTER_MAX];
+        snprintf(pointer, sizeof pointer, "%s%s", pointer_prefix ? pointer_prefix : "",
+                 item->pointer);
+        sky_field_errors_add(errors, item->code, pointer, item->reason);
+    }
+    /* Failures beyond the stored ones still count. */
+    for (int i = found.count; errors && i < found.total; i++)
+        errors->total++;
+    return failures == 0;
+}
+
+void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_world_state *state,
+                          struct sky_camera_state *camera, struct sky_exposure_state *exposure)
+{
+    *camera = state->camera;
+    *exposure = state->exposure;
+    if (view->has_altitude_km)
+        camera->altitude_km = view->altitude_km;
+    if (view->has_yaw_deg)
+        camera->yaw_deg = view->yaw_deg;
+    if (view->has_pitch_deg)
+        camera->pitch_deg = view->pitch_deg;
+    if (view->has_fov_deg)
+        camera->fov_deg = view->fov_deg;
+    if (view->has_exposure_mode)
+        exposure->mode = view->exposure_mode;
+    if (view->has_ev100)
+        exposure->ev100 = view->ev100;
+    if (view->has_compensation_ev)
+        exposure->compensation_ev = view->compensation_ev;
+}
+
+size_t sky_msg_state_diff(const struct sky_world_state *before,
+                          const struct sky_world_state *after,
+                          char pointers[][SKY_MSG_POINTER_MAX], size_t max)
+{
+    size_t field_count, changed = 0;
+    const struct sky_field_desc *fields = sky_world_state_fields(&field_count);
+    for (size_t i = 0; i < field_count; i++) {
+        size_t size = sizeof(int);
+        switch (fields[i].type) {
+        case SKY_FIELD_TYPE_NUMBER: size = sizeof(double); break;
+        case SKY_FIELD_TYPE_RGB: size = 3 * sizeof(double); break;
+        case SKY_FIELD_TYPE_INT_PAIR: size = 2 * sizeof(int); break;
+        case SKY_FIELD_TYPE_INT_TRIPLE: size = 3 * sizeof(int); break;
+        case SKY_FIELD_TYPE_ENUM: break;
+        }
+        if (memcmp((const char *)before + fields[i].offset, (const char *)after + fields[i].offset,
+                   size) == 0)
+            continue;
+        if (changed < max) {
+            snprintf(pointers[changed], SKY_MSG_POINTER_MAX, "/%s", fields[i].path);
+            for (char *c = pointers[changed]; *c; c++)
+                *c = *c == '.' ? '/' : *c;
+        }
+        changed++;
+    }
+    return changed;
+}
+
+/* ---- building --------------------------------------------------------------------------- */
+
+struct builder {
+    cJSON *root;
+    bool ok; /* false after any refused argument or failed allocation */
+};
+
+static const char *name_of(const char *const *names, size_t count, int value)
+{
+    return value >= 0 && (size_t)value < count ? names[value] : NULL;
+}
+
+/* Adds item to an object (or to an array when name is NULL); takes ownership. */
+static cJSON *put(struct builder *b, cJSON *parent, const char *name, cJSON *item)
+{
+    bool added = b->ok && parent && item &&
+                 (name ? cJSON_AddItemToObject(parent, name, item)
+                       : cJSON_AddItemToArray(parent, item));
+    if (!added) {
+        b->ok = false;
+        cJSON_Delete(item);
+        return NULL;
+    }
+    return item;
+}
+
+/* Checked before creating: cJSON_CreateNumber converts to int, undefined for NaN. */
+static void put_number(struct builder *b, cJSON *parent, const char *name, double value)
+{
+    if (isfinite(value))
+        put(b, parent, name, cJSON_CreateNumber(value));
+    else
+        b->ok = false;
+}
+
+static void put_count(struct builder *b, cJSON *parent, const char *name, uint64_t value)
+{
+    if (value <= (uint64_t)SKY_MSG_MAX_SAFE_INTEGER)
+        put_number(b, parent, name, (double)value);
+    else
+        b->ok = false;
+}
+
+/* Bytes that are not UTF-8 (a reason truncated inside a character) become '?'. */
+static void put_string(struct builder *b, cJSON *parent, const char *name, const char *text)
+{
+    cJSON *item = put(b, parent, name, text ? cJSON_CreateString(text) : NULL);
+    if (!item)
+        return;
+    unsigned char *s = (unsigned char *)item->valuestring;
+    size_t length = strlen(item->valuestring);
+    for (size_t i = 0; i < length;) {
+        size_t n = utf8_sequence(s + i, length - i);
+        if (n == 0)
+            s[i++] = '?';
+        else
+            i += n;
+    }
+}
+
+static void begin(struct builder *b, const char *type, const struct sky_msg_id *id)
+{
+    b->ok = true;
+    b->root = cJSON_CreateObject();
+    b->ok = b->root != NULL;
+    put_string(b, b->root, "type", type);
+    if (!id || id->kind == SKY_MSG_ID_NONE)
+        return;
+    if (id->kind == SKY_MSG_ID_STRING && id->text[0] && memchr(id->text, '\0', sizeof id->text))
+        put_string(b, b->root, "id", id->text);
+    else if (id->kind == SKY_MSG_ID_INTEGER && id->number >= -SKY_MSG_MAX_SAFE_INTEGER &&
+             id->number <= SKY_MSG_MAX_SAFE_INTEGER)
+        put_number(b, b->root, "id", (double)id->number);
+    else
+        b->ok = false;
+}
+
+/* cJSON prints numbers with 15 digits when they compare equal within an epsilon, which loses
+ * integers above 2^50 and the last bits of doubles: write each as the shortest exact text. */
+static bool write_numbers_exactly(cJSON *parent)
+{
+    for (cJSON *item = parent ? parent->child : NULL; item; item = item->next) {
+        if (!cJSON_IsNumber(item)) {
+            if (!write_numbers_exactly(item))
+                return false;
+            continue;
+        }
+        char text[32];
+        if (!isfinite(item->valuedouble))
+            return false;
+        snprintf(text, sizeof text, "%.15g", item->valuedouble);
+        if (strtod(text, NULL) != item->valuedouble)
+            snprintf(text, sizeof text, "%.17g", item->valuedouble);
+        cJSON *raw = cJSON_CreateRaw(text);
+        if (!raw)
+            return false;
+        /* The replacement keeps the member's name; the pointer moves rather than copies. */
+        raw->string = item->string;
+        raw->type |= item->type & cJSON_StringIsConst;
+        item->string = NULL;
+        cJSON_ReplaceItemViaPointer(parent, item, raw);
+        item = raw;
+    }
+    return true;
+}
+
+static char *finish(struct builder *b)
+{
+    char *text = b->ok && write_numbers_exactly(b->root) ? cJSON_PrintUnformatted(b->root) : NULL;
+    cJSON_Delete(b->root);
+    return text;
+}
+
+char *sky_msg_build_hello(const char *server_version, enum sky_msg_role role,
+                          const char *const *caps, size_t capability_count,
+                          const struct sky_msg_limits *limits)
+{
+    struct builder b;
+    begin(&b, "hello", NULL);
+    put_number(&b, b.root, "protocol", SKY_PROTOCOL_VERSION);
+    char server[96];
+    if (!server_version || (size_t)snprintf(server, sizeof server, "skyd %s", server_version) >=
+                               sizeof server)
+        b.ok = false;
+    else
+        put_string(&b, b.root, "server", server);
+    put_string(&b, b.root, "role", name_of(role_names, COUNT_OF(role_names), (int)role));
+    cJSON *list = put(&b, b.root, "capabilities", cJSON_CreateArray());
+    for (size_t i = 0; i < capability_count; i++)
+        put_string(&b, list, NULL, caps ? caps[i] : NULL);
+    cJSON *json = put(&b, b.root, "limits", limits ? cJSON_CreateObject() : NULL);
+    if (limits) {
+        put_count(&b, json, "max_message_bytes", limits->max_message_bytes);
+        put_count(&b, json, "max_clients", (uint64_t)(int64_t)limits->max_clients);
+        put_count(&b, json, "max_width", limits->max_width);
+        put_count(&b, json, "max_height", limits->max_height);
+        put_number(&b, json, "max_fps", limits->max_fps);
+        put_number(&b, json, "control_messages_per_second", limits->control_messages_per_second);
+    }
+    return finish(&b);
+}
+
+char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_state *state)
+{
+    struct builder b;
+    begin(&b, "state", id);
+    cJSON *json = state ? sky_world_state_to_json(state) : NULL;
+    /* Without its revision the state object is a complete, valid patch for "set". */
+    cJSON_DeleteItemFromObjectCaseSensitive(json, "revision");
+    put_count(&b, b.root, "revision", state ? state->revision : 0);
+    put(&b, b.root, "state", json);
+    return finish(&b);
+}
+
+char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky_msg_role role)
+{
+    struct builder b;
+    begin(&b, "ack", id);
+    put_count(&b, b.root, "revision", revision);
+    if (role != SKY_ROLE_NONE)
+        put_string(&b, b.root, "role", name_of(role_names, COUNT_OF(role_names), (int)role));
+    return finish(&b);
+}
+
+char *sky_msg_build_error(const struct sky_msg_id *id, enum sky_msg_error_code code,
+                          const char *message, const struct sky_field_errors *fields)
+{
+    struct builder b;
+    begin(&b, "error", id);
+    if (code == SKY_MSG_OK)
+        b.ok = false;
+    put_string(&b, b.root, "code", sky_msg_error_name(code));
+    put_string(&b, b.root, "message", message ? message : "");
+    cJSON *list = put(&b, b.root, "fields", cJSON_CreateArray());
+    int count = fields ? fields->count : 0;
+    if (count < 0 || count > SKY_MAX_FIELD_ERRORS)
+        b.ok = false;
+    for (int i = 0; i < count; i++) {
+        const struct sky_field_error *item = &fields->items[i];
+        cJSON *entry = put(&b, list, NULL, cJSON_CreateObject());
+        put_string(&b, entry, "pointer", memchr(item->pointer, '\0', sizeof item->pointer)
+                                             ? item->pointer : NULL);
+        put_string(&b, entry, "reason", memchr(item->reason, '\0', sizeof item->reason)
+                                            ? item->reason : NULL);
+        put_string(&b, entry, "code", item->code != SKY_MSG_OK ? sky_msg_error_name(item->code)
+                                                               : NULL);
+    }
+    if (fields && fields->total > count)
+        put_count(&b, b.root, "fields_omitted", (uint64_t)(fields->total - count));
+    return finish(&b);
+}
+
+char *sky_msg_build_parse_error(const struct sky_client_msg *msg,
+                                const struct sky_msg_parse_error *error)
+{
+    if (!error)
+        return NULL;
+    return sky_msg_build_error(msg ? &msg->id : NULL, error->code, error->message,
+                               &error->fields);
+}
+
+char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscription,
+                               const struct sky_msg_view *v)
+{
+    struct builder b;
+    begin(&b, "subscribed", id);
+    if (subscription == 0 || !v || v->width == 0 || v->height == 0 || !(v->fps > 0)) {
+        b.ok = false;
+        return finish(&b);
+    }
+    put_count(&b, b.root, "subscription", subscription);
+    cJSON *view = put(&b, b.root, "view", cJSON_CreateObject());
+    cJSON *camera = put(&b, view, "camera", cJSON_CreateObject());
+    if (v->has_altitude_km)
+        put_number(&b, camera, "altitude_km", v->altitude_km);
+    if (v->has_yaw_deg)
+        put_number(&b, camera, "yaw_deg", v->yaw_deg);
+    if (v->has_pitch_deg)
+        put_number(&b, camera, "pitch_deg", v->pitch_deg);
+    if (v->has_fov_deg)
+        put_number(&b, camera, "fov_deg", v->fov_deg);
+    put_count(&b, view, "width", v->width);
+    put_count(&b, view, "height", v->height);
+    put_number(&b, view, "fps", v->fps);
+    cJSON *exposure = put(&b, view, "exposure", cJSON_CreateObject());
+    const struct sky_field_desc *mode = sky_world_state_find_field("exposure.mode");
+    if (v->has_exposure_mode)
+        put_string(&b, exposure, "mode",
+                   mode ? name_of(mode->enum_names, (size_t)mode->enum_count,
+                                  (int)v->exposure_mode)
+                        : NULL);
+    if (v->has_ev100)
+        put_number(&b, exposure, "ev100", v->ev100);
+    if (v->has_compensation_ev)
+        put_number(&b, exposure, "compensation_ev", v->compensation_ev);
+    put_string(&b, view, "format", name_of(format_names, COUNT_OF(format_names), (int)v->format));
+    return finish(&b);
+}
+
+char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription,
+                          uint64_t frame_number)
+{
+    struct builder b;
+    bool snapshot = id && id->kind != SKY_MSG_ID_NONE;
+    begin(&b, "frame", id);
+    if (snapshot == (subscription != 0))
+        b.ok = false;
+    if (!snapshot)
+        put_count(&b, b.root, "subscription", subscription);
+    put_count(&b, b.root, "frame_number", frame_number);
+    return finish(&b);
+}
+
+char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count)
+{
+    struct builder b;
+    begin(&b, "event", NULL);
+    put_string(&b, b.root, "event", "state_changed");
+    put_count(&b, b.root, "revision", revision);
+    cJSON *list = put(&b, b.root, "changed", cJSON_CreateArray());
+    for (size_t i = 0; i < count; i++) {
+        const char *pointer = pointers ? pointers[i] : NULL;
+        put_string(&b, list, NULL, pointer && (!pointer[0] || pointer[0] == '/') ? pointer : NULL);
+    }
+    return finish(&b);
+}
+
+char *sky_msg_build_presets(const struct sky_msg_id *id, enum sky_preset_kind kind,
+                            const char *const *names, size_t count)
+{
+    struct builder b;
+    begin(&b, "presets", id);
+    put_string(&b, b.root, "kind",
+               name_of(preset_kind_names, COUNT_OF(preset_kind_names), (int)kind));
+    cJSON *list = put(&b, b.root, "names", cJSON_CreateArray());
+    if (count > SKY_MSG_MAX_PRESETS)
+        b.ok = false;
+    for (size_t i = 0; i < count && b.ok; i++) {
+        const char *name = names ? names[i] : NULL;
+        put_string(&b, list, NULL, name && preset_name_is_valid(name) ? name : NULL);
+    }
+    return finish(&b);
+}
+
+char *sky_msg_build_probe_result(const struct sky_msg_id *id,
+                                 const struct sky_msg_probe_result *result)
+{
+    struct builder b;
+    begin(&b, "probe_result", id);
+    int quantity = result ? (int)result->quantity : -1;
+    const char *name = name_of(quantity_names, COUNT_OF(quantity_names), quantity);
+    put_string(&b, b.root, "quantity", name);
+    if (quantity == SKY_PROBE_TRANSMITTANCE || quantity == SKY_PROBE_LUMINANCE) {
+        cJSON *rgb = put(&b, b.root, name, cJSON_CreateArray());
+        for (int i = 0; i < 3; i++)
+            put_number(&b, rgb, NULL, result->rgb[i]);
+    } else if (quantity == SKY_PROBE_ILLUMINANCE) {
+        put_number(&b, b.root, "sun_lux", result->sun_lux);
+        put_number(&b, b.root, "sky_lux", result->sky_lux);
+    }
+    return finish(&b);
+}
+
+char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stats *stats)
+{
+    struct builder b;
+    begin(&b, "stats", id);
+    if (!stats || !(stats->fps >= 0) || stats->clients < 0 || stats->pass_count > SKY_MSG_MAX_PASSES ||
+        (stats->pass_count > 0 && !stats->passes) || !(stats->lut_rebuild_progress >= 0) ||
+        !(stats->lut_rebuild_progress <= 1)) {
+        b.ok = false;
+        return finish(&b);
+    }
+    put_number(&b, b.root, "fps", stats->fps);
+    put_count(&b, b.root, "clients", (uint64_t)stats->clients);
+    cJSON *passes = put(&b, b.root, "passes", cJSON_CreateObject());
+    for (size_t i = 0; i < stats->pass_count && b.ok; i++) {
+        const struct sky_msg_pass_time *pass = &stats->passes[i];
+        if (!pass->name || !preset_name_is_valid(pass->name) || !(pass->ms >= 0) ||
+            cJSON_GetObjectItemCaseSensitive(passes, pass->name))
+            b.ok = false;
+        else
+            put_number(&b, passes, pass->name, pass->ms);
+    }
+    put_number(&b, b.root, "lut_rebuild_progress", stats->lut_rebuild_progress);
+    return finish(&b);
+}

@@ -1,0 +1,273 @@
+/* WebSocket protocol, version 1: parsing and validation of client text messages and
+ * construction of server text messages. See PROTOCOL.md for the wire format.
+ *
+ * Pure functions on cJSON: no sockets, no I/O, no globals except constant tables. The caller
+ * owns transport concerns: it turns binary messages (or text frames its WebSocket library found
+ * not to be UTF-8) into an SKY_MSG_ERR_INVALID_ENCODING error itself, enforces roles with
+ * protocol_message_needs_controller(), rate limits, and applies validated patches to the live
+ * state with sky_world_state_apply_json() at the next tick.
+ */
+#ifndef SKYD_MESSAGES_H
+#define SKYD_MESSAGES_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "frame_header.h"
+#include "world_state.h"
+
+struct cJSON;
+
+#define SKY_PROTOCOL_VERSION 1
+
+#define SKY_MSG_ID_MAX 64          /* bytes of a string id */
+#define SKY_MSG_CLIENT_MAX 64      /* bytes of the client name in hello */
+#define SKY_MSG_TOKEN_MAX 256      /* bytes of an auth token */
+#define SKY_MSG_PRESET_NAME_MAX 64 /* [a-z0-9_-]{1,64} */
+#define SKY_MSG_POINTER_MAX 128    /* a JSON Pointer, as in struct sky_field_error */
+#define SKY_MSG_MAX_PASSES 32      /* entries in a stats message's "passes" */
+#define SKY_MSG_MAX_PRESETS 256    /* names in a presets message */
+/* Integers on the wire stay exactly representable in an IEEE double (JavaScript's limit). */
+#define SKY_MSG_MAX_SAFE_INTEGER 9007199254740991LL /* 2^53 - 1 */
+
+/* Stable error codes. The wire carries the names (sky_msg_error_name); the numbers are stable
+ * too. 1..5 equal enum sky_field_error_code, so sky_field_error.code holds either. */
+enum sky_msg_error_code {
+    SKY_MSG_OK = 0,
+    SKY_MSG_ERR_UNKNOWN_FIELD = 1,       /* "unknown_field" */
+    SKY_MSG_ERR_WRONG_TYPE = 2,          /* "wrong_type" */
+    SKY_MSG_ERR_OUT_OF_RANGE = 3,        /* "out_of_range" */
+    SKY_MSG_ERR_BAD_VALUE = 4,           /* "bad_value": bad enum name, pattern, duplicate */
+    SKY_MSG_ERR_INCONSISTENT = 5,        /* "inconsistent": patch clashes with the live state */
+    SKY_MSG_ERR_MISSING_FIELD = 6,       /* "missing_field" */
+    SKY_MSG_ERR_MALFORMED_JSON = 7,      /* "malformed_json": syntax, trailing bytes, NUL byte */
+    SKY_MSG_ERR_MESSAGE_TOO_LARGE = 8,   /* "message_too_large" */
+    SKY_MSG_ERR_NOT_AN_OBJECT = 9,       /* "not_an_object" */
+    SKY_MSG_ERR_UNKNOWN_TYPE = 10,       /* "unknown_type" */
+    SKY_MSG_ERR_INVALID_ENCODING = 11,   /* "invalid_encoding": not UTF-8, or a binary message */
+    SKY_MSG_ERR_UNSUPPORTED_PROTOCOL = 12, /* "unsupported_protocol" */
+    /* Produced by the server, never by the parser. */
+    SKY_MSG_ERR_FORBIDDEN = 20,          /* "forbidden": needs the controller role */
+    SKY_MSG_ERR_AUTH_FAILED = 21,        /* "auth_failed" */
+    SKY_MSG_ERR_RATE_LIMITED = 22,       /* "rate_limited" */
+    SKY_MSG_ERR_NOT_FOUND = 23,          /* "not_found": subscription or preset */
+    SKY_MSG_ERR_LIMIT_REACHED = 24,      /* "limit_reached": too many clients, subscriptions */
+    SKY_MSG_ERR_INTERNAL = 25,           /* "internal" */
+};
+
+/* The wire name of a code, or NULL for a value that is not a code. */
+const char *sky_msg_error_name(int code);
+
+enum sky_msg_type {
+    SKY_MSG_NONE = 0, /* parse failed before the type was known */
+    SKY_MSG_HELLO,
+    SKY_MSG_AUTH,
+    SKY_MSG_GET_STATE,
+    SKY_MSG_SET,
+    SKY_MSG_SUBSCRIBE,
+    SKY_MSG_UNSUBSCRIBE,
+    SKY_MSG_SNAPSHOT,
+    SKY_MSG_PROBE,
+    SKY_MSG_LIST_PRESETS,
+    SKY_MSG_APPLY_PRESET,
+    SKY_MSG_STATS,
+};
+
+/* "hello", "set", ...; NULL for SKY_MSG_NONE or out-of-range values. */
+const char *sky_msg_type_name(enum sky_msg_type type);
+
+/* True for the types only a controller may send (set, apply_preset). */
+bool protocol_message_needs_controller(enum sky_msg_type type);
+
+enum sky_msg_role {
+    SKY_ROLE_NONE = 0, /* "no role given" where a role is optional */
+    SKY_ROLE_VIEWER = 1,
+    SKY_ROLE_CONTROLLER = 2,
+};
+
+enum sky_preset_kind {
+    SKY_PRESET_ATMOSPHERE = 0,
+};
+
+enum sky_probe_quantity {
+    SKY_PROBE_TRANSMITTANCE = 0,
+    SKY_PROBE_LUMINANCE = 1,
+    SKY_PROBE_ILLUMINANCE = 2,
+};
+
+struct sky_msg_limits {
+    size_t max_message_bytes;
+    int max_clients;
+    uint32_t max_width, max_height;
+    double max_fps;
+    double control_messages_per_second;
+};
+
+/* 65536 bytes, 64 clients, 3840x2160, 60 fps, 20 control messages per second. */
+void sky_msg_limits_default(struct sky_msg_limits *limits);
+
+enum sky_msg_id_kind {
+    SKY_MSG_ID_NONE = 0,
+    SKY_MSG_ID_STRING = 1,
+    SKY_MSG_ID_INTEGER = 2,
+};
+
+/* A request id, echoed verbatim in the reply. */
+struct sky_msg_id {
+    enum sky_msg_id_kind kind;
+    char text[SKY_MSG_ID_MAX + 1]; /* STRING */
+    int64_t number;                /* INTEGER, |number| <= 2^53 - 1 */
+};
+
+/* Each camera and exposure field is optional; an absent one follows the world state. */
+struct sky_msg_view {
+    bool has_altitude_km, has_yaw_deg, has_pitch_deg, has_fov_deg;
+    double altitude_km, yaw_deg, pitch_deg, fov_deg;
+    bool has_exposure_mode, has_ev100, has_compensation_ev;
+    enum sky_exposure_mode exposure_mode;
+    double ev100, compensation_ev;
+    uint32_t width, height;
+    double fps;                     /* default min(10, max_fps) already applied */
+    enum sky_frame_format format;
+};
+
+struct sky_msg_probe {
+    enum sky_probe_quantity quantity;
+    /* Only those the quantity uses are set (others are 0): transmittance altitude_km, mu;
+     * luminance altitude_km, view_zenith_deg, view_azimuth_deg, sun_zenith_deg; illuminance
+     * sun_zenith_deg. */
+    double altitude_km, mu, view_zenith_deg, view_azimuth_deg, sun_zenith_deg;
+};
+
+struct sky_client_msg {
+    enum sky_msg_type type;
+    struct sky_msg_id id; /* filled when valid, even when the rest of the message is not */
+    union {
+        struct {
+            bool has_client;
+            char client[SKY_MSG_CLIENT_MAX + 1];
+            int protocol; /* 0 when absent */
+        } hello;
+        struct {
+            char token[SKY_MSG_TOKEN_MAX + 1];
+        } auth;
+        struct {
+            /* Owned; detached from the message. Validated against the schema alone: the
+             * caller applies it with sky_world_state_apply_json, which also checks cross-field
+             * consistency. Set it to NULL to take ownership. */
+            struct cJSON *patch;
+        } set;
+        struct sky_msg_view view; /* subscribe, snapshot */
+        struct {
+            uint64_t subscription;
+        } unsubscribe;
+        struct sky_msg_probe probe;
+        struct {
+            enum sky_preset_kind kind;
+            char name[SKY_MSG_PRESET_NAME_MAX + 1]; /* apply_preset only */
+        } preset;
+    };
+};
+
+struct sky_msg_parse_error {
+    enum sky_msg_error_code code;  /* SKY_MSG_OK on success; else the first failure's code */
+    size_t offset;                 /* byte offset for malformed_json and invalid_encoding */
+    char message[320];             /* one line for people; do not match on it */
+    struct sky_field_errors fields; /* {JSON Pointer, reason, code} per failure */
+};
+
+/* Parses one client text message of `length` bytes (no terminator needed). Checks, in order:
+ * size against limits->max_message_bytes (before parsing), NUL bytes, UTF-8, JSON syntax and
+ * trailing bytes, object shape, "id", "type", then every field of that type. On success
+ * returns SKY_MSG_OK and fills *msg; otherwise returns the error code and fills *error, with
+ * msg->type and msg->id set when they were readable. Always call sky_client_msg_free. */
+enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
+                                      const struct sky_msg_limits *limits,
+                                      struct sky_client_msg *msg,
+                                      struct sky_msg_parse_error *error);
+
+void sky_client_msg_free(struct sky_client_msg *msg);
+
+/* Validates a world-state patch against the schema only (types, ranges, unknown fields); the
+ * cross-field consistency that depends on the live state is left to the apply. Errors are
+ * appended to *errors with `pointer_prefix` ("/patch") before each pointer. */
+bool sky_msg_validate_patch(const struct cJSON *patch, const char *pointer_prefix,
+                            struct sky_field_errors *errors);
+
+/* The camera and exposure a view renders with: the state's, overridden by the view's. */
+void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_world_state *state,
+                          struct sky_camera_state *camera, struct sky_exposure_state *exposure);
+
+/* JSON Pointers of the schema fields that differ between two states, in schema order. Fills
+ * at most `max` and returns how many differ. */
+size_t sky_msg_state_diff(const struct sky_world_state *before,
+                          const struct sky_world_state *after,
+                          char pointers[][SKY_MSG_POINTER_MAX], size_t max);
+
+/* ---- server messages ---------------------------------------------------------------------
+ * Each builder returns a malloc'd, NUL-terminated compact JSON text, or NULL when an argument
+ * is invalid (a non-finite number, an integer above 2^53 - 1, an unknown enum value, a name
+ * that breaks its pattern) or memory runs out. `id` may be NULL or SKY_MSG_ID_NONE: the
+ * member is then left out. Free the text with free(). */
+
+/* The capabilities this module can describe: every client message type and "png". */
+const char *const *sky_msg_default_capabilities(size_t *count);
+
+char *sky_msg_build_hello(const char *server_version, enum sky_msg_role role,
+                          const char *const *capabilities, size_t capability_count,
+                          const struct sky_msg_limits *limits);
+
+char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_state *state);
+
+/* role: SKY_ROLE_NONE leaves it out; the reply to a successful auth carries the new role. */
+char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky_msg_role role);
+
+/* fields may be NULL. Field codes must be sky_msg_error_code values. */
+char *sky_msg_build_error(const struct sky_msg_id *id, enum sky_msg_error_code code,
+                          const char *message, const struct sky_field_errors *fields);
+
+/* The error reply for a failed sky_msg_parse, echoing msg->id when it was readable. */
+char *sky_msg_build_parse_error(const struct sky_client_msg *msg,
+                                const struct sky_msg_parse_error *error);
+
+/* The view is written normalized: fps and format resolved, absent camera and exposure fields
+ * left out (they follow the world state). */
+char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscription,
+                               const struct sky_msg_view *view);
+
+/* Announces the binary frame sent right after it: for a subscription (subscription >= 1, id
+ * NULL) or for a snapshot request (subscription 0, id the request's). */
+char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription,
+                          uint64_t frame_number);
+
+char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count);
+
+char *sky_msg_build_presets(const struct sky_msg_id *id, enum sky_preset_kind kind,
+                            const char *const *names, size_t count);
+
+struct sky_msg_probe_result {
+    enum sky_probe_quantity quantity;
+    double rgb[3];          /* transmittance (unitless) or luminance (cd/m^2) */
+    double sun_lux, sky_lux; /* illuminance */
+};
+
+char *sky_msg_build_probe_result(const struct sky_msg_id *id,
+                                 const struct sky_msg_probe_result *result);
+
+struct sky_msg_pass_time {
+    const char *name; /* [a-z0-9_-]{1,64}, unique */
+    double ms;        /* >= 0 */
+};
+
+struct sky_msg_stats {
+    double fps;                          /* >= 0 */
+    int clients;                         /* >= 0 */
+    const struct sky_msg_pass_time *passes;
+    size_t pass_count;                   /* <= SKY_MSG_MAX_PASSES */
+    double lut_rebuild_progress;         /* [0, 1]; 1 when no rebuild is under way */
+};
+
+char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stats *stats);
+
+#endif
