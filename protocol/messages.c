@@ -247,21 +247,6 @@ static void child_pointer(char *out, const char *parent, const char *name)
     out[used < SKY_MSG_POINTER_MAX ? used : SKY_MSG_POINTER_MAX - 1] = '\0';
 }
 
-static const char *json_kind(const cJSON *value)
-{
-    if (cJSON_IsNumber(value))
-        return "a number";
-    if (cJSON_IsString(value))
-        return "a string";
-    if (cJSON_IsBool(value))
-        return "a boolean";
-    if (cJSON_IsNull(value))
-        return "null";
-    if (cJSON_IsArray(value))
-        return "an array";
-    return "an object";
-}
-
 /* ---- parsing ---------------------------------------------------------------------------- */
 
 struct parser {
@@ -318,7 +303,7 @@ static bool read_number(struct parser *p, const cJSON *item, const char *pointer
                         double max, double *out)
 {
     if (!cJSON_IsNumber(item)) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a number, got %s", json_kind(item));
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a number, got %s", sky_json_type_name(item));
         return false;
     }
     double value = item->valuedouble;
@@ -349,7 +334,7 @@ static bool read_string(struct parser *p, const cJSON *item, const char *pointer
                         size_t max, char *out)
 {
     if (!cJSON_IsString(item)) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a string, got %s", json_kind(item));
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a string, got %s", sky_json_type_name(item));
         return false;
     }
     size_t length = strlen(item->valuestring);
@@ -369,7 +354,7 @@ static int read_enum(struct parser *p, const cJSON *item, const char *pointer,
     join_names(names, count, expected, sizeof expected);
     if (!cJSON_IsString(item)) {
         fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected one of: %s, got %s", expected,
-             json_kind(item));
+             sky_json_type_name(item));
         return -1;
     }
     int index = find_name(names, count, item->valuestring);
@@ -400,7 +385,7 @@ static void parse_id(struct parser *p, const cJSON *item, struct sky_msg_id *id)
             id->kind = SKY_MSG_ID_INTEGER;
     } else {
         fail(p, SKY_MSG_ERR_WRONG_TYPE, "/id", "expected a string or an integer, got %s",
-             json_kind(item));
+             sky_json_type_name(item));
     }
 }
 
@@ -408,7 +393,7 @@ static void parse_view(struct parser *p, const cJSON *object, const char *pointe
                        struct sky_msg_view *view)
 {
     if (!cJSON_IsObject(object)) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected an object, got %s", json_kind(object));
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected an object, got %s", sky_json_type_name(object));
         return;
     }
     const cJSON *found[MAX_MEMBERS];
@@ -437,7 +422,7 @@ static void parse_view(struct parser *p, const cJSON *object, const char *pointe
     const cJSON *members[MAX_MEMBERS];
     child_pointer(group, pointer, "camera");
     if (found[0] && !cJSON_IsObject(found[0])) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, group, "expected an object, got %s", json_kind(found[0]));
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, group, "expected an object, got %s", sky_json_type_name(found[0]));
     } else if (found[0]) {
         collect(p, found[0], group, camera_fields, COUNT_OF(camera_fields), members);
         bool *has[] = {&view->has_altitude_km, &view->has_yaw_deg, &view->has_pitch_deg,
@@ -452,7 +437,7 @@ static void parse_view(struct parser *p, const cJSON *object, const char *pointe
     }
     child_pointer(group, pointer, "exposure");
     if (found[4] && !cJSON_IsObject(found[4])) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, group, "expected an object, got %s", json_kind(found[4]));
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, group, "expected an object, got %s", sky_json_type_name(found[4]));
     } else if (found[4]) {
         collect(p, found[4], group, exposure_fields, COUNT_OF(exposure_fields), members);
         const struct sky_field_desc *mode = sky_world_state_find_field("exposure.mode");
@@ -517,7 +502,7 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
             break;
         if (!cJSON_IsObject(found[0])) {
             fail(p, SKY_MSG_ERR_WRONG_TYPE, "/patch", "expected an object, got %s",
-                 json_kind(found[0]));
+                 sky_json_type_name(found[0]));
         } else if (sky_msg_validate_patch(found[0], "/patch", &p->error->fields) &&
                    p->error->fields.total == 0) {
             msg->set.patch = cJSON_DetachItemViaPointer(p->root, (cJSON *)found[0]);
@@ -546,7 +531,7 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
             break;
         if (!cJSON_IsString(found[1]))
             fail(p, SKY_MSG_ERR_WRONG_TYPE, "/name", "expected a string, got %s",
-                 json_kind(found[1]));
+                 sky_json_type_name(found[1]));
         else if (!preset_name_is_valid(found[1]->valuestring))
             fail(p, SKY_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
         else
@@ -588,7 +573,7 @@ static void parse_object(struct parser *p, struct sky_client_msg *msg)
     if (!require(p, type, "/type"))
         return;
     if (!cJSON_IsString(type)) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, "/type", "expected a string, got %s", json_kind(type));
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, "/type", "expected a string, got %s", sky_json_type_name(type));
         return;
     }
     int index = find_name(type_names, COUNT_OF(type_names), type->valuestring);
@@ -669,7 +654,7 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
             fail(p, SKY_MSG_ERR_BAD_VALUE, "", "\\u0000 at offset %zu: NUL is not allowed", offset);
         } else if (!cJSON_IsObject(p->root)) {
             fail(p, SKY_MSG_ERR_NOT_AN_OBJECT, "", "expected a JSON object, got %s",
-                 json_kind(p->root));
+                 sky_json_type_name(p->root));
         } else {
             parse_object(p, msg);
         }

@@ -289,7 +289,7 @@ static void list_children(const char *prefix, char *text, size_t capacity)
     }
 }
 
-static const char *json_type_name(const cJSON *value)
+const char *sky_json_type_name(const struct cJSON *value)
 {
     if (cJSON_IsNumber(value))
         return "a number";
@@ -449,7 +449,7 @@ static void apply_number(struct patch_context *context, const struct sky_field_d
 {
     if (!cJSON_IsNumber(value)) {
         add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a number, got %s",
-                  json_type_name(value));
+                  sky_json_type_name(value));
         return;
     }
     if (check_number(context->errors, field, value->valuedouble, pointer))
@@ -480,7 +480,7 @@ static void apply_rgb_array(struct patch_context *context, const struct sky_fiel
         element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
             add_error(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                      "expected a number, got %s", json_type_name(element));
+                      "expected a number, got %s", sky_json_type_name(element));
         } else if (check_number(context->errors, field, element->valuedouble, item_pointer)) {
             channels[index] = element->valuedouble;
         }
@@ -499,7 +499,7 @@ static void apply_rgb(struct patch_context *context, const struct sky_field_desc
         }
     } else {
         add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                  "expected a number or an array of 3 numbers, got %s", json_type_name(value));
+                  "expected a number or an array of 3 numbers, got %s", sky_json_type_name(value));
     }
 }
 
@@ -509,7 +509,7 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
     int expected = element_count(field->type);
     if (!cJSON_IsArray(value)) {
         add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                  "expected an array of %d integers, got %s", expected, json_type_name(value));
+                  "expected an array of %d integers, got %s", expected, sky_json_type_name(value));
         return;
     }
     if (!check_array_length(context, value, expected, "integers", pointer))
@@ -521,7 +521,7 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
         element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
             add_error(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                      "expected an integer, got %s", json_type_name(element));
+                      "expected an integer, got %s", sky_json_type_name(element));
         } else if (check_integer(context->errors, field, element->valuedouble, item_pointer)) {
             elements[index] = (int)element->valuedouble;
         }
@@ -544,7 +544,7 @@ static void apply_enum(struct patch_context *context, const struct sky_field_des
     list_enum_names(field, names, sizeof names);
     if (!cJSON_IsString(value)) {
         add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer, "expected one of: %s, got %s",
-                  names, json_type_name(value));
+                  names, sky_json_type_name(value));
         return;
     }
     int found = find_enum_value(field, value->valuestring);
@@ -629,7 +629,7 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
         apply_object(context, member, dotted, pointer);
     } else {
         add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer, "expected an object, got %s",
-                  json_type_name(member));
+                  sky_json_type_name(member));
     }
 }
 
@@ -801,7 +801,7 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
     }
     if (!cJSON_IsObject(patch)) {
         add_error(errors, SKY_FIELD_WRONG_TYPE, "", "expected a JSON object, got %s",
-                  patch ? json_type_name(patch) : "nothing");
+                  patch ? sky_json_type_name(patch) : "nothing");
         return false;
     }
     /* memcpy rather than assignment keeps padding bytes identical, so callers can memcmp. */

@@ -132,6 +132,10 @@ struct cJSON *sky_world_state_to_json(const struct sky_world_state *state);
 /* Checks cross-field consistency of a complete state; fills errors. */
 bool sky_world_state_validate(const struct sky_world_state *state, struct sky_field_errors *errors);
 
+/* "a number", "a string", "a boolean", "null", "an array" or "an object": how error reasons
+ * name the JSON value they got. */
+const char *sky_json_type_name(const struct cJSON *value);
+
 /* Formats errors as one line per failure, "pointer: reason", into buf. */
 void sky_field_errors_format(const struct sky_field_errors *errors, char *buf, size_t buflen);
 
