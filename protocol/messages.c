@@ -259,12 +259,10 @@ PRINTF_LIKE(4, 5)
 static void fail(struct parser *p, enum sky_msg_error_code code, const char *pointer,
                  const char *format, ...)
 {
-    char reason[REASON_MAX];
     va_list args;
     va_start(args, format);
-    vsnprintf(reason, sizeof reason, format, args);
+    sky_field_errors_vaddf(&p->error->fields, (int)code, pointer, format, args);
     va_end(args);
-    sky_field_errors_add(&p->error->fields, code, pointer, reason);
 }
 
 /* Splits an object's members by name into found[] (index into names); reports unknown and

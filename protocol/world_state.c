@@ -10,12 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#if defined(__GNUC__)
-#define PRINTF_LIKE(format_index, first_arg) __attribute__((format(printf, format_index, first_arg)))
-#else
-#define PRINTF_LIKE(format_index, first_arg)
-#endif
-
 /* Enum fields are read and written through int lvalues. */
 _Static_assert(sizeof(enum sky_limb_darkening) == sizeof(int), "enum field size");
 _Static_assert(sizeof(enum sky_exposure_mode) == sizeof(int), "enum field size");
@@ -339,16 +333,21 @@ void sky_field_errors_add(struct sky_field_errors *errors, int code, const char 
     copy_text(item->reason, sizeof item->reason, reason ? reason : "");
 }
 
-PRINTF_LIKE(4, 5)
-static void add_error(struct sky_field_errors *errors, int code, const char *pointer,
-                      const char *format, ...)
+void sky_field_errors_vaddf(struct sky_field_errors *errors, int code, const char *pointer,
+                            const char *format, va_list args)
 {
     char reason[REASON_CAPACITY];
+    vsnprintf(reason, sizeof reason, format, args);
+    sky_field_errors_add(errors, code, pointer, reason);
+}
+
+void sky_field_errors_addf(struct sky_field_errors *errors, int code, const char *pointer,
+                           const char *format, ...)
+{
     va_list args;
     va_start(args, format);
-    vsnprintf(reason, sizeof reason, format, args);
+    sky_field_errors_vaddf(errors, code, pointer, format, args);
     va_end(args);
-    sky_field_errors_add(errors, code, pointer, reason);
 }
 
 void sky_field_errors_format(const struct sky_field_errors *errors, char *buf, size_t buflen)
@@ -391,15 +390,16 @@ static bool check_number(struct sky_field_errors *errors, const struct sky_field
     char got[NUMBER_TEXT_CAPACITY];
     format_number(value, got, sizeof got);
     if (!isfinite(value)) {
-        add_error(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "must be a finite number, got %s", got);
+        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                              "must be a finite number, got %s", got);
         return false;
     }
     if (value < field->min || value > field->max) {
         char min[NUMBER_TEXT_CAPACITY], max[NUMBER_TEXT_CAPACITY];
         format_number(field->min, min, sizeof min);
         format_number(field->max, max, sizeof max);
-        add_error(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "must be in [%s, %s], got %s", min, max,
-                  got);
+        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                              "must be in [%s, %s], got %s", min, max, got);
         return false;
     }
     return true;
@@ -414,7 +414,8 @@ static bool check_integer(struct sky_field_errors *errors, const struct sky_fiel
     if (value != (double)(int)value) {
         char got[NUMBER_TEXT_CAPACITY];
         format_number(value, got, sizeof got);
-        add_error(errors, SKY_FIELD_BAD_VALUE, pointer, "must be an integer, got %s", got);
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "must be an integer, got %s",
+                              got);
         return false;
     }
     return true;
@@ -448,8 +449,8 @@ static void apply_number(struct patch_context *context, const struct sky_field_d
                          const cJSON *value, const char *pointer)
 {
     if (!cJSON_IsNumber(value)) {
-        add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a number, got %s",
-                  sky_json_type_name(value));
+        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected a number, got %s", sky_json_type_name(value));
         return;
     }
     if (check_number(context->errors, field, value->valuedouble, pointer))
@@ -462,9 +463,9 @@ static bool check_array_length(struct patch_context *context, const cJSON *value
     int length = cJSON_GetArraySize(value);
     if (length == expected)
         return true;
-    add_error(context->errors, SKY_FIELD_BAD_VALUE, pointer,
-              "expected an array of %d %s, got %d element%s", expected, element_kind, length,
-              length == 1 ? "" : "s");
+    sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer,
+                          "expected an array of %d %s, got %d element%s", expected, element_kind,
+                          length, length == 1 ? "" : "s");
     return false;
 }
 
@@ -479,8 +480,8 @@ static void apply_rgb_array(struct patch_context *context, const struct sky_fiel
         char item_pointer[POINTER_CAPACITY];
         element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
-            add_error(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                      "expected a number, got %s", sky_json_type_name(element));
+            sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
+                                  "expected a number, got %s", sky_json_type_name(element));
         } else if (check_number(context->errors, field, element->valuedouble, item_pointer)) {
             channels[index] = element->valuedouble;
         }
@@ -498,8 +499,9 @@ static void apply_rgb(struct patch_context *context, const struct sky_field_desc
             channels[0] = channels[1] = channels[2] = value->valuedouble;
         }
     } else {
-        add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                  "expected a number or an array of 3 numbers, got %s", sky_json_type_name(value));
+        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected a number or an array of 3 numbers, got %s",
+                              sky_json_type_name(value));
     }
 }
 
@@ -508,8 +510,9 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
 {
     int expected = element_count(field->type);
     if (!cJSON_IsArray(value)) {
-        add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                  "expected an array of %d integers, got %s", expected, sky_json_type_name(value));
+        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected an array of %d integers, got %s", expected,
+                              sky_json_type_name(value));
         return;
     }
     if (!check_array_length(context, value, expected, "integers", pointer))
@@ -520,8 +523,8 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
         char item_pointer[POINTER_CAPACITY];
         element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
-            add_error(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                      "expected an integer, got %s", sky_json_type_name(element));
+            sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
+                                  "expected an integer, got %s", sky_json_type_name(element));
         } else if (check_integer(context->errors, field, element->valuedouble, item_pointer)) {
             elements[index] = (int)element->valuedouble;
         }
@@ -543,14 +546,14 @@ static void apply_enum(struct patch_context *context, const struct sky_field_des
     char names[REASON_CAPACITY];
     list_enum_names(field, names, sizeof names);
     if (!cJSON_IsString(value)) {
-        add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer, "expected one of: %s, got %s",
-                  names, sky_json_type_name(value));
+        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected one of: %s, got %s", names, sky_json_type_name(value));
         return;
     }
     int found = find_enum_value(field, value->valuestring);
     if (found < 0) {
-        add_error(context->errors, SKY_FIELD_BAD_VALUE, pointer, "expected one of: %s, got \"%s\"",
-                  names, value->valuestring);
+        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer,
+                              "expected one of: %s, got \"%s\"", names, value->valuestring);
         return;
     }
     *(int *)field_address(context->target, field) = found;
@@ -596,8 +599,8 @@ static void report_unknown_member(struct patch_context *context, const char *pre
 {
     char children[REASON_CAPACITY];
     list_children(prefix, children, sizeof children);
-    add_error(context->errors, SKY_FIELD_UNKNOWN, pointer, "unknown field; expected one of: %s",
-              children);
+    sky_field_errors_addf(context->errors, SKY_FIELD_UNKNOWN, pointer,
+                          "unknown field; expected one of: %s", children);
 }
 
 static void apply_object(struct patch_context *context, const cJSON *object, const char *prefix,
@@ -612,7 +615,7 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
     pointer_append(pointer, sizeof pointer, name);
 
     if (prefix[0] == '\0' && strcmp(name, "revision") == 0) {
-        add_error(context->errors, SKY_FIELD_BAD_VALUE, pointer, "read-only");
+        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "read-only");
         return;
     }
     char dotted[DOTTED_PATH_CAPACITY];
@@ -628,8 +631,8 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
     } else if (cJSON_IsObject(member)) {
         apply_object(context, member, dotted, pointer);
     } else {
-        add_error(context->errors, SKY_FIELD_WRONG_TYPE, pointer, "expected an object, got %s",
-                  sky_json_type_name(member));
+        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected an object, got %s", sky_json_type_name(member));
     }
 }
 
@@ -674,8 +677,8 @@ static void check_stored_field(const struct sky_world_state *state,
         if (value < 0 || value >= field->enum_count) {
             char names[REASON_CAPACITY];
             list_enum_names(field, names, sizeof names);
-            add_error(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "must be one of: %s, got %d",
-                      names, value);
+            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                                  "must be one of: %s, got %d", names, value);
         }
         break;
     }
@@ -694,14 +697,15 @@ static void check_consistency(const struct sky_world_state *state,
     format_number(bottom, bottom_text, sizeof bottom_text);
     format_number(top, top_text, sizeof top_text);
     if (top <= bottom) {
-        add_error(errors, SKY_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
-                  "must be greater than bottom_radius_km (%s), got %s", bottom_text, top_text);
+        sky_field_errors_addf(errors, SKY_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
+                              "must be greater than bottom_radius_km (%s), got %s", bottom_text,
+                              top_text);
     } else if (top - bottom > MAX_ATMOSPHERE_THICKNESS_KM) {
         format_number(MAX_ATMOSPHERE_THICKNESS_KM, limit_text, sizeof limit_text);
         format_number(top - bottom, thickness_text, sizeof thickness_text);
-        add_error(errors, SKY_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
-                  "must be at most %s km above bottom_radius_km (%s), got %s km above",
-                  limit_text, bottom_text, thickness_text);
+        sky_field_errors_addf(errors, SKY_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
+                              "must be at most %s km above bottom_radius_km (%s), got %s km above",
+                              limit_text, bottom_text, thickness_text);
     }
 }
 
@@ -719,7 +723,7 @@ bool sky_world_state_validate(const struct sky_world_state *state, struct sky_fi
         errors = &scratch;
     sky_field_errors_clear(errors);
     if (!state) {
-        add_error(errors, SKY_FIELD_BAD_VALUE, "", "no state");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "no state");
         return false;
     }
     validate_into(state, errors);
@@ -796,12 +800,12 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
         errors = &scratch;
     sky_field_errors_clear(errors);
     if (!state) {
-        add_error(errors, SKY_FIELD_BAD_VALUE, "", "no state");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "no state");
         return false;
     }
     if (!cJSON_IsObject(patch)) {
-        add_error(errors, SKY_FIELD_WRONG_TYPE, "", "expected a JSON object, got %s",
-                  patch ? sky_json_type_name(patch) : "nothing");
+        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, "", "expected a JSON object, got %s",
+                              patch ? sky_json_type_name(patch) : "nothing");
         return false;
     }
     /* memcpy rather than assignment keeps padding bytes identical, so callers can memcmp. */
@@ -863,30 +867,31 @@ static cJSON *parse_value_text(const struct sky_field_desc *field, const char *v
 {
     char *text = copy_trimmed(value_text);
     if (!text) {
-        add_error(errors, SKY_FIELD_BAD_VALUE, pointer, "out of memory");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "out of memory");
         return NULL;
     }
     cJSON *value = NULL;
     double number;
     int errors_before = errors->total;
     if (text[0] == '\0') {
-        add_error(errors, SKY_FIELD_BAD_VALUE, pointer, "empty value");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "empty value");
     } else if (text[0] == '[' || text[0] == '"') {
         const char *end = NULL;
         value = cJSON_ParseWithOpts(text, &end, true);
         if (!value)
-            add_error(errors, SKY_FIELD_BAD_VALUE, pointer, "invalid JSON at character %d of %s",
-                      end ? (int)(end - text) + 1 : 1, text);
+            sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer,
+                                  "invalid JSON at character %d of %s",
+                                  end ? (int)(end - text) + 1 : 1, text);
     } else if (parse_whole_number(text, &number)) {
         value = new_json_number(number);
     } else if (!field || field->type == SKY_FIELD_TYPE_ENUM) {
         value = cJSON_CreateString(text);
     } else {
-        add_error(errors, SKY_FIELD_BAD_VALUE, pointer, "expected %s, got \"%s\"",
-                  expected_value_text(field), text);
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "expected %s, got \"%s\"",
+                              expected_value_text(field), text);
     }
     if (!value && errors->total == errors_before)
-        add_error(errors, SKY_FIELD_BAD_VALUE, pointer, "out of memory");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "out of memory");
     free(text);
     return value;
 }
@@ -931,7 +936,7 @@ bool sky_world_state_set_path(struct sky_world_state *state, const char *path,
         errors = &scratch;
     sky_field_errors_clear(errors);
     if (!path || !value_text) {
-        add_error(errors, SKY_FIELD_BAD_VALUE, "", "missing path or value");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "missing path or value");
         return false;
     }
     char pointer[POINTER_CAPACITY];
@@ -939,8 +944,8 @@ bool sky_world_state_set_path(struct sky_world_state *state, const char *path,
     if (is_group(path)) {
         char children[REASON_CAPACITY];
         list_children(path, children, sizeof children);
-        add_error(errors, SKY_FIELD_UNKNOWN, pointer, "%s is a group, not a field; set one of: %s",
-                  path, children);
+        sky_field_errors_addf(errors, SKY_FIELD_UNKNOWN, pointer,
+                              "%s is a group, not a field; set one of: %s", path, children);
         return false;
     }
     const struct sky_field_desc *field = sky_world_state_find_field(path);
@@ -949,7 +954,7 @@ bool sky_world_state_set_path(struct sky_world_state *state, const char *path,
         return false;
     cJSON *patch = build_patch(path, value);
     if (!patch) {
-        add_error(errors, SKY_FIELD_BAD_VALUE, pointer, "out of memory");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "out of memory");
         return false;
     }
     bool applied = sky_world_state_apply_json(state, patch, errors);
@@ -963,15 +968,16 @@ bool sky_world_state_set_assignment(struct sky_world_state *state, const char *a
     const char *equals = assignment ? strchr(assignment, '=') : NULL;
     if (!equals) {
         sky_field_errors_clear(errors);
-        add_error(errors, SKY_FIELD_BAD_VALUE, "", "expected dotted.path=value, got \"%s\"",
-                  assignment ? assignment : "");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "",
+                              "expected dotted.path=value, got \"%s\"",
+                              assignment ? assignment : "");
         return false;
     }
     size_t length = (size_t)(equals - assignment);
     char *raw_path = malloc(length + 1);
     if (!raw_path) {
         sky_field_errors_clear(errors);
-        add_error(errors, SKY_FIELD_BAD_VALUE, "", "out of memory");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "out of memory");
         return false;
     }
     memcpy(raw_path, assignment, length);
@@ -980,7 +986,7 @@ bool sky_world_state_set_assignment(struct sky_world_state *state, const char *a
     free(raw_path);
     if (!path) {
         sky_field_errors_clear(errors);
-        add_error(errors, SKY_FIELD_BAD_VALUE, "", "out of memory");
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "out of memory");
         return false;
     }
     bool applied = sky_world_state_set_path(state, path, equals + 1, errors);

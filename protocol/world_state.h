@@ -8,6 +8,7 @@
 #ifndef SKYD_WORLD_STATE_H
 #define SKYD_WORLD_STATE_H
 
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -151,6 +152,15 @@ void sky_field_errors_clear(struct sky_field_errors *errors);
  * truncated. */
 void sky_field_errors_add(struct sky_field_errors *errors, int code, const char *pointer,
                           const char *reason);
+
+/* The same with a printf-style reason; the va_list form is for wrappers. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 4, 5)))
+#endif
+void sky_field_errors_addf(struct sky_field_errors *errors, int code, const char *pointer,
+                           const char *format, ...);
+void sky_field_errors_vaddf(struct sky_field_errors *errors, int code, const char *pointer,
+                            const char *format, va_list args);
 
 /* The schema: one descriptor per leaf field. It drives validation, patching, --set,
  * serialization, and the protocol's `set` message and its documentation. */

@@ -2,7 +2,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -64,24 +63,6 @@ void skyd_config_defaults(struct skyd_config *c)
     snprintf(c->allowed_origins[1], sizeof c->allowed_origins[1], "http://localhost:8080");
 }
 
-static void add_error(struct sky_field_errors *errors, int code, const char *pointer,
-                      const char *fmt, ...) __attribute__((format(printf, 4, 5)));
-
-static void add_error(struct sky_field_errors *errors, int code, const char *pointer,
-                      const char *fmt, ...)
-{
-    errors->total++;
-    if (errors->count >= SKY_MAX_FIELD_ERRORS)
-        return;
-    struct sky_field_error *e = &errors->items[errors->count++];
-    e->code = code;
-    snprintf(e->pointer, sizeof e->pointer, "%s", pointer);
-    va_list args;
-    va_start(args, fmt);
-    vsnprintf(e->reason, sizeof e->reason, fmt, args);
-    va_end(args);
-}
-
 static const struct config_field *find_field(const char *pointer)
 {
     for (size_t i = 0; i < FIELD_COUNT; i++)
@@ -104,13 +85,14 @@ static void apply_origins(struct skyd_config *c, const cJSON *value, const char 
                           struct sky_field_errors *errors)
 {
     if (!cJSON_IsArray(value)) {
-        add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected an array of strings");
+        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected an array of strings");
         return;
     }
     int n = cJSON_GetArraySize(value);
     if (n > SKYD_CONFIG_MAX_ORIGINS) {
-        add_error(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "at most %d origins, got %d",
-                  SKYD_CONFIG_MAX_ORIGINS, n);
+        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "at most %d origins, got %d",
+                              SKYD_CONFIG_MAX_ORIGINS, n);
         return;
     }
     int i = 0;
@@ -118,9 +100,9 @@ static void apply_origins(struct skyd_config *c, const cJSON *value, const char 
         char item_pointer[176];
         snprintf(item_pointer, sizeof item_pointer, "%s/%d", pointer, i);
         if (!cJSON_IsString(item) || strlen(item->valuestring) >= sizeof c->allowed_origins[0])
-            add_error(errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                      "expected a string of at most %zu characters",
-                      sizeof c->allowed_origins[0] - 1);
+            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, item_pointer,
+                                  "expected a string of at most %zu characters",
+                                  sizeof c->allowed_origins[0] - 1);
         else
             snprintf(c->allowed_origins[i], sizeof c->allowed_origins[i], "%s", item->valuestring);
     }
@@ -134,31 +116,32 @@ static void apply_leaf(struct skyd_config *c, const struct config_field *f, cons
     switch (f->type) {
     case CFG_STRING:
         if (!cJSON_IsString(value))
-            add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a string");
+            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a string");
         else if (strlen(value->valuestring) >= f->capacity)
-            add_error(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "longer than %zu characters",
-                      f->capacity - 1);
+            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                                  "longer than %zu characters", f->capacity - 1);
         else
             snprintf(base + f->offset, f->capacity, "%s", value->valuestring);
         break;
     case CFG_BOOL:
         if (!cJSON_IsBool(value))
-            add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected true or false");
+            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected true or false");
         else
             *(bool *)(base + f->offset) = cJSON_IsTrue(value);
         break;
     case CFG_INT:
     case CFG_NUMBER: {
         if (!cJSON_IsNumber(value)) {
-            add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a number");
+            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a number");
             break;
         }
         double v = value->valuedouble;
         if (!isfinite(v) || v < f->min || v > f->max) {
-            add_error(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "must be in [%g, %g], got %g",
-                      f->min, f->max, v);
+            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                                  "must be in [%g, %g], got %g", f->min, f->max, v);
         } else if (f->type == CFG_INT && v != floor(v)) {
-            add_error(errors, SKY_FIELD_BAD_VALUE, pointer, "must be a whole number, got %g", v);
+            sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer,
+                                  "must be a whole number, got %g", v);
         } else if (f->type == CFG_INT) {
             *(int *)(base + f->offset) = (int)v;
         } else {
@@ -184,9 +167,9 @@ static void apply_object(struct skyd_config *c, const cJSON *object, const char 
         else if (is_group(pointer) && cJSON_IsObject(member))
             apply_object(c, member, pointer, errors);
         else if (is_group(pointer))
-            add_error(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected an object");
+            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected an object");
         else
-            add_error(errors, SKY_FIELD_UNKNOWN, pointer, "unknown field");
+            sky_field_errors_addf(errors, SKY_FIELD_UNKNOWN, pointer, "unknown field");
     }
 }
 
@@ -229,7 +212,8 @@ bool skyd_config_load(const char *path, struct skyd_config *config,
     struct skyd_config candidate;
     skyd_config_defaults(&candidate);
     if (!cJSON_IsObject(root))
-        add_error(errors, SKY_FIELD_WRONG_TYPE, "", "the configuration must be a JSON object");
+        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, "",
+                              "the configuration must be a JSON object");
     else
         apply_object(&candidate, root, "", errors);
     cJSON_Delete(root);
