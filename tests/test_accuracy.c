@@ -301,9 +301,7 @@ static void test_aerial_perspective(const struct sky_render_atmosphere *atm,
 int main(void)
 {
     unsigned validation_messages = 0;
-    struct sky_renderer_params params = { .validation = test_validation_requested(),
-                                          .validation_message_counter = &validation_messages };
-    renderer = sky_renderer_create(&params);
+    renderer = test_renderer_create(&validation_messages);
     CHECK(renderer != NULL);
     if (!renderer)
         return check_summary();

@@ -17,57 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- checks ----------------------------------------------------------------------------- */
-
-static int checks_passed, checks_failed;
-static const char *current_case = "";
-
-static bool record(bool ok, const char *file, int line)
-{
-    if (ok) {
-        checks_passed++;
-        return true;
-    }
-    checks_failed++;
-    printf("%s:%d: [%s] ", file, line, current_case);
-    return false;
-}
-
-static void check_true(bool ok, const char *expression, const char *file, int line)
-{
-    if (!record(ok, file, line))
-        printf("CHECK(%s) failed\n", expression);
-}
-
-static void check_int(long long actual, long long expected, const char *actual_text,
-                      const char *expected_text, const char *file, int line)
-{
-    if (!record(actual == expected, file, line))
-        printf("CHECK_INT(%s, %s) failed: %lld != %lld\n", actual_text, expected_text, actual,
-               expected);
-}
-
-static void check_double(double actual, double expected, const char *actual_text,
-                         const char *expected_text, const char *file, int line)
-{
-    if (!record(actual == expected, file, line))
-        printf("CHECK_DOUBLE(%s, %s) failed: %.17g != %.17g\n", actual_text, expected_text,
-               actual, expected);
-}
-
-static void check_str(const char *actual, const char *expected, const char *actual_text,
-                      const char *expected_text, const char *file, int line)
-{
-    bool ok = actual && expected && strcmp(actual, expected) == 0;
-    if (!record(ok, file, line))
-        printf("CHECK_STR(%s, %s) failed: \"%s\" != \"%s\"\n", actual_text, expected_text,
-               actual ? actual : "(null)", expected ? expected : "(null)");
-}
-
-#define CHECK(cond) check_true((cond), #cond, __FILE__, __LINE__)
-#define CHECK_INT(a, b) check_int((long long)(a), (long long)(b), #a, #b, __FILE__, __LINE__)
-#define CHECK_DOUBLE(a, b) check_double((a), (b), #a, #b, __FILE__, __LINE__)
-#define CHECK_STR(a, b) check_str((a), (b), #a, #b, __FILE__, __LINE__)
+#include "check_cases.h"
 
 #define COUNT_OF(array) (sizeof(array) / sizeof((array)[0]))
 

@@ -298,9 +298,7 @@ int main(int argc, char **argv)
     if (argc > 1)
         out_dir = argv[1];
     unsigned validation_messages = 0;
-    struct sky_renderer_params params = { .validation = test_validation_requested(),
-                                          .validation_message_counter = &validation_messages };
-    renderer = sky_renderer_create(&params);
+    renderer = test_renderer_create(&validation_messages);
     CHECK(renderer != NULL);
     if (!renderer)
         return check_summary();

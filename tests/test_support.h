@@ -17,6 +17,15 @@ static inline bool test_validation_requested(void)
     return !(v && strcmp(v, "0") == 0);
 }
 
+/* A renderer with validation as requested, counting its messages into *validation_messages
+ * through its destruction (check it after sky_renderer_destroy). */
+static inline struct sky_renderer *test_renderer_create(unsigned *validation_messages)
+{
+    struct sky_renderer_params params = { .validation = test_validation_requested(),
+                                          .validation_message_counter = validation_messages };
+    return sky_renderer_create(&params);
+}
+
 static inline void test_earth_atmosphere(struct sky_render_atmosphere *out)
 {
     struct sky_world_state state;
