@@ -23,6 +23,7 @@ struct sky_renderer {
     struct sky_render_lut_sizes sizes;
     struct sky_render_atmosphere atmosphere; /* what the atmosphere LUTs were built from */
     bool atmosphere_built;
+    double zenith_transmittance[3];          /* of that atmosphere, for the sun's photometry */
 };
 
 static const struct sky_render_lut_sizes default_sizes = {
@@ -147,6 +148,7 @@ static bool record_atmosphere_if_changed(struct sky_renderer *r, VkCommandBuffer
     sky_uniforms_fill_atmosphere(a, &u);
     sky_passes_upload_atmosphere(r->passes, &u);
     sky_passes_record_atmosphere(r->passes, cmd, r->timer);
+    sky_zenith_transmittance(a, r->zenith_transmittance);
     r->atmosphere = *a;
     r->atmosphere_built = true;
     return true;
@@ -184,12 +186,12 @@ static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_
                                 const struct sky_render_view *v, bool want_view_luts,
                                 VkCommandBuffer *cmd, bool *from_space, bool *rebuilt)
 {
-    struct sky_frame_uniforms fu;
-    sky_uniforms_fill_frame(a, v, &fu);
     if (vk_context_begin_commands(r->ctx, cmd) != VK_SUCCESS)
         return false;
     gpu_timer_begin(r->timer, *cmd);
     *rebuilt = record_atmosphere_if_changed(r, *cmd, a);
+    struct sky_frame_uniforms fu;
+    sky_uniforms_fill_frame(a, v, r->zenith_transmittance, &fu);
     sky_passes_upload_frame(r->passes, &fu);
     *from_space = !camera_in_atmosphere(a, v);
     if (want_view_luts && !*from_space)

@@ -113,7 +113,8 @@ bool sky_uniforms_sun_rect(const struct sky_render_view *v, int32_t rect[4])
 }
 
 void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
-                                const struct sky_render_view *v, struct sky_frame_uniforms *u)
+                             const struct sky_render_view *v, const double zenith_transmittance[3],
+                             struct sky_frame_uniforms *u)
 {
     memset(u, 0, sizeof *u);
     double altitude = v->camera_altitude_km;
@@ -129,8 +130,10 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
     double radius = 0.5 * v->sun_angular_diameter_deg * DEG;
     u->sun_direction = V4(sun[0], sun[1], sun[2], cos(radius));
+    /* Extraterrestrial illuminance E_top = E_zenith / T_zenith (seed 001 section 4.1). */
     double e_top[3];
-    sky_sun_illuminance_top(a, v->sun_illuminance_lux, e_top);
+    for (int c = 0; c < 3; c++)
+        e_top[c] = v->sun_illuminance_lux / fmax(zenith_transmittance[c], 1e-30);
     u->sun_illuminance = V4(e_top[0], e_top[1], e_top[2], v->limb_darkening);
     u->sun_disk = V4(sky_disk_solid_angle(v->sun_angular_diameter_deg), sin(radius), 0, 0);
     u->exposure = V4(sky_ev100_to_exposure(v->ev100), v->auto_exposure ? 1 : 0,

@@ -11,8 +11,11 @@
 
 void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
                                   struct sky_atmosphere_uniforms *u);
+/* zenith_transmittance: sky_zenith_transmittance() of the same atmosphere; it depends on the
+ * atmosphere alone, so callers compute it once per atmosphere rather than per frame. */
 void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
-                             const struct sky_render_view *v, struct sky_frame_uniforms *u);
+                             const struct sky_render_view *v, const double zenith_transmittance[3],
+                             struct sky_frame_uniforms *u);
 
 /* The sun disk's bounding box in pixels (x0, y0, width, height) with a margin, clipped to the
  * image; false when the sun is not on screen. */

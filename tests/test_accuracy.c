@@ -246,7 +246,9 @@ static void test_aerial_perspective(const struct sky_render_atmosphere *atm,
         return;
     }
     struct sky_frame_uniforms fu;
-    sky_uniforms_fill_frame(atm, &view, &fu);
+    double zenith_t[3];
+    sky_zenith_transmittance(atm, zenith_t);
+    sky_uniforms_fill_frame(atm, &view, zenith_t, &fu);
     double e_top[3], sun[3];
     sky_sun_illuminance_top(atm, view.sun_illuminance_lux, e_top);
     direction(90.0 - state.sun.elevation_deg, state.sun.azimuth_deg, sun);
