@@ -1,17 +1,12 @@
 /* skyd probe: physical quantities as one line of JSON, through the renderer's own LUTs and
  * shading (the same code path as frames). */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli_args.h"
 #include "commands.h"
-#include "illuminance.h"
-#include "world_render.h"
-
-#define PI 3.14159265358979323846
-#define DEG (PI / 180.0)
+#include "probe_query.h"
 
 enum probe_kind { PROBE_TRANSMITTANCE, PROBE_LUMINANCE, PROBE_ILLUMINANCE };
 
@@ -93,60 +88,29 @@ static bool check_required(const struct probe_args *a)
     return false;
 }
 
-static void local_direction(double zenith_deg, double azimuth_deg, double out[3])
+/* Runs the query and prints exactly the members `skyd probe` promises. */
+static int run_probe(struct sky_renderer *r, const struct cli_common *c, const struct probe_args *a)
 {
-    double z = zenith_deg * DEG, az = azimuth_deg * DEG;
-    out[0] = sin(az) * sin(z);
-    out[1] = cos(az) * sin(z);
-    out[2] = cos(z);
-}
-
-static int probe_transmittance(struct sky_renderer *r, const struct cli_common *c,
-                               const struct probe_args *a)
-{
-    struct sky_render_atmosphere atm;
-    world_to_render_atmosphere(&c->state, &atm);
-    double t[1][3];
-    if (sky_renderer_probe_transmittance(r, &atm, &a->altitude_km, &a->mu, 1, t) != 0)
+    static const enum sky_probe_quantity quantities[] = {
+        [PROBE_TRANSMITTANCE] = SKY_PROBE_TRANSMITTANCE,
+        [PROBE_LUMINANCE] = SKY_PROBE_LUMINANCE,
+        [PROBE_ILLUMINANCE] = SKY_PROBE_ILLUMINANCE,
+    };
+    struct sky_msg_probe query = { .quantity = quantities[a->kind],
+                                   .altitude_km = a->altitude_km,
+                                   .mu = a->mu,
+                                   .view_zenith_deg = a->view_zenith_deg,
+                                   .view_azimuth_deg = a->view_azimuth_deg,
+                                   .sun_zenith_deg = a->sun_zenith_deg };
+    struct sky_msg_probe_result result;
+    if (probe_query_run(r, &c->state, &query, &result) != 0)
         return SKYD_EXIT_FAILURE;
-    printf("{\"transmittance\":[%.9g,%.9g,%.9g]}\n", t[0][0], t[0][1], t[0][2]);
-    return SKYD_EXIT_OK;
-}
-
-static void view_with_sun_zenith(const struct cli_common *c, double altitude_km,
-                                 double sun_zenith_deg, struct sky_render_view *view)
-{
-    world_to_render_view(&c->state, 1, 1, SKY_RENDER_OUTPUT_LINEAR, view);
-    view->camera_altitude_km = altitude_km;
-    view->sun_elevation_deg = 90.0 - sun_zenith_deg;
-}
-
-static int probe_luminance(struct sky_renderer *r, const struct cli_common *c,
-                           const struct probe_args *a)
-{
-    struct sky_render_atmosphere atm;
-    struct sky_render_view view;
-    world_to_render_atmosphere(&c->state, &atm);
-    view_with_sun_zenith(c, a->altitude_km, a->sun_zenith_deg, &view);
-    double dir[1][3], L[1][3];
-    local_direction(a->view_zenith_deg, view.sun_azimuth_deg + a->view_azimuth_deg, dir[0]);
-    if (sky_renderer_probe_luminance(r, &atm, &view, (const double (*)[3])dir, 1, true, L) != 0)
-        return SKYD_EXIT_FAILURE;
-    printf("{\"luminance\":[%.9g,%.9g,%.9g]}\n", L[0][0], L[0][1], L[0][2]);
-    return SKYD_EXIT_OK;
-}
-
-static int probe_illuminance(struct sky_renderer *r, const struct cli_common *c,
-                             const struct probe_args *a)
-{
-    struct sky_render_atmosphere atm;
-    struct sky_render_view view;
-    world_to_render_atmosphere(&c->state, &atm);
-    world_to_render_view(&c->state, 1, 1, SKY_RENDER_OUTPUT_LINEAR, &view);
-    double sun_lux, sky_lux;
-    if (sky_ground_illuminance(r, &atm, &view, a->sun_zenith_deg, &sun_lux, &sky_lux) != 0)
-        return SKYD_EXIT_FAILURE;
-    printf("{\"sun_lux\":%.6g,\"sky_lux\":%.6g}\n", sun_lux, sky_lux);
+    if (a->kind == PROBE_ILLUMINANCE)
+        printf("{\"sun_lux\":%.6g,\"sky_lux\":%.6g}\n", result.sun_lux, result.sky_lux);
+    else
+        printf("{\"%s\":[%.9g,%.9g,%.9g]}\n",
+               a->kind == PROBE_TRANSMITTANCE ? "transmittance" : "luminance", result.rgb[0],
+               result.rgb[1], result.rgb[2]);
     return SKYD_EXIT_OK;
 }
 
@@ -187,11 +151,6 @@ int skyd_cmd_probe(int argc, char **argv)
     struct sky_renderer *renderer = cli_create_renderer(&common);
     if (!renderer)
         return SKYD_EXIT_FAILURE;
-    int status;
-    switch (a.kind) {
-    case PROBE_TRANSMITTANCE: status = probe_transmittance(renderer, &common, &a); break;
-    case PROBE_LUMINANCE: status = probe_luminance(renderer, &common, &a); break;
-    default: status = probe_illuminance(renderer, &common, &a); break;
-    }
+    int status = run_probe(renderer, &common, &a);
     return cli_finish(&common, &renderer, status);
 }

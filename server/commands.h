@@ -2,6 +2,7 @@
 #ifndef SKYD_COMMANDS_H
 #define SKYD_COMMANDS_H
 
+int skyd_cmd_serve(int argc, char **argv);
 int skyd_cmd_render(int argc, char **argv);
 int skyd_cmd_probe(int argc, char **argv);
 

@@ -30,9 +30,13 @@ struct config_field {
 static const struct config_field fields[] = {
     FIELD_STRING("/listen/address", listen_address),
     FIELD_INT("/listen/port", listen_port, 0, 65535),
+    FIELD_STRING("/listen/tls_certificate", tls_certificate),
+    FIELD_STRING("/listen/tls_private_key", tls_private_key),
     FIELD_STRING("/web_root", web_root),
     FIELD_STRING("/state_file", state_file),
     FIELD_STRING("/render/device", render_device),
+    FIELD_INT("/render/encoder_threads", encoder_threads, 1, 64),
+    FIELD_NUMBER("/state_save_delay_s", state_save_delay_s, 0, 3600),
     { "/render/validation", CFG_BOOL, offsetof(struct skyd_config, render_validation), 0, 0, 0 },
     FIELD_INT("/limits/max_message_bytes", max_message_bytes, 256, 16 << 20),
     FIELD_INT("/limits/max_clients", max_clients, 1, 4096),
@@ -52,6 +56,8 @@ void skyd_config_defaults(struct skyd_config *c)
     c->listen_port = 8080;
     snprintf(c->web_root, sizeof c->web_root, "clients/web");
     snprintf(c->state_file, sizeof c->state_file, "var/skyd-state.json");
+    c->encoder_threads = 2;
+    c->state_save_delay_s = 1.0;
     c->max_message_bytes = 65536;
     c->max_clients = 64;
     c->max_width = 3840;

@@ -15,9 +15,15 @@
 struct skyd_config {
     char listen_address[64];       /* "127.0.0.1" */
     int listen_port;               /* 8080; 0 asks the kernel for a free port */
-    char web_root[SKYD_CONFIG_STRING];   /* "clients/web", relative to the config file's tree */
+    /* TLS: both set = https/wss on the same port; both empty = plain http/ws. PEM files. */
+    char tls_certificate[SKYD_CONFIG_STRING];
+    char tls_private_key[SKYD_CONFIG_STRING];
+    /* Relative paths resolve against the working directory skyd starts in. */
+    char web_root[SKYD_CONFIG_STRING];   /* "clients/web" */
     char state_file[SKYD_CONFIG_STRING]; /* "var/skyd-state.json" */
+    double state_save_delay_s;     /* 1: the state is written this long after the last change */
     char render_device[64];        /* "" = automatic (a GPU when present, else lavapipe) */
+    int encoder_threads;           /* 2: PNG encoder workers */
     bool render_validation;
     int max_message_bytes;         /* 65536 */
     int max_clients;               /* 64 */

@@ -7,8 +7,9 @@
 static void usage(FILE *out)
 {
     fprintf(out,
-            "skyd %s - physically based sky renderer\n"
-            "usage: skyd <command> [options]\n"
+            "skyd %s - physically based sky and weather simulator service\n"
+            "usage: skyd [<command>] [options]\n"
+            "  serve    the daemon (the default)       (skyd serve --help)\n"
             "  render   render one frame to a PNG      (skyd render --help)\n"
             "  probe    print physical quantities      (skyd probe --help)\n"
             "  version  print the version\n",
@@ -17,11 +18,16 @@ static void usage(FILE *out)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
-        strcmp(argv[1], "help") == 0) {
-        usage(argc < 2 ? stderr : stdout);
-        return argc < 2 ? SKYD_EXIT_USAGE : SKYD_EXIT_OK;
+    if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+                      strcmp(argv[1], "help") == 0)) {
+        usage(stdout);
+        return SKYD_EXIT_OK;
     }
+    /* No command, or options straight away: the daemon. */
+    if (argc < 2 || argv[1][0] == '-')
+        return skyd_cmd_serve(argc - 1, argv + 1);
+    if (strcmp(argv[1], "serve") == 0)
+        return skyd_cmd_serve(argc - 2, argv + 2);
     if (strcmp(argv[1], "render") == 0)
         return skyd_cmd_render(argc - 2, argv + 2);
     if (strcmp(argv[1], "probe") == 0)

@@ -1,0 +1,176 @@
+#include "encoder_pool.h"
+
+#include <pthread.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "png_write.h"
+
+struct queued_job {
+    struct queued_job *next;
+    struct encode_job job;
+};
+
+struct encoder_pool {
+    pthread_mutex_t lock;
+    pthread_cond_t work;
+    struct queued_job *head, *tail;
+    int queued, running;
+    bool stopping;
+    double last_ms;
+    struct session_hub *hub;
+    void (*done)(void *user);
+    void *done_user;
+    int thread_count;
+    pthread_t threads[];
+};
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+static void deliver(struct encode_job *job, struct encoded_frame *frame)
+{
+    for (size_t i = 0; i < job->target_count; i++) {
+        struct encode_target *t = &job->targets[i];
+        if (t->subscription)
+            session_slot_deliver(t->session, t->subscription, frame);
+        else
+            session_snapshot_deliver(t->session, &t->snapshot_id, frame);
+        session_unref(&t->session);
+    }
+    free(job->targets);
+    free(job->rgba);
+    job->targets = NULL;
+    job->rgba = NULL;
+}
+
+static void run_job(struct encoder_pool *pool, struct encode_job *job)
+{
+    double start = now_ms();
+    uint8_t *png = NULL;
+    size_t png_length = 0;
+    struct encoded_frame *frame = NULL;
+    if (png_encode_rgba8(job->rgba, job->meta.width, job->meta.height, &png, &png_length) == 0)
+        frame = encoded_frame_create(&job->meta, png, png_length);
+    free(png);
+    deliver(job, frame);
+    encoded_frame_unref(&frame);
+    pthread_mutex_lock(&pool->lock);
+    pool->last_ms = now_ms() - start;
+    pthread_mutex_unlock(&pool->lock);
+}
+
+static void *worker(void *arg)
+{
+    struct encoder_pool *pool = arg;
+    pthread_mutex_lock(&pool->lock);
+    for (;;) {
+        while (!pool->head && !pool->stopping)
+            pthread_cond_wait(&pool->work, &pool->lock);
+        if (pool->stopping)
+            break;
+        struct queued_job *q = pool->head;
+        pool->head = q->next;
+        if (!pool->head)
+            pool->tail = NULL;
+        pool->queued--;
+        pool->running++;
+        pthread_mutex_unlock(&pool->lock);
+        run_job(pool, &q->job);
+        free(q);
+        session_hub_wake(pool->hub);
+        pthread_mutex_lock(&pool->lock);
+        pool->running--;
+        pthread_mutex_unlock(&pool->lock);
+        pool->done(pool->done_user);
+        pthread_mutex_lock(&pool->lock);
+    }
+    pthread_mutex_unlock(&pool->lock);
+    return NULL;
+}
+
+struct encoder_pool *encoder_pool_create(int threads, struct session_hub *hub,
+                                         void (*done)(void *user), void *user)
+{
+    struct encoder_pool *pool = calloc(1, sizeof *pool + sizeof(pthread_t) * (size_t)threads);
+    if (!pool)
+        return NULL;
+    pthread_mutex_init(&pool->lock, NULL);
+    pthread_cond_init(&pool->work, NULL);
+    pool->hub = hub;
+    pool->done = done;
+    pool->done_user = user;
+    for (int i = 0; i < threads; i++) {
+        if (pthread_create(&pool->threads[i], NULL, worker, pool) != 0)
+            break;
+        pool->thread_count++;
+    }
+    if (pool->thread_count == 0) {
+        encoder_pool_destroy(&pool);
+        return NULL;
+    }
+    return pool;
+}
+
+void encoder_pool_destroy(struct encoder_pool **pool_ptr)
+{
+    struct encoder_pool *pool = *pool_ptr;
+    *pool_ptr = NULL;
+    if (!pool)
+        return;
+    pthread_mutex_lock(&pool->lock);
+    pool->stopping = true;
+    pthread_cond_broadcast(&pool->work);
+    pthread_mutex_unlock(&pool->lock);
+    for (int i = 0; i < pool->thread_count; i++)
+        pthread_join(pool->threads[i], NULL);
+    while (pool->head) {
+        struct queued_job *q = pool->head;
+        pool->head = q->next;
+        deliver(&q->job, NULL);
+        free(q);
+    }
+    pthread_cond_destroy(&pool->work);
+    pthread_mutex_destroy(&pool->lock);
+    free(pool);
+}
+
+void encoder_pool_submit(struct encoder_pool *pool, struct encode_job *job)
+{
+    struct queued_job *q = calloc(1, sizeof *q);
+    if (!q) {
+        deliver(job, NULL);
+        return;
+    }
+    q->job = *job;
+    pthread_mutex_lock(&pool->lock);
+    if (pool->tail)
+        pool->tail->next = q;
+    else
+        pool->head = q;
+    pool->tail = q;
+    pool->queued++;
+    pthread_cond_signal(&pool->work);
+    pthread_mutex_unlock(&pool->lock);
+}
+
+int encoder_pool_backlog(struct encoder_pool *pool)
+{
+    pthread_mutex_lock(&pool->lock);
+    int n = pool->queued + pool->running;
+    pthread_mutex_unlock(&pool->lock);
+    return n;
+}
+
+double encoder_pool_last_ms(struct encoder_pool *pool)
+{
+    pthread_mutex_lock(&pool->lock);
+    double ms = pool->last_ms;
+    pthread_mutex_unlock(&pool->lock);
+    return ms;
+}

@@ -1,0 +1,43 @@
+/* PNG encoder workers: turn rendered RGBA8 frames into encoded frames off the render thread
+ * and hand each to the sessions that asked for it (subscription slots and snapshots). */
+#ifndef SKYD_ENCODER_POOL_H
+#define SKYD_ENCODER_POOL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "encoded_frame.h"
+#include "messages.h"
+#include "session.h"
+
+struct encode_target {
+    struct session *session;  /* a reference, released by the pool */
+    uint64_t subscription;    /* >= 1; 0 for a snapshot */
+    struct sky_msg_id snapshot_id;
+};
+
+struct encode_job {
+    uint8_t *rgba; /* width * height * 4 bytes, owned by the job */
+    struct encoded_frame_meta meta;
+    struct encode_target *targets; /* owned by the job */
+    size_t target_count;
+};
+
+struct encoder_pool;
+
+/* done(user) is called from a worker after each job (the render thread waits on it to start
+ * the next frame of a busy subscription). */
+struct encoder_pool *encoder_pool_create(int threads, struct session_hub *hub,
+                                         void (*done)(void *user), void *user);
+/* Stops the workers; jobs not started are delivered as failures. */
+void encoder_pool_destroy(struct encoder_pool **pool);
+
+/* Takes ownership of the job's buffers (and releases them even when it fails). */
+void encoder_pool_submit(struct encoder_pool *pool, struct encode_job *job);
+/* Jobs queued or being encoded. */
+int encoder_pool_backlog(struct encoder_pool *pool);
+
+/* Encoding time of the last job in ms. */
+double encoder_pool_last_ms(struct encoder_pool *pool);
+
+#endif

@@ -1,0 +1,48 @@
+#include "probe_query.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "illuminance.h"
+#include "world_render.h"
+
+#define PI 3.14159265358979323846
+#define DEG (PI / 180.0)
+
+/* Local frame at the camera: x east, y north, z up; azimuth from north through east. */
+static void local_direction(double zenith_deg, double azimuth_deg, double out[3])
+{
+    double z = zenith_deg * DEG, az = azimuth_deg * DEG;
+    out[0] = sin(az) * sin(z);
+    out[1] = cos(az) * sin(z);
+    out[2] = cos(z);
+}
+
+int probe_query_run(struct sky_renderer *renderer, const struct sky_world_state *state,
+                    const struct sky_msg_probe *query, struct sky_msg_probe_result *result)
+{
+    struct sky_render_atmosphere atm;
+    struct sky_render_view view;
+    world_to_render_atmosphere(state, &atm);
+    world_to_render_view(state, 1, 1, SKY_RENDER_OUTPUT_LINEAR, &view);
+    memset(result, 0, sizeof *result);
+    result->quantity = query->quantity;
+    switch (query->quantity) {
+    case SKY_PROBE_TRANSMITTANCE:
+        return sky_renderer_probe_transmittance(renderer, &atm, &query->altitude_km, &query->mu,
+                                                1, &result->rgb);
+    case SKY_PROBE_LUMINANCE: {
+        view.camera_altitude_km = query->altitude_km;
+        view.sun_elevation_deg = 90.0 - query->sun_zenith_deg;
+        double dir[1][3];
+        local_direction(query->view_zenith_deg, view.sun_azimuth_deg + query->view_azimuth_deg,
+                        dir[0]);
+        return sky_renderer_probe_luminance(renderer, &atm, &view, (const double (*)[3])dir, 1,
+                                            true, &result->rgb);
+    }
+    case SKY_PROBE_ILLUMINANCE:
+        return sky_ground_illuminance(renderer, &atm, &view, query->sun_zenith_deg,
+                                      &result->sun_lux, &result->sky_lux);
+    }
+    return -1;
+}

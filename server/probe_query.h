@@ -1,0 +1,15 @@
+/* The physical queries of `skyd probe` and the protocol's `probe` message, answered through
+ * the renderer's own LUTs and shading (the same code path as frames). */
+#ifndef SKYD_PROBE_QUERY_H
+#define SKYD_PROBE_QUERY_H
+
+#include "messages.h"
+#include "sky_renderer.h"
+#include "world_state.h"
+
+/* Fills *result for the query's quantity under the state's atmosphere and sun photometry.
+ * Returns 0 or -1. */
+int probe_query_run(struct sky_renderer *renderer, const struct sky_world_state *state,
+                    const struct sky_msg_probe *query, struct sky_msg_probe_result *result);
+
+#endif

@@ -1,0 +1,351 @@
+#include "render_commands.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "json_guard.h"
+#include "presets.h"
+#include "probe_query.h"
+#include "world_render.h"
+
+#define PRESET_KIND_ATMOSPHERE "atmosphere"
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Queues a built message (NULL only when building failed, which the client hears of). */
+static void reply(struct session *session, const struct sky_msg_id *id, char *text)
+{
+    if (!text)
+        text = sky_msg_build_error(id, SKY_MSG_ERR_INTERNAL, "the reply could not be built",
+                                   NULL);
+    if (text)
+        session_push_text(session, text);
+    free(text);
+}
+
+#if defined(__GNUC__)
+__attribute__((format(printf, 4, 5)))
+#endif
+static void reply_error(struct session *session, const struct sky_msg_id *id,
+                        enum sky_msg_error_code code, const char *format, ...)
+{
+    char message[320];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(message, sizeof message, format, args);
+    va_end(args);
+    reply(session, id, sky_msg_build_error(id, code, message, NULL));
+}
+
+/* A failed apply: pointers are into the message, so they gain the "/patch" prefix. */
+static void reply_field_errors(struct session *session, const struct sky_msg_id *id,
+                               const char *prefix, const struct sky_field_errors *errors)
+{
+    struct sky_field_errors prefixed = *errors;
+    for (int i = 0; i < prefixed.count; i++)
+        snprintf(prefixed.items[i].pointer, sizeof prefixed.items[i].pointer, "%s%s", prefix,
+                 errors->items[i].pointer);
+    enum sky_msg_error_code code = prefixed.count ? (enum sky_msg_error_code)prefixed.items[0].code
+                                                  : SKY_MSG_ERR_BAD_VALUE;
+    char message[320];
+    if (prefixed.count)
+        snprintf(message, sizeof message, "%s: %s", prefixed.items[0].pointer,
+                 prefixed.items[0].reason);
+    else
+        snprintf(message, sizeof message, "the patch was rejected");
+    reply(session, id, sky_msg_build_error(id, code, message, &prefixed));
+}
+
+/* Makes `next` the live state: a new revision when anything differs, an ack to the sender and
+ * an event naming the changed fields to everyone. */
+static void commit_state(struct render_context *ctx, struct session *session,
+                         const struct sky_msg_id *id, struct sky_world_state *next)
+{
+    static char changed[128][SKY_MSG_POINTER_MAX];
+    size_t count = sky_msg_state_diff(&ctx->state, next, changed, 128);
+    if (count == 0) {
+        reply(session, id, sky_msg_build_ack(id, ctx->state.revision, SKY_ROLE_NONE));
+        return;
+    }
+    struct sky_render_lut_sizes sizes;
+    world_to_lut_sizes(next, &sizes);
+    if (memcmp(&sizes, &ctx->lut_sizes, sizeof sizes) != 0) {
+        if (sky_renderer_set_lut_sizes(ctx->renderer, &sizes) != 0) {
+            reply_error(session, id, SKY_MSG_ERR_INTERNAL, "the new LUT sizes could not be "
+                        "allocated; the state is unchanged");
+            sky_renderer_set_lut_sizes(ctx->renderer, &ctx->lut_sizes);
+            return;
+        }
+        ctx->lut_sizes = sizes;
+    }
+    next->revision = ctx->state.revision + 1;
+    ctx->state = *next;
+    ctx->dirty = true;
+    ctx->last_change_s = now_s();
+    reply(session, id, sky_msg_build_ack(id, ctx->state.revision, SKY_ROLE_NONE));
+    const char *pointers[128];
+    for (size_t i = 0; i < count; i++)
+        pointers[i] = changed[i];
+    char *event = sky_msg_build_state_changed(ctx->state.revision, pointers, count);
+    if (event)
+        session_hub_broadcast(ctx->hub, event);
+    free(event);
+}
+
+static void handle_set(struct render_context *ctx, struct session *session,
+                       const struct sky_client_msg *msg)
+{
+    struct sky_world_state next = ctx->state;
+    struct sky_field_errors errors;
+    if (!sky_world_state_apply_json(&next, msg->set.patch, &errors)) {
+        reply_field_errors(session, &msg->id, "/patch", &errors);
+        return;
+    }
+    commit_state(ctx, session, &msg->id, &next);
+}
+
+static int list_presets(struct render_context *ctx, char names[][SKY_PRESET_NAME_MAX + 1],
+                        int max)
+{
+    return sky_preset_list(ctx->config_dir, PRESET_KIND_ATMOSPHERE, names, max);
+}
+
+static void handle_apply_preset(struct render_context *ctx, struct session *session,
+                                const struct sky_client_msg *msg)
+{
+    static char names[SKY_MSG_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
+    int count = list_presets(ctx, names, SKY_MSG_MAX_PRESETS);
+    bool known = false;
+    for (int i = 0; i < count && !known; i++)
+        known = strcmp(names[i], msg->preset.name) == 0;
+    if (!known) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_NOT_FOUND,
+                    "no atmosphere preset \"%s\" (list_presets names them)", msg->preset.name);
+        return;
+    }
+    struct sky_world_state next = ctx->state;
+    struct sky_field_errors errors;
+    char why[320];
+    json_guard_lock();
+    bool applied = sky_preset_apply(ctx->config_dir, PRESET_KIND_ATMOSPHERE, msg->preset.name,
+                                    &next, &errors, why, sizeof why);
+    json_guard_unlock();
+    if (!applied) {
+        fprintf(stderr, "skyd: preset %s: %s\n", msg->preset.name, why);
+        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "preset \"%s\" cannot be applied: %s",
+                    msg->preset.name, why);
+        return;
+    }
+    commit_state(ctx, session, &msg->id, &next);
+}
+
+static void handle_list_presets(struct render_context *ctx, struct session *session,
+                                const struct sky_client_msg *msg)
+{
+    static char names[SKY_MSG_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
+    int count = list_presets(ctx, names, SKY_MSG_MAX_PRESETS);
+    if (count < 0) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "the preset folder cannot be read");
+        return;
+    }
+    const char *list[SKY_MSG_MAX_PRESETS];
+    for (int i = 0; i < count; i++)
+        list[i] = names[i];
+    reply(session, &msg->id,
+          sky_msg_build_presets(&msg->id, msg->preset.kind, list, (size_t)count));
+}
+
+static bool tokens_equal(const char *given, const char *expected)
+{
+    size_t a = strlen(given), b = strlen(expected);
+    unsigned char diff = (unsigned char)(a != b);
+    for (size_t i = 0; i < b; i++)
+        diff |= (unsigned char)(expected[i] ^ (i < a ? given[i] : 0));
+    return diff == 0;
+}
+
+static void handle_auth(struct render_context *ctx, struct session *session,
+                        const struct sky_client_msg *msg)
+{
+    const char *token = ctx->config->controller_token;
+    if (!token[0]) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED,
+                    "this server has no controller token: nobody can control it");
+        return;
+    }
+    if (!tokens_equal(msg->auth.token, token)) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "wrong token");
+        return;
+    }
+    session_set_role(session, SKY_ROLE_CONTROLLER);
+    reply(session, &msg->id,
+          sky_msg_build_ack(&msg->id, ctx->state.revision, SKY_ROLE_CONTROLLER));
+}
+
+static void handle_subscribe(struct render_context *ctx, struct session *session,
+                             const struct sky_client_msg *msg)
+{
+    if (ctx->subscription_count == ctx->subscription_capacity) {
+        size_t capacity = ctx->subscription_capacity ? ctx->subscription_capacity * 2 : 16;
+        struct subscription *grown = realloc(ctx->subscriptions, sizeof *grown * capacity);
+        if (!grown) {
+            reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "out of memory");
+            return;
+        }
+        ctx->subscriptions = grown;
+        ctx->subscription_capacity = capacity;
+    }
+    uint64_t id = ctx->last_subscription_id + 1;
+    if (!session_add_slot(session, id)) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_LIMIT_REACHED,
+                    "at most %d subscriptions per connection", SESSION_MAX_SUBSCRIPTIONS);
+        return;
+    }
+    ctx->last_subscription_id = id;
+    struct subscription *s = &ctx->subscriptions[ctx->subscription_count++];
+    *s = (struct subscription){ .id = id,
+                                .session = session_ref(session),
+                                .view = msg->view,
+                                .period_s = 1.0 / msg->view.fps,
+                                .next_due = now_s() };
+    reply(session, &msg->id, sky_msg_build_subscribed(&msg->id, id, &msg->view));
+}
+
+static void remove_subscription(struct render_context *ctx, size_t index)
+{
+    struct subscription *s = &ctx->subscriptions[index];
+    session_remove_slot(s->session, s->id);
+    session_unref(&s->session);
+    ctx->subscriptions[index] = ctx->subscriptions[--ctx->subscription_count];
+}
+
+static void handle_unsubscribe(struct render_context *ctx, struct session *session,
+                               const struct sky_client_msg *msg)
+{
+    for (size_t i = 0; i < ctx->subscription_count; i++) {
+        if (ctx->subscriptions[i].session == session &&
+            ctx->subscriptions[i].id == msg->unsubscribe.subscription) {
+            remove_subscription(ctx, i);
+            reply(session, &msg->id, sky_msg_build_ack(&msg->id, ctx->state.revision,
+                                                       SKY_ROLE_NONE));
+            return;
+        }
+    }
+    reply_error(session, &msg->id, SKY_MSG_ERR_NOT_FOUND,
+                "this connection has no subscription %llu",
+                (unsigned long long)msg->unsubscribe.subscription);
+}
+
+static void handle_snapshot(struct render_context *ctx, struct session *session,
+                            const struct sky_client_msg *msg)
+{
+    if (ctx->snapshot_count == ctx->snapshot_capacity) {
+        size_t capacity = ctx->snapshot_capacity ? ctx->snapshot_capacity * 2 : 8;
+        struct pending_snapshot *grown = realloc(ctx->snapshots, sizeof *grown * capacity);
+        if (!grown) {
+            reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "out of memory");
+            return;
+        }
+        ctx->snapshots = grown;
+        ctx->snapshot_capacity = capacity;
+    }
+    if (!session_snapshot_reserve(session)) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_LIMIT_REACHED,
+                    "at most %d snapshots may be pending per connection", SESSION_MAX_SNAPSHOTS);
+        return;
+    }
+    ctx->snapshots[ctx->snapshot_count++] = (struct pending_snapshot){
+        .session = session_ref(session), .id = msg->id, .view = msg->view
+    };
+}
+
+static void handle_probe(struct render_context *ctx, struct session *session,
+                         const struct sky_client_msg *msg)
+{
+    struct sky_msg_probe_result result;
+    if (probe_query_run(ctx->renderer, &ctx->state, &msg->probe, &result) != 0) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "the probe failed on the device");
+        return;
+    }
+    reply(session, &msg->id, sky_msg_build_probe_result(&msg->id, &result));
+}
+
+static void handle_stats(struct render_context *ctx, struct session *session,
+                         const struct sky_client_msg *msg)
+{
+    struct sky_msg_pass_time passes[SKY_MSG_MAX_PASSES];
+    size_t pass_count = 0;
+    if (ctx->has_stats) {
+        for (int i = 0; i < ctx->last_stats.pass_count && pass_count < SKY_MSG_MAX_PASSES; i++)
+            passes[pass_count++] = (struct sky_msg_pass_time){ ctx->last_stats.pass_names[i],
+                                                               ctx->last_stats.pass_ms[i] };
+    }
+    struct sky_msg_stats stats = { .fps = ctx->fps,
+                                   .clients = session_hub_count(ctx->hub),
+                                   .passes = passes,
+                                   .pass_count = pass_count,
+                                   .lut_rebuild_progress = 1.0 };
+    reply(session, &msg->id, sky_msg_build_stats(&msg->id, &stats));
+}
+
+void render_commands_handle(struct render_context *ctx, struct session *session,
+                            const struct sky_client_msg *msg)
+{
+    if (protocol_message_needs_controller(msg->type) &&
+        session_role(session) != SKY_ROLE_CONTROLLER) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_FORBIDDEN, "%s needs the controller role",
+                    sky_msg_type_name(msg->type));
+        return;
+    }
+    switch (msg->type) {
+    case SKY_MSG_HELLO:
+    case SKY_MSG_NONE:
+        reply(session, &msg->id, sky_msg_build_ack(&msg->id, ctx->state.revision,
+                                                   SKY_ROLE_NONE));
+        break;
+    case SKY_MSG_AUTH: handle_auth(ctx, session, msg); break;
+    case SKY_MSG_GET_STATE: reply(session, &msg->id, sky_msg_build_state(&msg->id, &ctx->state)); break;
+    case SKY_MSG_SET: handle_set(ctx, session, msg); break;
+    case SKY_MSG_SUBSCRIBE: handle_subscribe(ctx, session, msg); break;
+    case SKY_MSG_UNSUBSCRIBE: handle_unsubscribe(ctx, session, msg); break;
+    case SKY_MSG_SNAPSHOT: handle_snapshot(ctx, session, msg); break;
+    case SKY_MSG_PROBE: handle_probe(ctx, session, msg); break;
+    case SKY_MSG_LIST_PRESETS: handle_list_presets(ctx, session, msg); break;
+    case SKY_MSG_APPLY_PRESET: handle_apply_preset(ctx, session, msg); break;
+    case SKY_MSG_STATS: handle_stats(ctx, session, msg); break;
+    }
+}
+
+void render_commands_session_closed(struct render_context *ctx, struct session *session)
+{
+    for (size_t i = ctx->subscription_count; i-- > 0;)
+        if (ctx->subscriptions[i].session == session)
+            remove_subscription(ctx, i);
+    for (size_t i = ctx->snapshot_count; i-- > 0;) {
+        if (ctx->snapshots[i].session == session) {
+            session_unref(&ctx->snapshots[i].session);
+            ctx->snapshots[i] = ctx->snapshots[--ctx->snapshot_count];
+        }
+    }
+}
+
+void render_commands_release(struct render_context *ctx)
+{
+    while (ctx->subscription_count > 0)
+        remove_subscription(ctx, ctx->subscription_count - 1);
+    for (size_t i = 0; i < ctx->snapshot_count; i++)
+        session_unref(&ctx->snapshots[i].session);
+    free(ctx->subscriptions);
+    free(ctx->snapshots);
+    ctx->subscriptions = NULL;
+    ctx->snapshots = NULL;
+    ctx->snapshot_count = ctx->subscription_count = 0;
+}

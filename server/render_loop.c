@@ -1,0 +1,485 @@
+#include "render_loop.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "encoder_pool.h"
+#include "render_commands.h"
+#include "sky_renderer.h"
+#include "state_store.h"
+#include "world_render.h"
+
+enum command_kind { COMMAND_MESSAGE, COMMAND_REPLY, COMMAND_SESSION_CLOSED };
+
+struct command {
+    struct command *next;
+    enum command_kind kind;
+    struct session *session; /* a reference */
+    struct sky_client_msg msg;
+    char *reply;
+};
+
+/* Views that are due this tick, one entry per distinct render view. */
+struct render_group {
+    struct sky_render_view view;
+    struct encode_target *targets;
+    size_t count, capacity;
+};
+
+struct render_loop {
+    struct render_context ctx; /* what the command handlers see and change */
+    pthread_t thread;
+    pthread_mutex_t lock;
+    pthread_cond_t wake;
+    struct command *head, *tail;
+    bool notified, stopping, started, start_failed;
+    char start_error[256];
+    struct encoder_pool *encoder;
+    double fps_window_start;
+    int fps_window_frames;
+};
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void free_command(struct command *c)
+{
+    sky_client_msg_free(&c->msg);
+    free(c->reply);
+    session_unref(&c->session);
+    free(c);
+}
+
+static void enqueue(struct render_loop *loop, struct command *c)
+{
+    pthread_mutex_lock(&loop->lock);
+    if (loop->stopping) {
+        pthread_mutex_unlock(&loop->lock);
+        free_command(c);
+        return;
+    }
+    if (loop->tail)
+        loop->tail->next = c;
+    else
+        loop->head = c;
+    loop->tail = c;
+    pthread_cond_signal(&loop->wake);
+    pthread_mutex_unlock(&loop->lock);
+}
+
+void render_loop_submit_message(struct render_loop *loop, struct session *session,
+                                struct sky_client_msg *msg)
+{
+    struct command *c = calloc(1, sizeof *c);
+    if (!c) {
+        sky_client_msg_free(msg);
+        return;
+    }
+    c->kind = COMMAND_MESSAGE;
+    c->session = session_ref(session);
+    c->msg = *msg;
+    memset(msg, 0, sizeof *msg);
+    enqueue(loop, c);
+}
+
+void render_loop_submit_reply(struct render_loop *loop, struct session *session, char *text)
+{
+    struct command *c = calloc(1, sizeof *c);
+    if (!c) {
+        free(text);
+        return;
+    }
+    c->kind = COMMAND_REPLY;
+    c->session = session_ref(session);
+    c->reply = text;
+    enqueue(loop, c);
+}
+
+void render_loop_session_closed(struct render_loop *loop, struct session *session)
+{
+    struct command *c = calloc(1, sizeof *c);
+    if (!c)
+        return;
+    c->kind = COMMAND_SESSION_CLOSED;
+    c->session = session_ref(session);
+    enqueue(loop, c);
+}
+
+void render_loop_notify(struct render_loop *loop)
+{
+    pthread_mutex_lock(&loop->lock);
+    loop->notified = true;
+    pthread_cond_signal(&loop->wake);
+    pthread_mutex_unlock(&loop->lock);
+}
+
+static void encoder_done(void *user)
+{
+    render_loop_notify(user);
+}
+
+/* ---- rendering ---- */
+
+static void resolve_render_view(const struct sky_world_state *state,
+                                const struct sky_msg_view *view, struct sky_render_view *out)
+{
+    struct sky_world_state resolved = *state;
+    sky_msg_view_resolve(view, state, &resolved.camera, &resolved.exposure);
+    world_to_render_view(&resolved, view->width, view->height, SKY_RENDER_OUTPUT_SRGB8, out);
+}
+
+/* world_to_render_view zero-fills the struct first, so equal views compare equal bytewise. */
+static struct render_group *group_for(struct render_group **groups, size_t *count,
+                                      const struct sky_render_view *view)
+{
+    for (size_t i = 0; i < *count; i++)
+        if (memcmp(&(*groups)[i].view, view, sizeof *view) == 0)
+            return &(*groups)[i];
+    struct render_group *grown = realloc(*groups, sizeof *grown * (*count + 1));
+    if (!grown)
+        return NULL;
+    *groups = grown;
+    struct render_group *g = &grown[(*count)++];
+    memset(g, 0, sizeof *g);
+    g->view = *view;
+    return g;
+}
+
+static bool group_add(struct render_group *g, struct session *session, uint64_t subscription,
+                      const struct sky_msg_id *snapshot_id)
+{
+    if (g->count == g->capacity) {
+        size_t capacity = g->capacity ? g->capacity * 2 : 4;
+        struct encode_target *grown = realloc(g->targets, sizeof *grown * capacity);
+        if (!grown)
+            return false;
+        g->targets = grown;
+        g->capacity = capacity;
+    }
+    struct encode_target *t = &g->targets[g->count++];
+    memset(t, 0, sizeof *t);
+    t->session = session_ref(session);
+    t->subscription = subscription;
+    if (snapshot_id)
+        t->snapshot_id = *snapshot_id;
+    return true;
+}
+
+static void fail_targets(struct encode_target *targets, size_t count)
+{
+    for (size_t i = 0; i < count; i++) {
+        if (targets[i].subscription)
+            session_slot_deliver(targets[i].session, targets[i].subscription, NULL);
+        else
+            session_snapshot_deliver(targets[i].session, &targets[i].snapshot_id, NULL);
+        session_unref(&targets[i].session);
+    }
+    free(targets);
+}
+
+static void render_group(struct render_loop *loop, struct render_group *g)
+{
+    struct render_context *ctx = &loop->ctx;
+    size_t bytes = (size_t)g->view.width * g->view.height * 4;
+    uint8_t *rgba = malloc(bytes);
+    struct sky_render_atmosphere atm;
+    world_to_render_atmosphere(&ctx->state, &atm);
+    struct sky_render_stats stats;
+    if (!rgba || sky_renderer_render(ctx->renderer, &atm, &g->view, rgba, bytes, &stats) != 0) {
+        fprintf(stderr, "skyd: rendering a %ux%u frame failed\n", g->view.width, g->view.height);
+        free(rgba);
+        fail_targets(g->targets, g->count);
+        return;
+    }
+    ctx->last_stats = stats;
+    ctx->has_stats = true;
+    loop->fps_window_frames++;
+    struct encode_job job = {
+        .rgba = rgba,
+        .meta = { .render_sequence = ++ctx->render_sequence,
+                  .state_revision = ctx->state.revision,
+                  .simulation_time_s = now_s() - ctx->start_time_s,
+                  .width = g->view.width,
+                  .height = g->view.height },
+        .targets = g->targets,
+        .target_count = g->count,
+    };
+    encoder_pool_submit(loop->encoder, &job);
+}
+
+/* Next due time after a frame: keeps the rate, without a burst after falling behind. */
+static double advance_due(double due, double period, double now)
+{
+    return now - due < period ? due + period : now + period;
+}
+
+/* Collects the subscriptions due now (and those within half a period of due whose view is
+ * rendered anyway, so that equal views fall into step) and the pending snapshots into groups,
+ * renders each group once, and returns when the loop should next look at the schedule. */
+static double render_due(struct render_loop *loop, double now)
+{
+    struct render_context *ctx = &loop->ctx;
+    struct render_group *groups = NULL;
+    size_t group_count = 0;
+    double next_wake = now + 1.0;
+    bool encoder_full = encoder_pool_backlog(loop->encoder) >= 2 * ctx->config->encoder_threads;
+
+    for (size_t i = 0; i < ctx->snapshot_count; i++) {
+        struct pending_snapshot *p = &ctx->snapshots[i];
+        struct sky_render_view view;
+        resolve_render_view(&ctx->state, &p->view, &view);
+        struct render_group *g = group_for(&groups, &group_count, &view);
+        if (!g || !group_add(g, p->session, 0, &p->id))
+            session_snapshot_deliver(p->session, &p->id, NULL);
+        session_unref(&p->session);
+    }
+    ctx->snapshot_count = 0;
+
+    for (size_t i = 0; i < ctx->subscription_count; i++)
+        ctx->subscriptions[i].waiting_for_encoder = encoder_full;
+    for (int pass = 0; pass < 2 && !encoder_full; pass++) {
+        for (size_t i = 0; i < ctx->subscription_count; i++) {
+            struct subscription *s = &ctx->subscriptions[i];
+            bool due = now >= s->next_due;
+            bool joinable = pass == 1 && !due && now >= s->next_due - 0.5 * s->period_s;
+            if ((pass == 0 && !due) || (pass == 1 && !joinable))
+                continue;
+            struct sky_render_view view;
+            resolve_render_view(&ctx->state, &s->view, &view);
+            if (pass == 1) {
+                bool shared = false;
+                for (size_t k = 0; k < group_count && !shared; k++)
+                    shared = memcmp(&groups[k].view, &view, sizeof view) == 0;
+                if (!shared)
+                    continue;
+            }
+            enum slot_state state = session_slot_begin_encode(s->session, s->id, now,
+                                                              fmax(2.0 * s->period_s, 0.25));
+            if (state == SLOT_STALLED) {
+                s->next_due = now + s->period_s; /* look again later; nothing is rendered */
+                continue;
+            }
+            if (state != SLOT_READY) {
+                s->waiting_for_encoder = due; /* the end of that encode wakes the loop */
+                continue;
+            }
+            struct render_group *g = group_for(&groups, &group_count, &view);
+            if (!g || !group_add(g, s->session, s->id, NULL)) {
+                session_slot_deliver(s->session, s->id, NULL);
+                continue;
+            }
+            s->next_due = advance_due(s->next_due, s->period_s, now);
+        }
+    }
+    for (size_t i = 0; i < group_count; i++)
+        render_group(loop, &groups[i]);
+    free(groups);
+
+    double after = now_s();
+    for (size_t i = 0; i < ctx->subscription_count; i++) {
+        struct subscription *s = &ctx->subscriptions[i];
+        if (!s->waiting_for_encoder)
+            next_wake = fmin(next_wake, fmax(s->next_due, after));
+    }
+    return next_wake;
+}
+
+/* ---- persistence and statistics ---- */
+
+static void save_state(struct render_context *ctx)
+{
+    if (!ctx->state_file[0] || !ctx->dirty)
+        return;
+    char err[512];
+    if (state_store_save(ctx->state_file, &ctx->state, err, sizeof err) == 0) {
+        ctx->dirty = false;
+    } else {
+        fprintf(stderr, "skyd: cannot save the state: %s\n", err);
+        ctx->last_change_s = now_s(); /* try again after another delay */
+    }
+}
+
+static void update_fps(struct render_loop *loop, double now)
+{
+    double elapsed = now - loop->fps_window_start;
+    if (elapsed < 1.0)
+        return;
+    loop->ctx.fps = loop->fps_window_frames / elapsed;
+    loop->fps_window_frames = 0;
+    loop->fps_window_start = now;
+}
+
+/* ---- the thread ---- */
+
+static void run_command(struct render_loop *loop, struct command *c)
+{
+    switch (c->kind) {
+    case COMMAND_MESSAGE:
+        render_commands_handle(&loop->ctx, c->session, &c->msg);
+        break;
+    case COMMAND_REPLY:
+        session_push_text(c->session, c->reply);
+        break;
+    case COMMAND_SESSION_CLOSED:
+        render_commands_session_closed(&loop->ctx, c->session);
+        break;
+    }
+    free_command(c);
+}
+
+static void *thread_main(void *arg)
+{
+    struct render_loop *loop = arg;
+    struct render_context *ctx = &loop->ctx;
+    bool ready = ctx->renderer != NULL;
+    pthread_mutex_lock(&loop->lock);
+    loop->started = true;
+    loop->start_failed = !ready;
+    pthread_cond_broadcast(&loop->wake);
+    pthread_mutex_unlock(&loop->lock);
+    if (!ready)
+        return NULL;
+
+    double wake_at = now_s();
+    for (;;) {
+        pthread_mutex_lock(&loop->lock);
+        while (!loop->head && !loop->notified && !loop->stopping && now_s() < wake_at) {
+            double t = wake_at;
+            struct timespec ts;
+            clock_gettime(CLOCK_MONOTONIC, &ts);
+            double remaining = t - ((double)ts.tv_sec + ts.tv_nsec * 1e-9);
+            double whole = floor(remaining);
+            ts.tv_sec += (time_t)whole;
+            ts.tv_nsec += (long)((remaining - whole) * 1e9);
+            if (ts.tv_nsec >= 1000000000L) {
+                ts.tv_sec++;
+                ts.tv_nsec -= 1000000000L;
+            }
+            pthread_cond_timedwait(&loop->wake, &loop->lock, &ts);
+        }
+        struct command *commands = loop->head;
+        loop->head = loop->tail = NULL;
+        loop->notified = false;
+        bool stopping = loop->stopping;
+        pthread_mutex_unlock(&loop->lock);
+
+        /* The tick: every queued command in arrival order, then the frames that are due. */
+        bool replied = commands != NULL;
+        while (commands) {
+            struct command *next = commands->next;
+            run_command(loop, commands);
+            commands = next;
+        }
+        if (replied)
+            session_hub_wake(ctx->hub);
+        if (stopping)
+            break;
+        double now = now_s();
+        wake_at = render_due(loop, now);
+        now = now_s();
+        update_fps(loop, now);
+        if (ctx->dirty) {
+            double save_at = ctx->last_change_s + ctx->config->state_save_delay_s;
+            if (now >= save_at)
+                save_state(ctx);
+            else
+                wake_at = fmin(wake_at, save_at);
+        }
+    }
+    save_state(ctx);
+    return NULL;
+}
+
+/* The renderer is created on the render thread's behalf before it starts: Vulkan objects are
+ * not tied to the creating thread, and creating it here lets a failure be reported at once. */
+struct render_loop *render_loop_create(const struct render_loop_params *params, char *err,
+                                       size_t errlen)
+{
+    struct render_loop *loop = calloc(1, sizeof *loop);
+    if (!loop) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    struct render_context *ctx = &loop->ctx;
+    ctx->config = params->config;
+    ctx->config_dir = params->config_dir;
+    snprintf(ctx->state_file, sizeof ctx->state_file, "%s", params->state_file);
+    ctx->state = params->initial_state;
+    ctx->hub = params->hub;
+    ctx->start_time_s = now_s();
+    loop->fps_window_start = ctx->start_time_s;
+    pthread_mutex_init(&loop->lock, NULL);
+    pthread_condattr_t attr;
+    pthread_condattr_init(&attr);
+    pthread_condattr_setclock(&attr, CLOCK_MONOTONIC);
+    pthread_cond_init(&loop->wake, &attr);
+    pthread_condattr_destroy(&attr);
+
+    struct sky_renderer_params rp = { .device_preference = params->device,
+                                      .validation = params->validation };
+    world_to_lut_sizes(&ctx->state, &rp.lut_sizes);
+    ctx->lut_sizes = rp.lut_sizes;
+    ctx->renderer = sky_renderer_create(&rp);
+    loop->encoder = encoder_pool_create(params->config->encoder_threads, params->hub,
+                                        encoder_done, loop);
+    if (!ctx->renderer || !loop->encoder) {
+        snprintf(err, errlen, "%s", !ctx->renderer ? "cannot create the Vulkan renderer"
+                                                   : "cannot start the encoder threads");
+        render_loop_destroy(&loop);
+        return NULL;
+    }
+    /* Builds the LUTs before the first client arrives. */
+    struct sky_render_atmosphere atm;
+    world_to_render_atmosphere(&ctx->state, &atm);
+    struct sky_render_stats stats;
+    if (sky_renderer_rebuild_atmosphere(ctx->renderer, &atm, &stats) != 0) {
+        snprintf(err, errlen, "building the atmosphere LUTs failed");
+        render_loop_destroy(&loop);
+        return NULL;
+    }
+    if (pthread_create(&loop->thread, NULL, thread_main, loop) != 0) {
+        snprintf(err, errlen, "cannot start the render thread");
+        render_loop_destroy(&loop);
+        return NULL;
+    }
+    pthread_mutex_lock(&loop->lock);
+    while (!loop->started)
+        pthread_cond_wait(&loop->wake, &loop->lock);
+    pthread_mutex_unlock(&loop->lock);
+    fprintf(stderr, "skyd: rendering on %s\n", sky_renderer_device_name(ctx->renderer));
+    return loop;
+}
+
+void render_loop_destroy(struct render_loop **loop_ptr)
+{
+    struct render_loop *loop = *loop_ptr;
+    *loop_ptr = NULL;
+    if (!loop)
+        return;
+    pthread_mutex_lock(&loop->lock);
+    bool joinable = loop->started;
+    loop->stopping = true;
+    pthread_cond_broadcast(&loop->wake);
+    pthread_mutex_unlock(&loop->lock);
+    if (joinable)
+        pthread_join(loop->thread, NULL);
+    encoder_pool_destroy(&loop->encoder);
+    while (loop->head) {
+        struct command *c = loop->head;
+        loop->head = c->next;
+        free_command(c);
+    }
+    render_commands_release(&loop->ctx);
+    sky_renderer_destroy(&loop->ctx.renderer);
+    pthread_cond_destroy(&loop->wake);
+    pthread_mutex_destroy(&loop->lock);
+    free(loop);
+}

@@ -1,0 +1,203 @@
+#include "state_store.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#define STATE_FILE_MAX_BYTES (1 << 20)
+
+static char *read_file(const char *path, size_t *length, char *msg, size_t msglen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(msg, msglen, "cannot open %s: %s", path, strerror(errno));
+        return NULL;
+    }
+    char *text = malloc(STATE_FILE_MAX_BYTES + 1);
+    size_t n = text ? fread(text, 1, STATE_FILE_MAX_BYTES + 1, f) : 0;
+    bool failed = !text || ferror(f);
+    fclose(f);
+    if (failed || n > STATE_FILE_MAX_BYTES) {
+        snprintf(msg, msglen, "%s: %s", path,
+                 failed ? "read error" : "larger than 1 MiB");
+        free(text);
+        return NULL;
+    }
+    text[n] = '\0';
+    *length = n;
+    return text;
+}
+
+/* Parses the file's text onto a copy of the defaults; false with a reason. */
+static bool parse_state(const char *text, size_t length, struct sky_world_state *out, char *msg,
+                        size_t msglen)
+{
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, length, &end, 0);
+    if (!root) {
+        snprintf(msg, msglen, "not valid JSON (byte %td)", end ? end - text : (ptrdiff_t)0);
+        return false;
+    }
+    bool ok = false;
+    const cJSON *revision = cJSON_GetObjectItemCaseSensitive(root, "revision");
+    if (!cJSON_IsObject(root)) {
+        snprintf(msg, msglen, "not a JSON object");
+    } else if (!cJSON_IsNumber(revision) || revision->valuedouble < 0 ||
+               revision->valuedouble > 9007199254740991.0 ||
+               revision->valuedouble != floor(revision->valuedouble)) {
+        snprintf(msg, msglen, "/revision: expected an integer in [0, 2^53 - 1]");
+    } else {
+        struct sky_world_state state;
+        struct sky_field_errors errors;
+        sky_world_state_defaults(&state);
+        state.revision = (uint64_t)revision->valuedouble;
+        cJSON_DeleteItemFromObjectCaseSensitive(root, "revision");
+        if (sky_world_state_apply_json(&state, root, &errors)) {
+            *out = state;
+            ok = true;
+        } else {
+            char detail[512];
+            sky_field_errors_format(&errors, detail, sizeof detail);
+            snprintf(msg, msglen, "invalid state: %s", detail);
+        }
+    }
+    cJSON_Delete(root);
+    return ok;
+}
+
+enum state_load_result state_store_load(const char *path, struct sky_world_state *state,
+                                        char *msg, size_t msglen)
+{
+    if (access(path, F_OK) != 0) {
+        snprintf(msg, msglen, "no state file at %s: starting from the defaults", path);
+        return STATE_LOAD_ABSENT;
+    }
+    char reason[640];
+    size_t length = 0;
+    char *text = read_file(path, &length, reason, sizeof reason);
+    bool ok = text && parse_state(text, length, state, reason, sizeof reason);
+    free(text);
+    if (ok)
+        return STATE_LOAD_RESTORED;
+    size_t n = strlen(path) + 48;
+    char *aside = malloc(n);
+    if (!aside) {
+        snprintf(msg, msglen, "%s: %s; out of memory", path, reason);
+        return STATE_LOAD_FAILED;
+    }
+    snprintf(aside, n, "%s.corrupt-%lld", path, (long long)time(NULL));
+    enum state_load_result result = STATE_LOAD_CORRUPT;
+    if (rename(path, aside) == 0) {
+        snprintf(msg, msglen, "state file %s unusable (%s); moved to %s, starting from the "
+                 "defaults", path, reason, aside);
+    } else {
+        snprintf(msg, msglen, "state file %s unusable (%s) and cannot be moved aside: %s", path,
+                 reason, strerror(errno));
+        result = STATE_LOAD_FAILED;
+    }
+    free(aside);
+    return result;
+}
+
+/* mkdir -p of path's parent directory. */
+static int make_parents(const char *path)
+{
+    char *copy = strdup(path);
+    if (!copy)
+        return -1;
+    for (char *p = copy + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(copy, 0755) != 0 && errno != EEXIST) {
+            free(copy);
+            return -1;
+        }
+        *p = '/';
+    }
+    free(copy);
+    return 0;
+}
+
+static void sync_parent_directory(const char *path)
+{
+    char *copy = strdup(path);
+    if (!copy)
+        return;
+    char *slash = strrchr(copy, '/');
+    const char *dir = ".";
+    if (slash) {
+        *slash = '\0';
+        dir = slash == copy ? "/" : copy;
+    }
+    int fd = open(dir, O_RDONLY | O_DIRECTORY);
+    if (fd >= 0) {
+        fsync(fd);
+        close(fd);
+    }
+    free(copy);
+}
+
+static int write_all(int fd, const char *data, size_t length)
+{
+    while (length > 0) {
+        ssize_t n = write(fd, data, length);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return -1;
+        data += n;
+        length -= (size_t)n;
+    }
+    return 0;
+}
+
+int state_store_save(const char *path, const struct sky_world_state *state, char *err,
+                     size_t errlen)
+{
+    cJSON *json = sky_world_state_to_json(state);
+    char *text = json ? cJSON_Print(json) : NULL;
+    cJSON_Delete(json);
+    size_t n = strlen(path) + 32;
+    char *tmp = malloc(n);
+    if (!text || !tmp) {
+        snprintf(err, errlen, "out of memory");
+        free(text);
+        free(tmp);
+        return -1;
+    }
+    snprintf(tmp, n, "%s.tmp%ld", path, (long)getpid());
+    int rc = -1;
+    int fd = -1;
+    if (make_parents(path) != 0) {
+        snprintf(err, errlen, "cannot create the directory of %s: %s", path, strerror(errno));
+    } else if ((fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644)) < 0) {
+        snprintf(err, errlen, "cannot create %s: %s", tmp, strerror(errno));
+    } else if (write_all(fd, text, strlen(text)) != 0 || write_all(fd, "\n", 1) != 0 ||
+               fsync(fd) != 0) {
+        snprintf(err, errlen, "cannot write %s: %s", tmp, strerror(errno));
+    } else if (close(fd) != 0) {
+        fd = -1;
+        snprintf(err, errlen, "cannot write %s: %s", tmp, strerror(errno));
+    } else if ((fd = -1, rename(tmp, path) != 0)) {
+        snprintf(err, errlen, "cannot rename %s to %s: %s", tmp, path, strerror(errno));
+    } else {
+        sync_parent_directory(path);
+        rc = 0;
+    }
+    if (fd >= 0)
+        close(fd);
+    if (rc != 0)
+        unlink(tmp);
+    free(tmp);
+    free(text);
+    return rc;
+}

@@ -1,0 +1,26 @@
+/* The world state on disk: one JSON file (the `state` message's tree plus "revision"),
+ * written atomically (temporary file, fsync, rename, fsync of the directory) and read back at
+ * start. A file that cannot be used is moved aside, never silently discarded. */
+#ifndef SKYD_STATE_STORE_H
+#define SKYD_STATE_STORE_H
+
+#include <stddef.h>
+
+#include "world_state.h"
+
+enum state_load_result {
+    STATE_LOAD_RESTORED = 0, /* *state holds the file's state and revision */
+    STATE_LOAD_ABSENT = 1,   /* no file: *state untouched */
+    STATE_LOAD_CORRUPT = 2,  /* unreadable or invalid: moved to msg's path, *state untouched */
+    STATE_LOAD_FAILED = 3,   /* invalid and could not be moved aside: *state untouched */
+};
+
+/* msg says what happened (the reason and where the file went) for anything but RESTORED. */
+enum state_load_result state_store_load(const char *path, struct sky_world_state *state,
+                                        char *msg, size_t msglen);
+
+/* Creates missing parent directories. Returns 0, or -1 with a message. */
+int state_store_save(const char *path, const struct sky_world_state *state, char *err,
+                     size_t errlen);
+
+#endif

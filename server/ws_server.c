@@ -1,0 +1,407 @@
+#include "ws_server.h"
+
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#include <libwebsockets.h>
+
+#include "frame_header.h"
+#include "json_guard.h"
+#include "messages.h"
+
+#define SERVER_NAME "skyd " SKYD_VERSION
+
+/* Per-connection data, owned by the service thread (lws allocates it zeroed). */
+struct connection {
+    struct session *session;
+    bool rejected;              /* over max_clients: gets an error and a close, nothing else */
+    char *rx;                   /* the message being received */
+    size_t rx_length;           /* bytes received so far (may exceed what is stored) */
+    bool rx_binary;
+    double tokens, refilled_at; /* rate limit: a token bucket */
+};
+
+struct ws_server {
+    struct lws_context *context;
+    struct lws_vhost *vhost;
+    struct lws_protocols protocols[2];
+    struct lws_http_mount mount;
+    const struct skyd_config *config;
+    struct sky_msg_limits limits;
+    struct session_hub *hub;
+    struct render_loop *loop;
+    uint64_t next_session_id;
+    int port;
+    char url[128];
+    char own_origins[2][96];
+    char web_root[4096];
+};
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static bool origin_allowed(const struct ws_server *srv, const char *origin)
+{
+    for (int i = 0; i < 2; i++)
+        if (strcasecmp(origin, srv->own_origins[i]) == 0)
+            return true;
+    for (int i = 0; i < srv->config->origin_count; i++)
+        if (strcasecmp(origin, srv->config->allowed_origins[i]) == 0)
+            return true;
+    return false;
+}
+
+/* Browsers always send Origin; other clients need not, and are let in. */
+static int confirm_upgrade(struct ws_server *srv, struct lws *wsi)
+{
+    char origin[256] = "";
+    int length = lws_hdr_total_length(wsi, WSI_TOKEN_ORIGIN);
+    if (length <= 0)
+        return 0;
+    if (length >= (int)sizeof origin || lws_hdr_copy(wsi, origin, sizeof origin,
+                                                     WSI_TOKEN_ORIGIN) < 0 ||
+        !origin_allowed(srv, origin)) {
+        lwsl_user("refused a WebSocket from origin %s\n", origin);
+        lws_return_http_status(wsi, HTTP_STATUS_FORBIDDEN, "origin not allowed");
+        return 1;
+    }
+    return 0;
+}
+
+static void queue_and_wake(struct lws *wsi, struct session *session, char *text)
+{
+    if (text)
+        session_push_text(session, text);
+    free(text);
+    lws_callback_on_writable(wsi);
+}
+
+static int on_established(struct ws_server *srv, struct lws *wsi, struct connection *c)
+{
+    c->session = session_create(++srv->next_session_id);
+    if (!c->session)
+        return -1;
+    session_set_transport(c->session, wsi);
+    c->tokens = srv->limits.control_messages_per_second;
+    c->refilled_at = now_s();
+    if (session_hub_count(srv->hub) >= srv->limits.max_clients) {
+        c->rejected = true;
+        char message[96];
+        snprintf(message, sizeof message, "too many clients: at most %d",
+                 srv->limits.max_clients);
+        queue_and_wake(wsi, c->session,
+                       sky_msg_build_error(NULL, SKY_MSG_ERR_LIMIT_REACHED, message, NULL));
+        session_request_close(c->session, SESSION_CLOSE_POLICY, "too many clients", true);
+        return 0;
+    }
+    session_hub_add(srv->hub, c->session);
+    size_t capability_count = 0;
+    const char *const *capabilities = sky_msg_default_capabilities(&capability_count);
+    queue_and_wake(wsi, c->session,
+                   sky_msg_build_hello(SKYD_VERSION, SKY_ROLE_VIEWER, capabilities,
+                                       capability_count, &srv->limits));
+    return 0;
+}
+
+static void on_closed(struct ws_server *srv, struct connection *c)
+{
+    if (c->session) {
+        session_mark_closed(c->session);
+        if (!c->rejected) {
+            session_hub_remove(srv->hub, c->session);
+            if (srv->loop)
+                render_loop_session_closed(srv->loop, c->session);
+        }
+        session_unref(&c->session);
+    }
+    free(c->rx);
+    c->rx = NULL;
+}
+
+static bool take_token(struct ws_server *srv, struct connection *c)
+{
+    double rate = srv->limits.control_messages_per_second;
+    double now = now_s();
+    c->tokens += (now - c->refilled_at) * rate;
+    if (c->tokens > rate)
+        c->tokens = rate; /* burst: one second's worth */
+    c->refilled_at = now;
+    if (c->tokens < 1.0)
+        return false;
+    c->tokens -= 1.0;
+    return true;
+}
+
+/* A whole message has arrived: reject it here (in order, through the loop) or hand it on. */
+static void on_message(struct ws_server *srv, struct connection *c)
+{
+    char *error = NULL;
+    char message[160];
+    if (!take_token(srv, c)) {
+        snprintf(message, sizeof message, "more than %g messages per second; this one was "
+                 "dropped", srv->limits.control_messages_per_second);
+        error = sky_msg_build_error(NULL, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
+    } else if (c->rx_binary) {
+        error = sky_msg_build_error(NULL, SKY_MSG_ERR_INVALID_ENCODING,
+                                    "binary messages are not accepted: send JSON text", NULL);
+    } else if (c->rx_length > srv->limits.max_message_bytes) {
+        snprintf(message, sizeof message, "message of %zu bytes is larger than "
+                 "max_message_bytes (%zu)", c->rx_length, srv->limits.max_message_bytes);
+        error = sky_msg_build_error(NULL, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message, NULL);
+    } else {
+        struct sky_client_msg msg;
+        struct sky_msg_parse_error parse_error;
+        json_guard_lock();
+        enum sky_msg_error_code code = sky_msg_parse(c->rx ? c->rx : "", c->rx_length,
+                                                     &srv->limits, &msg, &parse_error);
+        json_guard_unlock();
+        if (code == SKY_MSG_OK)
+            render_loop_submit_message(srv->loop, c->session, &msg);
+        else
+            error = sky_msg_build_parse_error(&msg, &parse_error);
+        sky_client_msg_free(&msg);
+    }
+    if (error)
+        render_loop_submit_reply(srv->loop, c->session, error);
+}
+
+static void on_receive(struct ws_server *srv, struct lws *wsi, struct connection *c,
+                       const void *in, size_t len)
+{
+    if (c->rejected || !srv->loop)
+        return;
+    if (lws_is_first_fragment(wsi)) {
+        c->rx_length = 0;
+        c->rx_binary = lws_frame_is_binary(wsi);
+    }
+    size_t limit = srv->limits.max_message_bytes;
+    if (!c->rx_binary && c->rx_length + len <= limit) {
+        if (!c->rx && !(c->rx = malloc(limit + 1))) {
+            c->rx_length += len; /* counted as too large: no room to hold it */
+        } else {
+            memcpy(c->rx + c->rx_length, in, len);
+            c->rx_length += len;
+        }
+    } else {
+        c->rx_length += len; /* past the limit (or binary): counted, not kept */
+    }
+    if (lws_is_final_fragment(wsi) && lws_remaining_packet_payload(wsi) == 0)
+        on_message(srv, c);
+}
+
+static int on_writeable(struct lws *wsi, struct connection *c)
+{
+    if (!c->session)
+        return -1;
+    struct session_output out;
+    session_next_output(c->session, &out);
+    int rc = 0;
+    switch (out.kind) {
+    case SESSION_OUTPUT_NONE:
+        break;
+    case SESSION_OUTPUT_TEXT:
+        if (lws_write(wsi, (unsigned char *)out.text, out.length, LWS_WRITE_TEXT) <
+            (int)out.length)
+            rc = -1;
+        break;
+    case SESSION_OUTPUT_FRAME: {
+        const struct encoded_frame_meta *meta = encoded_frame_meta(out.frame);
+        struct sky_frame_header header = {
+            .format = SKY_FRAME_FORMAT_PNG,
+            .frame_number = out.frame_number,
+            .state_revision = meta->state_revision,
+            .simulation_time_s = meta->simulation_time_s,
+            .width = meta->width,
+            .height = meta->height,
+            .payload_length = (uint32_t)encoded_frame_png_length(out.frame),
+        };
+        uint8_t *bytes = encoded_frame_message(out.frame);
+        size_t length = encoded_frame_message_length(out.frame);
+        if (sky_frame_header_pack(&header, bytes) != SKY_FRAME_HEADER_OK ||
+            lws_write(wsi, bytes, length, LWS_WRITE_BINARY) < (int)length)
+            rc = -1;
+        break;
+    }
+    case SESSION_OUTPUT_CLOSE:
+        lws_close_reason(wsi, (enum lws_close_status)out.close_code,
+                         (unsigned char *)out.close_reason, strlen(out.close_reason));
+        rc = -1;
+        break;
+    }
+    session_output_release(&out);
+    if (rc == 0 && session_has_output(c->session))
+        lws_callback_on_writable(wsi);
+    return rc;
+}
+
+static void request_writable(struct session *session, void *user)
+{
+    (void)user;
+    if (session_has_output(session))
+        lws_callback_on_writable(session_transport(session));
+}
+
+static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
+                    size_t len)
+{
+    struct ws_server *srv = lws_context_user(lws_get_context(wsi));
+    struct connection *c = user;
+    switch (reason) {
+    case LWS_CALLBACK_HTTP_CONFIRM_UPGRADE:
+        return confirm_upgrade(srv, wsi);
+    case LWS_CALLBACK_ESTABLISHED:
+        return on_established(srv, wsi, c);
+    case LWS_CALLBACK_RECEIVE:
+        on_receive(srv, wsi, c, in, len);
+        return 0;
+    case LWS_CALLBACK_SERVER_WRITEABLE:
+        return on_writeable(wsi, c);
+    case LWS_CALLBACK_CLOSED:
+        on_closed(srv, c);
+        return 0;
+    case LWS_CALLBACK_EVENT_WAIT_CANCELLED:
+        if (srv)
+            session_hub_for_each(srv->hub, request_writable, NULL);
+        return 0;
+    default:
+        return lws_callback_http_dummy(wsi, reason, user, in, len);
+    }
+}
+
+static void log_line(int level, const char *line)
+{
+    (void)level;
+    fprintf(stderr, "skyd: lws: %s", line);
+}
+
+struct ws_server *ws_server_create(const struct ws_server_params *params, char *err,
+                                   size_t errlen)
+{
+    struct ws_server *srv = calloc(1, sizeof *srv);
+    if (!srv) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    const struct skyd_config *cfg = params->config;
+    srv->config = cfg;
+    srv->hub = params->hub;
+    srv->loop = params->loop;
+    sky_msg_limits_default(&srv->limits);
+    srv->limits.max_message_bytes = (size_t)cfg->max_message_bytes;
+    srv->limits.max_clients = cfg->max_clients;
+    srv->limits.max_width = (uint32_t)cfg->max_width;
+    srv->limits.max_height = (uint32_t)cfg->max_height;
+    srv->limits.max_fps = cfg->max_fps;
+    srv->limits.control_messages_per_second = cfg->control_messages_per_second;
+    snprintf(srv->web_root, sizeof srv->web_root, "%s", params->web_root);
+
+    lws_set_log_level(LLL_ERR | LLL_WARN | LLL_USER, log_line);
+    srv->protocols[0] = (struct lws_protocols){
+        .name = "skyd",
+        .callback = callback,
+        .per_session_data_size = sizeof(struct connection),
+        .rx_buffer_size = 0,
+    };
+    srv->mount = (struct lws_http_mount){
+        .mountpoint = "/",
+        .mountpoint_len = 1,
+        .origin = srv->web_root,
+        .def = "index.html",
+        .origin_protocol = LWSMPRO_FILE,
+    };
+    bool tls = cfg->tls_certificate[0] != '\0';
+    struct lws_context_creation_info info;
+    memset(&info, 0, sizeof info);
+    info.port = cfg->listen_port;
+    info.iface = cfg->listen_address;
+    info.protocols = srv->protocols;
+    info.mounts = &srv->mount;
+    info.user = srv;
+    info.server_string = SERVER_NAME;
+    info.options = LWS_SERVER_OPTION_HTTP_HEADERS_SECURITY_BEST_PRACTICES_ENFORCE;
+    if (tls) {
+        info.options |= LWS_SERVER_OPTION_DO_SSL_GLOBAL_INIT;
+        info.ssl_cert_filepath = cfg->tls_certificate;
+        info.ssl_private_key_filepath = cfg->tls_private_key;
+    }
+    srv->context = lws_create_context(&info);
+    srv->vhost = srv->context ? lws_get_vhost_by_name(srv->context, "default") : NULL;
+    if (!srv->context || !srv->vhost || lws_get_vhost_listen_port(srv->vhost) <= 0) {
+        snprintf(err, errlen, "cannot listen on %s:%d%s", cfg->listen_address, cfg->listen_port,
+                 tls ? " with TLS (check the certificate and key)" : "");
+        ws_server_destroy(&srv);
+        return NULL;
+    }
+    srv->port = lws_get_vhost_listen_port(srv->vhost);
+    const char *scheme = tls ? "https" : "http";
+    snprintf(srv->url, sizeof srv->url, "%s://%s:%d/", scheme, cfg->listen_address, srv->port);
+    snprintf(srv->own_origins[0], sizeof srv->own_origins[0], "%s://%s:%d", scheme,
+             cfg->listen_address, srv->port);
+    snprintf(srv->own_origins[1], sizeof srv->own_origins[1], "%s://localhost:%d", scheme,
+             srv->port);
+    return srv;
+}
+
+void ws_server_destroy(struct ws_server **server)
+{
+    struct ws_server *srv = *server;
+    *server = NULL;
+    if (!srv)
+        return;
+    srv->loop = NULL;
+    if (srv->context)
+        lws_context_destroy(srv->context);
+    free(srv);
+}
+
+int ws_server_port(const struct ws_server *server)
+{
+    return server->port;
+}
+
+const char *ws_server_url(const struct ws_server *server)
+{
+    return server->url;
+}
+
+void ws_server_run(struct ws_server *server, volatile sig_atomic_t *stop)
+{
+    while (!*stop)
+        if (lws_service(server->context, 0) < 0)
+            break;
+}
+
+static void close_session(struct session *session, void *user)
+{
+    (void)user;
+    session_request_close(session, SESSION_CLOSE_GOING_AWAY, "skyd shutting down", false);
+}
+
+void ws_server_close_all(struct ws_server *server, double timeout_s)
+{
+    session_hub_for_each(server->hub, close_session, NULL);
+    lws_cancel_service(server->context);
+    double deadline = now_s() + timeout_s;
+    while (session_hub_count(server->hub) > 0 && now_s() < deadline)
+        if (lws_service(server->context, 0) < 0)
+            break;
+}
+
+void ws_server_detach_loop(struct ws_server *server)
+{
+    server->loop = NULL;
+}
+
+void ws_server_wake(void *server)
+{
+    struct ws_server *srv = server;
+    lws_cancel_service(srv->context);
+}
