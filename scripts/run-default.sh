@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
-# The default job: renders the default sky (config defaults, Earth) to out/default-sky.png
-# and prints its path.
+# The default job: starts the daemon with config/skyd.json from the project root (where the
+# config's relative paths point) and prints its URL; Ctrl-C stops it and saves the state.
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
-mkdir -p "$root/out"
-"$root/$build/skyd" render --width 1280 --height 720 --out "$root/out/default-sky.png" >/dev/null
-echo "$root/out/default-sky.png"
+cd "$root"
+exec "$root/$build/skyd" serve --config "$root/config/skyd.json"

@@ -1,4 +1,5 @@
 #include "config.h"
+#include "text_file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -179,34 +180,17 @@ static void apply_object(struct skyd_config *c, const cJSON *object, const char 
     }
 }
 
-static char *read_file(const char *path, char *msg, size_t msglen)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(msg, msglen, "cannot open %s: %s", path, strerror(errno));
-        return NULL;
-    }
-    char *text = malloc(MAX_CONFIG_BYTES + 1);
-    size_t n = text ? fread(text, 1, MAX_CONFIG_BYTES + 1, f) : 0;
-    bool failed = !text || ferror(f);
-    fclose(f);
-    if (failed || n > MAX_CONFIG_BYTES) {
-        snprintf(msg, msglen, "%s: %s", path, failed ? "read error" : "larger than 1 MiB");
-        free(text);
-        return NULL;
-    }
-    text[n] = '\0';
-    return text;
-}
-
 bool skyd_config_load(const char *path, struct skyd_config *config,
                       struct sky_field_errors *errors, char *msg, size_t msglen)
 {
     memset(errors, 0, sizeof *errors);
     skyd_config_defaults(config);
-    char *text = read_file(path, msg, msglen);
-    if (!text)
+    size_t length = 0;
+    char *text = text_file_read(path, MAX_CONFIG_BYTES, &length);
+    if (!text) {
+        text_file_describe_error(path, MAX_CONFIG_BYTES, msg, msglen);
         return false;
+    }
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text, &end, true);
     if (!root) {

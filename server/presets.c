@@ -1,4 +1,5 @@
 #include "presets.h"
+#include "text_file.h"
 
 #include <cjson/cJSON.h>
 
@@ -119,43 +120,6 @@ int sky_preset_list(const char *config_dir, const char *kind,
 }
 
 /* ---- loading ---------------------------------------------------------------------------- */
-
-/* Reads a whole regular file of at most SKY_PRESET_MAX_FILE_BYTES, NUL-terminated. On failure
- * returns NULL with errno set: EFBIG when too large, EINVAL when not a regular file. */
-static char *read_bounded_file(const char *path, size_t *length)
-{
-    FILE *file = fopen(path, "rb");
-    if (!file)
-        return NULL;
-    char *contents = NULL;
-    int saved_errno = 0;
-    struct stat info;
-    if (fstat(fileno(file), &info) != 0) {
-        saved_errno = errno;
-    } else if (!S_ISREG(info.st_mode)) {
-        saved_errno = EINVAL;
-    } else if (info.st_size > SKY_PRESET_MAX_FILE_BYTES) {
-        saved_errno = EFBIG;
-    } else {
-        size_t capacity = (size_t)info.st_size;
-        contents = malloc(capacity + 1);
-        if (!contents) {
-            saved_errno = ENOMEM;
-        } else {
-            /* Reads no more than the size seen: a file growing meanwhile stays bounded. */
-            *length = fread(contents, 1, capacity, file);
-            contents[*length] = '\0';
-            if (ferror(file)) {
-                saved_errno = EIO;
-                free(contents);
-                contents = NULL;
-            }
-        }
-    }
-    fclose(file);
-    errno = saved_errno;
-    return contents;
-}
 
 static void describe_available(const char *config_dir, const char *kind, char *text,
                                size_t capacity)
@@ -327,7 +291,7 @@ bool sky_preset_apply(const char *config_dir, const char *kind, const char *name
         return false;
     }
     size_t length = 0;
-    char *contents = read_bounded_file(path, &length);
+    char *contents = text_file_read(path, SKY_PRESET_MAX_FILE_BYTES, &length);
     bool applied = false;
     if (!contents) {
         report_read_failure(config_dir, kind, name, path, errno, msg, msglen);

@@ -190,19 +190,29 @@ static void handle_auth(struct render_context *ctx, struct session *session,
           sky_msg_build_ack(&msg->id, ctx->state.revision, SKY_ROLE_CONTROLLER));
 }
 
+/* Makes room for one more item in a growing array; false (and a reply) when memory is out. */
+static bool reserve_one(void **items, size_t *capacity, size_t count, size_t item_size,
+                        struct session *session, const struct sky_msg_id *id)
+{
+    if (count < *capacity)
+        return true;
+    size_t grown_capacity = *capacity ? *capacity * 2 : 8;
+    void *grown = realloc(*items, item_size * grown_capacity);
+    if (!grown) {
+        reply_error(session, id, SKY_MSG_ERR_INTERNAL, "out of memory");
+        return false;
+    }
+    *items = grown;
+    *capacity = grown_capacity;
+    return true;
+}
+
 static void handle_subscribe(struct render_context *ctx, struct session *session,
                              const struct sky_client_msg *msg)
 {
-    if (ctx->subscription_count == ctx->subscription_capacity) {
-        size_t capacity = ctx->subscription_capacity ? ctx->subscription_capacity * 2 : 16;
-        struct subscription *grown = realloc(ctx->subscriptions, sizeof *grown * capacity);
-        if (!grown) {
-            reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "out of memory");
-            return;
-        }
-        ctx->subscriptions = grown;
-        ctx->subscription_capacity = capacity;
-    }
+    if (!reserve_one((void **)&ctx->subscriptions, &ctx->subscription_capacity,
+                     ctx->subscription_count, sizeof *ctx->subscriptions, session, &msg->id))
+        return;
     uint64_t id = ctx->last_subscription_id + 1;
     if (!session_add_slot(session, id)) {
         reply_error(session, &msg->id, SKY_MSG_ERR_LIMIT_REACHED,
@@ -247,16 +257,9 @@ static void handle_unsubscribe(struct render_context *ctx, struct session *sessi
 static void handle_snapshot(struct render_context *ctx, struct session *session,
                             const struct sky_client_msg *msg)
 {
-    if (ctx->snapshot_count == ctx->snapshot_capacity) {
-        size_t capacity = ctx->snapshot_capacity ? ctx->snapshot_capacity * 2 : 8;
-        struct pending_snapshot *grown = realloc(ctx->snapshots, sizeof *grown * capacity);
-        if (!grown) {
-            reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "out of memory");
-            return;
-        }
-        ctx->snapshots = grown;
-        ctx->snapshot_capacity = capacity;
-    }
+    if (!reserve_one((void **)&ctx->snapshots, &ctx->snapshot_capacity, ctx->snapshot_count,
+                     sizeof *ctx->snapshots, session, &msg->id))
+        return;
     if (!session_snapshot_reserve(session)) {
         reply_error(session, &msg->id, SKY_MSG_ERR_LIMIT_REACHED,
                     "at most %d snapshots may be pending per connection", SESSION_MAX_SNAPSHOTS);

@@ -1,4 +1,5 @@
 #include "state_store.h"
+#include "text_file.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -13,28 +14,6 @@
 #include <cjson/cJSON.h>
 
 #define STATE_FILE_MAX_BYTES (1 << 20)
-
-static char *read_file(const char *path, size_t *length, char *msg, size_t msglen)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(msg, msglen, "cannot open %s: %s", path, strerror(errno));
-        return NULL;
-    }
-    char *text = malloc(STATE_FILE_MAX_BYTES + 1);
-    size_t n = text ? fread(text, 1, STATE_FILE_MAX_BYTES + 1, f) : 0;
-    bool failed = !text || ferror(f);
-    fclose(f);
-    if (failed || n > STATE_FILE_MAX_BYTES) {
-        snprintf(msg, msglen, "%s: %s", path,
-                 failed ? "read error" : "larger than 1 MiB");
-        free(text);
-        return NULL;
-    }
-    text[n] = '\0';
-    *length = n;
-    return text;
-}
 
 /* Parses the file's text onto a copy of the defaults; false with a reason. */
 static bool parse_state(const char *text, size_t length, struct sky_world_state *out, char *msg,
@@ -82,7 +61,9 @@ enum state_load_result state_store_load(const char *path, struct sky_world_state
     }
     char reason[640];
     size_t length = 0;
-    char *text = read_file(path, &length, reason, sizeof reason);
+    char *text = text_file_read(path, STATE_FILE_MAX_BYTES, &length);
+    if (!text)
+        text_file_describe_error(path, STATE_FILE_MAX_BYTES, reason, sizeof reason);
     bool ok = text && parse_state(text, length, state, reason, sizeof reason);
     free(text);
     if (ok)
