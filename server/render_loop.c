@@ -221,9 +221,45 @@ static double advance_due(double due, double period, double now)
     return now - due < period ? due + period : now + period;
 }
 
-/* Collects the subscriptions due now (and those within half a period of due whose view is
- * rendered anyway, so that equal views fall into step) and the pending snapshots into groups,
- * renders each group once, and returns when the loop should next look at the schedule. */
+/* Subscriptions to the same view are scheduled together, so they stay in step and share
+ * every rendering: a view is rendered when one of its subscriptions is due and none of them
+ * has a frame in the encoder; it then serves every subscription within half a period of due.
+ */
+static void schedule_view(struct render_loop *loop, const size_t *members, size_t count,
+                          const struct sky_render_view *view, struct render_group **groups,
+                          size_t *group_count, double now)
+{
+    struct render_context *ctx = &loop->ctx;
+    enum slot_state states[count];
+    bool encoding = false, due = false;
+    for (size_t k = 0; k < count; k++) {
+        struct subscription *s = &ctx->subscriptions[members[k]];
+        states[k] = session_slot_state(s->session, s->id, now, fmax(2.0 * s->period_s, 0.25));
+        encoding |= states[k] == SLOT_ENCODING;
+        due |= states[k] == SLOT_READY && now >= s->next_due;
+        if (states[k] == SLOT_STALLED && now >= s->next_due)
+            s->next_due = now + s->period_s; /* look again later; nothing is rendered */
+    }
+    for (size_t k = 0; k < count; k++)
+        ctx->subscriptions[members[k]].waiting_for_encoder = encoding;
+    if (encoding || !due)
+        return;
+    struct render_group *g = group_for(groups, group_count, view);
+    for (size_t k = 0; k < count && g; k++) {
+        struct subscription *s = &ctx->subscriptions[members[k]];
+        if (states[k] != SLOT_READY || now < s->next_due - 0.5 * s->period_s ||
+            !session_slot_begin_encode(s->session, s->id))
+            continue;
+        if (!group_add(g, s->session, s->id, NULL)) {
+            session_slot_deliver(s->session, s->id, NULL);
+            continue;
+        }
+        s->next_due = advance_due(s->next_due, s->period_s, now);
+    }
+}
+
+/* Groups the pending snapshots and the due subscriptions by view, renders each view once, and
+ * returns when the loop should next look at the schedule. */
 static double render_due(struct render_loop *loop, double now)
 {
     struct render_context *ctx = &loop->ctx;
@@ -243,44 +279,37 @@ static double render_due(struct render_loop *loop, double now)
     }
     ctx->snapshot_count = 0;
 
-    for (size_t i = 0; i < ctx->subscription_count; i++)
+    size_t n = ctx->subscription_count;
+    struct sky_render_view *views = n ? malloc(sizeof *views * n) : NULL;
+    size_t *members = n ? malloc(sizeof *members * n) : NULL;
+    bool *grouped = n ? calloc(n, sizeof *grouped) : NULL;
+    if (n && (!views || !members || !grouped))
+        encoder_full = true; /* out of memory: try again at the next tick */
+    for (size_t i = 0; i < n; i++)
         ctx->subscriptions[i].waiting_for_encoder = encoder_full;
-    for (int pass = 0; pass < 2 && !encoder_full; pass++) {
-        for (size_t i = 0; i < ctx->subscription_count; i++) {
-            struct subscription *s = &ctx->subscriptions[i];
-            bool due = now >= s->next_due;
-            bool joinable = pass == 1 && !due && now >= s->next_due - 0.5 * s->period_s;
-            if ((pass == 0 && !due) || (pass == 1 && !joinable))
-                continue;
-            struct sky_render_view view;
-            resolve_render_view(&ctx->state, &s->view, &view);
-            if (pass == 1) {
-                bool shared = false;
-                for (size_t k = 0; k < group_count && !shared; k++)
-                    shared = memcmp(&groups[k].view, &view, sizeof view) == 0;
-                if (!shared)
-                    continue;
+    for (size_t i = 0; i < n && !encoder_full; i++)
+        resolve_render_view(&ctx->state, &ctx->subscriptions[i].view, &views[i]);
+    for (size_t i = 0; i < n && !encoder_full; i++) {
+        if (grouped[i])
+            continue;
+        size_t count = 0;
+        for (size_t j = i; j < n; j++) {
+            if (!grouped[j] && memcmp(&views[i], &views[j], sizeof views[i]) == 0) {
+                grouped[j] = true;
+                members[count++] = j;
             }
-            enum slot_state state = session_slot_begin_encode(s->session, s->id, now,
-                                                              fmax(2.0 * s->period_s, 0.25));
-            if (state == SLOT_STALLED) {
-                s->next_due = now + s->period_s; /* look again later; nothing is rendered */
-                continue;
-            }
-            if (state != SLOT_READY) {
-                s->waiting_for_encoder = due; /* the end of that encode wakes the loop */
-                continue;
-            }
-            struct render_group *g = group_for(&groups, &group_count, &view);
-            if (!g || !group_add(g, s->session, s->id, NULL)) {
-                session_slot_deliver(s->session, s->id, NULL);
-                continue;
-            }
-            s->next_due = advance_due(s->next_due, s->period_s, now);
         }
+        schedule_view(loop, members, count, &views[i], &groups, &group_count, now);
     }
-    for (size_t i = 0; i < group_count; i++)
-        render_group(loop, &groups[i]);
+    free(views);
+    free(members);
+    free(grouped);
+    for (size_t i = 0; i < group_count; i++) {
+        if (groups[i].count > 0)
+            render_group(loop, &groups[i]);
+        else
+            free(groups[i].targets);
+    }
     free(groups);
 
     double after = now_s();

@@ -16,7 +16,8 @@ struct text_item {
 };
 
 struct frame_slot {
-    bool in_use, encoding;
+    bool in_use;
+    int encoding; /* frames of it in the encoder */
     uint64_t subscription;
     struct encoded_frame *pending; /* latest unsent frame, or NULL */
     double pending_since;          /* CLOCK_MONOTONIC seconds since the slot has been full */
@@ -237,22 +238,31 @@ static double monotonic_s(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-enum slot_state session_slot_begin_encode(struct session *s, uint64_t subscription,
-                                          double now_s, double stale_after_s)
+enum slot_state session_slot_state(struct session *s, uint64_t subscription, double now_s,
+                                   double stale_after_s)
 {
     pthread_mutex_lock(&s->lock);
     struct frame_slot *slot = s->closed ? NULL : find_slot(s, subscription);
     enum slot_state state = SLOT_READY;
     if (!slot)
         state = SLOT_GONE;
-    else if (slot->encoding)
+    else if (slot->encoding >= SESSION_MAX_FRAMES_ENCODING)
         state = SLOT_ENCODING;
     else if (slot->pending && now_s - slot->pending_since > stale_after_s)
         state = SLOT_STALLED;
-    else
-        slot->encoding = true;
     pthread_mutex_unlock(&s->lock);
     return state;
+}
+
+bool session_slot_begin_encode(struct session *s, uint64_t subscription)
+{
+    pthread_mutex_lock(&s->lock);
+    struct frame_slot *slot = s->closed ? NULL : find_slot(s, subscription);
+    bool begin = slot && slot->encoding < SESSION_MAX_FRAMES_ENCODING;
+    if (begin)
+        slot->encoding++;
+    pthread_mutex_unlock(&s->lock);
+    return begin;
 }
 
 void session_slot_deliver(struct session *s, uint64_t subscription, struct encoded_frame *frame)
@@ -260,7 +270,8 @@ void session_slot_deliver(struct session *s, uint64_t subscription, struct encod
     pthread_mutex_lock(&s->lock);
     struct frame_slot *slot = s->closed ? NULL : find_slot(s, subscription);
     if (slot) {
-        slot->encoding = false;
+        if (slot->encoding > 0)
+            slot->encoding--;
         bool newer = !slot->pending || (frame && encoded_frame_meta(frame)->render_sequence >
                                                      encoded_frame_meta(slot->pending)->render_sequence);
         if (frame && newer) {

@@ -25,6 +25,9 @@
 #define SESSION_MAX_SUBSCRIPTIONS 4
 #define SESSION_MAX_SNAPSHOTS 4
 #define SESSION_MAX_QUEUED_TEXT_BYTES (1u << 20)
+/* Frames of one subscription in the encoder at once: the next frame renders while the last
+ * one encodes. */
+#define SESSION_MAX_FRAMES_ENCODING 2
 
 /* Close codes (RFC 6455). */
 #define SESSION_CLOSE_GOING_AWAY 1001
@@ -62,15 +65,18 @@ bool session_is_closed(struct session *session);
 bool session_add_slot(struct session *session, uint64_t subscription);
 void session_remove_slot(struct session *session, uint64_t subscription);
 enum slot_state {
-    SLOT_READY = 0, /* now marked as encoding: render a frame for it */
-    SLOT_ENCODING,  /* a frame of it is being encoded */
+    SLOT_READY = 0, /* a frame may be rendered for it */
+    SLOT_ENCODING,  /* SESSION_MAX_FRAMES_ENCODING frames of it are being encoded */
     SLOT_STALLED,   /* its last frame has waited unsent longer than stale_after_s */
     SLOT_GONE,      /* no such subscription, or the session closed */
 };
-/* Asks whether to render for a subscription at time now_s (CLOCK_MONOTONIC seconds). A client
+/* Whether to render for a subscription at time now_s (CLOCK_MONOTONIC seconds). A client
  * that does not take its frames costs no rendering until it reads again. */
-enum slot_state session_slot_begin_encode(struct session *session, uint64_t subscription,
-                                          double now_s, double stale_after_s);
+enum slot_state session_slot_state(struct session *session, uint64_t subscription, double now_s,
+                                   double stale_after_s);
+/* Counts one more frame of it in the encoder; false when it is gone or the encoder holds
+ * SESSION_MAX_FRAMES_ENCODING of its frames. */
+bool session_slot_begin_encode(struct session *session, uint64_t subscription);
 /* Ends an encode: a frame (NULL when encoding failed) enters the slot unless the slot holds a
  * newer one, replacing an unsent older one. The reference is taken, not stolen. */
 void session_slot_deliver(struct session *session, uint64_t subscription,

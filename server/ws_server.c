@@ -140,16 +140,17 @@ static bool take_token(struct ws_server *srv, struct connection *c)
     return true;
 }
 
-/* A whole message has arrived: reject it here (in order, through the loop) or hand it on. */
+/* A whole message has arrived: reject it here (in order, through the loop) or hand it on.
+ * Every message costs a token of the rate limit, whatever its fate; a dropped one is still
+ * parsed so that the error can carry its id. */
 static void on_message(struct ws_server *srv, struct connection *c)
 {
+    bool allowed = take_token(srv, c);
     char *error = NULL;
     char message[160];
-    if (!take_token(srv, c)) {
-        snprintf(message, sizeof message, "more than %g messages per second; this one was "
-                 "dropped", srv->limits.control_messages_per_second);
-        error = sky_msg_build_error(NULL, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
-    } else if (c->rx_binary) {
+    struct sky_client_msg msg;
+    memset(&msg, 0, sizeof msg);
+    if (c->rx_binary) {
         error = sky_msg_build_error(NULL, SKY_MSG_ERR_INVALID_ENCODING,
                                     "binary messages are not accepted: send JSON text", NULL);
     } else if (c->rx_length > srv->limits.max_message_bytes) {
@@ -157,18 +158,22 @@ static void on_message(struct ws_server *srv, struct connection *c)
                  "max_message_bytes (%zu)", c->rx_length, srv->limits.max_message_bytes);
         error = sky_msg_build_error(NULL, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message, NULL);
     } else {
-        struct sky_client_msg msg;
         struct sky_msg_parse_error parse_error;
         json_guard_lock();
         enum sky_msg_error_code code = sky_msg_parse(c->rx ? c->rx : "", c->rx_length,
                                                      &srv->limits, &msg, &parse_error);
         json_guard_unlock();
-        if (code == SKY_MSG_OK)
+        if (!allowed) {
+            snprintf(message, sizeof message, "more than %g messages per second; this one was "
+                     "dropped", srv->limits.control_messages_per_second);
+            error = sky_msg_build_error(&msg.id, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
+        } else if (code == SKY_MSG_OK) {
             render_loop_submit_message(srv->loop, c->session, &msg);
-        else
+        } else {
             error = sky_msg_build_parse_error(&msg, &parse_error);
-        sky_client_msg_free(&msg);
+        }
     }
+    sky_client_msg_free(&msg);
     if (error)
         render_loop_submit_reply(srv->loop, c->session, error);
 }
