@@ -70,8 +70,18 @@ static int confirm_upgrade(struct ws_server *srv, struct lws *wsi)
                                                      WSI_TOKEN_ORIGIN) < 0 ||
         !origin_allowed(srv, origin)) {
         lwsl_user("refused a WebSocket from origin %s\n", origin);
-        lws_return_http_status(wsi, HTTP_STATUS_FORBIDDEN, "origin not allowed");
-        return 1;
+        /* Written whole: lws's own status helpers say HTTP/1.0 at this stage, which strict
+         * WebSocket clients refuse to read. */
+        static const char response[] = "HTTP/1.1 403 Forbidden\r\n"
+                                       "Content-Type: text/plain\r\n"
+                                       "Content-Length: 19\r\n"
+                                       "Connection: close\r\n"
+                                       "\r\n"
+                                       "origin not allowed\n";
+        unsigned char buffer[LWS_PRE + sizeof response];
+        memcpy(buffer + LWS_PRE, response, sizeof response - 1);
+        lws_write(wsi, buffer + LWS_PRE, sizeof response - 1, LWS_WRITE_HTTP_HEADERS);
+        return -1;
     }
     return 0;
 }

@@ -1,0 +1,668 @@
+"""Support for tests/test_serve.py: check bookkeeping, a PNG decoder, the daemon under test
+(started on a free port, stopped with SIGTERM), a WebSocket client wrapper on Debian's
+python3-websockets 10.4, and raw-socket helpers for what the library will not send."""
+
+import asyncio
+import base64
+import json
+import math
+import os
+import queue
+import re
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import threading
+import time
+import urllib.error
+import urllib.request
+import zlib
+
+try:
+    import websockets
+    import websockets.exceptions
+except ImportError:  # pragma: no cover - environment problem, not a test result
+    print("test_serve.py: the websockets package is missing; run with /usr/bin/python3 "
+          "(Debian python3-websockets)", file=sys.stderr)
+    sys.exit(1)
+
+TOKEN = "e2e-controller-token"
+ALLOWED_ORIGIN = "http://example.test"
+REPLY_TIMEOUT = 10.0      # a control reply (set waits for the next render tick)
+FIRST_FRAME_TIMEOUT = 30.0  # the first frame of a run (LUTs are built at start)
+READY_TIMEOUT = 60.0      # the "listening" line
+EXIT_TIMEOUT = 20.0       # exit after SIGTERM
+
+CAPABILITIES = ["hello", "auth", "get_state", "set", "subscribe", "unsubscribe", "snapshot",
+                "probe", "list_presets", "apply_preset", "stats", "png"]
+
+HEADER = struct.Struct("<4sHHQQdIIII")
+assert HEADER.size == 48
+
+# ------------------------------------------------------------------------------------------
+# Check bookkeeping
+
+passed = 0
+failed = 0
+VERBOSE = os.environ.get("SKYD_TEST_VERBOSE") == "1"  # also print the checks that pass
+
+
+def check(name, cond, detail=""):
+    """Records one check; prints a line when it fails. Returns cond."""
+    global passed, failed
+    if cond:
+        passed += 1
+        if VERBOSE:
+            print(f"ok   {name}", flush=True)
+    else:
+        failed += 1
+        print(f"FAIL {name}: {detail}", flush=True)
+    return bool(cond)
+
+
+def info(text):
+    print(f"info: {text}", flush=True)
+
+
+def short(obj, limit=400):
+    if isinstance(obj, bytes):
+        text = repr(obj[:64])
+    elif isinstance(obj, str):
+        text = obj
+    else:
+        text = json.dumps(obj, default=lambda o: f"<{len(o)} bytes>" if isinstance(o, bytes)
+                          else repr(o))
+    return text if len(text) <= limit else text[:limit] + "..."
+
+
+def approx_equal(a, b, rel=1e-6, abs_tol=1e-9):
+    """Deep comparison of JSON values with a tolerance on numbers."""
+    if isinstance(a, bool) or isinstance(b, bool):
+        return a is b
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)):
+        return math.isclose(a, b, rel_tol=rel, abs_tol=abs_tol)
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(approx_equal(a[k], b[k], rel, abs_tol) for k in a)
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(approx_equal(x, y, rel, abs_tol) for x, y in zip(a, b))
+    return a == b
+
+
+def json_diff(a, b, path=""):
+    """First difference between two JSON values, as text (for failure details)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            if k not in a or k not in b:
+                return f"{path}/{k}: present in only one ({short(a.get(k))} vs {short(b.get(k))})"
+            d = json_diff(a[k], b[k], f"{path}/{k}")
+            if d:
+                return d
+        return ""
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        for i, (x, y) in enumerate(zip(a, b)):
+            d = json_diff(x, y, f"{path}/{i}")
+            if d:
+                return d
+        return ""
+    return "" if approx_equal(a, b) else f"{path}: {short(a)} != {short(b)}"
+
+
+# ------------------------------------------------------------------------------------------
+# PNG decoding (signature, chunk CRCs, IHDR, inflate IDAT, undo filters)
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def decode_png(data):
+    """Returns (width, height, channels, rows) or raises ValueError with the reason."""
+    if data[:8] != PNG_SIGNATURE:
+        raise ValueError(f"bad signature {data[:8]!r}")
+    pos = 8
+    ihdr = None
+    idat = []
+    seen_iend = False
+    while pos < len(data):
+        if pos + 12 > len(data):
+            raise ValueError(f"truncated chunk at offset {pos}")
+        length, ctype = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if len(body) != length or pos + 12 + length > len(data):
+            raise ValueError(f"chunk {ctype!r} at {pos} runs past the end")
+        (crc,) = struct.unpack(">I", data[pos + 8 + length:pos + 12 + length])
+        if zlib.crc32(ctype + body) & 0xFFFFFFFF != crc:
+            raise ValueError(f"bad CRC in chunk {ctype!r} at offset {pos}")
+        if ihdr is None and ctype != b"IHDR":
+            raise ValueError(f"first chunk is {ctype!r}, not IHDR")
+        if ctype == b"IHDR":
+            ihdr = struct.unpack(">IIBBBBB", body)
+        elif ctype == b"IDAT":
+            idat.append(body)
+        elif ctype == b"IEND":
+            seen_iend = True
+            pos += 12 + length
+            break
+        pos += 12 + length
+    if not seen_iend:
+        raise ValueError("no IEND chunk")
+    if pos != len(data):
+        raise ValueError(f"{len(data) - pos} bytes after IEND")
+    width, height, depth, color, comp, filt, interlace = ihdr
+    channels = {0: 1, 2: 3, 4: 2, 6: 4}.get(color)
+    if depth != 8 or channels is None or comp != 0 or filt != 0 or interlace != 0:
+        raise ValueError(f"unsupported IHDR depth={depth} color={color} comp={comp} "
+                         f"filter={filt} interlace={interlace}")
+    if not idat:
+        raise ValueError("no IDAT chunk")
+    raw = zlib.decompress(b"".join(idat))
+    stride = width * channels
+    if len(raw) != height * (stride + 1):
+        raise ValueError(f"inflated {len(raw)} bytes, expected {height * (stride + 1)}")
+    rows = []
+    prev = bytearray(stride)
+    bpp = channels
+    for y in range(height):
+        ftype = raw[y * (stride + 1)]
+        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        if ftype == 0:
+            pass
+        elif ftype == 1:
+            for i in range(bpp, stride):
+                line[i] = (line[i] + line[i - bpp]) & 0xFF
+        elif ftype == 2:
+            for i in range(stride):
+                line[i] = (line[i] + prev[i]) & 0xFF
+        elif ftype == 3:
+            for i in range(stride):
+                left = line[i - bpp] if i >= bpp else 0
+                line[i] = (line[i] + ((left + prev[i]) >> 1)) & 0xFF
+        elif ftype == 4:
+            for i in range(stride):
+                a = line[i - bpp] if i >= bpp else 0
+                b = prev[i]
+                c = prev[i - bpp] if i >= bpp else 0
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                pred = a if (pa <= pb and pa <= pc) else (b if pb <= pc else c)
+                line[i] = (line[i] + pred) & 0xFF
+        else:
+            raise ValueError(f"row {y}: bad filter type {ftype}")
+        rows.append(bytes(line))
+        prev = line
+    return width, height, channels, rows
+
+
+def check_binary_frame(name, text_msg, binary, width, height, revision=None, decode=True):
+    """Checks a binary frame (header + PNG) against the frame message that announced it."""
+    if not check(f"{name}: binary message", isinstance(binary, bytes),
+                 f"expected a binary message after {short(text_msg)}, got {short(binary)}"):
+        return None
+    if not check(f"{name}: at least 48 bytes", len(binary) >= 48, f"length {len(binary)}"):
+        return None
+    (magic, version, fmt, frame_number, state_revision, sim_time, w, h, payload_length,
+     reserved) = HEADER.unpack_from(binary)
+    check(f"{name}: magic", magic == b"SKYF", repr(magic))
+    check(f"{name}: header_version", version == 1, str(version))
+    check(f"{name}: format", fmt == 1, str(fmt))
+    check(f"{name}: reserved", reserved == 0, str(reserved))
+    check(f"{name}: frame_number matches the frame message",
+          frame_number == text_msg.get("frame_number"),
+          f"header {frame_number}, message {short(text_msg)}")
+    check(f"{name}: simulation_time_s finite", math.isfinite(sim_time), str(sim_time))
+    check(f"{name}: width/height", (w, h) == (width, height),
+          f"header {w}x{h}, requested {width}x{height}")
+    check(f"{name}: payload_length", payload_length == len(binary) - 48,
+          f"payload_length {payload_length}, message length {len(binary)}")
+    if revision is not None:
+        check(f"{name}: state_revision", state_revision == revision,
+              f"header {state_revision}, expected {revision}")
+    if decode:
+        try:
+            pw, ph, channels, rows = decode_png(binary[48:])
+        except (ValueError, zlib.error, struct.error) as e:
+            check(f"{name}: PNG decodes", False, str(e))
+            return state_revision
+        check(f"{name}: PNG decodes", True)
+        check(f"{name}: PNG IHDR size", (pw, ph) == (width, height), f"{pw}x{ph}")
+        check(f"{name}: PNG is RGBA8", channels == 4, f"{channels} channels")
+        pixels = set()
+        for row in rows:
+            for i in range(0, len(row), channels):
+                pixels.add(row[i:i + channels])
+                if len(pixels) > 1:
+                    break
+            if len(pixels) > 1:
+                break
+        check(f"{name}: image not constant", len(pixels) > 1,
+              f"every pixel is {pixels!r}")
+    return state_revision
+
+
+# ------------------------------------------------------------------------------------------
+# The daemon
+
+
+class Daemon:
+    def __init__(self, skyd, scratch, name, config):
+        self.skyd = skyd
+        self.scratch = scratch
+        self.name = name
+        self.config = config
+        self.config_path = os.path.join(scratch, f"{name}.json")
+        self.log_path = os.path.join(scratch, f"{name}.log")
+        self.proc = None
+        self.port = None
+        self.lines = queue.Queue()
+        self.log_offset = 0
+
+    def start(self):
+        with open(self.config_path, "w") as f:
+            json.dump(self.config, f, indent=2)
+        self.lines = queue.Queue()  # a fresh one per start: the old reader thread ends with None
+        self.log_offset = os.path.getsize(self.log_path) if os.path.exists(self.log_path) else 0
+        log = open(self.log_path, "ab")
+        self.proc = subprocess.Popen([self.skyd, "serve", "--config", self.config_path],
+                                     stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                     stderr=log, cwd=self.scratch)
+        log.close()
+        threading.Thread(target=self._read_stdout, args=(self.proc, self.lines),
+                         daemon=True).start()
+        deadline = time.monotonic() + READY_TIMEOUT
+        while True:
+            remaining = deadline - time.monotonic()
+            try:
+                line = self.lines.get(timeout=max(0.01, remaining))
+            except queue.Empty:
+                line = None
+            if line is None:
+                try:
+                    code = self.proc.wait(timeout=1)
+                    why = f"exited with status {code} before printing the listening line"
+                except subprocess.TimeoutExpired:
+                    why = f"no listening line within {READY_TIMEOUT:.0f} s"
+                raise RuntimeError(f"{self.name}: {why}; log {self.log_path}: "
+                                   f"{self.log_tail()}")
+            m = re.fullmatch(r"skyd: listening on http://127\.0\.0\.1:(\d+)/", line.rstrip("\n"))
+            if m:
+                self.port = int(m.group(1))
+                return
+            info(f"{self.name}: unexpected stdout line before the listening line: {line!r}")
+
+    def _read_stdout(self, proc, lines):
+        for raw in proc.stdout:
+            lines.put(raw.decode("utf-8", "replace"))
+        lines.put(None)
+
+    def log_tail(self, n=600):
+        try:
+            with open(self.log_path, "rb") as f:
+                f.seek(self.log_offset)
+                return f.read().decode("utf-8", "replace")[-n:]
+        except OSError:
+            return "(no log)"
+
+    def url(self):
+        return f"ws://127.0.0.1:{self.port}/"
+
+    def terminate(self):
+        """SIGTERM; returns the exit status (None if it had to be killed)."""
+        if self.proc is None or self.proc.poll() is not None:
+            return self.proc.poll() if self.proc else None
+        self.proc.send_signal(signal.SIGTERM)
+        try:
+            return self.proc.wait(timeout=EXIT_TIMEOUT)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+            return None
+
+    async def terminate_async(self):
+        return await asyncio.get_running_loop().run_in_executor(None, self.terminate)
+
+    def kill(self):
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+
+
+def make_config(scratch, state_file, **limits):
+    lim = {"max_message_bytes": 16384, "max_clients": 16, "max_width": 1000, "max_height": 800,
+           "max_fps": 60, "control_messages_per_second": 1000}
+    lim.update(limits)
+    return {
+        "listen": {"address": "127.0.0.1", "port": 0},
+        "web_root": os.path.join(scratch, "web"),
+        "state_file": state_file,
+        "render": {"device": "", "validation": False},
+        "limits": lim,
+        "controller_token": TOKEN,
+        "allowed_origins": [ALLOWED_ORIGIN],
+    }
+
+
+# ------------------------------------------------------------------------------------------
+# A client: replies, events and frames sorted out of one message stream
+
+
+class Client:
+    def __init__(self, ws, name):
+        self.ws = ws
+        self.name = name
+        self.pending = []     # messages read ahead and pushed back
+        self.events = []
+        self.frames = []      # (frame message, binary, arrival time), subscription frames only
+        self.frame_count = {}  # subscription -> frames received
+        self.stray = []       # replies that arrived while nobody waited for one
+        self.hello = None
+        self.next_id = 1000
+        self.url = None
+        self.connect_kwargs = {}
+        self.controller = False
+
+    @classmethod
+    async def connect(cls, url, name, read_hello=True, **kwargs):
+        kwargs.setdefault("open_timeout", 10)
+        kwargs.setdefault("close_timeout", 5)
+        kwargs.setdefault("ping_interval", None)
+        kwargs.setdefault("max_size", 1 << 24)
+        ws = await websockets.connect(url, **kwargs)
+        c = cls(ws, name)
+        c.url, c.connect_kwargs = url, kwargs
+        if read_hello:
+            c.hello = await c.raw(REPLY_TIMEOUT)
+            if isinstance(c.hello, (bytes, str)) or c.hello.get("type") != "hello":
+                raise RuntimeError(f"{name}: first message is not hello: {short(c.hello)}")
+        return c
+
+    async def auth(self):
+        r = await self.request({"type": "auth", "id": "auth", "token": TOKEN})
+        if r.get("type") != "ack" or r.get("role") != "controller":
+            raise RuntimeError(f"{self.name}: auth answered with {short(r)}")
+        self.controller = True
+        return r
+
+    async def reopen(self):
+        """A fresh connection in place of a closed one (so later checks still run)."""
+        info(f"{self.name}: connection closed ({self.ws.close_code} {self.ws.close_reason!r}); "
+             f"reconnecting for the remaining checks")
+        fresh = await Client.connect(self.url, self.name, **self.connect_kwargs)
+        self.ws, self.hello, self.pending = fresh.ws, fresh.hello, []
+        if self.controller:
+            await self.auth()
+
+    def new_id(self):
+        self.next_id += 1
+        return self.next_id
+
+    async def raw(self, timeout):
+        """One message: a dict for JSON text, str for non-JSON text, bytes for binary."""
+        if self.pending:
+            return self.pending.pop(0)
+        try:
+            m = await asyncio.wait_for(self.ws.recv(), timeout)
+        except asyncio.TimeoutError:
+            raise asyncio.TimeoutError(f"{self.name}: nothing received within {timeout:.1f} s")
+        if isinstance(m, bytes):
+            return m
+        try:
+            return json.loads(m)
+        except ValueError:
+            return m
+
+    async def _dispatch(self, timeout):
+        """Reads one item; stores events and subscription frames. Returns ("reply", msg),
+        ("event", msg) or ("frame", msg, binary)."""
+        m = await self.raw(timeout)
+        if isinstance(m, bytes):
+            check(f"{self.name}: binary message announced by a frame message", False,
+                  f"binary message of {len(m)} bytes without a preceding frame message")
+            return ("junk", m)
+        if not isinstance(m, dict):
+            check(f"{self.name}: server text is a JSON object", False, short(m))
+            return ("junk", m)
+        if m.get("type") == "event":
+            self.events.append(m)
+            return ("event", m)
+        if m.get("type") == "frame":
+            b = await self.raw(timeout)
+            if not isinstance(b, bytes):
+                check(f"{self.name}: frame message immediately followed by a binary message",
+                      False, f"after {short(m)} came {short(b)}")
+                self.pending.insert(0, b)
+                b = None
+            if "subscription" in m:
+                self.frames.append((m, b, time.monotonic()))
+                if len(self.frames) > 64:
+                    del self.frames[:-64]
+                sub = m.get("subscription")
+                self.frame_count[sub] = self.frame_count.get(sub, 0) + 1
+                return ("frame", m, b)
+            m = dict(m)
+            m["_binary"] = b
+            return ("reply", m)
+        return ("reply", m)
+
+    async def send(self, obj):
+        await self.ws.send(obj if isinstance(obj, (str, bytes)) else json.dumps(obj))
+
+    async def reply(self, timeout=REPLY_TIMEOUT):
+        """The next reply (skipping events and subscription frames)."""
+        deadline = time.monotonic() + timeout
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                raise asyncio.TimeoutError(f"{self.name}: no reply within {timeout} s")
+            item = await self._dispatch(remaining)
+            if item[0] == "reply":
+                return item[1]
+
+    async def request(self, obj, timeout=REPLY_TIMEOUT):
+        await self.send(obj)
+        return await self.reply(timeout)
+
+    async def get_state(self):
+        i = self.new_id()
+        r = await self.request({"type": "get_state", "id": i})
+        if r.get("type") != "state" or r.get("id") != i:
+            raise RuntimeError(f"{self.name}: get_state answered with {short(r)}")
+        return r
+
+    async def wait_frame(self, pred=lambda m: True, timeout=REPLY_TIMEOUT):
+        deadline = time.monotonic() + timeout
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                raise asyncio.TimeoutError(f"{self.name}: no matching frame within {timeout} s")
+            item = await self._dispatch(remaining)
+            if item[0] == "frame" and pred(item[1]):
+                return item[1], item[2]
+            if item[0] == "reply":
+                self.stray.append(item[1])
+
+    async def wait_event(self, pred, timeout=REPLY_TIMEOUT):
+        for e in self.events:
+            if pred(e):
+                return e
+        deadline = time.monotonic() + timeout
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return None
+            try:
+                item = await self._dispatch(remaining)
+            except asyncio.TimeoutError:
+                return None
+            if item[0] == "event" and pred(item[1]):
+                return item[1]
+            if item[0] == "reply":
+                self.stray.append(item[1])
+
+    async def pump(self, duration):
+        """Reads (and sorts) everything that arrives during `duration` seconds."""
+        deadline = time.monotonic() + duration
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return
+            try:
+                item = await self._dispatch(remaining)
+            except asyncio.TimeoutError:
+                return
+            if item[0] == "reply":
+                self.stray.append(item[1])
+
+    async def close(self):
+        try:
+            await asyncio.wait_for(self.ws.close(), 6)
+        except Exception:
+            pass
+
+
+def error_fields(msg):
+    return msg.get("fields") if isinstance(msg.get("fields"), list) else []
+
+
+def check_error(name, msg, code, pointer=None, id_=None):
+    """Checks an `error` reply: code, the field entry for `pointer`, the echoed id."""
+    ok = check(f"{name}: error reply", msg.get("type") == "error", short(msg))
+    if not ok:
+        return False
+    ok &= check(f"{name}: code {code}", msg.get("code") == code, short(msg))
+    check(f"{name}: message is text", isinstance(msg.get("message"), str), short(msg))
+    check(f"{name}: fields is a list", isinstance(msg.get("fields"), list), short(msg))
+    if id_ is not None:
+        check(f"{name}: id echoed", msg.get("id") == id_, f"sent id {id_!r}: {short(msg)}")
+    fields = error_fields(msg)
+    if fields:
+        check(f"{name}: top-level code is the first field's",
+              msg.get("code") == fields[0].get("code"), short(msg))
+        check(f"{name}: field entries have pointer/reason/code",
+              all(isinstance(f, dict) and isinstance(f.get("pointer"), str)
+                  and isinstance(f.get("reason"), str) and isinstance(f.get("code"), str)
+                  for f in fields), short(msg))
+    if pointer is not None:
+        match = [f for f in fields if isinstance(f, dict) and f.get("pointer") == pointer]
+        ok &= check(f"{name}: field entry {pointer}", bool(match), short(msg))
+        if match:
+            check(f"{name}: field entry {pointer} code {code}", match[0].get("code") == code,
+                  short(msg))
+    return ok
+
+
+async def check_unchanged(name, client, before):
+    """get_state on the same connection: it still answers, nothing changed."""
+    try:
+        after = await client.get_state()
+    except Exception as e:  # noqa: BLE001 - any failure here is the check failing
+        check(f"{name}: connection still answers get_state", False, repr(e))
+        return
+    check(f"{name}: connection still answers get_state", True)
+    check(f"{name}: revision unchanged", after.get("revision") == before.get("revision"),
+          f"before {before.get('revision')}, after {after.get('revision')}")
+    check(f"{name}: state unchanged", approx_equal(after.get("state"), before.get("state")),
+          json_diff(before.get("state"), after.get("state")))
+
+
+async def bad_input(name, client, payload, code, pointer=None, id_=None, raw_frame=None):
+    """Sends one bad message; expects `error` `code`; then the state must be unchanged."""
+    before = await client.get_state()
+    if raw_frame is not None:
+        opcode, data = raw_frame
+        await client.ws.write_frame(True, opcode, data)
+    else:
+        await client.send(payload)
+    try:
+        r = await client.reply()
+    except asyncio.TimeoutError:
+        check(f"{name}: reply", False, "no reply within the timeout")
+        await client.close()  # a late reply would be taken for the next request's
+        await client.reopen()
+        return
+    except websockets.exceptions.ConnectionClosed as e:
+        check(f"{name}: connection stays open", False, f"closed: {e}")
+        await client.reopen()
+        return
+    check_error(name, r, code, pointer, id_)
+    await check_unchanged(name, client, before)
+
+
+# ------------------------------------------------------------------------------------------
+# Raw WebSocket client (for the client that never reads, and HTTP checks)
+
+
+def raw_ws_connect(port, rcvbuf=4096):
+    s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, rcvbuf)
+    s.settimeout(10)
+    s.connect(("127.0.0.1", port))
+    key = base64.b64encode(os.urandom(16)).decode()
+    s.sendall((f"GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+               f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
+               f"Sec-WebSocket-Version: 13\r\n\r\n").encode())
+    head = b""
+    while b"\r\n\r\n" not in head:
+        chunk = s.recv(1)  # byte by byte: read no further than the response head
+        if not chunk:
+            raise RuntimeError(f"raw client: connection closed during the handshake: {head!r}")
+        head += chunk
+    if not head.startswith(b"HTTP/1.1 101"):
+        raise RuntimeError(f"raw client: handshake refused: {head[:200]!r}")
+    return s
+
+
+def raw_handshake_status(port, origin):
+    """The status line the server answers a WebSocket handshake from `origin` with."""
+    key = base64.b64encode(os.urandom(16)).decode()
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as s:
+        s.sendall((f"GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+                   f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
+                   f"Sec-WebSocket-Version: 13\r\nOrigin: {origin}\r\n\r\n").encode())
+        data = b""
+        try:
+            while b"\r\n" not in data:
+                chunk = s.recv(4096)
+                if not chunk:
+                    break
+                data += chunk
+        except socket.timeout:
+            pass
+    return data.split(b"\r\n", 1)[0].decode("latin-1") if data else None
+
+
+def raw_ws_send_text(s, text):
+    data = text.encode()
+    mask = os.urandom(4)
+    n = len(data)
+    if n < 126:
+        head = bytes([0x81, 0x80 | n])
+    elif n < 65536:
+        head = bytes([0x81, 0x80 | 126]) + struct.pack(">H", n)
+    else:
+        head = bytes([0x81, 0x80 | 127]) + struct.pack(">Q", n)
+    s.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data)))
+
+
+def http_get_raw(port, target):
+    """Sends a GET with an unnormalized target; returns (status, body)."""
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as s:
+        s.sendall(f"GET {target} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n"
+                  f"Connection: close\r\n\r\n".encode())
+        data = b""
+        try:
+            while True:
+                chunk = s.recv(65536)
+                if not chunk:
+                    break
+                data += chunk
+                if len(data) > 1 << 20:
+                    break
+        except socket.timeout:
+            pass
+    head, _, body = data.partition(b"\r\n\r\n")
+    m = re.match(rb"HTTP/1\.[01] (\d{3})", head)
+    return (int(m.group(1)) if m else None), body
+
+
+# ------------------------------------------------------------------------------------------
+# Test sections
