@@ -243,6 +243,16 @@ def check_binary_frame(name, text_msg, binary, width, height, revision=None, dec
 # The daemon
 
 
+def daemon_environment():
+    """The daemon's environment. Under the sanitizer build the preloads meant for the daemon
+    arrive as SKYD_DAEMON_LD_PRELOAD, so that they do not also instrument this interpreter."""
+    env = dict(os.environ)
+    preload = env.pop("SKYD_DAEMON_LD_PRELOAD", "")
+    if preload:
+        env["LD_PRELOAD"] = preload
+    return env
+
+
 class Daemon:
     def __init__(self, skyd, scratch, name, config):
         self.skyd = skyd
@@ -264,7 +274,7 @@ class Daemon:
         log = open(self.log_path, "ab")
         self.proc = subprocess.Popen([self.skyd, "serve", "--config", self.config_path],
                                      stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                     stderr=log, cwd=self.scratch)
+                                     stderr=log, cwd=self.scratch, env=daemon_environment())
         log.close()
         threading.Thread(target=self._read_stdout, args=(self.proc, self.lines),
                          daemon=True).start()
