@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include "monotonic_clock.h"
 #include "png_write.h"
 
 struct queued_job {
@@ -26,13 +27,6 @@ struct encoder_pool {
     pthread_t threads[];
 };
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
 static void deliver(struct encode_job *job, struct encoded_frame *frame)
 {
     for (size_t i = 0; i < job->target_count; i++) {
@@ -51,7 +45,7 @@ static void deliver(struct encode_job *job, struct encoded_frame *frame)
 
 static void run_job(struct encoder_pool *pool, struct encode_job *job)
 {
-    double start = now_ms();
+    double start = monotonic_seconds();
     uint8_t *png = NULL;
     size_t png_length = 0;
     struct encoded_frame *frame = NULL;
@@ -61,7 +55,7 @@ static void run_job(struct encoder_pool *pool, struct encode_job *job)
     deliver(job, frame);
     encoded_frame_unref(&frame);
     pthread_mutex_lock(&pool->lock);
-    pool->last_ms = now_ms() - start;
+    pool->last_ms = (monotonic_seconds() - start) * 1e3;
     pthread_mutex_unlock(&pool->lock);
 }
 

@@ -10,15 +10,9 @@
 #include "presets.h"
 #include "probe_query.h"
 #include "world_render.h"
+#include "monotonic_clock.h"
 
 #define PRESET_KIND_ATMOSPHERE "atmosphere"
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 /* Queues a built message (NULL only when building failed, which the client hears of). */
 static void reply(struct session *session, const struct sky_msg_id *id, char *text)
@@ -89,7 +83,7 @@ static void commit_state(struct render_context *ctx, struct session *session,
     next->revision = ctx->state.revision + 1;
     ctx->state = *next;
     ctx->dirty = true;
-    ctx->last_change_s = now_s();
+    ctx->last_change_s = monotonic_seconds();
     reply(session, id, sky_msg_build_ack(id, ctx->state.revision, SKY_ROLE_NONE));
     const char *pointers[128];
     for (size_t i = 0; i < count; i++)
@@ -225,7 +219,7 @@ static void handle_subscribe(struct render_context *ctx, struct session *session
                                 .session = session_ref(session),
                                 .view = msg->view,
                                 .period_s = 1.0 / msg->view.fps,
-                                .next_due = now_s() };
+                                .next_due = monotonic_seconds() };
     reply(session, &msg->id, sky_msg_build_subscribed(&msg->id, id, &msg->view));
 }
 

@@ -12,6 +12,7 @@
 #include "sky_renderer.h"
 #include "state_store.h"
 #include "world_render.h"
+#include "monotonic_clock.h"
 
 enum command_kind { COMMAND_MESSAGE, COMMAND_REPLY, COMMAND_SESSION_CLOSED };
 
@@ -42,13 +43,6 @@ struct render_loop {
     double fps_window_start;
     int fps_window_frames;
 };
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 static void free_command(struct command *c)
 {
@@ -206,7 +200,7 @@ static void render_group(struct render_loop *loop, struct render_group *g)
         .rgba = rgba,
         .meta = { .render_sequence = ++ctx->render_sequence,
                   .state_revision = ctx->state.revision,
-                  .simulation_time_s = now_s() - ctx->start_time_s,
+                  .simulation_time_s = monotonic_seconds() - ctx->start_time_s,
                   .width = g->view.width,
                   .height = g->view.height },
         .targets = g->targets,
@@ -312,7 +306,7 @@ static double render_due(struct render_loop *loop, double now)
     }
     free(groups);
 
-    double after = now_s();
+    double after = monotonic_seconds();
     for (size_t i = 0; i < ctx->subscription_count; i++) {
         struct subscription *s = &ctx->subscriptions[i];
         if (!s->waiting_for_encoder)
@@ -332,7 +326,7 @@ static void save_state(struct render_context *ctx)
         ctx->dirty = false;
     } else {
         fprintf(stderr, "skyd: cannot save the state: %s\n", err);
-        ctx->last_change_s = now_s(); /* try again after another delay */
+        ctx->last_change_s = monotonic_seconds(); /* try again after another delay */
     }
 }
 
@@ -377,22 +371,18 @@ static void *thread_main(void *arg)
     if (!ready)
         return NULL;
 
-    double wake_at = now_s();
+    double wake_at = monotonic_seconds();
     for (;;) {
         pthread_mutex_lock(&loop->lock);
-        while (!loop->head && !loop->notified && !loop->stopping && now_s() < wake_at) {
-            double t = wake_at;
-            struct timespec ts;
-            clock_gettime(CLOCK_MONOTONIC, &ts);
-            double remaining = t - ((double)ts.tv_sec + ts.tv_nsec * 1e-9);
-            double whole = floor(remaining);
-            ts.tv_sec += (time_t)whole;
-            ts.tv_nsec += (long)((remaining - whole) * 1e9);
-            if (ts.tv_nsec >= 1000000000L) {
-                ts.tv_sec++;
-                ts.tv_nsec -= 1000000000L;
-            }
-            pthread_cond_timedwait(&loop->wake, &loop->lock, &ts);
+        while (!loop->head && !loop->notified && !loop->stopping) {
+            double now = monotonic_seconds();
+            if (now >= wake_at)
+                break;
+            /* The condition variable runs on CLOCK_MONOTONIC: the deadline is absolute. */
+            double whole = floor(wake_at);
+            struct timespec deadline = { .tv_sec = (time_t)whole,
+                                         .tv_nsec = (long)((wake_at - whole) * 1e9) };
+            pthread_cond_timedwait(&loop->wake, &loop->lock, &deadline);
         }
         struct command *commands = loop->head;
         loop->head = loop->tail = NULL;
@@ -411,9 +401,9 @@ static void *thread_main(void *arg)
             session_hub_wake(ctx->hub);
         if (stopping)
             break;
-        double now = now_s();
+        double now = monotonic_seconds();
         wake_at = render_due(loop, now);
-        now = now_s();
+        now = monotonic_seconds();
         update_fps(loop, now);
         if (ctx->dirty) {
             double save_at = ctx->last_change_s + ctx->config->state_save_delay_s;
@@ -443,7 +433,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     snprintf(ctx->state_file, sizeof ctx->state_file, "%s", params->state_file);
     ctx->state = params->initial_state;
     ctx->hub = params->hub;
-    ctx->start_time_s = now_s();
+    ctx->start_time_s = monotonic_seconds();
     loop->fps_window_start = ctx->start_time_s;
     pthread_mutex_init(&loop->lock, NULL);
     pthread_condattr_t attr;

@@ -9,6 +9,8 @@
 
 #include <libwebsockets.h>
 
+#include "monotonic_clock.h"
+
 struct text_item {
     struct text_item *next;
     char *buffer; /* LWS_PRE + length + 1 */
@@ -231,13 +233,6 @@ void session_remove_slot(struct session *s, uint64_t subscription)
     pthread_mutex_unlock(&s->lock);
 }
 
-static double monotonic_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 enum slot_state session_slot_state(struct session *s, uint64_t subscription, double now_s,
                                    double stale_after_s)
 {
@@ -276,7 +271,7 @@ void session_slot_deliver(struct session *s, uint64_t subscription, struct encod
                                                      encoded_frame_meta(slot->pending)->render_sequence);
         if (frame && newer) {
             if (!slot->pending)
-                slot->pending_since = monotonic_s(); /* kept by replacements: stall detection */
+                slot->pending_since = monotonic_seconds(); /* kept by replacements: stall detection */
             encoded_frame_unref(&slot->pending);
             slot->pending = encoded_frame_ref(frame);
         }

@@ -12,6 +12,7 @@
 #include "frame_header.h"
 #include "json_guard.h"
 #include "messages.h"
+#include "monotonic_clock.h"
 
 #define SERVER_NAME "skyd " SKYD_VERSION
 
@@ -40,13 +41,6 @@ struct ws_server {
     char own_origins[2][96];
     char web_root[4096];
 };
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 static bool origin_allowed(const struct ws_server *srv, const char *origin)
 {
@@ -101,7 +95,7 @@ static int on_established(struct ws_server *srv, struct lws *wsi, struct connect
         return -1;
     session_set_transport(c->session, wsi);
     c->tokens = srv->limits.control_messages_per_second;
-    c->refilled_at = now_s();
+    c->refilled_at = monotonic_seconds();
     if (session_hub_count(srv->hub) >= srv->limits.max_clients) {
         c->rejected = true;
         char message[96];
@@ -139,7 +133,7 @@ static void on_closed(struct ws_server *srv, struct connection *c)
 static bool take_token(struct ws_server *srv, struct connection *c)
 {
     double rate = srv->limits.control_messages_per_second;
-    double now = now_s();
+    double now = monotonic_seconds();
     c->tokens += (now - c->refilled_at) * rate;
     if (c->tokens > rate)
         c->tokens = rate; /* burst: one second's worth */
@@ -404,8 +398,8 @@ void ws_server_close_all(struct ws_server *server, double timeout_s)
 {
     session_hub_for_each(server->hub, close_session, NULL);
     lws_cancel_service(server->context);
-    double deadline = now_s() + timeout_s;
-    while (session_hub_count(server->hub) > 0 && now_s() < deadline)
+    double deadline = monotonic_seconds() + timeout_s;
+    while (session_hub_count(server->hub) > 0 && monotonic_seconds() < deadline)
         if (lws_service(server->context, 0) < 0)
             break;
 }
