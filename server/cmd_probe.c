@@ -1,11 +1,12 @@
 /* skyd probe: physical quantities as one line of JSON, through the renderer's own LUTs and
- * shading (the same code path as frames). */
+ * shading (the same code path as frames); the sun and moon positions from the ephemeris alone. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli_args.h"
 #include "commands.h"
+#include "ephemeris.h"
 #include "probe_query.h"
 
 enum probe_kind { PROBE_TRANSMITTANCE, PROBE_LUMINANCE, PROBE_ILLUMINANCE };
@@ -27,10 +28,25 @@ static void usage(FILE *out)
             "      prints {\"luminance\":[r,g,b]} in cd/m2 before exposure; azimuth from the sun's\n"
             "  skyd probe illuminance --sun-zenith DEG\n"
             "      prints {\"sun_lux\":S,\"sky_lux\":K}, horizontal illuminance at the ground\n"
-            "common options: --preset NAME, --set PATH=VALUE, --config FILE, --config-dir DIR,"
-            " --device NAME,"
-            " --validation\n");
+            "  skyd probe sun --time ISO8601 --lat DEG --lon DEG [--altitude M] [--refraction]\n"
+            "      prints {\"azimuth_deg\":A,\"elevation_deg\":E}, azimuth from north through"
+            " east,\n"
+            "      elevation without refraction unless --refraction (1010 mbar, 10 C); the time is"
+            " UTC\n"
+            "      (2026-06-21T12:00:00Z) or has an offset (2026-06-21T14:00+02:00); longitude"
+            " east positive\n"
+            "  skyd probe moon (the same options)\n"
+            "      prints {\"azimuth_deg\":A,\"elevation_deg\":E,\"phase\":F}, F the illuminated"
+            " fraction 0..1\n"
+            "options of transmittance, luminance and illuminance: --preset NAME,"
+            " --set PATH=VALUE,\n"
+            "  --config FILE, --config-dir DIR, --device NAME, --validation\n");
 }
+
+struct body_args {
+    double unix_seconds, latitude_deg, longitude_deg, altitude_m;
+    bool has_time, has_latitude, has_longitude, has_altitude, refraction;
+};
 
 /* Parses one probe-specific option; 1 consumed, 0 unknown, -1 error printed. */
 static int parse_probe_option(int argc, char **argv, int *i, struct probe_args *a)
@@ -88,6 +104,89 @@ static bool check_required(const struct probe_args *a)
     return false;
 }
 
+/* Parses one option of `skyd probe sun|moon`; 1 consumed, 0 unknown, -1 error printed. */
+static int parse_body_option(int argc, char **argv, int *i, struct body_args *a)
+{
+    const char *option = argv[*i];
+    if (strcmp(option, "--refraction") == 0) {
+        a->refraction = true;
+        return 1;
+    }
+    if (strcmp(option, "--time") == 0) {
+        const char *value = cli_take_value(argc, argv, i);
+        char err[160];
+        if (!value)
+            return -1;
+        if (!sky_time_parse_iso8601(value, &a->unix_seconds, err, sizeof err)) {
+            fprintf(stderr, "skyd: --time: \"%s\": %s\n", value, err);
+            return -1;
+        }
+        a->has_time = true;
+        return 1;
+    }
+    static const struct {
+        const char *name;
+        double min, max;
+        size_t value_offset, flag_offset;
+    } options[] = {
+        { "--lat", -90.0, 90.0, offsetof(struct body_args, latitude_deg),
+          offsetof(struct body_args, has_latitude) },
+        { "--lon", -180.0, 180.0, offsetof(struct body_args, longitude_deg),
+          offsetof(struct body_args, has_longitude) },
+        { "--altitude", -1000.0, 100000.0, offsetof(struct body_args, altitude_m),
+          offsetof(struct body_args, has_altitude) },
+    };
+    for (size_t k = 0; k < sizeof options / sizeof options[0]; k++) {
+        if (strcmp(option, options[k].name) != 0)
+            continue;
+        const char *value = cli_take_value(argc, argv, i);
+        double *target = (double *)((char *)a + options[k].value_offset);
+        if (!value || !cli_parse_double(options[k].name, value, options[k].min, options[k].max,
+                                        target))
+            return -1;
+        *(bool *)((char *)a + options[k].flag_offset) = true;
+        return 1;
+    }
+    return 0;
+}
+
+/* skyd probe sun|moon: needs no renderer. */
+static int probe_body(int argc, char **argv)
+{
+    const char *body = argv[0];
+    struct body_args a = { 0 };
+    for (int i = 1; i < argc; i++) {
+        int rc = parse_body_option(argc, argv, &i, &a);
+        if (rc < 0)
+            return SKYD_EXIT_USAGE;
+        if (rc == 0) {
+            fprintf(stderr, "skyd probe %s: unknown option \"%s\"\n", body, argv[i]);
+            return SKYD_EXIT_USAGE;
+        }
+    }
+    if (!(require(a.has_time, "--time", body) & require(a.has_latitude, "--lat", body) &
+          require(a.has_longitude, "--lon", body)))
+        return SKYD_EXIT_USAGE;
+
+    struct sky_site site = { a.latitude_deg, a.longitude_deg, a.altitude_m,
+                             SKY_SITE_PRESSURE_MBAR, SKY_SITE_TEMPERATURE_C };
+    struct sky_body_position p;
+    double fraction = 0.0;
+    if (strcmp(body, "moon") == 0)
+        sky_moon_position(a.unix_seconds, &site, a.refraction, &p, &fraction, NULL);
+    else
+        sky_sun_position(a.unix_seconds, &site, a.refraction, &p);
+    /* Keep [0, 360) after rounding to the printed 6 decimals. */
+    double azimuth = p.azimuth_deg >= 359.9999995 ? 0.0 : p.azimuth_deg;
+    if (strcmp(body, "moon") == 0) {
+        printf("{\"azimuth_deg\":%.6f,\"elevation_deg\":%.6f,\"phase\":%.6f}\n", azimuth,
+               p.elevation_deg, fraction);
+    } else {
+        printf("{\"azimuth_deg\":%.6f,\"elevation_deg\":%.6f}\n", azimuth, p.elevation_deg);
+    }
+    return SKYD_EXIT_OK;
+}
+
 /* Runs the query and prints exactly the members `skyd probe` promises. */
 static int run_probe(struct sky_renderer *r, const struct cli_common *c, const struct probe_args *a)
 {
@@ -120,6 +219,8 @@ int skyd_cmd_probe(int argc, char **argv)
         usage(argc < 1 ? stderr : stdout);
         return argc < 1 ? SKYD_EXIT_USAGE : SKYD_EXIT_OK;
     }
+    if (strcmp(argv[0], "sun") == 0 || strcmp(argv[0], "moon") == 0)
+        return probe_body(argc, argv);
     struct probe_args a = { 0 };
     if (strcmp(argv[0], "transmittance") == 0)
         a.kind = PROBE_TRANSMITTANCE;
@@ -129,7 +230,7 @@ int skyd_cmd_probe(int argc, char **argv)
         a.kind = PROBE_ILLUMINANCE;
     else {
         fprintf(stderr, "skyd probe: unknown quantity \"%s\" (transmittance, luminance, "
-                        "illuminance)\n", argv[0]);
+                        "illuminance, sun, moon)\n", argv[0]);
         return SKYD_EXIT_USAGE;
     }
     struct cli_common common;

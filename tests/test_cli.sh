@@ -89,5 +89,60 @@ expect_error "config unknown field" 2 '/bogus' \
 expect_ok "shipped config" "\{\"transmittance\":\[$num,$num,$num\]\}" \
   "$skyd" probe transmittance --altitude 0 --mu 1 --config "$(dirname "$0")/../config/skyd.json"
 
+# Sun and moon positions (the ephemeris alone, no renderer): the JSON's exact shape, a case of
+# PyEphem's reference table (tests/ephemeris_reference.h) within the ephemeris's tolerances, and
+# usage errors that name the option.
+expect_ok "probe sun" "\{\"azimuth_deg\":$num,\"elevation_deg\":$num\}" \
+  "$skyd" probe sun --time 2026-06-21T12:00:00Z --lat 48.1 --lon 11.6
+expect_ok "probe moon" "\{\"azimuth_deg\":$num,\"elevation_deg\":$num,\"phase\":$num\}" \
+  "$skyd" probe moon --time "2026-06-21 14:00+02:00" --lat -33.9 --lon 18.4 --altitude 100 --refraction
+
+# reference_case COLUMN: time, lat, lon, altitude, sun az/el/refracted el, moon az/el, fraction
+# of the table's first row whose column COLUMN (an elevation) is above 5 degrees.
+reference_case() {
+  awk -v col="$1" '/^    \{ "/ {
+      gsub(/[{"]/, ""); head = $0; getline; gsub(/[} ]/, ""); split(head $0, f, /, */)
+      if (f[col] > 5) { print f[2], f[4], f[5], f[6], f[9], f[10], f[11], f[12], f[13], f[15]; exit }
+    }' "$(dirname "$0")/ephemeris_reference.h"
+}
+# within NAME JSON AZ EL TOLERANCE: the JSON's direction is within TOLERANCE deg of (AZ, EL).
+within() {
+  local az el
+  az=$(printf '%s' "$2" | sed -nE 's/.*"azimuth_deg":(-?[0-9.]+).*/\1/p')
+  el=$(printf '%s' "$2" | sed -nE 's/.*"elevation_deg":(-?[0-9.]+).*/\1/p')
+  if [ -z "$az" ] || [ -z "$el" ]; then fail "$1: no position in '$2'"; return; fi
+  if awk -v a1="$az" -v e1="$el" -v a2="$3" -v e2="$4" -v tol="$5" 'BEGIN {
+      r = atan2(0, -1) / 180; s = sin((e2 - e1) * r / 2); t = sin((a2 - a1) * r / 2)
+      h = s * s + cos(e1 * r) * cos(e2 * r) * t * t
+      exit !(2 * atan2(sqrt(h), sqrt(1 - h)) / r <= tol) }'; then
+    pass
+  else
+    fail "$1: ($az, $el) is not within $5 deg of ($3, $4)"
+  fi
+}
+read -r time lat lon alt sun_az sun_el sun_el_r _ _ _ <<<"$(reference_case 10)"
+sun=$("$skyd" probe sun --time "$time" --lat "$lat" --lon "$lon" --altitude "$alt")
+within "probe sun at $time" "$sun" "$sun_az" "$sun_el" 0.01
+sun_r=$("$skyd" probe sun --time "$time" --lat "$lat" --lon "$lon" --altitude "$alt" --refraction)
+within "probe sun --refraction at $time" "$sun_r" "$sun_az" "$sun_el_r" 0.02
+lift=$(printf '%s %s' "$sun" "$sun_r" | sed -E 's/.*"elevation_deg":([^,}]*).*"elevation_deg":([^,}]*).*/\1 \2/')
+if awk -v a="${lift% *}" -v b="${lift#* }" 'BEGIN { exit !(b - a > 0 && b - a < 0.2) }'; then pass
+else fail "--refraction lifted the sun from ${lift% *} to ${lift#* }"; fi
+read -r time lat lon alt _ _ _ moon_az moon_el fraction <<<"$(reference_case 13)"
+moon=$("$skyd" probe moon --time "$time" --lat "$lat" --lon "$lon" --altitude "$alt")
+within "probe moon at $time" "$moon" "$moon_az" "$moon_el" 0.3
+phase=$(printf '%s' "$moon" | sed -nE 's/.*"phase":([0-9.]+)\}$/\1/p')
+if awk -v a="$phase" -v b="$fraction" 'BEGIN { exit !(a != "" && (a - b) ^ 2 <= 0.02 ^ 2) }'; then pass
+else fail "probe moon at $time: phase '$phase', reference $fraction"; fi
+
+expect_error "sun without --time" 2 '--time is required' "$skyd" probe sun --lat 10 --lon 20
+expect_error "moon without --lon" 2 '--lon is required' "$skyd" probe moon --time 2026-06-21T12:00Z --lat 10
+expect_error "sun bad latitude" 2 '--lat: 95 is out of range' \
+  "$skyd" probe sun --time 2026-06-21T12:00Z --lat 95 --lon 0
+expect_error "moon bad time" 2 '--time: "2026-06-21T12:00": missing time zone' \
+  "$skyd" probe moon --time 2026-06-21T12:00 --lat 10 --lon 0
+expect_error "sun unknown option" 2 'unknown option "--preset"' \
+  "$skyd" probe sun --time 2026-06-21T12:00Z --lat 10 --lon 0 --preset earth
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
