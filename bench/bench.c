@@ -1,6 +1,7 @@
 /* skyd bench: renders N frames per resolution through the daemon's render path and prints
  * per-pass GPU times (timestamp queries) and whole-frame times, medians and p99 over the
  * frames, plus the full atmosphere LUT rebuild time. Not a test: it asserts nothing. */
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -114,11 +115,89 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
     return 0;
 }
 
+/* Frames while an atmosphere parameter is dragged (changed every frame), against steady frames,
+ * with the LUT rebuild amortized under budget_ms and, for comparison, rebuilt at once. */
+static bool is_atmosphere_lut_pass(const char *name)
+{
+    static const char *const names[] = { "transmittance", "multiscattering", "irradiance",
+                                         "lut_blend", "lut_save" };
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (strcmp(name, names[i]) == 0)
+            return true;
+    return false;
+}
+
+static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsigned w, unsigned h,
+                      int n, double budget_ms, struct series *steady, struct series *drag)
+{
+    static double lut_ms[MAX_FRAMES];
+    struct sky_render_atmosphere atm;
+    struct sky_render_view view;
+    world_to_render_atmosphere(&c->state, &atm);
+    world_to_render_view(&c->state, w, h, SKY_RENDER_OUTPUT_SRGB8, &view);
+    size_t bytes = (size_t)w * h * 4;
+    void *pixels = malloc(bytes);
+    if (!pixels)
+        return -1;
+    const double budgets[2] = { budget_ms, 0.0 };
+    for (int b = 0; b < 2; b++) {
+        sky_renderer_set_amortization(r, &(struct sky_render_amortization){
+                                              .budget_ms = budgets[b], .blend_frames = 4 });
+        double g0 = atm.mie_g[0];
+        for (int phase = 0; phase < 2; phase++) {
+            struct series *s = phase == 0 ? steady : drag;
+            for (int i = -3; i < n; i++) {
+                if (phase == 1) /* the drag: a new Mie g every frame */
+                    for (int k = 0; k < 3; k++)
+                        atm.mie_g[k] = g0 - 0.001 * (i + 4);
+                struct sky_render_stats st;
+                double cpu0 = process_cpu_ms();
+                if (sky_renderer_render(r, &atm, &view, pixels, bytes, &st) != 0) {
+                    free(pixels);
+                    return -1;
+                }
+                if (i >= 0)
+                    record_sample(s, i, &st, process_cpu_ms() - cpu0);
+                if (i >= 0 && phase == 1) {
+                    lut_ms[i] = 0.0;
+                    for (int p = 0; p < st.pass_count; p++)
+                        if (is_atmosphere_lut_pass(st.pass_names[p]))
+                            lut_ms[i] += st.pass_ms[p];
+                }
+            }
+            for (int k = 0; k < 3; k++)
+                atm.mie_g[k] = g0;
+        }
+        double steady_wall = percentile(steady->wall_ms, n, 0.5);
+        double steady_gpu = percentile(steady->gpu_ms, n, 0.5);
+        double steady_cpu = percentile(steady->cpu_ms, n, 0.5);
+        printf("drag %ux%u, %s: steady median wall %.2f gpu %.2f cpu %.2f ms, steady p99 wall "
+               "%.2f | drag median wall %.2f, p99 wall %.2f (%.2fx) gpu %.2f (%.2fx) cpu %.2f "
+               "(%.2fx) ms\n",
+               w, h, budgets[b] > 0 ? "amortized" : "one-shot", steady_wall, steady_gpu,
+               steady_cpu, percentile(steady->wall_ms, n, 0.99),
+               percentile(drag->wall_ms, n, 0.5), percentile(drag->wall_ms, n, 0.99),
+               percentile(drag->wall_ms, n, 0.99) / steady_wall,
+               percentile(drag->gpu_ms, n, 0.99), percentile(drag->gpu_ms, n, 0.99) / steady_gpu,
+               percentile(drag->cpu_ms, n, 0.99), percentile(drag->cpu_ms, n, 0.99) / steady_cpu);
+        printf("    atmosphere LUT passes per drag frame: median %.2f ms, p99 %.2f ms = %.3fx the "
+               "steady median frame (gpu)%s\n",
+               percentile(lut_ms, n, 0.5), percentile(lut_ms, n, 0.99),
+               percentile(lut_ms, n, 0.99) / steady_gpu,
+               budgets[b] > 0 ? "" : " [no budget: every frame rebuilds all]");
+        if (b == 0)
+            printf("    (LUT budget %.1f ms per frame)\n", budget_ms);
+    }
+    free(pixels);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     struct cli_common common;
     cli_common_init(&common);
     int frames = 30, rebuilds = 10;
+    double drag_budget_ms = 0.0;
     unsigned sizes[MAX_SIZES][2];
     int size_count = 0;
     for (int i = 1; i < argc; i++) {
@@ -134,6 +213,10 @@ int main(int argc, char **argv)
                 !cli_parse_uint(argv[i - 1], v, 1, MAX_FRAMES, &u))
                 return 2;
             *(argv[i - 1][2] == 'f' ? &frames : &rebuilds) = (int)u;
+        } else if (strcmp(argv[i], "--drag") == 0) {
+            if (!(v = cli_take_value(argc, argv, &i)) ||
+                !cli_parse_double("--drag", v, 0.1, 1000, &drag_budget_ms))
+                return 2;
         } else if (strcmp(argv[i], "--size") == 0) {
             unsigned w, h;
             if (!(v = cli_take_value(argc, argv, &i)) || sscanf(v, "%ux%u", &w, &h) != 2 ||
@@ -146,7 +229,8 @@ int main(int argc, char **argv)
             size_count++;
         } else {
             fprintf(stderr, "usage: skyd_bench [--frames N] [--rebuilds N] [--size WxH]... "
-                            "[--preset NAME] [--set PATH=VALUE] [--device NAME]\n");
+                            "[--drag BUDGET_MS] [--preset NAME] [--set PATH=VALUE] "
+                            "[--device NAME]\n");
             return 2;
         }
     }
@@ -173,6 +257,11 @@ int main(int argc, char **argv)
     }
     for (int k = 0; k < size_count && status == 0; k++)
         status = bench_frames(r, &common, sizes[k][0], sizes[k][1], frames, 3, s) == 0 ? 0 : 1;
+    struct series *drag = drag_budget_ms > 0 ? calloc(1, sizeof *drag) : NULL;
+    for (int k = 0; k < size_count && status == 0 && drag; k++)
+        status = bench_drag(r, &common, sizes[k][0], sizes[k][1], frames, drag_budget_ms, s,
+                            drag) == 0 ? 0 : 1;
+    free(drag);
     free(s);
     sky_renderer_destroy(&r);
     return status;

@@ -16,6 +16,7 @@
 #include "composite_srgb.spv.h"
 #include "exposure_resolve.spv.h"
 #include "irradiance.spv.h"
+#include "lut_blend.spv.h"
 #include "meter.spv.h"
 #include "multiscattering.spv.h"
 #include "probe.spv.h"
@@ -46,15 +47,28 @@ enum pass_id {
     PASS_COMPOSITE_LINEAR_SUN,
     PASS_PROBE,
     PASS_PROBE_SPACE,
+    /* display = mix(previous, build, weight), one per atmosphere LUT; then the same shader
+     * saving the display into previous (weight 0). */
+    PASS_BLEND_TRANSMITTANCE,
+    PASS_BLEND_MULTISCATTERING,
+    PASS_BLEND_IRRADIANCE,
+    PASS_SAVE_TRANSMITTANCE,
+    PASS_SAVE_MULTISCATTERING,
+    PASS_SAVE_IRRADIANCE,
     PASS_COUNT
 };
 
 struct sky_passes {
     VkSampler sampler;
     struct compute_pass pass[PASS_COUNT];
+    /* The atmosphere LUTs exist three times: what frames read (display), what a rebuild
+     * writes (build, from build_atmosphere_ubo), and the display saved when a rebuild starts
+     * (previous), which the display blends away from when the build completes. */
     struct gpu_image transmittance, multiscattering, irradiance, skyview;
+    struct gpu_image build_transmittance, build_multiscattering, build_irradiance;
+    struct gpu_image previous_transmittance, previous_multiscattering, previous_irradiance;
     struct gpu_image ap_inscatter, ap_transmittance;
-    struct gpu_buffer atmosphere_ubo, frame_ubo, exposure, meter_partials;
+    struct gpu_buffer atmosphere_ubo, build_atmosphere_ubo, frame_ubo, exposure, meter_partials;
     struct gpu_image output;
     enum sky_render_output_kind output_kind;
     struct gpu_buffer readback;
@@ -77,12 +91,18 @@ struct sky_passes {
                      .bindings = { SHADING_BINDINGS, extra }, .push_constant_bytes = push,\
                      .spec_count = 1, .spec_values = { 1 } }
 #define PAIR(...) __VA_ARGS__
+#define BLEND_PASS(id, label)                                                             \
+    [id] = { .name = label, SPIRV(lut_blend_spv), .binding_count = 3,                     \
+             .bindings = { STORAGE_IMG, STORAGE_IMG, STORAGE_IMG },                      \
+             .push_constant_bytes = sizeof(struct sky_blend_push) }
 
 static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
     [PASS_TRANSMITTANCE] = { .name = "transmittance", SPIRV(transmittance_spv),
-                             .binding_count = 2, .bindings = { UBO, STORAGE_IMG } },
+                             .binding_count = 2, .bindings = { UBO, STORAGE_IMG },
+                             .push_constant_bytes = sizeof(struct sky_rows_push) },
     [PASS_MULTISCATTERING] = { .name = "multiscattering", SPIRV(multiscattering_spv),
-                               .binding_count = 3, .bindings = { UBO, SAMPLED, STORAGE_IMG } },
+                               .binding_count = 3, .bindings = { UBO, SAMPLED, STORAGE_IMG },
+                               .push_constant_bytes = sizeof(struct sky_rows_push) },
     [PASS_IRRADIANCE] = { .name = "irradiance", SPIRV(irradiance_spv), .binding_count = 4,
                           .bindings = { UBO, SAMPLED, SAMPLED, STORAGE_IMG } },
     [PASS_SKYVIEW] = { .name = "skyview", SPIRV(skyview_spv), .binding_count = 6,
@@ -112,6 +132,12 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
                                     .spec_count = 2, .spec_values = { 0, 1 } },
     SHADING_PAIR(PASS_PROBE, "probe", probe_spv, 8, PAIR(STORAGE_BUF, STORAGE_BUF),
                  sizeof(struct sky_probe_push)),
+    BLEND_PASS(PASS_BLEND_TRANSMITTANCE, "lut_blend"),
+    BLEND_PASS(PASS_BLEND_MULTISCATTERING, "lut_blend"),
+    BLEND_PASS(PASS_BLEND_IRRADIANCE, "lut_blend"),
+    BLEND_PASS(PASS_SAVE_TRANSMITTANCE, "lut_save"),
+    BLEND_PASS(PASS_SAVE_MULTISCATTERING, "lut_save"),
+    BLEND_PASS(PASS_SAVE_IRRADIANCE, "lut_save"),
 };
 
 /* The pass of a shading pair for the camera's situation. */
@@ -127,11 +153,22 @@ static bool format_supports(struct vk_context *ctx, VkFormat format, VkFormatFea
     return (props.optimalTilingFeatures & need) == need;
 }
 
+/* The three copies of the atmosphere LUTs (display, build, previous), in that order. */
+static struct gpu_image *atmosphere_lut(struct sky_passes *p, int copy, int which)
+{
+    struct gpu_image *sets[3][3] = {
+        { &p->transmittance, &p->multiscattering, &p->irradiance },
+        { &p->build_transmittance, &p->build_multiscattering, &p->build_irradiance },
+        { &p->previous_transmittance, &p->previous_multiscattering, &p->previous_irradiance },
+    };
+    return sets[copy][which];
+}
+
 static void destroy_luts(struct vk_context *ctx, struct sky_passes *p)
 {
-    gpu_image_destroy(ctx, &p->transmittance);
-    gpu_image_destroy(ctx, &p->multiscattering);
-    gpu_image_destroy(ctx, &p->irradiance);
+    for (int copy = 0; copy < 3; copy++)
+        for (int which = 0; which < 3; which++)
+            gpu_image_destroy(ctx, atmosphere_lut(p, copy, which));
     gpu_image_destroy(ctx, &p->skyview);
     gpu_image_destroy(ctx, &p->ap_inscatter);
     gpu_image_destroy(ctx, &p->ap_transmittance);
@@ -141,12 +178,19 @@ static int create_luts(struct vk_context *ctx, struct sky_passes *p,
                        const struct sky_render_lut_sizes *s)
 {
     const uint32_t *ap = s->aerial_perspective;
-    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->transmittance[0], s->transmittance[1], 1,
-                                   "transmittance", &p->transmittance), fail);
-    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->multiscattering[0], s->multiscattering[1],
-                                   1, "multiscattering", &p->multiscattering), fail);
-    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, IRRADIANCE_SIZE, 1, 1, "irradiance",
-                                   &p->irradiance), fail);
+    static const char *const names[3][3] = {
+        { "transmittance", "multiscattering", "irradiance" },
+        { "build_transmittance", "build_multiscattering", "build_irradiance" },
+        { "previous_transmittance", "previous_multiscattering", "previous_irradiance" },
+    };
+    const uint32_t sizes[3][2] = { { s->transmittance[0], s->transmittance[1] },
+                                   { s->multiscattering[0], s->multiscattering[1] },
+                                   { IRRADIANCE_SIZE, 1 } };
+    for (int copy = 0; copy < 3; copy++)
+        for (int which = 0; which < 3; which++)
+            VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, sizes[which][0], sizes[which][1], 1,
+                                           names[copy][which], atmosphere_lut(p, copy, which)),
+                          fail);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1, "skyview",
                                    &p->skyview), fail);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_inscatter",
@@ -185,16 +229,29 @@ static void bind_pair(struct vk_context *ctx, struct sky_passes *p, enum pass_id
 static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
 {
     struct compute_resource r[COMPUTE_PASS_MAX_BINDINGS];
-    r[0] = buf(&p->atmosphere_ubo);
-    r[1] = img(&p->transmittance);
+    /* Rebuilds write the build copy from the build atmosphere. */
+    r[0] = buf(&p->build_atmosphere_ubo);
+    r[1] = img(&p->build_transmittance);
     compute_pass_bind(ctx, &p->pass[PASS_TRANSMITTANCE], r);
-    r[1] = tex(p, &p->transmittance);
-    r[2] = img(&p->multiscattering);
+    r[1] = tex(p, &p->build_transmittance);
+    r[2] = img(&p->build_multiscattering);
     compute_pass_bind(ctx, &p->pass[PASS_MULTISCATTERING], r);
-    r[2] = tex(p, &p->multiscattering);
-    r[3] = img(&p->irradiance);
+    r[2] = tex(p, &p->build_multiscattering);
+    r[3] = img(&p->build_irradiance);
     compute_pass_bind(ctx, &p->pass[PASS_IRRADIANCE], r);
+    for (int which = 0; which < 3; which++) {
+        struct compute_resource blend[3] = { img(atmosphere_lut(p, 2, which)),
+                                             img(atmosphere_lut(p, 1, which)),
+                                             img(atmosphere_lut(p, 0, which)) };
+        compute_pass_bind(ctx, &p->pass[PASS_BLEND_TRANSMITTANCE + which], blend);
+        struct compute_resource save[3] = { img(atmosphere_lut(p, 0, which)),
+                                            img(atmosphere_lut(p, 0, which)),
+                                            img(atmosphere_lut(p, 2, which)) };
+        compute_pass_bind(ctx, &p->pass[PASS_SAVE_TRANSMITTANCE + which], save);
+    }
 
+    /* Frames read the display copy. */
+    r[0] = buf(&p->atmosphere_ubo);
     r[1] = buf(&p->frame_ubo);
     r[2] = tex(p, &p->transmittance);
     r[3] = tex(p, &p->multiscattering);
@@ -251,6 +308,8 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
     VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), uniform,
                                     "atmosphere_ubo", &p->atmosphere_ubo), fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), uniform,
+                                    "build_atmosphere_ubo", &p->build_atmosphere_ubo), fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_frame_uniforms), uniform, "frame_ubo",
                                     &p->frame_ubo), fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, 4 * sizeof(float), storage, "exposure", &p->exposure),
@@ -278,6 +337,7 @@ void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **pp)
     gpu_buffer_destroy(ctx, &p->probe_in);
     gpu_buffer_destroy(ctx, &p->probe_out);
     gpu_buffer_destroy(ctx, &p->atmosphere_ubo);
+    gpu_buffer_destroy(ctx, &p->build_atmosphere_ubo);
     gpu_buffer_destroy(ctx, &p->frame_ubo);
     gpu_buffer_destroy(ctx, &p->exposure);
     gpu_buffer_destroy(ctx, &p->meter_partials);
@@ -351,6 +411,12 @@ void sky_passes_upload_atmosphere(struct sky_passes *p, const struct sky_atmosph
     memcpy(p->atmosphere_ubo.mapped, u, sizeof *u);
 }
 
+void sky_passes_upload_build_atmosphere(struct sky_passes *p,
+                                        const struct sky_atmosphere_uniforms *u)
+{
+    memcpy(p->build_atmosphere_ubo.mapped, u, sizeof *u);
+}
+
 void sky_passes_upload_frame(struct sky_passes *p, const struct sky_frame_uniforms *u)
 {
     memcpy(p->frame_ubo.mapped, u, sizeof *u);
@@ -366,15 +432,63 @@ static void record(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *
     gpu_timer_mark(timer, cmd, p->pass[id].name);
 }
 
+void sky_passes_atmosphere_rows(const struct sky_passes *p, uint32_t *transmittance_rows,
+                                 uint32_t *multiscattering_rows)
+{
+    *transmittance_rows = p->transmittance.height;
+    *multiscattering_rows = p->multiscattering.height;
+}
+
+void sky_passes_record_build(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                             enum sky_build_step step, uint32_t first_row, uint32_t row_count)
+{
+    struct sky_rows_push rows = { .row_offset = first_row };
+    switch (step) {
+    case SKY_BUILD_TRANSMITTANCE:
+        record(p, cmd, timer, PASS_TRANSMITTANCE, &rows, p->transmittance.width, row_count, 1,
+               8, 8);
+        break;
+    case SKY_BUILD_MULTISCATTERING:
+        /* One workgroup of 64 sphere directions per texel. */
+        record(p, cmd, timer, PASS_MULTISCATTERING, &rows, p->multiscattering.width, row_count,
+               1, 1, 1);
+        break;
+    case SKY_BUILD_IRRADIANCE:
+        record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, 8, 1);
+        break;
+    }
+}
+
+static void record_lut_copies(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                              enum pass_id first, float weight)
+{
+    struct sky_blend_push push = { .weight = weight };
+    const struct gpu_image *out[3] = { &p->transmittance, &p->multiscattering, &p->irradiance };
+    for (int which = 0; which < 3; which++)
+        record(p, cmd, timer, (enum pass_id)(first + which), &push, out[which]->width,
+               out[which]->height, 1, 8, 8);
+}
+
+void sky_passes_record_save_display(struct sky_passes *p, VkCommandBuffer cmd,
+                                    struct gpu_timer *timer)
+{
+    record_lut_copies(p, cmd, timer, PASS_SAVE_TRANSMITTANCE, 0.0f);
+}
+
+void sky_passes_record_blend(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                             float weight)
+{
+    record_lut_copies(p, cmd, timer, PASS_BLEND_TRANSMITTANCE, weight);
+}
+
 void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
                                   struct gpu_timer *timer)
 {
-    record(p, cmd, timer, PASS_TRANSMITTANCE, NULL, p->transmittance.width,
-           p->transmittance.height, 1, 8, 8);
-    /* One workgroup of 64 sphere directions per texel. */
-    record(p, cmd, timer, PASS_MULTISCATTERING, NULL, p->multiscattering.width,
-           p->multiscattering.height, 1, 1, 1);
-    record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, 8, 1);
+    sky_passes_record_build(p, cmd, timer, SKY_BUILD_TRANSMITTANCE, 0, p->transmittance.height);
+    sky_passes_record_build(p, cmd, timer, SKY_BUILD_MULTISCATTERING, 0,
+                            p->multiscattering.height);
+    sky_passes_record_build(p, cmd, timer, SKY_BUILD_IRRADIANCE, 0, 1);
+    sky_passes_record_blend(p, cmd, timer, 1.0f);
 }
 
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,

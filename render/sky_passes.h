@@ -30,9 +30,31 @@ int sky_passes_prepare_output(struct vk_context *ctx, struct sky_passes *p, uint
 int sky_passes_prepare_probe(struct vk_context *ctx, struct sky_passes *p, size_t count,
                              const float (*in)[4]);
 
+/* The atmosphere frames are shaded with (display) and the one a rebuild computes (build). */
 void sky_passes_upload_atmosphere(struct sky_passes *p, const struct sky_atmosphere_uniforms *u);
+void sky_passes_upload_build_atmosphere(struct sky_passes *p,
+                                        const struct sky_atmosphere_uniforms *u);
 void sky_passes_upload_frame(struct sky_passes *p, const struct sky_frame_uniforms *u);
 
+/* Steps of an atmosphere rebuild into the build copy, in order; the first two in slices of
+ * rows so a rebuild can be spread over frames. */
+enum sky_build_step {
+    SKY_BUILD_TRANSMITTANCE = 0,
+    SKY_BUILD_MULTISCATTERING = 1,
+    SKY_BUILD_IRRADIANCE = 2,
+};
+
+void sky_passes_atmosphere_rows(const struct sky_passes *p, uint32_t *transmittance_rows,
+                                uint32_t *multiscattering_rows);
+void sky_passes_record_build(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                             enum sky_build_step step, uint32_t first_row, uint32_t row_count);
+/* previous = display, before a rebuild whose result the display will blend toward. */
+void sky_passes_record_save_display(struct sky_passes *p, VkCommandBuffer cmd,
+                                    struct gpu_timer *timer);
+/* display = mix(previous, build, weight). */
+void sky_passes_record_blend(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                             float weight);
+/* The whole rebuild at once, then display = build. */
 void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
                                   struct gpu_timer *timer);
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "atmosphere_luts.h"
 #include "compute_pass.h"
 #include "gpu_timer.h"
 #include "photometry.h"
@@ -21,9 +22,7 @@ struct sky_renderer {
     struct gpu_timer *timer;
     struct sky_passes *passes;
     struct sky_render_lut_sizes sizes;
-    struct sky_render_atmosphere atmosphere; /* what the atmosphere LUTs were built from */
-    bool atmosphere_built;
-    double zenith_transmittance[3];          /* of that atmosphere, for the sun's photometry */
+    struct atmosphere_luts *luts; /* which atmosphere the LUTs show, and rebuilds under way */
 };
 
 static const struct sky_render_lut_sizes default_sizes = {
@@ -77,6 +76,9 @@ struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *param
     if (!r->ctx)
         goto fail;
     r->timer = gpu_timer_create(r->ctx);
+    r->luts = atmosphere_luts_create();
+    if (!r->luts)
+        goto fail;
     r->sizes = sizes_with_defaults(&p->lut_sizes);
     r->passes = sky_passes_create(r->ctx, &r->sizes);
     if (!r->passes)
@@ -96,6 +98,7 @@ void sky_renderer_destroy(struct sky_renderer **pr)
         vk_context_wait_idle(r->ctx); /* nothing the passes own may still be in use */
     sky_passes_destroy(r->ctx, &r->passes);
     gpu_timer_destroy(r->ctx, &r->timer);
+    atmosphere_luts_destroy(&r->luts);
     vk_context_destroy(&r->ctx);
     free(r);
     *pr = NULL;
@@ -114,7 +117,7 @@ int sky_renderer_set_lut_sizes(struct sky_renderer *r, const struct sky_render_l
     if (sky_passes_resize_luts(r->ctx, r->passes, &s) != 0)
         return -1;
     r->sizes = s;
-    r->atmosphere_built = false;
+    atmosphere_luts_invalidate(r->luts);
     return 0;
 }
 
@@ -130,28 +133,15 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
         for (int i = 0; i < t.count && i < SKY_RENDER_MAX_PASSES; i++) {
             stats->pass_names[i] = t.names[i];
             stats->pass_ms[i] = t.ms[i];
+            atmosphere_luts_observe(r->luts, t.names[i], t.ms[i]);
         }
         stats->gpu_ms = t.total_ms;
     }
     stats->luts_rebuilt = rebuilt;
+    stats->lut_rebuild_progress = atmosphere_luts_progress(r->luts);
+    stats->atmosphere_settled = atmosphere_luts_settled(r->luts);
     stats->metered_ev100 = sky_passes_metered_ev100(r->passes);
     stats->wall_ms = now_ms() - start;
-}
-
-/* Records the atmosphere LUT rebuild when the atmosphere changed; returns true if recorded. */
-static bool record_atmosphere_if_changed(struct sky_renderer *r, VkCommandBuffer cmd,
-                                         const struct sky_render_atmosphere *a)
-{
-    if (r->atmosphere_built && memcmp(a, &r->atmosphere, sizeof *a) == 0)
-        return false;
-    struct sky_atmosphere_uniforms u;
-    sky_uniforms_fill_atmosphere(a, &u);
-    sky_passes_upload_atmosphere(r->passes, &u);
-    sky_passes_record_atmosphere(r->passes, cmd, r->timer);
-    sky_zenith_transmittance(a, r->zenith_transmittance);
-    r->atmosphere = *a;
-    r->atmosphere_built = true;
-    return true;
 }
 
 int sky_renderer_rebuild_atmosphere(struct sky_renderer *r, const struct sky_render_atmosphere *a,
@@ -162,10 +152,10 @@ int sky_renderer_rebuild_atmosphere(struct sky_renderer *r, const struct sky_ren
     if (vk_context_begin_commands(r->ctx, &cmd) != VK_SUCCESS)
         return -1;
     gpu_timer_begin(r->timer, cmd);
-    r->atmosphere_built = false;
-    record_atmosphere_if_changed(r, cmd, a);
+    atmosphere_luts_invalidate(r->luts);
+    atmosphere_luts_record_exact(r->luts, r->passes, cmd, r->timer, a);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
-        r->atmosphere_built = false;
+        atmosphere_luts_invalidate(r->luts);
         return -1;
     }
     collect_stats(r, stats, start, true);
@@ -179,19 +169,22 @@ static bool camera_in_atmosphere(const struct sky_render_atmosphere *a,
     return a->bottom_radius_km + v->camera_altitude_km < a->top_radius_km;
 }
 
-/* The start every view's command buffer shares: timestamps, the atmosphere LUTs when the
- * atmosphere changed, the frame uniforms, and the per-view LUTs when the camera is inside the
- * atmosphere and they are wanted. */
+/* The start every view's command buffer shares: timestamps, the atmosphere LUT work (a share
+ * of an amortized rebuild for frames, an exact rebuild for probes), the frame uniforms, and
+ * the per-view LUTs when the camera is inside the atmosphere and they are wanted. */
 static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_atmosphere *a,
                                 const struct sky_render_view *v, bool want_view_luts,
-                                VkCommandBuffer *cmd, bool *from_space, bool *rebuilt)
+                                bool exact, VkCommandBuffer *cmd, bool *from_space,
+                                bool *rebuilt)
 {
     if (vk_context_begin_commands(r->ctx, cmd) != VK_SUCCESS)
         return false;
     gpu_timer_begin(r->timer, *cmd);
-    *rebuilt = record_atmosphere_if_changed(r, *cmd, a);
+    *rebuilt = exact ? atmosphere_luts_record_exact(r->luts, r->passes, *cmd, r->timer, a)
+                     : atmosphere_luts_record_frame(r->luts, r->passes, *cmd, r->timer, a);
+    a = atmosphere_luts_displayed(r->luts);
     struct sky_frame_uniforms fu;
-    sky_uniforms_fill_frame(a, v, r->zenith_transmittance, &fu);
+    sky_uniforms_fill_frame(a, v, atmosphere_luts_zenith_transmittance(r->luts), &fu);
     sky_passes_upload_frame(r->passes, &fu);
     *from_space = !camera_in_atmosphere(a, v);
     if (want_view_luts && !*from_space)
@@ -213,7 +206,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         return -1;
     VkCommandBuffer cmd;
     bool from_space, rebuilt;
-    if (!begin_view_commands(r, a, v, true, &cmd, &from_space, &rebuilt))
+    if (!begin_view_commands(r, a, v, true, false, &cmd, &from_space, &rebuilt))
         return -1;
     if (v->auto_exposure && v->output == SKY_RENDER_OUTPUT_SRGB8)
         sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space);
@@ -222,7 +215,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     sky_passes_record_composite(r->passes, cmd, r->timer, v->output, from_space,
                                 sun_on_screen ? sun_rect : NULL);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
-        r->atmosphere_built = false;
+        atmosphere_luts_invalidate(r->luts);
         return -1;
     }
     sky_passes_copy_output(r->passes, pixels, (size_t)v->width * v->height * texel);
@@ -239,12 +232,12 @@ static int run_probe(struct sky_renderer *r, const struct sky_render_atmosphere 
         return -1;
     VkCommandBuffer cmd;
     bool from_space, rebuilt;
-    if (!begin_view_commands(r, a, v, mode != SKY_PROBE_TRANSMITTANCE, &cmd, &from_space,
+    if (!begin_view_commands(r, a, v, mode != SKY_PROBE_TRANSMITTANCE, true, &cmd, &from_space,
                              &rebuilt))
         return -1;
     sky_passes_record_probe(r->passes, cmd, r->timer, mode, (uint32_t)count, from_space);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
-        r->atmosphere_built = false;
+        atmosphere_luts_invalidate(r->luts);
         return -1;
     }
     sky_passes_read_probe(r->passes, count, out);
@@ -294,6 +287,13 @@ int sky_renderer_probe_luminance(struct sky_renderer *r, const struct sky_render
     int rc = run_probe(r, a, &view, mode, (const float (*)[4])in, count, out_rgb);
     free(in);
     return rc;
+}
+
+void sky_renderer_set_amortization(struct sky_renderer *r,
+                                   const struct sky_render_amortization *amortization)
+{
+    atmosphere_luts_set_amortization(r->luts, amortization->budget_ms,
+                                     amortization->blend_frames);
 }
 
 float *sky_renderer_read_lut(struct sky_renderer *r, const char *name, uint32_t size[3])

@@ -64,7 +64,9 @@ struct sky_render_stats {
     double pass_ms[SKY_RENDER_MAX_PASSES]; /* GPU time per pass from timestamp queries */
     double gpu_ms;                         /* sum of the passes */
     double wall_ms;                        /* CPU wall time of the whole call */
-    bool luts_rebuilt;                     /* transmittance and multi-scattering rebuilt */
+    bool luts_rebuilt;                     /* atmosphere LUT work was recorded */
+    double lut_rebuild_progress;           /* of an amortized rebuild; 1 when none is under way */
+    bool atmosphere_settled;               /* the frame shows exactly the atmosphere asked for */
     double metered_ev100;                  /* auto exposure result (when auto) */
 };
 
@@ -107,6 +109,19 @@ int sky_renderer_probe_luminance(struct sky_renderer *renderer,
                                  const struct sky_render_atmosphere *atmosphere,
                                  const struct sky_render_view *view, const double (*dirs)[3],
                                  size_t count, bool include_sun, double (*out_rgb)[3]);
+
+/* Amortized atmosphere LUT updates (seed 001, 3.5.1). With budget_ms > 0, a frame whose
+ * atmosphere differs from the displayed one starts a rebuild that is spread over frames, about
+ * budget_ms of GPU time each (at least one LUT row), while frames keep using the last complete
+ * LUTs and atmosphere; when it completes they blend to the new ones over blend_frames frames.
+ * A different atmosphere during a rebuild restarts it. budget_ms <= 0 (the default) rebuilds at
+ * once. Probes and sky_renderer_rebuild_atmosphere always finish a rebuild first. */
+struct sky_render_amortization {
+    double budget_ms;
+    int blend_frames;
+};
+void sky_renderer_set_amortization(struct sky_renderer *renderer,
+                                   const struct sky_render_amortization *amortization);
 
 /* Reads back a LUT for tests: "transmittance" (optical depth per channel), "multiscattering",
  * "skyview", "irradiance", "ap_inscatter", "ap_transmittance" (3D, depth slices). Fills

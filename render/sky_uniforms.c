@@ -15,6 +15,15 @@
 void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
                                      struct sky_atmosphere_uniforms *u)
 {
+    sky_uniforms_fill_atmosphere_media(a, u);
+    double transfer[3];
+    sky_ground_transfer(a, transfer);
+    u->ground_transfer = V4(transfer[0], transfer[1], transfer[2], 0);
+}
+
+void sky_uniforms_fill_atmosphere_media(const struct sky_render_atmosphere *a,
+                                        struct sky_atmosphere_uniforms *u)
+{
     u->radii = V4(a->bottom_radius_km, a->top_radius_km, a->rayleigh_scale_height_km,
                   a->mie_scale_height_km);
     u->rayleigh_scattering = V4(a->rayleigh_scattering[0], a->rayleigh_scattering[1],
@@ -30,9 +39,7 @@ void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
     u->ozone_absorption = V4(a->ozone_absorption[0], a->ozone_absorption[1],
                              a->ozone_absorption[2], 0);
     u->ground_albedo = V4(a->ground_albedo[0], a->ground_albedo[1], a->ground_albedo[2], 0);
-    double transfer[3];
-    sky_ground_transfer(a, transfer);
-    u->ground_transfer = V4(transfer[0], transfer[1], transfer[2], 0);
+    u->ground_transfer = V4(0, 0, 0, 0);
 }
 
 static void direction_from_angles(double azimuth_deg, double elevation_deg, double out[3])

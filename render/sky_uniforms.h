@@ -11,6 +11,10 @@
 
 void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
                                   struct sky_atmosphere_uniforms *u);
+/* The same without the ground's multiple-scattering transfer (left 0): it costs an integral on
+ * the CPU, and only the multiple-scattering and shading passes read it. */
+void sky_uniforms_fill_atmosphere_media(const struct sky_render_atmosphere *a,
+                                        struct sky_atmosphere_uniforms *u);
 /* zenith_transmittance: sky_zenith_transmittance() of the same atmosphere; it depends on the
  * atmosphere alone, so callers compute it once per atmosphere rather than per frame. */
 void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,

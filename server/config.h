@@ -24,6 +24,9 @@ struct skyd_config {
     double state_save_delay_s;     /* 1: the state is written this long after the last change */
     char render_device[64];        /* "" = automatic (a GPU when present, else lavapipe) */
     int encoder_threads;           /* 2: PNG encoder workers */
+    /* Amortized atmosphere LUT rebuilds: GPU ms per frame (0 = at once) and blend frames. */
+    double lut_budget_ms;          /* 2 */
+    int lut_blend_frames;          /* 4 */
     bool render_validation;
     int max_message_bytes;         /* 65536 */
     int max_clients;               /* 64 */

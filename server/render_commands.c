@@ -80,6 +80,11 @@ static void commit_state(struct render_context *ctx, struct session *session,
         }
         ctx->lut_sizes = sizes;
     }
+    struct sky_render_atmosphere before, after;
+    world_to_render_atmosphere(&ctx->state, &before);
+    world_to_render_atmosphere(next, &after);
+    if (memcmp(&before, &after, sizeof before) != 0)
+        ctx->atmosphere_pending = true;
     next->revision = ctx->state.revision + 1;
     ctx->state = *next;
     ctx->dirty = true;
@@ -289,7 +294,9 @@ static void handle_stats(struct render_context *ctx, struct session *session,
                                    .clients = session_hub_count(ctx->hub),
                                    .passes = passes,
                                    .pass_count = pass_count,
-                                   .lut_rebuild_progress = 1.0 };
+                                   .lut_rebuild_progress = ctx->has_stats
+                                                               ? ctx->last_stats.lut_rebuild_progress
+                                                               : 1.0 };
     reply(session, &msg->id, sky_msg_build_stats(&msg->id, &stats));
 }
 

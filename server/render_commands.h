@@ -49,6 +49,8 @@ struct render_context {
     struct sky_render_stats last_stats;
     bool has_stats;
     double fps; /* frames rendered per second over the last second */
+    uint64_t settled_revision; /* the newest revision frames fully show */
+    bool atmosphere_pending;   /* the atmosphere changed and frames do not show it fully yet */
 };
 
 void render_commands_handle(struct render_context *ctx, struct session *session,

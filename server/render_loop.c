@@ -195,11 +195,18 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     }
     ctx->last_stats = stats;
     ctx->has_stats = true;
+    /* While an atmosphere change is still being rebuilt, a frame shows the state of the last
+     * revision whose atmosphere was on screen: a client waiting for its revision then knows
+     * its change is visible when a frame carries it. */
+    if (stats.atmosphere_settled) {
+        ctx->settled_revision = ctx->state.revision;
+        ctx->atmosphere_pending = false;
+    }
     loop->fps_window_frames++;
     struct encode_job job = {
         .rgba = rgba,
         .meta = { .render_sequence = ++ctx->render_sequence,
-                  .state_revision = ctx->state.revision,
+                  .state_revision = ctx->settled_revision,
                   .simulation_time_s = monotonic_seconds() - ctx->start_time_s,
                   .width = g->view.width,
                   .height = g->view.height },
@@ -252,11 +259,26 @@ static void schedule_view(struct render_loop *loop, const size_t *members, size_
     }
 }
 
+/* Amortizing a rebuild only helps a stream: with nobody subscribed, the atmosphere is rebuilt
+ * at once, so that a snapshot, or the first frames of a new subscription, show it. */
+static void settle_atmosphere_if_unwatched(struct render_context *ctx)
+{
+    if (!ctx->atmosphere_pending || ctx->subscription_count > 0)
+        return;
+    struct sky_render_atmosphere atm;
+    world_to_render_atmosphere(&ctx->state, &atm);
+    if (sky_renderer_rebuild_atmosphere(ctx->renderer, &atm, NULL) == 0) {
+        ctx->atmosphere_pending = false;
+        ctx->settled_revision = ctx->state.revision;
+    }
+}
+
 /* Groups the pending snapshots and the due subscriptions by view, renders each view once, and
  * returns when the loop should next look at the schedule. */
 static double render_due(struct render_loop *loop, double now)
 {
     struct render_context *ctx = &loop->ctx;
+    settle_atmosphere_if_unwatched(ctx);
     struct render_group *groups = NULL;
     size_t group_count = 0;
     double next_wake = now + 1.0;
@@ -447,6 +469,11 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     world_to_lut_sizes(&ctx->state, &rp.lut_sizes);
     ctx->lut_sizes = rp.lut_sizes;
     ctx->renderer = sky_renderer_create(&rp);
+    if (ctx->renderer)
+        sky_renderer_set_amortization(
+            ctx->renderer, &(struct sky_render_amortization){
+                               .budget_ms = params->config->lut_budget_ms,
+                               .blend_frames = params->config->lut_blend_frames });
     loop->encoder = encoder_pool_create(params->config->encoder_threads, params->hub,
                                         encoder_done, loop);
     if (!ctx->renderer || !loop->encoder) {
@@ -464,6 +491,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         render_loop_destroy(&loop);
         return NULL;
     }
+    ctx->settled_revision = ctx->state.revision;
     if (pthread_create(&loop->thread, NULL, thread_main, loop) != 0) {
         snprintf(err, errlen, "cannot start the render thread");
         render_loop_destroy(&loop);

@@ -10,6 +10,7 @@ layout(local_size_x = 64) in;
 layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
 layout(binding = 1) uniform sampler2D transmittance_lut;
 layout(binding = 2, rgba32f) uniform writeonly image2D multiscattering_out;
+layout(push_constant) uniform RowsPush { sky_rows_push rows; };
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #include "atmosphere.glsl"
@@ -21,7 +22,7 @@ shared vec3 shared_fms[64];
 void main()
 {
     ivec2 size = imageSize(multiscattering_out);
-    ivec2 px = ivec2(gl_WorkGroupID.xy);
+    ivec2 px = ivec2(gl_WorkGroupID.xy) + ivec2(0, int(rows.row_offset));
     uint dir_index = gl_LocalInvocationIndex;
     vec2 uv = (vec2(px) + 0.5) / vec2(size);
     vec2 unit = vec2(sub_uv_to_unit(uv.x, float(size.x)), sub_uv_to_unit(uv.y, float(size.y)));

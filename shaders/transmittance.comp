@@ -8,6 +8,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
 layout(binding = 1, rgba32f) uniform writeonly image2D transmittance_out;
+layout(push_constant) uniform RowsPush { sky_rows_push rows; };
 
 #include "atmosphere.glsl"
 
@@ -16,7 +17,7 @@ const float STEPS = 96.0;
 void main()
 {
     ivec2 size = imageSize(transmittance_out);
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, int(rows.row_offset));
     if (any(greaterThanEqual(px, size)))
         return;
     vec2 uv = (vec2(px) + 0.5) / vec2(size);

@@ -87,6 +87,23 @@ struct sky_region_push {
     SKY_IVEC4 rect; /* x0, y0, width, height in pixels */
 };
 
+/* A slice of rows of an atmosphere LUT: rebuilds are spread over frames (seed 001, 3.5.1). */
+struct sky_rows_push {
+    SKY_UINT row_offset;
+    SKY_UINT pad0;
+    SKY_UINT pad1;
+    SKY_UINT pad2;
+};
+
+/* out = mix(from, to, weight): the displayed LUTs blend from the last complete build to the
+ * new one. */
+struct sky_blend_push {
+    float weight;
+    float pad0;
+    float pad1;
+    float pad2;
+};
+
 /* Per-dispatch constants of the metering passes. */
 struct sky_meter_push {
     SKY_UINT grid_width;
