@@ -199,3 +199,20 @@ int cli_finish(struct cli_common *c, struct sky_renderer **renderer, int status)
     }
     return status;
 }
+
+int cli_parse_number_option(int argc, char **argv, int *i, const struct cli_number_option *options,
+                            size_t count, void *target)
+{
+    for (size_t k = 0; k < count; k++) {
+        if (strcmp(argv[*i], options[k].name) != 0)
+            continue;
+        const char *value = cli_take_value(argc, argv, i);
+        double *number = (double *)((char *)target + options[k].value_offset);
+        if (!value || !cli_parse_double(options[k].name, value, options[k].min, options[k].max,
+                                        number))
+            return -1;
+        *(bool *)((char *)target + options[k].flag_offset) = true;
+        return 1;
+    }
+    return 0;
+}

@@ -4,6 +4,7 @@
 #define SKYD_CLI_ARGS_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "sky_renderer.h"
 #include "world_state.h"
@@ -35,6 +36,19 @@ bool cli_parse_double(const char *option, const char *text, double min, double m
                       double *out);
 bool cli_parse_uint(const char *option, const char *text, unsigned min, unsigned max,
                     unsigned *out);
+
+/* A numeric option stored into a struct: its value at value_offset (a double), a bool set at
+ * flag_offset when given. */
+struct cli_number_option {
+    const char *name;
+    double min, max;
+    size_t value_offset, flag_offset;
+};
+
+/* Tries argv[*i] against a table of numeric options writing into *target; 1 consumed, 0 not
+ * one of them, -1 after printing an error that names the option. */
+int cli_parse_number_option(int argc, char **argv, int *i, const struct cli_number_option *options,
+                            size_t count, void *target);
 
 /* Creates the renderer for these options with the state's LUT sizes; NULL after a message. */
 struct sky_renderer *cli_create_renderer(struct cli_common *c);

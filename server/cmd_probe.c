@@ -51,11 +51,7 @@ struct body_args {
 /* Parses one probe-specific option; 1 consumed, 0 unknown, -1 error printed. */
 static int parse_probe_option(int argc, char **argv, int *i, struct probe_args *a)
 {
-    static const struct {
-        const char *name;
-        double min, max;
-        size_t value_offset, flag_offset;
-    } options[] = {
+    static const struct cli_number_option options[] = {
         { "--altitude", 0.0, 1e5, offsetof(struct probe_args, altitude_km),
           offsetof(struct probe_args, has_altitude) },
         { "--mu", -1.0, 1.0, offsetof(struct probe_args, mu), offsetof(struct probe_args, has_mu) },
@@ -66,18 +62,7 @@ static int parse_probe_option(int argc, char **argv, int *i, struct probe_args *
         { "--sun-zenith", 0.0, 180.0, offsetof(struct probe_args, sun_zenith_deg),
           offsetof(struct probe_args, has_sun_zenith) },
     };
-    for (size_t k = 0; k < sizeof options / sizeof options[0]; k++) {
-        if (strcmp(argv[*i], options[k].name) != 0)
-            continue;
-        const char *value = cli_take_value(argc, argv, i);
-        double *target = (double *)((char *)a + options[k].value_offset);
-        if (!value || !cli_parse_double(options[k].name, value, options[k].min, options[k].max,
-                                        target))
-            return -1;
-        *(bool *)((char *)a + options[k].flag_offset) = true;
-        return 1;
-    }
-    return 0;
+    return cli_parse_number_option(argc, argv, i, options, sizeof options / sizeof options[0], a);
 }
 
 static bool require(bool present, const char *option, const char *probe)
@@ -124,11 +109,7 @@ static int parse_body_option(int argc, char **argv, int *i, struct body_args *a)
         a->has_time = true;
         return 1;
     }
-    static const struct {
-        const char *name;
-        double min, max;
-        size_t value_offset, flag_offset;
-    } options[] = {
+    static const struct cli_number_option options[] = {
         { "--lat", -90.0, 90.0, offsetof(struct body_args, latitude_deg),
           offsetof(struct body_args, has_latitude) },
         { "--lon", -180.0, 180.0, offsetof(struct body_args, longitude_deg),
@@ -136,18 +117,7 @@ static int parse_body_option(int argc, char **argv, int *i, struct body_args *a)
         { "--altitude", -1000.0, 100000.0, offsetof(struct body_args, altitude_m),
           offsetof(struct body_args, has_altitude) },
     };
-    for (size_t k = 0; k < sizeof options / sizeof options[0]; k++) {
-        if (strcmp(option, options[k].name) != 0)
-            continue;
-        const char *value = cli_take_value(argc, argv, i);
-        double *target = (double *)((char *)a + options[k].value_offset);
-        if (!value || !cli_parse_double(options[k].name, value, options[k].min, options[k].max,
-                                        target))
-            return -1;
-        *(bool *)((char *)a + options[k].flag_offset) = true;
-        return 1;
-    }
-    return 0;
+    return cli_parse_number_option(argc, argv, i, options, sizeof options / sizeof options[0], a);
 }
 
 /* skyd probe sun|moon: needs no renderer. */
