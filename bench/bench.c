@@ -81,16 +81,26 @@ static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosph
     return 0;
 }
 
+/* The state's atmosphere and an sRGB view of w x h, with a pixel buffer for it (NULL when
+ * out of memory; the caller frees it). */
+static void *frame_setup(const struct cli_common *c, unsigned w, unsigned h,
+                         struct sky_render_atmosphere *atm, struct sky_render_view *view,
+                         size_t *bytes)
+{
+    world_to_render_atmosphere(&c->state, atm);
+    world_to_render_view(&c->state, w, h, SKY_RENDER_OUTPUT_SRGB8, view);
+    *bytes = (size_t)w * h * 4;
+    return malloc(*bytes);
+}
+
 static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsigned w,
                         unsigned h, int n, int warmup, struct series *s)
 {
     double trivial = trivial_write_ms(c->device, w, h, 15);
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
-    world_to_render_atmosphere(&c->state, &atm);
-    world_to_render_view(&c->state, w, h, SKY_RENDER_OUTPUT_SRGB8, &view);
-    size_t bytes = (size_t)w * h * 4;
-    void *pixels = malloc(bytes);
+    size_t bytes;
+    void *pixels = frame_setup(c, w, h, &atm, &view, &bytes);
     if (!pixels)
         return -1;
     for (int i = -warmup; i < n; i++) {
@@ -133,10 +143,8 @@ static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsign
     static double lut_ms[MAX_FRAMES];
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
-    world_to_render_atmosphere(&c->state, &atm);
-    world_to_render_view(&c->state, w, h, SKY_RENDER_OUTPUT_SRGB8, &view);
-    size_t bytes = (size_t)w * h * 4;
-    void *pixels = malloc(bytes);
+    size_t bytes;
+    void *pixels = frame_setup(c, w, h, &atm, &view, &bytes);
     if (!pixels)
         return -1;
     const double budgets[2] = { budget_ms, 0.0 };

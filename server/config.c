@@ -63,12 +63,15 @@ void skyd_config_defaults(struct skyd_config *c)
     c->lut_budget_ms = 2.0;
     c->lut_blend_frames = 4;
     c->state_save_delay_s = 1.0;
-    c->max_message_bytes = 65536;
-    c->max_clients = 64;
-    c->max_width = 3840;
-    c->max_height = 2160;
-    c->max_fps = 60;
-    c->control_messages_per_second = 20;
+    /* The protocol's own defaults, so that the two cannot drift apart. */
+    struct sky_msg_limits limits;
+    sky_msg_limits_default(&limits);
+    c->max_message_bytes = (int)limits.max_message_bytes;
+    c->max_clients = limits.max_clients;
+    c->max_width = (int)limits.max_width;
+    c->max_height = (int)limits.max_height;
+    c->max_fps = limits.max_fps;
+    c->control_messages_per_second = limits.control_messages_per_second;
     c->origin_count = 2;
     snprintf(c->allowed_origins[0], sizeof c->allowed_origins[0], "http://127.0.0.1:8080");
     snprintf(c->allowed_origins[1], sizeof c->allowed_origins[1], "http://localhost:8080");
@@ -182,6 +185,16 @@ static void apply_object(struct skyd_config *c, const cJSON *object, const char 
         else
             sky_field_errors_addf(errors, SKY_FIELD_UNKNOWN, pointer, "unknown field");
     }
+}
+
+void skyd_config_limits(const struct skyd_config *c, struct sky_msg_limits *limits)
+{
+    limits->max_message_bytes = (size_t)c->max_message_bytes;
+    limits->max_clients = c->max_clients;
+    limits->max_width = (uint32_t)c->max_width;
+    limits->max_height = (uint32_t)c->max_height;
+    limits->max_fps = c->max_fps;
+    limits->control_messages_per_second = c->control_messages_per_second;
 }
 
 bool skyd_config_load(const char *path, struct skyd_config *config,

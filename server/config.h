@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "messages.h"
 #include "world_state.h"
 
 #define SKYD_CONFIG_MAX_ORIGINS 16
@@ -39,6 +40,9 @@ struct skyd_config {
 };
 
 void skyd_config_defaults(struct skyd_config *config);
+
+/* The protocol limits the config sets (announced in hello and enforced per connection). */
+void skyd_config_limits(const struct skyd_config *config, struct sky_msg_limits *limits);
 
 /* Reads and validates `path` over the defaults. On failure *config keeps the defaults, errors
  * lists every bad field as a JSON Pointer, and msg says what went wrong (file, parse

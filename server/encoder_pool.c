@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "monotonic_clock.h"
 #include "png_write.h"
 
 struct queued_job {
@@ -19,7 +18,6 @@ struct encoder_pool {
     struct queued_job *head, *tail;
     int queued, running;
     bool stopping;
-    double last_ms;
     struct session_hub *hub;
     void (*done)(void *user);
     void *done_user;
@@ -43,9 +41,8 @@ static void deliver(struct encode_job *job, struct encoded_frame *frame)
     job->rgba = NULL;
 }
 
-static void run_job(struct encoder_pool *pool, struct encode_job *job)
+static void run_job(struct encode_job *job)
 {
-    double start = monotonic_seconds();
     uint8_t *png = NULL;
     size_t png_length = 0;
     struct encoded_frame *frame = NULL;
@@ -54,9 +51,6 @@ static void run_job(struct encoder_pool *pool, struct encode_job *job)
     free(png);
     deliver(job, frame);
     encoded_frame_unref(&frame);
-    pthread_mutex_lock(&pool->lock);
-    pool->last_ms = (monotonic_seconds() - start) * 1e3;
-    pthread_mutex_unlock(&pool->lock);
 }
 
 static void *worker(void *arg)
@@ -75,7 +69,7 @@ static void *worker(void *arg)
         pool->queued--;
         pool->running++;
         pthread_mutex_unlock(&pool->lock);
-        run_job(pool, &q->job);
+        run_job(&q->job);
         free(q);
         session_hub_wake(pool->hub);
         pthread_mutex_lock(&pool->lock);
@@ -159,12 +153,4 @@ int encoder_pool_backlog(struct encoder_pool *pool)
     int n = pool->queued + pool->running;
     pthread_mutex_unlock(&pool->lock);
     return n;
-}
-
-double encoder_pool_last_ms(struct encoder_pool *pool)
-{
-    pthread_mutex_lock(&pool->lock);
-    double ms = pool->last_ms;
-    pthread_mutex_unlock(&pool->lock);
-    return ms;
 }

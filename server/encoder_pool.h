@@ -37,7 +37,4 @@ void encoder_pool_submit(struct encoder_pool *pool, struct encode_job *job);
 /* Jobs queued or being encoded. */
 int encoder_pool_backlog(struct encoder_pool *pool);
 
-/* Encoding time of the last job in ms. */
-double encoder_pool_last_ms(struct encoder_pool *pool);
-
 #endif

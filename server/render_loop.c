@@ -37,8 +37,8 @@ struct render_loop {
     pthread_mutex_t lock;
     pthread_cond_t wake;
     struct command *head, *tail;
-    bool notified, stopping, started, start_failed;
-    char start_error[256];
+    bool notified, stopping;
+    bool started; /* the thread runs (set before it starts; destroy joins it) */
     struct encoder_pool *encoder;
     double fps_window_start;
     int fps_window_frames;
@@ -384,15 +384,6 @@ static void *thread_main(void *arg)
 {
     struct render_loop *loop = arg;
     struct render_context *ctx = &loop->ctx;
-    bool ready = ctx->renderer != NULL;
-    pthread_mutex_lock(&loop->lock);
-    loop->started = true;
-    loop->start_failed = !ready;
-    pthread_cond_broadcast(&loop->wake);
-    pthread_mutex_unlock(&loop->lock);
-    if (!ready)
-        return NULL;
-
     double wake_at = monotonic_seconds();
     for (;;) {
         pthread_mutex_lock(&loop->lock);
@@ -492,15 +483,12 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         return NULL;
     }
     ctx->settled_revision = ctx->state.revision;
-    if (pthread_create(&loop->thread, NULL, thread_main, loop) != 0) {
+    loop->started = pthread_create(&loop->thread, NULL, thread_main, loop) == 0;
+    if (!loop->started) {
         snprintf(err, errlen, "cannot start the render thread");
         render_loop_destroy(&loop);
         return NULL;
     }
-    pthread_mutex_lock(&loop->lock);
-    while (!loop->started)
-        pthread_cond_wait(&loop->wake, &loop->lock);
-    pthread_mutex_unlock(&loop->lock);
     fprintf(stderr, "skyd: rendering on %s\n", sky_renderer_device_name(ctx->renderer));
     return loop;
 }

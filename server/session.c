@@ -32,7 +32,6 @@ struct snapshot_item {
 
 struct session {
     atomic_int refs;
-    uint64_t id;
     void *transport;
     pthread_mutex_t lock;
     enum sky_msg_role role;
@@ -55,13 +54,12 @@ struct session {
     int snapshots_reserved; /* reserved, including ready ones */
 };
 
-struct session *session_create(uint64_t id)
+struct session *session_create(void)
 {
     struct session *s = calloc(1, sizeof *s);
     if (!s)
         return NULL;
     atomic_init(&s->refs, 1);
-    s->id = id;
     s->role = SKY_ROLE_VIEWER;
     pthread_mutex_init(&s->lock, NULL);
     return s;
@@ -101,11 +99,6 @@ void session_unref(struct session **session)
     drop_output(s);
     pthread_mutex_destroy(&s->lock);
     free(s);
-}
-
-uint64_t session_id(const struct session *session)
-{
-    return session->id;
 }
 
 void session_set_transport(struct session *session, void *transport)
@@ -190,14 +183,6 @@ void session_mark_closed(struct session *s)
     s->closed = true;
     drop_output(s);
     pthread_mutex_unlock(&s->lock);
-}
-
-bool session_is_closed(struct session *s)
-{
-    pthread_mutex_lock(&s->lock);
-    bool closed = s->closed;
-    pthread_mutex_unlock(&s->lock);
-    return closed;
 }
 
 static struct frame_slot *find_slot(struct session *s, uint64_t subscription)

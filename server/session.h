@@ -35,11 +35,9 @@
 
 struct session;
 
-struct session *session_create(uint64_t id);
+struct session *session_create(void);
 struct session *session_ref(struct session *session);
 void session_unref(struct session **session);
-
-uint64_t session_id(const struct session *session);
 
 /* The transport's handle for this session (its connection); only the transport uses it. */
 void session_set_transport(struct session *session, void *transport);
@@ -59,7 +57,6 @@ void session_request_close(struct session *session, int code, const char *reason
 
 /* Marks the transport gone: producers drop their output from now on. */
 void session_mark_closed(struct session *session);
-bool session_is_closed(struct session *session);
 
 /* Subscriptions' latest-frame slots. add returns false when all slots are in use. */
 bool session_add_slot(struct session *session, uint64_t subscription);

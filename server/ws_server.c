@@ -35,8 +35,6 @@ struct ws_server {
     struct sky_msg_limits limits;
     struct session_hub *hub;
     struct render_loop *loop;
-    uint64_t next_session_id;
-    int port;
     char url[128];
     char own_origins[2][96];
     char web_root[4096];
@@ -90,7 +88,7 @@ static void queue_and_wake(struct lws *wsi, struct session *session, char *text)
 
 static int on_established(struct ws_server *srv, struct lws *wsi, struct connection *c)
 {
-    c->session = session_create(++srv->next_session_id);
+    c->session = session_create();
     if (!c->session)
         return -1;
     session_set_transport(c->session, wsi);
@@ -303,13 +301,7 @@ struct ws_server *ws_server_create(const struct ws_server_params *params, char *
     srv->config = cfg;
     srv->hub = params->hub;
     srv->loop = params->loop;
-    sky_msg_limits_default(&srv->limits);
-    srv->limits.max_message_bytes = (size_t)cfg->max_message_bytes;
-    srv->limits.max_clients = cfg->max_clients;
-    srv->limits.max_width = (uint32_t)cfg->max_width;
-    srv->limits.max_height = (uint32_t)cfg->max_height;
-    srv->limits.max_fps = cfg->max_fps;
-    srv->limits.control_messages_per_second = cfg->control_messages_per_second;
+    skyd_config_limits(cfg, &srv->limits);
     snprintf(srv->web_root, sizeof srv->web_root, "%s", params->web_root);
 
     lws_set_log_level(LLL_ERR | LLL_WARN | LLL_USER, log_line);
@@ -349,13 +341,13 @@ struct ws_server *ws_server_create(const struct ws_server_params *params, char *
         ws_server_destroy(&srv);
         return NULL;
     }
-    srv->port = lws_get_vhost_listen_port(srv->vhost);
+    int port = lws_get_vhost_listen_port(srv->vhost);
     const char *scheme = tls ? "https" : "http";
-    snprintf(srv->url, sizeof srv->url, "%s://%s:%d/", scheme, cfg->listen_address, srv->port);
+    snprintf(srv->url, sizeof srv->url, "%s://%s:%d/", scheme, cfg->listen_address, port);
     snprintf(srv->own_origins[0], sizeof srv->own_origins[0], "%s://%s:%d", scheme,
-             cfg->listen_address, srv->port);
+             cfg->listen_address, port);
     snprintf(srv->own_origins[1], sizeof srv->own_origins[1], "%s://localhost:%d", scheme,
-             srv->port);
+             port);
     return srv;
 }
 
@@ -369,11 +361,6 @@ void ws_server_destroy(struct ws_server **server)
     if (srv->context)
         lws_context_destroy(srv->context);
     free(srv);
-}
-
-int ws_server_port(const struct ws_server *server)
-{
-    return server->port;
 }
 
 const char *ws_server_url(const struct ws_server *server)

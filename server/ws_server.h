@@ -26,8 +26,7 @@ struct ws_server *ws_server_create(const struct ws_server_params *params, char *
                                    size_t errlen);
 void ws_server_destroy(struct ws_server **server);
 
-/* The port listened on (the kernel's pick when the config says 0) and the base URL. */
-int ws_server_port(const struct ws_server *server);
+/* The base URL, with the port listened on (the kernel's pick when the config says 0). */
 const char *ws_server_url(const struct ws_server *server);
 
 /* Serves until *stop becomes non-zero (set it, then call ws_server_wake). */
