@@ -730,11 +730,13 @@ size_t sky_msg_state_diff(const struct sky_world_state *before,
     for (size_t i = 0; i < field_count; i++) {
         size_t size = sizeof(int);
         switch (fields[i].type) {
-        case SKY_FIELD_TYPE_NUMBER: size = sizeof(double); break;
+        case SKY_FIELD_TYPE_NUMBER:
+        case SKY_FIELD_TYPE_TIME: size = sizeof(double); break;
         case SKY_FIELD_TYPE_RGB: size = 3 * sizeof(double); break;
         case SKY_FIELD_TYPE_INT_PAIR: size = 2 * sizeof(int); break;
         case SKY_FIELD_TYPE_INT_TRIPLE: size = 3 * sizeof(int); break;
-        case SKY_FIELD_TYPE_ENUM: break;
+        case SKY_FIELD_TYPE_ENUM:
+        case SKY_FIELD_TYPE_INT: break;
         }
         if (memcmp((const char *)before + fields[i].offset, (const char *)after + fields[i].offset,
                    size) == 0)

@@ -1,6 +1,8 @@
 /* World state schema: one descriptor row per leaf field drives validation, JSON patching,
  * dotted-path assignment and serialization. */
 #include "world_state.h"
+#include "world_fields.h"
+#include "utc_time.h"
 
 #include <cjson/cJSON.h>
 
@@ -10,101 +12,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Enum fields are read and written through int lvalues. */
-_Static_assert(sizeof(enum sky_limb_darkening) == sizeof(int), "enum field size");
-_Static_assert(sizeof(enum sky_exposure_mode) == sizeof(int), "enum field size");
-_Static_assert(sizeof(enum sky_tonemap) == sizeof(int), "enum field size");
 
 #define POINTER_CAPACITY sizeof(((struct sky_field_error *)NULL)->pointer)
 #define REASON_CAPACITY sizeof(((struct sky_field_error *)NULL)->reason)
 #define DOTTED_PATH_CAPACITY 128
 #define NUMBER_TEXT_CAPACITY 32
+#define TIME_TEXT_CAPACITY 40
 
 static const double MAX_ATMOSPHERE_THICKNESS_KM = 1000.0;
 
-static const char *const limb_darkening_names[] = {"none", "neckel96", "hm98"};
-static const char *const exposure_mode_names[] = {"auto", "manual"};
-static const char *const tonemap_names[] = {"aces", "reinhard", "clamp"};
-
-#define COUNT_OF(array) ((int)(sizeof(array) / sizeof((array)[0])))
-#define OFFSET(member) offsetof(struct sky_world_state, member)
-#define NUMBER(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc}
-#define RGB(path, member, lo, hi, doc) {path, SKY_FIELD_TYPE_RGB, OFFSET(member), lo, hi, NULL, 0, doc}
-#define INT_PAIR(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT_PAIR, OFFSET(member), lo, hi, NULL, 0, doc}
-#define INT_TRIPLE(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT_TRIPLE, OFFSET(member), lo, hi, NULL, 0, doc}
-#define ENUM(path, member, names, doc) \
-    {path, SKY_FIELD_TYPE_ENUM, OFFSET(member), 0, COUNT_OF(names) - 1, names, COUNT_OF(names), doc}
-
-/* Rows sharing a group stay together: serialization and error messages follow this order. */
-static const struct sky_field_desc fields[] = {
-    NUMBER("atmosphere.bottom_radius_km", atmosphere.bottom_radius_km, 100, 100000,
-           "planet radius, km"),
-    NUMBER("atmosphere.top_radius_km", atmosphere.top_radius_km, 100.1, 101000,
-           "radius of the top of the atmosphere, km; above the bottom by at most 1000 km"),
-    RGB("atmosphere.rayleigh.scattering_per_km", atmosphere.rayleigh_scattering_per_km, 0, 10,
-        "Rayleigh scattering coefficient at the ground per RGB channel, 1/km"),
-    NUMBER("atmosphere.rayleigh.scale_height_km", atmosphere.rayleigh_scale_height_km, 0.1, 100,
-           "Rayleigh density scale height, km"),
-    RGB("atmosphere.mie.scattering_per_km", atmosphere.mie_scattering_per_km, 0, 10,
-        "aerosol (Mie) scattering coefficient at the ground per RGB channel, 1/km"),
-    RGB("atmosphere.mie.absorption_per_km", atmosphere.mie_absorption_per_km, 0, 10,
-        "aerosol (Mie) absorption coefficient at the ground per RGB channel, 1/km"),
-    NUMBER("atmosphere.mie.scale_height_km", atmosphere.mie_scale_height_km, 0.01, 100,
-           "aerosol density scale height, km"),
-    RGB("atmosphere.mie.g", atmosphere.mie_g, -0.99, 0.99,
-        "Cornette-Shanks asymmetry parameter per RGB channel, unitless"),
-    RGB("atmosphere.ozone.absorption_per_km", atmosphere.ozone_absorption_per_km, 0, 1,
-        "ozone absorption coefficient at the layer peak per RGB channel, 1/km"),
-    NUMBER("atmosphere.ozone.peak_altitude_km", atmosphere.ozone_peak_altitude_km, 0, 1000,
-           "altitude of the centre of the ozone tent layer, km"),
-    NUMBER("atmosphere.ozone.width_km", atmosphere.ozone_width_km, 0.1, 1000,
-           "full width of the ozone tent layer, km"),
-    RGB("atmosphere.ground_albedo", atmosphere.ground_albedo, 0, 1,
-        "Lambertian ground albedo per RGB channel, unitless"),
-    NUMBER("atmosphere.fog.density_per_km", atmosphere.fog_density_per_km, 0, 100,
-           "height fog: grey aerosol scattering added at the ground, 1/km"),
-    NUMBER("atmosphere.fog.scale_height_km", atmosphere.fog_scale_height_km, 0.01, 50,
-           "height fog exponential falloff, km"),
-    NUMBER("sun.illuminance_lux", sun.illuminance_lux, 0, 1e6,
-           "ground illuminance with the sun at zenith, lux"),
-    NUMBER("sun.angular_diameter_deg", sun.angular_diameter_deg, 0.01, 20,
-           "apparent diameter of the solar disc, degrees"),
-    NUMBER("sun.azimuth_deg", sun.azimuth_deg, -360, 360,
-           "sun azimuth from north through east, degrees"),
-    NUMBER("sun.elevation_deg", sun.elevation_deg, -90, 90,
-           "sun elevation above the horizon, degrees"),
-    ENUM("sun.limb_darkening", sun.limb_darkening, limb_darkening_names,
-         "limb darkening model of the solar disc"),
-    NUMBER("camera.altitude_km", camera.altitude_km, 0, 100000,
-           "camera altitude above the planet surface, km"),
-    NUMBER("camera.yaw_deg", camera.yaw_deg, -360, 360,
-           "view azimuth from north through east, degrees"),
-    NUMBER("camera.pitch_deg", camera.pitch_deg, -90, 90,
-           "view elevation above the local horizon, degrees"),
-    NUMBER("camera.fov_deg", camera.fov_deg, 1, 170, "vertical field of view, degrees"),
-    ENUM("exposure.mode", exposure.mode, exposure_mode_names,
-         "auto: metered from the sky; manual: from ev100"),
-    NUMBER("exposure.ev100", exposure.ev100, -10, 25,
-           "exposure value at ISO 100, used when mode is manual, EV"),
-    NUMBER("exposure.compensation_ev", exposure.compensation_ev, -10, 10,
-           "added to the automatic exposure, EV"),
-    ENUM("exposure.tonemap", exposure.tonemap, tonemap_names, "tone mapping curve"),
-    INT_PAIR("render.transmittance_lut", render.transmittance_lut, 8, 4096,
-             "transmittance LUT size, [width, height] texels"),
-    INT_PAIR("render.multiscattering_lut", render.multiscattering_lut, 4, 1024,
-             "multiple-scattering LUT size, [width, height] texels"),
-    INT_PAIR("render.skyview_lut", render.skyview_lut, 8, 4096,
-             "sky-view LUT size, [width, height] texels"),
-    INT_TRIPLE("render.aerial_perspective_lut", render.aerial_perspective_lut, 4, 512,
-               "aerial perspective volume size, [width, height, depth slices] texels"),
-    NUMBER("render.aerial_perspective_max_km", render.aerial_perspective_max_km, 1, 1000,
-           "distance covered by the aerial perspective volume, km"),
-};
-
-#define FIELD_COUNT (sizeof(fields) / sizeof(fields[0]))
+#define FIELD_COUNT sky_world_field_count
+#define fields sky_world_field_table
 
 /* ---- schema lookup ---------------------------------------------------------------------- */
 
@@ -136,6 +54,8 @@ static int element_count(enum sky_field_type type)
         return 2;
     case SKY_FIELD_TYPE_NUMBER:
     case SKY_FIELD_TYPE_ENUM:
+    case SKY_FIELD_TYPE_INT:
+    case SKY_FIELD_TYPE_TIME:
         break;
     }
     return 1;
@@ -559,6 +479,51 @@ static void apply_enum(struct patch_context *context, const struct sky_field_des
     *(int *)field_address(context->target, field) = found;
 }
 
+static void apply_int(struct patch_context *context, const struct sky_field_desc *field,
+                      const cJSON *value, const char *pointer)
+{
+    if (!cJSON_IsNumber(value)) {
+        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected an integer, got %s", sky_json_type_name(value));
+        return;
+    }
+    if (check_integer(context->errors, field, value->valuedouble, pointer))
+        *(int *)field_address(context->target, field) = (int)value->valuedouble;
+}
+
+static bool check_time(struct sky_field_errors *errors, const struct sky_field_desc *field,
+                       double seconds, const char *pointer)
+{
+    if (isfinite(seconds) && seconds >= field->min && seconds <= field->max)
+        return true;
+    char got[TIME_TEXT_CAPACITY], min[TIME_TEXT_CAPACITY], max[TIME_TEXT_CAPACITY];
+    sky_time_format_iso8601(seconds, got, sizeof got);
+    sky_time_format_iso8601(field->min, min, sizeof min);
+    sky_time_format_iso8601(field->max, max, sizeof max);
+    sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "must be in [%s, %s], got %s",
+                          min, max, got);
+    return false;
+}
+
+static void apply_time(struct patch_context *context, const struct sky_field_desc *field,
+                       const cJSON *value, const char *pointer)
+{
+    if (!cJSON_IsString(value)) {
+        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected an ISO 8601 UTC time like \"2026-06-21T12:00:00Z\", got %s",
+                              sky_json_type_name(value));
+        return;
+    }
+    double seconds;
+    char why[REASON_CAPACITY];
+    if (!sky_time_parse_iso8601(value->valuestring, &seconds, why, sizeof why)) {
+        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "%s", why);
+        return;
+    }
+    if (check_time(context->errors, field, seconds, pointer))
+        *(double *)field_address(context->target, field) = seconds;
+}
+
 static void apply_leaf(struct patch_context *context, const struct sky_field_desc *field,
                        const cJSON *value, const char *pointer)
 {
@@ -575,6 +540,12 @@ static void apply_leaf(struct patch_context *context, const struct sky_field_des
         break;
     case SKY_FIELD_TYPE_ENUM:
         apply_enum(context, field, value, pointer);
+        break;
+    case SKY_FIELD_TYPE_INT:
+        apply_int(context, field, value, pointer);
+        break;
+    case SKY_FIELD_TYPE_TIME:
+        apply_time(context, field, value, pointer);
         break;
     }
 }
@@ -672,6 +643,12 @@ static void check_stored_field(const struct sky_world_state *state,
             check_number(errors, field, ((const int *)address)[i], item_pointer);
         }
         break;
+    case SKY_FIELD_TYPE_INT:
+        check_number(errors, field, *(const int *)address, pointer);
+        break;
+    case SKY_FIELD_TYPE_TIME:
+        check_time(errors, field, *(const double *)address, pointer);
+        break;
     case SKY_FIELD_TYPE_ENUM: {
         int value = *(const int *)address;
         if (value < 0 || value >= field->enum_count) {
@@ -731,66 +708,6 @@ bool sky_world_state_validate(const struct sky_world_state *state, struct sky_fi
 }
 
 /* ---- public entry points ---------------------------------------------------------------- */
-
-static void set_rgb(double channels[3], double r, double g, double b)
-{
-    channels[0] = r;
-    channels[1] = g;
-    channels[2] = b;
-}
-
-static void set_pair(int values[2], int first, int second)
-{
-    values[0] = first;
-    values[1] = second;
-}
-
-/* Member by member after the memset: copying whole compound literals would also copy their
- * indeterminate padding, and states are compared with memcmp. */
-void sky_world_state_defaults(struct sky_world_state *state)
-{
-    memset(state, 0, sizeof *state);
-
-    struct sky_atmosphere_state *atmosphere = &state->atmosphere;
-    atmosphere->bottom_radius_km = 6360.0;
-    atmosphere->top_radius_km = 6460.0;
-    set_rgb(atmosphere->rayleigh_scattering_per_km, 5.802e-3, 13.558e-3, 33.1e-3);
-    atmosphere->rayleigh_scale_height_km = 8.0;
-    set_rgb(atmosphere->mie_scattering_per_km, 3.996e-3, 3.996e-3, 3.996e-3);
-    set_rgb(atmosphere->mie_absorption_per_km, 0.444e-3, 0.444e-3, 0.444e-3);
-    atmosphere->mie_scale_height_km = 1.2;
-    set_rgb(atmosphere->mie_g, 0.8, 0.8, 0.8);
-    set_rgb(atmosphere->ozone_absorption_per_km, 0.650e-3, 1.881e-3, 0.085e-3);
-    atmosphere->ozone_peak_altitude_km = 25.0;
-    atmosphere->ozone_width_km = 30.0;
-    set_rgb(atmosphere->ground_albedo, 0.3, 0.3, 0.3);
-    atmosphere->fog_density_per_km = 0.0;
-    atmosphere->fog_scale_height_km = 0.5;
-
-    state->sun.illuminance_lux = 120000.0;
-    state->sun.angular_diameter_deg = 0.545;
-    state->sun.azimuth_deg = 180.0;
-    state->sun.elevation_deg = 45.0;
-    state->sun.limb_darkening = SKY_LIMB_DARKENING_HM98;
-
-    state->camera.altitude_km = 0.2;
-    state->camera.yaw_deg = 180.0;
-    state->camera.pitch_deg = 10.0;
-    state->camera.fov_deg = 70.0;
-
-    state->exposure.mode = SKY_EXPOSURE_AUTO;
-    state->exposure.ev100 = 14.0;
-    state->exposure.compensation_ev = 0.0;
-    state->exposure.tonemap = SKY_TONEMAP_ACES;
-
-    set_pair(state->render.transmittance_lut, 256, 64);
-    set_pair(state->render.multiscattering_lut, 32, 32);
-    set_pair(state->render.skyview_lut, 192, 108);
-    state->render.aerial_perspective_lut[0] = 32;
-    state->render.aerial_perspective_lut[1] = 32;
-    state->render.aerial_perspective_lut[2] = 32;
-    state->render.aerial_perspective_max_km = 64.0;
-}
 
 bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSON *patch,
                                 struct sky_field_errors *errors)
@@ -853,6 +770,10 @@ static const char *expected_value_text(const struct sky_field_desc *field)
         return "a JSON array like [256,64]";
     case SKY_FIELD_TYPE_INT_TRIPLE:
         return "a JSON array like [32,32,32]";
+    case SKY_FIELD_TYPE_INT:
+        return "an integer";
+    case SKY_FIELD_TYPE_TIME:
+        return "an ISO 8601 UTC time like 2026-06-21T12:00:00Z";
     case SKY_FIELD_TYPE_NUMBER:
     case SKY_FIELD_TYPE_ENUM:
         break;
@@ -882,6 +803,8 @@ static cJSON *parse_value_text(const struct sky_field_desc *field, const char *v
             sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer,
                                   "invalid JSON at character %d of %s",
                                   end ? (int)(end - text) + 1 : 1, text);
+    } else if (field && field->type == SKY_FIELD_TYPE_TIME) {
+        value = cJSON_CreateString(text); /* the patch walk parses and reports it */
     } else if (parse_whole_number(text, &number)) {
         value = new_json_number(number);
     } else if (!field || field->type == SKY_FIELD_TYPE_ENUM) {
@@ -1022,6 +945,13 @@ static cJSON *field_to_json(const struct sky_world_state *state,
     case SKY_FIELD_TYPE_INT_PAIR:
     case SKY_FIELD_TYPE_INT_TRIPLE:
         return cJSON_CreateIntArray(address, element_count(field->type));
+    case SKY_FIELD_TYPE_INT:
+        return cJSON_CreateNumber(*(const int *)address);
+    case SKY_FIELD_TYPE_TIME: {
+        char text[TIME_TEXT_CAPACITY];
+        sky_time_format_iso8601(*(const double *)address, text, sizeof text);
+        return cJSON_CreateString(text);
+    }
     case SKY_FIELD_TYPE_ENUM: {
         int value = *(const int *)address;
         if (value >= 0 && value < field->enum_count)

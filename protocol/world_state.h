@@ -21,6 +21,32 @@ enum sky_limb_darkening {
     SKY_LIMB_DARKENING_HM98 = 2,     /* seed 001 appendix B, listing 7 */
 };
 
+/* Who places the sun and moon: the clock and location through the ephemeris, or the
+ * sun.* and moon.* angles as set. */
+enum sky_bodies_mode {
+    SKY_BODIES_MANUAL = 0,
+    SKY_BODIES_EPHEMERIS = 1,
+};
+
+enum sky_switch {
+    SKY_SWITCH_OFF = 0,
+    SKY_SWITCH_ON = 1,
+};
+
+/* How many of the cloud pixels are ray-marched each frame; the rest come from the
+ * reprojected history. */
+enum sky_cloud_resolution {
+    SKY_CLOUD_RESOLUTION_FULL = 0,      /* every pixel every frame */
+    SKY_CLOUD_RESOLUTION_QUARTER = 1,   /* half width x half height */
+    SKY_CLOUD_RESOLUTION_SIXTEENTH = 2, /* one pixel of each 4x4 block per frame */
+};
+
+/* Where the weather map comes from. */
+enum sky_weather_map_source {
+    SKY_WEATHER_MAP_PROCEDURAL = 0, /* generated from weather.* and clouds.* */
+    SKY_WEATHER_MAP_CLIENT = 1,     /* uploaded by a client */
+};
+
 enum sky_exposure_mode {
     SKY_EXPOSURE_AUTO = 0,
     SKY_EXPOSURE_MANUAL = 1,
@@ -71,6 +97,72 @@ struct sky_exposure_state {
     enum sky_tonemap tonemap;
 };
 
+struct sky_clock_state {
+    double utc_unix_s;                /* "clock.utc": ISO 8601 text in JSON */
+    double time_scale;                /* simulated seconds per real second; 0 pauses */
+    enum sky_bodies_mode sky_bodies;  /* ephemeris: sun and moon follow clock and location */
+};
+
+struct sky_location_state {
+    double latitude_deg;              /* north positive */
+    double longitude_deg;             /* east positive */
+    double altitude_m;                /* of the site above sea level, for the ephemeris */
+};
+
+struct sky_moon_state {
+    double azimuth_deg;               /* from north through east */
+    double elevation_deg;
+    double angular_diameter_deg;
+};
+
+struct sky_night_state {
+    double airglow_luminance_cd_m2;   /* natural night-sky background at the zenith */
+    double star_brightness;           /* multiplier of the catalogue's star illuminance */
+};
+
+/* One cloud layer between bottom_km and bottom_km + thickness_km above the ground. */
+struct sky_cloud_layer_state {
+    double coverage;                  /* 0..1, fraction of the sky covered */
+    double type;                      /* 0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus */
+    double density;                   /* multiplier of clouds.extinction_per_km */
+    double bottom_km;
+    double thickness_km;
+};
+
+struct sky_cloud_state {
+    struct sky_cloud_layer_state low;  /* cumulus-type layer */
+    struct sky_cloud_layer_state high; /* thin high layer (cirrus, cirrostratus) */
+    double extinction_per_km;         /* at density 1 */
+    double albedo;                    /* single-scattering albedo */
+    double precipitation;             /* 0..1: darkens and thickens cloud bases */
+    double phase_g0, phase_g1, phase_w; /* dual-lobe Henyey-Greenstein (seed 000 eq. 14.17) */
+    double multiscatter_a, multiscatter_b, multiscatter_c; /* octaves (seed 000 eq. 14.18) */
+    int multiscatter_octaves;
+    double ambient_scale;             /* sky ambient on the clouds, 0..1 */
+    int noise_seed;                   /* seeds the noise volumes */
+    int primary_steps;                /* ray-march steps through a layer */
+    int light_steps;                  /* secondary march toward the sun */
+    enum sky_cloud_resolution resolution;
+    enum sky_switch temporal;         /* temporal reprojection of the history */
+};
+
+struct sky_wind_state {
+    double speed_m_s;
+    double direction_deg;             /* where the wind blows from, north through east */
+};
+
+struct sky_weather_state {
+    double humidity;                  /* 0..1; haze and fog grow with it */
+    struct sky_wind_state wind;
+    double offset_east_km;            /* weather map advected by the wind so far */
+    double offset_north_km;
+    int seed;                         /* of the procedural weather map */
+    double map_extent_km;             /* side of the square weather map around the camera */
+    enum sky_weather_map_source map_source;
+    enum sky_switch autopilot;        /* stochastic, deterministic weather evolution */
+    int autopilot_seed;
+};
+
 struct sky_render_settings {
     int transmittance_lut[2];         /* width, height */
     int multiscattering_lut[2];
@@ -81,8 +173,14 @@ struct sky_render_settings {
 
 struct sky_world_state {
     uint64_t revision;
+    struct sky_clock_state clock;
+    struct sky_location_state location;
     struct sky_atmosphere_state atmosphere;
     struct sky_sun_state sun;
+    struct sky_moon_state moon;
+    struct sky_night_state night;
+    struct sky_cloud_state clouds;
+    struct sky_weather_state weather;
     struct sky_camera_state camera;
     struct sky_exposure_state exposure;
     struct sky_render_settings render;
@@ -170,6 +268,9 @@ enum sky_field_type {
     SKY_FIELD_TYPE_INT_PAIR,   /* int[2] */
     SKY_FIELD_TYPE_INT_TRIPLE, /* int[3] */
     SKY_FIELD_TYPE_ENUM,       /* int-sized enum, written as enum_names[value] */
+    SKY_FIELD_TYPE_INT,        /* int */
+    SKY_FIELD_TYPE_TIME,       /* double seconds since 1970 UTC, ISO 8601 text in JSON;
+                                  min and max bound the seconds */
 };
 
 struct sky_field_desc {

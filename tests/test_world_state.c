@@ -46,6 +46,8 @@ static int field_elements(const struct sky_field_desc *field)
         return 2;
     case SKY_FIELD_TYPE_NUMBER:
     case SKY_FIELD_TYPE_ENUM:
+    case SKY_FIELD_TYPE_INT:
+    case SKY_FIELD_TYPE_TIME:
         break;
     }
     return 1;
@@ -61,10 +63,12 @@ static double read_element(const struct sky_world_state *state, const char *path
     switch (field->type) {
     case SKY_FIELD_TYPE_NUMBER:
     case SKY_FIELD_TYPE_RGB:
+    case SKY_FIELD_TYPE_TIME:
         return ((const double *)base)[index];
     case SKY_FIELD_TYPE_INT_PAIR:
     case SKY_FIELD_TYPE_INT_TRIPLE:
     case SKY_FIELD_TYPE_ENUM:
+    case SKY_FIELD_TYPE_INT:
         return ((const int *)base)[index];
     }
     return NAN;
@@ -151,7 +155,7 @@ static const struct state_case patch_cases[] = {
 
     /* unknown fields at each depth, and odd member names */
     REJECTS("{\"bogus\":1}", 1,
-            ERR(SKY_FIELD_UNKNOWN, "/bogus", "atmosphere, sun, camera, exposure, render")),
+            ERR(SKY_FIELD_UNKNOWN, "/bogus", "clock, location, atmosphere, sun, moon, night, clouds, weather, camera, exposure, render")),
     REJECTS("{\"atmosphere\":{\"bogus\":{}}}", 1,
             ERR(SKY_FIELD_UNKNOWN, "/atmosphere/bogus", "rayleigh, mie, ozone")),
     REJECTS("{\"atmosphere\":{\"mie\":{\"bogus\":1}}}", 1,
@@ -349,7 +353,7 @@ static void test_schema_table(void)
     current_case = "schema table";
     size_t count = 0;
     const struct sky_field_desc *fields = sky_world_state_fields(&count);
-    CHECK_INT(count, 32);
+    CHECK_INT(count, 79);
     for (size_t i = 0; i < count; i++) {
         current_case = fields[i].path;
         CHECK(sky_world_state_find_field(fields[i].path) == &fields[i]);

@@ -1,0 +1,315 @@
+/* The world state's fields: one descriptor row per leaf (path, type, range, description) and
+ * the defaults. The schema engine in world_state.c does the rest. */
+#include "world_fields.h"
+
+#include <string.h>
+
+/* Enum fields are read and written through int lvalues. */
+_Static_assert(sizeof(enum sky_limb_darkening) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum sky_exposure_mode) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum sky_tonemap) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum sky_bodies_mode) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum sky_switch) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum sky_cloud_resolution) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum sky_weather_map_source) == sizeof(int), "enum field size");
+
+static const char *const limb_darkening_names[] = {"none", "neckel96", "hm98"};
+static const char *const exposure_mode_names[] = {"auto", "manual"};
+static const char *const tonemap_names[] = {"aces", "reinhard", "clamp"};
+static const char *const bodies_names[] = {"manual", "ephemeris"};
+static const char *const switch_names[] = {"off", "on"};
+static const char *const cloud_resolution_names[] = {"full", "quarter", "sixteenth"};
+static const char *const weather_map_source_names[] = {"procedural", "client"};
+
+/* clock.utc spans the ephemeris' validity: 1900-01-01T00:00:00Z to 2100-12-31T23:59:59Z. */
+#define UTC_MIN_S -2208988800.0
+#define UTC_MAX_S 4133980799.0
+#define SEED_MAX 2147483647.0
+
+#define COUNT_OF(array) ((int)(sizeof(array) / sizeof((array)[0])))
+#define OFFSET(member) offsetof(struct sky_world_state, member)
+#define NUMBER(path, member, lo, hi, doc) \
+    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc}
+#define RGB(path, member, lo, hi, doc) {path, SKY_FIELD_TYPE_RGB, OFFSET(member), lo, hi, NULL, 0, doc}
+#define INT_PAIR(path, member, lo, hi, doc) \
+    {path, SKY_FIELD_TYPE_INT_PAIR, OFFSET(member), lo, hi, NULL, 0, doc}
+#define INT_TRIPLE(path, member, lo, hi, doc) \
+    {path, SKY_FIELD_TYPE_INT_TRIPLE, OFFSET(member), lo, hi, NULL, 0, doc}
+#define INT(path, member, lo, hi, doc) {path, SKY_FIELD_TYPE_INT, OFFSET(member), lo, hi, NULL, 0, doc}
+#define TIME(path, member, lo, hi, doc) {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc}
+#define ENUM(path, member, names, doc) \
+    {path, SKY_FIELD_TYPE_ENUM, OFFSET(member), 0, COUNT_OF(names) - 1, names, COUNT_OF(names), doc}
+
+/* Rows sharing a group stay together: serialization and error messages follow this order. */
+const struct sky_field_desc sky_world_field_table[] = {
+    TIME("clock.utc", clock.utc_unix_s, UTC_MIN_S, UTC_MAX_S,
+         "simulated date and time, ISO 8601 UTC (1900-01-01 to 2100-12-31)"),
+    NUMBER("clock.time_scale", clock.time_scale, 0, 100000,
+           "simulated seconds per real second: 0 pauses, 1 is real time, more is a time-lapse"),
+    ENUM("clock.sky_bodies", clock.sky_bodies, bodies_names,
+         "ephemeris: sun and moon follow the clock and location; manual: sun.* and moon.* angles"),
+    NUMBER("location.latitude_deg", location.latitude_deg, -90, 90,
+           "latitude of the site, north positive, degrees"),
+    NUMBER("location.longitude_deg", location.longitude_deg, -180, 180,
+           "longitude of the site, east positive, degrees"),
+    NUMBER("location.altitude_m", location.altitude_m, -500, 9000,
+           "elevation of the site above sea level for the ephemeris, m"),
+    NUMBER("atmosphere.bottom_radius_km", atmosphere.bottom_radius_km, 100, 100000,
+           "planet radius, km"),
+    NUMBER("atmosphere.top_radius_km", atmosphere.top_radius_km, 100.1, 101000,
+           "radius of the top of the atmosphere, km; above the bottom by at most 1000 km"),
+    RGB("atmosphere.rayleigh.scattering_per_km", atmosphere.rayleigh_scattering_per_km, 0, 10,
+        "Rayleigh scattering coefficient at the ground per RGB channel, 1/km"),
+    NUMBER("atmosphere.rayleigh.scale_height_km", atmosphere.rayleigh_scale_height_km, 0.1, 100,
+           "Rayleigh density scale height, km"),
+    RGB("atmosphere.mie.scattering_per_km", atmosphere.mie_scattering_per_km, 0, 10,
+        "aerosol (Mie) scattering coefficient at the ground per RGB channel, 1/km"),
+    RGB("atmosphere.mie.absorption_per_km", atmosphere.mie_absorption_per_km, 0, 10,
+        "aerosol (Mie) absorption coefficient at the ground per RGB channel, 1/km"),
+    NUMBER("atmosphere.mie.scale_height_km", atmosphere.mie_scale_height_km, 0.01, 100,
+           "aerosol density scale height, km"),
+    RGB("atmosphere.mie.g", atmosphere.mie_g, -0.99, 0.99,
+        "Cornette-Shanks asymmetry parameter per RGB channel, unitless"),
+    RGB("atmosphere.ozone.absorption_per_km", atmosphere.ozone_absorption_per_km, 0, 1,
+        "ozone absorption coefficient at the layer peak per RGB channel, 1/km"),
+    NUMBER("atmosphere.ozone.peak_altitude_km", atmosphere.ozone_peak_altitude_km, 0, 1000,
+           "altitude of the centre of the ozone tent layer, km"),
+    NUMBER("atmosphere.ozone.width_km", atmosphere.ozone_width_km, 0.1, 1000,
+           "full width of the ozone tent layer, km"),
+    RGB("atmosphere.ground_albedo", atmosphere.ground_albedo, 0, 1,
+        "Lambertian ground albedo per RGB channel, unitless"),
+    NUMBER("atmosphere.fog.density_per_km", atmosphere.fog_density_per_km, 0, 100,
+           "height fog: grey aerosol scattering added at the ground, 1/km"),
+    NUMBER("atmosphere.fog.scale_height_km", atmosphere.fog_scale_height_km, 0.01, 50,
+           "height fog exponential falloff, km"),
+    NUMBER("sun.illuminance_lux", sun.illuminance_lux, 0, 1e6,
+           "ground illuminance with the sun at zenith, lux"),
+    NUMBER("sun.angular_diameter_deg", sun.angular_diameter_deg, 0.01, 20,
+           "apparent diameter of the solar disc, degrees"),
+    NUMBER("sun.azimuth_deg", sun.azimuth_deg, -360, 360,
+           "sun azimuth from north through east, degrees"),
+    NUMBER("sun.elevation_deg", sun.elevation_deg, -90, 90,
+           "sun elevation above the horizon, degrees"),
+    ENUM("sun.limb_darkening", sun.limb_darkening, limb_darkening_names,
+         "limb darkening model of the solar disc"),
+    NUMBER("moon.azimuth_deg", moon.azimuth_deg, -360, 360,
+           "moon azimuth from north through east, degrees"),
+    NUMBER("moon.elevation_deg", moon.elevation_deg, -90, 90,
+           "moon elevation above the horizon, degrees"),
+    NUMBER("moon.angular_diameter_deg", moon.angular_diameter_deg, 0.01, 20,
+           "apparent diameter of the lunar disc, degrees"),
+    NUMBER("night.airglow_luminance_cd_m2", night.airglow_luminance_cd_m2, 0, 0.1,
+           "natural night-sky background (airglow, zodiacal light) at the zenith, cd/m2"),
+    NUMBER("night.star_brightness", night.star_brightness, 0, 100,
+           "multiplier of the star catalogue's brightness, unitless"),
+    NUMBER("clouds.low.coverage", clouds.low.coverage, 0, 1,
+           "low cloud layer: fraction of the sky covered, 0..1"),
+    NUMBER("clouds.low.type", clouds.low.type, 0, 1,
+           "low layer cloud type: 0 stratus, 0.33 stratocumulus, 0.67 cumulus, 1 cumulonimbus"),
+    NUMBER("clouds.low.density", clouds.low.density, 0, 10,
+           "low layer density, multiplier of clouds.extinction_per_km"),
+    NUMBER("clouds.low.bottom_km", clouds.low.bottom_km, 0, 20,
+           "low layer cloud base above the ground, km"),
+    NUMBER("clouds.low.thickness_km", clouds.low.thickness_km, 0.05, 15,
+           "low layer thickness, km"),
+    NUMBER("clouds.high.coverage", clouds.high.coverage, 0, 1,
+           "high thin layer: fraction of the sky covered, 0..1"),
+    NUMBER("clouds.high.type", clouds.high.type, 0, 1,
+           "high layer cloud type, as for the low layer (usually 0: sheets and streaks)"),
+    NUMBER("clouds.high.density", clouds.high.density, 0, 10,
+           "high layer density, multiplier of clouds.extinction_per_km"),
+    NUMBER("clouds.high.bottom_km", clouds.high.bottom_km, 0, 30,
+           "high layer base above the ground, km"),
+    NUMBER("clouds.high.thickness_km", clouds.high.thickness_km, 0.05, 5,
+           "high layer thickness, km"),
+    NUMBER("clouds.extinction_per_km", clouds.extinction_per_km, 0.1, 1000,
+           "cloud extinction coefficient at density 1, 1/km"),
+    NUMBER("clouds.albedo", clouds.albedo, 0, 1,
+           "single-scattering albedo of cloud droplets, unitless"),
+    NUMBER("clouds.precipitation", clouds.precipitation, 0, 1,
+           "0..1: darker, denser cloud bases and rain shafts"),
+    NUMBER("clouds.phase.g0", clouds.phase_g0, -0.99, 0.99,
+           "forward lobe asymmetry of the dual-lobe Henyey-Greenstein phase"),
+    NUMBER("clouds.phase.g1", clouds.phase_g1, -0.99, 0.99,
+           "backward lobe asymmetry of the dual-lobe Henyey-Greenstein phase"),
+    NUMBER("clouds.phase.w", clouds.phase_w, 0, 1,
+           "weight of the g0 lobe; 1 - w goes to g1"),
+    NUMBER("clouds.multiscatter.a", clouds.multiscatter_a, 0, 1,
+           "extinction attenuation per multiple-scattering octave (a <= b conserves energy)"),
+    NUMBER("clouds.multiscatter.b", clouds.multiscatter_b, 0, 1,
+           "scattering contribution per multiple-scattering octave"),
+    NUMBER("clouds.multiscatter.c", clouds.multiscatter_c, 0, 1,
+           "phase eccentricity attenuation per multiple-scattering octave"),
+    INT("clouds.multiscatter.octaves", clouds.multiscatter_octaves, 1, 8,
+        "number of multiple-scattering octaves"),
+    NUMBER("clouds.ambient_scale", clouds.ambient_scale, 0, 1,
+           "scale of the sky's ambient light on the clouds, unitless"),
+    INT("clouds.noise_seed", clouds.noise_seed, 0, SEED_MAX,
+        "seed of the cloud noise volumes"),
+    INT("clouds.quality.primary_steps", clouds.primary_steps, 4, 512,
+        "ray-march steps through a cloud layer"),
+    INT("clouds.quality.light_steps", clouds.light_steps, 1, 32,
+        "steps of the secondary march toward the sun"),
+    ENUM("clouds.quality.resolution", clouds.resolution, cloud_resolution_names,
+         "cloud pixels ray-marched per frame: full, quarter (half size) or sixteenth (4x4 cycle)"),
+    ENUM("clouds.quality.temporal", clouds.temporal, switch_names,
+         "temporal reprojection: frames accumulate into a history"),
+    NUMBER("weather.humidity", weather.humidity, 0, 1,
+           "relative humidity 0..1; haze (Mie density) and fog grow with it"),
+    NUMBER("weather.wind.speed_m_s", weather.wind.speed_m_s, 0, 100,
+           "wind speed at the cloud layers, m/s"),
+    NUMBER("weather.wind.direction_deg", weather.wind.direction_deg, 0, 360,
+           "direction the wind blows from, north through east, degrees"),
+    NUMBER("weather.offset_east_km", weather.offset_east_km, -1e6, 1e6,
+           "weather map displacement by the wind so far, east, km"),
+    NUMBER("weather.offset_north_km", weather.offset_north_km, -1e6, 1e6,
+           "weather map displacement by the wind so far, north, km"),
+    INT("weather.seed", weather.seed, 0, SEED_MAX, "seed of the procedural weather map"),
+    NUMBER("weather.map_extent_km", weather.map_extent_km, 4, 400,
+           "side of the square weather map centred on the camera, km"),
+    ENUM("weather.map_source", weather.map_source, weather_map_source_names,
+         "procedural (from weather.* and clouds.*) or client (an uploaded map)"),
+    ENUM("weather.autopilot", weather.autopilot, switch_names,
+         "evolve the weather stochastically (deterministic from autopilot_seed)"),
+    INT("weather.autopilot_seed", weather.autopilot_seed, 0, SEED_MAX,
+        "seed of the weather autopilot"),
+    NUMBER("camera.altitude_km", camera.altitude_km, 0, 100000,
+           "camera altitude above the planet surface, km"),
+    NUMBER("camera.yaw_deg", camera.yaw_deg, -360, 360,
+           "view azimuth from north through east, degrees"),
+    NUMBER("camera.pitch_deg", camera.pitch_deg, -90, 90,
+           "view elevation above the local horizon, degrees"),
+    NUMBER("camera.fov_deg", camera.fov_deg, 1, 170, "vertical field of view, degrees"),
+    ENUM("exposure.mode", exposure.mode, exposure_mode_names,
+         "auto: metered from the sky; manual: from ev100"),
+    NUMBER("exposure.ev100", exposure.ev100, -10, 25,
+           "exposure value at ISO 100, used when mode is manual, EV"),
+    NUMBER("exposure.compensation_ev", exposure.compensation_ev, -10, 10,
+           "added to the automatic exposure, EV"),
+    ENUM("exposure.tonemap", exposure.tonemap, tonemap_names, "tone mapping curve"),
+    INT_PAIR("render.transmittance_lut", render.transmittance_lut, 8, 4096,
+             "transmittance LUT size, [width, height] texels"),
+    INT_PAIR("render.multiscattering_lut", render.multiscattering_lut, 4, 1024,
+             "multiple-scattering LUT size, [width, height] texels"),
+    INT_PAIR("render.skyview_lut", render.skyview_lut, 8, 4096,
+             "sky-view LUT size, [width, height] texels"),
+    INT_TRIPLE("render.aerial_perspective_lut", render.aerial_perspective_lut, 4, 512,
+               "aerial perspective volume size, [width, height, depth slices] texels"),
+    NUMBER("render.aerial_perspective_max_km", render.aerial_perspective_max_km, 1, 1000,
+           "distance covered by the aerial perspective volume, km"),
+};
+
+const size_t sky_world_field_count = sizeof sky_world_field_table / sizeof sky_world_field_table[0];
+
+static void set_rgb(double channels[3], double r, double g, double b)
+{
+    channels[0] = r;
+    channels[1] = g;
+    channels[2] = b;
+}
+
+static void set_pair(int values[2], int first, int second)
+{
+    values[0] = first;
+    values[1] = second;
+}
+
+/* Member by member after the memset: copying whole compound literals would also copy their
+ * indeterminate padding, and states are compared with memcmp. */
+void sky_world_state_defaults(struct sky_world_state *state)
+{
+    memset(state, 0, sizeof *state);
+
+    state->clock.utc_unix_s = 1782043200.0; /* 2026-06-21T12:00:00Z */
+    state->clock.time_scale = 1.0;
+    state->clock.sky_bodies = SKY_BODIES_MANUAL;
+    state->location.latitude_deg = 45.0;
+    state->location.longitude_deg = 6.0;
+    state->location.altitude_m = 200.0;
+
+    struct sky_atmosphere_state *atmosphere = &state->atmosphere;
+    atmosphere->bottom_radius_km = 6360.0;
+    atmosphere->top_radius_km = 6460.0;
+    set_rgb(atmosphere->rayleigh_scattering_per_km, 5.802e-3, 13.558e-3, 33.1e-3);
+    atmosphere->rayleigh_scale_height_km = 8.0;
+    set_rgb(atmosphere->mie_scattering_per_km, 3.996e-3, 3.996e-3, 3.996e-3);
+    set_rgb(atmosphere->mie_absorption_per_km, 0.444e-3, 0.444e-3, 0.444e-3);
+    atmosphere->mie_scale_height_km = 1.2;
+    set_rgb(atmosphere->mie_g, 0.8, 0.8, 0.8);
+    set_rgb(atmosphere->ozone_absorption_per_km, 0.650e-3, 1.881e-3, 0.085e-3);
+    atmosphere->ozone_peak_altitude_km = 25.0;
+    atmosphere->ozone_width_km = 30.0;
+    set_rgb(atmosphere->ground_albedo, 0.3, 0.3, 0.3);
+    atmosphere->fog_density_per_km = 0.0;
+    atmosphere->fog_scale_height_km = 0.5;
+
+    state->sun.illuminance_lux = 120000.0;
+    state->sun.angular_diameter_deg = 0.545;
+    state->sun.azimuth_deg = 180.0;
+    state->sun.elevation_deg = 45.0;
+    state->sun.limb_darkening = SKY_LIMB_DARKENING_HM98;
+
+    state->moon.azimuth_deg = 90.0;
+    state->moon.elevation_deg = -30.0;
+    state->moon.angular_diameter_deg = 0.518;
+    state->night.airglow_luminance_cd_m2 = 2.0e-4;
+    state->night.star_brightness = 1.0;
+
+    struct sky_cloud_state *clouds = &state->clouds;
+    clouds->low.coverage = 0.0;
+    clouds->low.type = 0.67;
+    clouds->low.density = 1.0;
+    clouds->low.bottom_km = 1.5;
+    clouds->low.thickness_km = 3.0;
+    clouds->high.coverage = 0.0;
+    clouds->high.type = 0.0;
+    clouds->high.density = 0.2;
+    clouds->high.bottom_km = 8.0;
+    clouds->high.thickness_km = 0.6;
+    clouds->extinction_per_km = 40.0;
+    clouds->albedo = 0.99;
+    clouds->precipitation = 0.0;
+    clouds->phase_g0 = 0.8;
+    clouds->phase_g1 = -0.3;
+    clouds->phase_w = 0.7;
+    clouds->multiscatter_a = 0.5;
+    clouds->multiscatter_b = 0.5;
+    clouds->multiscatter_c = 0.5;
+    clouds->multiscatter_octaves = 3;
+    clouds->ambient_scale = 1.0;
+    clouds->noise_seed = 1;
+    clouds->primary_steps = 64;
+    clouds->light_steps = 6;
+    clouds->resolution = SKY_CLOUD_RESOLUTION_QUARTER;
+    clouds->temporal = SKY_SWITCH_ON;
+
+    state->weather.humidity = 0.5;
+    state->weather.wind.speed_m_s = 10.0;
+    state->weather.wind.direction_deg = 270.0;
+    state->weather.offset_east_km = 0.0;
+    state->weather.offset_north_km = 0.0;
+    state->weather.seed = 1;
+    state->weather.map_extent_km = 60.0;
+    state->weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+    state->weather.autopilot = SKY_SWITCH_OFF;
+    state->weather.autopilot_seed = 1;
+
+    state->camera.altitude_km = 0.2;
+    state->camera.yaw_deg = 180.0;
+    state->camera.pitch_deg = 10.0;
+    state->camera.fov_deg = 70.0;
+
+    state->exposure.mode = SKY_EXPOSURE_AUTO;
+    state->exposure.ev100 = 14.0;
+    state->exposure.compensation_ev = 0.0;
+    state->exposure.tonemap = SKY_TONEMAP_ACES;
+
+    set_pair(state->render.transmittance_lut, 256, 64);
+    set_pair(state->render.multiscattering_lut, 32, 32);
+    set_pair(state->render.skyview_lut, 192, 108);
+    state->render.aerial_perspective_lut[0] = 32;
+    state->render.aerial_perspective_lut[1] = 32;
+    state->render.aerial_perspective_lut[2] = 32;
+    state->render.aerial_perspective_max_km = 64.0;
+}
+

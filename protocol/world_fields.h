@@ -1,0 +1,13 @@
+/* The world state's field table and defaults (world_fields.c), read by the schema engine in
+ * world_state.c. Internal to protocol/. */
+#ifndef SKYD_WORLD_FIELDS_H
+#define SKYD_WORLD_FIELDS_H
+
+#include <stddef.h>
+
+#include "world_state.h"
+
+extern const struct sky_field_desc sky_world_field_table[];
+extern const size_t sky_world_field_count;
+
+#endif
