@@ -1,0 +1,157 @@
+// The skyd web client: wires the connection to the live view, the world-state controls, the
+// camera/exposure view, presets, statistics and the session's role.
+
+import { Connection } from "./connection.js";
+import { clearErrors, showError, showReplyError } from "./field_errors.js";
+import { FrameView } from "./frame_view.js";
+import { Presets } from "./presets.js";
+import { StatsPanel } from "./stats_panel.js";
+import { TimeControls } from "./time_controls.js";
+import { ViewControls } from "./view_controls.js";
+import { WorldControls } from "./world_controls.js";
+
+const $ = (id) => document.getElementById(id);
+const show = (id, text) => { $(id).textContent = text; };
+const TOKEN_KEY = "skyd-controller-token";
+const RESUBSCRIBE_MS = 250;
+const STATE_REFRESH_MS = 250;
+
+const scheme = location.protocol === "https:" ? "wss:" : "ws:";
+let subscription = null;    // the number of the subscription frames are drawn from
+let frameSubscription = null; // the subscription the last `frame` message announced
+let resubscribeTimer = null;
+let stateTimer = null;
+let stateRevision = 0;
+
+const connection = new Connection(`${scheme}//${location.host}/`, {
+  onStatus: (text) => show("connection", text),
+  onOpen: () => start(),
+  onMessage: (msg) => handleMessage(msg),
+  onBinary: (buffer) => {
+    if (frameSubscription === null || frameSubscription !== subscription) return;
+    frames.draw(buffer).catch((e) => showError(null, `frame: ${e.message}`));
+  },
+});
+
+const request = (msg) => connection.request(msg);
+const sendSet = async (patch) => {
+  const reply = await request({ type: "set", patch });
+  if (reply.type === "ack") noteRevision(reply.revision);
+  return reply;
+};
+
+const frames = new FrameView($("view"), (header, count, perSecond) => {
+  show("frame-revision", String(header.revision));
+  show("frame-count", String(count));
+  show("fps", perSecond.toFixed(1));
+});
+const world = new WorldControls(document, sendSet);
+const time = new TimeControls(sendSet);
+const view = new ViewControls($("view"), () => scheduleResubscribe());
+const presets = new Presets(request);
+const stats = new StatsPanel();
+
+function noteRevision(revision) {
+  if (typeof revision === "number" && revision >= stateRevision) {
+    stateRevision = revision;
+    show("revision", String(revision));
+  }
+}
+
+function handleMessage(msg) {
+  switch (msg.type) {
+  case "hello":
+    show("role", msg.role);
+    break;
+  case "frame":
+    frameSubscription = msg.subscription === undefined ? null : msg.subscription;
+    break;
+  case "event":
+    if (msg.event === "state_changed") {
+      noteRevision(msg.revision);
+      scheduleStateRefresh();
+    }
+    break;
+  case "error":
+    showReplyError(msg, null);
+    break;
+  default:
+    break;
+  }
+}
+
+async function refreshState() {
+  const reply = await request({ type: "get_state" });
+  if (reply.type !== "state") return;
+  noteRevision(reply.revision);
+  world.update(reply.state);
+  time.update(reply.state);
+  view.update(reply.state);
+}
+
+function scheduleStateRefresh() {
+  if (stateTimer !== null) return;
+  stateTimer = setTimeout(() => { stateTimer = null; refreshState(); }, STATE_REFRESH_MS);
+}
+
+// Subscribes with the current view; the old subscription ends once the new one is running,
+// so the image never goes blank.
+async function resubscribe() {
+  const reply = await request({ type: "subscribe", view: view.view() });
+  if (reply.type !== "subscribed") {
+    showReplyError(reply, "view:size");
+    return;
+  }
+  clearErrors(["view:size", "view:camera.altitude_km", "view:camera.yaw_deg",
+               "view:camera.pitch_deg", "view:camera.fov_deg", "view:exposure.mode",
+               "view:exposure.ev100", "view:exposure.compensation_ev"]);
+  const previous = subscription;
+  subscription = reply.subscription;
+  if (previous !== null) await request({ type: "unsubscribe", subscription: previous });
+}
+
+function scheduleResubscribe() {
+  if (resubscribeTimer !== null) return;
+  resubscribeTimer = setTimeout(() => { resubscribeTimer = null; resubscribe(); }, RESUBSCRIBE_MS);
+}
+
+async function authenticate(token) {
+  const reply = await request({ type: "auth", token });
+  if (reply.type === "ack") {
+    show("role", reply.role);
+    sessionStorage.setItem(TOKEN_KEY, token);
+    clearErrors(["token"]);
+  } else {
+    sessionStorage.removeItem(TOKEN_KEY);
+    showReplyError(reply, "token");
+  }
+}
+
+// After every (re)connection: the role, the stream, the state and the preset lists.
+async function start() {
+  subscription = null;
+  frameSubscription = null;
+  await request({ type: "hello", client: "skyd-web 0.1", protocol: 1 });
+  const token = sessionStorage.getItem(TOKEN_KEY);
+  if (token) await authenticate(token);
+  await resubscribe();
+  await refreshState();
+  await presets.refresh();
+}
+
+// Query parameters preset the view: ?size=320x180&fps=10 (kiosk displays, tests).
+const query = new URLSearchParams(location.search);
+if (query.has("size") && [...$("view-size").options].some((o) => o.value === query.get("size")))
+  $("view-size").value = query.get("size");
+if (query.has("fps")) $("view-fps").value = query.get("fps");
+
+$("auth").addEventListener("click", () => authenticate($("token").value));
+$("token").addEventListener("keydown", (e) => {
+  if (e.key === "Enter") authenticate($("token").value);
+});
+
+setInterval(async () => {
+  if (!connection.open) return;
+  const reply = await request({ type: "stats" });
+  if (reply.type === "stats") stats.update(reply);
+}, 1000);
