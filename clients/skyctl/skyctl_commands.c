@@ -1,0 +1,167 @@
+/* skyctl get, set, preset, probe and stats: one request, one reply each. */
+#include "skyctl.h"
+
+#include <cjson/cJSON.h>
+#include <stdio.h>
+#include <string.h>
+
+/* Connects, sends msg, prints nothing; the reply goes to *reply on SKYCTL_OK. Frees msg. */
+static int one_request(const struct skyctl_options *options, const char *what, cJSON *msg,
+                       cJSON **reply)
+{
+    struct skyctl_session session;
+    int rc = skyctl_connect(options, &session);
+    if (rc == SKYCTL_OK) {
+        rc = skyctl_request(&session, what, msg, reply);
+        skyctl_disconnect(&session);
+    }
+    cJSON_Delete(msg);
+    return rc;
+}
+
+static cJSON *message(const char *type)
+{
+    cJSON *msg = cJSON_CreateObject();
+    cJSON_AddStringToObject(msg, "type", type);
+    return msg;
+}
+
+static long revision_of(const cJSON *reply)
+{
+    const cJSON *revision = cJSON_GetObjectItemCaseSensitive(reply, "revision");
+    return cJSON_IsNumber(revision) ? (long)revision->valuedouble : -1;
+}
+
+int skyctl_get(const struct skyctl_options *options, int argc, char **argv)
+{
+    if (argc > 2)
+        return skyctl_usage_error("get", "takes at most one PATH");
+    const char *path = argc == 2 ? argv[1] : NULL;
+    cJSON *reply = NULL;
+    int rc = one_request(options, "get", message("get_state"), &reply);
+    if (rc)
+        return rc;
+    const cJSON *state = cJSON_GetObjectItemCaseSensitive(reply, "state");
+    const cJSON *value = path ? skyctl_lookup(state, path) : state;
+    if (!value) {
+        fprintf(stderr, "skyctl get: the world state has no field %s\n", path);
+        cJSON_Delete(reply);
+        return SKYCTL_USAGE;
+    }
+    if (!path)
+        printf("# revision %ld\n", revision_of(reply));
+    skyctl_print_value(value);
+    cJSON_Delete(reply);
+    return SKYCTL_OK;
+}
+
+int skyctl_set(const struct skyctl_options *options, int argc, char **argv)
+{
+    if (argc < 2)
+        return skyctl_usage_error("set", "needs at least one PATH=VALUE");
+    cJSON *msg = message("set");
+    cJSON *patch = cJSON_AddObjectToObject(msg, "patch");
+    for (int i = 1; i < argc; i++) {
+        char err[320];
+        if (!skyctl_assign(patch, argv[i], err, sizeof err)) {
+            cJSON_Delete(msg);
+            return skyctl_usage_error("set", "%s", err);
+        }
+    }
+    cJSON *reply = NULL;
+    int rc = one_request(options, "set", msg, &reply);
+    if (rc == SKYCTL_OK)
+        printf("revision %ld\n", revision_of(reply));
+    cJSON_Delete(reply);
+    return rc;
+}
+
+/* preset [--kind K] [--transition-s S] NAME | preset --list [--kind K] */
+int skyctl_preset(const struct skyctl_options *options, int argc, char **argv)
+{
+    const char *kind = "atmosphere";
+    const char *name = NULL;
+    double transition_s = -1;
+    bool list = false;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--list") == 0) {
+            list = true;
+        } else if (strcmp(argv[i], "--kind") == 0 && i + 1 < argc) {
+            kind = argv[++i];
+        } else if (strcmp(argv[i], "--transition-s") == 0 && i + 1 < argc) {
+            if (!skyctl_parse_number(argv[++i], 0, 1e9, &transition_s))
+                return skyctl_usage_error("preset", "--transition-s needs seconds >= 0, not %s",
+                                          argv[i]);
+        } else if (argv[i][0] == '-') {
+            return skyctl_usage_error("preset", "unknown option or missing value: %s", argv[i]);
+        } else if (!name) {
+            name = argv[i];
+        } else {
+            return skyctl_usage_error("preset", "takes one NAME");
+        }
+    }
+    if (list == (name != NULL))
+        return skyctl_usage_error("preset", "give either NAME or --list");
+    cJSON *msg = message(list ? "list_presets" : "apply_preset");
+    cJSON_AddStringToObject(msg, "kind", kind);
+    if (!list) {
+        cJSON_AddStringToObject(msg, "name", name);
+        if (transition_s >= 0)
+            cJSON_AddNumberToObject(msg, "transition_s", transition_s);
+    }
+    cJSON *reply = NULL;
+    int rc = one_request(options, list ? "preset --list" : "preset", msg, &reply);
+    if (rc == SKYCTL_OK && list) {
+        const cJSON *entry;
+        cJSON_ArrayForEach(entry, cJSON_GetObjectItemCaseSensitive(reply, "names")) {
+            if (cJSON_IsString(entry))
+                printf("%s\n", entry->valuestring);
+        }
+    } else if (rc == SKYCTL_OK) {
+        printf("revision %ld\n", revision_of(reply));
+    }
+    cJSON_Delete(reply);
+    return rc;
+}
+
+/* probe QUANTITY NAME=VALUE... */
+int skyctl_probe(const struct skyctl_options *options, int argc, char **argv)
+{
+    if (argc < 2)
+        return skyctl_usage_error("probe", "needs a QUANTITY (transmittance, luminance, "
+                                           "illuminance)");
+    cJSON *msg = message("probe");
+    cJSON_AddStringToObject(msg, "quantity", argv[1]);
+    for (int i = 2; i < argc; i++) {
+        char err[320];
+        if (!skyctl_assign(msg, argv[i], err, sizeof err)) {
+            cJSON_Delete(msg);
+            return skyctl_usage_error("probe", "%s", err);
+        }
+    }
+    cJSON *reply = NULL;
+    int rc = one_request(options, "probe", msg, &reply);
+    if (rc == SKYCTL_OK) {
+        cJSON_DeleteItemFromObjectCaseSensitive(reply, "type");
+        cJSON_DeleteItemFromObjectCaseSensitive(reply, "id");
+        skyctl_print_value(reply);
+    }
+    cJSON_Delete(reply);
+    return rc;
+}
+
+int skyctl_stats(const struct skyctl_options *options, int argc, char **argv)
+{
+    (void)argv;
+    if (argc != 1)
+        return skyctl_usage_error("stats", "takes no arguments");
+    cJSON *reply = NULL;
+    int rc = one_request(options, "stats", message("stats"), &reply);
+    if (rc == SKYCTL_OK) {
+        cJSON_DeleteItemFromObjectCaseSensitive(reply, "type");
+        cJSON_DeleteItemFromObjectCaseSensitive(reply, "id");
+        skyctl_print_value(reply);
+    }
+    cJSON_Delete(reply);
+    return rc;
+}

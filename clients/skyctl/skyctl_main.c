@@ -1,0 +1,113 @@
+/* skyctl: command-line client of skyd (protocol/PROTOCOL.md). */
+#include "skyctl.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char usage_text[] =
+    "usage: skyctl [--url URL] [--token TOKEN] [--timeout S] COMMAND [ARGS]\n"
+    "\n"
+    "Talks to a running skyd (`skyd serve`) over its WebSocket protocol.\n"
+    "  --url URL      ws://HOST:PORT/ ($SKYD_URL, else ws://127.0.0.1:8080/)\n"
+    "  --token TOKEN  the controller token, needed by set and preset ($SKYD_TOKEN)\n"
+    "  --timeout S    seconds to wait for the connection and each reply (default 30)\n"
+    "\n"
+    "commands:\n"
+    "  get [PATH]                       the world state, or one field (dotted or /pointer)\n"
+    "  set PATH=VALUE...                change fields at once (all or nothing); prints the\n"
+    "                                   new revision. VALUE is JSON, or else a string\n"
+    "  preset [--kind K] [--transition-s S] NAME\n"
+    "                                   apply a preset (kind atmosphere by default)\n"
+    "  preset --list [--kind K]         the presets of a kind\n"
+    "  snapshot --out FILE.png [--width W] [--height H] [--set VIEW_PATH=VALUE]...\n"
+    "                                   render one frame (default 640x360) into a PNG\n"
+    "  watch [--count N] [--no-frames] [--width W] [--height H] [--fps F]\n"
+    "        [--set VIEW_PATH=VALUE]... print a line per frame and per state event until\n"
+    "                                   interrupted or N lines (frames 320x180 by default)\n"
+    "  probe QUANTITY [NAME=VALUE]...   transmittance altitude_km mu | luminance\n"
+    "                                   altitude_km view_zenith_deg view_azimuth_deg\n"
+    "                                   sun_zenith_deg | illuminance sun_zenith_deg\n"
+    "  stats                            frames per second, clients, GPU ms per pass\n"
+    "\n"
+    "exit status:\n"
+    "  0  done\n"
+    "  1  the server refused the request; stderr names each offending field\n"
+    "     (\"skyctl: set: /patch/location/latitude_deg: must be in [-90, 90] ... [out_of_range]\")\n"
+    "  2  bad command line (or get of a field that does not exist)\n"
+    "  3  cannot connect, connection lost, or no reply within --timeout\n"
+    "\n"
+    "examples:\n"
+    "  skyctl get sun.elevation_deg\n"
+    "  skyctl --token \"$T\" set clock.utc=2026-06-21T19:30:00Z sun.elevation_deg=3\n"
+    "  skyctl --token \"$T\" set atmosphere.ground_albedo=[0.1,0.2,0.3]\n"
+    "  skyctl --token \"$T\" preset mars\n"
+    "  skyctl --token \"$T\" preset --kind weather --transition-s 600 storm\n"
+    "  skyctl snapshot --out west.png --width 1280 --height 720 --set camera.yaw_deg=270\n"
+    "  skyctl watch --count 10\n"
+    "  skyctl probe transmittance altitude_km=0 mu=0.5\n"
+    "  skyctl stats\n";
+
+int skyctl_usage_error(const char *command, const char *format, ...)
+{
+    fprintf(stderr, "skyctl%s%s: ", command ? " " : "", command ? command : "");
+    va_list args;
+    va_start(args, format);
+    vfprintf(stderr, format, args);
+    va_end(args);
+    fprintf(stderr, "\n(skyctl --help shows the usage)\n");
+    return SKYCTL_USAGE;
+}
+
+struct command {
+    const char *name;
+    int (*run)(const struct skyctl_options *, int, char **);
+};
+
+static const struct command commands[] = {
+    {"get", skyctl_get},           {"set", skyctl_set},     {"preset", skyctl_preset},
+    {"snapshot", skyctl_snapshot}, {"watch", skyctl_watch}, {"probe", skyctl_probe},
+    {"stats", skyctl_stats},
+};
+
+int main(int argc, char **argv)
+{
+    struct skyctl_options options = {
+        .url = getenv("SKYD_URL") ? getenv("SKYD_URL") : "ws://127.0.0.1:8080/",
+        .token = getenv("SKYD_TOKEN"),
+        .timeout_ms = 30000,
+    };
+    if (options.token && !options.token[0])
+        options.token = NULL;
+    int i = 1;
+    for (; i < argc && argv[i][0] == '-'; i++) {
+        const char *arg = argv[i];
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            fputs(usage_text, stdout);
+            return SKYCTL_OK;
+        }
+        if (i + 1 >= argc)
+            return skyctl_usage_error(NULL, "%s needs a value", arg);
+        const char *value = argv[++i];
+        if (strcmp(arg, "--url") == 0) {
+            options.url = value;
+        } else if (strcmp(arg, "--token") == 0) {
+            options.token = value;
+        } else if (strcmp(arg, "--timeout") == 0) {
+            double seconds;
+            if (!skyctl_parse_number(value, 0.001, 86400, &seconds))
+                return skyctl_usage_error(NULL, "--timeout needs seconds in (0, 86400]");
+            options.timeout_ms = (int)(seconds * 1000);
+        } else {
+            return skyctl_usage_error(NULL, "unknown option %s", arg);
+        }
+    }
+    if (i >= argc)
+        return skyctl_usage_error(NULL, "no command");
+    for (size_t c = 0; c < sizeof commands / sizeof commands[0]; c++) {
+        if (strcmp(argv[i], commands[c].name) == 0)
+            return commands[c].run(&options, argc - i, argv + i);
+    }
+    return skyctl_usage_error(NULL, "unknown command %s", argv[i]);
+}

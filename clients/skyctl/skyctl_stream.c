@@ -1,0 +1,261 @@
+/* skyctl snapshot and watch: the commands that receive binary frames. */
+#include "skyctl.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "frame_header.h"
+#include "sky_client.h"
+#include "sky_client_json.h"
+
+static volatile sig_atomic_t interrupted;
+
+static void on_signal(int signo)
+{
+    (void)signo;
+    interrupted = 1;
+}
+
+/* Options shared by snapshot and watch: the view object and, for snapshot, --out. */
+struct view_args {
+    cJSON *view;
+    const char *out;
+    double count;
+    bool frames;
+};
+
+static int parse_view_args(const char *command, int argc, char **argv, struct view_args *a,
+                           double default_width, double default_height)
+{
+    double width = default_width, height = default_height, fps = 0;
+    a->view = cJSON_CreateObject();
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        bool has_value = i + 1 < argc;
+        char err[320];
+        if (strcmp(arg, "--out") == 0 && has_value) {
+            a->out = argv[++i];
+        } else if (strcmp(arg, "--width") == 0 && has_value) {
+            if (!skyctl_parse_number(argv[++i], 1, 1e6, &width))
+                return skyctl_usage_error(command, "--width needs a positive number");
+        } else if (strcmp(arg, "--height") == 0 && has_value) {
+            if (!skyctl_parse_number(argv[++i], 1, 1e6, &height))
+                return skyctl_usage_error(command, "--height needs a positive number");
+        } else if (strcmp(arg, "--fps") == 0 && has_value) {
+            if (!skyctl_parse_number(argv[++i], 1e-3, 1e6, &fps))
+                return skyctl_usage_error(command, "--fps needs a positive number");
+        } else if (strcmp(arg, "--count") == 0 && has_value) {
+            if (!skyctl_parse_number(argv[++i], 1, 1e15, &a->count))
+                return skyctl_usage_error(command, "--count needs a positive integer");
+        } else if (strcmp(arg, "--no-frames") == 0) {
+            a->frames = false;
+        } else if (strcmp(arg, "--set") == 0 && has_value) {
+            if (!skyctl_assign(a->view, argv[++i], err, sizeof err))
+                return skyctl_usage_error(command, "--set %s", err);
+        } else {
+            return skyctl_usage_error(command, "unknown argument or missing value: %s", arg);
+        }
+    }
+    cJSON_AddNumberToObject(a->view, "width", width);
+    cJSON_AddNumberToObject(a->view, "height", height);
+    if (fps > 0)
+        cJSON_AddNumberToObject(a->view, "fps", fps);
+    return SKYCTL_OK;
+}
+
+static bool write_file(const char *path, const unsigned char *data, size_t len)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f) {
+        fprintf(stderr, "skyctl snapshot: cannot write %s: %s\n", path, strerror(errno));
+        return false;
+    }
+    bool ok = fwrite(data, 1, len, f) == len;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok)
+        fprintf(stderr, "skyctl snapshot: cannot write %s: %s\n", path, strerror(errno));
+    return ok;
+}
+
+static int lost(struct skyctl_session *session, const char *what, int rc)
+{
+    fprintf(stderr, "skyctl %s: %s\n", what,
+            rc == 1 ? "no frame in time" : sky_client_error(session->client));
+    return SKYCTL_CONNECTION;
+}
+
+/* The binary message after a `frame` message: unpacked and checked against frame_number. */
+static int receive_binary(struct skyctl_session *session, const char *what, double frame_number,
+                          struct sky_client_message *binary, struct sky_frame_header *header)
+{
+    int rc;
+    while ((rc = sky_client_recv(session->client, binary, session->timeout_ms)) == 0) {
+        if (binary->kind == SKY_CLIENT_BINARY)
+            break;
+        sky_client_message_free(binary); /* an event between the two */
+    }
+    if (rc)
+        return lost(session, what, rc);
+    int status = sky_frame_header_unpack(binary->data, binary->len, header);
+    if (status != SKY_FRAME_HEADER_OK || (double)header->frame_number != frame_number) {
+        fprintf(stderr, "skyctl %s: bad frame from the server (%s, frame %.0f announced)\n", what,
+                sky_frame_header_status_name(status), frame_number);
+        sky_client_message_free(binary);
+        return SKYCTL_CONNECTION;
+    }
+    return SKYCTL_OK;
+}
+
+static double number_at(const cJSON *object, const char *name)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, name);
+    return cJSON_IsNumber(item) ? item->valuedouble : -1;
+}
+
+static int take_snapshot(struct skyctl_session *session, const struct view_args *a)
+{
+    double id = (double)session->next_id++;
+    cJSON *msg = cJSON_CreateObject();
+    cJSON_AddStringToObject(msg, "type", "snapshot");
+    cJSON_AddNumberToObject(msg, "id", id);
+    cJSON_AddItemReferenceToObject(msg, "view", a->view);
+    int rc = sky_client_send_json(session->client, msg, session->timeout_ms);
+    cJSON_Delete(msg);
+    if (rc)
+        return lost(session, "snapshot", rc);
+    for (;;) {
+        cJSON *reply = NULL;
+        char err[320];
+        rc = sky_client_recv_json(session->client, NULL, session->timeout_ms, &reply, err,
+                                  sizeof err);
+        if (rc) {
+            fprintf(stderr, "skyctl snapshot: %s\n", rc == 1 ? "no frame in time" : err);
+            return SKYCTL_CONNECTION;
+        }
+        if (number_at(reply, "id") != id) {
+            cJSON_Delete(reply);
+            continue;
+        }
+        const cJSON *type = cJSON_GetObjectItemCaseSensitive(reply, "type");
+        if (!cJSON_IsString(type) || strcmp(type->valuestring, "frame") != 0) {
+            skyctl_print_error("snapshot", reply);
+            cJSON_Delete(reply);
+            return SKYCTL_SERVER_ERROR;
+        }
+        double frame_number = number_at(reply, "frame_number");
+        cJSON_Delete(reply);
+        struct sky_client_message binary;
+        struct sky_frame_header header;
+        rc = receive_binary(session, "snapshot", frame_number, &binary, &header);
+        if (rc)
+            return rc;
+        bool ok = write_file(a->out, binary.data + SKY_FRAME_HEADER_SIZE, header.payload_length);
+        if (ok)
+            printf("%s: %ux%u PNG, %u bytes, state revision %llu, frame %llu\n", a->out,
+                   header.width, header.height, header.payload_length,
+                   (unsigned long long)header.state_revision,
+                   (unsigned long long)header.frame_number);
+        sky_client_message_free(&binary);
+        return ok ? SKYCTL_OK : SKYCTL_USAGE;
+    }
+}
+
+int skyctl_snapshot(const struct skyctl_options *options, int argc, char **argv)
+{
+    struct view_args a = { .frames = true };
+    int rc = parse_view_args("snapshot", argc, argv, &a, 640, 360);
+    if (rc == SKYCTL_OK && !a.out)
+        rc = skyctl_usage_error("snapshot", "needs --out FILE.png");
+    struct skyctl_session session;
+    if (rc == SKYCTL_OK && (rc = skyctl_connect(options, &session)) == SKYCTL_OK) {
+        rc = take_snapshot(&session, &a);
+        skyctl_disconnect(&session);
+    }
+    cJSON_Delete(a.view);
+    return rc;
+}
+
+/* Prints one line per frame and per event until --count lines or a signal. */
+static int watch_loop(struct skyctl_session *session, const struct view_args *a)
+{
+    double printed = 0;
+    while (!interrupted && (a->count == 0 || printed < a->count)) {
+        struct sky_client_message msg;
+        int rc = sky_client_recv(session->client, &msg, 250);
+        if (rc == 1)
+            continue;
+        if (rc)
+            return interrupted ? SKYCTL_OK : lost(session, "watch", rc);
+        if (msg.kind == SKY_CLIENT_BINARY) { /* its `frame` message went by before `subscribed` */
+            sky_client_message_free(&msg);
+            continue;
+        }
+        cJSON *json = msg.kind == SKY_CLIENT_TEXT ? cJSON_Parse((const char *)msg.data) : NULL;
+        sky_client_message_free(&msg);
+        const cJSON *type = cJSON_GetObjectItemCaseSensitive(json, "type");
+        if (cJSON_IsString(type) && strcmp(type->valuestring, "frame") == 0) {
+            struct sky_client_message binary;
+            struct sky_frame_header h;
+            rc = receive_binary(session, "watch", number_at(json, "frame_number"), &binary, &h);
+            cJSON_Delete(json);
+            if (rc)
+                return rc;
+            printf("frame %llu revision %llu time %.3f s %ux%u %u bytes\n",
+                   (unsigned long long)h.frame_number, (unsigned long long)h.state_revision,
+                   h.simulation_time_s, h.width, h.height, h.payload_length);
+            sky_client_message_free(&binary);
+        } else if (cJSON_IsString(type) && strcmp(type->valuestring, "event") == 0) {
+            const cJSON *event = cJSON_GetObjectItemCaseSensitive(json, "event");
+            printf("event %s revision %.0f", cJSON_IsString(event) ? event->valuestring : "?",
+                   number_at(json, "revision"));
+            const cJSON *changed;
+            cJSON_ArrayForEach(changed, cJSON_GetObjectItemCaseSensitive(json, "changed")) {
+                if (cJSON_IsString(changed))
+                    printf(" %s", changed->valuestring);
+            }
+            printf("\n");
+            cJSON_Delete(json);
+        } else {
+            char *text = json ? cJSON_PrintUnformatted(json) : NULL;
+            printf("message %s\n", text ? text : "(not JSON)");
+            free(text);
+            cJSON_Delete(json);
+        }
+        fflush(stdout);
+        printed++;
+    }
+    return SKYCTL_OK;
+}
+
+int skyctl_watch(const struct skyctl_options *options, int argc, char **argv)
+{
+    struct view_args a = { .frames = true };
+    int rc = parse_view_args("watch", argc, argv, &a, 320, 180);
+    struct skyctl_session session;
+    if (rc == SKYCTL_OK && (rc = skyctl_connect(options, &session)) == SKYCTL_OK) {
+        struct sigaction action = { .sa_handler = on_signal };
+        sigemptyset(&action.sa_mask);
+        sigaction(SIGINT, &action, NULL);
+        sigaction(SIGTERM, &action, NULL);
+        if (a.frames) {
+            cJSON *msg = cJSON_CreateObject();
+            cJSON_AddStringToObject(msg, "type", "subscribe");
+            cJSON_AddItemReferenceToObject(msg, "view", a.view);
+            cJSON *reply = NULL;
+            rc = skyctl_request(&session, "watch", msg, &reply);
+            cJSON_Delete(msg);
+            if (rc == SKYCTL_OK)
+                printf("subscribed %.0f\n", number_at(reply, "subscription"));
+            cJSON_Delete(reply);
+        }
+        if (rc == SKYCTL_OK)
+            rc = watch_loop(&session, &a);
+        skyctl_disconnect(&session);
+    }
+    cJSON_Delete(a.view);
+    return rc;
+}

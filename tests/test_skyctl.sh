@@ -1,0 +1,187 @@
+#!/usr/bin/env bash
+# skyctl against the real daemon: every command's output, its effect on the world state, and
+# the exit statuses scripts rely on (0 ok, 1 server error naming the field, 2 usage,
+# 3 connection failure). Usage: test_skyctl.sh SKYD SKYCTL OUTDIR
+# Under the sanitizer build the preloads arrive as SKYD_DAEMON_LD_PRELOAD and go to skyd and
+# skyctl only, not to the shell tools.
+set -u
+skyd=$1
+skyctl_bin=$2
+out=$3
+preload=${SKYD_DAEMON_LD_PRELOAD:-}
+token=skyctl-test-token
+mkdir -p "$out"
+rm -f "$out"/*.png "$out"/*.txt "$out"/state.json
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); }
+fail() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+skyctl() { LD_PRELOAD="$preload" "$skyctl_bin" --timeout 30 "$@"; }
+
+# expect NAME STATUS STDOUT_REGEX STDERR_SUBSTRING CMD...: exit status, stdout matching the
+# extended regex (whole output, newlines and tabs as spaces; "" for no output), stderr
+# containing the text ("" for none).
+expect() {
+  local name=$1 status=$2 regex=$3 needle=$4; shift 4
+  local rc stdout
+  "$@" >"$out/stdout.txt" 2>"$out/stderr.txt"; rc=$?
+  stdout=$(tr '\n\t' '  ' <"$out/stdout.txt" | sed 's/ *$//')
+  if [ $rc -ne "$status" ]; then
+    fail "$name: exit $rc, expected $status; stdout '$stdout'; stderr '$(cat "$out/stderr.txt")'"
+  elif [ -z "$regex" ] && [ -n "$stdout" ]; then
+    fail "$name: printed on stdout: '$stdout'"
+  elif [ -n "$regex" ] && ! printf '%s\n' "$stdout" | grep -Eqx -- "$regex"; then
+    fail "$name: stdout '$stdout' !~ /$regex/"
+  elif [ -n "$needle" ] && ! grep -qF -- "$needle" "$out/stderr.txt"; then
+    fail "$name: stderr lacks '$needle': '$(cat "$out/stderr.txt")'"
+  elif [ -z "$needle" ] && [ -s "$out/stderr.txt" ]; then
+    fail "$name: unexpected stderr '$(cat "$out/stderr.txt")'"
+  else
+    pass
+  fi
+}
+
+num='-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?'
+
+# --- without a daemon: usage and connection failures
+expect "help" 0 '.*exit status:.*3  cannot connect.*examples:.*skyctl watch --count 10.*' "" \
+  skyctl --help
+expect "no command" 2 '' "no command" skyctl
+expect "unknown command" 2 '' "unknown command frob" skyctl frob
+expect "unknown option" 2 '' "unknown option --frob" skyctl --frob 1 stats
+expect "set without assignments" 2 '' "needs at least one PATH=VALUE" skyctl set
+expect "set without =" 2 '' '"sun" is not PATH=VALUE' skyctl set sun
+expect "set twice" 2 '' "given twice" skyctl set a.b=1 a.b=2
+expect "snapshot without --out" 2 '' "needs --out" skyctl snapshot
+expect "preset without name" 2 '' "give either NAME or --list" skyctl preset
+expect "bad --timeout" 2 '' "--timeout needs" skyctl --timeout -1 stats
+expect "connection refused" 3 '' "cannot connect to ws://127.0.0.1:1/" \
+  skyctl --url ws://127.0.0.1:1/ stats
+
+# --- the daemon, on a free port
+cat >"$out/skyd.json" <<EOF
+{"listen": {"address": "127.0.0.1", "port": 0}, "web_root": "$out",
+ "state_file": "$out/state.json", "controller_token": "$token",
+ "render": {"device": "", "validation": false}}
+EOF
+LD_PRELOAD="$preload" "$skyd" serve --config "$out/skyd.json" >"$out/skyd.stdout.txt" \
+  2>"$out/skyd.log" &
+daemon=$!
+port=
+for _ in $(seq 1 600); do
+  port=$(sed -nE 's|^skyd: listening on http://127\.0\.0\.1:([0-9]+)/$|\1|p' "$out/skyd.stdout.txt")
+  [ -n "$port" ] && break
+  kill -0 $daemon 2>/dev/null || break
+  sleep 0.1
+done
+if [ -z "$port" ]; then
+  echo "FAIL: skyd did not start: $(tail -c 600 "$out/skyd.log")"
+  kill $daemon 2>/dev/null
+  exit 1
+fi
+export SKYD_URL="ws://127.0.0.1:$port/"
+c() { skyctl "$@"; }
+t() { skyctl --token "$token" "$@"; }
+
+expect "get one field" 0 '45' "" c get sun.elevation_deg
+expect "get by pointer" 0 '2026-06-21T12:00:00Z' "" c get /clock/utc
+expect "get an RGB channel" 0 '0\.3' "" c get atmosphere.ground_albedo.1
+expect "get a group" 0 '\{ +"utc": +"2026-06-21T12:00:00Z", +"time_scale": +1, .*\}' "" \
+  c get clock
+expect "get all" 0 '# revision 0 \{ +"clock": .*"render": .*\}' "" c get
+expect "get unknown field" 2 '' "no field sun.bogus" c get sun.bogus
+
+expect "viewer set is forbidden" 1 '' "set: set needs the controller role [forbidden]" \
+  c set sun.elevation_deg=10
+expect "wrong token" 1 '' "auth: wrong token [auth_failed]" \
+  skyctl --token wrong set sun.elevation_deg=10
+expect "set" 0 'revision 1' "" \
+  t set sun.elevation_deg=10 clock.utc=2026-06-21T18:00:00Z atmosphere.ground_albedo=[0.1,0.2,0.3]
+expect "set took effect: number" 0 '10' "" c get sun.elevation_deg
+expect "set took effect: time text" 0 '2026-06-21T18:00:00Z' "" c get clock.utc
+expect "set took effect: RGB" 0 '\[0\.1, 0\.2, 0\.3\]' "" c get atmosphere.ground_albedo
+expect "set out of range names the field" 1 '' \
+  "set: /patch/location/latitude_deg: must be in [-90, 90], got 123 [out_of_range]" \
+  t set sun.elevation_deg=30 location.latitude_deg=123
+expect "rejected set changed nothing (all or nothing)" 0 '10' "" c get sun.elevation_deg
+expect "rejected set left the revision" 0 '# revision 1 .*' "" c get
+expect "set unknown field" 1 '' "set: /patch/sun/bogus: unknown field" t set sun.bogus=1
+expect "set wrong type" 1 '' "/patch/clock/utc: expected an ISO 8601 UTC time" t set clock.utc=5
+
+expect "preset list" 0 '.*' "" c preset --list
+grep -qx earth "$out/stdout.txt" && grep -qx mars "$out/stdout.txt" && pass ||
+  fail "preset list lacks earth or mars: $(cat "$out/stdout.txt")"
+expect "preset as viewer" 1 '' "[forbidden]" c preset mars
+expect "preset mars" 0 'revision 2' "" t preset mars
+expect "mars radius" 0 '3389\.5' "" c get atmosphere.bottom_radius_km
+expect "preset unknown" 1 '' "[not_found]" t preset nosuch
+expect "preset bad name" 1 '' "/name" t preset NoSuch
+expect "preset earth" 0 'revision 3' "" t preset earth
+
+expect "probe transmittance" 0 "\{ +\"quantity\": +\"transmittance\", +\"transmittance\": +\[$num, $num, $num\] +\}" "" \
+  c probe transmittance altitude_km=0 mu=1
+read -r tr tg tb < <(tr -d '\n\t ' <"$out/stdout.txt" | sed -nE 's/.*\[([^,]+),([^,]+),([^]]+)\].*/\1 \2 \3/p')
+if awk -v r="$tr" -v g="$tg" -v b="$tb" 'BEGIN { exit !(r < 1 && b > 0 && r > g && g > b) }'; then
+  pass
+else
+  fail "zenith transmittance should fall from red to blue in (0, 1): $tr $tg $tb"
+fi
+expect "probe missing parameter" 1 '' "probe: /sun_zenith_deg: required for illuminance [missing_field]" \
+  c probe illuminance
+expect "probe unknown quantity" 1 '' "/quantity" c probe colour
+expect "stats" 0 "\{ +\"fps\": +$num, +\"clients\": +1, +\"passes\": .*\"lut_rebuild_progress\": +$num +\}" "" \
+  c stats
+
+expect "snapshot toward the sun" 0 "$out/south.png: 160x90 PNG, [0-9]+ bytes, state revision 3, frame [0-9]+" "" \
+  c snapshot --out "$out/south.png" --width 160 --height 90 --set camera.yaw_deg=180 \
+  --set exposure.mode=manual --set exposure.ev100=14
+expect "snapshot away from the sun" 0 "$out/north.png: 160x90 PNG, [0-9]+ bytes, state revision 3, frame [0-9]+" "" \
+  c snapshot --out "$out/north.png" --width 160 --height 90 --set camera.yaw_deg=0 \
+  --set exposure.mode=manual --set exposure.ev100=14
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ print $1*16777216+$2*65536+$3*256+$4 "x" $5*16777216+$6*65536+$7*256+$8 }'; }
+if [ "$(head -c 8 "$out/south.png" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] &&
+   [ "$(png_size "$out/south.png")" = 160x90 ]; then pass; else fail "snapshot is not a 160x90 PNG"; fi
+if ! cmp -s "$out/south.png" "$out/north.png"; then pass; else fail "the view's yaw did not change the image"; fi
+expect "snapshot too wide names the field" 1 '' "snapshot: /view/width: must be in [1, 3840], got 99999 [out_of_range]" \
+  c snapshot --out "$out/wide.png" --width 99999
+[ ! -e "$out/wide.png" ] && pass || fail "a refused snapshot wrote a file"
+
+expect "watch frames" 0 "subscribed [0-9]+( frame [0-9]+ revision 3 time $num s 160x90 [0-9]+ bytes){3}" "" \
+  c watch --count 3 --width 160 --height 90 --fps 5
+
+# watch prints the event of a change made by another client.
+c watch --no-frames --count 1 >"$out/watch-events.txt" 2>&1 &
+watcher=$!
+elevation=11
+for _ in $(seq 1 40); do
+  kill -0 $watcher 2>/dev/null || break
+  t set sun.elevation_deg=$elevation >/dev/null
+  elevation=$((elevation + 1))
+  sleep 0.5
+done
+wait $watcher; rc=$?
+if [ $rc -eq 0 ] && grep -Eqx "event state_changed revision [0-9]+ /sun/elevation_deg" "$out/watch-events.txt"; then
+  pass
+else
+  fail "watch --no-frames: exit $rc, output '$(cat "$out/watch-events.txt")'"
+fi
+
+# watch ends with status 0 on SIGINT.
+LD_PRELOAD="$preload" "$skyctl_bin" watch --width 160 --height 90 --fps 2 >"$out/watch-int.txt" 2>&1 &
+watcher=$!
+for _ in $(seq 1 300); do grep -q '^frame' "$out/watch-int.txt" && break; sleep 0.1; done
+kill -INT $watcher
+wait $watcher; rc=$?
+if [ $rc -eq 0 ] && grep -q '^frame' "$out/watch-int.txt"; then pass; else
+  fail "watch interrupted: exit $rc, output '$(head -c 400 "$out/watch-int.txt")'"
+fi
+
+# The daemon goes away: connection failures are status 3.
+kill -TERM $daemon
+wait $daemon; rc=$?
+[ $rc -eq 0 ] && pass || fail "skyd exit status $rc after SIGTERM"
+expect "daemon gone" 3 '' "cannot connect" c get
+
+echo "skyctl: $passed passed, $failed failed"
+[ $failed -eq 0 ]
