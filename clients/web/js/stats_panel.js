@@ -38,7 +38,10 @@ export class StatsPanel {
     const ctx = this.context;
     ctx.clearRect(0, 0, width, height);
     const totals = this.history.map((p) => Object.values(p).reduce((a, b) => a + b, 0));
-    const top = Math.max(1, ...totals) * 1.1;
+    // The scale follows the 90th percentile so that one slow frame (the first) does not
+    // flatten the rest; taller bars are clipped.
+    const sorted = [...totals].sort((a, b) => a - b);
+    const top = Math.max(1, sorted[Math.floor((sorted.length - 1) * 0.9)] || 0) * 1.2;
     const barWidth = width / HISTORY;
     this.history.forEach((passes, i) => {
       let y = height;

@@ -27,7 +27,10 @@ export class TimeControls {
         this.timer = setTimeout(() => { this.timer = null; this.send(this.composeFromInputs()); },
                                 THROTTLE_MS);
     });
-    this.slider.addEventListener("change", () => this.send(this.composeFromInputs()));
+    this.slider.addEventListener("change", () => {
+      this.time.value = this.sliderTime();
+      this.send(this.composeFromInputs());
+    });
     this.slider.addEventListener("pointerdown", () => { this.dragging = true; });
     this.slider.addEventListener("pointerup", () => { this.dragging = false; });
   }
