@@ -8,8 +8,9 @@ chromedriver and drives Chromium (--headless=new) through the WebDriver HTTP API
 library only). Checks that the page loads from skyd, a frame appears on the canvas (not
 blank), the session becomes controller through the token field, moving the time-of-day
 control raises the state revision and changes the image, an invalid latitude shows the
-server's error next to the latitude field, the layout fits a narrow window, and the browser
-logged no errors (CSP violations included). Screenshots go to OUTPUT_DIR.
+server's error next to the latitude field, the layout fits a narrow window, the page
+reconnects by itself when the daemon restarts, and the browser logged no errors (CSP
+violations included). Screenshots go to OUTPUT_DIR.
 
 Exit status 0 when every check passed, 1 otherwise (also when chromium or chromedriver is
 missing: scripts/install-deps.sh installs them).
@@ -184,7 +185,8 @@ def image_differs(a, b):
             or max(abs(x - y) for x, y in zip(a["rgb"], b["rgb"])) > 2.0)
 
 
-def run_checks(wd, port, out):
+def run_checks(wd, daemon, out):
+    port = daemon.port
     # Small frames (the page's size and fps query parameters) so that lavapipe and the
     # sanitizer build keep up.
     url = f"http://127.0.0.1:{port}/?size=320x180&fps=10"
@@ -208,6 +210,16 @@ def run_checks(wd, port, out):
     check("canvas is not black", first["mean"] > 10.0, json.dumps(first))
     check("daytime sky is bluer than red", first["rgb"][2] > first["rgb"][0], json.dumps(first))
     wd.screenshot(os.path.join(out, "web-initial.png"))
+
+    presets = wait_for("atmosphere presets", lambda: wd.js(
+        "return [...document.getElementById('atmosphere-preset').options].map(o => o.value);"))
+    check("atmosphere presets listed from the server",
+          presets and "earth" in presets and "mars" in presets, str(presets))
+    check("weather presets: the server's list or its error beside the picker",
+          wait_for("weather presets", lambda: wd.js(
+              "return document.getElementById('weather-preset').options.length > 0 ||"
+              " document.querySelector('[data-error-for=\"preset:weather\"]').textContent"
+              ".length > 0;")), "")
 
     stats_seen = wait_for("stats", lambda: (wd.text("#server-fps") or "–") != "–")
     check("server stats are shown", stats_seen, wd.text("#server-fps"))
@@ -289,10 +301,38 @@ def run_checks(wd, port, out):
     check("narrow window: one column", columns == 1, f"{columns} columns")
     wd.screenshot(os.path.join(out, "web-narrow.png"))
 
+    check_console(wd, "browser console has no errors")
+    check_reconnect(wd, daemon)
+    check_console(wd, "browser console: no errors but refused reconnection attempts",
+                  allow="ERR_CONNECTION_REFUSED")
+
+
+def check_console(wd, name, allow=None):
+    """No SEVERE entries in the browser log since the last read (it is drained by reading)."""
     log = wd.browser_log()
-    if log is not None:
-        severe = [e for e in log if e.get("level") == "SEVERE"]
-        check("browser console has no errors", not severe, json.dumps(severe)[:800])
+    if log is None:
+        return
+    severe = [e for e in log if e.get("level") == "SEVERE"
+              and not (allow and allow in e.get("message", ""))]
+    check(name, not severe, json.dumps(severe)[:800])
+
+
+def check_reconnect(wd, daemon):
+    """The daemon restarts on the same port: the page notices, reconnects by itself, takes the
+    controller role again with the token it kept and receives frames again."""
+    frames_before = number(wd.text("#frame-count")) or 0
+    daemon.terminate()
+    closed = wait_for("closed", lambda: (wd.text("#connection") or "").startswith("closed"))
+    check("connection loss is shown", closed, wd.text("#connection"))
+    daemon.start()
+    check("the page reconnects by itself",
+          wait_for("reconnect", lambda: wd.text("#connection") == "connected", timeout=30),
+          wd.text("#connection"))
+    check("the controller role is restored",
+          wait_for("role", lambda: wd.text("#role") == "controller"), wd.text("#role"))
+    check("frames resume after the reconnection",
+          wait_for("frames", lambda: (number(wd.text("#frame-count")) or 0) > frames_before,
+                   timeout=FRAME_TIMEOUT), f"{frames_before} -> {wd.text('#frame-count')}")
 
 
 def main():
@@ -312,6 +352,7 @@ def main():
     config = make_config(out, os.path.join(out, "state.json"))
     config["web_root"] = os.path.abspath(web_root)
     config["allowed_origins"] = []
+    config["listen"]["port"] = free_port()  # fixed, so that a restart keeps it
     daemon = Daemon(skyd, out, "skyd", config)
     wd = None
     started = time.monotonic()
@@ -320,7 +361,7 @@ def main():
         info(f"skyd on port {daemon.port}")
         wd = WebDriver(os.path.join(out, "chromedriver.log"))
         wd.start(1280, 720)
-        run_checks(wd, daemon.port, out)
+        run_checks(wd, daemon, out)
     except Exception as e:  # noqa: BLE001 - any failure is a failed check
         check("browser test ran", False, f"{type(e).__name__}: {e}")
     finally:
