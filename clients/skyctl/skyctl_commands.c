@@ -41,6 +41,11 @@ int skyctl_get(const struct skyctl_options *options, int argc, char **argv)
     int rc = one_request(options, "get", message("get_state"), &reply);
     if (rc)
         return rc;
+    if (path && strcmp(path, "revision") == 0) {
+        printf("%ld\n", revision_of(reply));
+        cJSON_Delete(reply);
+        return SKYCTL_OK;
+    }
     const cJSON *state = cJSON_GetObjectItemCaseSensitive(reply, "state");
     const cJSON *value = path ? skyctl_lookup(state, path) : state;
     if (!value) {
@@ -48,8 +53,6 @@ int skyctl_get(const struct skyctl_options *options, int argc, char **argv)
         cJSON_Delete(reply);
         return SKYCTL_USAGE;
     }
-    if (!path)
-        printf("# revision %ld\n", revision_of(reply));
     skyctl_print_value(value);
     cJSON_Delete(reply);
     return SKYCTL_OK;
