@@ -196,7 +196,7 @@ static size_t build_server_examples(char **out, size_t max)
     ADD(sky_msg_build_probe_result(&id10, &e));
     const struct sky_msg_pass_time passes[] = {
         {"skyview", 0.42}, {"aerial_perspective", 0.31}, {"composite", 1.9}, {"sun_disk", 0.05}};
-    struct sky_msg_stats stats = {29.8, 3, passes, COUNT_OF(passes), 1};
+    struct sky_msg_stats stats = {29.8, 3, passes, COUNT_OF(passes), 1, 1782043200};
     ADD(sky_msg_build_stats(&id13, &stats));
 #undef ADD
     return n;
@@ -929,8 +929,9 @@ static void test_builders(void)
 
     current_case = "stats";
     struct sky_msg_pass_time passes[] = {{"skyview", 0.5}, {"composite", 1.25}};
-    struct sky_msg_stats stats = {30, 2, passes, 2, 0.5};
+    struct sky_msg_stats stats = {30, 2, passes, 2, 0.5, 1782043200.25};
     json = parse_built(sky_msg_build_stats(NULL, &stats), "stats");
+    CHECK_DOUBLE(number_at(json, "simulation_time_s"), 1782043200.25);
     CHECK_DOUBLE(number_at(json, "fps"), 30);
     CHECK_DOUBLE(number_at(json, "clients"), 2);
     CHECK_DOUBLE(number_at(get(json, "passes"), "composite"), 1.25);
@@ -941,6 +942,9 @@ static void test_builders(void)
     stats.lut_rebuild_progress = NAN;
     CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
     stats.lut_rebuild_progress = 1;
+    stats.simulation_time_s = INFINITY;
+    CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
+    stats.simulation_time_s = 0;
     passes[1].name = "skyview";
     CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
     passes[1].name = "composite";
