@@ -118,6 +118,10 @@ static const struct {
     {"{\"type\":\"list_presets\",\"id\":11,\"kind\":\"atmosphere\"}", SKY_MSG_LIST_PRESETS},
     {"{\"type\":\"apply_preset\",\"id\":12,\"kind\":\"atmosphere\",\"name\":\"mars\"}",
      SKY_MSG_APPLY_PRESET},
+    {"{\"type\":\"list_presets\",\"id\":14,\"kind\":\"weather\"}", SKY_MSG_LIST_PRESETS},
+    {"{\"type\":\"apply_preset\",\"id\":15,\"kind\":\"weather\",\"name\":\"storm\","
+     "\"transition_s\":1200}",
+     SKY_MSG_APPLY_PRESET},
     {"{\"type\":\"stats\",\"id\":13}", SKY_MSG_STATS},
 };
 
@@ -407,7 +411,15 @@ static const struct parse_case parse_cases[] = {
         OUT_OF_RANGE, "/sun_zenith_deg"),
 
     BAD("list_presets no kind", "{\"type\":\"list_presets\"}", MISSING_FIELD, "/kind"),
-    BAD("list_presets kind", "{\"type\":\"list_presets\",\"kind\":\"weather\"}", BAD_VALUE, "/kind"),
+    BAD("list_presets kind", "{\"type\":\"list_presets\",\"kind\":\"climate\"}", BAD_VALUE, "/kind"),
+    BAD("transition_s negative", "{\"type\":\"apply_preset\",\"kind\":\"weather\",\"name\":"
+        "\"storm\",\"transition_s\":-1}", OUT_OF_RANGE, "/transition_s"),
+    BAD("transition_s too long", "{\"type\":\"apply_preset\",\"kind\":\"weather\",\"name\":"
+        "\"storm\",\"transition_s\":604801}", OUT_OF_RANGE, "/transition_s"),
+    BAD("transition_s text", "{\"type\":\"apply_preset\",\"kind\":\"weather\",\"name\":"
+        "\"storm\",\"transition_s\":\"20 min\"}", WRONG_TYPE, "/transition_s"),
+    BAD("transition_s of an atmosphere", "{\"type\":\"apply_preset\",\"kind\":\"atmosphere\","
+        "\"name\":\"mars\",\"transition_s\":60}", BAD_VALUE, "/transition_s"),
     BAD("list_presets kind number", "{\"type\":\"list_presets\",\"kind\":1}", WRONG_TYPE, "/kind"),
     BAD("list_presets name", "{\"type\":\"list_presets\",\"kind\":\"atmosphere\",\"name\":\"x\"}",
         UNKNOWN_FIELD, "/name"),
@@ -683,6 +695,12 @@ static void test_parsed_values(void)
     CHECK_INT(parse(client_examples[11].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.preset.kind, SKY_PRESET_ATMOSPHERE);
     CHECK_STR(msg.preset.name, "mars");
+    CHECK(!msg.preset.has_transition);
+    CHECK_INT(parse(client_examples[13].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(msg.preset.kind, SKY_PRESET_WEATHER);
+    CHECK_STR(msg.preset.name, "storm");
+    CHECK(msg.preset.has_transition);
+    CHECK_DOUBLE(msg.preset.transition_s, 1200);
     CHECK_INT(parse(client_examples[5].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.unsubscribe.subscription, 1);
 
