@@ -67,7 +67,7 @@ static const char *const capabilities[] = {
 static const char *const role_names[] = {[SKY_ROLE_VIEWER] = "viewer",
                                          [SKY_ROLE_CONTROLLER] = "controller"};
 static const char *const quantity_names[] = {"transmittance", "luminance", "illuminance"};
-static const char *const preset_kind_names[] = {"atmosphere"};
+static const char *const preset_kind_names[] = {"atmosphere", "weather"};
 static const char *const format_names[] = {[SKY_FRAME_FORMAT_PNG] = "png"};
 
 /* Fields of each client message after "type" and "id". */
@@ -80,7 +80,7 @@ static const char *const probe_fields[] = {"quantity",         "altitude_km",   
                                            "view_zenith_deg", "view_azimuth_deg",
                                            "sun_zenith_deg"};
 static const char *const list_presets_fields[] = {"kind"};
-static const char *const apply_preset_fields[] = {"kind", "name"};
+static const char *const apply_preset_fields[] = {"kind", "name", "transition_s"};
 static const char *const view_fields[] = {"camera", "width", "height", "fps", "exposure", "format"};
 static const char *const camera_fields[] = {"altitude_km", "yaw_deg", "pitch_deg", "fov_deg"};
 static const char *const exposure_fields[] = {"mode", "ev100", "compensation_ev"};
@@ -478,7 +478,7 @@ static void parse_probe(struct parser *p, const cJSON **found, struct sky_msg_pr
 static void parse_fields(struct parser *p, const cJSON **found, struct sky_client_msg *msg)
 {
     int64_t number;
-    int index;
+    int index = -1;
     switch (msg->type) {
     case SKY_MSG_HELLO:
         if (found[0])
@@ -534,6 +534,12 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
             fail(p, SKY_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
         else
             memcpy(msg->preset.name, found[1]->valuestring, strlen(found[1]->valuestring) + 1);
+        if (found[2] && index >= 0 && msg->preset.kind != SKY_PRESET_WEATHER)
+            fail(p, SKY_MSG_ERR_BAD_VALUE, "/transition_s", "only weather presets have a transition");
+        else if (found[2])
+            msg->preset.has_transition =
+                read_number(p, found[2], "/transition_s", 0, SKY_MSG_MAX_TRANSITION_S,
+                            &msg->preset.transition_s);
         break;
     case SKY_MSG_NONE:
     case SKY_MSG_GET_STATE:
@@ -1060,7 +1066,7 @@ char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stat
     begin(&b, "stats", id);
     if (!stats || !(stats->fps >= 0) || stats->clients < 0 || stats->pass_count > SKY_MSG_MAX_PASSES ||
         (stats->pass_count > 0 && !stats->passes) || !(stats->lut_rebuild_progress >= 0) ||
-        !(stats->lut_rebuild_progress <= 1)) {
+        !(stats->lut_rebuild_progress <= 1) || !isfinite(stats->simulation_time_s)) {
         b.ok = false;
         return finish(&b);
     }
@@ -1076,5 +1082,6 @@ char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stat
             put_number(&b, passes, pass->name, pass->ms);
     }
     put_number(&b, b.root, "lut_rebuild_progress", stats->lut_rebuild_progress);
+    put_number(&b, b.root, "simulation_time_s", stats->simulation_time_s);
     return finish(&b);
 }

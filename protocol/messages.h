@@ -87,8 +87,12 @@ enum sky_msg_role {
 };
 
 enum sky_preset_kind {
-    SKY_PRESET_ATMOSPHERE = 0,
+    SKY_PRESET_ATMOSPHERE = 0, /* config/atmosphere/: atmosphere.* */
+    SKY_PRESET_WEATHER = 1,    /* config/weather/: clouds.* and weather.*, with a transition */
 };
+
+/* The longest weather transition apply_preset accepts: a week of simulated time. */
+#define SKY_MSG_MAX_TRANSITION_S 604800.0
 
 enum sky_probe_quantity {
     SKY_PROBE_TRANSMITTANCE = 0,
@@ -166,6 +170,8 @@ struct sky_client_msg {
         struct {
             enum sky_preset_kind kind;
             char name[SKY_MSG_PRESET_NAME_MAX + 1]; /* apply_preset only */
+            bool has_transition;  /* apply_preset of a weather preset: "transition_s" given */
+            double transition_s;  /* simulated seconds, [0, SKY_MSG_MAX_TRANSITION_S] */
         } preset;
     };
 };
@@ -266,6 +272,7 @@ struct sky_msg_stats {
     const struct sky_msg_pass_time *passes;
     size_t pass_count;                   /* <= SKY_MSG_MAX_PASSES */
     double lut_rebuild_progress;         /* [0, 1]; 1 when no rebuild is under way */
+    double simulation_time_s;            /* the simulated clock, seconds since 1970 UTC */
 };
 
 char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stats *stats);

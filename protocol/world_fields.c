@@ -29,16 +29,60 @@ static const char *const weather_map_source_names[] = {"procedural", "client"};
 #define COUNT_OF(array) ((int)(sizeof(array) / sizeof((array)[0])))
 #define OFFSET(member) offsetof(struct sky_world_state, member)
 #define NUMBER(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc}
-#define RGB(path, member, lo, hi, doc) {path, SKY_FIELD_TYPE_RGB, OFFSET(member), lo, hi, NULL, 0, doc}
+    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, false}
+#define RGB(path, member, lo, hi, doc) \
+    {path, SKY_FIELD_TYPE_RGB, OFFSET(member), lo, hi, NULL, 0, doc, false}
 #define INT_PAIR(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT_PAIR, OFFSET(member), lo, hi, NULL, 0, doc}
+    {path, SKY_FIELD_TYPE_INT_PAIR, OFFSET(member), lo, hi, NULL, 0, doc, false}
 #define INT_TRIPLE(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT_TRIPLE, OFFSET(member), lo, hi, NULL, 0, doc}
-#define INT(path, member, lo, hi, doc) {path, SKY_FIELD_TYPE_INT, OFFSET(member), lo, hi, NULL, 0, doc}
-#define TIME(path, member, lo, hi, doc) {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc}
+    {path, SKY_FIELD_TYPE_INT_TRIPLE, OFFSET(member), lo, hi, NULL, 0, doc, false}
+#define INT(path, member, lo, hi, doc) \
+    {path, SKY_FIELD_TYPE_INT, OFFSET(member), lo, hi, NULL, 0, doc, false}
+#define TIME(path, member, lo, hi, doc) \
+    {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc, false}
 #define ENUM(path, member, names, doc) \
-    {path, SKY_FIELD_TYPE_ENUM, OFFSET(member), 0, COUNT_OF(names) - 1, names, COUNT_OF(names), doc}
+    {path, SKY_FIELD_TYPE_ENUM, OFFSET(member), 0, COUNT_OF(names) - 1, names, COUNT_OF(names), \
+     doc, false}
+/* Read-only rows: kept by the simulation, restored from a saved state, refused in a `set`. */
+#define RO_NUMBER(path, member, lo, hi, doc) \
+    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, true}
+#define RO_TIME(path, member, lo, hi, doc) \
+    {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc, true}
+
+/* The interpolated weather parameters of one end of a transition, under
+ * "weather.transition.<end>." with the paths of the live fields they stand for. */
+#define TRANSITION_END(end, what)                                                                 \
+    RO_NUMBER("weather.transition." #end ".clouds.low.coverage", weather.transition.end.low.coverage, \
+              0, 1, "low layer coverage " what),                                                 \
+    RO_NUMBER("weather.transition." #end ".clouds.low.type", weather.transition.end.low.type, 0, 1, \
+              "low layer cloud type " what),                                                     \
+    RO_NUMBER("weather.transition." #end ".clouds.low.density", weather.transition.end.low.density, \
+              0, 10, "low layer density " what),                                                 \
+    RO_NUMBER("weather.transition." #end ".clouds.low.bottom_km",                                 \
+              weather.transition.end.low.bottom_km, 0, 20, "low layer base " what ", km"),       \
+    RO_NUMBER("weather.transition." #end ".clouds.low.thickness_km",                              \
+              weather.transition.end.low.thickness_km, 0.05, 15,                                 \
+              "low layer thickness " what ", km"),                                               \
+    RO_NUMBER("weather.transition." #end ".clouds.high.coverage",                                 \
+              weather.transition.end.high.coverage, 0, 1, "high layer coverage " what),          \
+    RO_NUMBER("weather.transition." #end ".clouds.high.type", weather.transition.end.high.type,  \
+              0, 1, "high layer cloud type " what),                                              \
+    RO_NUMBER("weather.transition." #end ".clouds.high.density",                                  \
+              weather.transition.end.high.density, 0, 10, "high layer density " what),           \
+    RO_NUMBER("weather.transition." #end ".clouds.high.bottom_km",                                \
+              weather.transition.end.high.bottom_km, 0, 30, "high layer base " what ", km"),     \
+    RO_NUMBER("weather.transition." #end ".clouds.high.thickness_km",                             \
+              weather.transition.end.high.thickness_km, 0.05, 5,                                 \
+              "high layer thickness " what ", km"),                                              \
+    RO_NUMBER("weather.transition." #end ".clouds.precipitation",                                 \
+              weather.transition.end.precipitation, 0, 1, "precipitation " what),                \
+    RO_NUMBER("weather.transition." #end ".weather.humidity", weather.transition.end.humidity,   \
+              0, 1, "relative humidity " what),                                                  \
+    RO_NUMBER("weather.transition." #end ".weather.wind.speed_m_s",                               \
+              weather.transition.end.wind_speed_m_s, 0, 100, "wind speed " what ", m/s"),        \
+    RO_NUMBER("weather.transition." #end ".weather.wind.direction_deg",                           \
+              weather.transition.end.wind_direction_deg, 0, 360,                                 \
+              "wind direction (from) " what ", degrees")
 
 /* Rows sharing a group stay together: serialization and error messages follow this order. */
 const struct sky_field_desc sky_world_field_table[] = {
@@ -173,6 +217,14 @@ const struct sky_field_desc sky_world_field_table[] = {
          "evolve the weather stochastically (deterministic from autopilot_seed)"),
     INT("weather.autopilot_seed", weather.autopilot_seed, 0, SEED_MAX,
         "seed of the weather autopilot"),
+    RO_TIME("weather.transition.start", weather.transition.start_unix_s, UTC_MIN_S, UTC_MAX_S,
+            "read-only: simulated time the last weather transition started, ISO 8601 UTC"),
+    RO_NUMBER("weather.transition.duration_s", weather.transition.duration_s, 0, 1e7,
+              "read-only: its length in simulated seconds; 0: none"),
+    RO_NUMBER("weather.transition.progress", weather.transition.progress, 0, 1,
+              "read-only: fraction of its time elapsed; below 1 while it runs"),
+    TRANSITION_END(from, "where the transition started"),
+    TRANSITION_END(to, "where the transition ends"),
     NUMBER("camera.altitude_km", camera.altitude_km, 0, 100000,
            "camera altitude above the planet surface, km"),
     NUMBER("camera.yaw_deg", camera.yaw_deg, -360, 360,
@@ -293,6 +345,11 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
     state->weather.autopilot = SKY_SWITCH_OFF;
     state->weather.autopilot_seed = 1;
+    state->weather.transition.start_unix_s = state->clock.utc_unix_s;
+    state->weather.transition.duration_s = 0.0;
+    state->weather.transition.progress = 1.0;
+    sky_weather_params_get(state, &state->weather.transition.from);
+    sky_weather_params_get(state, &state->weather.transition.to);
 
     state->camera.altitude_km = 0.2;
     state->camera.yaw_deg = 180.0;
@@ -313,3 +370,24 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->render.aerial_perspective_max_km = 64.0;
 }
 
+
+void sky_weather_params_get(const struct sky_world_state *state, struct sky_weather_params *out)
+{
+    memset(out, 0, sizeof *out);
+    out->low = state->clouds.low;
+    out->high = state->clouds.high;
+    out->precipitation = state->clouds.precipitation;
+    out->humidity = state->weather.humidity;
+    out->wind_speed_m_s = state->weather.wind.speed_m_s;
+    out->wind_direction_deg = state->weather.wind.direction_deg;
+}
+
+void sky_weather_params_put(struct sky_world_state *state, const struct sky_weather_params *in)
+{
+    state->clouds.low = in->low;
+    state->clouds.high = in->high;
+    state->clouds.precipitation = in->precipitation;
+    state->weather.humidity = in->humidity;
+    state->weather.wind.speed_m_s = in->wind_speed_m_s;
+    state->weather.wind.direction_deg = in->wind_direction_deg;
+}

@@ -146,6 +146,25 @@ struct sky_cloud_state {
     enum sky_switch temporal;         /* temporal reprojection of the history */
 };
 
+/* The weather parameters that transitions interpolate and the autopilot drives. */
+struct sky_weather_params {
+    struct sky_cloud_layer_state low, high;
+    double precipitation;             /* clouds.precipitation */
+    double humidity;                  /* weather.humidity */
+    double wind_speed_m_s;            /* weather.wind.speed_m_s */
+    double wind_direction_deg;        /* weather.wind.direction_deg, along the shorter arc */
+};
+
+/* A weather transition: the parameters move from `from` to `to` along a smoothstep of the
+ * simulated time from start over duration. Read-only for clients (apply_preset starts one);
+ * persisted with the state. Active while duration_s > 0 and progress < 1. */
+struct sky_transition_state {
+    double start_unix_s;              /* "weather.transition.start": ISO 8601 text in JSON */
+    double duration_s;                /* simulated seconds; 0: no transition */
+    double progress;                  /* 0..1, the time fraction elapsed */
+    struct sky_weather_params from, to;
+};
+
 struct sky_wind_state {
     double speed_m_s;
     double direction_deg;             /* where the wind blows from, north through east */
@@ -161,6 +180,7 @@ struct sky_weather_state {
     enum sky_weather_map_source map_source;
     enum sky_switch autopilot;        /* stochastic, deterministic weather evolution */
     int autopilot_seed;
+    struct sky_transition_state transition;
 };
 
 struct sky_render_settings {
@@ -208,6 +228,10 @@ struct sky_field_errors {
     int total;                  /* number of failures found, may exceed count */
     struct sky_field_error items[SKY_MAX_FIELD_ERRORS];
 };
+
+/* The weather parameters of a state, and writing them back. */
+void sky_weather_params_get(const struct sky_world_state *state, struct sky_weather_params *out);
+void sky_weather_params_put(struct sky_world_state *state, const struct sky_weather_params *in);
 
 /* Earth defaults (DESIGN.md constants); revision 0. */
 void sky_world_state_defaults(struct sky_world_state *state);
@@ -281,6 +305,8 @@ struct sky_field_desc {
     const char *const *enum_names; /* ENUM only: names indexed by value */
     int enum_count;
     const char *description;       /* short, with the unit */
+    bool read_only;                /* kept by the simulation: a client `set` is refused; a saved
+                                      state restores it */
 };
 
 /* The descriptor table, in serialization order; *count receives its length. */

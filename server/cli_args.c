@@ -80,6 +80,51 @@ static int apply_preset(struct cli_common *c, const char *name)
     return 0;
 }
 
+static int set_field(struct cli_common *c, const char *option, const char *path, const char *value)
+{
+    struct sky_field_errors errors;
+    if (!sky_world_state_set_path(&c->state, path, value, &errors)) {
+        char context[160];
+        snprintf(context, sizeof context, "%s \"%s\" rejected", option, value);
+        print_field_errors(context, &errors);
+        return -1;
+    }
+    return 0;
+}
+
+int cli_parse_sim_option(int argc, char **argv, int *i, struct cli_common *c)
+{
+    static const struct { const char *option, *path; } fields[] = {
+        { "--time", "clock.utc" },
+        { "--lat", "location.latitude_deg" },
+        { "--lon", "location.longitude_deg" },
+    };
+    const char *opt = argv[*i];
+    const char *value;
+    if (strcmp(opt, "--weather") == 0) {
+        if (!(value = cli_take_value(argc, argv, i)))
+            return -1;
+        struct sky_field_errors errors = { 0 };
+        char msg[1024] = "";
+        if (!sky_preset_apply(c->config_dir, "weather", value, &c->state, &errors, msg,
+                              sizeof msg)) {
+            fprintf(stderr, "skyd: --weather %s: %s\n", value, msg);
+            return -1;
+        }
+        return 1;
+    }
+    for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
+        if (strcmp(opt, fields[k].option) != 0)
+            continue;
+        if (!(value = cli_take_value(argc, argv, i)) ||
+            set_field(c, opt, fields[k].path, value) != 0)
+            return -1;
+        c->state.clock.sky_bodies = SKY_BODIES_EPHEMERIS;
+        return 1;
+    }
+    return 0;
+}
+
 /* The renderer's settings from a configuration file; flags and environment keep priority. */
 static int apply_config_file(struct cli_common *c, const char *path)
 {

@@ -28,6 +28,11 @@ void cli_common_init(struct cli_common *c);
  * printing an error that names the problem. */
 int cli_parse_common(int argc, char **argv, int *i, struct cli_common *c);
 
+/* Tries the world-simulation options of `skyd render`: --time ISO8601 (clock.utc), --lat DEG,
+ * --lon DEG (location); each switches clock.sky_bodies to ephemeris. --weather NAME applies
+ * config/weather/NAME.json at once. Same return values as cli_parse_common. */
+int cli_parse_sim_option(int argc, char **argv, int *i, struct cli_common *c);
+
 /* Takes the value of option argv[*i] (advancing *i), or prints "OPTION needs a value". */
 const char *cli_take_value(int argc, char **argv, int *i);
 

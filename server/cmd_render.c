@@ -1,14 +1,32 @@
-/* skyd render: one frame through the daemon's render path, written to a PNG. */
+/* skyd render: frames through the daemon's render path, written to PNG files; one frame, or a
+ * time-lapse that advances the whole world simulation (clock, sun and moon, weather
+ * transitions, autopilot, wind) between frames. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli_args.h"
 #include "commands.h"
+#include "messages.h"
 #include "png_write.h"
+#include "presets.h"
 #include "world_render.h"
+#include "world_sim.h"
 
 #define MAX_DIMENSION 8192
+#define MAX_FRAMES 100000
+#define MAX_STEP_S 31557600.0 /* a year of simulated time between frames */
+
+/* The time-lapse: frame count, simulated seconds between frames, and a weather transition
+ * that starts with the first frame. */
+struct lapse_args {
+    unsigned frames;
+    double step_s;
+    bool has_step;
+    const char *weather_to;
+    double transition_s;
+    bool has_transition;
+};
 
 static void usage(FILE *out)
 {
@@ -18,11 +36,104 @@ static void usage(FILE *out)
             "  --set PATH=VALUE       set a world-state field, e.g. sun.elevation_deg=5\n"
             "  --sun-azimuth DEG      shorthand for --set sun.azimuth_deg=DEG\n"
             "  --sun-elevation DEG    shorthand for --set sun.elevation_deg=DEG\n"
+            "  --time ISO8601         simulated UTC time (2026-06-21T05:00:00Z); with --lat and\n"
+            "  --lat DEG, --lon DEG   --lon the sun and moon follow the ephemeris (sky_bodies)\n"
+            "  --weather NAME         apply config/weather/NAME.json (clear, storm, ...)\n"
+            "  --frames N             a time-lapse of N frames; --out then holds one %%d or %%0Nd\n"
+            "                         for the frame number (e.g. frames/f-%%03d.png)\n"
+            "  --step-s S             simulated seconds between frames (default 60)\n"
+            "  --weather-to NAME      a weather transition from the first frame to NAME ...\n"
+            "  --transition-s S       ... over S simulated seconds (default: the whole lapse)\n"
             "  --config FILE          read render.device and render.validation from a skyd.json\n"
             "  --config-dir DIR       where presets live (default: the source tree's config/)\n"
             "  --device NAME          cpu, gpu, an index or part of a device name\n"
             "  --validation           enable the Vulkan validation layer (exit 3 on messages)\n"
             "  --stats                print per-pass GPU times as JSON on stdout\n");
+}
+
+/* Splits an --out pattern at its one %d or %0Nd; false when it has none, another conversion,
+ * or more than one. A lone frame may have no conversion at all. */
+static bool split_pattern(const char *pattern, bool need_number, char *prefix, size_t capacity,
+                          int *width, const char **suffix)
+{
+    const char *percent = strchr(pattern, '%');
+    *width = -1;
+    *suffix = "";
+    if (!percent) {
+        snprintf(prefix, capacity, "%s", pattern);
+        return !need_number;
+    }
+    const char *p = percent + 1;
+    int digits = 0;
+    if (*p == '0') {
+        p++;
+        while (*p >= '0' && *p <= '9' && digits < 2)
+            digits = digits * 10 + (*p++ - '0');
+    }
+    if (*p != 'd' || strchr(p + 1, '%') || (size_t)(percent - pattern) >= capacity)
+        return false;
+    memcpy(prefix, pattern, (size_t)(percent - pattern));
+    prefix[percent - pattern] = '\0';
+    *width = digits;
+    *suffix = p + 1;
+    return true;
+}
+
+static void frame_path(const char *prefix, int width, const char *suffix, unsigned frame,
+                       char *out, size_t capacity)
+{
+    if (width < 0)
+        snprintf(out, capacity, "%s", prefix);
+    else
+        snprintf(out, capacity, "%s%0*u%s", prefix, width, frame, suffix);
+}
+
+static int parse_lapse_option(int argc, char **argv, int *i, struct lapse_args *a)
+{
+    const char *opt = argv[*i];
+    const char *value;
+    if (strcmp(opt, "--frames") == 0) {
+        if (!(value = cli_take_value(argc, argv, i)) ||
+            !cli_parse_uint(opt, value, 1, MAX_FRAMES, &a->frames))
+            return -1;
+        return 1;
+    }
+    if (strcmp(opt, "--weather-to") == 0) {
+        if (!(a->weather_to = cli_take_value(argc, argv, i)))
+            return -1;
+        if (!sky_preset_name_is_valid(a->weather_to)) {
+            fprintf(stderr, "skyd: --weather-to: \"%s\" is not a preset name\n", a->weather_to);
+            return -1;
+        }
+        return 1;
+    }
+    static const struct cli_number_option options[] = {
+        { "--step-s", 0.0, MAX_STEP_S, offsetof(struct lapse_args, step_s),
+          offsetof(struct lapse_args, has_step) },
+        { "--transition-s", 0.0, SKY_MSG_MAX_TRANSITION_S, offsetof(struct lapse_args, transition_s),
+          offsetof(struct lapse_args, has_transition) },
+    };
+    return cli_parse_number_option(argc, argv, i, options, sizeof options / sizeof options[0], a);
+}
+
+/* Starts the --weather-to transition on the parsed state. */
+static bool start_lapse_transition(struct cli_common *common, const struct lapse_args *a)
+{
+    if (!a->weather_to)
+        return true;
+    struct sky_world_state target = common->state;
+    char msg[1024];
+    if (!sky_preset_apply(common->config_dir, "weather", a->weather_to, &target, NULL, msg,
+                          sizeof msg)) {
+        fprintf(stderr, "skyd: --weather-to %s: %s\n", a->weather_to, msg);
+        return false;
+    }
+    struct sky_weather_params goal;
+    sky_weather_params_get(&target, &goal);
+    double duration = a->has_transition ? a->transition_s : a->step_s * (a->frames - 1);
+    common->state.weather.autopilot = SKY_SWITCH_OFF;
+    world_sim_start_transition(&common->state, &goal, duration);
+    return true;
 }
 
 static void print_stats(const struct sky_render_stats *s)
@@ -40,8 +151,13 @@ int skyd_cmd_render(int argc, char **argv)
     unsigned width = 0, height = 0;
     const char *out_path = NULL;
     bool stats_json = false;
+    struct lapse_args lapse = { .frames = 1, .step_s = 60.0 };
     for (int i = 0; i < argc; i++) {
         int rc = cli_parse_common(argc, argv, &i, &common);
+        if (rc == 0)
+            rc = cli_parse_sim_option(argc, argv, &i, &common);
+        if (rc == 0)
+            rc = parse_lapse_option(argc, argv, &i, &lapse);
         if (rc < 0)
             return SKYD_EXIT_USAGE;
         if (rc > 0)
@@ -83,6 +199,24 @@ int skyd_cmd_render(int argc, char **argv)
         return SKYD_EXIT_USAGE;
     }
 
+    if (lapse.has_transition && !lapse.weather_to) {
+        fprintf(stderr, "skyd render: --transition-s needs --weather-to\n");
+        return SKYD_EXIT_USAGE;
+    }
+    char prefix[1024];
+    const char *suffix;
+    int number_width;
+    if (!split_pattern(out_path, lapse.frames > 1, prefix, sizeof prefix, &number_width,
+                       &suffix)) {
+        fprintf(stderr, "skyd render: --out \"%s\": %s\n", out_path,
+                lapse.frames > 1 ? "a time-lapse needs one %d or %0Nd for the frame number"
+                                 : "only one %d or %0Nd may appear");
+        return SKYD_EXIT_USAGE;
+    }
+    if (!start_lapse_transition(&common, &lapse))
+        return SKYD_EXIT_USAGE;
+    world_sim_settle(&common.state);
+
     size_t bytes = (size_t)width * height * 4;
     uint8_t *pixels = malloc(bytes);
     if (!pixels)
@@ -95,23 +229,28 @@ int skyd_cmd_render(int argc, char **argv)
     struct sky_render_atmosphere atmosphere;
     struct sky_render_view view;
     struct sky_render_stats stats;
-    world_to_render_atmosphere(&common.state, &atmosphere);
-    world_to_render_view(&common.state, width, height, SKY_RENDER_OUTPUT_SRGB8, &view);
     int status = SKYD_EXIT_OK;
-    char err[512];
-    if (sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {
-        fprintf(stderr, "skyd render: rendering failed\n");
-        status = SKYD_EXIT_FAILURE;
-    } else if (png_write_rgba8_file(out_path, pixels, width, height, err, sizeof err) != 0) {
-        fprintf(stderr, "skyd render: %s\n", err);
-        status = SKYD_EXIT_FAILURE;
-    } else {
-        if (stats_json)
-            print_stats(&stats);
-        else
-            printf("%s\n", out_path);
-        fprintf(stderr, "skyd render: %ux%u in %.1f ms (GPU %.1f ms)\n", width, height,
-                stats.wall_ms, stats.gpu_ms);
+    char err[512], path[1200];
+    for (unsigned frame = 0; frame < lapse.frames && status == SKYD_EXIT_OK; frame++) {
+        if (frame > 0)
+            world_sim_advance(&common.state, lapse.step_s);
+        world_to_render_atmosphere(&common.state, &atmosphere);
+        world_to_render_view(&common.state, width, height, SKY_RENDER_OUTPUT_SRGB8, &view);
+        frame_path(prefix, number_width, suffix, frame, path, sizeof path);
+        if (sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {
+            fprintf(stderr, "skyd render: rendering failed\n");
+            status = SKYD_EXIT_FAILURE;
+        } else if (png_write_rgba8_file(path, pixels, width, height, err, sizeof err) != 0) {
+            fprintf(stderr, "skyd render: %s\n", err);
+            status = SKYD_EXIT_FAILURE;
+        } else {
+            if (stats_json)
+                print_stats(&stats);
+            else
+                printf("%s\n", path);
+            fprintf(stderr, "skyd render: %ux%u in %.1f ms (GPU %.1f ms), sun at %.2f deg\n",
+                    width, height, stats.wall_ms, stats.gpu_ms, common.state.sun.elevation_deg);
+        }
     }
     status = cli_finish(&common, &renderer, status);
     free(pixels);

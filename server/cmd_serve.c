@@ -113,9 +113,10 @@ static bool load_config(const struct serve_options *o, struct skyd_config *confi
     return true;
 }
 
-static void initial_state(const char *state_file, struct sky_world_state *state)
+static void initial_state(const char *state_file, const struct sky_world_state *configured,
+                          struct sky_world_state *state)
 {
-    sky_world_state_defaults(state);
+    *state = *configured; /* the config's initial_state, unless a saved state is restored */
     if (!state_file[0])
         return;
     char msg[1024];
@@ -199,7 +200,7 @@ int skyd_cmd_serve(int argc, char **argv)
                                               .validation = validation,
                                               .config_dir = config_dir,
                                               .state_file = config.state_file };
-    initial_state(config.state_file, &loop_params.initial_state);
+    initial_state(config.state_file, &config.initial_state, &loop_params.initial_state);
     struct session_hub *hub = session_hub_create(NULL, NULL);
     loop_params.hub = hub;
     char err[512];

@@ -6,8 +6,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <cjson/cJSON.h>
+
+#include "utc_time.h"
 
 #define MAX_CONFIG_BYTES (1 << 20)
 
@@ -55,6 +58,7 @@ static const struct config_field fields[] = {
 void skyd_config_defaults(struct skyd_config *c)
 {
     memset(c, 0, sizeof *c);
+    sky_world_state_defaults(&c->initial_state);
     snprintf(c->listen_address, sizeof c->listen_address, "127.0.0.1");
     c->listen_port = 8080;
     snprintf(c->web_root, sizeof c->web_root, "clients/web");
@@ -169,6 +173,39 @@ static void apply_leaf(struct skyd_config *c, const struct config_field *f, cons
     }
 }
 
+/* "initial_state": a world-state patch over the defaults; "clock.utc": "now" is replaced by
+ * the current time. Errors point into the configuration ("/initial_state/..."). */
+static void apply_initial_state(struct skyd_config *c, const cJSON *value,
+                                struct sky_field_errors *errors)
+{
+    if (!cJSON_IsObject(value)) {
+        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, "/initial_state",
+                              "expected a world-state patch (an object)");
+        return;
+    }
+    cJSON *patch = cJSON_Duplicate(value, true);
+    cJSON *clock = patch ? cJSON_GetObjectItemCaseSensitive(patch, "clock") : NULL;
+    cJSON *utc = cJSON_IsObject(clock) ? cJSON_GetObjectItemCaseSensitive(clock, "utc") : NULL;
+    if (cJSON_IsString(utc) && strcmp(utc->valuestring, "now") == 0) {
+        struct timespec now;
+        clock_gettime(CLOCK_REALTIME, &now);
+        char text[40];
+        sky_time_format_iso8601((double)now.tv_sec, text, sizeof text);
+        cJSON_ReplaceItemInObjectCaseSensitive(clock, "utc", cJSON_CreateString(text));
+    }
+    struct sky_field_errors found;
+    if (!patch) {
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "/initial_state", "out of memory");
+    } else if (!sky_world_state_apply_json(&c->initial_state, patch, &found)) {
+        for (int i = 0; i < found.count; i++) {
+            char pointer[160];
+            snprintf(pointer, sizeof pointer, "/initial_state%s", found.items[i].pointer);
+            sky_field_errors_add(errors, found.items[i].code, pointer, found.items[i].reason);
+        }
+    }
+    cJSON_Delete(patch);
+}
+
 static void apply_object(struct skyd_config *c, const cJSON *object, const char *prefix,
                          struct sky_field_errors *errors)
 {
@@ -176,7 +213,9 @@ static void apply_object(struct skyd_config *c, const cJSON *object, const char 
         char pointer[160];
         snprintf(pointer, sizeof pointer, "%s/%s", prefix, member->string);
         const struct config_field *f = find_field(pointer);
-        if (f)
+        if (strcmp(pointer, "/initial_state") == 0)
+            apply_initial_state(c, member, errors);
+        else if (f)
             apply_leaf(c, f, member, pointer, errors);
         else if (is_group(pointer) && cJSON_IsObject(member))
             apply_object(c, member, pointer, errors);

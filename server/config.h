@@ -37,6 +37,10 @@ struct skyd_config {
     char controller_token[128];    /* "" = nobody can control */
     int origin_count;
     char allowed_origins[SKYD_CONFIG_MAX_ORIGINS][128];
+    /* The world state the daemon starts from when no state file can be restored: the
+     * defaults with the "initial_state" patch applied. Its "clock.utc" may be "now", the UTC
+     * time at which the configuration is loaded. */
+    struct sky_world_state initial_state;
 };
 
 void skyd_config_defaults(struct skyd_config *config);

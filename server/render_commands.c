@@ -10,9 +10,14 @@
 #include "presets.h"
 #include "probe_query.h"
 #include "world_render.h"
+#include "world_sim.h"
 #include "monotonic_clock.h"
 
-#define PRESET_KIND_ATMOSPHERE "atmosphere"
+/* Preset folders under the config directory, by enum sky_preset_kind. */
+static const char *const preset_folders[] = {
+    [SKY_PRESET_ATMOSPHERE] = "atmosphere",
+    [SKY_PRESET_WEATHER] = "weather",
+};
 
 /* Queues a built message (NULL only when building failed, which the client hears of). */
 static void reply(struct session *session, const struct sky_msg_id *id, char *text)
@@ -63,8 +68,12 @@ static void reply_field_errors(struct session *session, const struct sky_msg_id 
 static void commit_state(struct render_context *ctx, struct session *session,
                          const struct sky_msg_id *id, struct sky_world_state *next)
 {
-    static char changed[128][SKY_MSG_POINTER_MAX];
-    size_t count = sky_msg_state_diff(&ctx->state, next, changed, 128);
+    enum { MAX_CHANGED = 192 };
+    static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
+    world_sim_settle(next);
+    size_t count = sky_msg_state_diff(&ctx->state, next, changed, MAX_CHANGED);
+    if (count > MAX_CHANGED)
+        count = MAX_CHANGED;
     if (count == 0) {
         reply(session, id, sky_msg_build_ack(id, ctx->state.revision, SKY_ROLE_NONE));
         return;
@@ -87,10 +96,11 @@ static void commit_state(struct render_context *ctx, struct session *session,
         ctx->atmosphere_pending = true;
     next->revision = ctx->state.revision + 1;
     ctx->state = *next;
+    ctx->atmosphere = after; /* a client's change is shown at once, not paced like the sim's */
     ctx->dirty = true;
     ctx->last_change_s = monotonic_seconds();
     reply(session, id, sky_msg_build_ack(id, ctx->state.revision, SKY_ROLE_NONE));
-    const char *pointers[128];
+    const char *pointers[MAX_CHANGED];
     for (size_t i = 0; i < count; i++)
         pointers[i] = changed[i];
     char *event = sky_msg_build_state_changed(ctx->state.revision, pointers, count);
@@ -108,40 +118,69 @@ static void handle_set(struct render_context *ctx, struct session *session,
         reply_field_errors(session, &msg->id, "/patch", &errors);
         return;
     }
+    sky_field_errors_clear(&errors);
+    if (!world_sim_check_client_patch(&ctx->state, &next, msg->set.patch, &errors)) {
+        reply_field_errors(session, &msg->id, "/patch", &errors);
+        return;
+    }
+    world_sim_client_changed(&ctx->state, &next);
     commit_state(ctx, session, &msg->id, &next);
 }
 
-static int list_presets(struct render_context *ctx, char names[][SKY_PRESET_NAME_MAX + 1],
-                        int max)
+static int list_presets(struct render_context *ctx, enum sky_preset_kind kind,
+                        char names[][SKY_PRESET_NAME_MAX + 1], int max)
 {
-    return sky_preset_list(ctx->config_dir, PRESET_KIND_ATMOSPHERE, names, max);
+    return sky_preset_list(ctx->config_dir, preset_folders[kind], names, max);
+}
+
+/* A weather preset: its weather parameters are reached through a transition (at once for
+ * transition_s 0 or absent), anything else it sets applies at once, and the autopilot stops
+ * (the preset names the weather wanted). A transition under way is replaced, starting from
+ * the weather as it stands. */
+static void start_weather_preset(const struct sky_world_state *live,
+                                 const struct sky_world_state *applied, double transition_s,
+                                 struct sky_world_state *next)
+{
+    struct sky_weather_params now, goal;
+    sky_weather_params_get(live, &now);
+    sky_weather_params_get(applied, &goal);
+    *next = *applied;
+    sky_weather_params_put(next, &now);
+    next->weather.autopilot = SKY_SWITCH_OFF;
+    world_sim_start_transition(next, &goal, transition_s);
 }
 
 static void handle_apply_preset(struct render_context *ctx, struct session *session,
                                 const struct sky_client_msg *msg)
 {
     static char names[SKY_MSG_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
-    int count = list_presets(ctx, names, SKY_MSG_MAX_PRESETS);
+    const char *folder = preset_folders[msg->preset.kind];
+    int count = list_presets(ctx, msg->preset.kind, names, SKY_MSG_MAX_PRESETS);
     bool known = false;
     for (int i = 0; i < count && !known; i++)
         known = strcmp(names[i], msg->preset.name) == 0;
     if (!known) {
         reply_error(session, &msg->id, SKY_MSG_ERR_NOT_FOUND,
-                    "no atmosphere preset \"%s\" (list_presets names them)", msg->preset.name);
+                    "no %s preset \"%s\" (list_presets names them)", folder, msg->preset.name);
         return;
     }
     struct sky_world_state next = ctx->state;
     struct sky_field_errors errors;
     char why[320];
     json_guard_lock();
-    bool applied = sky_preset_apply(ctx->config_dir, PRESET_KIND_ATMOSPHERE, msg->preset.name,
-                                    &next, &errors, why, sizeof why);
+    bool applied = sky_preset_apply(ctx->config_dir, folder, msg->preset.name, &next, &errors,
+                                    why, sizeof why);
     json_guard_unlock();
     if (!applied) {
         fprintf(stderr, "skyd: preset %s: %s\n", msg->preset.name, why);
         reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "preset \"%s\" cannot be applied: %s",
                     msg->preset.name, why);
         return;
+    }
+    if (msg->preset.kind == SKY_PRESET_WEATHER) {
+        struct sky_world_state applied = next;
+        start_weather_preset(&ctx->state, &applied,
+                             msg->preset.has_transition ? msg->preset.transition_s : 0.0, &next);
     }
     commit_state(ctx, session, &msg->id, &next);
 }
@@ -150,7 +189,7 @@ static void handle_list_presets(struct render_context *ctx, struct session *sess
                                 const struct sky_client_msg *msg)
 {
     static char names[SKY_MSG_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
-    int count = list_presets(ctx, names, SKY_MSG_MAX_PRESETS);
+    int count = list_presets(ctx, msg->preset.kind, names, SKY_MSG_MAX_PRESETS);
     if (count < 0) {
         reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "the preset folder cannot be read");
         return;
@@ -296,7 +335,8 @@ static void handle_stats(struct render_context *ctx, struct session *session,
                                    .pass_count = pass_count,
                                    .lut_rebuild_progress = ctx->has_stats
                                                                ? ctx->last_stats.lut_rebuild_progress
-                                                               : 1.0 };
+                                                               : 1.0,
+                                   .simulation_time_s = ctx->state.clock.utc_unix_s };
     reply(session, &msg->id, sky_msg_build_stats(&msg->id, &stats));
 }
 

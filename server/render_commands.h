@@ -51,6 +51,13 @@ struct render_context {
     double fps; /* frames rendered per second over the last second */
     uint64_t settled_revision; /* the newest revision frames fully show */
     bool atmosphere_pending;   /* the atmosphere changed and frames do not show it fully yet */
+    /* World simulation: the atmosphere frames are asked to show (a client's change at once,
+     * the simulation's haze when the last change has settled), the last tick, and whether the
+     * simulation changed the state since it was last written. */
+    struct sky_render_atmosphere atmosphere;
+    double last_tick_s;
+    bool sim_dirty;
+    double last_save_s;
 };
 
 void render_commands_handle(struct render_context *ctx, struct session *session,

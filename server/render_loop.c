@@ -12,7 +12,11 @@
 #include "sky_renderer.h"
 #include "state_store.h"
 #include "world_render.h"
+#include "world_sim.h"
 #include "monotonic_clock.h"
+
+/* While only the simulation changes the state, it is written at most this often. */
+static const double SIM_SAVE_PERIOD_S = 30.0;
 
 enum command_kind { COMMAND_MESSAGE, COMMAND_REPLY, COMMAND_SESSION_CLOSED };
 
@@ -184,8 +188,7 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     struct render_context *ctx = &loop->ctx;
     size_t bytes = (size_t)g->view.width * g->view.height * 4;
     uint8_t *rgba = malloc(bytes);
-    struct sky_render_atmosphere atm;
-    world_to_render_atmosphere(&ctx->state, &atm);
+    struct sky_render_atmosphere atm = ctx->atmosphere;
     struct sky_render_stats stats;
     if (!rgba || sky_renderer_render(ctx->renderer, &atm, &g->view, rgba, bytes, &stats) != 0) {
         fprintf(stderr, "skyd: rendering a %ux%u frame failed\n", g->view.width, g->view.height);
@@ -198,7 +201,7 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     /* While an atmosphere change is still being rebuilt, a frame shows the state of the last
      * revision whose atmosphere was on screen: a client waiting for its revision then knows
      * its change is visible when a frame carries it. */
-    if (stats.atmosphere_settled) {
+    if (stats.atmosphere_settled || !ctx->atmosphere_pending) {
         ctx->settled_revision = ctx->state.revision;
         ctx->atmosphere_pending = false;
     }
@@ -207,7 +210,7 @@ static void render_group(struct render_loop *loop, struct render_group *g)
         .rgba = rgba,
         .meta = { .render_sequence = ++ctx->render_sequence,
                   .state_revision = ctx->settled_revision,
-                  .simulation_time_s = monotonic_seconds() - ctx->start_time_s,
+                  .simulation_time_s = ctx->state.clock.utc_unix_s,
                   .width = g->view.width,
                   .height = g->view.height },
         .targets = g->targets,
@@ -265,8 +268,7 @@ static void settle_atmosphere_if_unwatched(struct render_context *ctx)
 {
     if (!ctx->atmosphere_pending || ctx->subscription_count > 0)
         return;
-    struct sky_render_atmosphere atm;
-    world_to_render_atmosphere(&ctx->state, &atm);
+    struct sky_render_atmosphere atm = ctx->atmosphere;
     if (sky_renderer_rebuild_atmosphere(ctx->renderer, &atm, NULL) == 0) {
         ctx->atmosphere_pending = false;
         ctx->settled_revision = ctx->state.revision;
@@ -337,15 +339,45 @@ static double render_due(struct render_loop *loop, double now)
     return next_wake;
 }
 
+/* ---- the world simulation ---- */
+
+/* Advances the world by the real time since the last tick times clock.time_scale. The
+ * revision stays: it counts accepted client changes. A haze change the simulation makes is
+ * handed to the renderer once the previous one has settled, so a humidity that changes every
+ * tick cannot keep restarting the amortized LUT rebuild; with nobody watching it is rebuilt
+ * at once. */
+static void simulate(struct render_context *ctx, double now)
+{
+    double real_dt = now - ctx->last_tick_s;
+    ctx->last_tick_s = now;
+    struct sky_world_state before;
+    memcpy(&before, &ctx->state, sizeof before);
+    world_sim_advance(&ctx->state, world_sim_scaled_dt(&ctx->state, real_dt));
+    if (memcmp(&before, &ctx->state, sizeof before) != 0)
+        ctx->sim_dirty = true;
+    struct sky_render_atmosphere fresh;
+    world_to_render_atmosphere(&ctx->state, &fresh);
+    if (memcmp(&fresh, &ctx->atmosphere, sizeof fresh) == 0 || ctx->atmosphere_pending)
+        return;
+    if (ctx->subscription_count == 0) {
+        if (sky_renderer_rebuild_atmosphere(ctx->renderer, &fresh, NULL) == 0)
+            ctx->atmosphere = fresh;
+    } else if (!ctx->has_stats || ctx->last_stats.atmosphere_settled) {
+        ctx->atmosphere = fresh;
+    }
+}
+
 /* ---- persistence and statistics ---- */
 
 static void save_state(struct render_context *ctx)
 {
-    if (!ctx->state_file[0] || !ctx->dirty)
+    if (!ctx->state_file[0] || !(ctx->dirty || ctx->sim_dirty))
         return;
     char err[512];
+    ctx->last_save_s = monotonic_seconds();
     if (state_store_save(ctx->state_file, &ctx->state, err, sizeof err) == 0) {
         ctx->dirty = false;
+        ctx->sim_dirty = false;
     } else {
         fprintf(stderr, "skyd: cannot save the state: %s\n", err);
         ctx->last_change_s = monotonic_seconds(); /* try again after another delay */
@@ -403,6 +435,8 @@ static void *thread_main(void *arg)
         bool stopping = loop->stopping;
         pthread_mutex_unlock(&loop->lock);
 
+        simulate(ctx, monotonic_seconds());
+
         /* The tick: every queued command in arrival order, then the frames that are due. */
         bool replied = commands != NULL;
         while (commands) {
@@ -424,6 +458,8 @@ static void *thread_main(void *arg)
                 save_state(ctx);
             else
                 wake_at = fmin(wake_at, save_at);
+        } else if (ctx->sim_dirty && now - ctx->last_save_s >= SIM_SAVE_PERIOD_S) {
+            save_state(ctx);
         }
     }
     save_state(ctx);
@@ -445,8 +481,11 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     ctx->config_dir = params->config_dir;
     snprintf(ctx->state_file, sizeof ctx->state_file, "%s", params->state_file);
     ctx->state = params->initial_state;
+    world_sim_settle(&ctx->state); /* sun and moon at the restored clock */
+    world_to_render_atmosphere(&ctx->state, &ctx->atmosphere);
     ctx->hub = params->hub;
     ctx->start_time_s = monotonic_seconds();
+    ctx->last_tick_s = ctx->last_save_s = ctx->start_time_s;
     loop->fps_window_start = ctx->start_time_s;
     pthread_mutex_init(&loop->lock, NULL);
     pthread_condattr_t attr;
@@ -474,8 +513,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         return NULL;
     }
     /* Builds the LUTs before the first client arrives. */
-    struct sky_render_atmosphere atm;
-    world_to_render_atmosphere(&ctx->state, &atm);
+    struct sky_render_atmosphere atm = ctx->atmosphere;
     struct sky_render_stats stats;
     if (sky_renderer_rebuild_atmosphere(ctx->renderer, &atm, &stats) != 0) {
         snprintf(err, errlen, "building the atmosphere LUTs failed");

@@ -1,5 +1,6 @@
 #include "world_render.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "sky_shared.h"
@@ -7,6 +8,26 @@
 static void copy3(double dst[3], const double src[3])
 {
     memcpy(dst, src, 3 * sizeof(double));
+}
+
+/* Hygroscopic growth of the aerosol: its scattering grows as f(RH) = (1 - RH)^-gamma (Hanel
+ * 1976), normalised to 1 at the default humidity, so the stored atmosphere.mie.* are the
+ * values at WORLD_HAZE_REFERENCE_HUMIDITY. Water uptake adds scattering, not absorption: the
+ * single-scattering albedo rises toward 1 as the air gets moister. */
+double world_haze_growth_factor(double humidity)
+{
+    double rh = fmin(fmax(humidity, 0.0), WORLD_HAZE_MAX_HUMIDITY);
+    return pow((1.0 - rh) / (1.0 - WORLD_HAZE_REFERENCE_HUMIDITY), -WORLD_HAZE_GAMMA);
+}
+
+/* Mist and fog near saturation: grey extinction from 0 at WORLD_FOG_ONSET_HUMIDITY to
+ * 3.912 /km at saturation, a 1 km visibility by Koschmieder's V = 3.912 / sigma (fog's
+ * definition). */
+double world_humidity_fog_per_km(double humidity)
+{
+    double t = fmin(fmax((humidity - WORLD_FOG_ONSET_HUMIDITY) /
+                         (1.0 - WORLD_FOG_ONSET_HUMIDITY), 0.0), 1.0);
+    return 3.912 * t * t * (3.0 - 2.0 * t);
 }
 
 void world_to_render_atmosphere(const struct sky_world_state *state,
@@ -18,7 +39,9 @@ void world_to_render_atmosphere(const struct sky_world_state *state,
     out->top_radius_km = a->top_radius_km;
     copy3(out->rayleigh_scattering, a->rayleigh_scattering_per_km);
     out->rayleigh_scale_height_km = a->rayleigh_scale_height_km;
-    copy3(out->mie_scattering, a->mie_scattering_per_km);
+    double growth = world_haze_growth_factor(state->weather.humidity);
+    for (int i = 0; i < 3; i++)
+        out->mie_scattering[i] = a->mie_scattering_per_km[i] * growth; /* Hanel f(RH) */
     copy3(out->mie_absorption, a->mie_absorption_per_km);
     out->mie_scale_height_km = a->mie_scale_height_km;
     copy3(out->mie_g, a->mie_g);
@@ -26,7 +49,7 @@ void world_to_render_atmosphere(const struct sky_world_state *state,
     out->ozone_peak_km = a->ozone_peak_altitude_km;
     out->ozone_width_km = a->ozone_width_km;
     copy3(out->ground_albedo, a->ground_albedo);
-    out->fog_density_per_km = a->fog_density_per_km;
+    out->fog_density_per_km = a->fog_density_per_km + world_humidity_fog_per_km(state->weather.humidity);
     out->fog_scale_height_km = a->fog_scale_height_km;
 }
 

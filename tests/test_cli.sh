@@ -144,5 +144,46 @@ expect_error "moon bad time" 2 '--time: "2026-06-21T12:00": missing time zone' \
 expect_error "sun unknown option" 2 'unknown option "--preset"' \
   "$skyd" probe sun --time 2026-06-21T12:00Z --lat 10 --lon 0 --preset earth
 
+# World simulation offline: --time/--lat/--lon put the sun where the ephemeris says (noon is
+# brighter than midnight at a fixed exposure), and a time-lapse advances the clock and a
+# weather transition between frames.
+mean_png() {
+  /usr/bin/python3 - "$1" <<'PY'
+import struct, sys, zlib
+data = open(sys.argv[1], "rb").read()
+pos, idat = 8, b""
+while pos < len(data):
+    length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+    if kind == b"IDAT":
+        idat += data[pos + 8:pos + 8 + length]
+    pos += 12 + length
+raw = zlib.decompress(idat)
+print(sum(raw) / len(raw))
+PY
+}
+fixed=(--set exposure.mode=manual --set exposure.ev100=12 --width 48 --height 32)
+expect_ok "render --time noon" "$out/noon.png" \
+  "$skyd" render "${fixed[@]}" --time 2026-06-21T11:30:00Z --lat 45 --lon 6 --out "$out/noon.png" --validation
+expect_ok "render --time midnight" "$out/midnight.png" \
+  "$skyd" render "${fixed[@]}" --time 2026-06-21T23:30:00Z --lat 45 --lon 6 --out "$out/midnight.png"
+day=$(mean_png "$out/noon.png"); night=$(mean_png "$out/midnight.png")
+if awk -v d="$day" -v n="$night" 'BEGIN { exit !(d > 5 && d > 20 * n) }'; then pass
+else fail "noon mean $day should be far above midnight mean $night"; fi
+expect_ok "time-lapse" "$out/lapse-00\.png
+$out/lapse-01\.png
+$out/lapse-02\.png" \
+  "$skyd" render --width 32 --height 16 --time 2026-06-21T03:00:00Z --lat 45 --lon 6 \
+  --weather clear --frames 3 --step-s 10800 --weather-to storm --out "$out/lapse-%02d.png"
+if grep -q "sun at -7" "$out/stderr.txt" && grep -q "sun at 2[0-9]\." "$out/stderr.txt"; then pass
+else fail "time-lapse: the sun did not rise over the frames: $(cat "$out/stderr.txt")"; fi
+expect_error "lapse without %d" 2 'needs one %d' \
+  "$skyd" render --width 8 --height 8 --frames 2 --out "$out/x.png"
+expect_error "transition without target" 2 '--transition-s needs --weather-to' \
+  "$skyd" render --width 8 --height 8 --transition-s 60 --out "$out/x.png"
+expect_error "render bad time" 2 '/clock/utc' \
+  "$skyd" render --width 8 --height 8 --time 2026-13-01T00:00Z --lat 1 --lon 1 --out "$out/x.png"
+expect_error "unknown weather" 2 'no weather preset named "hail"' \
+  "$skyd" render --width 8 --height 8 --weather hail --out "$out/x.png"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -2,7 +2,9 @@
  * input reported by JSON Pointer with a stable code, the defaults left in place. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "check.h"
@@ -41,6 +43,13 @@ int main(int argc, char **argv)
     CHECK(skyd_config_load(shipped, &c, &errors, msg, sizeof msg));
     CHECK(strcmp(c.listen_address, "127.0.0.1") == 0 && c.listen_port == 8080);
     CHECK(c.max_clients == 64 && c.max_message_bytes == 65536 && c.origin_count == 2);
+    /* The shipped daemon starts on the current UTC time, the sun and moon from the ephemeris. */
+    CHECK(c.initial_state.clock.sky_bodies == SKY_BODIES_EPHEMERIS);
+    CHECK(c.initial_state.clock.time_scale == 1);
+    CHECK(fabs(c.initial_state.clock.utc_unix_s - (double)time(NULL)) < 5);
+    CHECK(memcmp(&defaults.initial_state.atmosphere, &c.initial_state.atmosphere,
+                 sizeof c.initial_state.atmosphere) == 0);
+    CHECK(defaults.initial_state.clock.sky_bodies == SKY_BODIES_MANUAL);
 
     const char *partial = write_temp("partial.json",
                                      "{\"listen\":{\"port\":0},\"render\":{\"device\":\"cpu\"},"
@@ -63,6 +72,11 @@ int main(int argc, char **argv)
         { "{\"allowed_origins\":\"*\"}", "/allowed_origins", SKY_FIELD_WRONG_TYPE },
         { "{\"allowed_origins\":[1]}", "/allowed_origins/0", SKY_FIELD_WRONG_TYPE },
         { "[]", "", SKY_FIELD_WRONG_TYPE },
+        { "{\"initial_state\":{\"clock\":{\"time_scale\":-1}}}", "/initial_state/clock/time_scale",
+          SKY_FIELD_OUT_OF_RANGE },
+        { "{\"initial_state\":{\"clock\":{\"utc\":\"yesterday\"}}}", "/initial_state/clock/utc",
+          SKY_FIELD_BAD_VALUE },
+        { "{\"initial_state\":3}", "/initial_state", SKY_FIELD_WRONG_TYPE },
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const char *path = write_temp("bad.json", cases[i].text);

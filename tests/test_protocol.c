@@ -118,6 +118,10 @@ static const struct {
     {"{\"type\":\"list_presets\",\"id\":11,\"kind\":\"atmosphere\"}", SKY_MSG_LIST_PRESETS},
     {"{\"type\":\"apply_preset\",\"id\":12,\"kind\":\"atmosphere\",\"name\":\"mars\"}",
      SKY_MSG_APPLY_PRESET},
+    {"{\"type\":\"list_presets\",\"id\":14,\"kind\":\"weather\"}", SKY_MSG_LIST_PRESETS},
+    {"{\"type\":\"apply_preset\",\"id\":15,\"kind\":\"weather\",\"name\":\"storm\","
+     "\"transition_s\":1200}",
+     SKY_MSG_APPLY_PRESET},
     {"{\"type\":\"stats\",\"id\":13}", SKY_MSG_STATS},
 };
 
@@ -196,7 +200,7 @@ static size_t build_server_examples(char **out, size_t max)
     ADD(sky_msg_build_probe_result(&id10, &e));
     const struct sky_msg_pass_time passes[] = {
         {"skyview", 0.42}, {"aerial_perspective", 0.31}, {"composite", 1.9}, {"sun_disk", 0.05}};
-    struct sky_msg_stats stats = {29.8, 3, passes, COUNT_OF(passes), 1};
+    struct sky_msg_stats stats = {29.8, 3, passes, COUNT_OF(passes), 1, 1782043200};
     ADD(sky_msg_build_stats(&id13, &stats));
 #undef ADD
     return n;
@@ -407,7 +411,15 @@ static const struct parse_case parse_cases[] = {
         OUT_OF_RANGE, "/sun_zenith_deg"),
 
     BAD("list_presets no kind", "{\"type\":\"list_presets\"}", MISSING_FIELD, "/kind"),
-    BAD("list_presets kind", "{\"type\":\"list_presets\",\"kind\":\"weather\"}", BAD_VALUE, "/kind"),
+    BAD("list_presets kind", "{\"type\":\"list_presets\",\"kind\":\"climate\"}", BAD_VALUE, "/kind"),
+    BAD("transition_s negative", "{\"type\":\"apply_preset\",\"kind\":\"weather\",\"name\":"
+        "\"storm\",\"transition_s\":-1}", OUT_OF_RANGE, "/transition_s"),
+    BAD("transition_s too long", "{\"type\":\"apply_preset\",\"kind\":\"weather\",\"name\":"
+        "\"storm\",\"transition_s\":604801}", OUT_OF_RANGE, "/transition_s"),
+    BAD("transition_s text", "{\"type\":\"apply_preset\",\"kind\":\"weather\",\"name\":"
+        "\"storm\",\"transition_s\":\"20 min\"}", WRONG_TYPE, "/transition_s"),
+    BAD("transition_s of an atmosphere", "{\"type\":\"apply_preset\",\"kind\":\"atmosphere\","
+        "\"name\":\"mars\",\"transition_s\":60}", BAD_VALUE, "/transition_s"),
     BAD("list_presets kind number", "{\"type\":\"list_presets\",\"kind\":1}", WRONG_TYPE, "/kind"),
     BAD("list_presets name", "{\"type\":\"list_presets\",\"kind\":\"atmosphere\",\"name\":\"x\"}",
         UNKNOWN_FIELD, "/name"),
@@ -683,6 +695,12 @@ static void test_parsed_values(void)
     CHECK_INT(parse(client_examples[11].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.preset.kind, SKY_PRESET_ATMOSPHERE);
     CHECK_STR(msg.preset.name, "mars");
+    CHECK(!msg.preset.has_transition);
+    CHECK_INT(parse(client_examples[13].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(msg.preset.kind, SKY_PRESET_WEATHER);
+    CHECK_STR(msg.preset.name, "storm");
+    CHECK(msg.preset.has_transition);
+    CHECK_DOUBLE(msg.preset.transition_s, 1200);
     CHECK_INT(parse(client_examples[5].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.unsubscribe.subscription, 1);
 
@@ -929,8 +947,9 @@ static void test_builders(void)
 
     current_case = "stats";
     struct sky_msg_pass_time passes[] = {{"skyview", 0.5}, {"composite", 1.25}};
-    struct sky_msg_stats stats = {30, 2, passes, 2, 0.5};
+    struct sky_msg_stats stats = {30, 2, passes, 2, 0.5, 1782043200.25};
     json = parse_built(sky_msg_build_stats(NULL, &stats), "stats");
+    CHECK_DOUBLE(number_at(json, "simulation_time_s"), 1782043200.25);
     CHECK_DOUBLE(number_at(json, "fps"), 30);
     CHECK_DOUBLE(number_at(json, "clients"), 2);
     CHECK_DOUBLE(number_at(get(json, "passes"), "composite"), 1.25);
@@ -941,6 +960,9 @@ static void test_builders(void)
     stats.lut_rebuild_progress = NAN;
     CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
     stats.lut_rebuild_progress = 1;
+    stats.simulation_time_s = INFINITY;
+    CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
+    stats.simulation_time_s = 0;
     passes[1].name = "skyview";
     CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
     passes[1].name = "composite";

@@ -101,6 +101,7 @@ async def t_set_and_event(d, ctl, viewer):
     before = dict(st)
     other.pop("sun", None)
     before.pop("sun", None)
+    other, before = stable(other), stable(before)
     check("set: nothing else changed", approx_equal(other, before), json_diff(before, other))
 
     e = await viewer.wait_event(lambda e: e.get("revision") == rev)
@@ -380,6 +381,7 @@ async def t_presets(d, ctl, viewer, repo_config_dir):
               atm.get("bottom_radius_km") == 3389.5, short(atm))
     o1 = {k: v for k, v in after.get("state", {}).items() if k != "atmosphere"}
     o0 = {k: v for k, v in before.get("state", {}).items() if k != "atmosphere"}
+    o0, o1 = stable(o0), stable(o1)
     check("apply_preset mars: only /atmosphere changed", approx_equal(o0, o1), json_diff(o0, o1))
     if ok:
         check("apply_preset: get_state revision equals the ack's",
@@ -677,8 +679,9 @@ async def t_sigterm_restart(d, ctl):
         s = await c.get_state()
         check("restart: revision restored", s.get("revision") == saved.get("revision"),
               f"before {saved.get('revision')}, after {s.get('revision')}")
-        check("restart: state restored", approx_equal(s.get("state"), saved.get("state")),
-              json_diff(saved.get("state"), s.get("state")))
+        check("restart: state restored",
+              approx_equal(stable(s.get("state")), stable(saved.get("state"))),
+              json_diff(stable(saved.get("state")), stable(s.get("state"))))
         # The restored revision keeps counting up.
         await c.request({"type": "auth", "id": 1, "token": TOKEN})
         r = await c.request({"type": "set", "id": 2, "patch": {"sun": {"azimuth_deg": 78}}})
@@ -820,6 +823,92 @@ def t_bad_config(skyd, scratch):
           repr(p.stderr[-300:]))
 
 
+def utc_seconds(text):
+    """ISO 8601 UTC text of clock.utc to seconds since 1970."""
+    import datetime
+    return datetime.datetime.fromisoformat(text.replace("Z", "+00:00")).timestamp()
+
+
+async def wait_state(ctl, pred, timeout):
+    """Polls get_state until pred(state tree) holds; the last state either way."""
+    deadline = time.monotonic() + timeout
+    while True:
+        s = (await ctl.get_state()).get("state", {})
+        if pred(s) or time.monotonic() > deadline:
+            return s
+        await asyncio.sleep(0.1)
+
+
+async def t_world_sim(ctl, repo_config_dir):
+    """The daemon's clock runs at clock.time_scale, the ephemeris moves the sun, a weather
+    transition progresses to the preset, and the simulation's rules for set hold."""
+    r = await ctl.request({"type": "set", "id": "w1", "patch": {
+        "clock": {"utc": "2026-03-20T06:00:00Z", "time_scale": 3600, "sky_bodies": "ephemeris"},
+        "location": {"latitude_deg": 0, "longitude_deg": 0}}})
+    check("world: set clock ack", r.get("type") == "ack", short(r))
+    rev = r.get("revision")
+    t_real = time.monotonic()
+    s0 = (await ctl.get_state()).get("state", {})
+    s1 = await wait_state(ctl, lambda s: utc_seconds(s["clock"]["utc"])
+                          - utc_seconds(s0["clock"]["utc"]) > 1800, 5)
+    real = time.monotonic() - t_real
+    sim = utc_seconds(s1["clock"]["utc"]) - utc_seconds(s0["clock"]["utc"])
+    check("world: clock advances at time_scale 3600", 1800 < sim <= 3600 * (real + 0.5),
+          f"{sim:.0f} simulated s in {real:.2f} real s")
+    check("world: the ephemeris raises the equinox sun after 06:00 at the equator",
+          s1["sun"]["elevation_deg"] > s0["sun"]["elevation_deg"] + 5,
+          f"{s0['sun']['elevation_deg']} -> {s1['sun']['elevation_deg']}")
+    now = await ctl.get_state()
+    check("world: the simulation does not bump the revision", now.get("revision") == rev,
+          f"ack {rev}, now {now.get('revision')}")
+    st = await ctl.request({"type": "stats", "id": "wst"})
+    check("world: stats carry the simulated clock",
+          abs(st.get("simulation_time_s", 0) - utc_seconds(now["state"]["clock"]["utc"])) < 7200,
+          short(st))
+
+    await bad_input("set a sun angle in ephemeris mode", ctl,
+                    {"type": "set", "id": "w2", "patch": {"sun": {"elevation_deg": 5}}},
+                    "inconsistent", "/patch/sun/elevation_deg", "w2")
+    await bad_input("set a read-only transition field", ctl,
+                    {"type": "set", "id": "w3",
+                     "patch": {"weather": {"transition": {"progress": 0.5}}}},
+                    "bad_value", "/patch/weather/transition/progress", "w3")
+    await bad_input("unknown weather preset", ctl,
+                    {"type": "apply_preset", "id": "w4", "kind": "weather", "name": "hail"},
+                    "not_found", None, "w4")
+    await bad_input("transition_s out of range", ctl,
+                    {"type": "apply_preset", "id": "w5", "kind": "weather", "name": "storm",
+                     "transition_s": -5}, "out_of_range", "/transition_s", "w5")
+
+    r = await ctl.request({"type": "list_presets", "id": "w6", "kind": "weather"})
+    check("world: weather presets listed", r.get("names") == sorted(
+        ["broken", "clear", "fair_cumulus", "overcast", "scattered", "storm"]), short(r))
+    r = await ctl.request({"type": "set", "id": "w7", "patch": {"clock": {"time_scale": 600}}})
+    r = await ctl.request({"type": "apply_preset", "id": "w8", "kind": "weather",
+                           "name": "clear"})
+    r = await ctl.request({"type": "apply_preset", "id": "w9", "kind": "weather",
+                           "name": "storm", "transition_s": 1200})
+    check("world: apply_preset storm with transition_s: ack", r.get("type") == "ack", short(r))
+    s = (await ctl.get_state()).get("state", {})
+    tr = s.get("weather", {}).get("transition", {})
+    check("world: the transition is under way", tr.get("duration_s") == 1200
+          and 0 <= tr.get("progress", -1) < 1 and s["clouds"]["low"]["coverage"] < 0.85, short(tr))
+    with open(os.path.join(repo_config_dir, "weather", "storm.json")) as f:
+        storm = json.load(f)
+    mid = await wait_state(ctl, lambda s: 0.2 < s["weather"]["transition"]["progress"] < 0.8, 5)
+    done = await wait_state(ctl, lambda s: s["weather"]["transition"]["progress"] == 1, 8)
+    check("world: the transition passes its middle",
+          0 < mid["clouds"]["low"]["coverage"] < 0.85, short(mid["clouds"]["low"]))
+    check("world: the transition ends exactly at the preset",
+          done["weather"]["transition"]["progress"] == 1
+          and all(done["clouds"][k] == storm["clouds"][k] for k in storm["clouds"])
+          and done["weather"]["humidity"] == storm["weather"]["humidity"],
+          short(done["clouds"]))
+    r = await ctl.request({"type": "set", "id": "w10", "patch": {
+        "clock": {"time_scale": 1, "sky_bodies": "manual"}, "sun": {"elevation_deg": 45}}})
+    check("world: back to manual", r.get("type") == "ack", short(r))
+
+
 async def main_checks(d, repo_config_dir):
     """Everything on the main daemon; returns the default state it started with."""
     ctl = await Client.connect(d.url(), "controller")
@@ -843,6 +932,7 @@ async def main_checks(d, repo_config_dir):
     await section("probe", t_probe(ctl), both)
     await section("presets", t_presets(d, ctl, viewer, repo_config_dir), both)
     await section("stats", t_stats(ctl, 2), both)
+    await section("world simulation", t_world_sim(ctl, repo_config_dir), both)
     await section("origin", t_origin(d), both)
     await section("http", t_http(d), both)
     await section("slow reader", t_slow_reader(d), both)
@@ -910,8 +1000,8 @@ async def run(skyd, scratch):
                 c = await Client.connect(d2.url(), "defaults")
                 s = await c.get_state()
                 check("corrupt state file: starts from defaults",
-                      approx_equal(s.get("state"), defaults.get("state")),
-                      json_diff(defaults.get("state"), s.get("state")))
+                      approx_equal(stable(s.get("state")), stable(defaults.get("state"))),
+                      json_diff(stable(defaults.get("state")), stable(s.get("state"))))
                 await c.close()
             await asyncio.sleep(0.3)
             await section("rate limit", t_rate_limit(d2))

@@ -1,0 +1,497 @@
+/* The world simulation without a renderer: clock and time scale, ephemeris-driven sun and
+ * moon, wind advection, weather transitions, the autopilot's determinism and physics, the
+ * rules of a client `set`, the weather presets and the humidity-driven haze. argv[1] is the
+ * config directory. */
+#include "check.h"
+#include "ephemeris.h"
+#include "presets.h"
+#include "weather_autopilot.h"
+#include "world_render.h"
+#include "world_sim.h"
+#include "world_state.h"
+
+#include <cjson/cJSON.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *config_dir = "config";
+
+static const char *const weather_preset_names[] = {
+    "clear", "fair_cumulus", "scattered", "broken", "overcast", "storm",
+};
+#define PRESET_COUNT (sizeof weather_preset_names / sizeof weather_preset_names[0])
+
+static double utc(const char *iso)
+{
+    double t = 0;
+    char err[160];
+    if (!sky_time_parse_iso8601(iso, &t, err, sizeof err))
+        printf("bad time %s: %s\n", iso, err);
+    return t;
+}
+
+static void load_preset(const char *name, struct sky_world_state *state)
+{
+    char msg[512];
+    struct sky_field_errors errors;
+    bool ok = sky_preset_apply(config_dir, "weather", name, state, &errors, msg, sizeof msg);
+    if (!ok)
+        printf("preset %s: %s\n", name, msg);
+    CHECK(ok);
+}
+
+static char *state_text(const struct sky_world_state *state)
+{
+    cJSON *json = sky_world_state_to_json(state);
+    char *text = cJSON_PrintUnformatted(json);
+    cJSON_Delete(json);
+    return text;
+}
+
+static void test_clock(void)
+{
+    struct sky_world_state s;
+    sky_world_state_defaults(&s);
+    double t0 = s.clock.utc_unix_s;
+    CHECK_NEAR(world_sim_scaled_dt(&s, 2.0), 2.0, 0);
+    s.clock.time_scale = 600;
+    CHECK_NEAR(world_sim_scaled_dt(&s, 0.5), 300.0, 0);
+    world_sim_advance(&s, world_sim_scaled_dt(&s, 0.5));
+    CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 1e-6);
+    s.clock.time_scale = 0; /* paused */
+    world_sim_advance(&s, world_sim_scaled_dt(&s, 10.0));
+    CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 1e-6);
+    CHECK_NEAR(world_sim_scaled_dt(&s, -1.0), 0.0, 0);
+    /* The clock stops at the end of its range and the state stays valid. */
+    s.clock.utc_unix_s = utc("2100-12-31T23:00:00Z");
+    world_sim_advance(&s, 86400.0);
+    CHECK_NEAR(s.clock.utc_unix_s, utc("2100-12-31T23:59:59Z"), 1e-6);
+    CHECK(sky_world_state_validate(&s, NULL));
+    CHECK(s.revision == 0);
+}
+
+static void test_ephemeris_mode(void)
+{
+    struct sky_world_state s;
+    sky_world_state_defaults(&s);
+    /* Manual mode leaves the angles alone. */
+    world_sim_advance(&s, 3600.0);
+    CHECK_NEAR(s.sun.elevation_deg, 45.0, 0);
+    CHECK_NEAR(s.moon.azimuth_deg, 90.0, 0);
+
+    s.clock.sky_bodies = SKY_BODIES_EPHEMERIS;
+    s.location.latitude_deg = 48.85;
+    s.location.longitude_deg = 2.35;
+    s.location.altitude_m = 35;
+    s.clock.utc_unix_s = utc("2026-03-20T06:00:00Z");
+    struct sky_site site = { 48.85, 2.35, 35, SKY_SITE_PRESSURE_MBAR, SKY_SITE_TEMPERATURE_C };
+    double min_elevation = 90, max_elevation = -90;
+    for (int hour = 0; hour < 24; hour++) {
+        world_sim_advance(&s, 3600.0);
+        struct sky_body_position sun, moon;
+        sky_sun_position(s.clock.utc_unix_s, &site, true, &sun);
+        sky_moon_position(s.clock.utc_unix_s, &site, true, &moon, NULL, NULL);
+        CHECK_NEAR(s.sun.azimuth_deg, sun.azimuth_deg, 1e-9);
+        CHECK_NEAR(s.sun.elevation_deg, sun.elevation_deg, 1e-9);
+        CHECK_NEAR(s.moon.azimuth_deg, moon.azimuth_deg, 1e-9);
+        CHECK_NEAR(s.moon.elevation_deg, moon.elevation_deg, 1e-9);
+        min_elevation = fmin(min_elevation, s.sun.elevation_deg);
+        max_elevation = fmax(max_elevation, s.sun.elevation_deg);
+        CHECK(sky_world_state_validate(&s, NULL));
+    }
+    /* Equinox in Paris: noon sun near 90 - 48.85, night below -30. */
+    CHECK_NEAR(max_elevation, 41.1, 1.0);
+    CHECK(min_elevation < -30);
+    /* Settling a set clock moves the bodies at once. */
+    s.clock.utc_unix_s = utc("2026-03-20T12:00:00Z");
+    world_sim_settle(&s);
+    CHECK(s.sun.elevation_deg > 38);
+    CHECK(fabs(s.sun.azimuth_deg - 180.0) < 10);
+}
+
+static void test_wind(void)
+{
+    struct sky_world_state s;
+    sky_world_state_defaults(&s);
+    s.weather.wind.speed_m_s = 10;
+    s.weather.wind.direction_deg = 270; /* a westerly blows toward the east */
+    world_sim_advance(&s, 600);
+    CHECK_NEAR(s.weather.offset_east_km, 6.0, 1e-9);
+    CHECK_NEAR(s.weather.offset_north_km, 0.0, 1e-9);
+    s.weather.wind.direction_deg = 0; /* a northerly blows south */
+    s.weather.wind.speed_m_s = 5;
+    world_sim_advance(&s, 3600);
+    CHECK_NEAR(s.weather.offset_north_km, -18.0, 1e-9);
+    CHECK_NEAR(s.weather.offset_east_km, 6.0, 1e-9);
+    /* Many small steps give the same distance. */
+    for (int i = 0; i < 1000; i++)
+        world_sim_advance(&s, 0.036);
+    CHECK_NEAR(s.weather.offset_north_km, -18.18, 1e-6);
+    /* Far travel wraps inside the field's range. */
+    s.weather.offset_east_km = 999999.0;
+    s.weather.wind.direction_deg = 270;
+    s.weather.wind.speed_m_s = 100;
+    world_sim_advance(&s, 100);
+    CHECK_NEAR(s.weather.offset_east_km, -999991.0, 1e-3);
+    CHECK(sky_world_state_validate(&s, NULL));
+}
+
+static void params_of(const struct sky_world_state *s, double out[14])
+{
+    struct sky_weather_params p;
+    sky_weather_params_get(s, &p);
+    memcpy(out, &p, sizeof p);
+}
+
+static void test_transition(void)
+{
+    struct sky_world_state s;
+    sky_world_state_defaults(&s);
+    load_preset("clear", &s);
+    struct sky_world_state target = s;
+    load_preset("storm", &target);
+    struct sky_weather_params goal;
+    sky_weather_params_get(&target, &goal);
+    double start[14], end[14], previous[14], now[14];
+    params_of(&s, start);
+    memcpy(end, &goal, sizeof end);
+
+    world_sim_start_transition(&s, &goal, 1200);
+    CHECK(world_sim_transition_active(&s));
+    CHECK_NEAR(s.weather.transition.progress, 0, 0);
+    memcpy(previous, start, sizeof previous);
+    int violations = 0;
+    for (int i = 0; i < 1250; i++) {
+        world_sim_advance(&s, 1.0);
+        params_of(&s, now);
+        for (int k = 0; k < 14; k++) {
+            double step = now[k] - previous[k];
+            double way = end[k] - start[k];
+            if (k == 13) { /* direction: along the shorter arc, 300 -> 250 goes down */
+                step = fmod(step + 540.0, 360.0) - 180.0;
+                way = fmod(way + 540.0, 360.0) - 180.0;
+            }
+            if (step * way < -1e-12 || (way == 0 && fabs(step) > 0))
+                violations++;
+        }
+        memcpy(previous, now, sizeof previous);
+        if (i == 599) { /* halfway in time is halfway in value (smoothstep(0.5) = 0.5) */
+            CHECK_NEAR(s.weather.transition.progress, 0.5, 1e-9);
+            CHECK_NEAR(s.clouds.low.coverage, 0.5 * (start[0] + end[0]), 1e-9);
+            CHECK_NEAR(s.weather.humidity, 0.5 * (start[11] + end[11]), 1e-9);
+            CHECK_NEAR(s.weather.wind.direction_deg, 275.0, 1e-9);
+        }
+        if (i == 1198)
+            CHECK(world_sim_transition_active(&s));
+    }
+    CHECK(violations == 0);
+    CHECK(!world_sim_transition_active(&s));
+    CHECK_NEAR(s.weather.transition.progress, 1.0, 0);
+    params_of(&s, now);
+    CHECK(memcmp(now, end, sizeof now) == 0); /* exactly the preset at the end */
+    CHECK(sky_world_state_validate(&s, NULL));
+
+    /* A zero-length transition applies at once. */
+    load_preset("clear", &target);
+    sky_weather_params_get(&target, &goal);
+    world_sim_start_transition(&s, &goal, 0);
+    CHECK(!world_sim_transition_active(&s));
+    CHECK_NEAR(s.clouds.low.coverage, 0.0, 0);
+
+    /* A clock set past the end finishes it exactly. */
+    load_preset("overcast", &target);
+    sky_weather_params_get(&target, &goal);
+    world_sim_start_transition(&s, &goal, 3600);
+    world_sim_advance(&s, 60);
+    struct sky_world_state before = s;
+    s.clock.utc_unix_s += 7200;
+    world_sim_client_changed(&before, &s);
+    CHECK(!world_sim_transition_active(&s));
+    CHECK_NEAR(s.clouds.low.coverage, 1.0, 0);
+    CHECK_NEAR(s.clouds.low.bottom_km, 0.4, 0);
+}
+
+static void test_set_during_transition(void)
+{
+    struct sky_world_state s;
+    sky_world_state_defaults(&s);
+    load_preset("clear", &s);
+    struct sky_world_state target = s;
+    load_preset("broken", &target);
+    struct sky_weather_params goal;
+    sky_weather_params_get(&target, &goal);
+    world_sim_start_transition(&s, &goal, 1000);
+    world_sim_advance(&s, 250);
+    struct sky_world_state before = s;
+    s.clouds.low.density = 3.0; /* a client's set */
+    world_sim_client_changed(&before, &s);
+    world_sim_advance(&s, 500);
+    CHECK_NEAR(s.clouds.low.density, 3.0, 0); /* holds */
+    CHECK(s.clouds.low.coverage > 0.3 && s.clouds.low.coverage < 0.7); /* others go on */
+    world_sim_advance(&s, 500);
+    CHECK_NEAR(s.clouds.low.density, 3.0, 0);
+    CHECK_NEAR(s.clouds.low.coverage, 0.7, 0);
+}
+
+static void run_autopilot(int seed, double span_s, int steps, struct sky_world_state *out)
+{
+    sky_world_state_defaults(out);
+    out->clock.utc_unix_s = utc("2026-07-01T00:00:00Z");
+    out->weather.autopilot = SKY_SWITCH_ON;
+    out->weather.autopilot_seed = seed;
+    out->clock.sky_bodies = SKY_BODIES_EPHEMERIS;
+    for (int i = 0; i < steps; i++)
+        world_sim_advance(out, span_s / steps);
+}
+
+static void test_determinism(void)
+{
+    struct sky_world_state a, b, c, d;
+    run_autopilot(7, 600, 600, &a);
+    run_autopilot(7, 600, 600, &b);
+    char *ta = state_text(&a), *tb = state_text(&b);
+    CHECK(strcmp(ta, tb) == 0); /* same seed, same steps: identical */
+    free(tb);
+    run_autopilot(7, 600, 1, &c);
+    /* Step sizes: the weather is a function of time; the clock and wind offsets agree to
+     * rounding. */
+    CHECK_NEAR(c.clock.utc_unix_s, a.clock.utc_unix_s, 1e-5);
+    CHECK_NEAR(c.weather.offset_east_km, a.weather.offset_east_km, 1e-6);
+    CHECK_NEAR(c.weather.offset_north_km, a.weather.offset_north_km, 1e-6);
+    CHECK_NEAR(c.clouds.low.coverage, a.clouds.low.coverage, 1e-9);
+    CHECK_NEAR(c.weather.wind.direction_deg, a.weather.wind.direction_deg, 1e-7);
+    CHECK_NEAR(c.sun.elevation_deg, a.sun.elevation_deg, 1e-6);
+    /* A day in 1 s steps against 24 one-hour steps: the wind integration stays close. */
+    run_autopilot(11, 86400, 86400, &c);
+    run_autopilot(11, 86400, 24, &d);
+    CHECK_NEAR(c.weather.offset_east_km, d.weather.offset_east_km, 0.05);
+    CHECK_NEAR(c.weather.offset_north_km, d.weather.offset_north_km, 0.05);
+    CHECK_NEAR(c.weather.humidity, d.weather.humidity, 1e-9);
+    CHECK(fabs(c.weather.offset_east_km) + fabs(c.weather.offset_north_km) > 50);
+    /* Another seed, another weather. */
+    run_autopilot(8, 600, 600, &b);
+    tb = state_text(&b);
+    CHECK(strcmp(ta, tb) != 0);
+    free(ta);
+    free(tb);
+}
+
+static void test_autopilot_physics(void)
+{
+    double lon = 6.0;
+    double t0 = utc("2026-07-01T00:00:00Z");
+    /* Local solar time at 12:00 UTC, 6 E on July 1st: 12:24 mean, minus the equation of
+     * time's 3.7 minutes. */
+    CHECK_NEAR(weather_local_solar_hour(t0 + 12 * 3600.0, lon), 12.4 - 3.7 / 60.0, 0.02);
+    int seeds_with_cycle = 0;
+    double wet_min = 1, wet_max = 0;
+    double cover_min = 1, cover_max = 0;
+    for (int seed = 1; seed <= 8; seed++) {
+        double morning = 0, afternoon = 0, evening = 0;
+        for (int day = 0; day < 20; day++) {
+            double midnight = t0 + day * 86400.0 - lon / 15.0 * 3600.0;
+            morning += weather_autopilot_convection(seed, midnight + 8 * 3600.0, lon);
+            afternoon += weather_autopilot_convection(seed, midnight + 15 * 3600.0, lon);
+            evening += weather_autopilot_convection(seed, midnight + 21 * 3600.0, lon);
+            for (int hour = 0; hour < 24; hour += 3) {
+                double t = midnight + hour * 3600.0;
+                double w = weather_autopilot_wetness(seed, t);
+                wet_min = fmin(wet_min, w);
+                wet_max = fmax(wet_max, w);
+                struct sky_world_state s;
+                sky_world_state_defaults(&s);
+                struct sky_weather_params p;
+                weather_autopilot_sample(seed, t, lon, &p);
+                sky_weather_params_put(&s, &p);
+                CHECK(sky_world_state_validate(&s, NULL)); /* inside every range */
+                cover_min = fmin(cover_min, p.low.coverage);
+                cover_max = fmax(cover_max, p.low.coverage);
+                /* Bases at the lifting condensation level: lower in moister air. */
+                CHECK_NEAR(p.low.bottom_km, fmin(fmax(2.5 * (1 - p.humidity), 0.2), 3.0), 1e-9);
+            }
+        }
+        if (afternoon > 5 * morning + 1 && afternoon > 5 * evening + 1)
+            seeds_with_cycle++;
+    }
+    CHECK(seeds_with_cycle == 8); /* cumulus builds in the afternoon, not morning or night */
+    CHECK(wet_min < 0.1 && wet_max > 0.9); /* fronts come and go */
+    CHECK(cover_min < 0.15 && cover_max > 0.9);
+
+    /* Rain comes with the wet fronts and with the thick cumulonimbus. */
+    struct sky_weather_params p;
+    int raining = 0, raining_wet = 0;
+    for (int h = 0; h < 24 * 60; h++) {
+        double t = t0 + h * 3600.0;
+        weather_autopilot_sample(3, t, lon, &p);
+        if (p.precipitation > 0.3) {
+            raining++;
+            raining_wet += weather_autopilot_wetness(3, t) > 0.7 && p.low.coverage > 0.7;
+        }
+    }
+    CHECK(raining > 0);
+    CHECK(raining_wet == raining);
+}
+
+static void test_autopilot_blend(void)
+{
+    struct sky_world_state s, before;
+    sky_world_state_defaults(&s);
+    load_preset("clear", &s);
+    before = s;
+    s.weather.autopilot = SKY_SWITCH_ON;
+    world_sim_client_changed(&before, &s);
+    /* No jump: it starts where the weather was and blends in. */
+    CHECK(world_sim_transition_active(&s));
+    CHECK_NEAR(s.clouds.low.coverage, 0.0, 1e-12);
+    world_sim_advance(&s, WORLD_SIM_AUTOPILOT_BLEND_S);
+    CHECK(!world_sim_transition_active(&s));
+    struct sky_weather_params p;
+    weather_autopilot_sample(s.weather.autopilot_seed, s.clock.utc_unix_s,
+                             s.location.longitude_deg, &p);
+    CHECK_NEAR(s.clouds.low.coverage, p.low.coverage, 0);
+    CHECK_NEAR(s.weather.wind.speed_m_s, p.wind_speed_m_s, 0);
+    /* Switched off: the weather stays. */
+    before = s;
+    s.weather.autopilot = SKY_SWITCH_OFF;
+    world_sim_client_changed(&before, &s);
+    world_sim_advance(&s, 7200);
+    CHECK_NEAR(s.clouds.low.coverage, p.low.coverage, 0);
+}
+
+static bool check_patch(const struct sky_world_state *live, const char *patch_text,
+                        const char *expect_pointer)
+{
+    cJSON *patch = cJSON_Parse(patch_text);
+    struct sky_world_state next = *live;
+    struct sky_field_errors errors;
+    sky_field_errors_clear(&errors);
+    bool applied = sky_world_state_apply_json(&next, patch, &errors);
+    CHECK(applied);
+    sky_field_errors_clear(&errors);
+    bool ok = applied && world_sim_check_client_patch(live, &next, patch, &errors);
+    if (expect_pointer) {
+        CHECK(!ok);
+        CHECK(errors.count >= 1 && strcmp(errors.items[0].pointer, expect_pointer) == 0);
+        if (errors.count >= 1 && strcmp(errors.items[0].pointer, expect_pointer) != 0)
+            printf("  %s: got %s: %s\n", patch_text, errors.items[0].pointer,
+                   errors.items[0].reason);
+    } else {
+        CHECK(ok);
+        if (!ok)
+            printf("  %s: refused: %s\n", patch_text, errors.items[0].reason);
+    }
+    cJSON_Delete(patch);
+    return ok;
+}
+
+static void test_client_rules(void)
+{
+    struct sky_world_state s;
+    sky_world_state_defaults(&s);
+    check_patch(&s, "{\"sun\":{\"elevation_deg\":10}}", NULL);
+    check_patch(&s, "{\"clock\":{\"sky_bodies\":\"ephemeris\"},\"sun\":{\"elevation_deg\":10}}",
+                "/sun/elevation_deg");
+    s.clock.sky_bodies = SKY_BODIES_EPHEMERIS;
+    world_sim_settle(&s);
+    check_patch(&s, "{\"moon\":{\"azimuth_deg\":10}}", "/moon/azimuth_deg");
+    check_patch(&s, "{\"clock\":{\"sky_bodies\":\"manual\"},\"sun\":{\"elevation_deg\":10}}", NULL);
+    /* Sending back what `get` returned is fine. */
+    char patch[160];
+    snprintf(patch, sizeof patch, "{\"sun\":{\"elevation_deg\":%.17g}}", s.sun.elevation_deg);
+    check_patch(&s, patch, NULL);
+    check_patch(&s, "{\"weather\":{\"transition\":{\"duration_s\":5}}}",
+                "/weather/transition/duration_s");
+    check_patch(&s, "{\"weather\":{\"humidity\":0.9}}", NULL);
+    check_patch(&s, "{\"weather\":{\"autopilot\":\"on\",\"humidity\":0.9}}", "/weather/humidity");
+    s.weather.autopilot = SKY_SWITCH_ON;
+    check_patch(&s, "{\"clouds\":{\"low\":{\"coverage\":0.2}}}", "/clouds/low/coverage");
+    check_patch(&s, "{\"weather\":{\"autopilot\":\"off\"},\"clouds\":{\"low\":{\"coverage\":0.2}}}",
+                NULL);
+    check_patch(&s, "{\"clouds\":{\"albedo\":0.9}}", NULL); /* not driven */
+}
+
+static void test_presets(void)
+{
+    char names[16][SKY_PRESET_NAME_MAX + 1];
+    int count = sky_preset_list(config_dir, "weather", names, 16);
+    CHECK(count == (int)PRESET_COUNT);
+    double coverage[PRESET_COUNT];
+    for (size_t i = 0; i < PRESET_COUNT; i++) {
+        struct sky_world_state s, defaults;
+        sky_world_state_defaults(&s);
+        sky_world_state_defaults(&defaults);
+        load_preset(weather_preset_names[i], &s);
+        /* A weather preset touches the weather and nothing else. */
+        CHECK(memcmp(&s.atmosphere, &defaults.atmosphere, sizeof s.atmosphere) == 0);
+        CHECK(memcmp(&s.sun, &defaults.sun, sizeof s.sun) == 0);
+        CHECK(memcmp(&s.camera, &defaults.camera, sizeof s.camera) == 0);
+        CHECK(memcmp(&s.clock, &defaults.clock, sizeof s.clock) == 0);
+        coverage[i] = s.clouds.low.coverage;
+        /* Cumulus-type bases sit near the lifting condensation level of the humidity. */
+        if (s.clouds.low.coverage > 0)
+            CHECK_NEAR(s.clouds.low.bottom_km, 2.5 * (1 - s.weather.humidity), 0.2);
+        CHECK_LE(s.clouds.low.bottom_km + s.clouds.low.thickness_km, s.clouds.high.bottom_km);
+    }
+    for (size_t i = 1; i + 1 < PRESET_COUNT; i++)
+        CHECK(coverage[i] > coverage[i - 1]); /* clear < fair < scattered < broken < overcast */
+    struct sky_world_state s;
+    sky_world_state_defaults(&s);
+    load_preset("fair_cumulus", &s);
+    CHECK(s.clouds.low.coverage >= 0.2 && s.clouds.low.coverage <= 0.4);
+    CHECK(s.clouds.low.bottom_km >= 1.2 && s.clouds.low.bottom_km <= 1.5);
+    CHECK(fabs(s.clouds.low.type - 0.67) < 0.1 && s.clouds.precipitation == 0);
+    load_preset("overcast", &s);
+    CHECK(s.clouds.low.coverage >= 0.95 && s.clouds.low.type <= 0.2 && s.clouds.low.bottom_km <= 0.6);
+    load_preset("storm", &s);
+    CHECK(s.clouds.low.type >= 0.9 && s.clouds.low.thickness_km >= 6);
+    CHECK(s.clouds.precipitation >= 0.5 && s.weather.wind.speed_m_s >= 15);
+    load_preset("clear", &s);
+    CHECK(s.clouds.low.coverage == 0 && s.clouds.precipitation == 0);
+}
+
+static void test_haze(void)
+{
+    struct sky_world_state s;
+    sky_world_state_defaults(&s);
+    struct sky_render_atmosphere dry, humid, foggy;
+    world_to_render_atmosphere(&s, &dry);
+    CHECK_NEAR(dry.mie_scattering[0], s.atmosphere.mie_scattering_per_km[0], 0);
+    CHECK_NEAR(dry.fog_density_per_km, 0, 0);
+    s.weather.humidity = 0.9;
+    world_to_render_atmosphere(&s, &humid);
+    /* Hanel: (0.1 / 0.5)^-0.5 = sqrt(5) more scattering; absorption as it was. */
+    CHECK_NEAR(humid.mie_scattering[1] / dry.mie_scattering[1], sqrt(5.0), 1e-12);
+    CHECK_NEAR(humid.mie_absorption[1], dry.mie_absorption[1], 0);
+    CHECK_NEAR(humid.fog_density_per_km, 0, 0);
+    s.weather.humidity = 1.0;
+    world_to_render_atmosphere(&s, &foggy);
+    CHECK(isfinite(foggy.mie_scattering[0]) && foggy.mie_scattering[0] > humid.mie_scattering[0]);
+    CHECK_NEAR(foggy.fog_density_per_km, 3.912, 1e-12); /* 1 km visibility */
+    s.weather.humidity = 0.2;
+    world_to_render_atmosphere(&s, &humid);
+    CHECK(humid.mie_scattering[2] < dry.mie_scattering[2]);
+    CHECK_NEAR(s.atmosphere.mie_scattering_per_km[0], 3.996e-3, 0); /* stored stays dry */
+    for (double rh = 0; rh < 1.0; rh += 0.01)
+        CHECK(world_haze_growth_factor(rh + 0.01) >= world_haze_growth_factor(rh));
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1)
+        config_dir = argv[1];
+    test_clock();
+    test_ephemeris_mode();
+    test_wind();
+    test_transition();
+    test_set_during_transition();
+    test_determinism();
+    test_autopilot_physics();
+    test_autopilot_blend();
+    test_client_rules();
+    test_presets();
+    test_haze();
+    return check_summary();
+}
