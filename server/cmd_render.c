@@ -97,9 +97,12 @@ int skyd_cmd_render(int argc, char **argv)
     struct sky_render_stats stats;
     world_to_render_atmosphere(&common.state, &atmosphere);
     world_to_render_view(&common.state, width, height, SKY_RENDER_OUTPUT_SRGB8, &view);
+    struct sky_render_clouds clouds;
+    world_to_render_clouds(&common.state, &clouds);
     int status = SKYD_EXIT_OK;
     char err[512];
-    if (sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {
+    if (sky_renderer_set_clouds(renderer, &clouds) != 0 ||
+        sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {
         fprintf(stderr, "skyd render: rendering failed\n");
         status = SKYD_EXIT_FAILURE;
     } else if (png_write_rgba8_file(out_path, pixels, width, height, err, sizeof err) != 0) {
