@@ -99,6 +99,11 @@ CloudAmbient cloud_ambient(vec3 sun_dir)
     return a;
 }
 
+// Empty-space skipping: after EMPTY_RUN empty fine samples the march probes the coarse shape
+// SKIP_FACTOR steps at a time; on a hit it backs up one probe and marches finely again.
+const float SKIP_FACTOR = 3.0;
+const int EMPTY_RUN = 3;
+
 void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float jitter,
                          vec3 sun_dir, OctavePhases phases, CloudAmbient amb,
                          inout CloudResult res, inout vec2 depth_sum)
@@ -109,16 +114,42 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     // across one layer.
     vec3 sun = sun_top * sun_transmittance(o + d * (0.5 * (t0 + t1)), sun_dir);
     float albedo = cloud.media.x * (1.0 - 0.5 * cloud.media.y);
-    for (float i = 0.0; i < steps; i += 1.0) {
+    float t = t0 + jitter * ds;
+    int empty = EMPTY_RUN;
+    bool skipped = false; // the last probe stepped over empty space
+    float tau = 0.0;
+    bool fresh_light = true;
+    for (float i = 0.0; i < 2.0 * steps && t < t1; i += 1.0) {
         if (res.transmittance < EARLY_EXIT_T)
             break;
-        float t = t0 + (i + jitter) * ds;
         vec3 p = o + t * d;
+        if (empty >= EMPTY_RUN) {
+            // Probing: the coarse shape only, big steps.
+            if (cloud_extinction(p, false) <= 0.0) {
+                t += SKIP_FACTOR * ds;
+                skipped = true;
+                continue;
+            }
+            empty = 0;
+            // Back over the skipped stretch, never behind the last fine sample.
+            if (skipped)
+                t = max(t0 + jitter * ds, t - (SKIP_FACTOR - 1.0) * ds);
+            skipped = false;
+            p = o + t * d;
+        }
         float sigma_t = cloud_extinction(p, true);
-        if (sigma_t <= 0.0)
-            continue; // empty space: no light march, no lighting
+        if (sigma_t <= 0.0) {
+            empty++;
+            t += ds;
+            continue;
+        }
+        empty = 0;
         float r = length(p);
-        float tau = light_optical_depth(p, sun_dir, jitter);
+        // The secondary march runs on every other sample; the one between reuses its optical
+        // depth (samples are tens of metres apart, the march reaches kilometres).
+        if (fresh_light)
+            tau = light_optical_depth(p, sun_dir, jitter);
+        fresh_light = !fresh_light;
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
         vec3 ambient = mix(amb.bottom, amb.top, h) * sun_top;
         vec3 source = sigma_t * albedo * (sun * octave_sun_scattering(phases, tau) + ambient);
@@ -128,6 +159,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         // seed 001 eq. 21: front depth weighted by the transmittance to the viewer.
         depth_sum += vec2(res.transmittance * t, res.transmittance);
         res.transmittance *= step_t;
+        t += ds;
     }
 }
 
@@ -149,7 +181,7 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
     OctavePhases phases = octave_phases(dot(d, sun_dir));
     CloudAmbient amb = cloud_ambient(sun_dir);
     vec2 depth_sum = vec2(0.0);
-    float high_steps = max(4.0, floor(primary_steps / 4.0));
+    float high_steps = max(4.0, floor(primary_steps / 8.0));
     bool high_first = high && (!low || hi0 < lo0);
     if (high_first)
         march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, amb, res,
