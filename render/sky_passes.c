@@ -76,6 +76,7 @@ struct sky_passes {
     size_t probe_capacity;
     struct sky_meter_push meter;
     double metered_ev100;
+    struct sky_cloud_bindings clouds;
 };
 
 #define UBO VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
@@ -91,6 +92,9 @@ struct sky_passes {
                      .bindings = { SHADING_BINDINGS, extra }, .push_constant_bytes = push,\
                      .spec_count = 1, .spec_values = { 1 } }
 #define PAIR(...) __VA_ARGS__
+/* The composite's bindings after the shading ones: exposure, output, then the clouds (image,
+ * shadow map, cloud block, hemisphere averages). */
+#define COMPOSITE_EXTRA STORAGE_BUF, STORAGE_IMG, SAMPLED, SAMPLED, UBO, STORAGE_BUF
 #define BLEND_PASS(id, label)                                                             \
     [id] = { .name = label, SPIRV(lut_blend_spv), .binding_count = 3,                     \
              .bindings = { STORAGE_IMG, STORAGE_IMG, STORAGE_IMG },                      \
@@ -115,19 +119,19 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
                                 .binding_count = 3, .bindings = { UBO, STORAGE_BUF, STORAGE_BUF },
                                 .push_constant_bytes = sizeof(struct sky_meter_push) },
     SHADING_PAIR(PASS_METER, "meter", meter_spv, 7, STORAGE_BUF, sizeof(struct sky_meter_push)),
-    SHADING_PAIR(PASS_COMPOSITE_SRGB, "composite", composite_srgb_spv, 8,
-                 PAIR(STORAGE_BUF, STORAGE_IMG), sizeof(struct sky_region_push)),
-    SHADING_PAIR(PASS_COMPOSITE_LINEAR, "composite", composite_linear_spv, 8,
-                 PAIR(STORAGE_BUF, STORAGE_IMG), sizeof(struct sky_region_push)),
+    SHADING_PAIR(PASS_COMPOSITE_SRGB, "composite", composite_srgb_spv, 12,
+                 COMPOSITE_EXTRA, sizeof(struct sky_region_push)),
+    SHADING_PAIR(PASS_COMPOSITE_LINEAR, "composite", composite_linear_spv, 12,
+                 COMPOSITE_EXTRA, sizeof(struct sky_region_push)),
     /* Composite specialized with SUN_REGION (constant_id 1): the sun-disk pass. */
     [PASS_COMPOSITE_SRGB_SUN] = { .name = "sun_disk", SPIRV(composite_srgb_spv),
-                                  .binding_count = 8,
-                                  .bindings = { SHADING_BINDINGS, STORAGE_BUF, STORAGE_IMG },
+                                  .binding_count = 12,
+                                  .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },
                                   .push_constant_bytes = sizeof(struct sky_region_push),
                                   .spec_count = 2, .spec_values = { 0, 1 } },
     [PASS_COMPOSITE_LINEAR_SUN] = { .name = "sun_disk", SPIRV(composite_linear_spv),
-                                    .binding_count = 8,
-                                    .bindings = { SHADING_BINDINGS, STORAGE_BUF, STORAGE_IMG },
+                                    .binding_count = 12,
+                                    .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },
                                     .push_constant_bytes = sizeof(struct sky_region_push),
                                     .spec_count = 2, .spec_values = { 0, 1 } },
     SHADING_PAIR(PASS_PROBE, "probe", probe_spv, 8, PAIR(STORAGE_BUF, STORAGE_BUF),
@@ -225,6 +229,26 @@ static void bind_pair(struct vk_context *ctx, struct sky_passes *p, enum pass_id
     compute_pass_bind(ctx, &p->pass[inside + 1], r);
 }
 
+/* The composite passes alone: the clouds they sample change from view to view, while the
+ * passes recorded before them in a frame must keep their bindings. */
+static void bind_composite(struct vk_context *ctx, struct sky_passes *p)
+{
+    if (!p->output.image)
+        return;
+    struct compute_resource r[COMPUTE_PASS_MAX_BINDINGS] = {
+        buf(&p->atmosphere_ubo), buf(&p->frame_ubo), tex(p, &p->transmittance),
+        tex(p, &p->multiscattering), tex(p, &p->skyview), tex(p, &p->irradiance),
+        buf(&p->exposure), img(&p->output),
+        { .image = p->clouds.clouds, .sampler = p->sampler },
+        { .image = p->clouds.shadow, .sampler = p->clouds.shadow_sampler },
+        buf(p->clouds.ubo), buf(p->clouds.env),
+    };
+    enum pass_id composite = p->output_kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
+                                                                        : PASS_COMPOSITE_SRGB;
+    bind_pair(ctx, p, composite, r);
+    compute_pass_bind(ctx, &p->pass[composite + 2], r); /* its sun-disk pass */
+}
+
 /* Points every pass whose resources exist at them; called after any resource changes. */
 static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
 {
@@ -267,15 +291,7 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     r[5] = tex(p, &p->irradiance);
     r[6] = buf(&p->meter_partials);
     bind_pair(ctx, p, PASS_METER, r);
-    if (p->output.image) {
-        r[6] = buf(&p->exposure);
-        r[7] = img(&p->output);
-        enum pass_id composite = p->output_kind == SKY_RENDER_OUTPUT_LINEAR
-                                     ? PASS_COMPOSITE_LINEAR
-                                     : PASS_COMPOSITE_SRGB;
-        bind_pair(ctx, p, composite, r);
-        compute_pass_bind(ctx, &p->pass[composite + 2], r); /* its sun-disk pass */
-    }
+    bind_composite(ctx, p);
     if (p->probe_in.buffer) {
         r[6] = buf(&p->probe_in);
         r[7] = buf(&p->probe_out);
@@ -288,7 +304,8 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
 }
 
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
-                                     const struct sky_render_lut_sizes *sizes)
+                                     const struct sky_render_lut_sizes *sizes,
+                                     const struct sky_cloud_bindings *clouds)
 {
     if (!format_supports(ctx, LUT_FORMAT,
                          VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |
@@ -301,6 +318,7 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
     if (!p)
         return NULL;
     p->metered_ev100 = NAN;
+    p->clouds = *clouds;
     VK_CHECK_GOTO(gpu_linear_sampler_create(ctx, &p->sampler), fail);
     for (int i = 0; i < PASS_COUNT; i++)
         VK_CHECK_GOTO(compute_pass_create(ctx, &pass_descs[i], &p->pass[i]), fail);
@@ -616,4 +634,23 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
     }
     gpu_buffer_destroy(ctx, &staging);
     return out;
+}
+
+void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources *out)
+{
+    out->atmosphere_ubo = &p->atmosphere_ubo;
+    out->frame_ubo = &p->frame_ubo;
+    out->transmittance = &p->transmittance;
+    out->multiscattering = &p->multiscattering;
+    out->irradiance = &p->irradiance;
+    out->sampler = p->sampler;
+}
+
+void sky_passes_bind_clouds(struct vk_context *ctx, struct sky_passes *p,
+                            const struct sky_cloud_bindings *clouds)
+{
+    if (memcmp(&p->clouds, clouds, sizeof *clouds) == 0)
+        return;
+    p->clouds = *clouds;
+    bind_composite(ctx, p);
 }

@@ -17,8 +17,20 @@ struct vk_context;
 struct gpu_timer;
 struct sky_passes;
 
+/* What the composite samples of the clouds (render/cloud_renderer.h fills it). */
+struct gpu_image;
+struct gpu_buffer;
+struct sky_cloud_bindings {
+    const struct gpu_image *clouds;  /* premultiplied cloud luminance, opacity; view size */
+    const struct gpu_image *shadow;  /* cloud shadow map (r: transmittance toward the sun) */
+    VkSampler shadow_sampler;        /* repeat addressing */
+    const struct gpu_buffer *ubo;    /* sky_cloud_uniforms */
+    const struct gpu_buffer *env;    /* hemisphere averages: luminance per lux, transmittance */
+};
+
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
-                                     const struct sky_render_lut_sizes *sizes);
+                                     const struct sky_render_lut_sizes *sizes,
+                                     const struct sky_cloud_bindings *clouds);
 void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **passes);
 
 int sky_passes_resize_luts(struct vk_context *ctx, struct sky_passes *p,
@@ -77,5 +89,16 @@ void sky_passes_read_probe(const struct sky_passes *p, size_t count, double (*ou
 double sky_passes_metered_ev100(const struct sky_passes *p);
 float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const char *name,
                            uint32_t size[3]);
+
+/* The resources the cloud passes share with the sky's. */
+struct sky_pass_resources {
+    const struct gpu_buffer *atmosphere_ubo, *frame_ubo;
+    const struct gpu_image *transmittance, *multiscattering, *irradiance;
+    VkSampler sampler; /* linear, clamp to edge */
+};
+void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources *out);
+/* Points the composite at the clouds (rebinding only when they change). */
+void sky_passes_bind_clouds(struct vk_context *ctx, struct sky_passes *p,
+                            const struct sky_cloud_bindings *clouds);
 
 #endif

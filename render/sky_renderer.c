@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "atmosphere_luts.h"
+#include "cloud_renderer.h"
 #include "compute_pass.h"
 #include "gpu_timer.h"
 #include "photometry.h"
@@ -23,6 +24,7 @@ struct sky_renderer {
     struct sky_passes *passes;
     struct sky_render_lut_sizes sizes;
     struct atmosphere_luts *luts; /* which atmosphere the LUTs show, and rebuilds under way */
+    struct cloud_renderer *clouds;
 };
 
 static const struct sky_render_lut_sizes default_sizes = {
@@ -80,7 +82,12 @@ struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *param
     if (!r->luts)
         goto fail;
     r->sizes = sizes_with_defaults(&p->lut_sizes);
-    r->passes = sky_passes_create(r->ctx, &r->sizes);
+    r->clouds = cloud_renderer_create(r->ctx, p->quiet);
+    if (!r->clouds)
+        goto fail;
+    struct sky_cloud_bindings no_clouds;
+    cloud_renderer_no_clouds(r->clouds, &no_clouds);
+    r->passes = sky_passes_create(r->ctx, &r->sizes, &no_clouds);
     if (!r->passes)
         goto fail;
     return r;
@@ -97,6 +104,7 @@ void sky_renderer_destroy(struct sky_renderer **pr)
     if (r->ctx)
         vk_context_wait_idle(r->ctx); /* nothing the passes own may still be in use */
     sky_passes_destroy(r->ctx, &r->passes);
+    cloud_renderer_destroy(r->ctx, &r->clouds);
     gpu_timer_destroy(r->ctx, &r->timer);
     atmosphere_luts_destroy(&r->luts);
     vk_context_destroy(&r->ctx);
@@ -134,6 +142,7 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
             stats->pass_names[i] = t.names[i];
             stats->pass_ms[i] = t.ms[i];
             atmosphere_luts_observe(r->luts, t.names[i], t.ms[i]);
+            cloud_renderer_observe(r->clouds, t.names[i], t.ms[i]);
         }
         stats->gpu_ms = t.total_ms;
     }
@@ -175,7 +184,7 @@ static bool camera_in_atmosphere(const struct sky_render_atmosphere *a,
 static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_atmosphere *a,
                                 const struct sky_render_view *v, bool want_view_luts,
                                 bool exact, VkCommandBuffer *cmd, bool *from_space,
-                                bool *rebuilt)
+                                bool *rebuilt, struct sky_frame_uniforms *fu)
 {
     if (vk_context_begin_commands(r->ctx, cmd) != VK_SUCCESS)
         return false;
@@ -183,9 +192,8 @@ static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_
     *rebuilt = exact ? atmosphere_luts_record_exact(r->luts, r->passes, *cmd, r->timer, a)
                      : atmosphere_luts_record_frame(r->luts, r->passes, *cmd, r->timer, a);
     a = atmosphere_luts_displayed(r->luts);
-    struct sky_frame_uniforms fu;
-    sky_uniforms_fill_frame(a, v, atmosphere_luts_zenith_transmittance(r->luts), &fu);
-    sky_passes_upload_frame(r->passes, &fu);
+    sky_uniforms_fill_frame(a, v, atmosphere_luts_zenith_transmittance(r->luts), fu);
+    sky_passes_upload_frame(r->passes, fu);
     *from_space = !camera_in_atmosphere(a, v);
     if (want_view_luts && !*from_space)
         sky_passes_record_view_luts(r->passes, *cmd, r->timer);
@@ -206,8 +214,23 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         return -1;
     VkCommandBuffer cmd;
     bool from_space, rebuilt;
-    if (!begin_view_commands(r, a, v, true, false, &cmd, &from_space, &rebuilt))
+    struct sky_frame_uniforms fu;
+    if (!begin_view_commands(r, a, v, true, false, &cmd, &from_space, &rebuilt, &fu))
         return -1;
+    struct cloud_frame cf = {
+        .frame = &fu,
+        .bottom_radius_km = atmosphere_luts_displayed(r->luts)->bottom_radius_km,
+        .width = v->width,
+        .height = v->height,
+        .history_key = v->history_key,
+    };
+    sky_passes_resources(r->passes, &cf.sky);
+    struct sky_cloud_bindings clouds;
+    if (cloud_renderer_record(r->ctx, r->clouds, cmd, r->timer, &cf, &clouds) != 0) {
+        vk_context_submit_and_wait(r->ctx, &cmd);
+        return -1;
+    }
+    sky_passes_bind_clouds(r->ctx, r->passes, &clouds);
     if (v->auto_exposure && v->output == SKY_RENDER_OUTPUT_SRGB8)
         sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space);
     int32_t sun_rect[4];
@@ -232,8 +255,9 @@ static int run_probe(struct sky_renderer *r, const struct sky_render_atmosphere 
         return -1;
     VkCommandBuffer cmd;
     bool from_space, rebuilt;
+    struct sky_frame_uniforms fu;
     if (!begin_view_commands(r, a, v, mode != SKY_PROBE_TRANSMITTANCE, true, &cmd, &from_space,
-                             &rebuilt))
+                             &rebuilt, &fu))
         return -1;
     sky_passes_record_probe(r->passes, cmd, r->timer, mode, (uint32_t)count, from_space);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
@@ -294,9 +318,21 @@ void sky_renderer_set_amortization(struct sky_renderer *r,
 {
     atmosphere_luts_set_amortization(r->luts, amortization->budget_ms,
                                      amortization->blend_frames);
+    cloud_renderer_set_budget(r->clouds, amortization->budget_ms);
 }
 
 float *sky_renderer_read_lut(struct sky_renderer *r, const char *name, uint32_t size[3])
 {
     return sky_passes_read_lut(r->ctx, r->passes, name, size);
+}
+
+int sky_renderer_set_clouds(struct sky_renderer *r, const struct sky_render_clouds *clouds)
+{
+    return cloud_renderer_set(r->ctx, r->clouds, clouds);
+}
+
+int sky_renderer_set_weather_map(struct sky_renderer *r, const uint8_t *rgba8, uint32_t width,
+                                 uint32_t height)
+{
+    return cloud_renderer_set_weather_map(r->ctx, r->clouds, rgba8, width, height);
 }

@@ -44,6 +44,10 @@ struct sky_render_view {
     int tonemap;                      /* SKY_TONEMAP_OP_* */
     double aerial_perspective_max_km;
     enum sky_render_output_kind output;
+    /* Which cloud history (temporal reprojection) this view continues: views of one key share
+     * it, so each independent camera of a caller needs its own key. Histories are kept for a
+     * few keys (least recently used goes first) and also per size; 0 is a valid key. */
+    uint64_t history_key;
 };
 
 struct sky_renderer_params {
@@ -128,5 +132,58 @@ void sky_renderer_set_amortization(struct sky_renderer *renderer,
  * size (width, height, depth) and returns a malloc'd RGBA float array, x fastest then y then
  * slice (caller frees), or NULL. */
 float *sky_renderer_read_lut(struct sky_renderer *renderer, const char *name, uint32_t size[3]);
+
+/* ---- Clouds (seed 001 section 5) ---- */
+
+enum sky_render_cloud_resolution {
+    SKY_RENDER_CLOUDS_FULL = 0,      /* every pixel traced every frame */
+    SKY_RENDER_CLOUDS_QUARTER = 1,   /* one pixel of each 2x2 block per frame */
+    SKY_RENDER_CLOUDS_SIXTEENTH = 2, /* one pixel of each 4x4 block per frame */
+};
+
+struct sky_render_cloud_layer {
+    double coverage;     /* 0..1 */
+    double type;         /* 0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus; for the
+                            high layer 0 smooth sheet .. 1 fibrous */
+    double density;      /* multiplier of extinction_per_km */
+    double bottom_km, thickness_km;
+};
+
+struct sky_render_clouds {
+    struct sky_render_cloud_layer low, high;
+    double extinction_per_km;   /* at density 1 */
+    double albedo;              /* single-scattering albedo */
+    double precipitation;       /* 0..1 */
+    double phase_g0, phase_g1, phase_w; /* seed 000 eq. 14.17 */
+    double multiscatter_a, multiscatter_b, multiscatter_c; /* seed 000 eq. 14.18; a <= b */
+    int multiscatter_octaves;
+    double ambient_scale;
+    uint32_t noise_seed;
+    int primary_steps, light_steps;
+    enum sky_render_cloud_resolution resolution;
+    bool temporal;
+    /* Weather map: the wind's displacement of the pattern, its seed and extent. */
+    double wind_offset_east_km, wind_offset_north_km;
+    uint32_t weather_seed;
+    double map_extent_km;
+    bool use_client_map;        /* sample the map given to sky_renderer_set_weather_map */
+};
+
+/* Sets the clouds of the following frames. The noise volumes are generated (on the GPU, a few
+ * hundred ms on lavapipe) the first time a layer has coverage and whenever noise_seed changes;
+ * weather and shadow maps are rebuilt when their inputs change, amortized like the atmosphere
+ * LUTs. Returns 0 or -1. */
+int sky_renderer_set_clouds(struct sky_renderer *renderer, const struct sky_render_clouds *clouds);
+
+/* A client weather map of width x height RGBA8 texels, row-major from the north-west corner
+ * (x east, y south), tiled over map_extent_km around the camera's foot and moved by the wind:
+ *   r  low-layer coverage   0..255 -> 0..1
+ *   g  high-layer coverage
+ *   b  low-layer cloud type (0 stratus .. 255 cumulonimbus)
+ *   a  precipitation (darkens and thickens the low layer's base)
+ * Used while sky_render_clouds.use_client_map is set. NULL forgets the map (procedural again).
+ * Returns 0, or -1 for a bad size (1..4096 per side) or a Vulkan failure. */
+int sky_renderer_set_weather_map(struct sky_renderer *renderer, const uint8_t *rgba8,
+                                 uint32_t width, uint32_t height);
 
 #endif

@@ -236,8 +236,11 @@ int skyd_cmd_render(int argc, char **argv)
             world_sim_advance(&common.state, lapse.step_s);
         world_to_render_atmosphere(&common.state, &atmosphere);
         world_to_render_view(&common.state, width, height, SKY_RENDER_OUTPUT_SRGB8, &view);
+        struct sky_render_clouds clouds;
+        world_to_render_clouds(&common.state, &clouds);
         frame_path(prefix, number_width, suffix, frame, path, sizeof path);
-        if (sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {
+        if (sky_renderer_set_clouds(renderer, &clouds) != 0 ||
+            sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {
             fprintf(stderr, "skyd render: rendering failed\n");
             status = SKYD_EXIT_FAILURE;
         } else if (png_write_rgba8_file(path, pixels, width, height, err, sizeof err) != 0) {

@@ -105,3 +105,46 @@ void world_to_lut_sizes(const struct sky_world_state *state, struct sky_render_l
     for (int i = 0; i < 3; i++)
         out->aerial_perspective[i] = (uint32_t)r->aerial_perspective_lut[i];
 }
+
+static void layer(const struct sky_cloud_layer_state *in, struct sky_render_cloud_layer *out)
+{
+    out->coverage = in->coverage;
+    out->type = in->type;
+    out->density = in->density;
+    out->bottom_km = in->bottom_km;
+    out->thickness_km = in->thickness_km;
+}
+
+void world_to_render_clouds(const struct sky_world_state *state, struct sky_render_clouds *out)
+{
+    const struct sky_cloud_state *c = &state->clouds;
+    const struct sky_weather_state *w = &state->weather;
+    memset(out, 0, sizeof *out);
+    layer(&c->low, &out->low);
+    layer(&c->high, &out->high);
+    out->extinction_per_km = c->extinction_per_km;
+    out->albedo = c->albedo;
+    out->precipitation = c->precipitation;
+    out->phase_g0 = c->phase_g0;
+    out->phase_g1 = c->phase_g1;
+    out->phase_w = c->phase_w;
+    out->multiscatter_a = c->multiscatter_a;
+    out->multiscatter_b = c->multiscatter_b;
+    out->multiscatter_c = c->multiscatter_c;
+    out->multiscatter_octaves = c->multiscatter_octaves;
+    out->ambient_scale = c->ambient_scale;
+    out->noise_seed = (uint32_t)c->noise_seed;
+    out->primary_steps = c->primary_steps;
+    out->light_steps = c->light_steps;
+    switch (c->resolution) {
+    case SKY_CLOUD_RESOLUTION_FULL: out->resolution = SKY_RENDER_CLOUDS_FULL; break;
+    case SKY_CLOUD_RESOLUTION_QUARTER: out->resolution = SKY_RENDER_CLOUDS_QUARTER; break;
+    default: out->resolution = SKY_RENDER_CLOUDS_SIXTEENTH; break;
+    }
+    out->temporal = c->temporal == SKY_SWITCH_ON;
+    out->wind_offset_east_km = w->offset_east_km;
+    out->wind_offset_north_km = w->offset_north_km;
+    out->weather_seed = (uint32_t)w->seed;
+    out->map_extent_km = w->map_extent_km;
+    out->use_client_map = w->map_source == SKY_WEATHER_MAP_CLIENT;
+}

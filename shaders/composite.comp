@@ -6,6 +6,7 @@
 // constants. Specialized with SUN_REGION it is the sun-disk pass: the same shading with the
 // sun included, run only over the sun's bounding box after the main pass.
 #include "sky_shared.h"
+#include "cloud_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "shading_bindings.glsl"
@@ -15,11 +16,16 @@ layout(binding = 7, rgba32f) uniform writeonly image2D image_out;
 #else
 layout(binding = 7, rgba8) uniform writeonly image2D image_out;
 #endif
+layout(binding = 8) uniform sampler2D cloud_image;      // premultiplied luminance, opacity
+layout(binding = 9) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
+layout(std140, binding = 10) uniform CloudBlock { sky_cloud_uniforms cloud; };
+layout(std430, binding = 11) readonly buffer CloudEnv { vec4 env_luminance; vec4 env_transmittance; };
 layout(push_constant) uniform RegionPush { sky_region_push region; };
 layout(constant_id = 1) const bool SUN_REGION = false;
 
 #include "sky_shading.glsl"
 #include "tonemap.glsl"
+#include "cloud_composite.glsl"
 
 void main()
 {
@@ -30,7 +36,8 @@ void main()
         return;
     vec2 uv = (vec2(px) + 0.5) / vec2(size);
     // From space the march adds the sun itself; inside, only the sun-region pass does.
-    vec3 luminance = shade_direction(camera_ray(uv), SUN_REGION || FROM_SPACE);
+    vec3 dir = camera_ray(uv);
+    vec3 luminance = apply_clouds(px, dir, shade_direction(dir, SUN_REGION || FROM_SPACE));
 #ifdef SKY_OUTPUT_LINEAR
     imageStore(image_out, px, vec4(luminance, 1.0));
 #else

@@ -1,0 +1,44 @@
+/* Per-view cloud histories for temporal reprojection: a small least-recently-used set keyed
+ * by the view's history_key, size and trace block. Each entry owns its trace images (the
+ * block-resolution samples of one frame) and two full-resolution history pairs (colour with
+ * opacity; depth and sample count) used alternately. */
+#ifndef SKYD_CLOUD_HISTORY_H
+#define SKYD_CLOUD_HISTORY_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "vk_resources.h"
+
+struct vk_context;
+
+#define CLOUD_HISTORY_ENTRIES 4
+
+struct cloud_history_entry {
+    bool in_use;
+    uint64_t key;
+    uint32_t width, height;
+    int block;
+    struct gpu_image trace_color, trace_depth;
+    struct gpu_image color[2], aux[2];
+    int latest;            /* index of the pair holding the last result */
+    bool valid;            /* latest holds a frame of this view */
+    uint32_t frame;        /* frames rendered into this history */
+    uint64_t last_used;
+    float prev_forward[4], prev_right[4], prev_up[4]; /* camera of the latest frame */
+    double prev_wind[2];   /* wind displacement of the latest frame */
+};
+
+struct cloud_history {
+    struct cloud_history_entry entries[CLOUD_HISTORY_ENTRIES];
+    uint64_t clock;
+};
+
+/* The entry for (key, size, block), created (replacing the least recently used) when new;
+ * NULL on failure. */
+struct cloud_history_entry *cloud_history_acquire(struct vk_context *ctx, struct cloud_history *h,
+                                                  uint64_t key, uint32_t width, uint32_t height,
+                                                  int block);
+void cloud_history_destroy(struct vk_context *ctx, struct cloud_history *h);
+
+#endif

@@ -1,0 +1,219 @@
+#include "cloud_noise.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "compute_pass.h"
+#include "vk_check.h"
+#include "vk_context.h"
+
+#include "cloud_noise_base.spv.h"
+#include "cloud_noise_curl.spv.h"
+#include "cloud_noise_detail.spv.h"
+
+#define BASE_SIZE 128
+#define DETAIL_SIZE 32
+#define CURL_SIZE 128
+#define BLUE_SIZE 64
+#define SLAB 16 /* z slices of the base volume per submission */
+
+int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *n)
+{
+    memset(n, 0, sizeof *n);
+    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, BASE_SIZE, BASE_SIZE, BASE_SIZE,
+                                   "cloud_base_noise", &n->base), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, DETAIL_SIZE, DETAIL_SIZE,
+                                   DETAIL_SIZE, "cloud_detail_noise", &n->detail), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, CURL_SIZE, CURL_SIZE, 1,
+                                   "cloud_curl_noise", &n->curl), fail);
+    return 0;
+fail:
+    cloud_noise_destroy(ctx, n);
+    return -1;
+}
+
+void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *n)
+{
+    gpu_image_destroy(ctx, &n->base);
+    gpu_image_destroy(ctx, &n->detail);
+    gpu_image_destroy(ctx, &n->curl);
+    n->generated = false;
+}
+
+/* ---- void-and-cluster blue noise ---- */
+
+#define VC_N (BLUE_SIZE * BLUE_SIZE)
+#define VC_RADIUS 8
+#define VC_SIGMA 1.9
+
+struct vc_state {
+    unsigned char on[VC_N];
+    double energy[VC_N];
+    double kernel[2 * VC_RADIUS + 1][2 * VC_RADIUS + 1];
+};
+
+static void vc_splat(struct vc_state *s, int index, double sign)
+{
+    int x0 = index % BLUE_SIZE, y0 = index / BLUE_SIZE;
+    for (int dy = -VC_RADIUS; dy <= VC_RADIUS; dy++)
+        for (int dx = -VC_RADIUS; dx <= VC_RADIUS; dx++) {
+            int x = (x0 + dx + BLUE_SIZE) % BLUE_SIZE, y = (y0 + dy + BLUE_SIZE) % BLUE_SIZE;
+            s->energy[y * BLUE_SIZE + x] += sign * s->kernel[dy + VC_RADIUS][dx + VC_RADIUS];
+        }
+}
+
+static void vc_set(struct vc_state *s, int index, bool on)
+{
+    s->on[index] = on;
+    vc_splat(s, index, on ? 1.0 : -1.0);
+}
+
+/* The tightest cluster (highest energy among ones) or the largest void (lowest among zeros). */
+static int vc_find(const struct vc_state *s, bool cluster)
+{
+    int best = -1;
+    for (int i = 0; i < VC_N; i++) {
+        if (s->on[i] != cluster)
+            continue;
+        if (best < 0 || (cluster ? s->energy[i] > s->energy[best] : s->energy[i] < s->energy[best]))
+            best = i;
+    }
+    return best;
+}
+
+void cloud_blue_noise(uint32_t seed, float out[VC_N])
+{
+    static struct vc_state s, initial;
+    memset(&s, 0, sizeof s);
+    for (int dy = -VC_RADIUS; dy <= VC_RADIUS; dy++)
+        for (int dx = -VC_RADIUS; dx <= VC_RADIUS; dx++)
+            s.kernel[dy + VC_RADIUS][dx + VC_RADIUS] =
+                exp(-(dx * dx + dy * dy) / (2.0 * VC_SIGMA * VC_SIGMA));
+    /* A random initial pattern of a tenth of the cells (xorshift from the seed)... */
+    uint32_t state = seed * 2654435761u + 0x9e3779b9u;
+    int ones = 0;
+    while (ones < VC_N / 10) {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        int i = (int)(state % VC_N);
+        if (!s.on[i]) {
+            vc_set(&s, i, true);
+            ones++;
+        }
+    }
+    /* ...relaxed by moving the tightest cluster into the largest void until stable. */
+    for (int iter = 0; iter < VC_N; iter++) {
+        int c = vc_find(&s, true);
+        vc_set(&s, c, false);
+        int v = vc_find(&s, false);
+        vc_set(&s, v, true);
+        if (v == c)
+            break;
+    }
+    initial = s;
+    /* Ranks: remove clusters from the initial pattern downward, then fill voids upward. */
+    int rank[VC_N];
+    for (int r = ones - 1; r >= 0; r--) {
+        int c = vc_find(&s, true);
+        vc_set(&s, c, false);
+        rank[c] = r;
+    }
+    s = initial;
+    for (int r = ones; r < VC_N; r++) {
+        int v = vc_find(&s, false);
+        vc_set(&s, v, true);
+        rank[v] = r;
+    }
+    for (int i = 0; i < VC_N; i++)
+        out[i] = ((float)rank[i] + 0.5f) / VC_N;
+}
+
+/* ---- GPU generation ---- */
+
+static int run_pass(struct vk_context *ctx, struct compute_pass *pass,
+                    const struct sky_cloud_noise_push *push, const uint32_t size[3],
+                    const uint32_t local[3])
+{
+    VkCommandBuffer cmd;
+    if (vk_context_begin_commands(ctx, &cmd) != VK_SUCCESS)
+        return -1;
+    compute_pass_record(cmd, pass, push, size, local);
+    return vk_context_submit_and_wait(ctx, &cmd) == VK_SUCCESS ? 0 : -1;
+}
+
+#define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+#define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
+
+static int generate_volumes(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed,
+                            bool quiet)
+{
+    const struct compute_pass_desc descs[2] = {
+        { .name = "cloud_noise_base", SPIRV(cloud_noise_base_spv), .binding_count = 1,
+          .bindings = { STORAGE_IMG }, .push_constant_bytes = sizeof(struct sky_cloud_noise_push) },
+        { .name = "cloud_noise_detail", SPIRV(cloud_noise_detail_spv), .binding_count = 1,
+          .bindings = { STORAGE_IMG }, .push_constant_bytes = sizeof(struct sky_cloud_noise_push) },
+    };
+    struct gpu_image *images[2] = { &n->base, &n->detail };
+    int rc = 0;
+    for (int v = 0; v < 2 && rc == 0; v++) {
+        struct compute_pass pass;
+        if (compute_pass_create(ctx, &descs[v], &pass) != VK_SUCCESS)
+            return -1;
+        compute_pass_bind(ctx, &pass, &(struct compute_resource){ .image = images[v] });
+        uint32_t depth = images[v]->depth;
+        for (uint32_t z = 0; z < depth && rc == 0; z += SLAB) {
+            struct sky_cloud_noise_push push = { .seed = seed, .z_offset = z };
+            uint32_t slab = depth - z < SLAB ? depth - z : SLAB;
+            const uint32_t size[3] = { images[v]->width, images[v]->height, slab };
+            const uint32_t local[3] = { 4, 4, 4 };
+            rc = run_pass(ctx, &pass, &push, size, local);
+            if (!quiet && v == 0)
+                fprintf(stderr, "\rskyd: cloud noise %3u%%", (z + slab) * 100 / depth);
+        }
+        compute_pass_destroy(ctx, &pass);
+    }
+    if (!quiet)
+        fprintf(stderr, "\n");
+    return rc;
+}
+
+static int generate_curl(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed)
+{
+    const struct compute_pass_desc desc = {
+        .name = "cloud_noise_curl", SPIRV(cloud_noise_curl_spv), .binding_count = 2,
+        .bindings = { VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, STORAGE_IMG },
+        .push_constant_bytes = sizeof(struct sky_cloud_noise_push),
+    };
+    struct gpu_buffer blue;
+    if (gpu_buffer_create(ctx, VC_N * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                          "cloud_blue_noise", &blue) != VK_SUCCESS)
+        return -1;
+    cloud_blue_noise(seed, blue.mapped);
+    struct compute_pass pass;
+    int rc = -1;
+    if (compute_pass_create(ctx, &desc, &pass) == VK_SUCCESS) {
+        struct compute_resource r[2] = { { .buffer = &blue }, { .image = &n->curl } };
+        compute_pass_bind(ctx, &pass, r);
+        struct sky_cloud_noise_push push = { .seed = seed };
+        const uint32_t size[3] = { CURL_SIZE, CURL_SIZE, 1 }, local[3] = { 8, 8, 1 };
+        rc = run_pass(ctx, &pass, &push, size, local);
+        compute_pass_destroy(ctx, &pass);
+    }
+    gpu_buffer_destroy(ctx, &blue);
+    return rc;
+}
+
+int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed,
+                         bool quiet)
+{
+    n->generated = false;
+    if (generate_volumes(ctx, n, seed, quiet) != 0 || generate_curl(ctx, n, seed) != 0) {
+        fprintf(stderr, "skyd: render: cloud noise generation failed\n");
+        return -1;
+    }
+    n->seed = seed;
+    n->generated = true;
+    return 0;
+}

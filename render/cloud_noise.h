@@ -1,0 +1,33 @@
+/* The clouds' noise: a tileable 128^3 Perlin-Worley base-shape volume, a 32^3 Worley detail
+ * volume and a 128^2 curl-noise texture (blue noise in its b channel), all generated on the
+ * GPU from a seed; the 64^2 blue noise by void-and-cluster on the CPU (Ulichney 1993). */
+#ifndef SKYD_CLOUD_NOISE_H
+#define SKYD_CLOUD_NOISE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "cloud_shared.h"
+#include "vk_resources.h"
+
+struct vk_context;
+
+struct cloud_noise {
+    struct gpu_image base, detail, curl;
+    uint32_t seed;
+    bool generated;
+};
+
+/* Creates the images (zero until generated). Returns 0 or -1. */
+int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *noise);
+void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *noise);
+
+/* Generates every volume from `seed` now (synchronous, in slabs; progress on stderr unless
+ * quiet). Returns 0 or -1. */
+int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *noise, uint32_t seed,
+                         bool quiet);
+
+/* The 64x64 blue-noise ranks in [0, 1) for `seed` (void-and-cluster), row-major. */
+void cloud_blue_noise(uint32_t seed, float out[64 * 64]);
+
+#endif

@@ -1,0 +1,66 @@
+#include "cloud_params.h"
+
+#include <math.h>
+#include <string.h>
+
+#define V4(x_, y_, z_, w_) ((sky_vec4){ (float)(x_), (float)(y_), (float)(z_), (float)(w_) })
+
+/* Height profiles over the layer's height fraction h: smoothstep(b0, b1, h) *
+ * (1 - smoothstep(t0, t1, h)). Stratus hug the base; cumulonimbus fill the whole layer
+ * (after Schneider 2015's gradients, stretched to this project's layer thickness). */
+static const float profiles[CLOUD_PROFILE_COUNT][4] = {
+    { 0.00f, 0.08f, 0.15f, 0.30f }, /* stratus */
+    { 0.00f, 0.12f, 0.30f, 0.50f }, /* stratocumulus */
+    { 0.00f, 0.10f, 0.45f, 0.80f }, /* cumulus */
+    { 0.00f, 0.06f, 0.80f, 1.00f }, /* cumulonimbus */
+};
+
+/* Longest distance marched through one layer (grazing rays would otherwise take the whole
+ * shell around the planet). */
+#define LONGEST_MARCH_KM 80.0
+
+bool cloud_params_any_layer(const struct sky_render_clouds *c)
+{
+    return c->use_client_map || (c->low.coverage > 0.0 && c->low.density > 0.0) ||
+           (c->high.coverage > 0.0 && c->high.density > 0.0);
+}
+
+int cloud_params_block(enum sky_render_cloud_resolution resolution)
+{
+    switch (resolution) {
+    case SKY_RENDER_CLOUDS_FULL: return 1;
+    case SKY_RENDER_CLOUDS_QUARTER: return 2;
+    default: return 4;
+    }
+}
+
+/* The tile closest to `wanted` km that repeats a whole number of times over `extent`. */
+static double tile_km(double extent, double wanted)
+{
+    double count = fmax(1.0, round(extent / wanted));
+    return extent / count;
+}
+
+void cloud_params_fill(const struct sky_render_clouds *c, double R, struct sky_cloud_uniforms *u)
+{
+    memset(u, 0, sizeof *u);
+    const struct sky_render_cloud_layer *lo = &c->low, *hi = &c->high;
+    bool high_on = c->use_client_map || (hi->coverage > 0.0 && hi->density > 0.0);
+    u->low = V4(R + lo->bottom_km, R + lo->bottom_km + lo->thickness_km,
+                c->extinction_per_km * lo->density, 1);
+    u->high = V4(R + hi->bottom_km, R + hi->bottom_km + hi->thickness_km,
+                 c->extinction_per_km * hi->density, high_on ? 1 : 0);
+    u->media = V4(c->albedo, c->precipitation, c->ambient_scale, hi->type);
+    u->phase = V4(c->phase_g0, c->phase_g1, c->phase_w, c->multiscatter_octaves);
+    /* a <= b keeps the octaves energy conserving (seed 001 5.8). */
+    u->octaves = V4(fmin(c->multiscatter_a, c->multiscatter_b), c->multiscatter_b,
+                    c->multiscatter_c, c->light_steps);
+    double extent = c->map_extent_km > 0.0 ? c->map_extent_km : 60.0;
+    /* The wind's displacement only matters modulo the tiled pattern: keep floats small. */
+    double east = fmod(c->wind_offset_east_km, extent), north = fmod(c->wind_offset_north_km, extent);
+    u->weather = V4(east, north, 1.0 / extent, extent);
+    u->march = V4(c->primary_steps, LONGEST_MARCH_KM, cloud_params_any_layer(c) ? 1 : 0, 0);
+    for (int i = 0; i < CLOUD_PROFILE_COUNT; i++)
+        u->profiles[i] = V4(profiles[i][0], profiles[i][1], profiles[i][2], profiles[i][3]);
+    u->tiles = V4(tile_km(extent, 9.0), tile_km(extent, 1.1), tile_km(extent, 24.0), 0);
+}

@@ -1,0 +1,567 @@
+#include "cloud_renderer.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cloud_history.h"
+#include "cloud_noise.h"
+#include "cloud_params.h"
+#include "compute_pass.h"
+#include "gpu_timer.h"
+#include "vk_check.h"
+#include "vk_context.h"
+#include "vk_resources.h"
+
+#include "cloud_hemisphere.spv.h"
+#include "cloud_reconstruct.spv.h"
+#include "cloud_shadow.spv.h"
+#include "cloud_trace.spv.h"
+#include "cloud_weather.spv.h"
+
+#define FLOAT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
+#define WEATHER_SIZE 256
+#define SHADOW_SIZE 256
+/* The shadow map follows the sun once it has moved this far (radians, about 0.3 degree). */
+#define SHADOW_SUN_TOLERANCE 5e-3
+/* Starting guesses of GPU ms per row on lavapipe; measured times replace them. */
+#define INITIAL_MS_PER_WEATHER_ROW 0.02
+#define INITIAL_MS_PER_SHADOW_ROW 0.15
+
+/* A map rebuilt a slice of rows per frame into the hidden image, shown when complete. */
+struct cloud_map {
+    struct gpu_image image[2];
+    int shown;
+    bool ready, building;
+    uint32_t next_row, rows_this_frame;
+    double ms_per_row;
+    uint32_t generation;
+};
+
+/* What the weather map is built from. */
+struct weather_key {
+    float params[4];
+    uint32_t seed, mode, client_generation, pad;
+};
+
+/* What the shadow map is built from, besides the sun. */
+struct shadow_key {
+    struct sky_cloud_uniforms u; /* with the wind displacement and frame phase zeroed */
+    uint32_t weather_generation, noise_seed;
+};
+
+enum { P_WEATHER, P_SHADOW, P_HEMISPHERE, P_TRACE, P_RECONSTRUCT_0, P_RECONSTRUCT_1, P_COUNT };
+
+struct cloud_renderer {
+    bool quiet;
+    VkSampler repeat;
+    struct cloud_noise noise;
+    struct cloud_map weather, shadow;
+    struct gpu_image client_map, dummy;
+    bool has_client_map;
+    uint32_t client_generation;
+    struct gpu_buffer ubo, env;
+    struct compute_pass pass[P_COUNT];
+    struct cloud_history history;
+    struct sky_render_clouds clouds;
+    bool active;
+    struct sky_cloud_uniforms u;
+    struct weather_key weather_target;
+    struct shadow_key shadow_target;
+    float shadow_sun[3];
+    bool shadow_has_sun, env_dirty;
+    double budget_ms;
+};
+
+#define UBO VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+#define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+#define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+#define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+#define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
+#define MARCH_BINDINGS UBO, UBO, SAMPLED, SAMPLED, SAMPLED, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED
+
+static const struct compute_pass_desc descs[P_COUNT] = {
+    [P_WEATHER] = { .name = "cloud_weather", SPIRV(cloud_weather_spv), .binding_count = 2,
+                    .bindings = { SAMPLED, STORAGE_IMG },
+                    .push_constant_bytes = sizeof(struct sky_cloud_rows_push) },
+    [P_SHADOW] = { .name = "cloud_shadow", SPIRV(cloud_shadow_spv), .binding_count = 7,
+                   .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
+                   .push_constant_bytes = sizeof(struct sky_cloud_rows_push) },
+    [P_HEMISPHERE] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
+                       .binding_count = 11, .bindings = { MARCH_BINDINGS, STORAGE_BUF } },
+    [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 12,
+                  .bindings = { MARCH_BINDINGS, STORAGE_IMG, STORAGE_IMG },
+                  .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
+    [P_RECONSTRUCT_0] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
+                          .binding_count = 7,
+                          .bindings = { UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
+                                        STORAGE_IMG },
+                          .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
+    [P_RECONSTRUCT_1] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
+                          .binding_count = 7,
+                          .bindings = { UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
+                                        STORAGE_IMG },
+                          .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
+};
+
+static VkResult repeat_sampler_create(struct vk_context *ctx, VkSampler *out)
+{
+    VkSamplerCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = VK_FILTER_LINEAR,
+        .minFilter = VK_FILTER_LINEAR,
+        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+        .addressModeU = VK_SAMPLER_ADDRESS_MODE_REPEAT,
+        .addressModeV = VK_SAMPLER_ADDRESS_MODE_REPEAT,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT,
+        .maxLod = 0.0f,
+    };
+    return vkCreateSampler(ctx->device, &info, NULL, out);
+}
+
+static int map_create(struct vk_context *ctx, struct cloud_map *m, VkFormat format, uint32_t size,
+                      const char *name, double ms_per_row)
+{
+    memset(m, 0, sizeof *m);
+    m->ms_per_row = ms_per_row;
+    for (int i = 0; i < 2; i++)
+        if (gpu_image_create(ctx, format, size, size, 1, name, &m->image[i]) != VK_SUCCESS)
+            return -1;
+    return 0;
+}
+
+static void map_destroy(struct vk_context *ctx, struct cloud_map *m)
+{
+    gpu_image_destroy(ctx, &m->image[0]);
+    gpu_image_destroy(ctx, &m->image[1]);
+}
+
+struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
+{
+    struct cloud_renderer *cr = calloc(1, sizeof *cr);
+    if (!cr)
+        return NULL;
+    cr->quiet = quiet;
+    VK_CHECK_GOTO(repeat_sampler_create(ctx, &cr->repeat), fail);
+    if (cloud_noise_create(ctx, &cr->noise) != 0 ||
+        map_create(ctx, &cr->weather, VK_FORMAT_R8G8B8A8_UNORM, WEATHER_SIZE, "cloud_weather",
+                   INITIAL_MS_PER_WEATHER_ROW) != 0 ||
+        map_create(ctx, &cr->shadow, FLOAT_FORMAT, SHADOW_SIZE, "cloud_shadow",
+                   INITIAL_MS_PER_SHADOW_ROW) != 0)
+        goto fail;
+    VK_CHECK_GOTO(gpu_image_create(ctx, FLOAT_FORMAT, 1, 1, 1, "cloud_none", &cr->dummy), fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_cloud_uniforms),
+                                    VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "cloud_ubo", &cr->ubo),
+                  fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, 8 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                    "cloud_env", &cr->env),
+                  fail);
+    memset(cr->ubo.mapped, 0, sizeof(struct sky_cloud_uniforms));
+    const float no_clouds[8] = { 0, 0, 0, 0, 1, 1, 1, 1 };
+    memcpy(cr->env.mapped, no_clouds, sizeof no_clouds);
+    for (int i = 0; i < P_COUNT; i++)
+        VK_CHECK_GOTO(compute_pass_create(ctx, &descs[i], &cr->pass[i]), fail);
+    return cr;
+fail:
+    cloud_renderer_destroy(ctx, &cr);
+    return NULL;
+}
+
+void cloud_renderer_destroy(struct vk_context *ctx, struct cloud_renderer **pcr)
+{
+    struct cloud_renderer *cr = pcr ? *pcr : NULL;
+    if (!cr)
+        return;
+    for (int i = 0; i < P_COUNT; i++)
+        compute_pass_destroy(ctx, &cr->pass[i]);
+    cloud_history_destroy(ctx, &cr->history);
+    cloud_noise_destroy(ctx, &cr->noise);
+    map_destroy(ctx, &cr->weather);
+    map_destroy(ctx, &cr->shadow);
+    gpu_image_destroy(ctx, &cr->client_map);
+    gpu_image_destroy(ctx, &cr->dummy);
+    gpu_buffer_destroy(ctx, &cr->ubo);
+    gpu_buffer_destroy(ctx, &cr->env);
+    if (cr->repeat)
+        vkDestroySampler(ctx->device, cr->repeat, NULL);
+    free(cr);
+    *pcr = NULL;
+}
+
+int cloud_renderer_set(struct vk_context *ctx, struct cloud_renderer *cr,
+                       const struct sky_render_clouds *clouds)
+{
+    cr->clouds = *clouds;
+    cr->active = cloud_params_any_layer(clouds);
+    if (cr->active && (!cr->noise.generated || cr->noise.seed != clouds->noise_seed))
+        return cloud_noise_generate(ctx, &cr->noise, clouds->noise_seed, cr->quiet);
+    return 0;
+}
+
+void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms)
+{
+    cr->budget_ms = budget_ms;
+}
+
+/* ---- client weather map ---- */
+
+int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer *cr,
+                                   const uint8_t *rgba8, uint32_t width, uint32_t height)
+{
+    if (!rgba8) {
+        gpu_image_destroy(ctx, &cr->client_map);
+        cr->has_client_map = false;
+        cr->client_generation++;
+        return 0;
+    }
+    if (width == 0 || height == 0 || width > 4096 || height > 4096)
+        return -1;
+    VkDeviceSize bytes = (VkDeviceSize)width * height * 4;
+    struct gpu_buffer staging;
+    if (gpu_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, "weather_upload",
+                          &staging) != VK_SUCCESS)
+        return -1;
+    memcpy(staging.mapped, rgba8, (size_t)bytes);
+    vk_context_wait_idle(ctx);
+    gpu_image_destroy(ctx, &cr->client_map);
+    cr->has_client_map = false;
+    int rc = -1;
+    VkCommandBuffer cmd;
+    if (gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, width, height, 1, "client_weather",
+                         &cr->client_map) == VK_SUCCESS &&
+        vk_context_begin_commands(ctx, &cmd) == VK_SUCCESS) {
+        VkBufferImageCopy region = {
+            .imageSubresource = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1 },
+            .imageExtent = { width, height, 1 },
+        };
+        vkCmdCopyBufferToImage(cmd, staging.buffer, cr->client_map.image,
+                               VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+        gpu_barrier_compute_to_compute(cmd);
+        if (vk_context_submit_and_wait(ctx, &cmd) == VK_SUCCESS) {
+            cr->has_client_map = true;
+            cr->client_generation++;
+            rc = 0;
+        }
+    }
+    gpu_buffer_destroy(ctx, &staging);
+    return rc;
+}
+
+/* ---- amortized maps ---- */
+
+static struct compute_resource tex(const struct gpu_image *image, VkSampler sampler)
+{
+    return (struct compute_resource){ .image = image, .sampler = sampler };
+}
+
+static struct compute_resource img(const struct gpu_image *image)
+{
+    return (struct compute_resource){ .image = image };
+}
+
+static struct compute_resource buf(const struct gpu_buffer *buffer)
+{
+    return (struct compute_resource){ .buffer = buffer };
+}
+
+static const struct gpu_image *shown(const struct cloud_renderer *cr, const struct cloud_map *m)
+{
+    return m->ready ? &m->image[m->shown] : &cr->dummy;
+}
+
+/* Records rows of a map under *budget (all of them when budget_ms <= 0, at least one row per
+ * frame); true when the map is complete and now shown. */
+static bool map_record(struct cloud_renderer *cr, struct cloud_map *m, VkCommandBuffer cmd,
+                       struct gpu_timer *timer, struct compute_pass *pass,
+                       struct sky_cloud_rows_push *push, double *budget)
+{
+    uint32_t total = m->image[0].height, rows = total - m->next_row;
+    if (cr->budget_ms > 0.0) {
+        double affordable = floor(*budget / m->ms_per_row);
+        if (affordable < 1.0)
+            affordable = 1.0;
+        if (affordable < rows)
+            rows = (uint32_t)affordable;
+    }
+    push->row_offset = m->next_row;
+    const uint32_t size[3] = { m->image[0].width, rows, 1 }, local[3] = { 8, 8, 1 };
+    compute_pass_record(cmd, pass, push, size, local);
+    gpu_timer_mark(timer, cmd, pass->name);
+    m->rows_this_frame = rows;
+    *budget -= rows * m->ms_per_row;
+    m->next_row += rows;
+    if (m->next_row < total)
+        return false;
+    m->building = false;
+    m->ready = true;
+    m->shown = 1 - m->shown;
+    m->generation++;
+    return true;
+}
+
+static void map_start(struct cloud_map *m)
+{
+    m->building = true;
+    m->next_row = 0;
+}
+
+static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr,
+                           VkCommandBuffer cmd, struct gpu_timer *timer, double *budget)
+{
+    const struct sky_render_clouds *c = &cr->clouds;
+    bool client = c->use_client_map && cr->has_client_map;
+    struct weather_key key = {
+        .params = { (float)c->low.coverage, (float)c->high.coverage, (float)c->low.type,
+                    (float)c->precipitation },
+        .seed = c->weather_seed,
+        .mode = client ? 1u : 0u,
+        .client_generation = client ? cr->client_generation : 0u,
+    };
+    /* A change during a build restarts it (the shown map stays until one completes). */
+    if ((!cr->weather.ready && !cr->weather.building) ||
+        memcmp(&key, &cr->weather_target, sizeof key) != 0) {
+        cr->weather_target = key;
+        map_start(&cr->weather);
+    }
+    if (!cr->weather.building)
+        return;
+    struct compute_resource r[2] = {
+        tex(client ? &cr->client_map : &cr->dummy, cr->repeat),
+        img(&cr->weather.image[1 - cr->weather.shown]),
+    };
+    compute_pass_bind(ctx, &cr->pass[P_WEATHER], r);
+    struct sky_cloud_rows_push push = {
+        .mode = key.mode,
+        .seed = key.seed,
+        .params = { key.params[0], key.params[1], key.params[2], key.params[3] },
+    };
+    map_record(cr, &cr->weather, cmd, timer, &cr->pass[P_WEATHER], &push, budget);
+}
+
+static float angle_between(const float a[3], const float b[3])
+{
+    float d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    return acosf(fminf(1.0f, fmaxf(-1.0f, d)));
+}
+
+/* The hemisphere averages (seed 001 eq. 22) follow each completed shadow map: same inputs. */
+static void bind_march(struct vk_context *ctx, struct cloud_renderer *cr, struct compute_pass *pass,
+                       const struct cloud_frame *f, struct compute_resource extra0,
+                       struct compute_resource extra1)
+{
+    const struct sky_pass_resources *s = &f->sky;
+    struct compute_resource r[12] = {
+        buf(s->atmosphere_ubo), buf(s->frame_ubo), tex(s->transmittance, s->sampler),
+        tex(s->multiscattering, s->sampler), tex(s->irradiance, s->sampler), buf(&cr->ubo),
+        tex(&cr->noise.base, cr->repeat), tex(&cr->noise.detail, cr->repeat),
+        tex(&cr->noise.curl, cr->repeat), tex(shown(cr, &cr->weather), cr->repeat),
+        extra0, extra1,
+    };
+    compute_pass_bind(ctx, pass, r);
+}
+
+static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
+                          struct gpu_timer *timer, const struct cloud_frame *f, double *budget)
+{
+    if (!cr->weather.ready)
+        return;
+    struct shadow_key key;
+    memset(&key, 0, sizeof key);
+    key.u = cr->u;
+    key.u.weather.x = key.u.weather.y = 0.0f;
+    key.u.march.w = 0.0f;
+    key.u.shadow_sun = (sky_vec4){ 0, 0, 0, 0 };
+    key.weather_generation = cr->weather.generation;
+    key.noise_seed = cr->noise.seed;
+    const float sun[3] = { f->frame->sun_direction.x, f->frame->sun_direction.y,
+                           f->frame->sun_direction.z };
+    bool moved = !cr->shadow_has_sun || angle_between(sun, cr->shadow_sun) > SHADOW_SUN_TOLERANCE;
+    if ((!cr->shadow.ready && !cr->shadow.building) || moved ||
+        memcmp(&key, &cr->shadow_target, sizeof key) != 0) {
+        cr->shadow_target = key;
+        memcpy(cr->shadow_sun, sun, sizeof sun);
+        cr->shadow_has_sun = true;
+        map_start(&cr->shadow);
+    }
+    if (!cr->shadow.building)
+        return;
+    const struct sky_pass_resources *s = &f->sky;
+    struct compute_resource r[7] = {
+        buf(s->atmosphere_ubo), buf(&cr->ubo), tex(&cr->noise.base, cr->repeat),
+        tex(&cr->noise.detail, cr->repeat), tex(&cr->noise.curl, cr->repeat),
+        tex(shown(cr, &cr->weather), cr->repeat), img(&cr->shadow.image[1 - cr->shadow.shown]),
+    };
+    compute_pass_bind(ctx, &cr->pass[P_SHADOW], r);
+    struct sky_cloud_rows_push push = { .row_offset = 0 };
+    if (map_record(cr, &cr->shadow, cmd, timer, &cr->pass[P_SHADOW], &push, budget))
+        cr->env_dirty = true;
+}
+
+static void record_hemisphere(struct vk_context *ctx, struct cloud_renderer *cr,
+                              VkCommandBuffer cmd, struct gpu_timer *timer,
+                              const struct cloud_frame *f)
+{
+    if (!cr->env_dirty)
+        return;
+    bind_march(ctx, cr, &cr->pass[P_HEMISPHERE], f, buf(&cr->env), buf(&cr->env));
+    const uint32_t size[3] = { CLOUD_HEMISPHERE_RAYS, 1, 1 };
+    const uint32_t local[3] = { CLOUD_HEMISPHERE_RAYS, 1, 1 };
+    compute_pass_record(cmd, &cr->pass[P_HEMISPHERE], NULL, size, local);
+    gpu_timer_mark(timer, cmd, cr->pass[P_HEMISPHERE].name);
+    cr->env_dirty = false;
+}
+
+/* ---- per-view trace and reconstruction ---- */
+
+/* Order in which the pixels of a block are traced: a 4x4 Bayer matrix (and its 2x2 corner),
+ * so that consecutive frames land far apart. */
+static void block_offset(int block, uint32_t frame, int *x, int *y)
+{
+    static const int bayer4[16] = { 0, 10, 2, 8, 5, 15, 7, 13, 1, 11, 3, 9, 4, 14, 6, 12 };
+    static const int bayer2[4] = { 0, 3, 1, 2 };
+    int count = block * block;
+    int i = block == 4 ? bayer4[frame % 16] : block == 2 ? bayer2[frame % 4] : 0;
+    (void)count;
+    *x = i % block;
+    *y = i / block;
+}
+
+static void copy4(float dst[4], sky_vec4 v)
+{
+    dst[0] = v.x, dst[1] = v.y, dst[2] = v.z, dst[3] = v.w;
+}
+
+static sky_vec4 vec4_of(const float v[4])
+{
+    return (sky_vec4){ v[0], v[1], v[2], v[3] };
+}
+
+/* Internal frames a new history accumulates before its first image is shown, so that one-off
+ * renders come out converged: about two samples per pixel, at least four frames. */
+static int frames_for_new_history(int block)
+{
+    return block == 4 ? 32 : block == 2 ? 8 : 4;
+}
+
+static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
+                       struct gpu_timer *timer, const struct cloud_frame *f,
+                       const struct gpu_image **out)
+{
+    const struct sky_render_clouds *c = &cr->clouds;
+    int block = cloud_params_block(c->resolution);
+    struct cloud_history_entry *e =
+        cloud_history_acquire(ctx, &cr->history, f->history_key, f->width, f->height, block);
+    if (!e)
+        return -1;
+    bind_march(ctx, cr, &cr->pass[P_TRACE], f, img(&e->trace_color), img(&e->trace_depth));
+    for (int i = 0; i < 2; i++) {
+        struct compute_resource r[7] = {
+            buf(f->sky.frame_ubo), tex(&e->trace_color, f->sky.sampler),
+            tex(&e->trace_depth, f->sky.sampler), tex(&e->color[i], f->sky.sampler),
+            tex(&e->aux[i], f->sky.sampler), img(&e->color[1 - i]), img(&e->aux[1 - i]),
+        };
+        compute_pass_bind(ctx, &cr->pass[P_RECONSTRUCT_0 + i], r);
+    }
+    int frames = (!e->valid && c->temporal) ? frames_for_new_history(block) : 1;
+    static const float min_weight[5] = { 0, 0.08f, 0.15f, 0, 0.25f };
+    const uint32_t tsize[3] = { e->trace_color.width, e->trace_color.height, 1 };
+    const uint32_t size[3] = { f->width, f->height, 1 }, local[3] = { 8, 8, 1 };
+    for (int k = 0; k < frames; k++) {
+        struct sky_cloud_view_push push;
+        memset(&push, 0, sizeof push);
+        int ox, oy;
+        block_offset(block, e->frame, &ox, &oy);
+        push.frame = (sky_ivec4){ (int32_t)e->frame, block, ox, oy };
+        if (e->valid) {
+            push.prev_forward = vec4_of(e->prev_forward);
+            push.prev_right = vec4_of(e->prev_right);
+            push.prev_up = vec4_of(e->prev_up);
+            push.prev_up.w = 1.0f;
+            push.motion.x = (float)(c->wind_offset_east_km - e->prev_wind[0]);
+            push.motion.y = (float)(c->wind_offset_north_km - e->prev_wind[1]);
+        }
+        push.motion.z = min_weight[block];
+        push.motion.w = c->temporal ? 1.0f : 0.0f;
+        compute_pass_record(cmd, &cr->pass[P_TRACE], &push, tsize, local);
+        if (frames == 1)
+            gpu_timer_mark(timer, cmd, "cloud_trace");
+        compute_pass_record(cmd, &cr->pass[P_RECONSTRUCT_0 + e->latest], &push, size, local);
+        if (frames == 1)
+            gpu_timer_mark(timer, cmd, "cloud_reconstruct");
+        e->latest = 1 - e->latest;
+        e->valid = true;
+        e->frame++;
+        copy4(e->prev_forward, f->frame->camera_forward);
+        copy4(e->prev_right, f->frame->camera_right);
+        copy4(e->prev_up, f->frame->camera_up);
+        e->prev_wind[0] = c->wind_offset_east_km;
+        e->prev_wind[1] = c->wind_offset_north_km;
+    }
+    if (frames > 1)
+        gpu_timer_mark(timer, cmd, "cloud_accumulate");
+    *out = &e->color[e->latest];
+    return 0;
+}
+
+void cloud_renderer_no_clouds(const struct cloud_renderer *cr, struct sky_cloud_bindings *out)
+{
+    *out = (struct sky_cloud_bindings){
+        .clouds = &cr->dummy,
+        .shadow = &cr->dummy,
+        .shadow_sampler = cr->repeat,
+        .ubo = &cr->ubo,
+        .env = &cr->env,
+    };
+}
+
+int cloud_renderer_record(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
+                          struct gpu_timer *timer, const struct cloud_frame *f,
+                          struct sky_cloud_bindings *out)
+{
+    cloud_renderer_no_clouds(cr, out);
+    if (!cr->active || !cr->noise.generated) {
+        memset(cr->ubo.mapped, 0, sizeof(struct sky_cloud_uniforms));
+        return 0;
+    }
+    cloud_params_fill(&cr->clouds, f->bottom_radius_km, &cr->u);
+    cr->u.shadow_sun = (sky_vec4){ cr->shadow_sun[0], cr->shadow_sun[1], cr->shadow_sun[2], 0 };
+    memcpy(cr->ubo.mapped, &cr->u, sizeof cr->u);
+    double budget = cr->budget_ms;
+    cr->weather.rows_this_frame = cr->shadow.rows_this_frame = 0;
+    record_weather(ctx, cr, cmd, timer, &budget);
+    /* The shadow builder reads the sun it is built for from the block. */
+    record_shadow(ctx, cr, cmd, timer, f, &budget);
+    cr->u.shadow_sun = (sky_vec4){ cr->shadow_sun[0], cr->shadow_sun[1], cr->shadow_sun[2],
+                                   cr->shadow.ready ? 1.0f : 0.0f };
+    memcpy(cr->ubo.mapped, &cr->u, sizeof cr->u);
+    record_hemisphere(ctx, cr, cmd, timer, f);
+    const struct gpu_image *clouds = NULL;
+    if (record_view(ctx, cr, cmd, timer, f, &clouds) != 0)
+        return -1;
+    out->clouds = clouds;
+    out->shadow = shown(cr, &cr->shadow);
+    return 0;
+}
+
+void cloud_renderer_observe(struct cloud_renderer *cr, const char *pass_name, double ms)
+{
+    struct cloud_map *m = strcmp(pass_name, "cloud_weather") == 0  ? &cr->weather
+                          : strcmp(pass_name, "cloud_shadow") == 0 ? &cr->shadow
+                                                                   : NULL;
+    if (!m || m->rows_this_frame == 0 || !(ms > 0.0))
+        return;
+    m->ms_per_row = 0.7 * m->ms_per_row + 0.3 * ms / m->rows_this_frame;
+    m->rows_this_frame = 0;
+}
+
+double cloud_renderer_progress(const struct cloud_renderer *cr)
+{
+    if (!cr->active)
+        return 1.0;
+    double total = cr->weather.image[0].height + cr->shadow.image[0].height;
+    double done = (cr->weather.building ? cr->weather.next_row : cr->weather.image[0].height) +
+                  (cr->shadow.building || !cr->shadow.ready ? cr->shadow.next_row
+                                                            : cr->shadow.image[0].height);
+    return done / total;
+}

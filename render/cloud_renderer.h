@@ -1,0 +1,50 @@
+/* The cloud passes of a frame (seed 001 section 5): noise volumes, the amortized weather map,
+ * cloud shadow map and hemisphere averages, the per-view trace at block resolution and its
+ * temporal reconstruction. Produces what the composite needs (sky_passes_bind_clouds). */
+#ifndef SKYD_CLOUD_RENDERER_H
+#define SKYD_CLOUD_RENDERER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <vulkan/vulkan.h>
+
+#include "sky_passes.h"
+#include "sky_renderer.h"
+
+struct vk_context;
+struct gpu_timer;
+struct cloud_renderer;
+
+struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet);
+void cloud_renderer_destroy(struct vk_context *ctx, struct cloud_renderer **cr);
+
+/* The clouds of the next frames; generates the noise when first needed or reseeded. */
+int cloud_renderer_set(struct vk_context *ctx, struct cloud_renderer *cr,
+                       const struct sky_render_clouds *clouds);
+int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer *cr,
+                                   const uint8_t *rgba8, uint32_t width, uint32_t height);
+/* GPU ms per frame for weather and shadow map rebuilds; <= 0 rebuilds at once. */
+void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms);
+
+/* What one view's frame needs from the sky passes. */
+struct cloud_frame {
+    struct sky_pass_resources sky;
+    const struct sky_frame_uniforms *frame;
+    double bottom_radius_km;
+    uint32_t width, height;
+    uint64_t history_key;
+};
+
+/* Records the cloud work of a frame (nothing when no layer is on) and fills the composite's
+ * bindings (no clouds when off). Returns 0 or -1. */
+int cloud_renderer_record(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
+                          struct gpu_timer *timer, const struct cloud_frame *f,
+                          struct sky_cloud_bindings *out);
+/* The composite's bindings with no clouds. */
+void cloud_renderer_no_clouds(const struct cloud_renderer *cr, struct sky_cloud_bindings *out);
+/* GPU time of a recorded pass, to size the next map slices. */
+void cloud_renderer_observe(struct cloud_renderer *cr, const char *pass_name, double ms);
+/* Of the map rebuild under way, in [0, 1]; 1 when settled. */
+double cloud_renderer_progress(const struct cloud_renderer *cr);
+
+#endif

@@ -1,0 +1,38 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The clouds over the upper hemisphere seen from the ground under the camera, averaged with a
+// cosine weight: transmittance Tr_cloud and scattered luminance L_cloud per unit sun
+// illuminance, the inputs of seed 001 eq. 22 (clouds on the aerial perspective below them).
+#include "cloud_shared.h"
+
+layout(local_size_x = CLOUD_HEMISPHERE_RAYS) in;
+#include "cloud_bindings.glsl"
+layout(std430, binding = 10) writeonly buffer Env { vec4 env_luminance; vec4 env_transmittance; };
+
+const float STEPS = 24.0;
+shared vec4 partial[CLOUD_HEMISPHERE_RAYS];
+
+void main()
+{
+    uint i = gl_LocalInvocationIndex;
+    // Cosine-weighted directions on a Fibonacci spiral.
+    float u = (float(i) + 0.5) / float(CLOUD_HEMISPHERE_RAYS);
+    float phi = float(i) * 2.39996323;
+    float sin_t = sqrt(u), cos_t = sqrt(1.0 - u);
+    vec3 dir = vec3(sin_t * cos(phi), sin_t * sin(phi), cos_t);
+    vec3 origin = vec3(0.0, 0.0, bottom_radius() + 0.002);
+    CloudResult c = march_clouds(origin, dir, frame.sun_direction.xyz, 0.5, STEPS);
+    vec3 per_lux = c.luminance / max(frame.sun_illuminance.xyz, vec3(1e-20));
+    partial[i] = vec4(per_lux, c.transmittance);
+    barrier();
+    for (uint stride = CLOUD_HEMISPHERE_RAYS / 2u; stride > 0u; stride >>= 1u) {
+        if (i < stride)
+            partial[i] += partial[i + stride];
+        barrier();
+    }
+    if (i == 0u) {
+        vec4 mean = partial[0] / float(CLOUD_HEMISPHERE_RAYS);
+        env_luminance = vec4(mean.rgb, 1.0);
+        env_transmittance = vec4(mean.a);
+    }
+}

@@ -1,0 +1,95 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Temporal reconstruction of the clouds at full resolution (seed 001 5.5.3; Schneider 2015):
+// each pixel reprojects the view's history through its cloud depth (camera rotation and the
+// wind's displacement of the clouds), clamps it to the neighbourhood of this frame's trace
+// (history rejection) and, where this frame traced it, blends the new sample in with a weight
+// of 1 / samples (at least view.motion.z). Untraced pixels without history take the nearest
+// traced sample.
+#include "sky_shared.h"
+#include "cloud_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(std140, binding = 0) uniform FrameBlock { sky_frame_uniforms frame; };
+layout(binding = 1) uniform sampler2D trace_color;
+layout(binding = 2) uniform sampler2D trace_depth;
+layout(binding = 3) uniform sampler2D history_color;
+layout(binding = 4) uniform sampler2D history_aux;
+layout(binding = 5, rgba32f) uniform writeonly image2D out_color;
+layout(binding = 6, rgba32f) uniform writeonly image2D out_aux;
+layout(push_constant) uniform ViewPush { sky_cloud_view_push view; };
+
+#include "camera.glsl"
+
+const float MAX_SAMPLES = 64.0;
+
+vec2 previous_uv(vec3 dir)
+{
+    float z = dot(dir, view.prev_forward.xyz);
+    if (z <= 1e-6)
+        return vec2(-1.0);
+    float tan_half = view.prev_forward.w, aspect = view.prev_right.w;
+    vec2 ndc = vec2(dot(dir, view.prev_right.xyz) / (z * tan_half * aspect),
+                    dot(dir, view.prev_up.xyz) / (z * tan_half));
+    return vec2(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+}
+
+void main()
+{
+    ivec2 size = imageSize(out_color);
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, size)))
+        return;
+    int block = view.frame.y;
+    ivec2 tsize = textureSize(trace_color, 0);
+    ivec2 tp = min(px / block, tsize - 1);
+    bool traced = all(equal(px - tp * block, view.frame.zw));
+    vec4 current = texelFetch(trace_color, tp, 0);
+    if (view.motion.w < 0.5) {
+        imageStore(out_color, px, current);
+        imageStore(out_aux, px, vec4(texelFetch(trace_depth, tp, 0).x, 1.0, 0.0, 0.0));
+        return;
+    }
+    // Neighbourhood of this frame's samples (the traced texel and its 4 neighbours), for
+    // history rejection.
+    vec4 lo = current, hi = current;
+    const ivec2 offsets[4] = ivec2[](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+    for (int k = 0; k < 4; k++) {
+        vec4 s = texelFetch(trace_color, clamp(tp + offsets[k], ivec2(0), tsize - 1), 0);
+        lo = min(lo, s);
+        hi = max(hi, s);
+    }
+    vec4 margin = (hi - lo) * 0.15 + vec4(vec3(1e-3 * max(hi.r, 1.0)), 0.01);
+    lo -= margin;
+    hi += margin;
+
+    // Where this pixel's cloud was in the previous frame: its front point moved with the wind.
+    vec3 dir = camera_ray((vec2(px) + 0.5) / vec2(size));
+    float depth = texelFetch(trace_depth, tp, 0).x;
+    vec3 prev_dir = dir;
+    if (depth > 0.0) {
+        vec3 p = dir * depth - vec3(view.motion.xy, 0.0);
+        prev_dir = normalize(p);
+    }
+    vec2 uv = previous_uv(prev_dir);
+    bool valid = view.prev_up.w > 0.5 && all(greaterThanEqual(uv, vec2(0.0)))
+                 && all(lessThanEqual(uv, vec2(1.0)));
+    vec4 result;
+    float samples;
+    if (!valid) {
+        result = current;
+        samples = traced ? 1.0 : 0.0;
+    } else {
+        vec4 history = clamp(textureLod(history_color, uv, 0.0), lo, hi);
+        float history_samples = textureLod(history_aux, uv, 0.0).y;
+        if (traced) {
+            samples = min(history_samples + 1.0, MAX_SAMPLES);
+            result = mix(history, current, max(1.0 / samples, view.motion.z));
+        } else {
+            samples = history_samples;
+            result = history;
+        }
+    }
+    imageStore(out_color, px, result);
+    imageStore(out_aux, px, vec4(depth, samples, 0.0, 0.0));
+}

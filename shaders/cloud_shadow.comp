@@ -1,0 +1,52 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Cloud shadow map (seed 001 5.9): transmittance toward the sun through both layers from the
+// ground, over the tileable weather pattern (texel = pattern position), on the coarse shape.
+// The wind moves the lookup, not the map; it is rebuilt when the sun or the clouds change, a
+// slice of rows per dispatch.
+#include "cloud_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+layout(std140, binding = 1) uniform CloudBlock { sky_cloud_uniforms cloud; };
+layout(binding = 2) uniform sampler3D base_noise;
+layout(binding = 3) uniform sampler3D detail_noise;
+layout(binding = 4) uniform sampler2D curl_noise;
+layout(binding = 5) uniform sampler2D weather_map;
+layout(binding = 6, rgba32f) uniform writeonly image2D shadow_out;
+layout(push_constant) uniform RowsPush { sky_cloud_rows_push push; };
+
+#include "atmosphere.glsl"
+#include "cloud_density.glsl"
+
+const float STEPS = 12.0;
+
+float optical_depth(vec3 o, vec3 d, vec4 layer)
+{
+    float t0, t1;
+    if (!shell_segment(o, d, layer.x, layer.y, t0, t1))
+        return 0.0;
+    t1 = min(t1, t0 + cloud.march.y);
+    float ds = (t1 - t0) / STEPS, tau = 0.0;
+    for (float i = 0.0; i < STEPS; i += 1.0)
+        tau += cloud_extinction(o + (t0 + (i + 0.5) * ds) * d, false) * ds;
+    return tau;
+}
+
+void main()
+{
+    ivec2 size = imageSize(shadow_out);
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, int(push.row_offset));
+    if (any(greaterThanEqual(px, size)))
+        return;
+    vec2 pattern = ((vec2(px) + 0.5) / vec2(size) - 0.5) * cloud.weather.w;
+    vec2 xy = pattern + cloud.weather.xy;
+    xy -= cloud.weather.w * round(xy / cloud.weather.w); // the copy nearest the camera
+    float R = bottom_radius();
+    vec3 ground = normalize(vec3(xy, R)) * (R + 0.002);
+    vec3 sun = cloud.shadow_sun.xyz;
+    float tau = optical_depth(ground, sun, cloud.low);
+    if (cloud.high.w > 0.5)
+        tau += optical_depth(ground, sun, cloud.high);
+    imageStore(shadow_out, px, vec4(exp(-tau), tau, 0.0, 1.0));
+}

@@ -1,0 +1,43 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Cloud trace: one pixel of each block x block block of the view per frame (the one the
+// frame index selects), ray-marched through the layers from a blue-noise jittered start, then
+// aerial perspective applied at the transmittance-weighted depth (seed 001 eq. 21).
+// Writes premultiplied cloud luminance with opacity (1 - transmittance), and the depth.
+#include "cloud_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+#include "cloud_bindings.glsl"
+layout(binding = 10, rgba32f) uniform writeonly image2D trace_color;
+layout(binding = 11, rgba32f) uniform writeonly image2D trace_depth;
+layout(push_constant) uniform ViewPush { sky_cloud_view_push view; };
+
+#include "scattering_march.glsl"
+#include "camera.glsl"
+
+const float AP_STEPS = 8.0;
+
+void main()
+{
+    ivec2 tsize = imageSize(trace_color);
+    ivec2 tp = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(tp, tsize)))
+        return;
+    ivec2 size = ivec2(frame.image.xy);
+    ivec2 px = min(tp * view.frame.y + view.frame.zw, size - 1);
+    vec3 dir = camera_ray((vec2(px) + 0.5) / vec2(size));
+    vec3 origin = frame.camera_position.xyz;
+    vec3 sun_dir = frame.sun_direction.xyz;
+    float blue = texelFetch(curl_noise, px % textureSize(curl_noise, 0), 0).b;
+    float jitter = fract(blue + float(view.frame.x) * 0.61803398875);
+    CloudResult c = march_clouds(origin, dir, sun_dir, jitter, cloud.march.x);
+    vec3 L = c.luminance;
+    float opacity = 1.0 - c.transmittance;
+    if (opacity > 1e-4) {
+        // Aerial perspective between the camera and the clouds' front (seed 001 5.9.1).
+        MarchResult ap = march_scattering(origin, dir, sun_dir, c.depth, AP_STEPS);
+        L = L * ap.transmittance + opacity * ap.luminance * frame.sun_illuminance.xyz;
+    }
+    imageStore(trace_color, tp, vec4(L, opacity));
+    imageStore(trace_depth, tp, vec4(c.depth, c.transmittance, 0.0, 0.0));
+}

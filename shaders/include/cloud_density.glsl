@@ -1,0 +1,129 @@
+// Cloud density (extinction per km) at a planet-centred point (seed 001 5.3-5.4; Schneider
+// 2015): weather map (coverage, type, precipitation) x height profile of the cloud type x
+// Perlin-Worley base shape, eroded by Worley detail noise, distorted by curl noise. Two layers:
+// a low cumulus-type layer and a high thin one.
+//
+// The including shader declares `atmo`, `cloud` (sky_cloud_uniforms) and the samplers
+// base_noise (3D), detail_noise (3D), curl_noise (2D: rg curl, b blue noise) and weather_map
+// (2D), all sampled with repeat addressing.
+#ifndef CLOUD_DENSITY_GLSL
+#define CLOUD_DENSITY_GLSL
+
+const float CURL_STRENGTH_KM = 0.35;
+
+float remap(float v, float lo, float hi, float new_lo, float new_hi)
+{
+    return new_lo + (v - lo) / max(hi - lo, 1e-5) * (new_hi - new_lo);
+}
+
+// Horizontal coordinates of p in the wind-advected weather pattern (km).
+vec2 cloud_pattern_xy(vec3 p)
+{
+    return p.xy - cloud.weather.xy;
+}
+
+vec4 sample_weather(vec2 pattern_xy)
+{
+    return textureLod(weather_map, pattern_xy * cloud.weather.z + 0.5, 0.0);
+}
+
+// Height profile of a cloud type in [0, 1] (stratus .. cumulonimbus), interpolated between
+// the tabulated profiles (render/cloud_params.c).
+float type_profile(float type, float h)
+{
+    float x = clamp(type, 0.0, 1.0) * float(CLOUD_PROFILE_COUNT - 1);
+    int i = min(int(x), CLOUD_PROFILE_COUNT - 2);
+    vec4 a = cloud.profiles[i], b = cloud.profiles[i + 1];
+    vec4 p = mix(a, b, x - float(i));
+    return smoothstep(p.x, p.y, h) * (1.0 - smoothstep(p.z, p.w, h));
+}
+
+float layer_fraction(float r, vec4 layer)
+{
+    return (r - layer.x) / (layer.y - layer.x);
+}
+
+// Low layer. `detail` false gives the coarse shape used by shadow and light marches.
+float low_density(vec3 p, float r, vec4 wm, bool detail)
+{
+    float h = layer_fraction(r, cloud.low);
+    if (h <= 0.0 || h >= 1.0 || wm.r <= 0.0)
+        return 0.0;
+    // Precipitation lowers and thickens the base (seed 001 5.4: weather drives the shape).
+    float profile = type_profile(wm.b, h);
+    float coverage = clamp(wm.r * (1.0 + 0.5 * wm.a), 0.0, 1.0);
+    if (profile * coverage <= 0.0)
+        return 0.0;
+    float altitude = r - bottom_radius();
+    vec3 q = vec3(cloud_pattern_xy(p), altitude);
+    if (detail) { // the coarse shape of light and shadow marches skips the distortion
+        vec2 curl = textureLod(curl_noise, q.xy / cloud.tiles.z, 0.0).rg;
+        q.xy += curl * CURL_STRENGTH_KM * (1.0 - h);
+    }
+    vec4 n = textureLod(base_noise, q / cloud.tiles.x, 0.0);
+    float fbm = dot(n.gba, vec3(0.625, 0.25, 0.125));
+    float shape = clamp(remap(n.r, fbm - 1.0, 1.0, 0.0, 1.0), 0.0, 1.0) * profile;
+    // Coverage remap (Schneider 2015): only the densest shapes survive low coverage.
+    float d = clamp(remap(shape, 1.0 - coverage, 1.0, 0.0, 1.0), 0.0, 1.0) * coverage;
+    if (detail && d > 0.0) {
+        vec3 dn = textureLod(detail_noise, q / cloud.tiles.y, 0.0).rgb;
+        float dfbm = dot(dn, vec3(0.625, 0.25, 0.125));
+        // Wispy at the base, billowy toward the top.
+        float modifier = mix(dfbm, 1.0 - dfbm, clamp(h * 5.0, 0.0, 1.0));
+        d = clamp(remap(d, modifier * 0.35, 1.0, 0.0, 1.0), 0.0, 1.0);
+    }
+    return d * cloud.low.z * (1.0 + wm.a * (1.0 - h));
+}
+
+// High layer: a thin sheet, stretched along the wind-free x axis when fibrous.
+float high_density(vec3 p, float r, vec4 wm)
+{
+    float h = layer_fraction(r, cloud.high);
+    if (cloud.high.w < 0.5 || h <= 0.0 || h >= 1.0 || wm.g <= 0.0)
+        return 0.0;
+    float profile = smoothstep(0.0, 0.25, h) * (1.0 - smoothstep(0.5, 1.0, h));
+    float stretch = mix(1.0, 4.0, cloud.media.w);
+    vec3 q = vec3(cloud_pattern_xy(p) * vec2(1.0 / stretch, 1.0), (r - bottom_radius()) * 3.0);
+    vec4 n = textureLod(base_noise, q / (cloud.tiles.x * 2.0), 0.0);
+    float shape = mix(n.r, dot(n.gba, vec3(0.625, 0.25, 0.125)), 0.5) * profile;
+    float d = clamp(remap(shape, 1.0 - wm.g, 1.0, 0.0, 1.0), 0.0, 1.0) * wm.g;
+    return d * cloud.high.z;
+}
+
+// Extinction (per km) at p; detail false for coarse (shadow, light) samples.
+float cloud_extinction(vec3 p, bool detail)
+{
+    float r = length(p);
+    if (r < cloud.low.x || r > max(cloud.low.y, cloud.high.y))
+        return 0.0;
+    vec4 wm = sample_weather(cloud_pattern_xy(p));
+    return low_density(p, r, wm, detail) + high_density(p, r, wm);
+}
+
+// Range [t0, t1] of a ray inside the spherical shell [r_in, r_out], first crossing only;
+// false when it misses it or the planet is in the way first.
+bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out float t1)
+{
+    float r = length(o);
+    float t_ground = ray_sphere_nearest(o, d, bottom_radius());
+    float t_in_near = ray_sphere_nearest(o, d, r_in);
+    if (r < r_in) {
+        // Below: from the exit of the inner sphere to the exit of the outer one.
+        t0 = ray_sphere_far(o, d, r_in);
+        t1 = ray_sphere_far(o, d, r_out);
+        return t_ground < 0.0 && t1 > t0;
+    }
+    if (r <= r_out) {
+        t0 = 0.0;
+        t1 = t_in_near >= 0.0 ? t_in_near : ray_sphere_far(o, d, r_out);
+        return t1 > 0.0;
+    }
+    float t_out = ray_sphere_nearest(o, d, r_out);
+    if (t_out < 0.0)
+        return false;
+    t0 = t_out;
+    t1 = t_in_near >= 0.0 ? t_in_near : ray_sphere_far(o, d, r_out);
+    return t1 > t0;
+}
+
+#endif

@@ -1,0 +1,199 @@
+// Ray march through the cloud layers (seed 001 5.5-5.8): energy-conserving integration
+// (seed 001 eq. 17), dual-lobe Henyey-Greenstein phase (seed 000 eq. 14.17), Wrenninge's
+// multiple-scattering octaves (seed 000 eq. 14.18), sun light through a short secondary march
+// and the atmosphere's transmittance LUT (so sunsets colour the clouds), sky ambient from the
+// ground irradiance LUT (top) and the lit ground (bottom), early exit at low transmittance and
+// empty-space skipping. Needs atmosphere.glsl with both LUTs, cloud_density.glsl and an
+// `irradiance_lut` sampler.
+#ifndef CLOUD_MARCH_GLSL
+#define CLOUD_MARCH_GLSL
+
+const float LIGHT_MARCH_KM = 2.4;   // reach of the secondary march toward the sun
+const float EARLY_EXIT_T = 0.01;
+
+struct CloudResult {
+    vec3 luminance;   // scattered by the clouds toward the origin (cd/m2)
+    float transmittance;
+    float depth;      // transmittance-weighted front depth (seed 001 eq. 21), km
+};
+
+// Henyey-Greenstein phase, normalized over the sphere.
+float hg_phase(float cos_theta, float g)
+{
+    float g2 = g * g;
+    return (1.0 - g2) / (4.0 * PI * pow(max(1.0 + g2 - 2.0 * g * cos_theta, 1e-5), 1.5));
+}
+
+// seed 000 eq. 14.17: p0 + w (p1 - p0).
+float dual_lobe_phase(float cos_theta, float g0, float g1, float w)
+{
+    float p0 = hg_phase(cos_theta, g0);
+    return p0 + w * (hg_phase(cos_theta, g1) - p0);
+}
+
+// Optical depth toward the sun over LIGHT_MARCH_KM in light_steps samples, each step twice the
+// previous one (seed 001 5.5.2), on the coarse shape.
+float light_optical_depth(vec3 p, vec3 sun_dir, float jitter)
+{
+    float steps = cloud.octaves.w;
+    float ds = LIGHT_MARCH_KM / (exp2(steps) - 1.0);
+    float t = 0.0, tau = 0.0;
+    for (float i = 0.0; i < steps; i += 1.0) {
+        tau += cloud_extinction(p + sun_dir * (t + jitter * ds), false) * ds;
+        t += ds;
+        ds *= 2.0;
+    }
+    return tau;
+}
+
+// The phase of each octave along a ray (its angle to the sun is fixed): a^n p(g c^n), with
+// p the dual lobe of seed 000 eq. 14.17 and the octaves of seed 000 eq. 14.18.
+const int MAX_OCTAVES = 8;
+struct OctavePhases {
+    float weighted[MAX_OCTAVES];
+};
+
+OctavePhases octave_phases(float cos_theta)
+{
+    OctavePhases o;
+    float a = 1.0, c = 1.0;
+    for (int n = 0; n < MAX_OCTAVES; n++) {
+        o.weighted[n] = float(n) < cloud.phase.w
+                            ? a * dual_lobe_phase(cos_theta, cloud.phase.x * c,
+                                                  cloud.phase.y * c, cloud.phase.z)
+                            : 0.0;
+        a *= cloud.octaves.x;
+        c *= cloud.octaves.z;
+    }
+    return o;
+}
+
+// Sum over octaves n of a^n p(g c^n) exp(-b^n tau) (seed 000 eq. 14.18).
+float octave_sun_scattering(OctavePhases o, float tau)
+{
+    float b = 1.0, sum = 0.0;
+    for (int n = 0; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
+        sum += o.weighted[n] * exp(-b * tau);
+        b *= cloud.octaves.y;
+    }
+    return sum;
+}
+
+// Isotropic ambient radiance per unit sun illuminance under (top) and over (bottom) the clouds.
+struct CloudAmbient {
+    vec3 top, bottom;
+};
+
+CloudAmbient cloud_ambient(vec3 sun_dir)
+{
+    CloudAmbient a;
+    float mu_s = sun_dir.z; // at the camera's foot, up is +z
+    float size = float(textureSize(irradiance_lut, 0).x);
+    float u = unit_to_sub_uv(clamp(mu_s * 0.5 + 0.5, 0.0, 1.0), size);
+    vec3 sky_irradiance = textureLod(irradiance_lut, vec2(u, 0.5), 0.0).rgb;
+    vec3 ground = vec3(0.0, 0.0, bottom_radius() + 1e-3);
+    vec3 direct = sun_transmittance(ground, sun_dir) * max(mu_s, 0.0);
+    a.top = sky_irradiance / PI * cloud.media.z;
+    // The ground under the clouds is lit by a sun they half hide, on average.
+    a.bottom = atmo.ground_albedo.xyz / PI * (0.5 * direct + sky_irradiance) * cloud.media.z;
+    return a;
+}
+
+// Empty-space skipping: after EMPTY_RUN empty fine samples the march probes the coarse shape
+// SKIP_FACTOR steps at a time; on a hit it backs up one probe and marches finely again.
+const float SKIP_FACTOR = 3.0;
+const int EMPTY_RUN = 3;
+
+void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float jitter,
+                         vec3 sun_dir, OctavePhases phases, CloudAmbient amb,
+                         inout CloudResult res, inout vec2 depth_sum)
+{
+    float ds = (t1 - t0) / steps;
+    vec3 sun_top = frame.sun_illuminance.xyz;
+    // Sunlight through the atmosphere at the segment's middle: its colour barely changes
+    // across one layer.
+    vec3 sun = sun_top * sun_transmittance(o + d * (0.5 * (t0 + t1)), sun_dir);
+    float albedo = cloud.media.x * (1.0 - 0.5 * cloud.media.y);
+    float t = t0 + jitter * ds;
+    int empty = EMPTY_RUN;
+    bool skipped = false; // the last probe stepped over empty space
+    float tau = 0.0;
+    bool fresh_light = true;
+    for (float i = 0.0; i < 2.0 * steps && t < t1; i += 1.0) {
+        if (res.transmittance < EARLY_EXIT_T)
+            break;
+        vec3 p = o + t * d;
+        if (empty >= EMPTY_RUN) {
+            // Probing: the coarse shape only, big steps.
+            if (cloud_extinction(p, false) <= 0.0) {
+                t += SKIP_FACTOR * ds;
+                skipped = true;
+                continue;
+            }
+            empty = 0;
+            // Back over the skipped stretch, never behind the last fine sample.
+            if (skipped)
+                t = max(t0 + jitter * ds, t - (SKIP_FACTOR - 1.0) * ds);
+            skipped = false;
+            p = o + t * d;
+        }
+        float sigma_t = cloud_extinction(p, true);
+        if (sigma_t <= 0.0) {
+            empty++;
+            t += ds;
+            continue;
+        }
+        empty = 0;
+        float r = length(p);
+        // The secondary march runs on every other sample; the one between reuses its optical
+        // depth (samples are tens of metres apart, the march reaches kilometres).
+        if (fresh_light)
+            tau = light_optical_depth(p, sun_dir, jitter);
+        fresh_light = !fresh_light;
+        float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
+        vec3 ambient = mix(amb.bottom, amb.top, h) * sun_top;
+        vec3 source = sigma_t * albedo * (sun * octave_sun_scattering(phases, tau) + ambient);
+        float step_t = exp(-sigma_t * ds);
+        // seed 001 eq. 17: the source integrated over the step against its own extinction.
+        res.luminance += res.transmittance * (source - source * step_t) / max(sigma_t, 1e-7);
+        // seed 001 eq. 21: front depth weighted by the transmittance to the viewer.
+        depth_sum += vec2(res.transmittance * t, res.transmittance);
+        res.transmittance *= step_t;
+        t += ds;
+    }
+}
+
+// Marches both layers along the ray, nearest segment first.
+CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float primary_steps)
+{
+    CloudResult res;
+    res.luminance = vec3(0.0);
+    res.transmittance = 1.0;
+    res.depth = 0.0;
+    if (cloud.march.z < 0.5)
+        return res;
+    float lo0, lo1, hi0, hi1;
+    bool low = shell_segment(o, d, cloud.low.x, cloud.low.y, lo0, lo1);
+    bool high = cloud.high.w > 0.5 && shell_segment(o, d, cloud.high.x, cloud.high.y, hi0, hi1);
+    float longest = cloud.march.y;
+    lo1 = min(lo1, lo0 + longest);
+    hi1 = min(hi1, hi0 + longest);
+    OctavePhases phases = octave_phases(dot(d, sun_dir));
+    CloudAmbient amb = cloud_ambient(sun_dir);
+    vec2 depth_sum = vec2(0.0);
+    float high_steps = max(4.0, floor(primary_steps / 8.0));
+    bool high_first = high && (!low || hi0 < lo0);
+    if (high_first)
+        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, amb, res,
+                            depth_sum);
+    if (low)
+        march_layer_segment(o, d, lo0, lo1, primary_steps, jitter, sun_dir, phases, amb, res,
+                            depth_sum);
+    if (high && !high_first)
+        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, amb, res,
+                            depth_sum);
+    res.depth = depth_sum.y > 0.0 ? depth_sum.x / depth_sum.y : 0.0;
+    return res;
+}
+
+#endif

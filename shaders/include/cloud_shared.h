@@ -1,0 +1,71 @@
+/* Uniform and push-constant layouts of the cloud passes, shared by C (render/cloud_*.c) and
+ * GLSL (shaders/cloud_*.comp). Only vec4/ivec4 members (std140 = C layout). Lengths km,
+ * extinction per km, luminance cd/m2. Horizontal cloud coordinates are the planet-centred x
+ * (east) and y (north) of a point minus the wind's displacement of the weather pattern: the
+ * flat-planet projection around the camera that seed 001 (5.9) also uses for cloud shadows. */
+#ifndef CLOUD_SHARED_H
+#define CLOUD_SHARED_H
+
+#include "sky_shared.h"
+
+/* Cloud-type height profiles (stratus, stratocumulus, cumulus, cumulonimbus). */
+#define CLOUD_PROFILE_COUNT 4
+
+/* Weather-map texel channels (procedural and client maps alike). */
+#define CLOUD_WEATHER_LOW_COVERAGE 0  /* r */
+#define CLOUD_WEATHER_HIGH_COVERAGE 1 /* g */
+#define CLOUD_WEATHER_TYPE 2          /* b: low-layer cloud type, 0 stratus .. 1 cumulonimbus */
+#define CLOUD_WEATHER_PRECIPITATION 3 /* a: darkens and thickens the low layer's base */
+
+struct sky_cloud_uniforms {
+    SKY_VEC4 low;          /* x bottom radius, y top radius (planet-centred km), z extinction per
+                              km at full density (clouds.extinction_per_km * low.density), w 1 */
+    SKY_VEC4 high;         /* the same for the high layer; w 1 when the layer is on */
+    SKY_VEC4 media;        /* x single-scattering albedo, y precipitation, z ambient scale,
+                              w high-layer type (0 smooth sheet .. 1 fibrous) */
+    SKY_VEC4 phase;        /* x g0, y g1, z w (seed 000 eq. 14.17), w octave count */
+    SKY_VEC4 octaves;      /* x a, y b, z c (seed 000 eq. 14.18), w light march steps */
+    SKY_VEC4 weather;      /* xy wind displacement of the pattern (east, north km), z 1/extent,
+                              w extent km */
+    SKY_VEC4 march;        /* x primary steps, y longest march km, z 1 when any layer is on,
+                              w blue-noise frame phase */
+    SKY_VEC4 profiles[CLOUD_PROFILE_COUNT]; /* smoothstep(x, y, h) * (1 - smoothstep(z, w, h))
+                                               over the layer's height fraction h */
+    SKY_VEC4 shadow_sun;   /* xyz sun direction the shadow map was built for; w 1 when built */
+    SKY_VEC4 tiles;        /* km per repeat of the base, detail and curl noise (x, y, z): whole
+                              fractions of the weather extent, so the pattern tiles with it */
+};
+
+/* A slice of rows of an amortized cloud map (weather map, shadow map). */
+struct sky_cloud_rows_push {
+    SKY_UINT row_offset;
+    SKY_UINT mode;         /* weather: 0 procedural, 1 client map */
+    SKY_UINT seed;
+    SKY_UINT pad0;
+    SKY_VEC4 params;       /* weather: x low coverage, y high coverage, z low type,
+                              w precipitation */
+};
+
+/* Noise generation: one z slab of a volume per dispatch. */
+struct sky_cloud_noise_push {
+    SKY_UINT seed;
+    SKY_UINT z_offset;
+    SKY_UINT pad0;
+    SKY_UINT pad1;
+};
+
+/* Per-view constants of the trace and reconstruct passes. The traced pixel of each block of
+ * block x block pixels cycles through the block frame by frame. */
+struct sky_cloud_view_push {
+    SKY_VEC4 prev_forward;  /* previous frame's camera: xyz forward, w tan(fov/2) */
+    SKY_VEC4 prev_right;    /* xyz right, w aspect */
+    SKY_VEC4 prev_up;       /* xyz up, w 1 when a history exists */
+    SKY_IVEC4 frame;        /* x frame index, y block size, z/w traced pixel in the block */
+    SKY_VEC4 motion;        /* xy wind displacement since the history (km), z smallest blend
+                               weight of a new sample, w 1 = temporal accumulation on */
+};
+
+/* Hemisphere averages of the clouds seen from the ground (seed 001 eq. 22 inputs). */
+#define CLOUD_HEMISPHERE_RAYS 64
+
+#endif
