@@ -9,6 +9,7 @@
 #include "atmosphere_luts.h"
 #include "compute_pass.h"
 #include "gpu_timer.h"
+#include "night_sky.h"
 #include "photometry.h"
 #include "sky_passes.h"
 #include "sky_uniforms.h"
@@ -23,6 +24,7 @@ struct sky_renderer {
     struct sky_passes *passes;
     struct sky_render_lut_sizes sizes;
     struct atmosphere_luts *luts; /* which atmosphere the LUTs show, and rebuilds under way */
+    struct sky_render_night night;
 };
 
 static const struct sky_render_lut_sizes default_sizes = {
@@ -185,10 +187,12 @@ static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_
     a = atmosphere_luts_displayed(r->luts);
     struct sky_frame_uniforms fu;
     sky_uniforms_fill_frame(a, v, atmosphere_luts_zenith_transmittance(r->luts), &fu);
+    bool moonlit = night_fill_uniforms(&r->night, v, sky_passes_brightest_star_lux(r->passes),
+                                       &fu);
     sky_passes_upload_frame(r->passes, &fu);
     *from_space = !camera_in_atmosphere(a, v);
     if (want_view_luts && !*from_space)
-        sky_passes_record_view_luts(r->passes, *cmd, r->timer);
+        sky_passes_record_view_luts(r->passes, *cmd, r->timer, moonlit);
     return true;
 }
 
@@ -210,10 +214,12 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         return -1;
     if (v->auto_exposure && v->output == SKY_RENDER_OUTPUT_SRGB8)
         sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space);
-    int32_t sun_rect[4];
+    int32_t sun_rect[4], moon_rect[4];
     bool sun_on_screen = sky_uniforms_sun_rect(v, sun_rect);
+    bool moon_on_screen = night_moon_rect(&r->night, v, moon_rect);
     sky_passes_record_composite(r->passes, cmd, r->timer, v->output, from_space,
-                                sun_on_screen ? sun_rect : NULL);
+                                sun_on_screen ? sun_rect : NULL,
+                                moon_on_screen ? moon_rect : NULL);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
         atmosphere_luts_invalidate(r->luts);
         return -1;
@@ -299,4 +305,9 @@ void sky_renderer_set_amortization(struct sky_renderer *r,
 float *sky_renderer_read_lut(struct sky_renderer *r, const char *name, uint32_t size[3])
 {
     return sky_passes_read_lut(r->ctx, r->passes, name, size);
+}
+
+void sky_renderer_set_night(struct sky_renderer *r, const struct sky_render_night *night)
+{
+    r->night = *night;
 }

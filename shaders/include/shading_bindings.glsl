@@ -1,4 +1,4 @@
-// Bindings 0-5, common to every pass that shades view directions (composite, probe, meter),
+// Bindings 0-7, common to every pass that shades view directions (composite, probe, meter),
 // and the specialization that picks the camera's situation.
 layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
 layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
@@ -6,6 +6,9 @@ layout(binding = 2) uniform sampler2D transmittance_lut;
 layout(binding = 3) uniform sampler2D multiscattering_lut;
 layout(binding = 4) uniform sampler2D skyview_lut;
 layout(binding = 5) uniform sampler2D irradiance_lut;
+// Night sky (night_sky.glsl): the star field of night_shared.h and the moonlit sky-view LUT.
+layout(std430, binding = 6) readonly buffer StarBlock { uvec4 star_words[]; };
+layout(binding = 7) uniform sampler2D moon_skyview_lut;
 
 // True when the camera is above the atmosphere: every pixel is then ray-marched. A
 // specialization constant rather than a branch, so that each pipeline contains only its own
