@@ -98,21 +98,22 @@ static void disc_basis(const double moon[3], const double pole[3], double right[
 }
 
 /* Integral over the disc of albedo x reflectance, in steradians (the disc's solid angle times
- * the mean), by a 64 x 64 midpoint rule on the unit disc. */
+ * the mean): a midpoint rule in polar coordinates with q = sin(t), so that samples crowd
+ * toward the limb where a crescent's light is (dA = sin t cos t dt dphi). */
 static double disc_integral(const double sun_in_disc[3], double angular_diameter_deg)
 {
-    const int n = 64;
-    double sum = 0.0;
-    int inside = 0;
-    for (int j = 0; j < n; j++)
-        for (int i = 0; i < n; i++) {
-            double qx = (i + 0.5) / n * 2.0 - 1.0, qy = (j + 0.5) / n * 2.0 - 1.0;
-            if (qx * qx + qy * qy > 1.0)
-                continue;
-            inside++;
-            sum += night_moon_albedo(qx, qy) * night_moon_reflectance(qx, qy, sun_in_disc);
+    const int nt = 48, nphi = 96;
+    double sum = 0.0, area = 0.0;
+    for (int i = 0; i < nt; i++) {
+        double t = (i + 0.5) / nt * 0.5 * M_PI, w = sin(t) * cos(t);
+        for (int j = 0; j < nphi; j++) {
+            double phi = (j + 0.5) / nphi * 2.0 * M_PI;
+            double qx = sin(t) * cos(phi), qy = sin(t) * sin(phi);
+            sum += w * night_moon_albedo(qx, qy) * night_moon_reflectance(qx, qy, sun_in_disc);
+            area += w;
         }
-    return sky_disk_solid_angle(angular_diameter_deg) * sum / (inside ? inside : 1);
+    }
+    return sky_disk_solid_angle(angular_diameter_deg) * sum / area;
 }
 
 static bool moon_drawn(const struct sky_render_night *n)

@@ -97,6 +97,9 @@ int skyd_cmd_render(int argc, char **argv)
     struct sky_render_stats stats;
     world_to_render_atmosphere(&common.state, &atmosphere);
     world_to_render_view(&common.state, width, height, SKY_RENDER_OUTPUT_SRGB8, &view);
+    struct sky_render_night night;
+    world_to_render_night(&common.state, &night);
+    sky_renderer_set_night(renderer, &night);
     int status = SKYD_EXIT_OK;
     char err[512];
     if (sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {

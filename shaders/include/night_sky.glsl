@@ -67,11 +67,13 @@ vec3 moon_disk_luminance(vec3 dir)
 {
     vec3 m = frame.moon_direction.xyz;
     float c = dot(dir, m);
-    if (c < frame.moon_direction.w || frame.moon_disk.z < 0.5)
-        return vec3(0.0);
+    // Inside from the offset across the line of sight: 1 - cos(radius) ~ 1e-5 is too close to
+    // float precision to test c against it (the limb would grow by pixels).
     vec3 perp = (dir - m * c) / frame.moon_disk.y;
     vec3 up = frame.moon_up.xyz;
     vec2 q = vec2(dot(perp, cross(m, up)), dot(perp, up));
+    if (c <= 0.0 || dot(q, q) > 1.0 || frame.moon_disk.z < 0.5)
+        return vec3(0.0);
     float z = sqrt(max(0.0, 1.0 - dot(q, q)));
     float mu0 = dot(perp - z * m, frame.sun_direction.xyz);
     float reflectance = mu0 > 0.0 ? mu0 / (mu0 + z) : 0.0;
