@@ -1,6 +1,7 @@
 #include "night_sky.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <string.h>
 
 #include "night_shared.h"
@@ -100,20 +101,38 @@ static void disc_basis(const double moon[3], const double pole[3], double right[
 /* Integral over the disc of albedo x reflectance, in steradians (the disc's solid angle times
  * the mean): a midpoint rule in polar coordinates with q = sin(t), so that samples crowd
  * toward the limb where a crescent's light is (dA = sin t cos t dt dphi). */
-static double disc_integral(const double sun_in_disc[3], double angular_diameter_deg)
+#define DISC_NT 48
+#define DISC_NPHI 96
+/* The sample points and their weight x albedo, which do not depend on the sun: built once. */
+static struct {
+    double qx, qy, weight;
+} disc_samples[DISC_NT * DISC_NPHI];
+static double disc_area;
+static pthread_once_t disc_once = PTHREAD_ONCE_INIT;
+
+static void build_disc_samples(void)
 {
-    const int nt = 48, nphi = 96;
-    double sum = 0.0, area = 0.0;
-    for (int i = 0; i < nt; i++) {
-        double t = (i + 0.5) / nt * 0.5 * M_PI, w = sin(t) * cos(t);
-        for (int j = 0; j < nphi; j++) {
-            double phi = (j + 0.5) / nphi * 2.0 * M_PI;
+    for (int i = 0; i < DISC_NT; i++) {
+        double t = (i + 0.5) / DISC_NT * 0.5 * M_PI, w = sin(t) * cos(t);
+        for (int j = 0; j < DISC_NPHI; j++) {
+            double phi = (j + 0.5) / DISC_NPHI * 2.0 * M_PI;
             double qx = sin(t) * cos(phi), qy = sin(t) * sin(phi);
-            sum += w * night_moon_albedo(qx, qy) * night_moon_reflectance(qx, qy, sun_in_disc);
-            area += w;
+            disc_samples[i * DISC_NPHI + j].qx = qx;
+            disc_samples[i * DISC_NPHI + j].qy = qy;
+            disc_samples[i * DISC_NPHI + j].weight = w * night_moon_albedo(qx, qy);
+            disc_area += w;
         }
     }
-    return sky_disk_solid_angle(angular_diameter_deg) * sum / area;
+}
+
+static double disc_integral(const double sun_in_disc[3], double angular_diameter_deg)
+{
+    pthread_once(&disc_once, build_disc_samples);
+    double sum = 0.0;
+    for (int k = 0; k < DISC_NT * DISC_NPHI; k++)
+        sum += disc_samples[k].weight *
+               night_moon_reflectance(disc_samples[k].qx, disc_samples[k].qy, sun_in_disc);
+    return sky_disk_solid_angle(angular_diameter_deg) * sum / disc_area;
 }
 
 static bool moon_drawn(const struct sky_render_night *n)
@@ -178,6 +197,33 @@ static void fill_moon(const struct sky_render_night *n, const struct sky_render_
     u->moon_up = V4(up[0], up[1], up[2], 0);
 }
 
+/* A star is a Gaussian of the seeing convolved with about half a pixel, so that it keeps its
+ * illuminance whatever the resolution; the grid's support bounds it. */
+static double star_sigma(const struct sky_render_view *v)
+{
+    double pixel = 2.0 * tan(0.5 * v->camera_fov_deg * DEG) / (v->height ? v->height : 1);
+    double sigma = sqrt(STAR_SEEING_SIGMA_RAD * STAR_SEEING_SIGMA_RAD + 0.25 * pixel * pixel);
+    return fmin(sigma, NIGHT_STAR_MAX_SIGMA_DEG * DEG);
+}
+
+static double star_peak_luminance(const struct sky_render_night *n,
+                                  const struct sky_render_view *v, double brightest_star_lux)
+{
+    double sigma = star_sigma(v);
+    return n->star_brightness * brightest_star_lux / (2.0 * M_PI * sigma * sigma);
+}
+
+bool night_sky_visible(const struct sky_render_night *n, const struct sky_render_view *v,
+                       double brightest_star_lux)
+{
+    /* With the sun 10 deg or more above the horizon the darkest part of a clear sky is about
+     * 1000 cd/m2 or more (CIE clear sky, 90 deg from the sun; Earth and Mars alike): the night
+     * sky adds under 0.1 % while its sources stay under 1 cd/m2 (airglow 2e-4; the moonlit
+     * sky is not lit then; stars unless a narrow view concentrates one). */
+    return v->sun_elevation_deg < 10.0 || n->airglow_luminance_cd_m2 > 1.0 ||
+           star_peak_luminance(n, v, brightest_star_lux) > 1.0;
+}
+
 bool night_fill_uniforms(const struct sky_render_night *n, const struct sky_render_view *v,
                          double brightest_star_lux, struct sky_frame_uniforms *u)
 {
@@ -186,12 +232,7 @@ bool night_fill_uniforms(const struct sky_render_night *n, const struct sky_rend
     for (int i = 0; i < 3; i++)
         u->star_rotation[i] = V4(n->star_rotation[i][0], n->star_rotation[i][1],
                                  n->star_rotation[i][2], 0);
-    /* A star is a Gaussian of the seeing convolved with about half a pixel, so that it keeps
-     * its illuminance whatever the resolution; the grid's support bounds it. */
-    double pixel = 2.0 * tan(0.5 * v->camera_fov_deg * DEG) / (v->height ? v->height : 1);
-    double sigma = sqrt(STAR_SEEING_SIGMA_RAD * STAR_SEEING_SIGMA_RAD + 0.25 * pixel * pixel);
-    sigma = fmin(sigma, NIGHT_STAR_MAX_SIGMA_DEG * DEG);
-    double peak = n->star_brightness * brightest_star_lux / (2.0 * M_PI * sigma * sigma);
-    u->night = V4(n->airglow_luminance_cd_m2, n->star_brightness, sigma, 1e3 * peak);
+    double peak = star_peak_luminance(n, v, brightest_star_lux);
+    u->night = V4(n->airglow_luminance_cd_m2, n->star_brightness, star_sigma(v), 1e3 * peak);
     return u->moon_illuminance.w > 0.5f;
 }

@@ -16,6 +16,11 @@
 bool night_fill_uniforms(const struct sky_render_night *night, const struct sky_render_view *v,
                          double brightest_star_lux, struct sky_frame_uniforms *u);
 
+/* Whether the night sky can add anything visible (over 0.1 %) to a frame seen from inside the
+ * atmosphere; when not, frames use pipelines without it. The moon's disc is drawn either way. */
+bool night_sky_visible(const struct sky_render_night *night, const struct sky_render_view *v,
+                       double brightest_star_lux);
+
 /* The moon disc's pixel rectangle (x0, y0, width, height); false when it is not drawn or not
  * on screen. */
 bool night_moon_rect(const struct sky_render_night *night, const struct sky_render_view *v,

@@ -57,6 +57,13 @@ enum pass_id {
     PASS_SAVE_TRANSMITTANCE,
     PASS_SAVE_MULTISCATTERING,
     PASS_SAVE_IRRADIANCE,
+    /* Inside the atmosphere without the night sky (NIGHT_SKY, constant_id 2, false): frames
+     * where it adds nothing visible (night_sky_visible) skip its cost. */
+    PASS_METER_DAY,
+    PASS_COMPOSITE_SRGB_DAY,
+    PASS_COMPOSITE_SRGB_SUN_DAY,
+    PASS_COMPOSITE_LINEAR_DAY,
+    PASS_COMPOSITE_LINEAR_SUN_DAY,
     PASS_COUNT
 };
 
@@ -101,6 +108,12 @@ struct sky_passes {
     [id] = { .name = label, SPIRV(lut_blend_spv), .binding_count = 3,                     \
              .bindings = { STORAGE_IMG, STORAGE_IMG, STORAGE_IMG },                      \
              .push_constant_bytes = sizeof(struct sky_blend_push) }
+
+#define DAY_COMPOSITE(id, label, code, sun_region)                                        \
+    [id] = { .name = label, SPIRV(code), .binding_count = 10,                             \
+             .bindings = { SHADING_BINDINGS, STORAGE_BUF, STORAGE_IMG },                  \
+             .push_constant_bytes = sizeof(struct sky_region_push), .spec_count = 3,      \
+             .spec_values = { 0, sun_region, 0 } }
 
 static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
     [PASS_TRANSMITTANCE] = { .name = "transmittance", SPIRV(transmittance_spv),
@@ -147,6 +160,14 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
     BLEND_PASS(PASS_SAVE_TRANSMITTANCE, "lut_save"),
     BLEND_PASS(PASS_SAVE_MULTISCATTERING, "lut_save"),
     BLEND_PASS(PASS_SAVE_IRRADIANCE, "lut_save"),
+    [PASS_METER_DAY] = { .name = "meter", SPIRV(meter_spv), .binding_count = 9,
+                         .bindings = { SHADING_BINDINGS, STORAGE_BUF },
+                         .push_constant_bytes = sizeof(struct sky_meter_push), .spec_count = 3,
+                         .spec_values = { 0, 0, 0 } },
+    DAY_COMPOSITE(PASS_COMPOSITE_SRGB_DAY, "composite", composite_srgb_spv, 0),
+    DAY_COMPOSITE(PASS_COMPOSITE_SRGB_SUN_DAY, "sun_disk", composite_srgb_spv, 1),
+    DAY_COMPOSITE(PASS_COMPOSITE_LINEAR_DAY, "composite", composite_linear_spv, 0),
+    DAY_COMPOSITE(PASS_COMPOSITE_LINEAR_SUN_DAY, "sun_disk", composite_linear_spv, 1),
 };
 
 /* The pass of a shading pair for the camera's situation. */
@@ -283,6 +304,7 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     r[7] = tex(p, &p->moon_skyview);
     r[8] = buf(&p->meter_partials);
     bind_pair(ctx, p, PASS_METER, r);
+    compute_pass_bind(ctx, &p->pass[PASS_METER_DAY], r);
     if (p->output.image) {
         r[8] = buf(&p->exposure);
         r[9] = img(&p->output);
@@ -290,6 +312,10 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
                                      ? PASS_COMPOSITE_LINEAR
                                      : PASS_COMPOSITE_SRGB;
         bind_pair(ctx, p, composite, r);
+        enum pass_id day = p->output_kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR_DAY
+                                                                      : PASS_COMPOSITE_SRGB_DAY;
+        compute_pass_bind(ctx, &p->pass[day], r);
+        compute_pass_bind(ctx, &p->pass[day + 1], r); /* its sun-disk pass */
         compute_pass_bind(ctx, &p->pass[composite + 2], r); /* its sun-disk pass */
     }
     if (p->probe_in.buffer) {
@@ -544,7 +570,7 @@ void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
 
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
                                 struct gpu_timer *timer, uint32_t width, uint32_t height,
-                                bool from_space)
+                                bool from_space, bool night_sky)
 {
     /* About one sample per 16x16 pixels (a log average of a smooth sky needs few), at most
      * METER_MAX_GRID^2 so the partials fit. */
@@ -559,18 +585,24 @@ void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
         .group_count = ((gw + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL) *
                        ((gh + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL),
     };
-    record(p, cmd, timer, variant(PASS_METER, from_space), &p->meter, gw, gh, 1, SKY_METER_LOCAL,
-           SKY_METER_LOCAL);
+    enum pass_id meter = night_sky || from_space ? variant(PASS_METER, from_space) : PASS_METER_DAY;
+    record(p, cmd, timer, meter, &p->meter, gw, gh, 1, SKY_METER_LOCAL, SKY_METER_LOCAL);
     record(p, cmd, timer, PASS_EXPOSURE_RESOLVE, &p->meter, 1, 1, 1, 1, 1);
 }
 
 void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
                                  struct gpu_timer *timer, enum sky_render_output_kind kind,
-                                 bool from_space, const int32_t *sun_rect,
+                                 bool from_space, bool night_sky, const int32_t *sun_rect,
                                  const int32_t *moon_rect)
 {
-    enum pass_id main_pass = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
-                                                              : PASS_COMPOSITE_SRGB;
+    enum pass_id night_pass = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
+                                                               : PASS_COMPOSITE_SRGB;
+    enum pass_id day_pass = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR_DAY
+                                                             : PASS_COMPOSITE_SRGB_DAY;
+    enum pass_id main_pass = night_sky || from_space ? night_pass : day_pass;
+    /* The main pass's sun-disk pass, and the moon's (always with the night sky: the moon shows
+     * by day). */
+    enum pass_id sun_pass = main_pass == day_pass ? day_pass + 1 : night_pass + 2;
     struct sky_region_push full = {
         .rect = { 0, 0, (int32_t)p->output.width, (int32_t)p->output.height },
     };
@@ -581,14 +613,14 @@ void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
          * never carries the disk's cost. */
         struct sky_region_push sun = { .rect = { sun_rect[0], sun_rect[1], sun_rect[2],
                                                  sun_rect[3] } };
-        record(p, cmd, timer, main_pass + 2, &sun, (uint32_t)sun_rect[2],
+        record(p, cmd, timer, sun_pass, &sun, (uint32_t)sun_rect[2],
                (uint32_t)sun_rect[3], 1, COMPOSITE_LOCAL, COMPOSITE_LOCAL);
     }
     if (!from_space && moon_rect) {
         /* The moon's disc the same way (the pass draws every disc in its rectangle). */
         struct sky_region_push moon = { .rect = { moon_rect[0], moon_rect[1], moon_rect[2],
                                                   moon_rect[3] } };
-        record(p, cmd, timer, main_pass + 2, &moon, (uint32_t)moon_rect[2],
+        record(p, cmd, timer, night_pass + 2, &moon, (uint32_t)moon_rect[2],
                (uint32_t)moon_rect[3], 1, COMPOSITE_LOCAL, COMPOSITE_LOCAL);
     }
     gpu_barrier_compute_to_transfer(cmd);

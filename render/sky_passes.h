@@ -60,15 +60,16 @@ void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
 /* moonlit_sky: also the sky-view LUT lit by the moon (night sky). */
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
                                  struct gpu_timer *timer, bool moonlit_sky);
-/* from_space: the camera is above the atmosphere (selects the specialized pipelines). */
+/* from_space: the camera is above the atmosphere (selects the specialized pipelines);
+ * night_sky false: pipelines without the night sky (night_sky_visible). */
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
                                 struct gpu_timer *timer, uint32_t width, uint32_t height,
-                                bool from_space);
+                                bool from_space, bool night_sky);
 /* Composite into the output image (then the sun-disk pass over sun_rect = x0, y0, w, h and
  * over moon_rect, each when not NULL), then copy it into the readback buffer. */
 void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
                                  struct gpu_timer *timer, enum sky_render_output_kind kind,
-                                 bool from_space, const int32_t *sun_rect,
+                                 bool from_space, bool night_sky, const int32_t *sun_rect,
                                  const int32_t *moon_rect);
 void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
                              uint32_t mode, uint32_t count, bool from_space);

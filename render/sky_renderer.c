@@ -212,12 +212,14 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     bool from_space, rebuilt;
     if (!begin_view_commands(r, a, v, true, false, &cmd, &from_space, &rebuilt))
         return -1;
+    bool night_visible = night_sky_visible(&r->night, v, sky_passes_brightest_star_lux(r->passes));
     if (v->auto_exposure && v->output == SKY_RENDER_OUTPUT_SRGB8)
-        sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space);
+        sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space,
+                                   night_visible);
     int32_t sun_rect[4], moon_rect[4];
     bool sun_on_screen = sky_uniforms_sun_rect(v, sun_rect);
     bool moon_on_screen = night_moon_rect(&r->night, v, moon_rect);
-    sky_passes_record_composite(r->passes, cmd, r->timer, v->output, from_space,
+    sky_passes_record_composite(r->passes, cmd, r->timer, v->output, from_space, night_visible,
                                 sun_on_screen ? sun_rect : NULL,
                                 moon_on_screen ? moon_rect : NULL);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {

@@ -260,6 +260,19 @@ static void test_star_photometry(void)
     printf("Sirius by day: centre %.6g cd/m2, around %.6g cd/m2\n", centre, around);
     CHECK_LE(fabs(centre / around - 1.0), 0.01);
 
+    /* Whole-frame: a wide daylight view needs no night sky; a narrow one on a bright star, or
+     * any view with the sun low, does. */
+    struct sky_render_view view;
+    struct sky_render_night night;
+    world_to_render_view(&s, W, H, SKY_RENDER_OUTPUT_LINEAR, &view);
+    world_to_render_night(&s, &night);
+    double brightest = night_star_illuminance_lux(-1.44);
+    CHECK(night_sky_visible(&night, &view, brightest)); /* 8 deg: Sirius peaks at ~7 cd/m2 */
+    view.camera_fov_deg = 60;
+    CHECK(!night_sky_visible(&night, &view, brightest));
+    view.sun_elevation_deg = 5;
+    CHECK(night_sky_visible(&night, &view, brightest));
+
     /* The field: about 8000 stars to magnitude 6.5, starlight of order 1e-4 lux (seed 001 4.3
      * quotes 3e-2 W/m2 for all starlight, most of it from stars below naked-eye limits and in
      * the infrared). */

@@ -14,6 +14,9 @@ layout(binding = 7) uniform sampler2D moon_skyview_lut;
 // specialization constant rather than a branch, so that each pipeline contains only its own
 // path (lavapipe would otherwise execute both under a mask).
 layout(constant_id = 0) const bool FROM_SPACE = false;
+// False in the pipelines for frames where the night sky adds nothing visible (render/night_sky.c
+// night_sky_visible): they carry none of its cost.
+layout(constant_id = 2) const bool NIGHT_SKY = true;
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT

@@ -88,7 +88,7 @@ vec3 shade_from_atmosphere(vec3 cam, vec3 dir, bool include_sun)
         float sun_visible = hits_ground ? 0.0 : 1.0;
         L += sun_disk_luminance(dir) * transmittance_to_top(r, mu) * sun_visible;
     }
-    return L + night_from_atmosphere(cam, dir, hits_ground, include_sun, L);
+    return NIGHT_SKY ? L + night_from_atmosphere(cam, dir, hits_ground, include_sun, L) : L;
 }
 
 vec3 shade_direction(vec3 dir, bool include_sun)
