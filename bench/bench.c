@@ -107,6 +107,9 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
     void *pixels = frame_setup(r, c, w, h, &atm, &view, &bytes);
     if (!pixels)
         return -1;
+    struct sky_render_night night; /* the state's moon, stars and airglow */
+    world_to_render_night(&c->state, &night);
+    sky_renderer_set_night(r, &night);
     for (int i = -warmup; i < n; i++) {
         struct sky_render_stats st;
         /* The sun moves a little every frame so per-view LUTs really are per frame, and the

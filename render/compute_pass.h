@@ -12,7 +12,7 @@ struct vk_context;
 struct gpu_image;
 struct gpu_buffer;
 
-#define COMPUTE_PASS_MAX_BINDINGS 12
+#define COMPUTE_PASS_MAX_BINDINGS 16
 
 struct compute_pass_desc {
     const char *name;

@@ -7,6 +7,7 @@
 
 #include "compute_pass.h"
 #include "gpu_timer.h"
+#include "night_stars.h"
 #include "vk_check.h"
 #include "vk_context.h"
 #include "vk_resources.h"
@@ -35,6 +36,7 @@ enum pass_id {
     PASS_MULTISCATTERING,
     PASS_IRRADIANCE,
     PASS_SKYVIEW,
+    PASS_SKYVIEW_MOON, /* the same LUT lit by the moon (night sky) */
     PASS_AERIAL_PERSPECTIVE,
     PASS_EXPOSURE_RESOLVE,
     PASS_METER,
@@ -55,6 +57,13 @@ enum pass_id {
     PASS_SAVE_TRANSMITTANCE,
     PASS_SAVE_MULTISCATTERING,
     PASS_SAVE_IRRADIANCE,
+    /* Inside the atmosphere without the night sky (NIGHT_SKY, constant_id 2, false): frames
+     * where it adds nothing visible (night_sky_visible) skip its cost. */
+    PASS_METER_DAY,
+    PASS_COMPOSITE_SRGB_DAY,
+    PASS_COMPOSITE_SRGB_SUN_DAY,
+    PASS_COMPOSITE_LINEAR_DAY,
+    PASS_COMPOSITE_LINEAR_SUN_DAY,
     PASS_COUNT
 };
 
@@ -68,6 +77,9 @@ struct sky_passes {
     struct gpu_image build_transmittance, build_multiscattering, build_irradiance;
     struct gpu_image previous_transmittance, previous_multiscattering, previous_irradiance;
     struct gpu_image ap_inscatter, ap_transmittance;
+    struct gpu_image moon_skyview;
+    struct gpu_buffer stars; /* night_shared.h layout */
+    double brightest_star_lux;
     struct gpu_buffer atmosphere_ubo, build_atmosphere_ubo, frame_ubo, exposure, meter_partials;
     struct gpu_image output;
     enum sky_render_output_kind output_kind;
@@ -83,7 +95,8 @@ struct sky_passes {
 #define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
 #define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
 #define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-#define SHADING_BINDINGS UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED
+/* 0-5 atmosphere and LUTs, 6-7 the night sky (stars, moonlit sky-view LUT). */
+#define SHADING_BINDINGS UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_BUF, SAMPLED
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
 #define SHADING_PAIR(id, label, code, count, extra, push)                                 \
     [id] = { .name = label, SPIRV(code), .binding_count = count,                          \
@@ -92,13 +105,19 @@ struct sky_passes {
                      .bindings = { SHADING_BINDINGS, extra }, .push_constant_bytes = push,\
                      .spec_count = 1, .spec_values = { 1 } }
 #define PAIR(...) __VA_ARGS__
-/* The composite's bindings after the shading ones: exposure, output, then the clouds (image,
- * shadow map, cloud block, hemisphere averages). */
+/* The composite's bindings after the shading ones (8-13): exposure, output, then the clouds
+ * (image, shadow map, cloud block, hemisphere averages). */
 #define COMPOSITE_EXTRA STORAGE_BUF, STORAGE_IMG, SAMPLED, SAMPLED, UBO, STORAGE_BUF
 #define BLEND_PASS(id, label)                                                             \
     [id] = { .name = label, SPIRV(lut_blend_spv), .binding_count = 3,                     \
              .bindings = { STORAGE_IMG, STORAGE_IMG, STORAGE_IMG },                      \
              .push_constant_bytes = sizeof(struct sky_blend_push) }
+
+#define DAY_COMPOSITE(id, label, code, sun_region)                                        \
+    [id] = { .name = label, SPIRV(code), .binding_count = 14,                             \
+             .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },                           \
+             .push_constant_bytes = sizeof(struct sky_region_push), .spec_count = 3,      \
+             .spec_values = { 0, sun_region, 0 } }
 
 static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
     [PASS_TRANSMITTANCE] = { .name = "transmittance", SPIRV(transmittance_spv),
@@ -111,6 +130,9 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
                           .bindings = { UBO, SAMPLED, SAMPLED, STORAGE_IMG } },
     [PASS_SKYVIEW] = { .name = "skyview", SPIRV(skyview_spv), .binding_count = 6,
                        .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG } },
+    [PASS_SKYVIEW_MOON] = { .name = "moon_skyview", SPIRV(skyview_spv), .binding_count = 6,
+                            .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
+                            .spec_count = 1, .spec_values = { 1 } },
     [PASS_AERIAL_PERSPECTIVE] = { .name = "aerial_perspective", SPIRV(aerial_perspective_spv),
                                   .binding_count = 6,
                                   .bindings = { UBO, UBO, SAMPLED, SAMPLED, STORAGE_IMG,
@@ -118,23 +140,23 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
     [PASS_EXPOSURE_RESOLVE] = { .name = "exposure", SPIRV(exposure_resolve_spv),
                                 .binding_count = 3, .bindings = { UBO, STORAGE_BUF, STORAGE_BUF },
                                 .push_constant_bytes = sizeof(struct sky_meter_push) },
-    SHADING_PAIR(PASS_METER, "meter", meter_spv, 7, STORAGE_BUF, sizeof(struct sky_meter_push)),
-    SHADING_PAIR(PASS_COMPOSITE_SRGB, "composite", composite_srgb_spv, 12,
+    SHADING_PAIR(PASS_METER, "meter", meter_spv, 9, STORAGE_BUF, sizeof(struct sky_meter_push)),
+    SHADING_PAIR(PASS_COMPOSITE_SRGB, "composite", composite_srgb_spv, 14,
                  COMPOSITE_EXTRA, sizeof(struct sky_region_push)),
-    SHADING_PAIR(PASS_COMPOSITE_LINEAR, "composite", composite_linear_spv, 12,
+    SHADING_PAIR(PASS_COMPOSITE_LINEAR, "composite", composite_linear_spv, 14,
                  COMPOSITE_EXTRA, sizeof(struct sky_region_push)),
     /* Composite specialized with SUN_REGION (constant_id 1): the sun-disk pass. */
     [PASS_COMPOSITE_SRGB_SUN] = { .name = "sun_disk", SPIRV(composite_srgb_spv),
-                                  .binding_count = 12,
+                                  .binding_count = 14,
                                   .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },
                                   .push_constant_bytes = sizeof(struct sky_region_push),
                                   .spec_count = 2, .spec_values = { 0, 1 } },
     [PASS_COMPOSITE_LINEAR_SUN] = { .name = "sun_disk", SPIRV(composite_linear_spv),
-                                    .binding_count = 12,
+                                    .binding_count = 14,
                                     .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },
                                     .push_constant_bytes = sizeof(struct sky_region_push),
                                     .spec_count = 2, .spec_values = { 0, 1 } },
-    SHADING_PAIR(PASS_PROBE, "probe", probe_spv, 8, PAIR(STORAGE_BUF, STORAGE_BUF),
+    SHADING_PAIR(PASS_PROBE, "probe", probe_spv, 10, PAIR(STORAGE_BUF, STORAGE_BUF),
                  sizeof(struct sky_probe_push)),
     BLEND_PASS(PASS_BLEND_TRANSMITTANCE, "lut_blend"),
     BLEND_PASS(PASS_BLEND_MULTISCATTERING, "lut_blend"),
@@ -142,6 +164,14 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
     BLEND_PASS(PASS_SAVE_TRANSMITTANCE, "lut_save"),
     BLEND_PASS(PASS_SAVE_MULTISCATTERING, "lut_save"),
     BLEND_PASS(PASS_SAVE_IRRADIANCE, "lut_save"),
+    [PASS_METER_DAY] = { .name = "meter", SPIRV(meter_spv), .binding_count = 9,
+                         .bindings = { SHADING_BINDINGS, STORAGE_BUF },
+                         .push_constant_bytes = sizeof(struct sky_meter_push), .spec_count = 3,
+                         .spec_values = { 0, 0, 0 } },
+    DAY_COMPOSITE(PASS_COMPOSITE_SRGB_DAY, "composite", composite_srgb_spv, 0),
+    DAY_COMPOSITE(PASS_COMPOSITE_SRGB_SUN_DAY, "sun_disk", composite_srgb_spv, 1),
+    DAY_COMPOSITE(PASS_COMPOSITE_LINEAR_DAY, "composite", composite_linear_spv, 0),
+    DAY_COMPOSITE(PASS_COMPOSITE_LINEAR_SUN_DAY, "sun_disk", composite_linear_spv, 1),
 };
 
 /* The pass of a shading pair for the camera's situation. */
@@ -174,6 +204,7 @@ static void destroy_luts(struct vk_context *ctx, struct sky_passes *p)
         for (int which = 0; which < 3; which++)
             gpu_image_destroy(ctx, atmosphere_lut(p, copy, which));
     gpu_image_destroy(ctx, &p->skyview);
+    gpu_image_destroy(ctx, &p->moon_skyview);
     gpu_image_destroy(ctx, &p->ap_inscatter);
     gpu_image_destroy(ctx, &p->ap_transmittance);
 }
@@ -197,6 +228,8 @@ static int create_luts(struct vk_context *ctx, struct sky_passes *p,
                           fail);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1, "skyview",
                                    &p->skyview), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1,
+                                   "moon_skyview", &p->moon_skyview), fail);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_inscatter",
                                    &p->ap_inscatter), fail);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_transmittance",
@@ -238,6 +271,7 @@ static void bind_composite(struct vk_context *ctx, struct sky_passes *p)
     struct compute_resource r[COMPUTE_PASS_MAX_BINDINGS] = {
         buf(&p->atmosphere_ubo), buf(&p->frame_ubo), tex(p, &p->transmittance),
         tex(p, &p->multiscattering), tex(p, &p->skyview), tex(p, &p->irradiance),
+        buf(&p->stars), tex(p, &p->moon_skyview),
         buf(&p->exposure), img(&p->output),
         { .image = p->clouds.clouds, .sampler = p->sampler },
         { .image = p->clouds.shadow, .sampler = p->clouds.shadow_sampler },
@@ -247,6 +281,10 @@ static void bind_composite(struct vk_context *ctx, struct sky_passes *p)
                                                                         : PASS_COMPOSITE_SRGB;
     bind_pair(ctx, p, composite, r);
     compute_pass_bind(ctx, &p->pass[composite + 2], r); /* its sun-disk pass */
+    enum pass_id day = p->output_kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR_DAY
+                                                                  : PASS_COMPOSITE_SRGB_DAY;
+    compute_pass_bind(ctx, &p->pass[day], r);
+    compute_pass_bind(ctx, &p->pass[day + 1], r); /* its sun-disk pass */
 }
 
 /* Points every pass whose resources exist at them; called after any resource changes. */
@@ -285,22 +323,48 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     r[4] = tex(p, &p->irradiance);
     r[5] = img(&p->skyview);
     compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW], r);
+    r[5] = img(&p->moon_skyview);
+    compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW_MOON], r);
 
     /* The shading passes share bindings 0-5. */
     r[4] = tex(p, &p->skyview);
     r[5] = tex(p, &p->irradiance);
-    r[6] = buf(&p->meter_partials);
+    r[6] = buf(&p->stars);
+    r[7] = tex(p, &p->moon_skyview);
+    r[8] = buf(&p->meter_partials);
     bind_pair(ctx, p, PASS_METER, r);
+    compute_pass_bind(ctx, &p->pass[PASS_METER_DAY], r);
     bind_composite(ctx, p);
     if (p->probe_in.buffer) {
-        r[6] = buf(&p->probe_in);
-        r[7] = buf(&p->probe_out);
+        r[8] = buf(&p->probe_in);
+        r[9] = buf(&p->probe_out);
         bind_pair(ctx, p, PASS_PROBE, r);
     }
 
     struct compute_resource resolve[3] = { buf(&p->frame_ubo), buf(&p->meter_partials),
                                            buf(&p->exposure) };
     compute_pass_bind(ctx, &p->pass[PASS_EXPOSURE_RESOLVE], resolve);
+}
+
+/* The star field never changes: built and uploaded once. */
+static int create_stars(struct vk_context *ctx, struct sky_passes *p)
+{
+    struct night_stars *stars = night_stars_create();
+    if (!stars)
+        return -1;
+    size_t words;
+    const uint32_t (*data)[4] = night_stars_words(stars, &words);
+    VkResult result = gpu_buffer_create(ctx, words * sizeof *data,
+                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "stars", &p->stars);
+    if (result == VK_SUCCESS) {
+        memcpy(p->stars.mapped, data, words * sizeof *data);
+        p->brightest_star_lux = night_stars_brightest_lux(stars);
+    } else {
+        fprintf(stderr, "skyd: render: cannot create the star buffer: %s\n",
+                vk_result_name(result));
+    }
+    night_stars_destroy(&stars);
+    return result == VK_SUCCESS ? 0 : -1;
 }
 
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
@@ -335,6 +399,8 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
     VK_CHECK_GOTO(gpu_buffer_create(ctx, SKY_METER_MAX_GROUPS * 2 * sizeof(float), storage,
                                     "meter_partials", &p->meter_partials), fail);
     memset(p->exposure.mapped, 0, 4 * sizeof(float));
+    if (create_stars(ctx, p) != 0)
+        goto fail;
     if (create_luts(ctx, p, sizes) != 0)
         goto fail;
     bind_passes(ctx, p);
@@ -359,6 +425,7 @@ void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **pp)
     gpu_buffer_destroy(ctx, &p->frame_ubo);
     gpu_buffer_destroy(ctx, &p->exposure);
     gpu_buffer_destroy(ctx, &p->meter_partials);
+    gpu_buffer_destroy(ctx, &p->stars);
     for (int i = 0; i < PASS_COUNT; i++)
         compute_pass_destroy(ctx, &p->pass[i]);
     if (p->sampler)
@@ -510,16 +577,19 @@ void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
 }
 
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer)
+                                 struct gpu_timer *timer, bool moonlit_sky)
 {
     record(p, cmd, timer, PASS_SKYVIEW, NULL, p->skyview.width, p->skyview.height, 1, 8, 8);
+    if (moonlit_sky)
+        record(p, cmd, timer, PASS_SKYVIEW_MOON, NULL, p->moon_skyview.width,
+               p->moon_skyview.height, 1, 8, 8);
     record(p, cmd, timer, PASS_AERIAL_PERSPECTIVE, NULL, p->ap_inscatter.width,
            p->ap_inscatter.height, 1, 8, 8);
 }
 
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
                                 struct gpu_timer *timer, uint32_t width, uint32_t height,
-                                bool from_space)
+                                bool from_space, bool night_sky)
 {
     /* About one sample per 16x16 pixels (a log average of a smooth sky needs few), at most
      * METER_MAX_GRID^2 so the partials fit. */
@@ -534,17 +604,24 @@ void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
         .group_count = ((gw + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL) *
                        ((gh + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL),
     };
-    record(p, cmd, timer, variant(PASS_METER, from_space), &p->meter, gw, gh, 1, SKY_METER_LOCAL,
-           SKY_METER_LOCAL);
+    enum pass_id meter = night_sky || from_space ? variant(PASS_METER, from_space) : PASS_METER_DAY;
+    record(p, cmd, timer, meter, &p->meter, gw, gh, 1, SKY_METER_LOCAL, SKY_METER_LOCAL);
     record(p, cmd, timer, PASS_EXPOSURE_RESOLVE, &p->meter, 1, 1, 1, 1, 1);
 }
 
 void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
                                  struct gpu_timer *timer, enum sky_render_output_kind kind,
-                                 bool from_space, const int32_t *sun_rect)
+                                 bool from_space, bool night_sky, const int32_t *sun_rect,
+                                 const int32_t *moon_rect)
 {
-    enum pass_id main_pass = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
-                                                              : PASS_COMPOSITE_SRGB;
+    enum pass_id night_pass = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
+                                                               : PASS_COMPOSITE_SRGB;
+    enum pass_id day_pass = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR_DAY
+                                                             : PASS_COMPOSITE_SRGB_DAY;
+    enum pass_id main_pass = night_sky || from_space ? night_pass : day_pass;
+    /* The main pass's sun-disk pass, and the moon's (always with the night sky: the moon shows
+     * by day). */
+    enum pass_id sun_pass = main_pass == day_pass ? day_pass + 1 : night_pass + 2;
     struct sky_region_push full = {
         .rect = { 0, 0, (int32_t)p->output.width, (int32_t)p->output.height },
     };
@@ -555,8 +632,15 @@ void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
          * never carries the disk's cost. */
         struct sky_region_push sun = { .rect = { sun_rect[0], sun_rect[1], sun_rect[2],
                                                  sun_rect[3] } };
-        record(p, cmd, timer, main_pass + 2, &sun, (uint32_t)sun_rect[2],
+        record(p, cmd, timer, sun_pass, &sun, (uint32_t)sun_rect[2],
                (uint32_t)sun_rect[3], 1, COMPOSITE_LOCAL, COMPOSITE_LOCAL);
+    }
+    if (!from_space && moon_rect) {
+        /* The moon's disc the same way (the pass draws every disc in its rectangle). */
+        struct sky_region_push moon = { .rect = { moon_rect[0], moon_rect[1], moon_rect[2],
+                                                  moon_rect[3] } };
+        record(p, cmd, timer, night_pass + 2, &moon, (uint32_t)moon_rect[2],
+               (uint32_t)moon_rect[3], 1, COMPOSITE_LOCAL, COMPOSITE_LOCAL);
     }
     gpu_barrier_compute_to_transfer(cmd);
     gpu_copy_image_to_buffer(cmd, &p->output, &p->readback);
@@ -585,6 +669,11 @@ void sky_passes_read_probe(const struct sky_passes *p, size_t count, double (*ou
             out[i][c] = values[i * 4 + (size_t)c];
 }
 
+double sky_passes_brightest_star_lux(const struct sky_passes *p)
+{
+    return p->brightest_star_lux;
+}
+
 double sky_passes_metered_ev100(const struct sky_passes *p)
 {
     if (p->meter.group_count == 0)
@@ -603,6 +692,8 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
         image = &p->multiscattering;
     else if (strcmp(name, "skyview") == 0)
         image = &p->skyview;
+    else if (strcmp(name, "moon_skyview") == 0)
+        image = &p->moon_skyview;
     else if (strcmp(name, "irradiance") == 0)
         image = &p->irradiance;
     else if (strcmp(name, "ap_inscatter") == 0)

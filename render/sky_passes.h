@@ -69,22 +69,27 @@ void sky_passes_record_blend(struct sky_passes *p, VkCommandBuffer cmd, struct g
 /* The whole rebuild at once, then display = build. */
 void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
                                   struct gpu_timer *timer);
+/* moonlit_sky: also the sky-view LUT lit by the moon (night sky). */
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer);
-/* from_space: the camera is above the atmosphere (selects the specialized pipelines). */
+                                 struct gpu_timer *timer, bool moonlit_sky);
+/* from_space: the camera is above the atmosphere (selects the specialized pipelines);
+ * night_sky false: pipelines without the night sky (night_sky_visible). */
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
                                 struct gpu_timer *timer, uint32_t width, uint32_t height,
-                                bool from_space);
-/* Composite into the output image (then the sun-disk pass over sun_rect = x0, y0, w, h when
- * not NULL), then copy it into the readback buffer. */
+                                bool from_space, bool night_sky);
+/* Composite into the output image (then the sun-disk pass over sun_rect = x0, y0, w, h and
+ * over moon_rect, each when not NULL), then copy it into the readback buffer. */
 void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
                                  struct gpu_timer *timer, enum sky_render_output_kind kind,
-                                 bool from_space, const int32_t *sun_rect);
+                                 bool from_space, bool night_sky, const int32_t *sun_rect,
+                                 const int32_t *moon_rect);
 void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
                              uint32_t mode, uint32_t count, bool from_space);
 
 void sky_passes_copy_output(const struct sky_passes *p, void *pixels, size_t bytes);
 void sky_passes_read_probe(const struct sky_passes *p, size_t count, double (*out)[3]);
+/* Illuminance of the brightest star of the uploaded field (lux, outside the atmosphere). */
+double sky_passes_brightest_star_lux(const struct sky_passes *p);
 /* EV100 of the last metering (NAN when none ran). */
 double sky_passes_metered_ev100(const struct sky_passes *p);
 float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const char *name,

@@ -10,6 +10,7 @@
 #include "cloud_renderer.h"
 #include "compute_pass.h"
 #include "gpu_timer.h"
+#include "night_sky.h"
 #include "photometry.h"
 #include "sky_passes.h"
 #include "sky_uniforms.h"
@@ -25,6 +26,7 @@ struct sky_renderer {
     struct sky_render_lut_sizes sizes;
     struct atmosphere_luts *luts; /* which atmosphere the LUTs show, and rebuilds under way */
     struct cloud_renderer *clouds;
+    struct sky_render_night night;
 };
 
 static const struct sky_render_lut_sizes default_sizes = {
@@ -193,10 +195,12 @@ static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_
                      : atmosphere_luts_record_frame(r->luts, r->passes, *cmd, r->timer, a);
     a = atmosphere_luts_displayed(r->luts);
     sky_uniforms_fill_frame(a, v, atmosphere_luts_zenith_transmittance(r->luts), fu);
+    bool moonlit = night_fill_uniforms(&r->night, v, sky_passes_brightest_star_lux(r->passes),
+                                       fu);
     sky_passes_upload_frame(r->passes, fu);
     *from_space = !camera_in_atmosphere(a, v);
     if (want_view_luts && !*from_space)
-        sky_passes_record_view_luts(r->passes, *cmd, r->timer);
+        sky_passes_record_view_luts(r->passes, *cmd, r->timer, moonlit);
     return true;
 }
 
@@ -231,12 +235,16 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         return -1;
     }
     sky_passes_bind_clouds(r->ctx, r->passes, &clouds);
+    bool night_visible = night_sky_visible(&r->night, v, sky_passes_brightest_star_lux(r->passes));
     if (v->auto_exposure && v->output == SKY_RENDER_OUTPUT_SRGB8)
-        sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space);
-    int32_t sun_rect[4];
+        sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space,
+                                   night_visible);
+    int32_t sun_rect[4], moon_rect[4];
     bool sun_on_screen = sky_uniforms_sun_rect(v, sun_rect);
-    sky_passes_record_composite(r->passes, cmd, r->timer, v->output, from_space,
-                                sun_on_screen ? sun_rect : NULL);
+    bool moon_on_screen = night_moon_rect(&r->night, v, moon_rect);
+    sky_passes_record_composite(r->passes, cmd, r->timer, v->output, from_space, night_visible,
+                                sun_on_screen ? sun_rect : NULL,
+                                moon_on_screen ? moon_rect : NULL);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
         atmosphere_luts_invalidate(r->luts);
         return -1;
@@ -335,4 +343,9 @@ int sky_renderer_set_weather_map(struct sky_renderer *r, const uint8_t *rgba8, u
                                  uint32_t height)
 {
     return cloud_renderer_set_weather_map(r->ctx, r->clouds, rgba8, width, height);
+}
+
+void sky_renderer_set_night(struct sky_renderer *r, const struct sky_render_night *night)
+{
+    r->night = *night;
 }

@@ -186,4 +186,21 @@ int sky_renderer_set_clouds(struct sky_renderer *renderer, const struct sky_rend
 int sky_renderer_set_weather_map(struct sky_renderer *renderer, const uint8_t *rgba8,
                                  uint32_t width, uint32_t height);
 
+/* ---- Night sky: moon disc, stars, moonlit sky, airglow (render/night_*.c) ---- */
+
+/* The night's light sources for the following frames and probes. The sun's direction is the
+ * view's: it lights the moon as a sphere, so the phase and the bright limb follow. A zeroed
+ * struct (the default) shows no moon, no stars and no airglow. */
+struct sky_render_night {
+    double moon_azimuth_deg, moon_elevation_deg, moon_angular_diameter_deg;
+    /* Outside the atmosphere, on a surface facing the moon, phase included; 0 hides the moon. */
+    double moon_illuminance_lux;
+    /* J2000 equatorial unit vector -> local east/north/up (rows are the local axes): sidereal
+     * time, latitude and precession. */
+    double star_rotation[3][3];
+    double star_brightness;         /* multiplier of the catalogue's illuminance; 0 hides stars */
+    double airglow_luminance_cd_m2; /* natural night-sky background at the zenith */
+};
+void sky_renderer_set_night(struct sky_renderer *renderer, const struct sky_render_night *night);
+
 #endif

@@ -78,28 +78,34 @@ static double dot3(const double a[3], const double b[3])
 
 bool sky_uniforms_sun_rect(const struct sky_render_view *v, int32_t rect[4])
 {
-    struct camera_basis b;
-    camera_basis(v, &b);
     double sun[3];
     direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
-    /* A vector basis around the sun direction, then 16 points on a circle 1.5 disk radii out:
+    return sky_uniforms_disk_rect(v, sun, v->sun_angular_diameter_deg, rect);
+}
+
+bool sky_uniforms_disk_rect(const struct sky_render_view *v, const double dir[3],
+                            double angular_diameter_deg, int32_t rect[4])
+{
+    struct camera_basis b;
+    camera_basis(v, &b);
+    /* A vector basis around the disc direction, then 16 points on a circle 1.5 disk radii out:
      * their projections bound the disk with room for bilinear edges. */
     double helper[3] = { 0, 0, 1 };
-    if (fabs(sun[2]) > 0.9)
+    if (fabs(dir[2]) > 0.9)
         helper[0] = 1, helper[2] = 0;
-    double e1[3] = { sun[1] * helper[2] - sun[2] * helper[1], sun[2] * helper[0] - sun[0] * helper[2],
-                     sun[0] * helper[1] - sun[1] * helper[0] };
+    double e1[3] = { dir[1] * helper[2] - dir[2] * helper[1], dir[2] * helper[0] - dir[0] * helper[2],
+                     dir[0] * helper[1] - dir[1] * helper[0] };
     double n1 = sqrt(dot3(e1, e1));
     for (int i = 0; i < 3; i++)
         e1[i] /= n1;
-    double e2[3] = { sun[1] * e1[2] - sun[2] * e1[1], sun[2] * e1[0] - sun[0] * e1[2],
-                     sun[0] * e1[1] - sun[1] * e1[0] };
-    double angle = 1.5 * 0.5 * v->sun_angular_diameter_deg * DEG;
+    double e2[3] = { dir[1] * e1[2] - dir[2] * e1[1], dir[2] * e1[0] - dir[0] * e1[2],
+                     dir[0] * e1[1] - dir[1] * e1[0] };
+    double angle = 1.5 * 0.5 * angular_diameter_deg * DEG;
     double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
     for (int k = 0; k < 16; k++) {
         double phi = 2.0 * M_PI * k / 16.0, d[3];
         for (int i = 0; i < 3; i++)
-            d[i] = cos(angle) * sun[i] + sin(angle) * (cos(phi) * e1[i] + sin(phi) * e2[i]);
+            d[i] = cos(angle) * dir[i] + sin(angle) * (cos(phi) * e1[i] + sin(phi) * e2[i]);
         double z = dot3(d, b.forward);
         if (z <= 1e-6)
             return false; /* behind or beside the camera: a fov this wide never shows it */

@@ -24,5 +24,8 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
 /* The sun disk's bounding box in pixels (x0, y0, width, height) with a margin, clipped to the
  * image; false when the sun is not on screen. */
 bool sky_uniforms_sun_rect(const struct sky_render_view *v, int32_t rect[4]);
+/* The same for any disc: toward unit local direction `dir`, of the given angular diameter. */
+bool sky_uniforms_disk_rect(const struct sky_render_view *v, const double dir[3],
+                            double angular_diameter_deg, int32_t rect[4]);
 
 #endif

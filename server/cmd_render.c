@@ -238,6 +238,9 @@ int skyd_cmd_render(int argc, char **argv)
         world_to_render_view(&common.state, width, height, SKY_RENDER_OUTPUT_SRGB8, &view);
         struct sky_render_clouds clouds;
         world_to_render_clouds(&common.state, &clouds);
+        struct sky_render_night night;
+        world_to_render_night(&common.state, &night);
+        sky_renderer_set_night(renderer, &night);
         frame_path(prefix, number_width, suffix, frame, path, sizeof path);
         if (sky_renderer_set_clouds(renderer, &clouds) != 0 ||
             sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {

@@ -25,6 +25,9 @@ int probe_query_run(struct sky_renderer *renderer, const struct sky_world_state 
     struct sky_render_view view;
     world_to_render_atmosphere(state, &atm);
     world_to_render_view(state, 1, 1, SKY_RENDER_OUTPUT_LINEAR, &view);
+    struct sky_render_night night;
+    world_to_render_night(state, &night);
+    sky_renderer_set_night(renderer, &night);
     memset(result, 0, sizeof *result);
     result->quantity = query->quantity;
     switch (query->quantity) {

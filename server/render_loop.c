@@ -189,6 +189,9 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     size_t bytes = (size_t)g->view.width * g->view.height * 4;
     uint8_t *rgba = malloc(bytes);
     struct sky_render_atmosphere atm = ctx->atmosphere;
+    struct sky_render_night night;
+    world_to_render_night(&ctx->state, &night);
+    sky_renderer_set_night(ctx->renderer, &night);
     struct sky_render_stats stats;
     if (!rgba || sky_renderer_render(ctx->renderer, &atm, &g->view, rgba, bytes, &stats) != 0) {
         fprintf(stderr, "skyd: rendering a %ux%u frame failed\n", g->view.width, g->view.height);

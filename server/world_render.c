@@ -3,7 +3,15 @@
 #include <math.h>
 #include <string.h>
 
+#include "ephemeris.h"
 #include "sky_shared.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+#define DEG (M_PI / 180.0)
+#define MOON_RADIUS_KM 1737.4
+#define SUN_DISTANCE_KM 1.495978707e8
 
 static void copy3(double dst[3], const double src[3])
 {
@@ -147,4 +155,91 @@ void world_to_render_clouds(const struct sky_world_state *state, struct sky_rend
     out->weather_seed = (uint32_t)w->seed;
     out->map_extent_km = w->map_extent_km;
     out->use_client_map = w->map_source == SKY_WEATHER_MAP_CLIENT;
+}
+
+/* ---- night sky ---- */
+
+static void local_direction(double azimuth_deg, double elevation_deg, double out[3])
+{
+    double az = azimuth_deg * DEG, el = elevation_deg * DEG;
+    out[0] = sin(az) * cos(el);
+    out[1] = cos(az) * cos(el);
+    out[2] = sin(el);
+}
+
+static void matmul3(const double a[3][3], const double b[3][3], double out[3][3])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            out[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+}
+
+/* Precession J2000 -> mean equator and equinox of date (Meeus 21.2-21.4, IAU 1976):
+ * P = Rz(-z) Ry(theta) Rz(-zeta) acting on column vectors. */
+static void precession_matrix(double unix_seconds, double p[3][3])
+{
+    double t = (sky_julian_day(unix_seconds) - 2451545.0) / 36525.0;
+    double zeta = (2306.2181 * t + 0.30188 * t * t + 0.017998 * t * t * t) / 3600.0 * DEG;
+    double z = (2306.2181 * t + 1.09468 * t * t + 0.018203 * t * t * t) / 3600.0 * DEG;
+    double theta = (2004.3109 * t - 0.42665 * t * t - 0.041833 * t * t * t) / 3600.0 * DEG;
+    double cz = cos(zeta), sz = sin(zeta), cZ = cos(z), sZ = sin(z);
+    double ct = cos(theta), st = sin(theta);
+    p[0][0] = cZ * ct * cz - sZ * sz;
+    p[0][1] = -cZ * ct * sz - sZ * cz;
+    p[0][2] = -cZ * st;
+    p[1][0] = sZ * ct * cz + cZ * sz;
+    p[1][1] = -sZ * ct * sz + cZ * cz;
+    p[1][2] = -sZ * st;
+    p[2][0] = st * cz;
+    p[2][1] = -st * sz;
+    p[2][2] = ct;
+}
+
+void world_star_rotation(double unix_seconds, double latitude_deg, double longitude_deg,
+                         double out[3][3])
+{
+    /* Equatorial of date -> east/north/up through the local sidereal time (the hour angle is
+     * LST - RA; Meeus 13.5-13.6 written as a rotation). */
+    double lst = sky_local_sidereal_time_deg(unix_seconds, longitude_deg) * DEG;
+    double phi = latitude_deg * DEG;
+    double sl = sin(lst), cl = cos(lst), sp = sin(phi), cp = cos(phi);
+    const double local[3][3] = {
+        { -sl, cl, 0.0 },
+        { -sp * cl, -sp * sl, cp },
+        { cp * cl, cp * sl, sp },
+    };
+    double p[3][3];
+    precession_matrix(unix_seconds, p);
+    matmul3(local, p, out);
+}
+
+double world_moon_phase_angle_deg(const double sun[3], const double moon[3],
+                                  double moon_distance_km)
+{
+    double c = sun[0] * moon[0] + sun[1] * moon[1] + sun[2] * moon[2];
+    double elongation = acos(fmin(1.0, fmax(-1.0, c)));
+    /* Meeus 48.3: tan i = R sin psi / (Delta - R cos psi). */
+    return atan2(SUN_DISTANCE_KM * sin(elongation),
+                 moon_distance_km - SUN_DISTANCE_KM * cos(elongation)) / DEG;
+}
+
+void world_to_render_night(const struct sky_world_state *state, struct sky_render_night *out)
+{
+    memset(out, 0, sizeof *out);
+    const struct sky_moon_state *moon = &state->moon;
+    out->moon_azimuth_deg = moon->azimuth_deg;
+    out->moon_elevation_deg = moon->elevation_deg;
+    out->moon_angular_diameter_deg = moon->angular_diameter_deg;
+    if (moon->angular_diameter_deg > 0.0) {
+        double sun_dir[3], moon_dir[3];
+        local_direction(state->sun.azimuth_deg, state->sun.elevation_deg, sun_dir);
+        local_direction(moon->azimuth_deg, moon->elevation_deg, moon_dir);
+        double distance = MOON_RADIUS_KM / sin(0.5 * moon->angular_diameter_deg * DEG);
+        double phase = world_moon_phase_angle_deg(sun_dir, moon_dir, distance);
+        out->moon_illuminance_lux = sky_moon_illuminance_lux(phase, distance);
+    }
+    world_star_rotation(state->clock.utc_unix_s, state->location.latitude_deg,
+                        state->location.longitude_deg, out->star_rotation);
+    out->star_brightness = state->night.star_brightness;
+    out->airglow_luminance_cd_m2 = state->night.airglow_luminance_cd_m2;
 }

@@ -14,6 +14,17 @@ void world_to_render_view(const struct sky_world_state *state, uint32_t width, u
                           enum sky_render_output_kind output, struct sky_render_view *out);
 /* The state's clouds.* and weather.* as the renderer's clouds (sky_renderer_set_clouds). */
 void world_to_render_clouds(const struct sky_world_state *state, struct sky_render_clouds *out);
+
+/* The state's moon, stars and airglow: the moon's illuminance from its phase angle (the sun-moon
+ * elongation) and distance (its angular diameter) through server/ephemeris' phase law; the
+ * star rotation from clock.utc and location (sidereal time) and precession from J2000. */
+void world_to_render_night(const struct sky_world_state *state, struct sky_render_night *out);
+/* J2000 equatorial -> local east/north/up at the site and time (rows are the local axes). */
+void world_star_rotation(double unix_seconds, double latitude_deg, double longitude_deg,
+                         double out[3][3]);
+/* The moon's phase angle (deg, 0 = full) from the sun and moon directions and its distance. */
+double world_moon_phase_angle_deg(const double sun_dir[3], const double moon_dir[3],
+                                  double moon_distance_km);
 void world_to_lut_sizes(const struct sky_world_state *state, struct sky_render_lut_sizes *out);
 
 /* Humidity in world_to_render_atmosphere: the Mie scattering is atmosphere.mie.* times

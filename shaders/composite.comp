@@ -10,16 +10,16 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "shading_bindings.glsl"
-layout(std430, binding = 6) readonly buffer ExposureBlock { vec4 metered; }; // x exposure
+layout(std430, binding = 8) readonly buffer ExposureBlock { vec4 metered; }; // x exposure
 #ifdef SKY_OUTPUT_LINEAR
-layout(binding = 7, rgba32f) uniform writeonly image2D image_out;
+layout(binding = 9, rgba32f) uniform writeonly image2D image_out;
 #else
-layout(binding = 7, rgba8) uniform writeonly image2D image_out;
+layout(binding = 9, rgba8) uniform writeonly image2D image_out;
 #endif
-layout(binding = 8) uniform sampler2D cloud_image;      // premultiplied luminance, opacity
-layout(binding = 9) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
-layout(std140, binding = 10) uniform CloudBlock { sky_cloud_uniforms cloud; };
-layout(std430, binding = 11) readonly buffer CloudEnv { vec4 env_luminance; vec4 env_transmittance; };
+layout(binding = 10) uniform sampler2D cloud_image;      // premultiplied luminance, opacity
+layout(binding = 11) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
+layout(std140, binding = 12) uniform CloudBlock { sky_cloud_uniforms cloud; };
+layout(std430, binding = 13) readonly buffer CloudEnv { vec4 env_luminance; vec4 env_transmittance; };
 layout(push_constant) uniform RegionPush { sky_region_push region; };
 layout(constant_id = 1) const bool SUN_REGION = false;
 

@@ -6,7 +6,7 @@
 
 layout(local_size_x = SKY_METER_LOCAL, local_size_y = SKY_METER_LOCAL) in;
 #include "shading_bindings.glsl"
-layout(std430, binding = 6) writeonly buffer Partials { vec2 partials[]; };
+layout(std430, binding = 8) writeonly buffer Partials { vec2 partials[]; };
 layout(push_constant) uniform MeterPush { sky_meter_push meter; };
 
 #include "sky_shading.glsl"

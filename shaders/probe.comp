@@ -6,8 +6,8 @@
 
 layout(local_size_x = 64) in;
 #include "shading_bindings.glsl"
-layout(std430, binding = 6) readonly buffer ProbeIn { vec4 probe_in[]; };
-layout(std430, binding = 7) writeonly buffer ProbeOut { vec4 probe_out[]; };
+layout(std430, binding = 8) readonly buffer ProbeIn { vec4 probe_in[]; };
+layout(std430, binding = 9) writeonly buffer ProbeOut { vec4 probe_out[]; };
 layout(push_constant) uniform ProbePush { sky_probe_push probe; };
 
 #include "sky_shading.glsl"

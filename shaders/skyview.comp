@@ -14,6 +14,8 @@ layout(binding = 2) uniform sampler2D transmittance_lut;
 layout(binding = 3) uniform sampler2D multiscattering_lut;
 layout(binding = 4) uniform sampler2D irradiance_lut;
 layout(binding = 5, rgba32f) uniform writeonly image2D skyview_out;
+// The moonlit sky-view LUT: the same integral with the moon as the light (seed 001 4.2).
+layout(constant_id = 0) const bool MOON_LIGHT = false;
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT
@@ -45,7 +47,7 @@ void main()
     vec3 dir = vec3(sin_zenith * light_view_cos, sin_zenith * sin_azimuth, view_zenith_cos);
     // The local sun lies in the x-z plane (azimuth 0).
     vec3 origin = vec3(0.0, 0.0, r);
-    vec3 sun_dir = frame.sun_local.xyz;
+    vec3 sun_dir = MOON_LIGHT ? frame.moon_local.xyz : frame.sun_local.xyz;
     float t_start, t_end;
     bool hits;
     atmosphere_segment(origin, dir, t_start, t_end, hits);

@@ -44,16 +44,24 @@ vec3 sun_disk_luminance(vec3 dir)
 
 // The camera stands on the +z axis, so its up is +z and horizontal projections are .xy; the
 // horizon angle and the sun's horizontal direction come with the frame uniforms.
-vec2 skyview_uv(vec3 dir, bool hits_ground)
+// light_horizontal: the light's horizontal direction (frame.sun_horizontal, moon_horizontal).
+vec2 skyview_uv_for(vec3 dir, bool hits_ground, vec4 light_horizontal)
 {
     float dir_h_len2 = dot(dir.xy, dir.xy);
-    float light_view_cos = dir_h_len2 > 1e-14 && frame.sun_horizontal.w > 0.5
-                               ? dot(dir.xy, frame.sun_horizontal.xy) * inversesqrt(dir_h_len2)
+    float light_view_cos = dir_h_len2 > 1e-14 && light_horizontal.w > 0.5
+                               ? dot(dir.xy, light_horizontal.xy) * inversesqrt(dir_h_len2)
                                : 1.0;
     vec2 unit = skyview_dir_to_unit_beta(frame.horizon.x, dir.z, light_view_cos, hits_ground);
     vec2 size = vec2(textureSize(skyview_lut, 0));
     return vec2(unit_to_sub_uv(unit.x, size.x), unit_to_sub_uv(unit.y, size.y));
 }
+
+vec2 skyview_uv(vec3 dir, bool hits_ground)
+{
+    return skyview_uv_for(dir, hits_ground, frame.sun_horizontal);
+}
+
+#include "night_sky.glsl"
 
 vec3 shade_from_space(vec3 origin, vec3 dir, bool include_sun)
 {
@@ -65,7 +73,7 @@ vec3 shade_from_space(vec3 origin, vec3 dir, bool include_sun)
     L *= frame.sun_illuminance.xyz;
     if (!m.hits_ground && include_sun)
         L += m.transmittance * sun_disk_luminance(dir);
-    return L;
+    return L + night_from_space(origin, dir, m, include_sun);
 }
 
 vec3 shade_from_atmosphere(vec3 cam, vec3 dir, bool include_sun)
@@ -80,7 +88,7 @@ vec3 shade_from_atmosphere(vec3 cam, vec3 dir, bool include_sun)
         float sun_visible = hits_ground ? 0.0 : 1.0;
         L += sun_disk_luminance(dir) * transmittance_to_top(r, mu) * sun_visible;
     }
-    return L;
+    return NIGHT_SKY ? L + night_from_atmosphere(cam, dir, hits_ground, include_sun, L) : L;
 }
 
 vec3 shade_direction(vec3 dir, bool include_sun)

@@ -71,6 +71,20 @@ struct sky_frame_uniforms {
                                      normalised; w 1, or 0 when the sun is at the zenith */
     SKY_VEC4 horizon;             /* camera's geometric horizon: x beta = acos(sqrt(r^2-R^2)/r),
                                      y pi - beta (zenith angle of the horizon), z cos of that */
+    /* Night sky (render/night_sky.c, shaders/include/night_sky.glsl). */
+    SKY_VEC4 moon_direction;      /* xyz unit, toward the moon; w cos(angular radius) */
+    SKY_VEC4 moon_illuminance;    /* xyz per channel outside the atmosphere, phase included;
+                                     w 1 when the moonlit sky-view LUT is computed this frame */
+    SKY_VEC4 moon_disk;           /* x 1 / integral of albedo x reflectance over the disc (1/sr),
+                                     y sin(angular radius), z 1 when the disc is drawn */
+    SKY_VEC4 moon_earthshine;     /* xyz earthshine luminance of the highlands (cd/m2) */
+    SKY_VEC4 moon_local;          /* moon direction in its sky-view LUT frame (azimuth 0) */
+    SKY_VEC4 moon_horizontal;     /* as sun_horizontal, for the moon */
+    SKY_VEC4 moon_up;             /* xyz lunar north on the disc (celestial pole, projected) */
+    SKY_VEC4 star_rotation[3];    /* rows of the J2000 equatorial -> local east/north/up matrix */
+    SKY_VEC4 night;               /* x airglow zenith luminance (cd/m2), y star brightness
+                                     multiplier, z star blur sigma (rad), w sky luminance above
+                                     which stars add under 0.1 % and are skipped */
 };
 
 /* Per-dispatch constants of the probe pass. */
