@@ -7,8 +7,10 @@ Starts `skyd serve` on a free loopback port with WEB_ROOT as its web root, start
 chromedriver and drives Chromium (--headless=new) through the WebDriver HTTP API (standard
 library only). Checks that the page loads from skyd, a frame appears on the canvas (not
 blank), the session becomes controller through the token field, moving the time-of-day
-control raises the state revision and changes the image, an invalid latitude shows the
-server's error next to the latitude field, the layout fits a narrow window, the page
+control raises the state revision and changes the image (with the sun and moon switched to the
+server's ephemeris, whose sun sliders turn read-only), the simulated clock runs live in the page,
+an invalid latitude shows the server's error next to the latitude field, a weather preset
+applied over a transition shows its progress to the end, the layout fits a narrow window, the page
 reconnects by itself when the daemon restarts, and the browser logged no errors (CSP
 violations included). Screenshots go to OUTPUT_DIR.
 
@@ -240,7 +242,32 @@ def run_checks(wd, daemon, out):
     check("token field makes the session controller",
           wait_for("controller", lambda: wd.text("#role") == "controller"), wd.text("#role"))
 
-    # Move the time of day from noon to 17:30 UTC (the sun follows in manual mode).
+    # The server's ephemeris places the sun: its sliders turn read-only, and noon's frame is
+    # the reference for the time change below.
+    revision_before = number(wd.text("#revision"))
+    wd.js("const s = document.getElementById('sky-bodies'); s.value = 'ephemeris';"
+          "s.dispatchEvent(new Event('change'));")
+    check("ephemeris mode makes the sun sliders read-only",
+          wait_for("sun sliders disabled", lambda: wd.js(
+              "return document.getElementById('sun-elevation').disabled;")),
+          wd.text("#sun-mode-note"))
+    ephemeris_revision = number(wd.text("#revision")) or 0
+    check("the mode switch raises the revision", ephemeris_revision > (revision_before or 0),
+          f"{revision_before} -> {ephemeris_revision}")
+    wait_for("a frame in ephemeris mode",
+             lambda: (number(wd.text("#frame-revision")) or 0) >= ephemeris_revision,
+             timeout=FRAME_TIMEOUT)
+    time.sleep(0.5)
+    first = wd.js(CANVAS_STATS_JS)
+
+    # The simulated clock runs (time_scale 1) and the page shows it live.
+    clock_before = wd.text("#sim-clock")
+    ticked = wait_for("the clock ticks", lambda: wd.text("#sim-clock") != clock_before)
+    check("the simulated clock runs live", ticked and
+          (wd.text("#sim-clock") or "").startswith("2026-06-21 12:"),
+          f"{clock_before} -> {wd.text('#sim-clock')}")
+
+    # Move the time of day from noon to 17:30 UTC: the server moves the sun.
     revision_before = number(wd.text("#revision"))
     frame_revision_before = number(wd.text("#frame-revision"))
     wd.js("const s = document.getElementById('time-of-day'); s.focus(); s.value = '1050';"
@@ -290,6 +317,8 @@ def run_checks(wd, daemon, out):
     check("a valid value clears the error", wait_for("error cleared", lambda: wd.text(slot) == ""),
           wd.text(slot))
 
+    check_transition(wd, out)
+
     # Narrow window: one column, nothing wider than the viewport.
     wd.set_window(420, 900)
     time.sleep(0.5)
@@ -305,6 +334,37 @@ def run_checks(wd, daemon, out):
     check_reconnect(wd, daemon)
     check_console(wd, "browser console: no errors but refused reconnection attempts",
                   allow="ERR_CONNECTION_REFUSED")
+
+
+def check_transition(wd, out_dir):
+    """The storm preset over 150 simulated seconds with the clock at 30x real time: the
+    revision rises, the progress shows part of the way, then the end with the storm's cover."""
+    wd.js("const s = document.getElementById('time-scale'); s.value = '30';"
+          "s.dispatchEvent(new Event('change'));")
+    wait_for("time scale", lambda: wd.js(
+        "return document.getElementById('time-scale').value;") == "30")
+    revision_before = number(wd.text("#revision")) or 0
+    wd.js("document.getElementById('weather-preset').value = 'storm';"
+          "document.getElementById('weather-transition').value = '150';")
+    wd.click('button[data-apply-kind="weather"]')
+    check("a weather preset with a transition raises the revision",
+          wait_for("revision", lambda: (number(wd.text("#revision")) or 0) > revision_before),
+          f"{revision_before} -> {wd.text('#revision')}")
+    text = "#weather-transition-text"
+    partway = wait_for("progress part of the way", lambda: "% of 150 s" in wd.text(text)
+                       and 0 < wd.js("return document.getElementById("
+                                     "'weather-transition-progress').value;") < 1)
+    check("the transition's progress is shown part of the way", partway, wd.text(text))
+    done = wait_for("transition done", lambda: wd.text(text).startswith("done"))
+    check("the transition reaches its end", done, wd.text(text))
+    check("the storm's low cloud cover is reached",
+          wait_for("coverage", lambda: wd.js(
+              "return document.getElementById('low-coverage').value;") == "0.85"),
+          wd.js("return document.getElementById('low-coverage').value;"))
+    check("no error beside the weather preset",
+          wd.text('[data-error-for="preset:weather"]') == "",
+          wd.text('[data-error-for="preset:weather"]'))
+    wd.screenshot(os.path.join(out_dir, "web-storm.png"))
 
 
 def check_console(wd, name, allow=None):

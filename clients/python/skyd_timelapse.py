@@ -5,12 +5,12 @@
         --start 2026-06-21T03:00:00Z --end 2026-06-21T21:00:00Z --steps 37
 
 Connects (Debian's python3-websockets, asyncio API), becomes controller, subscribes to a view,
-and for each step sets clock.utc; while clock.sky_bodies is "manual" the same `set` moves the
-sun to where it stands at that time and place (NOAA's general solar position equations), so
-the sky follows the clock whether or not the server computes an ephemeris. The frame saved for
-a step is the first whose header carries a state revision at least that of the step's `set`
-(protocol/PROTOCOL.md, "Binary frames"), written as OUT/frame_NNNN.png. Prints one line per
-frame: file, time, sun elevation and revision.
+and for each step sets clock.utc together with clock.sky_bodies "ephemeris" (the daemon places
+the sun and moon for the time and location) and clock.time_scale 0 (the clock holds still on
+the step instead of running on). The frame saved for a step is the first whose header carries
+a state revision at least that of the step's `set` (protocol/PROTOCOL.md, "Binary frames"),
+written as OUT/frame_NNNN.png. Prints one line per frame: file, time, the sun elevation the
+daemon computed, and revision. The clock stays paused at the last step afterwards.
 
 Exit status: 0 done, 1 the server refused a request (the message names the field),
 2 bad arguments, 3 connection failure or timeout.
@@ -20,7 +20,6 @@ import argparse
 import asyncio
 import datetime
 import json
-import math
 import os
 import struct
 import sys
@@ -47,30 +46,6 @@ class ServerError(Exception):
         else:
             text = f"{reply.get('message')} [{reply.get('code')}]"
         super().__init__(f"{what}: {text}")
-
-
-def sun_position(when, latitude_deg, longitude_deg):
-    """(elevation, azimuth from north through east) in degrees. NOAA Global Monitoring
-    Division, "General Solar Position Calculations" (about 0.1 degree)."""
-    year_start = datetime.datetime(when.year, 1, 1, tzinfo=datetime.timezone.utc)
-    days_in_year = 366 if when.year % 4 == 0 and (when.year % 100 or when.year % 400 == 0) else 365
-    hours = when.hour + when.minute / 60 + when.second / 3600
-    day = (when - year_start).days  # day of the year - 1
-    gamma = 2 * math.pi / days_in_year * (day + (hours - 12) / 24)  # NOAA: fractional year
-    eqtime = 229.18 * (0.000075 + 0.001868 * math.cos(gamma) - 0.032077 * math.sin(gamma)
-                       - 0.014615 * math.cos(2 * gamma) - 0.040849 * math.sin(2 * gamma))
-    decl = (0.006918 - 0.399912 * math.cos(gamma) + 0.070257 * math.sin(gamma)
-            - 0.006758 * math.cos(2 * gamma) + 0.000907 * math.sin(2 * gamma)
-            - 0.002697 * math.cos(3 * gamma) + 0.00148 * math.sin(3 * gamma))
-    hour_angle = math.radians((hours * 60 + eqtime + 4 * longitude_deg) / 4 - 180)
-    lat = math.radians(latitude_deg)
-    cos_zenith = (math.sin(lat) * math.sin(decl)
-                  + math.cos(lat) * math.cos(decl) * math.cos(hour_angle))
-    zenith = math.acos(max(-1.0, min(1.0, cos_zenith)))
-    east = -math.cos(decl) * math.sin(hour_angle)
-    north = math.sin(decl) * math.cos(lat) - math.cos(decl) * math.cos(hour_angle) * math.sin(lat)
-    azimuth = math.degrees(math.atan2(east, north)) % 360
-    return 90 - math.degrees(zenith), azimuth
 
 
 def parse_utc(text):
@@ -140,10 +115,6 @@ async def timelapse(args):
             raise ServerError("connect", hello)
         if args.token:
             await session.request("auth", {"type": "auth", "token": args.token})
-        state = (await session.request("get_state", {"type": "get_state"}))["state"]
-        manual_sun = state["clock"]["sky_bodies"] == "manual"
-        latitude = state["location"]["latitude_deg"]
-        longitude = state["location"]["longitude_deg"]
         view = {"width": args.width, "height": args.height, "fps": args.fps}
         if args.ev100 is not None:
             view["exposure"] = {"mode": "manual", "ev100": args.ev100}
@@ -151,14 +122,12 @@ async def timelapse(args):
         for step in range(args.steps):
             fraction = step / (args.steps - 1) if args.steps > 1 else 0.0
             when = start + (end - start) * fraction
-            patch = {"clock": {"utc": format_utc(when)}}
-            elevation = None
-            if manual_sun:
-                elevation, azimuth = sun_position(when, latitude, longitude)
-                patch["sun"] = {"elevation_deg": round(elevation, 3),
-                                "azimuth_deg": round(azimuth, 3)}
+            patch = {"clock": {"utc": format_utc(when), "sky_bodies": "ephemeris",
+                               "time_scale": 0}}
             ack = await session.request("set", {"type": "set", "patch": patch})
             wanted = ack["revision"]
+            state = (await session.request("get_state", {"type": "get_state"}))["state"]
+            elevation = state["sun"]["elevation_deg"]
             while True:
                 number, revision, width, height, png = await session.next_frame()
                 if revision >= wanted:
@@ -166,8 +135,7 @@ async def timelapse(args):
             path = os.path.join(args.out, f"frame_{step:04d}.png")
             with open(path, "wb") as f:
                 f.write(png)
-            sun_text = f"sun {elevation:.2f} deg" if elevation is not None else "sun ephemeris"
-            print(f"{path} {format_utc(when)} {sun_text} revision {revision} "
+            print(f"{path} {format_utc(when)} sun {elevation:.2f} deg revision {revision} "
                   f"frame {number} {width}x{height}", flush=True)
 
 

@@ -9,6 +9,7 @@ import { StatsPanel } from "./stats_panel.js";
 import { TimeControls } from "./time_controls.js";
 import { ViewControls } from "./view_controls.js";
 import { WorldControls } from "./world_controls.js";
+import { WorldSimView } from "./world_sim_view.js";
 
 const $ = (id) => document.getElementById(id);
 const show = (id, text) => { $(id).textContent = text; };
@@ -44,12 +45,14 @@ const frames = new FrameView($("view"), (header, count, perSecond) => {
   show("frame-revision", String(header.revision));
   show("frame-count", String(count));
   show("fps", perSecond.toFixed(1));
+  time.tick(header.simulationTime, header.revision);
 });
 const world = new WorldControls(document, sendSet);
 const time = new TimeControls(sendSet);
 const view = new ViewControls($("view"), () => scheduleResubscribe());
 const presets = new Presets(request);
 const stats = new StatsPanel();
+const sim = new WorldSimView();
 
 function noteRevision(revision) {
   if (typeof revision === "number" && revision >= stateRevision) {
@@ -87,6 +90,7 @@ async function refreshState() {
   world.update(reply.state);
   time.update(reply.state);
   view.update(reply.state);
+  sim.update(reply.state);
 }
 
 function scheduleStateRefresh() {
@@ -153,5 +157,9 @@ $("token").addEventListener("keydown", (e) => {
 setInterval(async () => {
   if (!connection.open) return;
   const reply = await request({ type: "stats" });
-  if (reply.type === "stats") stats.update(reply);
+  if (reply.type === "stats") {
+    stats.update(reply);
+    if (frames.count === 0) time.tick(reply.simulation_time_s, null);
+  }
+  if (sim.running()) refreshState();
 }, 1000);

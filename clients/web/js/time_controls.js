@@ -1,12 +1,18 @@
-// Date, time and a time-of-day slider, all UTC, edit clock.utc. While clock.sky_bodies is
-// "manual" the same `set` also moves the sun to where it stands at that time and place
-// (sun_position.js), so the sky follows the clock before and after the server's ephemeris.
+// Date, time and a time-of-day slider, all UTC, edit clock.utc (only the clock: in ephemeris
+// mode the daemon places the sun and moon, in manual mode they stay where the sliders put them).
+// The daemon's clock runs at clock.time_scale, so the simulated time shown here follows the
+// frame headers (and stats) live; a field being typed in or a slider being dragged is left
+// alone, and frames older than the last accepted set do not pull the fields back.
 
 import { clearErrors, showReplyError } from "./field_errors.js";
-import { sunPosition } from "./sun_position.js";
 
 const THROTTLE_MS = 200;
 const pad = (n) => String(n).padStart(2, "0");
+
+// "2026-06-21T12:00:05Z" for Unix seconds (whole seconds, rounded down).
+export function isoSeconds(unixSeconds) {
+  return new Date(Math.floor(unixSeconds) * 1000).toISOString().replace(/\.\d{3}Z$/, "Z");
+}
 
 export class TimeControls {
   constructor(sendSet) {
@@ -15,9 +21,10 @@ export class TimeControls {
     this.time = document.getElementById("time");
     this.slider = document.getElementById("time-of-day");
     this.output = document.getElementById("time-of-day-out");
-    this.state = null;
+    this.clock = document.getElementById("sim-clock");
     this.dragging = false;
     this.timer = null;
+    this.minRevision = 0; // frames before the last accepted set show the old time
     this.date.addEventListener("change", () => this.send(this.composeFromInputs()));
     this.time.addEventListener("change", () => this.send(this.composeFromInputs()));
     this.slider.addEventListener("input", () => {
@@ -45,33 +52,35 @@ export class TimeControls {
     return `${this.date.value}T${time}Z`;
   }
 
-  // The set for an ISO 8601 UTC time: the clock, and the sun in manual mode.
-  patchFor(utc) {
-    const patch = { clock: { utc } };
-    const when = new Date(utc);
-    if (this.state && this.state.clock.sky_bodies === "manual" && !Number.isNaN(when.getTime())) {
-      const sun = sunPosition(when, this.state.location.latitude_deg,
-                              this.state.location.longitude_deg);
-      patch.sun = { elevation_deg: Math.round(sun.elevationDeg * 1000) / 1000,
-                    azimuth_deg: Math.round(sun.azimuthDeg * 1000) / 1000 };
+  async send(utc) {
+    const reply = await this.sendSet({ clock: { utc } });
+    if (reply.type === "error") {
+      showReplyError(reply, "clock.utc");
+    } else {
+      clearErrors(["clock.utc"]);
+      if (typeof reply.revision === "number") this.minRevision = reply.revision;
     }
-    return patch;
   }
 
-  async send(utc) {
-    const reply = await this.sendSet(this.patchFor(utc));
-    if (reply.type === "error") showReplyError(reply, "clock.utc");
-    else clearErrors(["clock.utc"]);
+  // The simulated clock from a frame header (with its state revision) or stats (revision null).
+  tick(unixSeconds, revision) {
+    if (!Number.isFinite(unixSeconds)) return;
+    if (revision !== null && revision < this.minRevision) return;
+    this.show(isoSeconds(unixSeconds));
   }
 
   update(state) {
-    this.state = state;
-    const utc = state.clock && state.clock.utc;
-    if (typeof utc !== "string" || this.dragging) return;
+    if (state.clock && typeof state.clock.utc === "string") this.show(state.clock.utc);
+  }
+
+  show(utc) {
     const match = /^(\d{4}-\d{2}-\d{2})T(\d{2}):(\d{2}):(\d{2})/.exec(utc);
     if (!match) return;
+    const text = `${match[1]} ${match[2]}:${match[3]}:${match[4]} UTC`;
+    if (this.clock.textContent !== text) this.clock.textContent = text;
     if (document.activeElement !== this.date) this.date.value = match[1];
     if (document.activeElement !== this.time) this.time.value = `${match[2]}:${match[3]}:${match[4]}`;
+    if (this.dragging || this.timer !== null) return;
     this.slider.value = String(Number(match[2]) * 60 + Number(match[3]));
     this.output.textContent = `${match[2]}:${match[3]}`;
   }

@@ -33,6 +33,7 @@ export class WorldControls {
     this.controls = [...root.querySelectorAll("[data-path]")];
     this.busy = new Set(); // controls being dragged: the server's state does not move them
     this.timers = new Map();
+    this.seen = new Map(); // the server's last value per control, as text
     for (const control of this.controls) {
       const path = control.dataset.path;
       if (control.type === "range") {
@@ -79,7 +80,9 @@ export class WorldControls {
     else clearErrors([path]);
   }
 
-  // Shows a `state` message's values, except in a control being typed in or dragged.
+  // Shows a `state` message's values where the server's value changed since the last state
+  // (the state is polled while the simulation runs: a value the user typed, refused or not,
+  // stays until the server's changes), except in a control being typed in or dragged.
   update(state) {
     for (const control of this.controls) {
       const typing = control === document.activeElement && control.tagName === "INPUT"
@@ -87,7 +90,8 @@ export class WorldControls {
       if (typing || this.busy.has(control)) continue;
       let value = valueAt(state, control.dataset.path);
       if (Array.isArray(value)) value = value[0];
-      if (value === undefined) continue;
+      if (value === undefined || this.seen.get(control) === String(value)) continue;
+      this.seen.set(control, String(value));
       control.value = String(value);
       this.showOutput(control);
     }
