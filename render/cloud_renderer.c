@@ -199,6 +199,13 @@ int cloud_renderer_set(struct vk_context *ctx, struct cloud_renderer *cr,
     return 0;
 }
 
+int cloud_renderer_prepare_noise(struct vk_context *ctx, struct cloud_renderer *cr, uint32_t seed)
+{
+    if (cr->noise.generated && cr->noise.seed == seed)
+        return 0;
+    return cloud_noise_generate(ctx, &cr->noise, seed, cr->quiet);
+}
+
 void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms)
 {
     cr->budget_ms = budget_ms;
@@ -318,23 +325,26 @@ static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr,
         .mode = client ? 1u : 0u,
         .client_generation = client ? cr->client_generation : 0u,
     };
-    /* A change during a build restarts it (the shown map stays until one completes). */
-    if ((!cr->weather.ready && !cr->weather.building) ||
-        memcmp(&key, &cr->weather_target, sizeof key) != 0) {
+    /* A build runs to the end with the inputs it started from, and the next one starts from the
+     * newest inputs: parameters that change every tick (a weather transition) would otherwise
+     * restart it for ever. The shown map stays until a build completes. */
+    if (!cr->weather.building &&
+        (!cr->weather.ready || memcmp(&key, &cr->weather_target, sizeof key) != 0)) {
         cr->weather_target = key;
         map_start(&cr->weather);
     }
     if (!cr->weather.building)
         return;
+    const struct weather_key *build = &cr->weather_target;
     struct compute_resource r[2] = {
-        tex(client ? &cr->client_map : &cr->dummy, cr->repeat),
+        tex(build->mode && cr->has_client_map ? &cr->client_map : &cr->dummy, cr->repeat),
         img(&cr->weather.image[1 - cr->weather.shown]),
     };
     compute_pass_bind(ctx, &cr->pass[P_WEATHER], r);
     struct sky_cloud_rows_push push = {
-        .mode = key.mode,
-        .seed = key.seed,
-        .params = { key.params[0], key.params[1], key.params[2], key.params[3] },
+        .mode = build->mode,
+        .seed = build->seed,
+        .params = { build->params[0], build->params[1], build->params[2], build->params[3] },
     };
     map_record(cr, &cr->weather, cmd, timer, &cr->pass[P_WEATHER], &push, budget);
 }
@@ -377,8 +387,9 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
     const float sun[3] = { f->frame->sun_direction.x, f->frame->sun_direction.y,
                            f->frame->sun_direction.z };
     bool moved = !cr->shadow_has_sun || angle_between(sun, cr->shadow_sun) > SHADOW_SUN_TOLERANCE;
-    if ((!cr->shadow.ready && !cr->shadow.building) || moved ||
-        memcmp(&key, &cr->shadow_target, sizeof key) != 0) {
+    /* As for the weather map: a build in progress finishes before the next one starts. */
+    if (!cr->shadow.building &&
+        (!cr->shadow.ready || moved || memcmp(&key, &cr->shadow_target, sizeof key) != 0)) {
         cr->shadow_target = key;
         memcpy(cr->shadow_sun, sun, sizeof sun);
         cr->shadow_has_sun = true;

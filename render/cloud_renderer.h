@@ -18,6 +18,9 @@ struct cloud_renderer;
 struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet);
 void cloud_renderer_destroy(struct vk_context *ctx, struct cloud_renderer **cr);
 
+/* Generates the noise volumes for `seed` now unless they exist already: a service calls it at
+ * start-up so that the first cloudy frame does not pay for it. */
+int cloud_renderer_prepare_noise(struct vk_context *ctx, struct cloud_renderer *cr, uint32_t seed);
 /* The clouds of the next frames; generates the noise when first needed or reseeded. */
 int cloud_renderer_set(struct vk_context *ctx, struct cloud_renderer *cr,
                        const struct sky_render_clouds *clouds);

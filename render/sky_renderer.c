@@ -339,6 +339,11 @@ int sky_renderer_set_clouds(struct sky_renderer *r, const struct sky_render_clou
     return cloud_renderer_set(r->ctx, r->clouds, clouds);
 }
 
+int sky_renderer_prepare_cloud_noise(struct sky_renderer *r, uint32_t noise_seed)
+{
+    return cloud_renderer_prepare_noise(r->ctx, r->clouds, noise_seed);
+}
+
 int sky_renderer_set_weather_map(struct sky_renderer *r, const uint8_t *rgba8, uint32_t width,
                                  uint32_t height)
 {

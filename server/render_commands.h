@@ -58,6 +58,10 @@ struct render_context {
     double last_tick_s;
     bool sim_dirty;
     double last_save_s;
+    /* The clouds last handed to the renderer: the simulation moves them every tick (wind,
+     * transitions, autopilot). */
+    struct sky_render_clouds clouds;
+    bool clouds_set;
 };
 
 void render_commands_handle(struct render_context *ctx, struct session *session,

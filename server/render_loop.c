@@ -183,6 +183,22 @@ static void fail_targets(struct encode_target *targets, size_t count)
     free(targets);
 }
 
+/* Hands the state's clouds to the renderer when they changed; the weather and shadow maps
+ * then rebuild amortized over the next frames. */
+static void update_clouds(struct render_context *ctx)
+{
+    struct sky_render_clouds clouds;
+    world_to_render_clouds(&ctx->state, &clouds);
+    if (ctx->clouds_set && memcmp(&clouds, &ctx->clouds, sizeof clouds) == 0)
+        return;
+    if (sky_renderer_set_clouds(ctx->renderer, &clouds) == 0) {
+        ctx->clouds = clouds;
+        ctx->clouds_set = true;
+    } else {
+        fprintf(stderr, "skyd: the cloud noise could not be generated\n");
+    }
+}
+
 static void render_group(struct render_loop *loop, struct render_group *g)
 {
     struct render_context *ctx = &loop->ctx;
@@ -192,6 +208,7 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     struct sky_render_night night;
     world_to_render_night(&ctx->state, &night);
     sky_renderer_set_night(ctx->renderer, &night);
+    update_clouds(ctx);
     struct sky_render_stats stats;
     if (!rgba || sky_renderer_render(ctx->renderer, &atm, &g->view, rgba, bytes, &stats) != 0) {
         fprintf(stderr, "skyd: rendering a %ux%u frame failed\n", g->view.width, g->view.height);
@@ -320,6 +337,9 @@ static double render_due(struct render_loop *loop, double now)
                 members[count++] = j;
             }
         }
+        /* The group's cloud history follows its oldest subscription, which keeps it while the
+         * camera moves (reprojection handles that); snapshots share key 0. */
+        views[i].history_key = ctx->subscriptions[members[0]].id;
         schedule_view(loop, members, count, &views[i], &groups, &group_count, now);
     }
     free(views);
@@ -523,6 +543,14 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         render_loop_destroy(&loop);
         return NULL;
     }
+    /* The cloud noise too, so that no frame pays for it when clouds first appear. */
+    if (sky_renderer_prepare_cloud_noise(ctx->renderer, (uint32_t)ctx->state.clouds.noise_seed) !=
+        0) {
+        snprintf(err, errlen, "generating the cloud noise failed");
+        render_loop_destroy(&loop);
+        return NULL;
+    }
+    update_clouds(ctx);
     ctx->settled_revision = ctx->state.revision;
     loop->started = pthread_create(&loop->thread, NULL, thread_main, loop) == 0;
     if (!loop->started) {
