@@ -9,7 +9,7 @@
 
 struct vk_context;
 
-#define GPU_TIMER_MAX_PASSES 16
+#define GPU_TIMER_MAX_PASSES 32 /* a full LUT rebuild with clouds and the moon marks about 20 */
 
 struct gpu_timer_result {
     int count;

@@ -60,7 +60,7 @@ struct sky_renderer_params {
     unsigned *validation_message_counter;
 };
 
-#define SKY_RENDER_MAX_PASSES 16
+#define SKY_RENDER_MAX_PASSES 32 /* = GPU_TIMER_MAX_PASSES */
 
 struct sky_render_stats {
     int pass_count;

@@ -3,7 +3,8 @@
  * step-count independence of the energy-conserving march (seed 001 eq. 17); a thick cloud with
  * an isotropic phase behaving as a diffuse surface within the energy bound, against a
  * double-precision single-scattering reference; overcast ground darker than clear; temporal
- * convergence of a static view and reprojection under camera motion; the client weather map. */
+ * convergence of a static view and reprojection under camera motion; the client weather map;
+ * clouds lit by the moon at night. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -46,6 +47,9 @@ static void render(const struct sky_world_state *s, uint64_t key, float *linear,
     view.history_key = key;
     world_to_render_clouds(s, &clouds);
     CHECK(sky_renderer_set_clouds(renderer, &clouds) == 0);
+    struct sky_render_night night;
+    world_to_render_night(s, &night);
+    sky_renderer_set_night(renderer, &night);
     void *out = srgb ? (void *)srgb : (void *)linear;
     size_t bytes = (size_t)W * H * (srgb ? 4 : 16);
     CHECK(sky_renderer_render(renderer, &atm, &view, out, bytes, NULL) == 0);
@@ -279,6 +283,40 @@ static void test_client_weather_map(void)
     CHECK(sky_renderer_set_weather_map(renderer, NULL, 0, 0) == 0);
 }
 
+/* Clouds at night: a deck overhead lit by a full moon (sun 30 deg down, moon opposite it) is
+ * grey, not a black silhouette: brighter than with the moon down (airglow and starlight only),
+ * below what a white diffuse surface facing the full moon reflects (E / pi, E <= 0.3 lx), and
+ * darker than the same deck by day. */
+static void test_moonlit_clouds(void)
+{
+    struct sky_world_state s;
+    cloudy_state(&s);
+    s.clock.sky_bodies = SKY_BODIES_MANUAL;
+    s.clouds.high.coverage = 0.0;
+    s.clouds.low.coverage = 1.0;
+    s.camera.pitch_deg = 60;
+    s.camera.yaw_deg = 180;
+    s.sun.azimuth_deg = 0;
+    s.sun.elevation_deg = -30;
+    s.moon.azimuth_deg = 180;
+    s.moon.elevation_deg = 30;
+    render(&s, 300, frame_a, NULL);
+    double moon_up = mean_luminance(frame_a);
+    CHECK(count_bad(frame_a) == 0);
+    s.moon.elevation_deg = -30;
+    render(&s, 301, frame_b, NULL);
+    double moon_down = mean_luminance(frame_b);
+    s.sun.elevation_deg = 40;
+    render(&s, 302, frame_b, NULL);
+    double day = mean_luminance(frame_b);
+    printf("moonlit clouds: moon up %.4g, moon down %.4g, day %.4g cd/m2\n", moon_up, moon_down,
+           day);
+    CHECK(moon_up > 3.0 * moon_down);
+    CHECK(moon_up > 1e-3);           /* grey under the moon, not black */
+    CHECK(moon_up < 0.3 / M_PI);     /* never brighter than a white surface facing it */
+    CHECK(moon_up < 1e-3 * day);
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1)
@@ -294,6 +332,7 @@ int main(int argc, char **argv)
     test_overcast_ground_darker();
     test_temporal();
     test_client_weather_map();
+    test_moonlit_clouds();
     sky_renderer_destroy(&renderer);
     CHECK(validation_messages == 0); /* counted through destruction */
     return check_summary();

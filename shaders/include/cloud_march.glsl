@@ -79,23 +79,47 @@ float octave_sun_scattering(OctavePhases o, float tau)
     return sum;
 }
 
-// Isotropic ambient radiance per unit sun illuminance under (top) and over (bottom) the clouds.
+// Isotropic ambient radiance (cd/m2) under (top) and over (bottom) the clouds: the sky lit by
+// the sun, by the moon at night (the same irradiance LUT per unit illuminance outside the
+// atmosphere, seed 001 4.2) and the airglow floor.
 struct CloudAmbient {
     vec3 top, bottom;
 };
 
+// Sky irradiance and direct irradiance at the ground per unit illuminance of a light toward l.
+void ground_light_per_lux(vec3 l, out vec3 sky, out vec3 direct)
+{
+    float mu = l.z; // at the camera's foot, up is +z
+    float size = float(textureSize(irradiance_lut, 0).x);
+    float u = unit_to_sub_uv(clamp(mu * 0.5 + 0.5, 0.0, 1.0), size);
+    sky = textureLod(irradiance_lut, vec2(u, 0.5), 0.0).rgb;
+    vec3 ground = vec3(0.0, 0.0, bottom_radius() + 1e-3);
+    direct = sun_transmittance(ground, l) * max(mu, 0.0);
+}
+
+// True when the moon lights the sky (sun down, moon up): a uniform branch, never by day.
+bool moon_lights_clouds()
+{
+    return frame.moon_illuminance.w > 0.5;
+}
+
 CloudAmbient cloud_ambient(vec3 sun_dir)
 {
     CloudAmbient a;
-    float mu_s = sun_dir.z; // at the camera's foot, up is +z
-    float size = float(textureSize(irradiance_lut, 0).x);
-    float u = unit_to_sub_uv(clamp(mu_s * 0.5 + 0.5, 0.0, 1.0), size);
-    vec3 sky_irradiance = textureLod(irradiance_lut, vec2(u, 0.5), 0.0).rgb;
-    vec3 ground = vec3(0.0, 0.0, bottom_radius() + 1e-3);
-    vec3 direct = sun_transmittance(ground, sun_dir) * max(mu_s, 0.0);
-    a.top = sky_irradiance / PI * cloud.media.z;
-    // The ground under the clouds is lit by a sun they half hide, on average.
-    a.bottom = atmo.ground_albedo.xyz / PI * (0.5 * direct + sky_irradiance) * cloud.media.z;
+    vec3 sky, direct;
+    ground_light_per_lux(sun_dir, sky, direct);
+    vec3 sky_e = sky * frame.sun_illuminance.xyz;
+    // The ground under the clouds is lit by a light they half hide, on average.
+    vec3 ground_e = (0.5 * direct + sky) * frame.sun_illuminance.xyz;
+    if (moon_lights_clouds()) {
+        ground_light_per_lux(frame.moon_direction.xyz, sky, direct);
+        sky_e += sky * frame.moon_illuminance.xyz;
+        ground_e += (0.5 * direct + sky) * frame.moon_illuminance.xyz;
+    }
+    // Airglow: a sky of about its zenith luminance all over, E = pi L.
+    vec3 airglow = vec3(frame.night.x);
+    a.top = (sky_e / PI + airglow) * cloud.media.z;
+    a.bottom = atmo.ground_albedo.xyz * (ground_e / PI + airglow) * cloud.media.z;
     return a;
 }
 
@@ -105,14 +129,20 @@ const float SKIP_FACTOR = 3.0;
 const int EMPTY_RUN = 3;
 
 void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float jitter,
-                         vec3 sun_dir, OctavePhases phases, CloudAmbient amb,
-                         inout CloudResult res, inout vec2 depth_sum)
+                         vec3 sun_dir, OctavePhases phases, OctavePhases moon_phases,
+                         CloudAmbient amb, inout CloudResult res, inout vec2 depth_sum)
 {
     float ds = (t1 - t0) / steps;
     vec3 sun_top = frame.sun_illuminance.xyz;
     // Sunlight through the atmosphere at the segment's middle: its colour barely changes
     // across one layer.
-    vec3 sun = sun_top * sun_transmittance(o + d * (0.5 * (t0 + t1)), sun_dir);
+    vec3 mid = o + d * (0.5 * (t0 + t1));
+    vec3 sun = sun_top * sun_transmittance(mid, sun_dir);
+    // The moon: a second directional light with its illuminance, at night only.
+    bool moon_on = moon_lights_clouds();
+    vec3 moon_dir = frame.moon_direction.xyz;
+    vec3 moon = moon_on ? frame.moon_illuminance.xyz * sun_transmittance(mid, moon_dir) : vec3(0.0);
+    float tau_moon = 0.0;
     float albedo = cloud.media.x * (1.0 - 0.5 * cloud.media.y);
     float t = t0 + jitter * ds;
     int empty = EMPTY_RUN;
@@ -147,12 +177,18 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         float r = length(p);
         // The secondary march runs on every other sample; the one between reuses its optical
         // depth (samples are tens of metres apart, the march reaches kilometres).
-        if (fresh_light)
+        if (fresh_light) {
             tau = light_optical_depth(p, sun_dir, jitter);
+            if (moon_on)
+                tau_moon = light_optical_depth(p, moon_dir, jitter);
+        }
         fresh_light = !fresh_light;
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
-        vec3 ambient = mix(amb.bottom, amb.top, h) * sun_top;
-        vec3 source = sigma_t * albedo * (sun * octave_sun_scattering(phases, tau) + ambient);
+        vec3 ambient = mix(amb.bottom, amb.top, h);
+        vec3 light = sun * octave_sun_scattering(phases, tau) + ambient;
+        if (moon_on)
+            light += moon * octave_sun_scattering(moon_phases, tau_moon);
+        vec3 source = sigma_t * albedo * light;
         float step_t = exp(-sigma_t * ds);
         // seed 001 eq. 17: the source integrated over the step against its own extinction.
         res.luminance += res.transmittance * (source - source * step_t) / max(sigma_t, 1e-7);
@@ -179,18 +215,21 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
     lo1 = min(lo1, lo0 + longest);
     hi1 = min(hi1, hi0 + longest);
     OctavePhases phases = octave_phases(dot(d, sun_dir));
+    OctavePhases moon_phases = phases;
+    if (moon_lights_clouds())
+        moon_phases = octave_phases(dot(d, frame.moon_direction.xyz));
     CloudAmbient amb = cloud_ambient(sun_dir);
     vec2 depth_sum = vec2(0.0);
     float high_steps = max(4.0, floor(primary_steps / 8.0));
     bool high_first = high && (!low || hi0 < lo0);
     if (high_first)
-        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, amb, res,
+        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, moon_phases, amb, res,
                             depth_sum);
     if (low)
-        march_layer_segment(o, d, lo0, lo1, primary_steps, jitter, sun_dir, phases, amb, res,
+        march_layer_segment(o, d, lo0, lo1, primary_steps, jitter, sun_dir, phases, moon_phases, amb, res,
                             depth_sum);
     if (high && !high_first)
-        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, amb, res,
+        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, moon_phases, amb, res,
                             depth_sum);
     res.depth = depth_sum.y > 0.0 ? depth_sum.x / depth_sum.y : 0.0;
     return res;
