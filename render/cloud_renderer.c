@@ -20,6 +20,8 @@
 #include "cloud_trace.spv.h"
 #include "cloud_weather.spv.h"
 
+/* Share of the last frame's GPU time that weather and shadow map builds may take. */
+#define RELATIVE_MAP_BUDGET 0.1
 #define FLOAT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
 #define WEATHER_SIZE 256
 #define SHADOW_SIZE 256
@@ -72,6 +74,7 @@ struct cloud_renderer {
     float shadow_sun[3];
     bool shadow_has_sun, env_dirty;
     double budget_ms;
+    double last_frame_ms; /* GPU time of the last frame, for the relative map budget */
 };
 
 #define UBO VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
@@ -538,7 +541,12 @@ int cloud_renderer_record(struct vk_context *ctx, struct cloud_renderer *cr, VkC
     cloud_params_fill(&cr->clouds, f->bottom_radius_km, &cr->u);
     cr->u.shadow_sun = (sky_vec4){ cr->shadow_sun[0], cr->shadow_sun[1], cr->shadow_sun[2], 0 };
     memcpy(cr->ubo.mapped, &cr->u, sizeof cr->u);
+    /* The budget grows with the frame: on a slow device a fixed few ms would stretch a map
+     * build over hundreds of frames, while a tenth of the frame keeps every frame within
+     * about 10 % of its neighbours. */
     double budget = cr->budget_ms;
+    if (budget > 0.0 && RELATIVE_MAP_BUDGET * cr->last_frame_ms > budget)
+        budget = RELATIVE_MAP_BUDGET * cr->last_frame_ms;
     cr->weather.rows_this_frame = cr->shadow.rows_this_frame = 0;
     record_weather(ctx, cr, cmd, timer, &budget);
     /* The shadow builder reads the sun it is built for from the block. */
@@ -564,6 +572,12 @@ void cloud_renderer_observe(struct cloud_renderer *cr, const char *pass_name, do
         return;
     m->ms_per_row = 0.7 * m->ms_per_row + 0.3 * ms / m->rows_this_frame;
     m->rows_this_frame = 0;
+}
+
+void cloud_renderer_observe_frame(struct cloud_renderer *cr, double gpu_ms)
+{
+    if (gpu_ms > 0.0)
+        cr->last_frame_ms = gpu_ms;
 }
 
 double cloud_renderer_progress(const struct cloud_renderer *cr)

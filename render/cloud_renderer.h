@@ -48,6 +48,8 @@ void cloud_renderer_no_clouds(const struct cloud_renderer *cr, struct sky_cloud_
 /* GPU time of a recorded pass, to size the next map slices. */
 void cloud_renderer_observe(struct cloud_renderer *cr, const char *pass_name, double ms);
 /* Of the map rebuild under way, in [0, 1]; 1 when settled. */
+/* The last frame's GPU time: map builds may take a tenth of it when that exceeds the budget. */
+void cloud_renderer_observe_frame(struct cloud_renderer *cr, double gpu_ms);
 double cloud_renderer_progress(const struct cloud_renderer *cr);
 
 #endif

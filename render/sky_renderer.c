@@ -147,6 +147,7 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
             cloud_renderer_observe(r->clouds, t.names[i], t.ms[i]);
         }
         stats->gpu_ms = t.total_ms;
+        cloud_renderer_observe_frame(r->clouds, t.total_ms);
     }
     stats->luts_rebuilt = rebuilt;
     stats->lut_rebuild_progress = atmosphere_luts_progress(r->luts);

@@ -199,6 +199,13 @@ static void update_clouds(struct render_context *ctx)
     }
 }
 
+static void set_amortization(struct render_context *ctx, double budget_ms)
+{
+    sky_renderer_set_amortization(
+        ctx->renderer, &(struct sky_render_amortization){
+                           .budget_ms = budget_ms, .blend_frames = ctx->config->lut_blend_frames });
+}
+
 static void render_group(struct render_loop *loop, struct render_group *g)
 {
     struct render_context *ctx = &loop->ctx;
@@ -209,8 +216,17 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     world_to_render_night(&ctx->state, &night);
     sky_renderer_set_night(ctx->renderer, &night);
     update_clouds(ctx);
+    /* Amortizing map builds only helps a stream: with nobody subscribed a snapshot shows the
+     * clouds asked for at once. */
+    bool unwatched = ctx->subscription_count == 0;
+    if (unwatched)
+        set_amortization(ctx, 0.0);
     struct sky_render_stats stats;
-    if (!rgba || sky_renderer_render(ctx->renderer, &atm, &g->view, rgba, bytes, &stats) != 0) {
+    int rendered = rgba ? sky_renderer_render(ctx->renderer, &atm, &g->view, rgba, bytes, &stats)
+                        : -1;
+    if (unwatched)
+        set_amortization(ctx, ctx->config->lut_budget_ms);
+    if (rendered != 0) {
         fprintf(stderr, "skyd: rendering a %ux%u frame failed\n", g->view.width, g->view.height);
         free(rgba);
         fail_targets(g->targets, g->count);
@@ -523,10 +539,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     ctx->lut_sizes = rp.lut_sizes;
     ctx->renderer = sky_renderer_create(&rp);
     if (ctx->renderer)
-        sky_renderer_set_amortization(
-            ctx->renderer, &(struct sky_render_amortization){
-                               .budget_ms = params->config->lut_budget_ms,
-                               .blend_frames = params->config->lut_blend_frames });
+        set_amortization(ctx, params->config->lut_budget_ms);
     loop->encoder = encoder_pool_create(params->config->encoder_threads, params->hub,
                                         encoder_done, loop);
     if (!ctx->renderer || !loop->encoder) {
