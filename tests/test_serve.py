@@ -435,16 +435,17 @@ def server_send_queue(server_port, client_port):
 async def t_slow_reader(d):
     """A subscriber that never reads must not slow another one down.
 
-    The non-reader subscribes four times to the reader's own view (8 fps: within reach of
-    every build, the sanitizer one included, so that the rate measures stalls, not a CPU
-    already saturated): views with
+    The non-reader subscribes four times to the reader's own view (4 fps: within reach of
+    every build, the sanitizer one included, whose frames with clouds and the night sky in
+    the composite cost about 120 ms, so that the rate measures stalls, not a CPU already
+    saturated): views with
     identical parameters are rendered once and shared, so it adds no rendering, and the
     comparison isolates what not reading costs. (A different view would add render work,
     which on a CPU renderer on 2 cores lowers everyone's rate whether or not its client reads.)
     The kernel absorbs a few MB before the daemon sees any backpressure, so the measurement
     starts only once the server's socket toward the non-reader has stopped taking data.
     """
-    view = {"width": 320, "height": 180, "fps": 8, "camera": {"yaw_deg": 150}}
+    view = {"width": 320, "height": 180, "fps": 4, "camera": {"yaw_deg": 150}}
     reader = await Client.connect(d.url(), "reader")
     raw = None
     try:
@@ -488,7 +489,7 @@ async def t_slow_reader(d):
         ratio = together / alone if alone > 0 else 0.0
         print(f"slow reader: reader alone {alone:.1f} fps, beside a client that never reads "
               f"{together:.1f} fps (ratio {ratio:.2f}; requested {view['fps']} fps)", flush=True)
-        check("slow reader: reader gets frames alone (>= 5 fps)", alone >= 5,
+        check("slow reader: reader gets frames alone (>= 3 fps)", alone >= 3,
               f"{alone:.1f} fps")
         check("slow reader: rate beside a non-reader >= 0.7x alone", ratio >= 0.7,
               f"alone {alone:.1f} fps, beside non-reader {together:.1f} fps, ratio {ratio:.2f}")
@@ -538,7 +539,7 @@ async def t_not_reading(d):
             info(f"not reading: sending stopped after {sent} requests: {e!r}")
 
         def drain():
-            raw.settimeout(5)
+            raw.settimeout(15)  # the sanitizer build may take seconds to work through 4000
             data = b""
             try:
                 while True:
