@@ -108,21 +108,6 @@ static const struct compute_pass_desc descs[P_COUNT] = {
                           .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
 };
 
-static VkResult repeat_sampler_create(struct vk_context *ctx, VkSampler *out)
-{
-    VkSamplerCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
-        .magFilter = VK_FILTER_LINEAR,
-        .minFilter = VK_FILTER_LINEAR,
-        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
-        .addressModeU = VK_SAMPLER_ADDRESS_MODE_REPEAT,
-        .addressModeV = VK_SAMPLER_ADDRESS_MODE_REPEAT,
-        .addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT,
-        .maxLod = 0.0f,
-    };
-    return vkCreateSampler(ctx->device, &info, NULL, out);
-}
-
 static int map_create(struct vk_context *ctx, struct cloud_map *m, VkFormat format, uint32_t size,
                       const char *name, double ms_per_row)
 {
@@ -146,7 +131,8 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
     if (!cr)
         return NULL;
     cr->quiet = quiet;
-    VK_CHECK_GOTO(repeat_sampler_create(ctx, &cr->repeat), fail);
+    VK_CHECK_GOTO(gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_REPEAT, &cr->repeat),
+                  fail);
     if (cloud_noise_create(ctx, &cr->noise) != 0 ||
         map_create(ctx, &cr->weather, VK_FORMAT_R8G8B8A8_UNORM, WEATHER_SIZE, "cloud_weather",
                    INITIAL_MS_PER_WEATHER_ROW) != 0 ||

@@ -45,14 +45,6 @@ static void normalize3(double v[3])
             v[i] /= n;
 }
 
-static void direction(double azimuth_deg, double elevation_deg, double out[3])
-{
-    double az = azimuth_deg * DEG, el = elevation_deg * DEG;
-    out[0] = sin(az) * cos(el);
-    out[1] = cos(az) * cos(el);
-    out[2] = sin(el);
-}
-
 static double mare(const double p[3], double lat_deg, double lon_deg, double radius_deg)
 {
     double lat = lat_deg * DEG, lon = lon_deg * DEG;
@@ -146,7 +138,7 @@ bool night_moon_rect(const struct sky_render_night *n, const struct sky_render_v
     if (!moon_drawn(n))
         return false;
     double moon[3];
-    direction(n->moon_azimuth_deg, n->moon_elevation_deg, moon);
+    sky_direction_from_angles(n->moon_azimuth_deg, n->moon_elevation_deg, moon);
     return sky_uniforms_disk_rect(v, moon, n->moon_angular_diameter_deg, rect);
 }
 
@@ -160,8 +152,8 @@ static void fill_moon(const struct sky_render_night *n, const struct sky_render_
                       struct sky_frame_uniforms *u)
 {
     double moon[3], sun[3], pole[3], right[3], up[3];
-    direction(n->moon_azimuth_deg, n->moon_elevation_deg, moon);
-    direction(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
+    sky_direction_from_angles(n->moon_azimuth_deg, n->moon_elevation_deg, moon);
+    sky_direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
     for (int i = 0; i < 3; i++)
         pole[i] = n->star_rotation[i][2]; /* the J2000 pole in local axes */
     disc_basis(moon, pole, right, up);

@@ -383,7 +383,8 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
         return NULL;
     p->metered_ev100 = NAN;
     p->clouds = *clouds;
-    VK_CHECK_GOTO(gpu_linear_sampler_create(ctx, &p->sampler), fail);
+    VK_CHECK_GOTO(
+        gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, &p->sampler), fail);
     for (int i = 0; i < PASS_COUNT; i++)
         VK_CHECK_GOTO(compute_pass_create(ctx, &pass_descs[i], &p->pass[i]), fail);
     VkBufferUsageFlags uniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;

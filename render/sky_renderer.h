@@ -76,6 +76,10 @@ struct sky_render_stats {
 
 struct sky_renderer;
 
+/* The unit vector of a direction in the local frame (x east, y north, z up) from its azimuth
+ * (north through east) and elevation, degrees. */
+void sky_direction_from_angles(double azimuth_deg, double elevation_deg, double out[3]);
+
 struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *params);
 void sky_renderer_destroy(struct sky_renderer **renderer);
 

@@ -42,7 +42,7 @@ void sky_uniforms_fill_atmosphere_media(const struct sky_render_atmosphere *a,
     u->ground_transfer = V4(0, 0, 0, 0);
 }
 
-static void direction_from_angles(double azimuth_deg, double elevation_deg, double out[3])
+void sky_direction_from_angles(double azimuth_deg, double elevation_deg, double out[3])
 {
     double az = azimuth_deg * DEG, el = elevation_deg * DEG;
     out[0] = sin(az) * cos(el);
@@ -56,7 +56,7 @@ struct camera_basis {
 
 static void camera_basis(const struct sky_render_view *v, struct camera_basis *b)
 {
-    direction_from_angles(v->camera_yaw_deg, v->camera_pitch_deg, b->forward);
+    sky_direction_from_angles(v->camera_yaw_deg, v->camera_pitch_deg, b->forward);
     /* Right from the yaw alone, so looking straight up or down stays well defined. */
     double yaw = v->camera_yaw_deg * DEG;
     const double *f = b->forward;
@@ -79,7 +79,7 @@ static double dot3(const double a[3], const double b[3])
 bool sky_uniforms_sun_rect(const struct sky_render_view *v, int32_t rect[4])
 {
     double sun[3];
-    direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
+    sky_direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
     return sky_uniforms_disk_rect(v, sun, v->sun_angular_diameter_deg, rect);
 }
 
@@ -140,7 +140,7 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     u->camera_right = V4(b.right[0], b.right[1], b.right[2], b.aspect);
     u->camera_up = V4(b.up[0], b.up[1], b.up[2], 0);
 
-    direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
+    sky_direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
     double radius = 0.5 * v->sun_angular_diameter_deg * DEG;
     u->sun_direction = V4(sun[0], sun[1], sun[2], cos(radius));
     /* Extraterrestrial illuminance E_top = E_zenith / T_zenith (seed 001 section 4.1). */

@@ -148,16 +148,17 @@ void gpu_buffer_destroy(struct vk_context *ctx, struct gpu_buffer *buffer)
     memset(buffer, 0, sizeof *buffer);
 }
 
-VkResult gpu_linear_sampler_create(struct vk_context *ctx, VkSampler *out)
+VkResult gpu_linear_sampler_create(struct vk_context *ctx, VkSamplerAddressMode address_mode,
+                                   VkSampler *out)
 {
     VkSamplerCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
         .magFilter = VK_FILTER_LINEAR,
         .minFilter = VK_FILTER_LINEAR,
         .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
-        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeU = address_mode,
+        .addressModeV = address_mode,
+        .addressModeW = address_mode,
         .maxLod = 0.0f,
     };
     return vkCreateSampler(ctx->device, &info, NULL, out);

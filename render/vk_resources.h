@@ -38,8 +38,10 @@ VkResult gpu_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBufferUs
                            const char *name, struct gpu_buffer *out);
 void gpu_buffer_destroy(struct vk_context *ctx, struct gpu_buffer *buffer);
 
-/* A linear, clamp-to-edge sampler for the look-up tables. */
-VkResult gpu_linear_sampler_create(struct vk_context *ctx, VkSampler *out);
+/* A linear sampler without mipmaps: clamp-to-edge for the look-up tables, repeat for tileable
+ * noise and maps. */
+VkResult gpu_linear_sampler_create(struct vk_context *ctx, VkSamplerAddressMode address_mode,
+                                   VkSampler *out);
 
 /* Records a barrier making compute-shader writes visible to later compute reads/writes. */
 void gpu_barrier_compute_to_compute(VkCommandBuffer cmd);

@@ -159,14 +159,6 @@ void world_to_render_clouds(const struct sky_world_state *state, struct sky_rend
 
 /* ---- night sky ---- */
 
-static void local_direction(double azimuth_deg, double elevation_deg, double out[3])
-{
-    double az = azimuth_deg * DEG, el = elevation_deg * DEG;
-    out[0] = sin(az) * cos(el);
-    out[1] = cos(az) * cos(el);
-    out[2] = sin(el);
-}
-
 static void matmul3(const double a[3][3], const double b[3][3], double out[3][3])
 {
     for (int i = 0; i < 3; i++)
@@ -232,8 +224,8 @@ void world_to_render_night(const struct sky_world_state *state, struct sky_rende
     out->moon_angular_diameter_deg = moon->angular_diameter_deg;
     if (moon->angular_diameter_deg > 0.0) {
         double sun_dir[3], moon_dir[3];
-        local_direction(state->sun.azimuth_deg, state->sun.elevation_deg, sun_dir);
-        local_direction(moon->azimuth_deg, moon->elevation_deg, moon_dir);
+        sky_direction_from_angles(state->sun.azimuth_deg, state->sun.elevation_deg, sun_dir);
+        sky_direction_from_angles(moon->azimuth_deg, moon->elevation_deg, moon_dir);
         double distance = MOON_RADIUS_KM / sin(0.5 * moon->angular_diameter_deg * DEG);
         double phase = world_moon_phase_angle_deg(sun_dir, moon_dir, distance);
         out->moon_illuminance_lux = sky_moon_illuminance_lux(phase, distance);
