@@ -92,12 +92,15 @@ static void commit_state(struct render_context *ctx, struct session *session,
     struct sky_render_clouds clouds_before, clouds_after;
     world_to_render_clouds(&ctx->state, &clouds_before);
     world_to_render_clouds(next, &clouds_after);
-    if (memcmp(&clouds_before, &clouds_after, sizeof clouds_before) != 0 &&
-        sky_renderer_set_clouds(ctx->renderer, &clouds_after) != 0) {
-        reply_error(session, id, SKY_MSG_ERR_INTERNAL, "the cloud noise could not be generated; "
-                    "the state is unchanged");
-        sky_renderer_set_clouds(ctx->renderer, &clouds_before);
-        return;
+    if (memcmp(&clouds_before, &clouds_after, sizeof clouds_before) != 0) {
+        if (sky_renderer_set_clouds(ctx->renderer, &clouds_after) != 0) {
+            reply_error(session, id, SKY_MSG_ERR_INTERNAL, "the cloud noise could not be "
+                        "generated; the state is unchanged");
+            sky_renderer_set_clouds(ctx->renderer, &clouds_before);
+            return;
+        }
+        ctx->clouds = clouds_after; /* the renderer has them: the next frame need not set them */
+        ctx->clouds_set = true;
     }
     struct sky_render_atmosphere before, after;
     world_to_render_atmosphere(&ctx->state, &before);
