@@ -561,6 +561,8 @@ async def t_not_reading(d):
          f"received, close {code} {reason!r}")
     check("not reading: closed with 1008", code == 1008,
           f"close frame {closes[:1]!r} after {len(frames)} messages")
+    if code != 1008:
+        info(f"not reading: daemon log: {d.log_tail(2000)}")
     check("not reading: close reason", reason == "client is not reading", repr(reason))
     c = await Client.connect(d.url(), "after-not-reading")
     try:
