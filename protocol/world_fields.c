@@ -18,7 +18,8 @@ static const char *const exposure_mode_names[] = {"auto", "manual"};
 static const char *const tonemap_names[] = {"aces", "reinhard", "clamp"};
 static const char *const bodies_names[] = {"manual", "ephemeris"};
 static const char *const switch_names[] = {"off", "on"};
-static const char *const cloud_resolution_names[] = {"full", "quarter", "sixteenth"};
+static const char *const cloud_resolution_names[] = {"full", "quarter", "sixteenth",
+                                                       "sixtyfourth"};
 static const char *const weather_map_source_names[] = {"procedural", "client"};
 
 /* clock.utc spans the ephemeris' validity: 1900-01-01T00:00:00Z to 2100-12-31T23:59:59Z. */
@@ -195,7 +196,8 @@ const struct sky_field_desc sky_world_field_table[] = {
     INT("clouds.quality.light_steps", clouds.light_steps, 1, 32,
         "steps of the secondary march toward the sun"),
     ENUM("clouds.quality.resolution", clouds.resolution, cloud_resolution_names,
-         "cloud pixels ray-marched per frame: full, quarter (half size) or sixteenth (4x4 cycle)"),
+         "share of the pixels ray-marched per frame: full, quarter (2x2 cycle), sixteenth "
+         "(4x4 cycle) or sixtyfourth (clouds at half size, 4x4 cycle)"),
     ENUM("clouds.quality.temporal", clouds.temporal, switch_names,
          "temporal reprojection: frames accumulate into a history"),
     NUMBER("weather.humidity", weather.humidity, 0, 1,
@@ -332,7 +334,7 @@ void sky_world_state_defaults(struct sky_world_state *state)
     clouds->noise_seed = 1;
     clouds->primary_steps = 64;
     clouds->light_steps = 6;
-    clouds->resolution = SKY_CLOUD_RESOLUTION_QUARTER;
+    clouds->resolution = SKY_CLOUD_RESOLUTION_SIXTYFOURTH;
     clouds->temporal = SKY_SWITCH_ON;
 
     state->weather.humidity = 0.5;

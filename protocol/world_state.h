@@ -37,8 +37,9 @@ enum sky_switch {
  * reprojected history. */
 enum sky_cloud_resolution {
     SKY_CLOUD_RESOLUTION_FULL = 0,      /* every pixel every frame */
-    SKY_CLOUD_RESOLUTION_QUARTER = 1,   /* half width x half height */
+    SKY_CLOUD_RESOLUTION_QUARTER = 1,   /* one pixel of each 2x2 block per frame */
     SKY_CLOUD_RESOLUTION_SIXTEENTH = 2, /* one pixel of each 4x4 block per frame */
+    SKY_CLOUD_RESOLUTION_SIXTYFOURTH = 3, /* half-size clouds, one of each 4x4 per frame */
 };
 
 /* Where the weather map comes from. */

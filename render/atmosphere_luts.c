@@ -18,6 +18,7 @@ enum phase { PHASE_IDLE, PHASE_BUILDING, PHASE_BLENDING };
 #define IRRADIANCE_MS 0.2
 
 struct atmosphere_luts {
+    uint64_t display_generation; /* counts changes of what the displayed LUTs hold */
     bool built;
     enum phase phase;
     double budget_ms;
@@ -86,6 +87,7 @@ static void mix_floats(const float *a, const float *b, size_t n, double w, float
 
 static void show(struct atmosphere_luts *luts, struct sky_passes *passes, double weight)
 {
+    luts->display_generation++;
     mix_doubles((const double *)&luts->previous, (const double *)&luts->target,
                 sizeof luts->target / sizeof(double), weight, (double *)&luts->displayed);
     mix_floats((const float *)&luts->previous_u, (const float *)&luts->target_u,
@@ -216,6 +218,11 @@ bool atmosphere_luts_record_frame(struct atmosphere_luts *luts, struct sky_passe
     }
     }
     return recorded;
+}
+
+uint64_t atmosphere_luts_display_generation(const struct atmosphere_luts *luts)
+{
+    return luts->display_generation;
 }
 
 const struct sky_render_atmosphere *atmosphere_luts_displayed(const struct atmosphere_luts *luts)

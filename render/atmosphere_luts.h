@@ -8,6 +8,7 @@
 #define SKYD_ATMOSPHERE_LUTS_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include <vulkan/vulkan.h>
 
@@ -35,6 +36,9 @@ bool atmosphere_luts_record_frame(struct atmosphere_luts *luts, struct sky_passe
                                   VkCommandBuffer cmd, struct gpu_timer *timer,
                                   const struct sky_render_atmosphere *a);
 
+/* Changes whenever the displayed LUTs do (an exact build, a blend step); slices of a rebuild
+ * under way leave it, as they leave the display. */
+uint64_t atmosphere_luts_display_generation(const struct atmosphere_luts *luts);
 /* The atmosphere frames are shaded with now, and its zenith transmittance. */
 const struct sky_render_atmosphere *atmosphere_luts_displayed(const struct atmosphere_luts *luts);
 const double *atmosphere_luts_zenith_transmittance(const struct atmosphere_luts *luts);

@@ -1,6 +1,6 @@
 /* Per-view cloud histories for temporal reprojection: a small least-recently-used set keyed
  * by the view's history_key, size and trace block. Each entry owns its trace images (the
- * block-resolution samples of one frame) and two full-resolution history pairs (colour with
+ * block-resolution samples of one frame) and two cloud-image-sized history pairs (colour with
  * opacity; depth and sample count) used alternately. */
 #ifndef SKYD_CLOUD_HISTORY_H
 #define SKYD_CLOUD_HISTORY_H

@@ -34,6 +34,11 @@ int cloud_params_block(enum sky_render_cloud_resolution resolution)
     }
 }
 
+int cloud_params_downscale(enum sky_render_cloud_resolution resolution)
+{
+    return resolution == SKY_RENDER_CLOUDS_SIXTYFOURTH ? 2 : 1;
+}
+
 /* The tile closest to `wanted` km that repeats a whole number of times over `extent`. */
 static double tile_km(double extent, double wanted)
 {

@@ -16,7 +16,10 @@ bool cloud_params_any_layer(const struct sky_render_clouds *c);
 void cloud_params_fill(const struct sky_render_clouds *c, double bottom_radius_km,
                        struct sky_cloud_uniforms *u);
 
-/* Trace block size of a resolution: 1, 2 or 4 pixels per side. */
+/* Trace block size of a resolution: 1, 2 or 4 pixels of the cloud image per side. */
 int cloud_params_block(enum sky_render_cloud_resolution resolution);
+
+/* How much smaller than the output the cloud image is per side: 1 or 2. */
+int cloud_params_downscale(enum sky_render_cloud_resolution resolution);
 
 #endif

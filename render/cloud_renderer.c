@@ -93,8 +93,8 @@ static const struct compute_pass_desc descs[P_COUNT] = {
                    .push_constant_bytes = sizeof(struct sky_cloud_rows_push) },
     [P_HEMISPHERE] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
                        .binding_count = 11, .bindings = { MARCH_BINDINGS, STORAGE_BUF } },
-    [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 12,
-                  .bindings = { MARCH_BINDINGS, STORAGE_IMG, STORAGE_IMG },
+    [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 14,
+                  .bindings = { MARCH_BINDINGS, STORAGE_IMG, STORAGE_IMG, SAMPLED, SAMPLED },
                   .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
     [P_RECONSTRUCT_0] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
                           .binding_count = 7,
@@ -345,17 +345,20 @@ static float angle_between(const float a[3], const float b[3])
 }
 
 /* The hemisphere averages (seed 001 eq. 22) follow each completed shadow map: same inputs. */
+/* The march bindings (0-9), then the pass's own two, and for the trace (14 bindings) the
+ * view's aerial-perspective volume. */
 static void bind_march(struct vk_context *ctx, struct cloud_renderer *cr, struct compute_pass *pass,
                        const struct cloud_frame *f, struct compute_resource extra0,
                        struct compute_resource extra1)
 {
     const struct sky_pass_resources *s = &f->sky;
-    struct compute_resource r[12] = {
+    struct compute_resource r[14] = {
         buf(s->atmosphere_ubo), buf(s->frame_ubo), tex(s->transmittance, s->sampler),
         tex(s->multiscattering, s->sampler), tex(s->irradiance, s->sampler), buf(&cr->ubo),
         tex(&cr->noise.base, cr->repeat), tex(&cr->noise.detail, cr->repeat),
         tex(&cr->noise.curl, cr->repeat), tex(shown(cr, &cr->weather), cr->repeat),
         extra0, extra1,
+        tex(s->ap_inscatter, s->sampler), tex(s->ap_transmittance, s->sampler),
     };
     compute_pass_bind(ctx, pass, r);
 }
@@ -438,10 +441,16 @@ static sky_vec4 vec4_of(const float v[4])
 }
 
 /* Internal frames a new history accumulates before its first image is shown, so that one-off
- * renders come out converged: about two samples per pixel, at least four frames. */
-static int frames_for_new_history(int block)
+ * renders come out converged: about two samples per pixel (four for the half-size image),
+ * at least four frames. */
+static int frames_for_new_history(enum sky_render_cloud_resolution resolution)
 {
-    return block == 4 ? 32 : block == 2 ? 8 : 4;
+    switch (resolution) {
+    case SKY_RENDER_CLOUDS_FULL: return 4;
+    case SKY_RENDER_CLOUDS_QUARTER: return 8;
+    case SKY_RENDER_CLOUDS_SIXTEENTH: return 32;
+    default: return 64;
+    }
 }
 
 static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
@@ -450,8 +459,10 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
 {
     const struct sky_render_clouds *c = &cr->clouds;
     int block = cloud_params_block(c->resolution);
+    uint32_t scale = (uint32_t)cloud_params_downscale(c->resolution);
+    uint32_t width = (f->width + scale - 1) / scale, height = (f->height + scale - 1) / scale;
     struct cloud_history_entry *e =
-        cloud_history_acquire(ctx, &cr->history, f->history_key, f->width, f->height, block);
+        cloud_history_acquire(ctx, &cr->history, f->history_key, width, height, block);
     if (!e)
         return -1;
     bind_march(ctx, cr, &cr->pass[P_TRACE], f, img(&e->trace_color), img(&e->trace_depth));
@@ -463,16 +474,18 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
         };
         compute_pass_bind(ctx, &cr->pass[P_RECONSTRUCT_0 + i], r);
     }
-    int frames = (!e->valid && c->temporal) ? frames_for_new_history(block) : 1;
+    int frames = (!e->valid && c->temporal && !f->live) ? frames_for_new_history(c->resolution)
+                                                         : 1;
     static const float min_weight[5] = { 0, 0.08f, 0.15f, 0, 0.25f };
     const uint32_t tsize[3] = { e->trace_color.width, e->trace_color.height, 1 };
-    const uint32_t size[3] = { f->width, f->height, 1 }, local[3] = { 8, 8, 1 };
+    const uint32_t size[3] = { width, height, 1 }, local[3] = { 8, 8, 1 };
     for (int k = 0; k < frames; k++) {
         struct sky_cloud_view_push push;
         memset(&push, 0, sizeof push);
         int ox, oy;
         block_offset(block, e->frame, &ox, &oy);
         push.frame = (sky_ivec4){ (int32_t)e->frame, block, ox, oy };
+        push.target = (sky_ivec4){ (int32_t)width, (int32_t)height, 0, 0 };
         if (e->valid) {
             push.prev_forward = vec4_of(e->prev_forward);
             push.prev_right = vec4_of(e->prev_right);

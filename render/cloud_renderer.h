@@ -36,6 +36,7 @@ struct cloud_frame {
     double bottom_radius_km;
     uint32_t width, height;
     uint64_t history_key;
+    bool live; /* a stream: a new history starts converging from its first frame */
 };
 
 /* Records the cloud work of a frame (nothing when no layer is on) and fills the composite's

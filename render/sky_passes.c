@@ -578,10 +578,11 @@ void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
 }
 
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer, bool moonlit_sky)
+                                 struct gpu_timer *timer, bool skyview, bool moonlit_sky)
 {
-    record(p, cmd, timer, PASS_SKYVIEW, NULL, p->skyview.width, p->skyview.height, 1, 8, 8);
-    if (moonlit_sky)
+    if (skyview)
+        record(p, cmd, timer, PASS_SKYVIEW, NULL, p->skyview.width, p->skyview.height, 1, 8, 8);
+    if (skyview && moonlit_sky)
         record(p, cmd, timer, PASS_SKYVIEW_MOON, NULL, p->moon_skyview.width,
                p->moon_skyview.height, 1, 8, 8);
     record(p, cmd, timer, PASS_AERIAL_PERSPECTIVE, NULL, p->ap_inscatter.width,
@@ -735,6 +736,8 @@ void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources 
     out->transmittance = &p->transmittance;
     out->multiscattering = &p->multiscattering;
     out->irradiance = &p->irradiance;
+    out->ap_inscatter = &p->ap_inscatter;
+    out->ap_transmittance = &p->ap_transmittance;
     out->sampler = p->sampler;
 }
 

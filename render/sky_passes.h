@@ -69,9 +69,10 @@ void sky_passes_record_blend(struct sky_passes *p, VkCommandBuffer cmd, struct g
 /* The whole rebuild at once, then display = build. */
 void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
                                   struct gpu_timer *timer);
-/* moonlit_sky: also the sky-view LUT lit by the moon (night sky). */
+/* skyview false: the sky-view LUTs still hold this view's (only the aerial perspective is
+ * recorded); moonlit_sky: also the sky-view LUT lit by the moon (night sky). */
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer, bool moonlit_sky);
+                                 struct gpu_timer *timer, bool skyview, bool moonlit_sky);
 /* from_space: the camera is above the atmosphere (selects the specialized pipelines);
  * night_sky false: pipelines without the night sky (night_sky_visible). */
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
@@ -99,6 +100,7 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
 struct sky_pass_resources {
     const struct gpu_buffer *atmosphere_ubo, *frame_ubo;
     const struct gpu_image *transmittance, *multiscattering, *irradiance;
+    const struct gpu_image *ap_inscatter, *ap_transmittance; /* this view's froxel volume */
     VkSampler sampler; /* linear, clamp to edge */
 };
 void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources *out);

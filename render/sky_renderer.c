@@ -19,6 +19,54 @@
 #include "vk_context.h"
 #include "vk_resources.h"
 
+/* What the sky-view LUTs depend on besides the displayed atmosphere LUTs: the camera's
+ * distance from the planet's centre and the sun and moon in the camera's local frame. */
+struct skyview_inputs {
+    bool valid;
+    uint64_t luts_generation; /* atmosphere_luts_display_generation */
+    bool moonlit;
+    float radius_km;
+    float sun[3], moon[3];
+};
+
+/* Below these changes a rebuilt sky-view LUT would differ by well under 1 % (the LUT's own
+ * texels are about 1.9 degrees wide), so the last one is kept: 0.02 degrees of sun or moon
+ * (about 5 s of the real sun's motion) and 1 m of altitude. */
+#define SKYVIEW_KEEP_RAD 3.5e-4f
+#define SKYVIEW_KEEP_KM 0.001f
+
+static bool directions_close(const float a[3], const float b[3])
+{
+    float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return dx * dx + dy * dy + dz * dz < SKYVIEW_KEEP_RAD * SKYVIEW_KEEP_RAD;
+}
+
+static struct skyview_inputs skyview_inputs_of(const struct sky_frame_uniforms *fu, bool moonlit,
+                                              uint64_t luts_generation)
+{
+    const sky_vec4 *c = &fu->camera_position;
+    return (struct skyview_inputs){
+        .valid = true,
+        .luts_generation = luts_generation,
+        .moonlit = moonlit,
+        .radius_km = sqrtf(c->x * c->x + c->y * c->y + c->z * c->z),
+        .sun = { fu->sun_local.x, fu->sun_local.y, fu->sun_local.z },
+        .moon = { fu->moon_local.x, fu->moon_local.y, fu->moon_local.z },
+    };
+}
+
+/* True when the sky-view LUTs built for `shown` serve `now` (moonlit ones also serve a view
+ * that does not need the moon's). */
+static bool skyview_still_valid(const struct skyview_inputs *shown,
+                                const struct skyview_inputs *now)
+{
+    return shown->valid && shown->luts_generation == now->luts_generation &&
+           (shown->moonlit || !now->moonlit) &&
+           fabsf(shown->radius_km - now->radius_km) < SKYVIEW_KEEP_KM &&
+           directions_close(shown->sun, now->sun) &&
+           (!now->moonlit || directions_close(shown->moon, now->moon));
+}
+
 struct sky_renderer {
     struct vk_context *ctx;
     struct gpu_timer *timer;
@@ -27,7 +75,15 @@ struct sky_renderer {
     struct atmosphere_luts *luts; /* which atmosphere the LUTs show, and rebuilds under way */
     struct cloud_renderer *clouds;
     struct sky_render_night night;
+    struct skyview_inputs skyview_shown; /* what the sky-view LUTs were last built for */
 };
+
+/* After a failed submission or recreated images nothing the LUTs hold can be trusted. */
+static void invalidate_luts(struct sky_renderer *r)
+{
+    atmosphere_luts_invalidate(r->luts);
+    r->skyview_shown.valid = false;
+}
 
 static const struct sky_render_lut_sizes default_sizes = {
     .transmittance = { 256, 64 },
@@ -127,7 +183,7 @@ int sky_renderer_set_lut_sizes(struct sky_renderer *r, const struct sky_render_l
     if (sky_passes_resize_luts(r->ctx, r->passes, &s) != 0)
         return -1;
     r->sizes = s;
-    atmosphere_luts_invalidate(r->luts);
+    invalidate_luts(r);
     return 0;
 }
 
@@ -164,10 +220,10 @@ int sky_renderer_rebuild_atmosphere(struct sky_renderer *r, const struct sky_ren
     if (vk_context_begin_commands(r->ctx, &cmd) != VK_SUCCESS)
         return -1;
     gpu_timer_begin(r->timer, cmd);
-    atmosphere_luts_invalidate(r->luts);
+    invalidate_luts(r);
     atmosphere_luts_record_exact(r->luts, r->passes, cmd, r->timer, a);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
-        atmosphere_luts_invalidate(r->luts);
+        invalidate_luts(r);
         return -1;
     }
     collect_stats(r, stats, start, true);
@@ -200,8 +256,14 @@ static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_
                                        fu);
     sky_passes_upload_frame(r->passes, fu);
     *from_space = !camera_in_atmosphere(a, v);
-    if (want_view_luts && !*from_space)
-        sky_passes_record_view_luts(r->passes, *cmd, r->timer, moonlit);
+    if (want_view_luts && !*from_space) {
+        struct skyview_inputs now =
+            skyview_inputs_of(fu, moonlit, atmosphere_luts_display_generation(r->luts));
+        bool keep = skyview_still_valid(&r->skyview_shown, &now);
+        sky_passes_record_view_luts(r->passes, *cmd, r->timer, !keep, moonlit);
+        if (!keep)
+            r->skyview_shown = now;
+    }
     return true;
 }
 
@@ -228,6 +290,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         .width = v->width,
         .height = v->height,
         .history_key = v->history_key,
+        .live = v->live,
     };
     sky_passes_resources(r->passes, &cf.sky);
     struct sky_cloud_bindings clouds;
@@ -247,7 +310,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
                                 sun_on_screen ? sun_rect : NULL,
                                 moon_on_screen ? moon_rect : NULL);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
-        atmosphere_luts_invalidate(r->luts);
+        invalidate_luts(r);
         return -1;
     }
     sky_passes_copy_output(r->passes, pixels, (size_t)v->width * v->height * texel);
@@ -270,7 +333,7 @@ static int run_probe(struct sky_renderer *r, const struct sky_render_atmosphere 
         return -1;
     sky_passes_record_probe(r->passes, cmd, r->timer, mode, (uint32_t)count, from_space);
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
-        atmosphere_luts_invalidate(r->luts);
+        invalidate_luts(r);
         return -1;
     }
     sky_passes_read_probe(r->passes, count, out);

@@ -48,6 +48,10 @@ struct sky_render_view {
      * it, so each independent camera of a caller needs its own key. Histories are kept for a
      * few keys (least recently used goes first) and also per size; 0 is a valid key. */
     uint64_t history_key;
+    /* A stream of frames: a new cloud history shows its first frame at once and converges
+     * over the next ones, where a one-off view (false) first accumulates several internal
+     * frames so that it comes out converged. */
+    bool live;
 };
 
 struct sky_renderer_params {
@@ -143,6 +147,9 @@ enum sky_render_cloud_resolution {
     SKY_RENDER_CLOUDS_FULL = 0,      /* every pixel traced every frame */
     SKY_RENDER_CLOUDS_QUARTER = 1,   /* one pixel of each 2x2 block per frame */
     SKY_RENDER_CLOUDS_SIXTEENTH = 2, /* one pixel of each 4x4 block per frame */
+    /* Clouds at half width and height, one pixel of each 4x4 block of those per frame
+     * (Schneider 2015's scheme): 1/64 of the output's pixels. */
+    SKY_RENDER_CLOUDS_SIXTYFOURTH = 3,
 };
 
 struct sky_render_cloud_layer {

@@ -356,6 +356,7 @@ static double render_due(struct render_loop *loop, double now)
         /* The group's cloud history follows its oldest subscription, which keeps it while the
          * camera moves (reprojection handles that); snapshots share key 0. */
         views[i].history_key = ctx->subscriptions[members[0]].id;
+        views[i].live = true; /* a new subscriber's clouds converge live, nobody waits */
         schedule_view(loop, members, count, &views[i], &groups, &group_count, now);
     }
     free(views);

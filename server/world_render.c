@@ -147,7 +147,8 @@ void world_to_render_clouds(const struct sky_world_state *state, struct sky_rend
     switch (c->resolution) {
     case SKY_CLOUD_RESOLUTION_FULL: out->resolution = SKY_RENDER_CLOUDS_FULL; break;
     case SKY_CLOUD_RESOLUTION_QUARTER: out->resolution = SKY_RENDER_CLOUDS_QUARTER; break;
-    default: out->resolution = SKY_RENDER_CLOUDS_SIXTEENTH; break;
+    case SKY_CLOUD_RESOLUTION_SIXTEENTH: out->resolution = SKY_RENDER_CLOUDS_SIXTEENTH; break;
+    default: out->resolution = SKY_RENDER_CLOUDS_SIXTYFOURTH; break;
     }
     out->temporal = c->temporal == SKY_SWITCH_ON;
     out->wind_offset_east_km = w->offset_east_km;

@@ -50,15 +50,15 @@ void main()
         imageStore(out_aux, px, vec4(texelFetch(trace_depth, tp, 0).x, 1.0, 0.0, 0.0));
         return;
     }
-    // Neighbourhood of this frame's samples (the traced texel and its 4 neighbours), for
-    // history rejection.
+    // Neighbourhood of this frame's samples (the traced texel and its 8 neighbours), for
+    // history rejection: the 3x3 keeps thin features whose samples fall a block away.
     vec4 lo = current, hi = current;
-    const ivec2 offsets[4] = ivec2[](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
-    for (int k = 0; k < 4; k++) {
-        vec4 s = texelFetch(trace_color, clamp(tp + offsets[k], ivec2(0), tsize - 1), 0);
-        lo = min(lo, s);
-        hi = max(hi, s);
-    }
+    for (int y = -1; y <= 1; y++)
+        for (int x = -1; x <= 1; x++) {
+            vec4 s = texelFetch(trace_color, clamp(tp + ivec2(x, y), ivec2(0), tsize - 1), 0);
+            lo = min(lo, s);
+            hi = max(hi, s);
+        }
     vec4 margin = (hi - lo) * 0.15 + vec4(vec3(1e-3 * max(hi.r, 1.0)), 0.01);
     lo -= margin;
     hi += margin;
@@ -80,7 +80,14 @@ void main()
         result = current;
         samples = traced ? 1.0 : 0.0;
     } else {
-        vec4 history = clamp(textureLod(history_color, uv, 0.0), lo, hi);
+        // An untraced pixel whose history stays in place keeps it whole: clamping it to this
+        // frame's sparse samples, a block away, would flatten features thinner than a block.
+        // As the history moves (camera turning, clouds drifting) the clamp takes over within
+        // a pixel's motion; a traced pixel's history is always clamped.
+        vec4 history = textureLod(history_color, uv, 0.0);
+        float moved_px = length((uv - (vec2(px) + 0.5) / vec2(size)) * vec2(size));
+        float rejection = traced ? 1.0 : clamp(moved_px, 0.0, 1.0);
+        history = mix(history, clamp(history, lo, hi), rejection);
         float history_samples = textureLod(history_aux, uv, 0.0).y;
         if (traced) {
             samples = min(history_samples + 1.0, MAX_SAMPLES);

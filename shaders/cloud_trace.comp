@@ -1,8 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Cloud trace: one pixel of each block x block block of the view per frame (the one the
-// frame index selects), ray-marched through the layers from a blue-noise jittered start, then
-// aerial perspective applied at the transmittance-weighted depth (seed 001 eq. 21).
+// Cloud trace: one pixel of each block x block block of the cloud image per frame (the one
+// the frame index selects), ray-marched through the layers from a blue-noise jittered start, then
+// aerial perspective applied at the transmittance-weighted depth (seed 001 eq. 21), read from
+// the view's froxel volume as the sky's own is (Hillaire 2020 5.4).
 // Writes premultiplied cloud luminance with opacity (1 - transmittance), and the depth.
 #include "cloud_shared.h"
 
@@ -10,6 +11,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "cloud_bindings.glsl"
 layout(binding = 10, rgba32f) uniform writeonly image2D trace_color;
 layout(binding = 11, rgba32f) uniform writeonly image2D trace_depth;
+layout(binding = 12) uniform sampler3D ap_inscatter;     // the view's froxel volume
+layout(binding = 13) uniform sampler3D ap_transmittance;
 layout(push_constant) uniform ViewPush { sky_cloud_view_push view; };
 
 #include "scattering_march.glsl"
@@ -17,15 +20,36 @@ layout(push_constant) uniform ViewPush { sky_cloud_view_push view; };
 
 const float AP_STEPS = 8.0;
 
+// Aerial perspective from the camera to `depth` along the ray through uv, read from the
+// froxel volume (slice k ends at max_km * ((k + 1) / N)^2, aerial_perspective.comp); before
+// the first slice's end it fades in from none. False beyond the volume.
+bool aerial_perspective_froxel(vec2 uv, float depth, out vec3 inscatter, out vec3 transmittance)
+{
+    float max_km = frame.image.z;
+    if (depth > max_km)
+        return false;
+    float slices = float(textureSize(ap_inscatter, 0).z);
+    float slice = sqrt(depth / max_km) * slices - 1.0;
+    float w = (max(slice, 0.0) + 0.5) / slices;
+    vec3 at = vec3(uv, w);
+    inscatter = textureLod(ap_inscatter, at, 0.0).rgb;
+    transmittance = textureLod(ap_transmittance, at, 0.0).rgb;
+    float fade = clamp(slice + 1.0, 0.0, 1.0);
+    inscatter *= fade;
+    transmittance = mix(vec3(1.0), transmittance, fade);
+    return true;
+}
+
 void main()
 {
     ivec2 tsize = imageSize(trace_color);
     ivec2 tp = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(tp, tsize)))
         return;
-    ivec2 size = ivec2(frame.image.xy);
+    ivec2 size = view.target.xy; // the cloud image: the output's size or half of it
     ivec2 px = min(tp * view.frame.y + view.frame.zw, size - 1);
-    vec3 dir = camera_ray((vec2(px) + 0.5) / vec2(size));
+    vec2 uv = (vec2(px) + 0.5) / vec2(size);
+    vec3 dir = camera_ray(uv);
     vec3 origin = frame.camera_position.xyz;
     vec3 sun_dir = frame.sun_direction.xyz;
     float blue = texelFetch(curl_noise, px % textureSize(curl_noise, 0), 0).b;
@@ -34,9 +58,15 @@ void main()
     vec3 L = c.luminance;
     float opacity = 1.0 - c.transmittance;
     if (opacity > 1e-4) {
-        // Aerial perspective between the camera and the clouds' front (seed 001 5.9.1).
-        MarchResult ap = march_scattering(origin, dir, sun_dir, c.depth, AP_STEPS);
-        L = L * ap.transmittance + opacity * ap.luminance * frame.sun_illuminance.xyz;
+        // Aerial perspective between the camera and the clouds' front (seed 001 5.9.1): the
+        // view's froxel volume, or a short march of its own beyond it.
+        vec3 inscatter, transmittance;
+        if (!aerial_perspective_froxel(uv, c.depth, inscatter, transmittance)) {
+            MarchResult ap = march_scattering(origin, dir, sun_dir, c.depth, AP_STEPS);
+            inscatter = ap.luminance;
+            transmittance = ap.transmittance;
+        }
+        L = L * transmittance + opacity * inscatter * frame.sun_illuminance.xyz;
     }
     imageStore(trace_color, tp, vec4(L, opacity));
     imageStore(trace_depth, tp, vec4(c.depth, c.transmittance, 0.0, 0.0));

@@ -49,7 +49,8 @@ vec3 apply_clouds(ivec2 px, vec3 dir, vec3 L)
         return L;
     if (!FROM_SPACE)
         L = ground_under_clouds(frame.camera_position.xyz, dir, L);
-    vec4 c = texelFetch(cloud_image, px, 0);
+    // The cloud image may be half the output's size: bilinear on premultiplied colour.
+    vec4 c = textureLod(cloud_image, (vec2(px) + 0.5) / frame.image.xy, 0.0);
     return L * (1.0 - c.a) + c.rgb;
 }
 

@@ -55,12 +55,13 @@ struct sky_cloud_noise_push {
 };
 
 /* Per-view constants of the trace and reconstruct passes. The traced pixel of each block of
- * block x block pixels cycles through the block frame by frame. */
+ * block x block pixels of the cloud image cycles through the block frame by frame. */
 struct sky_cloud_view_push {
     SKY_VEC4 prev_forward;  /* previous frame's camera: xyz forward, w tan(fov/2) */
     SKY_VEC4 prev_right;    /* xyz right, w aspect */
     SKY_VEC4 prev_up;       /* xyz up, w 1 when a history exists */
     SKY_IVEC4 frame;        /* x frame index, y block size, z/w traced pixel in the block */
+    SKY_IVEC4 target;       /* xy size of the cloud image (the output, or half of it) */
     SKY_VEC4 motion;        /* xy wind displacement since the history (km), z smallest blend
                                weight of a new sample, w 1 = temporal accumulation on */
 };
