@@ -528,9 +528,9 @@ void cloud_renderer_no_clouds(const struct cloud_renderer *cr, struct sky_cloud_
     };
 }
 
-int cloud_renderer_record(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
-                          struct gpu_timer *timer, const struct cloud_frame *f,
-                          struct sky_cloud_bindings *out)
+int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr,
+                               VkCommandBuffer cmd, struct gpu_timer *timer,
+                               const struct cloud_frame *f, struct sky_cloud_bindings *out)
 {
     cloud_renderer_no_clouds(cr, out);
     if (!cr->active || !cr->noise.generated) {
@@ -554,11 +554,20 @@ int cloud_renderer_record(struct vk_context *ctx, struct cloud_renderer *cr, VkC
                                    cr->shadow.ready ? 1.0f : 0.0f };
     memcpy(cr->ubo.mapped, &cr->u, sizeof cr->u);
     record_hemisphere(ctx, cr, cmd, timer, f);
+    out->shadow = shown(cr, &cr->shadow);
+    return 0;
+}
+
+int cloud_renderer_record_view(struct vk_context *ctx, struct cloud_renderer *cr,
+                               VkCommandBuffer cmd, struct gpu_timer *timer,
+                               const struct cloud_frame *f, struct sky_cloud_bindings *out)
+{
+    if (!cr->active || !cr->noise.generated)
+        return 0;
     const struct gpu_image *clouds = NULL;
     if (record_view(ctx, cr, cmd, timer, f, &clouds) != 0)
         return -1;
     out->clouds = clouds;
-    out->shadow = shown(cr, &cr->shadow);
     return 0;
 }
 

@@ -39,11 +39,16 @@ struct cloud_frame {
     bool live; /* a stream: a new history starts converging from its first frame */
 };
 
-/* Records the cloud work of a frame (nothing when no layer is on) and fills the composite's
- * bindings (no clouds when off). Returns 0 or -1. */
-int cloud_renderer_record(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
-                          struct gpu_timer *timer, const struct cloud_frame *f,
-                          struct sky_cloud_bindings *out);
+/* The cloud work of a frame, in two parts around the view's aerial-perspective volume (which
+ * takes the shadow map and is read by the trace). First the shared maps (weather, shadow,
+ * hemisphere averages; nothing when no layer is on), filling the bindings (no clouds when
+ * off); then the view's trace and reconstruction, which set out->clouds. Return 0 or -1. */
+int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr,
+                               VkCommandBuffer cmd, struct gpu_timer *timer,
+                               const struct cloud_frame *f, struct sky_cloud_bindings *out);
+int cloud_renderer_record_view(struct vk_context *ctx, struct cloud_renderer *cr,
+                               VkCommandBuffer cmd, struct gpu_timer *timer,
+                               const struct cloud_frame *f, struct sky_cloud_bindings *out);
 /* The composite's bindings with no clouds. */
 void cloud_renderer_no_clouds(const struct cloud_renderer *cr, struct sky_cloud_bindings *out);
 /* GPU time of a recorded pass, to size the next map slices. */

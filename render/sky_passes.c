@@ -77,6 +77,8 @@ struct sky_passes {
     struct gpu_image build_transmittance, build_multiscattering, build_irradiance;
     struct gpu_image previous_transmittance, previous_multiscattering, previous_irradiance;
     struct gpu_image ap_inscatter, ap_transmittance;
+    struct gpu_image ap_shafts; /* in-scattering the clouds' shadows take away (light shafts) */
+    struct sky_cloud_bindings ap_clouds; /* the clouds the AP pass was last bound to */
     struct gpu_image moon_skyview;
     struct gpu_buffer stars; /* night_shared.h layout */
     double brightest_star_lux;
@@ -105,16 +107,16 @@ struct sky_passes {
                      .bindings = { SHADING_BINDINGS, extra }, .push_constant_bytes = push,\
                      .spec_count = 1, .spec_values = { 1 } }
 #define PAIR(...) __VA_ARGS__
-/* The composite's bindings after the shading ones (8-13): exposure, output, then the clouds
- * (image, shadow map, cloud block, hemisphere averages). */
-#define COMPOSITE_EXTRA STORAGE_BUF, STORAGE_IMG, SAMPLED, SAMPLED, UBO, STORAGE_BUF
+/* The composite's bindings after the shading ones (8-14): exposure, output, then the clouds
+ * (image, shadow map, cloud block, hemisphere averages) and the light shafts' volume. */
+#define COMPOSITE_EXTRA STORAGE_BUF, STORAGE_IMG, SAMPLED, SAMPLED, UBO, STORAGE_BUF, SAMPLED
 #define BLEND_PASS(id, label)                                                             \
     [id] = { .name = label, SPIRV(lut_blend_spv), .binding_count = 3,                     \
              .bindings = { STORAGE_IMG, STORAGE_IMG, STORAGE_IMG },                      \
              .push_constant_bytes = sizeof(struct sky_blend_push) }
 
 #define DAY_COMPOSITE(id, label, code, sun_region)                                        \
-    [id] = { .name = label, SPIRV(code), .binding_count = 14,                             \
+    [id] = { .name = label, SPIRV(code), .binding_count = 15,                             \
              .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },                           \
              .push_constant_bytes = sizeof(struct sky_region_push), .spec_count = 3,      \
              .spec_values = { 0, sun_region, 0 } }
@@ -134,25 +136,25 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
                             .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
                             .spec_count = 1, .spec_values = { 1 } },
     [PASS_AERIAL_PERSPECTIVE] = { .name = "aerial_perspective", SPIRV(aerial_perspective_spv),
-                                  .binding_count = 6,
+                                  .binding_count = 9,
                                   .bindings = { UBO, UBO, SAMPLED, SAMPLED, STORAGE_IMG,
-                                                STORAGE_IMG } },
+                                                STORAGE_IMG, STORAGE_IMG, SAMPLED, UBO } },
     [PASS_EXPOSURE_RESOLVE] = { .name = "exposure", SPIRV(exposure_resolve_spv),
                                 .binding_count = 3, .bindings = { UBO, STORAGE_BUF, STORAGE_BUF },
                                 .push_constant_bytes = sizeof(struct sky_meter_push) },
     SHADING_PAIR(PASS_METER, "meter", meter_spv, 9, STORAGE_BUF, sizeof(struct sky_meter_push)),
-    SHADING_PAIR(PASS_COMPOSITE_SRGB, "composite", composite_srgb_spv, 14,
+    SHADING_PAIR(PASS_COMPOSITE_SRGB, "composite", composite_srgb_spv, 15,
                  COMPOSITE_EXTRA, sizeof(struct sky_region_push)),
-    SHADING_PAIR(PASS_COMPOSITE_LINEAR, "composite", composite_linear_spv, 14,
+    SHADING_PAIR(PASS_COMPOSITE_LINEAR, "composite", composite_linear_spv, 15,
                  COMPOSITE_EXTRA, sizeof(struct sky_region_push)),
     /* Composite specialized with SUN_REGION (constant_id 1): the sun-disk pass. */
     [PASS_COMPOSITE_SRGB_SUN] = { .name = "sun_disk", SPIRV(composite_srgb_spv),
-                                  .binding_count = 14,
+                                  .binding_count = 15,
                                   .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },
                                   .push_constant_bytes = sizeof(struct sky_region_push),
                                   .spec_count = 2, .spec_values = { 0, 1 } },
     [PASS_COMPOSITE_LINEAR_SUN] = { .name = "sun_disk", SPIRV(composite_linear_spv),
-                                    .binding_count = 14,
+                                    .binding_count = 15,
                                     .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },
                                     .push_constant_bytes = sizeof(struct sky_region_push),
                                     .spec_count = 2, .spec_values = { 0, 1 } },
@@ -207,6 +209,7 @@ static void destroy_luts(struct vk_context *ctx, struct sky_passes *p)
     gpu_image_destroy(ctx, &p->moon_skyview);
     gpu_image_destroy(ctx, &p->ap_inscatter);
     gpu_image_destroy(ctx, &p->ap_transmittance);
+    gpu_image_destroy(ctx, &p->ap_shafts);
 }
 
 static int create_luts(struct vk_context *ctx, struct sky_passes *p,
@@ -234,6 +237,8 @@ static int create_luts(struct vk_context *ctx, struct sky_passes *p,
                                    &p->ap_inscatter), fail);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_transmittance",
                                    &p->ap_transmittance), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_shafts",
+                                   &p->ap_shafts), fail);
     return 0;
 fail:
     destroy_luts(ctx, p);
@@ -262,6 +267,20 @@ static void bind_pair(struct vk_context *ctx, struct sky_passes *p, enum pass_id
     compute_pass_bind(ctx, &p->pass[inside + 1], r);
 }
 
+/* The aerial-perspective pass, with the cloud shadow map of the clouds last bound (it runs
+ * before this frame's cloud work, so it sees the previous frame's map: a frame of lag). */
+static void bind_aerial_perspective(struct vk_context *ctx, struct sky_passes *p)
+{
+    struct compute_resource r[9] = {
+        buf(&p->atmosphere_ubo), buf(&p->frame_ubo), tex(p, &p->transmittance),
+        tex(p, &p->multiscattering), img(&p->ap_inscatter), img(&p->ap_transmittance),
+        img(&p->ap_shafts), { .image = p->clouds.shadow, .sampler = p->clouds.shadow_sampler },
+        buf(p->clouds.ubo),
+    };
+    compute_pass_bind(ctx, &p->pass[PASS_AERIAL_PERSPECTIVE], r);
+    p->ap_clouds = p->clouds;
+}
+
 /* The composite passes alone: the clouds they sample change from view to view, while the
  * passes recorded before them in a frame must keep their bindings. */
 static void bind_composite(struct vk_context *ctx, struct sky_passes *p)
@@ -275,7 +294,7 @@ static void bind_composite(struct vk_context *ctx, struct sky_passes *p)
         buf(&p->exposure), img(&p->output),
         { .image = p->clouds.clouds, .sampler = p->sampler },
         { .image = p->clouds.shadow, .sampler = p->clouds.shadow_sampler },
-        buf(p->clouds.ubo), buf(p->clouds.env),
+        buf(p->clouds.ubo), buf(p->clouds.env), tex(p, &p->ap_shafts),
     };
     enum pass_id composite = p->output_kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
                                                                         : PASS_COMPOSITE_SRGB;
@@ -317,9 +336,7 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     r[1] = buf(&p->frame_ubo);
     r[2] = tex(p, &p->transmittance);
     r[3] = tex(p, &p->multiscattering);
-    r[4] = img(&p->ap_inscatter);
-    r[5] = img(&p->ap_transmittance);
-    compute_pass_bind(ctx, &p->pass[PASS_AERIAL_PERSPECTIVE], r);
+    bind_aerial_perspective(ctx, p);
     r[4] = tex(p, &p->irradiance);
     r[5] = img(&p->skyview);
     compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW], r);
@@ -585,6 +602,16 @@ void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
     if (skyview && moonlit_sky)
         record(p, cmd, timer, PASS_SKYVIEW_MOON, NULL, p->moon_skyview.width,
                p->moon_skyview.height, 1, 8, 8);
+}
+
+void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_passes *p,
+                                          VkCommandBuffer cmd, struct gpu_timer *timer,
+                                          const struct sky_cloud_bindings *clouds)
+{
+    /* Nothing of this command buffer uses the AP pass's set yet: it may follow the clouds. */
+    sky_passes_bind_clouds(ctx, p, clouds);
+    if (memcmp(&p->ap_clouds, &p->clouds, sizeof p->clouds) != 0)
+        bind_aerial_perspective(ctx, p);
     record(p, cmd, timer, PASS_AERIAL_PERSPECTIVE, NULL, p->ap_inscatter.width,
            p->ap_inscatter.height, 1, 8, 8);
 }
@@ -702,6 +729,8 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
         image = &p->ap_inscatter;
     else if (strcmp(name, "ap_transmittance") == 0)
         image = &p->ap_transmittance;
+    else if (strcmp(name, "ap_shafts") == 0)
+        image = &p->ap_shafts;
     if (!image)
         return NULL;
     size_t bytes = (size_t)image->width * image->height * image->depth * 16;

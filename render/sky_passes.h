@@ -69,10 +69,15 @@ void sky_passes_record_blend(struct sky_passes *p, VkCommandBuffer cmd, struct g
 /* The whole rebuild at once, then display = build. */
 void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
                                   struct gpu_timer *timer);
-/* skyview false: the sky-view LUTs still hold this view's (only the aerial perspective is
- * recorded); moonlit_sky: also the sky-view LUT lit by the moon (night sky). */
+/* The sky-view LUTs (skyview false: they still hold this view's, nothing is recorded);
+ * moonlit_sky: also the one lit by the moon (night sky). */
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
                                  struct gpu_timer *timer, bool skyview, bool moonlit_sky);
+/* The view's aerial-perspective volume, shadowed by `clouds`' shadow map (light shafts);
+ * also points the composite at those clouds. */
+void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_passes *p,
+                                          VkCommandBuffer cmd, struct gpu_timer *timer,
+                                          const struct sky_cloud_bindings *clouds);
 /* from_space: the camera is above the atmosphere (selects the specialized pipelines);
  * night_sky false: pipelines without the night sky (night_sky_visible). */
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,

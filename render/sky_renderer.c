@@ -294,7 +294,13 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     };
     sky_passes_resources(r->passes, &cf.sky);
     struct sky_cloud_bindings clouds;
-    if (cloud_renderer_record(r->ctx, r->clouds, cmd, r->timer, &cf, &clouds) != 0) {
+    if (cloud_renderer_record_maps(r->ctx, r->clouds, cmd, r->timer, &cf, &clouds) != 0) {
+        vk_context_submit_and_wait(r->ctx, &cmd);
+        return -1;
+    }
+    if (!from_space)
+        sky_passes_record_aerial_perspective(r->ctx, r->passes, cmd, r->timer, &clouds);
+    if (cloud_renderer_record_view(r->ctx, r->clouds, cmd, r->timer, &cf, &clouds) != 0) {
         vk_context_submit_and_wait(r->ctx, &cmd);
         return -1;
     }

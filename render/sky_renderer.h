@@ -136,7 +136,8 @@ void sky_renderer_set_amortization(struct sky_renderer *renderer,
                                    const struct sky_render_amortization *amortization);
 
 /* Reads back a LUT for tests: "transmittance" (optical depth per channel), "multiscattering",
- * "skyview", "irradiance", "ap_inscatter", "ap_transmittance" (3D, depth slices). Fills
+ * "skyview", "irradiance", "ap_inscatter", "ap_transmittance", "ap_shafts" (3D, depth
+ * slices; ap_shafts: the in-scattering cloud shadows took away). Fills
  * size (width, height, depth) and returns a malloc'd RGBA float array, x fastest then y then
  * slice (caller frees), or NULL. */
 float *sky_renderer_read_lut(struct sky_renderer *renderer, const char *name, uint32_t size[3]);

@@ -3,8 +3,12 @@
 // Aerial-perspective froxel volume (Hillaire 2020 section 5.4; seed 000 eq. 14.15-14.16):
 // for each froxel column over the view frustum, in-scattered luminance (per unit sun
 // illuminance) and transmittance from the camera to the end of every depth slice. Slices
-// follow a squared distribution so that near slices are thin.
+// follow a squared distribution so that near slices are thin. With clouds, the sun's light is
+// shadowed by the cloud shadow map at every sample (light shafts under broken clouds), and the
+// single scattering the shadows take away is kept in a third volume for the sky and ground
+// pixels, whose in-scattering comes from the unshadowed sky-view LUT.
 #include "sky_shared.h"
+#include "cloud_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
@@ -13,6 +17,9 @@ layout(binding = 2) uniform sampler2D transmittance_lut;
 layout(binding = 3) uniform sampler2D multiscattering_lut;
 layout(binding = 4, rgba32f) uniform writeonly image3D ap_inscatter_out;
 layout(binding = 5, rgba32f) uniform writeonly image3D ap_transmittance_out;
+layout(binding = 6, rgba32f) uniform writeonly image3D ap_shafts_out;
+layout(binding = 7) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
+layout(std140, binding = 8) uniform CloudBlock { sky_cloud_uniforms cloud; };
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT
@@ -20,6 +27,21 @@ layout(binding = 5, rgba32f) uniform writeonly image3D ap_transmittance_out;
 #include "camera.glsl"
 
 const float STEPS_PER_SLICE = 2.0;
+
+// Transmittance toward the sun through the clouds at p below the low layer: the shadow map
+// holds it for ground points, so p slides down along the sun to the ground it shares the
+// column of cloud with (flat-planet projection, as cloud_composite.glsl's ground lookup).
+float cloud_sun_visibility(vec3 p, vec3 sun_dir)
+{
+    float r = length(p);
+    vec3 up = p / r;
+    float h = r - bottom_radius();
+    if (r >= cloud.low.x)
+        return 1.0;
+    vec3 ground = p - sun_dir * (h / max(dot(up, sun_dir), 0.05));
+    vec2 pattern = ground.xy - cloud.weather.xy;
+    return textureLod(cloud_shadow_map, pattern * cloud.weather.z + 0.5, 0.0).r;
+}
 
 void main()
 {
@@ -37,7 +59,8 @@ void main()
     float t_ground = ray_sphere_nearest(origin, dir, bottom_radius());
     float t_max = t_ground >= 0.0 ? t_ground : 1e9;
 
-    vec3 luminance = vec3(0.0), throughput = vec3(1.0);
+    bool shafts = cloud.march.z > 0.5 && cloud.shadow_sun.w > 0.5;
+    vec3 luminance = vec3(0.0), throughput = vec3(1.0), shadowed = vec3(0.0);
     float t_prev = 0.0;
     float slices = float(size.z);
     for (int slice = 0; slice < size.z; slice++) {
@@ -49,16 +72,20 @@ void main()
             vec3 p = origin + (t_prev + (k + 0.5) * dt) * dir;
             float r = length(p);
             MediumSample m = sample_medium(r - bottom_radius());
-            vec3 source = sun_transmittance(p, sun_dir)
-                              * (m.rayleigh_scattering * phase_r + m.mie_scattering * phase_m)
-                          + multiscattering(r, dot(p / r, sun_dir)) * m.scattering;
+            vec3 single = sun_transmittance(p, sun_dir)
+                          * (m.rayleigh_scattering * phase_r + m.mie_scattering * phase_m);
+            float visible = shafts ? cloud_sun_visibility(p, sun_dir) : 1.0;
+            vec3 source = single * visible + multiscattering(r, dot(p / r, sun_dir)) * m.scattering;
             vec3 step_t = exp(-m.extinction * dt);
             vec3 ext = max(m.extinction, vec3(1e-9));
             luminance += throughput * (source - source * step_t) / ext; // seed 001 eq. 23
+            vec3 lost = single * (1.0 - visible);
+            shadowed += throughput * (lost - lost * step_t) / ext;
             throughput *= step_t;
         }
         t_prev = max(t_prev, t_slice_end);
         imageStore(ap_inscatter_out, ivec3(px, slice), vec4(luminance, 1.0));
         imageStore(ap_transmittance_out, ivec3(px, slice), vec4(throughput, 1.0));
+        imageStore(ap_shafts_out, ivec3(px, slice), vec4(shadowed, 1.0));
     }
 }

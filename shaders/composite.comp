@@ -20,6 +20,7 @@ layout(binding = 10) uniform sampler2D cloud_image;      // premultiplied lumina
 layout(binding = 11) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
 layout(std140, binding = 12) uniform CloudBlock { sky_cloud_uniforms cloud; };
 layout(std430, binding = 13) readonly buffer CloudEnv { vec4 env_luminance; vec4 env_transmittance; };
+layout(binding = 14) uniform sampler3D ap_shafts; // in-scattering taken by cloud shadows
 layout(push_constant) uniform RegionPush { sky_region_push region; };
 layout(constant_id = 1) const bool SUN_REGION = false;
 

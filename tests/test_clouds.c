@@ -281,6 +281,55 @@ static void test_live_convergence(void)
     CHECK_LE(at_32, 0.05);
 }
 
+/* Light shafts: under broken clouds with a low sun the aerial-perspective volume loses the
+ * single scattering the clouds shadow, and keeps it, to the float, in the shafts volume:
+ * shadowed + shafts equals the same view's volume without clouds. The loss is real (a few
+ * percent of the sky's in-scattering at least) and never negative. */
+static void test_light_shafts(void)
+{
+    struct sky_world_state s;
+    cloudy_state(&s);
+    s.clouds.low.coverage = 0.6;
+    s.sun.elevation_deg = 10.0;
+    s.sun.azimuth_deg = 180.0;
+    s.camera.yaw_deg = 180.0;
+    s.camera.pitch_deg = 5.0;
+    render(&s, 700, frame_a, NULL);
+    uint32_t size[3], size_clear[3], size_shafts[3];
+    float *shadowed = sky_renderer_read_lut(renderer, "ap_inscatter", size);
+    float *shafts = sky_renderer_read_lut(renderer, "ap_shafts", size_shafts);
+    s.clouds.low.coverage = 0.0;
+    s.clouds.high.coverage = 0.0;
+    render(&s, 700, frame_b, NULL);
+    float *clear = sky_renderer_read_lut(renderer, "ap_inscatter", size_clear);
+    CHECK(shadowed && shafts && clear);
+    if (shadowed && shafts && clear) {
+        size_t n = (size_t)size[0] * size[1] * size[2];
+        double worst = 0.0, lost = 0.0, total = 0.0;
+        int negative = 0, bad = 0;
+        for (size_t i = 0; i < n; i++)
+            for (int c = 0; c < 3; c++) {
+                double a = shadowed[i * 4 + c], b = shafts[i * 4 + c], u = clear[i * 4 + c];
+                if (!isfinite(a) || !isfinite(b))
+                    bad++;
+                if (b < 0.0)
+                    negative++;
+                worst = fmax(worst, fabs(a + b - u) / fmax(u, 1e-9));
+                lost += b;
+                total += u;
+            }
+        printf("light shafts: %.2f %% of the in-scattering shadowed; shadowed + shafts vs no "
+               "clouds, worst relative difference %.2e\n", 100.0 * lost / total, worst);
+        CHECK(bad == 0);
+        CHECK(negative == 0);
+        CHECK_LE(worst, 1e-3);
+        CHECK(lost > 0.02 * total);
+    }
+    free(shadowed);
+    free(shafts);
+    free(clear);
+}
+
 /* A client map replaces the procedural one: an empty map clears the sky, a full one covers
  * it, and forgetting it brings the procedural map back. */
 static void test_client_weather_map(void)
@@ -362,6 +411,7 @@ int main(int argc, char **argv)
     test_temporal(SKY_CLOUD_RESOLUTION_SIXTEENTH, 400);
     test_temporal(SKY_CLOUD_RESOLUTION_SIXTYFOURTH, 410);
     test_live_convergence();
+    test_light_shafts();
     test_client_weather_map();
     test_moonlit_clouds();
     sky_renderer_destroy(&renderer);

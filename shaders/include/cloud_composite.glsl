@@ -1,7 +1,8 @@
 // Clouds in the final image: the reconstructed cloud layer over the sky (its opacity hides the
 // sky and the sun disk behind it), cloud shadows on the ground (shadow map) and the clouds'
-// effect on the aerial perspective and sky light below them (seed 001 eq. 22). Needs
-// sky_shading.glsl, the composite's bindings 8-11 and `cloud` (sky_cloud_uniforms).
+// effect on the aerial perspective and sky light below them (seed 001 eq. 22), and the light
+// shafts their shadows cut into it. Needs sky_shading.glsl, the composite's bindings 8-14 and
+// `cloud` (sky_cloud_uniforms).
 #ifndef CLOUD_COMPOSITE_GLSL
 #define CLOUD_COMPOSITE_GLSL
 
@@ -16,9 +17,8 @@ float cloud_ground_shadow(vec3 p)
 // The ground seen from inside the atmosphere, relit under the clouds: the sun's direct light
 // through the shadow map, the sky's light through the clouds' mean transmittance plus the
 // clouds' own light (eq. 22), and the aerial perspective in front of it likewise (eq. 22).
-vec3 ground_under_clouds(vec3 cam, vec3 dir, vec3 L)
+vec3 ground_under_clouds(vec3 cam, vec3 dir, float t, vec3 L)
 {
-    float t = ray_sphere_nearest(cam, dir, bottom_radius());
     if (t < 0.0 || cloud.shadow_sun.w < 0.5)
         return L;
     vec3 p = cam + t * dir;
@@ -43,12 +43,32 @@ vec3 ground_under_clouds(vec3 cam, vec3 dir, vec3 L)
     return inscatter * tr + l_cloud * (1.0 - t_path) + t_path * lit; // seed 001 eq. 22
 }
 
+// Light shafts: the sky-view LUT's in-scattering is unshadowed; take away what the clouds'
+// shadows remove along the ray up to the ground, or to the end of the froxel volume (the sun
+// light shadowed there, aerial_perspective.comp).
+vec3 light_shafts(ivec2 px, float t)
+{
+    if (cloud.shadow_sun.w < 0.5)
+        return vec3(0.0);
+    float max_km = frame.image.z;
+    float depth = t >= 0.0 ? min(t, max_km) : max_km;
+    float slices = float(textureSize(ap_shafts, 0).z);
+    float slice = sqrt(depth / max_km) * slices - 1.0;
+    vec3 at = vec3((vec2(px) + 0.5) / frame.image.xy, (max(slice, 0.0) + 0.5) / slices);
+    return textureLod(ap_shafts, at, 0.0).rgb * clamp(slice + 1.0, 0.0, 1.0)
+           * frame.sun_illuminance.xyz;
+}
+
 vec3 apply_clouds(ivec2 px, vec3 dir, vec3 L)
 {
     if (cloud.march.z < 0.5)
         return L;
-    if (!FROM_SPACE)
-        L = ground_under_clouds(frame.camera_position.xyz, dir, L);
+    if (!FROM_SPACE) {
+        vec3 cam = frame.camera_position.xyz;
+        float t_ground = ray_sphere_nearest(cam, dir, bottom_radius());
+        L = max(L - light_shafts(px, t_ground), vec3(0.0));
+        L = ground_under_clouds(cam, dir, t_ground, L);
+    }
     // The cloud image may be half the output's size: bilinear on premultiplied colour.
     vec4 c = textureLod(cloud_image, (vec2(px) + 0.5) / frame.image.xy, 0.0);
     return L * (1.0 - c.a) + c.rgb;
