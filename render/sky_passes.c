@@ -78,7 +78,7 @@ struct sky_passes {
     struct gpu_image previous_transmittance, previous_multiscattering, previous_irradiance;
     struct gpu_image ap_inscatter, ap_transmittance;
     struct gpu_image ap_shafts; /* in-scattering the clouds' shadows take away (light shafts) */
-    struct sky_cloud_bindings ap_clouds; /* the clouds the AP pass was last bound to */
+    struct sky_cloud_bindings ap_clouds; /* the clouds (shadow map, block) the AP pass reads */
     struct gpu_image moon_skyview;
     struct gpu_buffer stars; /* night_shared.h layout */
     double brightest_star_lux;
@@ -267,18 +267,16 @@ static void bind_pair(struct vk_context *ctx, struct sky_passes *p, enum pass_id
     compute_pass_bind(ctx, &p->pass[inside + 1], r);
 }
 
-/* The aerial-perspective pass, with the cloud shadow map of the clouds last bound (it runs
- * before this frame's cloud work, so it sees the previous frame's map: a frame of lag). */
+/* The aerial-perspective pass, with p->ap_clouds' shadow map and cloud block. */
 static void bind_aerial_perspective(struct vk_context *ctx, struct sky_passes *p)
 {
+    const struct sky_cloud_bindings *c = &p->ap_clouds;
     struct compute_resource r[9] = {
         buf(&p->atmosphere_ubo), buf(&p->frame_ubo), tex(p, &p->transmittance),
         tex(p, &p->multiscattering), img(&p->ap_inscatter), img(&p->ap_transmittance),
-        img(&p->ap_shafts), { .image = p->clouds.shadow, .sampler = p->clouds.shadow_sampler },
-        buf(p->clouds.ubo),
+        img(&p->ap_shafts), { .image = c->shadow, .sampler = c->shadow_sampler }, buf(c->ubo),
     };
     compute_pass_bind(ctx, &p->pass[PASS_AERIAL_PERSPECTIVE], r);
-    p->ap_clouds = p->clouds;
 }
 
 /* The composite passes alone: the clouds they sample change from view to view, while the
@@ -399,7 +397,7 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
     if (!p)
         return NULL;
     p->metered_ev100 = NAN;
-    p->clouds = *clouds;
+    p->clouds = p->ap_clouds = *clouds;
     VK_CHECK_GOTO(
         gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, &p->sampler), fail);
     for (int i = 0; i < PASS_COUNT; i++)
@@ -608,10 +606,13 @@ void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_pas
                                           VkCommandBuffer cmd, struct gpu_timer *timer,
                                           const struct sky_cloud_bindings *clouds)
 {
-    /* Nothing of this command buffer uses the AP pass's set yet: it may follow the clouds. */
-    sky_passes_bind_clouds(ctx, p, clouds);
-    if (memcmp(&p->ap_clouds, &p->clouds, sizeof p->clouds) != 0)
+    /* Nothing of this command buffer uses the AP pass's set yet: it may follow the clouds.
+     * Only the shadow map and the block matter to it, not the view's cloud image. */
+    if (p->ap_clouds.shadow != clouds->shadow ||
+        p->ap_clouds.shadow_sampler != clouds->shadow_sampler || p->ap_clouds.ubo != clouds->ubo) {
+        p->ap_clouds = *clouds;
         bind_aerial_perspective(ctx, p);
+    }
     record(p, cmd, timer, PASS_AERIAL_PERSPECTIVE, NULL, p->ap_inscatter.width,
            p->ap_inscatter.height, 1, 8, 8);
 }

@@ -73,8 +73,7 @@ void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
  * moonlit_sky: also the one lit by the moon (night sky). */
 void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
                                  struct gpu_timer *timer, bool skyview, bool moonlit_sky);
-/* The view's aerial-perspective volume, shadowed by `clouds`' shadow map (light shafts);
- * also points the composite at those clouds. */
+/* The view's aerial-perspective volume, shadowed by `clouds`' shadow map (light shafts). */
 void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_passes *p,
                                           VkCommandBuffer cmd, struct gpu_timer *timer,
                                           const struct sky_cloud_bindings *clouds);

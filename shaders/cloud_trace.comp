@@ -21,22 +21,16 @@ layout(push_constant) uniform ViewPush { sky_cloud_view_push view; };
 const float AP_STEPS = 8.0;
 
 // Aerial perspective from the camera to `depth` along the ray through uv, read from the
-// froxel volume (slice k ends at max_km * ((k + 1) / N)^2, aerial_perspective.comp); before
-// the first slice's end it fades in from none. False beyond the volume.
+// froxel volume. False beyond the volume.
 bool aerial_perspective_froxel(vec2 uv, float depth, out vec3 inscatter, out vec3 transmittance)
 {
     float max_km = frame.image.z;
     if (depth > max_km)
         return false;
-    float slices = float(textureSize(ap_inscatter, 0).z);
-    float slice = sqrt(depth / max_km) * slices - 1.0;
-    float w = (max(slice, 0.0) + 0.5) / slices;
-    vec3 at = vec3(uv, w);
-    inscatter = textureLod(ap_inscatter, at, 0.0).rgb;
-    transmittance = textureLod(ap_transmittance, at, 0.0).rgb;
-    float fade = clamp(slice + 1.0, 0.0, 1.0);
-    inscatter *= fade;
-    transmittance = mix(vec3(1.0), transmittance, fade);
+    vec2 slice = aerial_perspective_slice(depth, max_km, float(textureSize(ap_inscatter, 0).z));
+    vec3 at = vec3(uv, slice.x);
+    inscatter = textureLod(ap_inscatter, at, 0.0).rgb * slice.y;
+    transmittance = mix(vec3(1.0), textureLod(ap_transmittance, at, 0.0).rgb, slice.y);
     return true;
 }
 

@@ -235,4 +235,13 @@ float march_boundary(float t_start, float t_end, float i, float count)
     return t_start + (t_end - t_start) * x * x;
 }
 
+// Where a distance falls in the aerial-perspective volume, whose slice k ends at
+// max_km * ((k + 1) / slices)^2 (aerial_perspective.comp): x the texture coordinate of the
+// slice holding it, y the fade from nothing before the first slice's end.
+vec2 aerial_perspective_slice(float depth, float max_km, float slices)
+{
+    float slice = sqrt(depth / max_km) * slices - 1.0;
+    return vec2((max(slice, 0.0) + 0.5) / slices, clamp(slice + 1.0, 0.0, 1.0));
+}
+
 #endif

@@ -52,11 +52,9 @@ vec3 light_shafts(ivec2 px, float t)
         return vec3(0.0);
     float max_km = frame.image.z;
     float depth = t >= 0.0 ? min(t, max_km) : max_km;
-    float slices = float(textureSize(ap_shafts, 0).z);
-    float slice = sqrt(depth / max_km) * slices - 1.0;
-    vec3 at = vec3((vec2(px) + 0.5) / frame.image.xy, (max(slice, 0.0) + 0.5) / slices);
-    return textureLod(ap_shafts, at, 0.0).rgb * clamp(slice + 1.0, 0.0, 1.0)
-           * frame.sun_illuminance.xyz;
+    vec2 slice = aerial_perspective_slice(depth, max_km, float(textureSize(ap_shafts, 0).z));
+    vec3 at = vec3((vec2(px) + 0.5) / frame.image.xy, slice.x);
+    return textureLod(ap_shafts, at, 0.0).rgb * slice.y * frame.sun_illuminance.xyz;
 }
 
 vec3 apply_clouds(ivec2 px, vec3 dir, vec3 L)
