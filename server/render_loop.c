@@ -206,6 +206,42 @@ static void set_amortization(struct render_context *ctx, double budget_ms)
                            .budget_ms = budget_ms, .blend_frames = ctx->config->lut_blend_frames });
 }
 
+/* The CPU driver (lavapipe) compiles a shader variant at its first dispatch: a second or more
+ * for each cloud pass on two cores, which stalled every stream the first time clouds showed.
+ * A few small frames with clouds, by day (both halves of the reconstruction's ping-pong) and
+ * by night, dispatch those passes now, before the first client. The caller then sets the
+ * state's own clouds. */
+static int warm_up_pipelines(struct render_context *ctx)
+{
+    enum { WARM_W = 64, WARM_H = 36 };
+    static uint8_t rgba[WARM_W * WARM_H * 4];
+    struct sky_world_state s = ctx->state;
+    s.clouds.low.coverage = fmax(s.clouds.low.coverage, 0.5);
+    s.clouds.high.coverage = fmax(s.clouds.high.coverage, 0.3);
+    struct sky_render_clouds clouds;
+    world_to_render_clouds(&s, &clouds);
+    if (sky_renderer_set_clouds(ctx->renderer, &clouds) != 0)
+        return -1;
+    ctx->clouds_set = false;
+    set_amortization(ctx, 0.0); /* the weather and shadow maps at once */
+    static const double sun_elevation_deg[3] = { 30.0, 30.0, -20.0 };
+    int status = 0;
+    for (int k = 0; k < 3 && status == 0; k++) {
+        s.sun.elevation_deg = sun_elevation_deg[k];
+        struct sky_render_night night;
+        world_to_render_night(&s, &night);
+        sky_renderer_set_night(ctx->renderer, &night);
+        struct sky_render_view view;
+        world_to_render_view(&s, WARM_W, WARM_H, SKY_RENDER_OUTPUT_SRGB8, &view);
+        view.history_key = UINT64_MAX;
+        view.live = true;
+        struct sky_render_atmosphere atm = ctx->atmosphere;
+        status = sky_renderer_render(ctx->renderer, &atm, &view, rgba, sizeof rgba, NULL);
+    }
+    set_amortization(ctx, ctx->config->lut_budget_ms);
+    return status;
+}
+
 static void render_group(struct render_loop *loop, struct render_group *g)
 {
     struct render_context *ctx = &loop->ctx;
@@ -561,6 +597,11 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     if (sky_renderer_prepare_cloud_noise(ctx->renderer, (uint32_t)ctx->state.clouds.noise_seed) !=
         0) {
         snprintf(err, errlen, "generating the cloud noise failed");
+        render_loop_destroy(&loop);
+        return NULL;
+    }
+    if (warm_up_pipelines(ctx) != 0) {
+        snprintf(err, errlen, "rendering the start-up frames failed");
         render_loop_destroy(&loop);
         return NULL;
     }
