@@ -15,6 +15,8 @@ static void entry_destroy(struct vk_context *ctx, struct cloud_history_entry *e)
         gpu_image_destroy(ctx, &e->color[i]);
         gpu_image_destroy(ctx, &e->aux[i]);
     }
+    gpu_image_destroy(ctx, &e->over_sky);
+    gpu_image_destroy(ctx, &e->over_ground);
     memset(e, 0, sizeof *e);
 }
 
@@ -32,6 +34,9 @@ static int entry_create(struct vk_context *ctx, struct cloud_history_entry *e, u
         VK_CHECK_GOTO(gpu_image_create(ctx, FORMAT, w, h, 1, "cloud_history_aux", &e->aux[i]),
                       fail);
     }
+    VK_CHECK_GOTO(gpu_image_create(ctx, FORMAT, w, h, 1, "clouds_over_sky", &e->over_sky), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, FORMAT, w, h, 1, "clouds_over_ground", &e->over_ground),
+                  fail);
     e->in_use = true;
     e->key = key;
     e->width = w;

@@ -1,7 +1,8 @@
 /* Per-view cloud histories for temporal reprojection: a small least-recently-used set keyed
  * by the view's history_key, size and trace block. Each entry owns its trace images (the
- * block-resolution samples of one frame) and two cloud-image-sized history pairs (colour with
- * opacity; depth and sample count) used alternately. */
+ * block-resolution samples of one frame), two cloud-image-sized history pairs (colour with
+ * opacity; depth and sample count) used alternately, and the resolved clouds' effect on the
+ * final image (over the sky, over the ground). */
 #ifndef SKYD_CLOUD_HISTORY_H
 #define SKYD_CLOUD_HISTORY_H
 
@@ -21,6 +22,7 @@ struct cloud_history_entry {
     int block;
     struct gpu_image trace_color, trace_depth;
     struct gpu_image color[2], aux[2];
+    struct gpu_image over_sky, over_ground; /* cloud_resolve.comp's outputs */
     int latest;            /* index of the pair holding the last result */
     bool valid;            /* latest holds a frame of this view */
     uint32_t frame;        /* frames rendered into this history */

@@ -16,6 +16,7 @@
 
 #include "cloud_hemisphere.spv.h"
 #include "cloud_reconstruct.spv.h"
+#include "cloud_resolve.spv.h"
 #include "cloud_shadow.spv.h"
 #include "cloud_trace.spv.h"
 #include "cloud_weather.spv.h"
@@ -53,7 +54,21 @@ struct shadow_key {
     uint32_t weather_generation, noise_seed;
 };
 
-enum { P_WEATHER, P_SHADOW, P_HEMISPHERE, P_TRACE, P_RECONSTRUCT_0, P_RECONSTRUCT_1, P_COUNT };
+/* The marching passes come twice: without the moon's light (MOONLIT false, constant_id 0),
+ * then with it, for frames the moon lights. */
+enum {
+    P_WEATHER,
+    P_SHADOW,
+    P_HEMISPHERE,
+    P_HEMISPHERE_MOONLIT,
+    P_TRACE,
+    P_TRACE_MOONLIT,
+    P_RECONSTRUCT_0,
+    P_RECONSTRUCT_1,
+    P_RESOLVE,        /* rows that see no ground (GROUND false, constant_id 0) */
+    P_RESOLVE_GROUND, /* rows that may */
+    P_COUNT
+};
 
 struct cloud_renderer {
     bool quiet;
@@ -92,10 +107,20 @@ static const struct compute_pass_desc descs[P_COUNT] = {
                    .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
                    .push_constant_bytes = sizeof(struct sky_cloud_rows_push) },
     [P_HEMISPHERE] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
-                       .binding_count = 11, .bindings = { MARCH_BINDINGS, STORAGE_BUF } },
+                       .binding_count = 11, .bindings = { MARCH_BINDINGS, STORAGE_BUF },
+                       .spec_count = 1, .spec_values = { 0 } },
+    [P_HEMISPHERE_MOONLIT] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
+                               .binding_count = 11, .bindings = { MARCH_BINDINGS, STORAGE_BUF },
+                               .spec_count = 1, .spec_values = { 1 } },
     [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 14,
                   .bindings = { MARCH_BINDINGS, STORAGE_IMG, STORAGE_IMG, SAMPLED, SAMPLED },
-                  .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
+                  .push_constant_bytes = sizeof(struct sky_cloud_view_push), .spec_count = 1,
+                  .spec_values = { 0 } },
+    [P_TRACE_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 14,
+                          .bindings = { MARCH_BINDINGS, STORAGE_IMG, STORAGE_IMG, SAMPLED,
+                                        SAMPLED },
+                          .push_constant_bytes = sizeof(struct sky_cloud_view_push),
+                          .spec_count = 1, .spec_values = { 1 } },
     [P_RECONSTRUCT_0] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
                           .binding_count = 7,
                           .bindings = { UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
@@ -106,6 +131,14 @@ static const struct compute_pass_desc descs[P_COUNT] = {
                           .bindings = { UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
                                         STORAGE_IMG },
                           .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
+#define RESOLVE_PASS(id, ground)                                                           \
+    [id] = { .name = "cloud_resolve", SPIRV(cloud_resolve_spv), .binding_count = 11,         \
+             .bindings = { UBO, UBO, SAMPLED, SAMPLED, UBO, STORAGE_BUF, SAMPLED, SAMPLED,    \
+                           SAMPLED, STORAGE_IMG, STORAGE_IMG },                               \
+             .push_constant_bytes = sizeof(struct sky_cloud_rows_push), .spec_count = 1,     \
+             .spec_values = { ground } }
+    RESOLVE_PASS(P_RESOLVE, 0),
+    RESOLVE_PASS(P_RESOLVE_GROUND, 1),
 };
 
 static int map_create(struct vk_context *ctx, struct cloud_map *m, VkFormat format, uint32_t size,
@@ -401,17 +434,24 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
         cr->env_dirty = true;
 }
 
+/* 1 when the moon lights this frame's clouds (the frame uniforms' flag), else 0. */
+static int moonlit(const struct cloud_frame *f)
+{
+    return f->frame->moon_illuminance.w > 0.5f ? 1 : 0;
+}
+
 static void record_hemisphere(struct vk_context *ctx, struct cloud_renderer *cr,
                               VkCommandBuffer cmd, struct gpu_timer *timer,
                               const struct cloud_frame *f)
 {
     if (!cr->env_dirty)
         return;
-    bind_march(ctx, cr, &cr->pass[P_HEMISPHERE], f, buf(&cr->env), buf(&cr->env));
+    struct compute_pass *pass = &cr->pass[P_HEMISPHERE + moonlit(f)];
+    bind_march(ctx, cr, pass, f, buf(&cr->env), buf(&cr->env));
     const uint32_t size[3] = { CLOUD_HEMISPHERE_RAYS, 1, 1 };
     const uint32_t local[3] = { CLOUD_HEMISPHERE_RAYS, 1, 1 };
-    compute_pass_record(cmd, &cr->pass[P_HEMISPHERE], NULL, size, local);
-    gpu_timer_mark(timer, cmd, cr->pass[P_HEMISPHERE].name);
+    compute_pass_record(cmd, pass, NULL, size, local);
+    gpu_timer_mark(timer, cmd, pass->name);
     cr->env_dirty = false;
 }
 
@@ -453,9 +493,61 @@ static int frames_for_new_history(enum sky_render_cloud_resolution resolution)
     }
 }
 
+/* Rows [first, end) of the cloud image that the output's ground rows sample (bilinear: two
+ * taps per output row); false when there are none. */
+static bool cloud_ground_rows(const struct cloud_frame *f, uint32_t cloud_height, uint32_t rows[2])
+{
+    if (!f->ground_rows)
+        return false;
+    double scale = (double)cloud_height / f->height;
+    double first = floor((f->ground_rows[0] + 0.5) * scale - 0.5);
+    double last = floor((f->ground_rows[1] - 0.5) * scale - 0.5) + 1.0;
+    first = fmax(first, 0.0);
+    last = fmin(last, cloud_height - 1.0);
+    if (last < first)
+        return false;
+    rows[0] = (uint32_t)first;
+    rows[1] = (uint32_t)last + 1;
+    return true;
+}
+
+static void record_resolve_rows(VkCommandBuffer cmd, struct compute_pass *pass, uint32_t width,
+                                uint32_t first, uint32_t end)
+{
+    if (end <= first)
+        return;
+    struct sky_cloud_rows_push push = { .row_offset = first };
+    const uint32_t size[3] = { width, end - first, 1 }, local[3] = { 8, 8, 1 };
+    compute_pass_record(cmd, pass, &push, size, local);
+}
+
+/* The clouds' effect on the final image from the latest reconstruction (cloud_resolve.comp):
+ * the rows that may see the ground with the ground's part, the rest without it. */
+static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
+                           struct gpu_timer *timer, const struct cloud_frame *f,
+                           struct cloud_history_entry *e)
+{
+    const struct sky_pass_resources *s = &f->sky;
+    struct compute_resource r[11] = {
+        buf(s->atmosphere_ubo), buf(s->frame_ubo), tex(s->transmittance, s->sampler),
+        tex(s->irradiance, s->sampler), buf(&cr->ubo), buf(&cr->env),
+        tex(shown(cr, &cr->shadow), cr->repeat), tex(s->ap_shafts, s->sampler),
+        tex(&e->color[e->latest], s->sampler), img(&e->over_sky), img(&e->over_ground),
+    };
+    compute_pass_bind(ctx, &cr->pass[P_RESOLVE], r);
+    compute_pass_bind(ctx, &cr->pass[P_RESOLVE_GROUND], r);
+    uint32_t w = e->over_sky.width, h = e->over_sky.height, ground[2] = { h, h };
+    if (!cloud_ground_rows(f, h, ground))
+        ground[0] = ground[1] = h;
+    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, 0, ground[0]);
+    record_resolve_rows(cmd, &cr->pass[P_RESOLVE_GROUND], w, ground[0], ground[1]);
+    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, ground[1], h);
+    gpu_timer_mark(timer, cmd, cr->pass[P_RESOLVE].name);
+}
+
 static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
                        struct gpu_timer *timer, const struct cloud_frame *f,
-                       const struct gpu_image **out)
+                       struct sky_cloud_bindings *out)
 {
     const struct sky_render_clouds *c = &cr->clouds;
     int block = cloud_params_block(c->resolution);
@@ -465,7 +557,8 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
         cloud_history_acquire(ctx, &cr->history, f->history_key, width, height, block);
     if (!e)
         return -1;
-    bind_march(ctx, cr, &cr->pass[P_TRACE], f, img(&e->trace_color), img(&e->trace_depth));
+    struct compute_pass *trace = &cr->pass[P_TRACE + moonlit(f)];
+    bind_march(ctx, cr, trace, f, img(&e->trace_color), img(&e->trace_depth));
     for (int i = 0; i < 2; i++) {
         struct compute_resource r[7] = {
             buf(f->sky.frame_ubo), tex(&e->trace_color, f->sky.sampler),
@@ -496,7 +589,7 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
         }
         push.motion.z = min_weight[block];
         push.motion.w = c->temporal ? 1.0f : 0.0f;
-        compute_pass_record(cmd, &cr->pass[P_TRACE], &push, tsize, local);
+        compute_pass_record(cmd, trace, &push, tsize, local);
         if (frames == 1)
             gpu_timer_mark(timer, cmd, "cloud_trace");
         compute_pass_record(cmd, &cr->pass[P_RECONSTRUCT_0 + e->latest], &push, size, local);
@@ -513,18 +606,25 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
     }
     if (frames > 1)
         gpu_timer_mark(timer, cmd, "cloud_accumulate");
-    *out = &e->color[e->latest];
+    record_resolve(ctx, cr, cmd, timer, f, e);
+    out->over_sky = &e->over_sky;
+    out->over_ground = &e->over_ground;
     return 0;
+}
+
+bool cloud_renderer_active(const struct cloud_renderer *cr)
+{
+    return cr->active && cr->noise.generated;
 }
 
 void cloud_renderer_no_clouds(const struct cloud_renderer *cr, struct sky_cloud_bindings *out)
 {
     *out = (struct sky_cloud_bindings){
-        .clouds = &cr->dummy,
+        .over_sky = &cr->dummy,
+        .over_ground = &cr->dummy,
         .shadow = &cr->dummy,
         .shadow_sampler = cr->repeat,
         .ubo = &cr->ubo,
-        .env = &cr->env,
     };
 }
 
@@ -564,11 +664,7 @@ int cloud_renderer_record_view(struct vk_context *ctx, struct cloud_renderer *cr
 {
     if (!cr->active || !cr->noise.generated)
         return 0;
-    const struct gpu_image *clouds = NULL;
-    if (record_view(ctx, cr, cmd, timer, f, &clouds) != 0)
-        return -1;
-    out->clouds = clouds;
-    return 0;
+    return record_view(ctx, cr, cmd, timer, f, out);
 }
 
 void cloud_renderer_observe(struct cloud_renderer *cr, const char *pass_name, double ms)

@@ -37,18 +37,23 @@ struct cloud_frame {
     uint32_t width, height;
     uint64_t history_key;
     bool live; /* a stream: a new history starts converging from its first frame */
+    /* Output rows [first, end) that may see the ground, or NULL: none (sky_uniforms.h). */
+    const uint32_t *ground_rows;
 };
 
 /* The cloud work of a frame, in two parts around the view's aerial-perspective volume (which
  * takes the shadow map and is read by the trace). First the shared maps (weather, shadow,
  * hemisphere averages; nothing when no layer is on), filling the bindings (no clouds when
- * off); then the view's trace and reconstruction, which set out->clouds. Return 0 or -1. */
+ * off); then the view's trace, reconstruction and resolve, which set out->over_sky and
+ * out->over_ground. Return 0 or -1. */
 int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr,
                                VkCommandBuffer cmd, struct gpu_timer *timer,
                                const struct cloud_frame *f, struct sky_cloud_bindings *out);
 int cloud_renderer_record_view(struct vk_context *ctx, struct cloud_renderer *cr,
                                VkCommandBuffer cmd, struct gpu_timer *timer,
                                const struct cloud_frame *f, struct sky_cloud_bindings *out);
+/* True when frames show clouds (a layer has coverage and the noise is ready). */
+bool cloud_renderer_active(const struct cloud_renderer *cr);
 /* The composite's bindings with no clouds. */
 void cloud_renderer_no_clouds(const struct cloud_renderer *cr, struct sky_cloud_bindings *out);
 /* GPU time of a recorded pass, to size the next map slices. */

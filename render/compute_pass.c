@@ -54,13 +54,15 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
         .pCode = desc->spirv,
     };
     VK_CHECK_GOTO(vkCreateShaderModule(ctx->device, &module_info, NULL, &module), fail);
-    VkSpecializationMapEntry entries[4];
-    for (uint32_t i = 0; i < desc->spec_count && i < 4; i++)
+    uint32_t spec_count = desc->spec_count < COMPUTE_PASS_MAX_SPEC ? desc->spec_count
+                                                               : COMPUTE_PASS_MAX_SPEC;
+    VkSpecializationMapEntry entries[COMPUTE_PASS_MAX_SPEC];
+    for (uint32_t i = 0; i < spec_count; i++)
         entries[i] = (VkSpecializationMapEntry){ i, i * sizeof(uint32_t), sizeof(uint32_t) };
     VkSpecializationInfo spec = {
-        .mapEntryCount = desc->spec_count < 4 ? desc->spec_count : 4,
+        .mapEntryCount = spec_count,
         .pMapEntries = entries,
-        .dataSize = (desc->spec_count < 4 ? desc->spec_count : 4) * sizeof(uint32_t),
+        .dataSize = spec_count * sizeof(uint32_t),
         .pData = desc->spec_values,
     };
     VkComputePipelineCreateInfo pipeline_info = {
@@ -70,7 +72,7 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
             .stage = VK_SHADER_STAGE_COMPUTE_BIT,
             .module = module,
             .pName = "main",
-            .pSpecializationInfo = desc->spec_count ? &spec : NULL,
+            .pSpecializationInfo = spec_count ? &spec : NULL,
         },
         .layout = out->layout,
     };

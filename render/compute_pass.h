@@ -13,6 +13,7 @@ struct gpu_image;
 struct gpu_buffer;
 
 #define COMPUTE_PASS_MAX_BINDINGS 16
+#define COMPUTE_PASS_MAX_SPEC 8
 
 struct compute_pass_desc {
     const char *name;
@@ -23,7 +24,7 @@ struct compute_pass_desc {
     uint32_t push_constant_bytes;
     /* Specialization constants: constant_id i takes spec_values[i] (booleans as 0/1). */
     uint32_t spec_count;
-    uint32_t spec_values[4];
+    uint32_t spec_values[COMPUTE_PASS_MAX_SPEC];
 };
 
 struct compute_pass {

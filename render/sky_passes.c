@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "composite_variants.h"
 #include "compute_pass.h"
 #include "gpu_timer.h"
 #include "night_stars.h"
@@ -13,8 +14,6 @@
 #include "vk_resources.h"
 
 #include "aerial_perspective.spv.h"
-#include "composite_linear.spv.h"
-#include "composite_srgb.spv.h"
 #include "exposure_resolve.spv.h"
 #include "irradiance.spv.h"
 #include "lut_blend.spv.h"
@@ -41,12 +40,6 @@ enum pass_id {
     PASS_EXPOSURE_RESOLVE,
     PASS_METER,
     PASS_METER_SPACE,
-    PASS_COMPOSITE_SRGB,
-    PASS_COMPOSITE_SRGB_SPACE,
-    PASS_COMPOSITE_SRGB_SUN,
-    PASS_COMPOSITE_LINEAR,
-    PASS_COMPOSITE_LINEAR_SPACE,
-    PASS_COMPOSITE_LINEAR_SUN,
     PASS_PROBE,
     PASS_PROBE_SPACE,
     /* display = mix(previous, build, weight), one per atmosphere LUT; then the same shader
@@ -60,16 +53,13 @@ enum pass_id {
     /* Inside the atmosphere without the night sky (NIGHT_SKY, constant_id 2, false): frames
      * where it adds nothing visible (night_sky_visible) skip its cost. */
     PASS_METER_DAY,
-    PASS_COMPOSITE_SRGB_DAY,
-    PASS_COMPOSITE_SRGB_SUN_DAY,
-    PASS_COMPOSITE_LINEAR_DAY,
-    PASS_COMPOSITE_LINEAR_SUN_DAY,
     PASS_COUNT
 };
 
 struct sky_passes {
     VkSampler sampler;
     struct compute_pass pass[PASS_COUNT];
+    struct composite_variants *composite;
     /* The atmosphere LUTs exist three times: what frames read (display), what a rebuild
      * writes (build, from build_atmosphere_ubo), and the display saved when a rebuild starts
      * (previous), which the display blends away from when the build completes. */
@@ -107,19 +97,10 @@ struct sky_passes {
                      .bindings = { SHADING_BINDINGS, extra }, .push_constant_bytes = push,\
                      .spec_count = 1, .spec_values = { 1 } }
 #define PAIR(...) __VA_ARGS__
-/* The composite's bindings after the shading ones (8-14): exposure, output, then the clouds
- * (image, shadow map, cloud block, hemisphere averages) and the light shafts' volume. */
-#define COMPOSITE_EXTRA STORAGE_BUF, STORAGE_IMG, SAMPLED, SAMPLED, UBO, STORAGE_BUF, SAMPLED
 #define BLEND_PASS(id, label)                                                             \
     [id] = { .name = label, SPIRV(lut_blend_spv), .binding_count = 3,                     \
              .bindings = { STORAGE_IMG, STORAGE_IMG, STORAGE_IMG },                      \
              .push_constant_bytes = sizeof(struct sky_blend_push) }
-
-#define DAY_COMPOSITE(id, label, code, sun_region)                                        \
-    [id] = { .name = label, SPIRV(code), .binding_count = 15,                             \
-             .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },                           \
-             .push_constant_bytes = sizeof(struct sky_region_push), .spec_count = 3,      \
-             .spec_values = { 0, sun_region, 0 } }
 
 static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
     [PASS_TRANSMITTANCE] = { .name = "transmittance", SPIRV(transmittance_spv),
@@ -143,21 +124,6 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
                                 .binding_count = 3, .bindings = { UBO, STORAGE_BUF, STORAGE_BUF },
                                 .push_constant_bytes = sizeof(struct sky_meter_push) },
     SHADING_PAIR(PASS_METER, "meter", meter_spv, 9, STORAGE_BUF, sizeof(struct sky_meter_push)),
-    SHADING_PAIR(PASS_COMPOSITE_SRGB, "composite", composite_srgb_spv, 15,
-                 COMPOSITE_EXTRA, sizeof(struct sky_region_push)),
-    SHADING_PAIR(PASS_COMPOSITE_LINEAR, "composite", composite_linear_spv, 15,
-                 COMPOSITE_EXTRA, sizeof(struct sky_region_push)),
-    /* Composite specialized with SUN_REGION (constant_id 1): the sun-disk pass. */
-    [PASS_COMPOSITE_SRGB_SUN] = { .name = "sun_disk", SPIRV(composite_srgb_spv),
-                                  .binding_count = 15,
-                                  .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },
-                                  .push_constant_bytes = sizeof(struct sky_region_push),
-                                  .spec_count = 2, .spec_values = { 0, 1 } },
-    [PASS_COMPOSITE_LINEAR_SUN] = { .name = "sun_disk", SPIRV(composite_linear_spv),
-                                    .binding_count = 15,
-                                    .bindings = { SHADING_BINDINGS, COMPOSITE_EXTRA },
-                                    .push_constant_bytes = sizeof(struct sky_region_push),
-                                    .spec_count = 2, .spec_values = { 0, 1 } },
     SHADING_PAIR(PASS_PROBE, "probe", probe_spv, 10, PAIR(STORAGE_BUF, STORAGE_BUF),
                  sizeof(struct sky_probe_push)),
     BLEND_PASS(PASS_BLEND_TRANSMITTANCE, "lut_blend"),
@@ -170,10 +136,6 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
                          .bindings = { SHADING_BINDINGS, STORAGE_BUF },
                          .push_constant_bytes = sizeof(struct sky_meter_push), .spec_count = 3,
                          .spec_values = { 0, 0, 0 } },
-    DAY_COMPOSITE(PASS_COMPOSITE_SRGB_DAY, "composite", composite_srgb_spv, 0),
-    DAY_COMPOSITE(PASS_COMPOSITE_SRGB_SUN_DAY, "sun_disk", composite_srgb_spv, 1),
-    DAY_COMPOSITE(PASS_COMPOSITE_LINEAR_DAY, "composite", composite_linear_spv, 0),
-    DAY_COMPOSITE(PASS_COMPOSITE_LINEAR_SUN_DAY, "sun_disk", composite_linear_spv, 1),
 };
 
 /* The pass of a shading pair for the camera's situation. */
@@ -285,23 +247,14 @@ static void bind_composite(struct vk_context *ctx, struct sky_passes *p)
 {
     if (!p->output.image)
         return;
-    struct compute_resource r[COMPUTE_PASS_MAX_BINDINGS] = {
+    struct compute_resource r[COMPOSITE_BINDING_COUNT] = {
         buf(&p->atmosphere_ubo), buf(&p->frame_ubo), tex(p, &p->transmittance),
         tex(p, &p->multiscattering), tex(p, &p->skyview), tex(p, &p->irradiance),
         buf(&p->stars), tex(p, &p->moon_skyview),
-        buf(&p->exposure), img(&p->output),
-        { .image = p->clouds.clouds, .sampler = p->sampler },
-        { .image = p->clouds.shadow, .sampler = p->clouds.shadow_sampler },
-        buf(p->clouds.ubo), buf(p->clouds.env), tex(p, &p->ap_shafts),
+        buf(&p->exposure), img(&p->output), tex(p, p->clouds.over_sky),
+        tex(p, p->clouds.over_ground),
     };
-    enum pass_id composite = p->output_kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
-                                                                        : PASS_COMPOSITE_SRGB;
-    bind_pair(ctx, p, composite, r);
-    compute_pass_bind(ctx, &p->pass[composite + 2], r); /* its sun-disk pass */
-    enum pass_id day = p->output_kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR_DAY
-                                                                  : PASS_COMPOSITE_SRGB_DAY;
-    compute_pass_bind(ctx, &p->pass[day], r);
-    compute_pass_bind(ctx, &p->pass[day + 1], r); /* its sun-disk pass */
+    composite_variants_bind(ctx, p->composite, r);
 }
 
 /* Points every pass whose resources exist at them; called after any resource changes. */
@@ -402,6 +355,9 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
         gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, &p->sampler), fail);
     for (int i = 0; i < PASS_COUNT; i++)
         VK_CHECK_GOTO(compute_pass_create(ctx, &pass_descs[i], &p->pass[i]), fail);
+    p->composite = composite_variants_create();
+    if (!p->composite)
+        goto fail;
     VkBufferUsageFlags uniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
     VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), uniform,
@@ -444,6 +400,7 @@ void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **pp)
     gpu_buffer_destroy(ctx, &p->stars);
     for (int i = 0; i < PASS_COUNT; i++)
         compute_pass_destroy(ctx, &p->pass[i]);
+    composite_variants_destroy(ctx, &p->composite);
     if (p->sampler)
         vkDestroySampler(ctx->device, p->sampler, NULL);
     free(p);
@@ -639,43 +596,64 @@ void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
     record(p, cmd, timer, PASS_EXPOSURE_RESOLVE, &p->meter, 1, 1, 1, 1, 1);
 }
 
-void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer, enum sky_render_output_kind kind,
-                                 bool from_space, bool night_sky, const int32_t *sun_rect,
-                                 const int32_t *moon_rect)
+/* One composite dispatch over `rect` (x0, y0, w, h); false when its pipeline is missing. */
+static bool record_region(struct vk_context *ctx, struct sky_passes *p, VkCommandBuffer cmd,
+                          unsigned flags, const int32_t rect[4])
 {
-    enum pass_id night_pass = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR
-                                                               : PASS_COMPOSITE_SRGB;
-    enum pass_id day_pass = kind == SKY_RENDER_OUTPUT_LINEAR ? PASS_COMPOSITE_LINEAR_DAY
-                                                             : PASS_COMPOSITE_SRGB_DAY;
-    enum pass_id main_pass = night_sky || from_space ? night_pass : day_pass;
-    /* The main pass's sun-disk pass, and the moon's (always with the night sky: the moon shows
-     * by day). */
-    enum pass_id sun_pass = main_pass == day_pass ? day_pass + 1 : night_pass + 2;
-    struct sky_region_push full = {
-        .rect = { 0, 0, (int32_t)p->output.width, (int32_t)p->output.height },
-    };
-    record(p, cmd, timer, variant(main_pass, from_space), &full, p->output.width,
-           p->output.height, 1, COMPOSITE_LOCAL, COMPOSITE_LOCAL);
-    if (!from_space && sun_rect) {
-        /* Rewrites the pixels of the sun's box with the sun included: the main pass then
-         * never carries the disk's cost. */
-        struct sky_region_push sun = { .rect = { sun_rect[0], sun_rect[1], sun_rect[2],
-                                                 sun_rect[3] } };
-        record(p, cmd, timer, sun_pass, &sun, (uint32_t)sun_rect[2],
-               (uint32_t)sun_rect[3], 1, COMPOSITE_LOCAL, COMPOSITE_LOCAL);
+    const struct compute_pass *pass = composite_variants_get(ctx, p->composite, flags);
+    if (!pass)
+        return false;
+    struct sky_region_push push = { .rect = { rect[0], rect[1], rect[2], rect[3] } };
+    const uint32_t size[3] = { (uint32_t)rect[2], (uint32_t)rect[3], 1 };
+    const uint32_t local[3] = { COMPOSITE_LOCAL, COMPOSITE_LOCAL, 1 };
+    compute_pass_record(cmd, pass, &push, size, local);
+    return true;
+}
+
+int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p,
+                                VkCommandBuffer cmd, struct gpu_timer *timer,
+                                const struct sky_composite_job *job)
+{
+    unsigned base = (job->kind == SKY_RENDER_OUTPUT_LINEAR ? COMPOSITE_LINEAR : 0) |
+                    (job->clouds ? COMPOSITE_CLOUDS : 0);
+    unsigned main_flags = base | (job->night_sky ? COMPOSITE_NIGHT_SKY : 0);
+    int32_t w = (int32_t)p->output.width, h = (int32_t)p->output.height;
+    bool ok = true;
+    if (job->from_space) {
+        const int32_t full[4] = { 0, 0, w, h };
+        ok = record_region(ctx, p, cmd, main_flags | COMPOSITE_FROM_SPACE, full);
+    } else {
+        /* The rows that may see the ground get the ground's work; the rest go without it. */
+        int32_t g0 = h, g1 = h;
+        if (job->ground_rows)
+            g0 = (int32_t)job->ground_rows[0], g1 = (int32_t)job->ground_rows[1];
+        const int32_t above[4] = { 0, 0, w, g0 }, ground[4] = { 0, g0, w, g1 - g0 };
+        const int32_t below[4] = { 0, g1, w, h - g1 };
+        if (above[3] > 0)
+            ok = ok && record_region(ctx, p, cmd, main_flags, above);
+        if (ground[3] > 0)
+            ok = ok && record_region(ctx, p, cmd, main_flags | COMPOSITE_GROUND, ground);
+        if (below[3] > 0)
+            ok = ok && record_region(ctx, p, cmd, main_flags, below);
     }
-    if (!from_space && moon_rect) {
-        /* The moon's disc the same way (the pass draws every disc in its rectangle). */
-        struct sky_region_push moon = { .rect = { moon_rect[0], moon_rect[1], moon_rect[2],
-                                                  moon_rect[3] } };
-        record(p, cmd, timer, night_pass + 2, &moon, (uint32_t)moon_rect[2],
-               (uint32_t)moon_rect[3], 1, COMPOSITE_LOCAL, COMPOSITE_LOCAL);
+    gpu_timer_mark(timer, cmd, "composite");
+    /* The sun's box is rewritten with the sun included, so the main pass never carries the
+     * disk's cost; the moon's likewise (always with the night sky: the moon shows by day). */
+    unsigned disc = base | COMPOSITE_SUN_REGION | COMPOSITE_GROUND;
+    if (!job->from_space && job->sun_rect) {
+        ok = ok && record_region(ctx, p, cmd, disc | (job->night_sky ? COMPOSITE_NIGHT_SKY : 0),
+                                 job->sun_rect);
+        gpu_timer_mark(timer, cmd, "sun_disk");
+    }
+    if (!job->from_space && job->moon_rect) {
+        ok = ok && record_region(ctx, p, cmd, disc | COMPOSITE_NIGHT_SKY, job->moon_rect);
+        gpu_timer_mark(timer, cmd, "sun_disk");
     }
     gpu_barrier_compute_to_transfer(cmd);
     gpu_copy_image_to_buffer(cmd, &p->output, &p->readback);
     gpu_barrier_to_host(cmd);
     gpu_timer_mark(timer, cmd, "readback");
+    return ok ? 0 : -1;
 }
 
 void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
@@ -768,6 +746,7 @@ void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources 
     out->irradiance = &p->irradiance;
     out->ap_inscatter = &p->ap_inscatter;
     out->ap_transmittance = &p->ap_transmittance;
+    out->ap_shafts = &p->ap_shafts;
     out->sampler = p->sampler;
 }
 

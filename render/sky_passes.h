@@ -21,11 +21,11 @@ struct sky_passes;
 struct gpu_image;
 struct gpu_buffer;
 struct sky_cloud_bindings {
-    const struct gpu_image *clouds;  /* premultiplied cloud luminance, opacity; view size */
+    /* The clouds' effect on each pixel (cloud_resolve.comp), over the sky and over the ground */
+    const struct gpu_image *over_sky, *over_ground;
     const struct gpu_image *shadow;  /* cloud shadow map (r: transmittance toward the sun) */
     VkSampler shadow_sampler;        /* repeat addressing */
     const struct gpu_buffer *ubo;    /* sky_cloud_uniforms */
-    const struct gpu_buffer *env;    /* hemisphere averages: luminance per lux, transmittance */
 };
 
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
@@ -82,12 +82,20 @@ void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_pas
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
                                 struct gpu_timer *timer, uint32_t width, uint32_t height,
                                 bool from_space, bool night_sky);
-/* Composite into the output image (then the sun-disk pass over sun_rect = x0, y0, w, h and
- * over moon_rect, each when not NULL), then copy it into the readback buffer. */
-void sky_passes_record_composite(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer, enum sky_render_output_kind kind,
-                                 bool from_space, bool night_sky, const int32_t *sun_rect,
-                                 const int32_t *moon_rect);
+/* What a frame's composite needs. */
+struct sky_composite_job {
+    enum sky_render_output_kind kind;
+    bool from_space; /* the camera above the atmosphere */
+    bool night_sky;  /* night_sky_visible */
+    bool clouds;     /* a cloud layer is shown */
+    const uint32_t *ground_rows; /* rows that may see the ground [first, end), or NULL: none */
+    const int32_t *sun_rect, *moon_rect; /* x0, y0, w, h of each disc's box, or NULL */
+};
+/* Composite into the output image (then the sun-disk pass over the sun's and the moon's boxes),
+ * then copy it into the readback buffer; -1 when a pipeline cannot be created. */
+int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p,
+                                VkCommandBuffer cmd, struct gpu_timer *timer,
+                                const struct sky_composite_job *job);
 void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
                              uint32_t mode, uint32_t count, bool from_space);
 
@@ -105,6 +113,7 @@ struct sky_pass_resources {
     const struct gpu_buffer *atmosphere_ubo, *frame_ubo;
     const struct gpu_image *transmittance, *multiscattering, *irradiance;
     const struct gpu_image *ap_inscatter, *ap_transmittance; /* this view's froxel volume */
+    const struct gpu_image *ap_shafts; /* in-scattering the cloud shadows take (light shafts) */
     VkSampler sampler; /* linear, clamp to edge */
 };
 void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources *out);

@@ -284,6 +284,8 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     struct sky_frame_uniforms fu;
     if (!begin_view_commands(r, a, v, true, false, &cmd, &from_space, &rebuilt, &fu))
         return -1;
+    uint32_t ground_rows[2];
+    bool ground = sky_uniforms_ground_rows(v, fu.horizon.z, ground_rows);
     struct cloud_frame cf = {
         .frame = &fu,
         .bottom_radius_km = atmosphere_luts_displayed(r->luts)->bottom_radius_km,
@@ -291,6 +293,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         .height = v->height,
         .history_key = v->history_key,
         .live = v->live,
+        .ground_rows = ground ? ground_rows : NULL,
     };
     sky_passes_resources(r->passes, &cf.sky);
     struct sky_cloud_bindings clouds;
@@ -312,9 +315,19 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     int32_t sun_rect[4], moon_rect[4];
     bool sun_on_screen = sky_uniforms_sun_rect(v, sun_rect);
     bool moon_on_screen = night_moon_rect(&r->night, v, moon_rect);
-    sky_passes_record_composite(r->passes, cmd, r->timer, v->output, from_space, night_visible,
-                                sun_on_screen ? sun_rect : NULL,
-                                moon_on_screen ? moon_rect : NULL);
+    struct sky_composite_job job = {
+        .kind = v->output,
+        .from_space = from_space,
+        .night_sky = night_visible,
+        .clouds = cloud_renderer_active(r->clouds),
+        .ground_rows = ground ? ground_rows : NULL,
+        .sun_rect = sun_on_screen ? sun_rect : NULL,
+        .moon_rect = moon_on_screen ? moon_rect : NULL,
+    };
+    if (sky_passes_record_composite(r->ctx, r->passes, cmd, r->timer, &job) != 0) {
+        vk_context_submit_and_wait(r->ctx, &cmd);
+        return -1;
+    }
     if (vk_context_submit_and_wait(r->ctx, &cmd) != VK_SUCCESS) {
         invalidate_luts(r);
         return -1;

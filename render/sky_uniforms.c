@@ -76,6 +76,37 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+bool sky_uniforms_ground_rows(const struct sky_render_view *v, double horizon_cos,
+                              uint32_t rows[2])
+{
+    if (v->width == 0 || v->height == 0)
+        return false;
+    struct camera_basis b;
+    camera_basis(v, &b);
+    /* camera_basis' right is horizontal: along a row the unnormalized ray forward + s right +
+     * t up keeps its height forward.z + t up.z, and its length sqrt(1 + s^2 + t^2) grows with
+     * |s|. So a row's lowest ray is at its middle when it points down, else at its ends. The
+     * margin covers the shader's single precision. */
+    const double margin = 1e-3;
+    double s_end = (1.0 - 1.0 / v->width) * b.tan_half * b.aspect;
+    int64_t first = -1, last = -1;
+    for (uint32_t y = 0; y < v->height; y++) {
+        double t = (1.0 - 2.0 * (y + 0.5) / v->height) * b.tan_half;
+        double height = b.forward[2] + b.up[2] * t;
+        double lowest = height / sqrt(1.0 + t * t + (height < 0.0 ? 0.0 : s_end * s_end));
+        if (lowest < horizon_cos + margin) {
+            if (first < 0)
+                first = y;
+            last = y;
+        }
+    }
+    if (first < 0)
+        return false;
+    rows[0] = (uint32_t)first;
+    rows[1] = (uint32_t)last + 1;
+    return true;
+}
+
 bool sky_uniforms_sun_rect(const struct sky_render_view *v, int32_t rect[4])
 {
     double sun[3];

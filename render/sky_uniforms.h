@@ -21,6 +21,10 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
                              const struct sky_render_view *v, const double zenith_transmittance[3],
                              struct sky_frame_uniforms *u);
 
+/* The rows [rows[0], rows[1]) holding every pixel whose ray may meet the ground (below the
+ * horizon, cos zenith < horizon_cos, frame uniforms' horizon.z); false when none may. */
+bool sky_uniforms_ground_rows(const struct sky_render_view *v, double horizon_cos,
+                              uint32_t rows[2]);
 /* The sun disk's bounding box in pixels (x0, y0, width, height) with a margin, clipped to the
  * image; false when the sun is not on screen. */
 bool sky_uniforms_sun_rect(const struct sky_render_view *v, int32_t rect[4]);

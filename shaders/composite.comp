@@ -6,7 +6,6 @@
 // constants. Specialized with SUN_REGION it is the sun-disk pass: the same shading with the
 // sun included, run only over the sun's bounding box after the main pass.
 #include "sky_shared.h"
-#include "cloud_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "shading_bindings.glsl"
@@ -16,17 +15,33 @@ layout(binding = 9, rgba32f) uniform writeonly image2D image_out;
 #else
 layout(binding = 9, rgba8) uniform writeonly image2D image_out;
 #endif
-layout(binding = 10) uniform sampler2D cloud_image;      // premultiplied luminance, opacity
-layout(binding = 11) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
-layout(std140, binding = 12) uniform CloudBlock { sky_cloud_uniforms cloud; };
-layout(std430, binding = 13) readonly buffer CloudEnv { vec4 env_luminance; vec4 env_transmittance; };
-layout(binding = 14) uniform sampler3D ap_shafts; // in-scattering taken by cloud shadows
+// The clouds' effect on a pixel as (rgb, a), applied as L (1 - a) + rgb (cloud_resolve.comp):
+// for pixels that see the sky, and for those that see the ground.
+layout(binding = 10) uniform sampler2D clouds_over_sky;
+layout(binding = 11) uniform sampler2D clouds_over_ground;
 layout(push_constant) uniform RegionPush { sky_region_push region; };
 layout(constant_id = 1) const bool SUN_REGION = false;
+// False without a cloud layer; GROUND false where no pixel of the dispatch sees the ground
+// (render/composite_variants.h: lavapipe runs every branch, so only leaving code out saves
+// its cost).
+layout(constant_id = 3) const bool CLOUDS = true;
+layout(constant_id = 4) const bool GROUND = true;
 
 #include "sky_shading.glsl"
 #include "tonemap.glsl"
-#include "cloud_composite.glsl"
+
+// The clouds over the shaded luminance L. The cloud images may be half the output's size:
+// bilinear on their premultiplied colour.
+vec3 apply_clouds(ivec2 px, vec3 dir, vec3 L)
+{
+    if (!CLOUDS)
+        return L;
+    vec2 uv = (vec2(px) + 0.5) / frame.image.xy;
+    vec4 c = textureLod(clouds_over_sky, uv, 0.0);
+    if (GROUND && !FROM_SPACE && dir.z < frame.horizon.z)
+        c = textureLod(clouds_over_ground, uv, 0.0);
+    return max(L * (1.0 - c.a) + c.rgb, vec3(0.0));
+}
 
 void main()
 {

@@ -11,6 +11,9 @@ layout(binding = 6) uniform sampler3D base_noise;
 layout(binding = 7) uniform sampler3D detail_noise;
 layout(binding = 8) uniform sampler2D curl_noise;
 layout(binding = 9) uniform sampler2D weather_map;
+// False in the pipelines for frames the moon does not light (cloud_renderer.c): they carry no
+// moonlight march.
+layout(constant_id = 0) const bool MOONLIT = true;
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT

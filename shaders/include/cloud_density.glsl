@@ -100,6 +100,16 @@ float cloud_extinction(vec3 p, bool detail)
     return low_density(p, r, wm, detail) + high_density(p, r, wm);
 }
 
+// The same for one layer. Marches call it with a constant `low_layer`, so that each loop holds
+// the noise lookups of its own layer only: lavapipe executes both sides of every branch, so
+// the other layer's early return would not spare its lookups.
+float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
+{
+    float r = length(p);
+    vec4 wm = sample_weather(cloud_pattern_xy(p));
+    return low_layer ? low_density(p, r, wm, detail) : high_density(p, r, wm);
+}
+
 // Range [t0, t1] of a ray inside the spherical shell [r_in, r_out], first crossing only;
 // false when it misses it or the planet is in the way first.
 bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out float t1)

@@ -32,14 +32,14 @@ float dual_lobe_phase(float cos_theta, float g0, float g1, float w)
 }
 
 // Optical depth toward the sun over LIGHT_MARCH_KM in light_steps samples, each step twice the
-// previous one (seed 001 5.5.2), on the coarse shape.
-float light_optical_depth(vec3 p, vec3 sun_dir, float jitter)
+// previous one (seed 001 5.5.2), on the coarse shape of the sample's own layer.
+float light_optical_depth(vec3 p, vec3 sun_dir, float jitter, bool low_layer)
 {
     float steps = cloud.octaves.w;
     float ds = LIGHT_MARCH_KM / (exp2(steps) - 1.0);
     float t = 0.0, tau = 0.0;
     for (float i = 0.0; i < steps; i += 1.0) {
-        tau += cloud_extinction(p + sun_dir * (t + jitter * ds), false) * ds;
+        tau += cloud_layer_extinction(p + sun_dir * (t + jitter * ds), false, low_layer) * ds;
         t += ds;
         ds *= 2.0;
     }
@@ -97,10 +97,11 @@ void ground_light_per_lux(vec3 l, out vec3 sky, out vec3 direct)
     direct = sun_transmittance(ground, l) * max(mu, 0.0);
 }
 
-// True when the moon lights the sky (sun down, moon up): a uniform branch, never by day.
+// True when the moon lights the sky (sun down, moon up). MOONLIT (cloud_bindings.glsl) leaves
+// the moon's light march out of the daytime pipelines: lavapipe would run it under a mask.
 bool moon_lights_clouds()
 {
-    return frame.moon_illuminance.w > 0.5;
+    return MOONLIT && frame.moon_illuminance.w > 0.5;
 }
 
 CloudAmbient cloud_ambient(vec3 sun_dir)
@@ -128,9 +129,11 @@ CloudAmbient cloud_ambient(vec3 sun_dir)
 const float SKIP_FACTOR = 3.0;
 const int EMPTY_RUN = 3;
 
+// low_layer: which layer's density the segment marches (a constant at every call).
 void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float jitter,
                          vec3 sun_dir, OctavePhases phases, OctavePhases moon_phases,
-                         CloudAmbient amb, inout CloudResult res, inout vec2 depth_sum)
+                         CloudAmbient amb, bool low_layer, inout CloudResult res,
+                         inout vec2 depth_sum)
 {
     float ds = (t1 - t0) / steps;
     vec3 sun_top = frame.sun_illuminance.xyz;
@@ -155,7 +158,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         vec3 p = o + t * d;
         if (empty >= EMPTY_RUN) {
             // Probing: the coarse shape only, big steps.
-            if (cloud_extinction(p, false) <= 0.0) {
+            if (cloud_layer_extinction(p, false, low_layer) <= 0.0) {
                 t += SKIP_FACTOR * ds;
                 skipped = true;
                 continue;
@@ -167,7 +170,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
             skipped = false;
             p = o + t * d;
         }
-        float sigma_t = cloud_extinction(p, true);
+        float sigma_t = cloud_layer_extinction(p, true, low_layer);
         if (sigma_t <= 0.0) {
             empty++;
             t += ds;
@@ -178,9 +181,9 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         // The secondary march runs on every other sample; the one between reuses its optical
         // depth (samples are tens of metres apart, the march reaches kilometres).
         if (fresh_light) {
-            tau = light_optical_depth(p, sun_dir, jitter);
+            tau = light_optical_depth(p, sun_dir, jitter, low_layer);
             if (moon_on)
-                tau_moon = light_optical_depth(p, moon_dir, jitter);
+                tau_moon = light_optical_depth(p, moon_dir, jitter, low_layer);
         }
         fresh_light = !fresh_light;
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
@@ -223,14 +226,14 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
     float high_steps = max(4.0, floor(primary_steps / 8.0));
     bool high_first = high && (!low || hi0 < lo0);
     if (high_first)
-        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, moon_phases, amb, res,
-                            depth_sum);
+        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, moon_phases, amb,
+                            false, res, depth_sum);
     if (low)
-        march_layer_segment(o, d, lo0, lo1, primary_steps, jitter, sun_dir, phases, moon_phases, amb, res,
-                            depth_sum);
+        march_layer_segment(o, d, lo0, lo1, primary_steps, jitter, sun_dir, phases, moon_phases,
+                            amb, true, res, depth_sum);
     if (high && !high_first)
-        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, moon_phases, amb, res,
-                            depth_sum);
+        march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, moon_phases, amb,
+                            false, res, depth_sum);
     res.depth = depth_sum.y > 0.0 ? depth_sum.x / depth_sum.y : 0.0;
     return res;
 }

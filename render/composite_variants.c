@@ -1,0 +1,103 @@
+#include "composite_variants.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "vk_check.h"
+#include "vk_context.h"
+
+#include "composite_linear.spv.h"
+#include "composite_srgb.spv.h"
+#include "sky_shared.h"
+
+struct composite_variant {
+    bool created;
+    struct compute_pass pass;
+};
+
+struct composite_variants {
+    struct composite_variant variant[COMPOSITE_VARIANT_COUNT];
+    struct compute_resource resources[COMPOSITE_BINDING_COUNT];
+    bool bound; /* resources holds something to bind */
+};
+
+#define UBO VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+#define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+#define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+#define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+
+/* Flags that make no difference in a pipeline collapse onto one: from space every pixel is
+ * marched (ground included) and the sun is drawn by the march; the night sky is always
+ * compiled in there, as before the split. Without clouds the ground costs nothing extra. */
+static unsigned normalized(unsigned flags)
+{
+    if (flags & COMPOSITE_FROM_SPACE)
+        flags = (flags & ~(unsigned)COMPOSITE_SUN_REGION) | COMPOSITE_NIGHT_SKY | COMPOSITE_GROUND;
+    if (!(flags & COMPOSITE_CLOUDS))
+        flags |= COMPOSITE_GROUND;
+    return flags & (COMPOSITE_VARIANT_COUNT - 1);
+}
+
+struct composite_variants *composite_variants_create(void)
+{
+    return calloc(1, sizeof(struct composite_variants));
+}
+
+void composite_variants_destroy(struct vk_context *ctx, struct composite_variants **cvp)
+{
+    struct composite_variants *cv = cvp ? *cvp : NULL;
+    if (!cv)
+        return;
+    for (int i = 0; i < COMPOSITE_VARIANT_COUNT; i++)
+        if (cv->variant[i].created)
+            compute_pass_destroy(ctx, &cv->variant[i].pass);
+    free(cv);
+    *cvp = NULL;
+}
+
+void composite_variants_bind(struct vk_context *ctx, struct composite_variants *cv,
+                             const struct compute_resource *resources)
+{
+    for (int i = 0; i < COMPOSITE_BINDING_COUNT; i++)
+        cv->resources[i] = resources[i];
+    cv->bound = true;
+    for (int i = 0; i < COMPOSITE_VARIANT_COUNT; i++)
+        if (cv->variant[i].created)
+            compute_pass_bind(ctx, &cv->variant[i].pass, cv->resources);
+}
+
+const struct compute_pass *composite_variants_get(struct vk_context *ctx,
+                                                  struct composite_variants *cv,
+                                                  unsigned flags)
+{
+    flags = normalized(flags);
+    struct composite_variant *v = &cv->variant[flags];
+    if (v->created)
+        return &v->pass;
+    bool linear = flags & COMPOSITE_LINEAR;
+    /* 0-7 the shading bindings; 8-11 exposure, output, then the clouds' effect over the sky
+     * and over the ground. */
+    struct compute_pass_desc desc = {
+        .name = (flags & COMPOSITE_SUN_REGION) ? "sun_disk" : "composite",
+        .spirv = linear ? composite_linear_spv : composite_srgb_spv,
+        .spirv_bytes = linear ? sizeof composite_linear_spv : sizeof composite_srgb_spv,
+        .binding_count = COMPOSITE_BINDING_COUNT,
+        .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_BUF, SAMPLED,
+                      STORAGE_BUF, STORAGE_IMG, SAMPLED, SAMPLED },
+        .push_constant_bytes = sizeof(struct sky_region_push),
+        .spec_count = 5,
+        .spec_values = { (flags & COMPOSITE_FROM_SPACE) != 0, (flags & COMPOSITE_SUN_REGION) != 0,
+                         (flags & COMPOSITE_NIGHT_SKY) != 0, (flags & COMPOSITE_CLOUDS) != 0,
+                         (flags & COMPOSITE_GROUND) != 0 },
+    };
+    VkResult result = compute_pass_create(ctx, &desc, &v->pass);
+    if (result != VK_SUCCESS) {
+        fprintf(stderr, "skyd: render: cannot create composite variant %#x: %s\n", flags,
+                vk_result_name(result));
+        return NULL;
+    }
+    v->created = true;
+    if (cv->bound)
+        compute_pass_bind(ctx, &v->pass, cv->resources);
+    return &v->pass;
+}

@@ -1,0 +1,122 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Cloud resolve, at the cloud image's size: everything the clouds do to a pixel of the final
+// image, as the pair (rgb, a) that the composite applies as L (1 - a) + rgb to the luminance L
+// it shades. Two images, because a pixel that sees the ground takes more than one that does
+// not (the composite picks by its own ray, so the two never blend across the horizon):
+//  - sky: the reconstructed clouds over the sky, less the single scattering their shadows take
+//    from the sky-view LUT's in-scattering (light shafts, read from the froxel volume at its
+//    far end);
+//  - ground: the same over the ground, which is relit under the clouds (seed 001 eq. 22): the
+//    sun through the shadow map, the sky through the clouds' mean transmittance plus the
+//    clouds' own light, and its aerial perspective likewise, less the shafts up to the ground.
+//    Rays above the horizon are lowered to graze it, so that ground pixels next to the horizon
+//    interpolate toward the horizon's values.
+// Each term is affine in L; its coefficients (scalar tr, vec3 offset) fold into (rgb, a).
+#include "sky_shared.h"
+#include "cloud_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
+layout(binding = 2) uniform sampler2D transmittance_lut;
+layout(binding = 3) uniform sampler2D irradiance_lut;
+layout(std140, binding = 4) uniform CloudBlock { sky_cloud_uniforms cloud; };
+layout(std430, binding = 5) readonly buffer CloudEnv { vec4 env_luminance; vec4 env_transmittance; };
+layout(binding = 6) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
+layout(binding = 7) uniform sampler3D ap_shafts;        // in-scattering the shadows take away
+layout(binding = 8) uniform sampler2D cloud_color;      // reconstructed: premultiplied, opacity
+layout(binding = 9, rgba32f) uniform writeonly image2D resolved_sky;
+layout(binding = 10, rgba32f) uniform writeonly image2D resolved_ground;
+layout(push_constant) uniform RowsPush { sky_cloud_rows_push rows; };
+// False for rows where no pixel sees the ground: their ground image is never read
+// (render/cloud_renderer.c), and lavapipe would run the ground's part under a mask.
+layout(constant_id = 0) const bool GROUND = true;
+
+#define SKY_HAS_TRANSMITTANCE_LUT
+#include "atmosphere.glsl"
+#include "camera.glsl"
+#include "ground.glsl"
+
+// In-scattering (cd/m2) the clouds' shadows remove between the camera and `depth` km along
+// the ray through uv (aerial_perspective.comp).
+vec3 light_shafts(vec2 uv, float depth)
+{
+    float max_km = frame.image.z;
+    vec2 slice = aerial_perspective_slice(min(depth, max_km), max_km,
+                                          float(textureSize(ap_shafts, 0).z));
+    return textureLod(ap_shafts, vec3(uv, slice.x), 0.0).rgb * slice.y * frame.sun_illuminance.xyz;
+}
+
+// Transmittance toward the sun through the clouds above ground point p (flat-planet
+// projection along the sun onto the tileable shadow map).
+float cloud_ground_shadow(vec3 p)
+{
+    vec2 pattern = p.xy - cloud.weather.xy;
+    return textureLod(cloud_shadow_map, pattern * cloud.weather.z + 0.5, 0.0).r;
+}
+
+// The ground's share: with the ground luminance L seen along dir (skyview LUT, aerial
+// perspective included), the clouds' effect is tr L + offset (seed 001 eq. 22 with the sky's
+// light through tr, the sun's through the shadow map, and the clouds' own luminance l_cloud):
+//   tr (L - S - t_path G) + l_cloud (1 - t_path) + t_path (albedo (E_sun shadow + E_sky tr)
+//   + albedo pi l_cloud), with G = albedo (E_sun + E_sky) the ground's unshadowed luminance.
+vec3 ground_offset(vec3 cam, vec3 dir, vec2 uv, float tr)
+{
+    float r_cam = max(length(cam), bottom_radius() + 1e-3);
+    float t = ray_sphere_nearest(cam, dir, bottom_radius());
+    if (t < 0.0) {
+        // Above the horizon: the grazing ray at the same azimuth.
+        float horizontal = length(dir.xy);
+        vec2 across = horizontal > 1e-6 ? dir.xy / horizontal : vec2(1.0, 0.0);
+        float z = frame.horizon.z - 1e-4;
+        dir = vec3(across * sqrt(max(0.0, 1.0 - z * z)), z);
+        t = ray_sphere_nearest(cam, dir, bottom_radius());
+        if (t < 0.0)
+            t = sqrt(max(0.0, r_cam * r_cam - bottom_radius() * bottom_radius()));
+    }
+    vec3 p = cam + t * dir;
+    vec3 n = normalize(p);
+    vec3 sun_dir = frame.sun_direction.xyz;
+    float mu_s = dot(n, sun_dir);
+    vec3 e_top = frame.sun_illuminance.xyz;
+    vec3 direct = sun_transmittance(p + n * 1e-3, sun_dir) * max(mu_s, 0.0);
+    vec3 albedo = atmo.ground_albedo.xyz / PI;
+    // Transmittance camera <-> ground from the LUT: T(p, -dir) / T(cam, -dir).
+    vec3 t_cam = transmittance_to_top(r_cam, dot(cam / r_cam, -dir));
+    vec3 t_path = transmittance_to_top(bottom_radius() + 1e-3, dot(n, -dir))
+                  / max(t_cam, vec3(1e-6));
+    t_path = clamp(t_path, 0.0, 1.0);
+    vec3 sun_part = t_path * albedo * direct * e_top;
+    vec3 l_cloud = env_luminance.rgb * e_top;
+    return -tr * light_shafts(uv, t) + sun_part * (cloud_ground_shadow(p) - tr)
+           + l_cloud * (1.0 - t_path * (1.0 - atmo.ground_albedo.xyz)); // seed 001 eq. 22
+}
+
+void main()
+{
+    ivec2 size = imageSize(resolved_sky);
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, int(rows.row_offset));
+    if (any(greaterThanEqual(px, size)))
+        return;
+    vec2 uv = (vec2(px) + 0.5) / vec2(size);
+    vec4 c = texelFetch(cloud_color, px, 0);
+    vec3 cam = frame.camera_position.xyz;
+    // From space the march has done everything; until the shadow map exists, the clouds
+    // neither shadow nor relight (as before it is built).
+    bool interact = length(cam) < top_radius() && cloud.shadow_sun.w > 0.5;
+    if (!interact) {
+        imageStore(resolved_sky, px, c);
+        imageStore(resolved_ground, px, c);
+        return;
+    }
+    vec3 dir = camera_ray(uv);
+    float clear = 1.0 - c.a;
+    vec3 sky_shafts = light_shafts(uv, frame.image.z);
+    imageStore(resolved_sky, px, vec4(c.rgb - clear * sky_shafts, c.a));
+    if (!GROUND)
+        return;
+    float tr = env_transmittance.x;
+    vec3 offset = ground_offset(cam, dir, uv, tr);
+    imageStore(resolved_ground, px, vec4(c.rgb + clear * offset, 1.0 - clear * tr));
+}
