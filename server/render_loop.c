@@ -209,8 +209,8 @@ static void set_amortization(struct render_context *ctx, double budget_ms)
 /* The CPU driver (lavapipe) compiles a shader variant at its first dispatch: a second or more
  * for each cloud pass on two cores, which stalled every stream the first time clouds showed.
  * A few small frames with clouds, by day (both halves of the reconstruction's ping-pong) and
- * by night, dispatch those passes now, before the first client. The caller then sets the
- * state's own clouds. */
+ * by night, then one clear, dispatch those passes now, before the first client. The caller
+ * then sets the state's own clouds. */
 static int warm_up_pipelines(struct render_context *ctx)
 {
     enum { WARM_W = 64, WARM_H = 36 };
@@ -224,10 +224,16 @@ static int warm_up_pipelines(struct render_context *ctx)
         return -1;
     ctx->clouds_set = false;
     set_amortization(ctx, 0.0); /* the weather and shadow maps at once */
-    static const double sun_elevation_deg[3] = { 30.0, 30.0, -20.0 };
+    static const double sun_elevation_deg[4] = { 30.0, 30.0, -20.0, 30.0 };
     int status = 0;
-    for (int k = 0; k < 3 && status == 0; k++) {
+    for (int k = 0; k < 4 && status == 0; k++) {
         s.sun.elevation_deg = sun_elevation_deg[k];
+        if (k == 3) { /* the clear sky's composite pipelines are others */
+            s.clouds.low.coverage = s.clouds.high.coverage = 0.0;
+            world_to_render_clouds(&s, &clouds);
+            if (sky_renderer_set_clouds(ctx->renderer, &clouds) != 0)
+                return -1;
+        }
         struct sky_render_night night;
         world_to_render_night(&s, &night);
         sky_renderer_set_night(ctx->renderer, &night);
