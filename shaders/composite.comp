@@ -46,10 +46,11 @@ vec3 apply_clouds(ivec2 px, vec3 dir, vec3 L)
 void main()
 {
     ivec2 size = imageSize(image_out);
-    ivec2 local = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 px = region.rect.xy + local;
-    if (any(greaterThanEqual(local, region.rect.zw)) || any(greaterThanEqual(px, size)))
-        return;
+    // Lanes past the rectangle redo its last pixel rather than branch on the push constants:
+    // lavapipe compiles a variant per value of a uniform that a branch depends on, which
+    // recompiled the sun-disk pass whenever its rectangle moved.
+    ivec2 last = min(region.rect.xy + region.rect.zw, size) - 1;
+    ivec2 px = min(region.rect.xy + ivec2(gl_GlobalInvocationID.xy), last);
     vec2 uv = (vec2(px) + 0.5) / vec2(size);
     // From space the march adds the sun itself; inside, only the sun-region pass does.
     vec3 dir = camera_ray(uv);
@@ -57,7 +58,7 @@ void main()
 #ifdef SKY_OUTPUT_LINEAR
     imageStore(image_out, px, vec4(luminance, 1.0));
 #else
-    float exposure = frame.exposure.y > 0.5 ? metered.x : frame.exposure.x;
+    float exposure = mix(frame.exposure.x, metered.x, step(0.5, frame.exposure.y));
     vec3 color = tonemap(luminance * exposure, int(frame.exposure.w + 0.5));
     imageStore(image_out, px, vec4(linear_to_srgb(color), 1.0));
 #endif

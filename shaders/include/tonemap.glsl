@@ -8,14 +8,14 @@ vec3 tonemap_aces(vec3 x)
     return clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
 }
 
+// Selects rather than branches on the uniform operator: lavapipe compiles a shader variant
+// for each value of a uniform that a branch tests, and kept recompiling one pipeline.
 vec3 tonemap(vec3 x, int op)
 {
     x = max(x, vec3(0.0));
-    if (op == SKY_TONEMAP_OP_REINHARD)
-        return x / (1.0 + x);
-    if (op == SKY_TONEMAP_OP_CLAMP)
-        return clamp(x, 0.0, 1.0);
-    return tonemap_aces(x);
+    vec3 mapped = tonemap_aces(x);
+    mapped = mix(mapped, x / (1.0 + x), float(op == SKY_TONEMAP_OP_REINHARD));
+    return mix(mapped, clamp(x, 0.0, 1.0), float(op == SKY_TONEMAP_OP_CLAMP));
 }
 
 // IEC 61966-2-1 sRGB transfer function. Above the linear segment, a sum of square roots
