@@ -178,7 +178,7 @@ const struct sky_field_desc sky_world_field_table[] = {
     NUMBER("clouds.phase.g1", clouds.phase_g1, -0.99, 0.99,
            "backward lobe asymmetry of the dual-lobe Henyey-Greenstein phase"),
     NUMBER("clouds.phase.w", clouds.phase_w, 0, 1,
-           "weight of the g0 lobe; 1 - w goes to g1"),
+           "blend toward the g1 lobe: (1 - w) p(g0) + w p(g1), seed 000 eq. 14.17"),
     NUMBER("clouds.multiscatter.a", clouds.multiscatter_a, 0, 1,
            "extinction attenuation per multiple-scattering octave (a <= b conserves energy)"),
     NUMBER("clouds.multiscatter.b", clouds.multiscatter_b, 0, 1,
