@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Final image: per-pixel luminance from sky_shading.glsl, exposure (EV100, manual or metered),
-// tonemapping and sRGB encoding into an 8-bit image; or, with SKY_OUTPUT_LINEAR, the
+// Final image: per-pixel luminance from sky_shading.glsl under the clouds (cloud_resolve.comp),
+// exposure (EV100, manual or metered), tonemapping and sRGB encoding into an 8-bit image; or, with SKY_OUTPUT_LINEAR, the
 // luminance itself (cd/m2) into a float image. Covers the pixel rectangle in the push
 // constants. Specialized with SUN_REGION it is the sun-disk pass: the same shading with the
 // sun included, run only over the sun's bounding box after the main pass.
