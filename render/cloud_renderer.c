@@ -377,7 +377,6 @@ static float angle_between(const float a[3], const float b[3])
     return acosf(fminf(1.0f, fmaxf(-1.0f, d)));
 }
 
-/* The hemisphere averages (seed 001 eq. 22) follow each completed shadow map: same inputs. */
 /* The march bindings (0-9), then the pass's own two, and for the trace (14 bindings) the
  * view's aerial-perspective volume. */
 static void bind_march(struct vk_context *ctx, struct cloud_renderer *cr, struct compute_pass *pass,
@@ -440,6 +439,7 @@ static int moonlit(const struct cloud_frame *f)
     return f->frame->moon_illuminance.w > 0.5f ? 1 : 0;
 }
 
+/* The hemisphere averages (seed 001 eq. 22) follow each completed shadow map: same inputs. */
 static void record_hemisphere(struct vk_context *ctx, struct cloud_renderer *cr,
                               VkCommandBuffer cmd, struct gpu_timer *timer,
                               const struct cloud_frame *f)
@@ -494,21 +494,20 @@ static int frames_for_new_history(enum sky_render_cloud_resolution resolution)
 }
 
 /* Rows [first, end) of the cloud image that the output's ground rows sample (bilinear: two
- * taps per output row); false when there are none. */
-static bool cloud_ground_rows(const struct cloud_frame *f, uint32_t cloud_height, uint32_t rows[2])
+ * taps per output row); left as they are when there are none. */
+static void cloud_ground_rows(const struct cloud_frame *f, uint32_t cloud_height, uint32_t rows[2])
 {
     if (!f->ground_rows)
-        return false;
+        return;
     double scale = (double)cloud_height / f->height;
     double first = floor((f->ground_rows[0] + 0.5) * scale - 0.5);
     double last = floor((f->ground_rows[1] - 0.5) * scale - 0.5) + 1.0;
     first = fmax(first, 0.0);
     last = fmin(last, cloud_height - 1.0);
     if (last < first)
-        return false;
+        return;
     rows[0] = (uint32_t)first;
     rows[1] = (uint32_t)last + 1;
-    return true;
 }
 
 static void record_resolve_rows(VkCommandBuffer cmd, struct compute_pass *pass, uint32_t width,
@@ -537,8 +536,7 @@ static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, Vk
     compute_pass_bind(ctx, &cr->pass[P_RESOLVE], r);
     compute_pass_bind(ctx, &cr->pass[P_RESOLVE_GROUND], r);
     uint32_t w = e->over_sky.width, h = e->over_sky.height, ground[2] = { h, h };
-    if (!cloud_ground_rows(f, h, ground))
-        ground[0] = ground[1] = h;
+    cloud_ground_rows(f, h, ground);
     record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, 0, ground[0]);
     record_resolve_rows(cmd, &cr->pass[P_RESOLVE_GROUND], w, ground[0], ground[1]);
     record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, ground[1], h);
@@ -633,7 +631,7 @@ int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr
                                const struct cloud_frame *f, struct sky_cloud_bindings *out)
 {
     cloud_renderer_no_clouds(cr, out);
-    if (!cr->active || !cr->noise.generated) {
+    if (!cloud_renderer_active(cr)) {
         memset(cr->ubo.mapped, 0, sizeof(struct sky_cloud_uniforms));
         return 0;
     }
@@ -662,7 +660,7 @@ int cloud_renderer_record_view(struct vk_context *ctx, struct cloud_renderer *cr
                                VkCommandBuffer cmd, struct gpu_timer *timer,
                                const struct cloud_frame *f, struct sky_cloud_bindings *out)
 {
-    if (!cr->active || !cr->noise.generated)
+    if (!cloud_renderer_active(cr))
         return 0;
     return record_view(ctx, cr, cmd, timer, f, out);
 }

@@ -25,12 +25,13 @@ layout(std140, binding = 8) uniform CloudBlock { sky_cloud_uniforms cloud; };
 #define SKY_HAS_MULTISCATTERING_LUT
 #include "atmosphere.glsl"
 #include "camera.glsl"
+#include "cloud_ground_shadow.glsl"
 
 const float STEPS_PER_SLICE = 2.0;
 
 // Transmittance toward the sun through the clouds at p below the low layer: the shadow map
 // holds it for ground points, so p slides down along the sun to the ground it shares the
-// column of cloud with (flat-planet projection, as cloud_composite.glsl's ground lookup).
+// column of cloud with (the flat-planet projection of cloud_ground_shadow.glsl).
 float cloud_sun_visibility(vec3 p, vec3 sun_dir)
 {
     float r = length(p);
@@ -38,9 +39,7 @@ float cloud_sun_visibility(vec3 p, vec3 sun_dir)
     float h = r - bottom_radius();
     if (r >= cloud.low.x)
         return 1.0;
-    vec3 ground = p - sun_dir * (h / max(dot(up, sun_dir), 0.05));
-    vec2 pattern = ground.xy - cloud.weather.xy;
-    return textureLod(cloud_shadow_map, pattern * cloud.weather.z + 0.5, 0.0).r;
+    return cloud_ground_shadow(p - sun_dir * (h / max(dot(up, sun_dir), 0.05)));
 }
 
 void main()

@@ -37,6 +37,7 @@ layout(constant_id = 0) const bool GROUND = true;
 #include "atmosphere.glsl"
 #include "camera.glsl"
 #include "ground.glsl"
+#include "cloud_ground_shadow.glsl"
 
 // In-scattering (cd/m2) the clouds' shadows remove between the camera and `depth` km along
 // the ray through uv (aerial_perspective.comp).
@@ -46,14 +47,6 @@ vec3 light_shafts(vec2 uv, float depth)
     vec2 slice = aerial_perspective_slice(min(depth, max_km), max_km,
                                           float(textureSize(ap_shafts, 0).z));
     return textureLod(ap_shafts, vec3(uv, slice.x), 0.0).rgb * slice.y * frame.sun_illuminance.xyz;
-}
-
-// Transmittance toward the sun through the clouds above ground point p (flat-planet
-// projection along the sun onto the tileable shadow map).
-float cloud_ground_shadow(vec3 p)
-{
-    vec2 pattern = p.xy - cloud.weather.xy;
-    return textureLod(cloud_shadow_map, pattern * cloud.weather.z + 0.5, 0.0).r;
 }
 
 // The ground's share: with the ground luminance L seen along dir (skyview LUT, aerial
