@@ -1,4 +1,5 @@
 #include "messages.h"
+#include "message_names.h"
 
 #include <cjson/cJSON.h>
 
@@ -56,19 +57,22 @@ static const char *const type_names[] = {
     [SKY_MSG_SUBSCRIBE] = "subscribe", [SKY_MSG_UNSUBSCRIBE] = "unsubscribe",
     [SKY_MSG_SNAPSHOT] = "snapshot",   [SKY_MSG_PROBE] = "probe",
     [SKY_MSG_LIST_PRESETS] = "list_presets", [SKY_MSG_APPLY_PRESET] = "apply_preset",
-    [SKY_MSG_STATS] = "stats",
+    [SKY_MSG_STATS] = "stats",         [SKY_MSG_SET_WEATHER_MAP] = "set_weather_map",
 };
 
 static const char *const capabilities[] = {
     "hello", "auth",  "get_state",    "set",          "subscribe", "unsubscribe",
-    "snapshot", "probe", "list_presets", "apply_preset", "stats",     "png",
+    "snapshot", "probe", "list_presets", "apply_preset", "stats",     "set_weather_map",
+    "png",
 };
 
-static const char *const role_names[] = {[SKY_ROLE_VIEWER] = "viewer",
+const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {[SKY_ROLE_VIEWER] = "viewer",
                                          [SKY_ROLE_CONTROLLER] = "controller"};
-static const char *const quantity_names[] = {"transmittance", "luminance", "illuminance"};
-static const char *const preset_kind_names[] = {"atmosphere", "weather"};
-static const char *const format_names[] = {[SKY_FRAME_FORMAT_PNG] = "png"};
+const char *const sky_msg_quantity_names[SKY_MSG_QUANTITY_NAMES] = {"transmittance", "luminance", "illuminance"};
+const char *const sky_msg_preset_kind_names[SKY_MSG_PRESET_KIND_NAMES] = {"atmosphere", "weather"};
+const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES] = {[SKY_FRAME_FORMAT_PNG] = "png"};
+static const char *const weather_map_format_names[] = {[SKY_WEATHER_MAP_RGBA8] = "rgba8",
+                                                        [SKY_WEATHER_MAP_PNG] = "png"};
 
 /* Fields of each client message after "type" and "id". */
 static const char *const hello_fields[] = {"client", "protocol"};
@@ -84,6 +88,7 @@ static const char *const apply_preset_fields[] = {"kind", "name", "transition_s"
 static const char *const view_fields[] = {"camera", "width", "height", "fps", "exposure", "format"};
 static const char *const camera_fields[] = {"altitude_km", "yaw_deg", "pitch_deg", "fov_deg"};
 static const char *const exposure_fields[] = {"mode", "ev100", "compensation_ev"};
+static const char *const weather_map_fields[] = {"format", "data", "width", "height"};
 
 #define MAX_MEMBERS 8
 
@@ -118,7 +123,7 @@ const char *sky_msg_type_name(enum sky_msg_type type)
 
 bool protocol_message_needs_controller(enum sky_msg_type type)
 {
-    return type == SKY_MSG_SET || type == SKY_MSG_APPLY_PRESET;
+    return type == SKY_MSG_SET || type == SKY_MSG_APPLY_PRESET || type == SKY_MSG_SET_WEATHER_MAP;
 }
 
 void sky_msg_limits_default(struct sky_msg_limits *limits)
@@ -129,6 +134,7 @@ void sky_msg_limits_default(struct sky_msg_limits *limits)
     limits->max_height = 2160;
     limits->max_fps = 60;
     limits->control_messages_per_second = 20;
+    limits->max_upload_bytes = 2u << 20;
 }
 
 const char *const *sky_msg_default_capabilities(size_t *count)
@@ -161,7 +167,7 @@ static void join_names(const char *const *names, size_t count, char *out, size_t
     }
 }
 
-static bool preset_name_is_valid(const char *name)
+bool sky_msg_preset_name_is_valid(const char *name)
 {
     size_t length = strlen(name);
     if (length < 1 || length > SKY_MSG_PRESET_NAME_MAX)
@@ -171,7 +177,7 @@ static bool preset_name_is_valid(const char *name)
 
 /* Length of the valid UTF-8 sequence at s (at most `left` bytes), 0 when invalid. Rejects
  * overlong forms, surrogates and code points above U+10FFFF. */
-static size_t utf8_sequence(const unsigned char *s, size_t left)
+size_t sky_msg_utf8_sequence(const unsigned char *s, size_t left)
 {
     if (s[0] < 0x80)
         return 1;
@@ -199,7 +205,7 @@ static size_t utf8_invalid_offset(const char *text, size_t length)
 {
     size_t i = 0;
     while (i < length) {
-        size_t n = utf8_sequence((const unsigned char *)text + i, length - i);
+        size_t n = sky_msg_utf8_sequence((const unsigned char *)text + i, length - i);
         if (n == 0)
             return i;
         i += n;
@@ -253,6 +259,7 @@ struct parser {
     const struct sky_msg_limits *limits;
     struct sky_msg_parse_error *error;
     cJSON *root;
+    size_t length; /* of the message text */
 };
 
 PRINTF_LIKE(4, 5)
@@ -413,7 +420,7 @@ static void parse_view(struct parser *p, const cJSON *object, const char *pointe
         read_number(p, found[3], at, 0, p->limits->max_fps, &view->fps);
     view->format = SKY_FRAME_FORMAT_PNG;
     child_pointer(at, pointer, "format");
-    if (found[5] && read_enum(p, found[5], at, format_names, COUNT_OF(format_names)) < 0)
+    if (found[5] && read_enum(p, found[5], at, sky_msg_format_names, COUNT_OF(sky_msg_format_names)) < 0)
         view->format = 0;
 
     char group[SKY_MSG_POINTER_MAX];
@@ -457,7 +464,7 @@ static void parse_probe(struct parser *p, const cJSON **found, struct sky_msg_pr
 {
     int quantity = -1;
     if (require(p, found[0], "/quantity"))
-        quantity = read_enum(p, found[0], "/quantity", quantity_names, COUNT_OF(quantity_names));
+        quantity = read_enum(p, found[0], "/quantity", sky_msg_quantity_names, COUNT_OF(sky_msg_quantity_names));
     if (quantity >= 0)
         probe->quantity = (enum sky_probe_quantity)quantity;
     for (size_t i = 0; i < COUNT_OF(probe_params); i++) {
@@ -467,12 +474,51 @@ static void parse_probe(struct parser *p, const cJSON **found, struct sky_msg_pr
         double *value = (double *)((char *)probe + probe_params[i].offset);
         bool used = quantity >= 0 && (probe_params[i].used_by & (1u << quantity));
         if (quantity >= 0 && !used && item)
-            fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, at, "not a parameter of %s", quantity_names[quantity]);
+            fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, at, "not a parameter of %s", sky_msg_quantity_names[quantity]);
         else if (quantity >= 0 && used && !item)
-            fail(p, SKY_MSG_ERR_MISSING_FIELD, at, "required for %s", quantity_names[quantity]);
+            fail(p, SKY_MSG_ERR_MISSING_FIELD, at, "required for %s", sky_msg_quantity_names[quantity]);
         else if (item && !read_number(p, item, at, probe_params[i].min, probe_params[i].max, value))
             *value = 0;
     }
+}
+
+/* format, data (base64), and width and height (required for rgba8, checked for png). */
+static void parse_weather_map(struct parser *p, const cJSON **found, struct sky_weather_map *map)
+{
+    int format = -1;
+    if (require(p, found[0], "/format"))
+        format = read_enum(p, found[0], "/format", weather_map_format_names,
+                           COUNT_OF(weather_map_format_names));
+    int64_t side[2] = {0, 0};
+    const char *side_pointers[2] = {"/width", "/height"};
+    for (int i = 0; i < 2; i++) {
+        const cJSON *item = found[2 + i];
+        if (format == SKY_WEATHER_MAP_RGBA8 && !require(p, item, side_pointers[i]))
+            continue;
+        if (item)
+            read_integer(p, item, side_pointers[i], 1, SKY_WEATHER_MAP_MAX_SIDE, &side[i]);
+    }
+    if (!require(p, found[1], "/data"))
+        return;
+    if (!cJSON_IsString(found[1])) {
+        fail(p, SKY_MSG_ERR_WRONG_TYPE, "/data", "expected a base64 string, got %s",
+             sky_json_type_name(found[1]));
+        return;
+    }
+    if (p->error->fields.total > 0 || format < 0)
+        return;
+    char reason[REASON_MAX];
+    uint8_t *bytes;
+    size_t length;
+    if (!sky_base64_decode(found[1]->valuestring, strlen(found[1]->valuestring), &bytes, &length,
+                           reason, sizeof reason)) {
+        fail(p, SKY_MSG_ERR_BAD_VALUE, "/data", "%s", reason);
+        return;
+    }
+    if (!sky_weather_map_decode((enum sky_weather_map_format)format, bytes, length,
+                                (uint32_t)side[0], (uint32_t)side[1], map, reason, sizeof reason))
+        fail(p, SKY_MSG_ERR_BAD_VALUE, "/data", "%s", reason);
+    free(bytes);
 }
 
 static void parse_fields(struct parser *p, const cJSON **found, struct sky_client_msg *msg)
@@ -522,15 +568,15 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
     case SKY_MSG_LIST_PRESETS:
     case SKY_MSG_APPLY_PRESET:
         if (require(p, found[0], "/kind") &&
-            (index = read_enum(p, found[0], "/kind", preset_kind_names,
-                               COUNT_OF(preset_kind_names))) >= 0)
+            (index = read_enum(p, found[0], "/kind", sky_msg_preset_kind_names,
+                               COUNT_OF(sky_msg_preset_kind_names))) >= 0)
             msg->preset.kind = (enum sky_preset_kind)index;
         if (msg->type == SKY_MSG_LIST_PRESETS || !require(p, found[1], "/name"))
             break;
         if (!cJSON_IsString(found[1]))
             fail(p, SKY_MSG_ERR_WRONG_TYPE, "/name", "expected a string, got %s",
                  sky_json_type_name(found[1]));
-        else if (!preset_name_is_valid(found[1]->valuestring))
+        else if (!sky_msg_preset_name_is_valid(found[1]->valuestring))
             fail(p, SKY_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
         else
             memcpy(msg->preset.name, found[1]->valuestring, strlen(found[1]->valuestring) + 1);
@@ -540,6 +586,9 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
             msg->preset.has_transition =
                 read_number(p, found[2], "/transition_s", 0, SKY_MSG_MAX_TRANSITION_S,
                             &msg->preset.transition_s);
+        break;
+    case SKY_MSG_SET_WEATHER_MAP:
+        parse_weather_map(p, found, &msg->weather_map);
         break;
     case SKY_MSG_NONE:
     case SKY_MSG_GET_STATE:
@@ -561,6 +610,7 @@ static void fields_of(enum sky_msg_type type, const char *const **names, size_t 
     case SKY_MSG_PROBE: FIELDS(probe_fields); break;
     case SKY_MSG_LIST_PRESETS: FIELDS(list_presets_fields); break;
     case SKY_MSG_APPLY_PRESET: FIELDS(apply_preset_fields); break;
+    case SKY_MSG_SET_WEATHER_MAP: FIELDS(weather_map_fields); break;
     case SKY_MSG_NONE:
     case SKY_MSG_GET_STATE:
     case SKY_MSG_STATS: *names = NULL, *count = 0; break;
@@ -588,6 +638,11 @@ static void parse_object(struct parser *p, struct sky_client_msg *msg)
         return;
     }
     msg->type = (enum sky_msg_type)index;
+    if (p->length > p->limits->max_message_bytes && msg->type != SKY_MSG_SET_WEATHER_MAP) {
+        fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "", "message is %zu bytes, the limit is %zu "
+             "(only set_weather_map may be larger)", p->length, p->limits->max_message_bytes);
+        return;
+    }
 
     const char *names[2 + MAX_MEMBERS] = {"type", "id"};
     const char *const *specific;
@@ -598,6 +653,12 @@ static void parse_object(struct parser *p, struct sky_client_msg *msg)
     const cJSON *found[2 + MAX_MEMBERS];
     collect(p, p->root, "", names, 2 + count, found);
     parse_fields(p, found + 2, msg);
+}
+
+static size_t upload_limit(const struct sky_msg_limits *limits)
+{
+    return limits->max_upload_bytes > limits->max_message_bytes ? limits->max_upload_bytes
+                                                                : limits->max_message_bytes;
 }
 
 static void summarize(struct sky_msg_parse_error *error)
@@ -623,15 +684,15 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
 {
     memset(msg, 0, sizeof *msg);
     memset(error, 0, sizeof *error);
-    struct parser parser = {limits, error, NULL};
+    struct parser parser = {limits, error, NULL, length};
     struct parser *p = &parser;
     size_t offset;
     char *copy = NULL;
     if (!text || !limits) {
         fail(p, SKY_MSG_ERR_INTERNAL, "", "no message or no limits");
-    } else if (length > limits->max_message_bytes) {
+    } else if (length > upload_limit(limits)) {
         fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "", "message is %zu bytes, the limit is %zu",
-             length, limits->max_message_bytes);
+             length, upload_limit(limits));
     } else if ((offset = nul_offset(text, length)) < length) {
         error->offset = offset;
         fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "NUL byte at offset %zu", offset);
@@ -666,10 +727,8 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
     cJSON_Delete(p->root);
     free(copy);
     summarize(error);
-    if (error->code != SKY_MSG_OK && msg->type == SKY_MSG_SET) {
-        cJSON_Delete(msg->set.patch);
-        msg->set.patch = NULL;
-    }
+    if (error->code != SKY_MSG_OK)
+        sky_client_msg_free(msg);
     return error->code;
 }
 
@@ -679,6 +738,8 @@ void sky_client_msg_free(struct sky_client_msg *msg)
         cJSON_Delete(msg->set.patch);
         msg->set.patch = NULL;
     }
+    if (msg && msg->type == SKY_MSG_SET_WEATHER_MAP)
+        sky_weather_map_free(&msg->weather_map);
 }
 
 bool sky_msg_validate_patch(const cJSON *patch, const char *pointer_prefix,
@@ -755,333 +816,4 @@ size_t sky_msg_state_diff(const struct sky_world_state *before,
         changed++;
     }
     return changed;
-}
-
-/* ---- building --------------------------------------------------------------------------- */
-
-struct builder {
-    cJSON *root;
-    bool ok; /* false after any refused argument or failed allocation */
-};
-
-static const char *name_of(const char *const *names, size_t count, int value)
-{
-    return value >= 0 && (size_t)value < count ? names[value] : NULL;
-}
-
-/* Adds item to an object (or to an array when name is NULL); takes ownership. */
-static cJSON *put(struct builder *b, cJSON *parent, const char *name, cJSON *item)
-{
-    bool added = b->ok && parent && item &&
-                 (name ? cJSON_AddItemToObject(parent, name, item)
-                       : cJSON_AddItemToArray(parent, item));
-    if (!added) {
-        b->ok = false;
-        cJSON_Delete(item);
-        return NULL;
-    }
-    return item;
-}
-
-/* Checked before creating: cJSON_CreateNumber converts to int, undefined for NaN. */
-static void put_number(struct builder *b, cJSON *parent, const char *name, double value)
-{
-    if (isfinite(value))
-        put(b, parent, name, cJSON_CreateNumber(value));
-    else
-        b->ok = false;
-}
-
-static void put_count(struct builder *b, cJSON *parent, const char *name, uint64_t value)
-{
-    if (value <= (uint64_t)SKY_MSG_MAX_SAFE_INTEGER)
-        put_number(b, parent, name, (double)value);
-    else
-        b->ok = false;
-}
-
-/* Bytes that are not UTF-8 (a reason truncated inside a character) become '?'. */
-static void put_string(struct builder *b, cJSON *parent, const char *name, const char *text)
-{
-    cJSON *item = put(b, parent, name, text ? cJSON_CreateString(text) : NULL);
-    if (!item)
-        return;
-    unsigned char *s = (unsigned char *)item->valuestring;
-    size_t length = strlen(item->valuestring);
-    for (size_t i = 0; i < length;) {
-        size_t n = utf8_sequence(s + i, length - i);
-        if (n == 0)
-            s[i++] = '?';
-        else
-            i += n;
-    }
-}
-
-static void begin(struct builder *b, const char *type, const struct sky_msg_id *id)
-{
-    b->ok = true;
-    b->root = cJSON_CreateObject();
-    b->ok = b->root != NULL;
-    put_string(b, b->root, "type", type);
-    if (!id || id->kind == SKY_MSG_ID_NONE)
-        return;
-    if (id->kind == SKY_MSG_ID_STRING && id->text[0] && memchr(id->text, '\0', sizeof id->text))
-        put_string(b, b->root, "id", id->text);
-    else if (id->kind == SKY_MSG_ID_INTEGER && id->number >= -SKY_MSG_MAX_SAFE_INTEGER &&
-             id->number <= SKY_MSG_MAX_SAFE_INTEGER)
-        put_number(b, b->root, "id", (double)id->number);
-    else
-        b->ok = false;
-}
-
-/* cJSON prints numbers with 15 digits when they compare equal within an epsilon, which loses
- * integers above 2^50 and the last bits of doubles: write each as the shortest exact text. */
-static bool write_numbers_exactly(cJSON *parent)
-{
-    for (cJSON *item = parent ? parent->child : NULL; item; item = item->next) {
-        if (!cJSON_IsNumber(item)) {
-            if (!write_numbers_exactly(item))
-                return false;
-            continue;
-        }
-        char text[32];
-        if (!isfinite(item->valuedouble))
-            return false;
-        snprintf(text, sizeof text, "%.15g", item->valuedouble);
-        if (strtod(text, NULL) != item->valuedouble)
-            snprintf(text, sizeof text, "%.17g", item->valuedouble);
-        cJSON *raw = cJSON_CreateRaw(text);
-        if (!raw)
-            return false;
-        /* The replacement keeps the member's name; the pointer moves rather than copies. */
-        raw->string = item->string;
-        raw->type |= item->type & cJSON_StringIsConst;
-        item->string = NULL;
-        cJSON_ReplaceItemViaPointer(parent, item, raw);
-        item = raw;
-    }
-    return true;
-}
-
-static char *finish(struct builder *b)
-{
-    char *text = b->ok && write_numbers_exactly(b->root) ? cJSON_PrintUnformatted(b->root) : NULL;
-    cJSON_Delete(b->root);
-    return text;
-}
-
-char *sky_msg_build_hello(const char *server_version, enum sky_msg_role role,
-                          const char *const *caps, size_t capability_count,
-                          const struct sky_msg_limits *limits)
-{
-    struct builder b;
-    begin(&b, "hello", NULL);
-    put_number(&b, b.root, "protocol", SKY_PROTOCOL_VERSION);
-    char server[96];
-    if (!server_version || (size_t)snprintf(server, sizeof server, "skyd %s", server_version) >=
-                               sizeof server)
-        b.ok = false;
-    else
-        put_string(&b, b.root, "server", server);
-    put_string(&b, b.root, "role", name_of(role_names, COUNT_OF(role_names), (int)role));
-    cJSON *list = put(&b, b.root, "capabilities", cJSON_CreateArray());
-    for (size_t i = 0; i < capability_count; i++)
-        put_string(&b, list, NULL, caps ? caps[i] : NULL);
-    cJSON *json = put(&b, b.root, "limits", limits ? cJSON_CreateObject() : NULL);
-    if (limits) {
-        put_count(&b, json, "max_message_bytes", limits->max_message_bytes);
-        put_count(&b, json, "max_clients", (uint64_t)(int64_t)limits->max_clients);
-        put_count(&b, json, "max_width", limits->max_width);
-        put_count(&b, json, "max_height", limits->max_height);
-        put_number(&b, json, "max_fps", limits->max_fps);
-        put_number(&b, json, "control_messages_per_second", limits->control_messages_per_second);
-    }
-    return finish(&b);
-}
-
-char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_state *state)
-{
-    struct builder b;
-    begin(&b, "state", id);
-    cJSON *json = state ? sky_world_state_to_json(state) : NULL;
-    /* Without its revision the state object is a complete, valid patch for "set". */
-    cJSON_DeleteItemFromObjectCaseSensitive(json, "revision");
-    put_count(&b, b.root, "revision", state ? state->revision : 0);
-    put(&b, b.root, "state", json);
-    return finish(&b);
-}
-
-char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky_msg_role role)
-{
-    struct builder b;
-    begin(&b, "ack", id);
-    put_count(&b, b.root, "revision", revision);
-    if (role != SKY_ROLE_NONE)
-        put_string(&b, b.root, "role", name_of(role_names, COUNT_OF(role_names), (int)role));
-    return finish(&b);
-}
-
-char *sky_msg_build_error(const struct sky_msg_id *id, enum sky_msg_error_code code,
-                          const char *message, const struct sky_field_errors *fields)
-{
-    struct builder b;
-    begin(&b, "error", id);
-    if (code == SKY_MSG_OK)
-        b.ok = false;
-    put_string(&b, b.root, "code", sky_msg_error_name(code));
-    put_string(&b, b.root, "message", message ? message : "");
-    cJSON *list = put(&b, b.root, "fields", cJSON_CreateArray());
-    int count = fields ? fields->count : 0;
-    if (count < 0 || count > SKY_MAX_FIELD_ERRORS)
-        b.ok = false;
-    for (int i = 0; i < count; i++) {
-        const struct sky_field_error *item = &fields->items[i];
-        cJSON *entry = put(&b, list, NULL, cJSON_CreateObject());
-        put_string(&b, entry, "pointer", memchr(item->pointer, '\0', sizeof item->pointer)
-                                             ? item->pointer : NULL);
-        put_string(&b, entry, "reason", memchr(item->reason, '\0', sizeof item->reason)
-                                            ? item->reason : NULL);
-        put_string(&b, entry, "code", item->code != SKY_MSG_OK ? sky_msg_error_name(item->code)
-                                                               : NULL);
-    }
-    if (fields && fields->total > count)
-        put_count(&b, b.root, "fields_omitted", (uint64_t)(fields->total - count));
-    return finish(&b);
-}
-
-char *sky_msg_build_parse_error(const struct sky_client_msg *msg,
-                                const struct sky_msg_parse_error *error)
-{
-    if (!error)
-        return NULL;
-    return sky_msg_build_error(msg ? &msg->id : NULL, error->code, error->message,
-                               &error->fields);
-}
-
-char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscription,
-                               const struct sky_msg_view *v)
-{
-    struct builder b;
-    begin(&b, "subscribed", id);
-    if (subscription == 0 || !v || v->width == 0 || v->height == 0 || !(v->fps > 0)) {
-        b.ok = false;
-        return finish(&b);
-    }
-    put_count(&b, b.root, "subscription", subscription);
-    cJSON *view = put(&b, b.root, "view", cJSON_CreateObject());
-    cJSON *camera = put(&b, view, "camera", cJSON_CreateObject());
-    if (v->has_altitude_km)
-        put_number(&b, camera, "altitude_km", v->altitude_km);
-    if (v->has_yaw_deg)
-        put_number(&b, camera, "yaw_deg", v->yaw_deg);
-    if (v->has_pitch_deg)
-        put_number(&b, camera, "pitch_deg", v->pitch_deg);
-    if (v->has_fov_deg)
-        put_number(&b, camera, "fov_deg", v->fov_deg);
-    put_count(&b, view, "width", v->width);
-    put_count(&b, view, "height", v->height);
-    put_number(&b, view, "fps", v->fps);
-    cJSON *exposure = put(&b, view, "exposure", cJSON_CreateObject());
-    const struct sky_field_desc *mode = sky_world_state_find_field("exposure.mode");
-    if (v->has_exposure_mode)
-        put_string(&b, exposure, "mode",
-                   mode ? name_of(mode->enum_names, (size_t)mode->enum_count,
-                                  (int)v->exposure_mode)
-                        : NULL);
-    if (v->has_ev100)
-        put_number(&b, exposure, "ev100", v->ev100);
-    if (v->has_compensation_ev)
-        put_number(&b, exposure, "compensation_ev", v->compensation_ev);
-    put_string(&b, view, "format", name_of(format_names, COUNT_OF(format_names), (int)v->format));
-    return finish(&b);
-}
-
-char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription,
-                          uint64_t frame_number)
-{
-    struct builder b;
-    bool snapshot = id && id->kind != SKY_MSG_ID_NONE;
-    begin(&b, "frame", id);
-    if (snapshot == (subscription != 0))
-        b.ok = false;
-    if (!snapshot)
-        put_count(&b, b.root, "subscription", subscription);
-    put_count(&b, b.root, "frame_number", frame_number);
-    return finish(&b);
-}
-
-char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count)
-{
-    struct builder b;
-    begin(&b, "event", NULL);
-    put_string(&b, b.root, "event", "state_changed");
-    put_count(&b, b.root, "revision", revision);
-    cJSON *list = put(&b, b.root, "changed", cJSON_CreateArray());
-    for (size_t i = 0; i < count; i++) {
-        const char *pointer = pointers ? pointers[i] : NULL;
-        put_string(&b, list, NULL, pointer && (!pointer[0] || pointer[0] == '/') ? pointer : NULL);
-    }
-    return finish(&b);
-}
-
-char *sky_msg_build_presets(const struct sky_msg_id *id, enum sky_preset_kind kind,
-                            const char *const *names, size_t count)
-{
-    struct builder b;
-    begin(&b, "presets", id);
-    put_string(&b, b.root, "kind",
-               name_of(preset_kind_names, COUNT_OF(preset_kind_names), (int)kind));
-    cJSON *list = put(&b, b.root, "names", cJSON_CreateArray());
-    if (count > SKY_MSG_MAX_PRESETS)
-        b.ok = false;
-    for (size_t i = 0; i < count && b.ok; i++) {
-        const char *name = names ? names[i] : NULL;
-        put_string(&b, list, NULL, name && preset_name_is_valid(name) ? name : NULL);
-    }
-    return finish(&b);
-}
-
-char *sky_msg_build_probe_result(const struct sky_msg_id *id,
-                                 const struct sky_msg_probe_result *result)
-{
-    struct builder b;
-    begin(&b, "probe_result", id);
-    int quantity = result ? (int)result->quantity : -1;
-    const char *name = name_of(quantity_names, COUNT_OF(quantity_names), quantity);
-    put_string(&b, b.root, "quantity", name);
-    if (quantity == SKY_PROBE_TRANSMITTANCE || quantity == SKY_PROBE_LUMINANCE) {
-        cJSON *rgb = put(&b, b.root, name, cJSON_CreateArray());
-        for (int i = 0; i < 3; i++)
-            put_number(&b, rgb, NULL, result->rgb[i]);
-    } else if (quantity == SKY_PROBE_ILLUMINANCE) {
-        put_number(&b, b.root, "sun_lux", result->sun_lux);
-        put_number(&b, b.root, "sky_lux", result->sky_lux);
-    }
-    return finish(&b);
-}
-
-char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stats *stats)
-{
-    struct builder b;
-    begin(&b, "stats", id);
-    if (!stats || !(stats->fps >= 0) || stats->clients < 0 || stats->pass_count > SKY_MSG_MAX_PASSES ||
-        (stats->pass_count > 0 && !stats->passes) || !(stats->lut_rebuild_progress >= 0) ||
-        !(stats->lut_rebuild_progress <= 1) || !isfinite(stats->simulation_time_s)) {
-        b.ok = false;
-        return finish(&b);
-    }
-    put_number(&b, b.root, "fps", stats->fps);
-    put_count(&b, b.root, "clients", (uint64_t)stats->clients);
-    cJSON *passes = put(&b, b.root, "passes", cJSON_CreateObject());
-    for (size_t i = 0; i < stats->pass_count && b.ok; i++) {
-        const struct sky_msg_pass_time *pass = &stats->passes[i];
-        if (!pass->name || !preset_name_is_valid(pass->name) || !(pass->ms >= 0) ||
-            cJSON_GetObjectItemCaseSensitive(passes, pass->name))
-            b.ok = false;
-        else
-            put_number(&b, passes, pass->name, pass->ms);
-    }
-    put_number(&b, b.root, "lut_rebuild_progress", stats->lut_rebuild_progress);
-    put_number(&b, b.root, "simulation_time_s", stats->simulation_time_s);
-    return finish(&b);
 }

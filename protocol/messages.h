@@ -15,6 +15,7 @@
 #include <stdint.h>
 
 #include "frame_header.h"
+#include "weather_map.h"
 #include "world_state.h"
 
 struct cJSON;
@@ -72,12 +73,13 @@ enum sky_msg_type {
     SKY_MSG_LIST_PRESETS,
     SKY_MSG_APPLY_PRESET,
     SKY_MSG_STATS,
+    SKY_MSG_SET_WEATHER_MAP,
 };
 
 /* "hello", "set", ...; NULL for SKY_MSG_NONE or out-of-range values. */
 const char *sky_msg_type_name(enum sky_msg_type type);
 
-/* True for the types only a controller may send (set, apply_preset). */
+/* True for the types only a controller may send (set, apply_preset, set_weather_map). */
 bool protocol_message_needs_controller(enum sky_msg_type type);
 
 enum sky_msg_role {
@@ -106,9 +108,12 @@ struct sky_msg_limits {
     uint32_t max_width, max_height;
     double max_fps;
     double control_messages_per_second;
+    /* A set_weather_map message may be this large (a controller's only; others stay within
+     * max_message_bytes). Below max_message_bytes it changes nothing. */
+    size_t max_upload_bytes;
 };
 
-/* 65536 bytes, 64 clients, 3840x2160, 60 fps, 20 control messages per second. */
+/* 65536 bytes, 64 clients, 3840x2160, 60 fps, 20 control messages per second, 2 MiB uploads. */
 void sky_msg_limits_default(struct sky_msg_limits *limits);
 
 enum sky_msg_id_kind {
@@ -173,6 +178,8 @@ struct sky_client_msg {
             bool has_transition;  /* apply_preset of a weather preset: "transition_s" given */
             double transition_s;  /* simulated seconds, [0, SKY_MSG_MAX_TRANSITION_S] */
         } preset;
+        /* Owned, decoded and validated; sky_client_msg_free frees it. */
+        struct sky_weather_map weather_map;
     };
 };
 
@@ -184,7 +191,8 @@ struct sky_msg_parse_error {
 };
 
 /* Parses one client text message of `length` bytes (no terminator needed). Checks, in order:
- * size against limits->max_message_bytes (before parsing), NUL bytes, UTF-8, JSON syntax and
+ * size against limits->max_message_bytes (before parsing; a set_weather_map may reach
+ * max_upload_bytes), NUL bytes, UTF-8, JSON syntax and
  * trailing bytes, object shape, "id", "type", then every field of that type. On success
  * returns SKY_MSG_OK and fills *msg; otherwise returns the error code and fills *error, with
  * msg->type and msg->id set when they were readable. Always call sky_client_msg_free. */
