@@ -29,6 +29,7 @@ struct cloud_history_entry {
     uint64_t last_used;
     float prev_forward[4], prev_right[4], prev_up[4]; /* camera of the latest frame */
     double prev_wind[2];   /* wind displacement of the latest frame */
+    uint32_t look;         /* the cloud renderer's parameter and map generations it shows */
 };
 
 struct cloud_history {

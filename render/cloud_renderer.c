@@ -90,6 +90,7 @@ struct cloud_renderer {
     bool shadow_has_sun, env_dirty;
     double budget_ms;
     double last_frame_ms; /* GPU time of the last frame, for the relative map budget */
+    uint32_t params_generation; /* counts changes of the clouds other than the wind's drift */
 };
 
 #define UBO VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
@@ -214,6 +215,11 @@ void cloud_renderer_destroy(struct vk_context *ctx, struct cloud_renderer **pcr)
 int cloud_renderer_set(struct vk_context *ctx, struct cloud_renderer *cr,
                        const struct sky_render_clouds *clouds)
 {
+    struct sky_render_clouds before = cr->clouds, after = *clouds;
+    before.wind_offset_east_km = before.wind_offset_north_km = 0.0;
+    after.wind_offset_east_km = after.wind_offset_north_km = 0.0;
+    if (memcmp(&before, &after, sizeof before) != 0)
+        cr->params_generation++;
     cr->clouds = *clouds;
     cr->active = cloud_params_any_layer(clouds);
     if (cr->active && (!cr->noise.generated || cr->noise.seed != clouds->noise_seed))
@@ -239,6 +245,7 @@ int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer
                                    const uint8_t *rgba8, uint32_t width, uint32_t height)
 {
     if (!rgba8) {
+        vk_context_wait_idle(ctx);
         gpu_image_destroy(ctx, &cr->client_map);
         cr->has_client_map = false;
         cr->client_generation++;
@@ -252,29 +259,34 @@ int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer
                           &staging) != VK_SUCCESS)
         return -1;
     memcpy(staging.mapped, rgba8, (size_t)bytes);
-    vk_context_wait_idle(ctx);
-    gpu_image_destroy(ctx, &cr->client_map);
-    cr->has_client_map = false;
+    /* The new map is complete before it replaces the old one: a failure keeps the old map. */
+    struct gpu_image uploaded = { 0 };
     int rc = -1;
     VkCommandBuffer cmd;
     if (gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, width, height, 1, "client_weather",
-                         &cr->client_map) == VK_SUCCESS &&
+                         &uploaded) == VK_SUCCESS &&
         vk_context_begin_commands(ctx, &cmd) == VK_SUCCESS) {
         VkBufferImageCopy region = {
             .imageSubresource = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1 },
             .imageExtent = { width, height, 1 },
         };
-        vkCmdCopyBufferToImage(cmd, staging.buffer, cr->client_map.image,
-                               VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+        vkCmdCopyBufferToImage(cmd, staging.buffer, uploaded.image, VK_IMAGE_LAYOUT_GENERAL, 1,
+                               &region);
         gpu_barrier_compute_to_compute(cmd);
-        if (vk_context_submit_and_wait(ctx, &cmd) == VK_SUCCESS) {
-            cr->has_client_map = true;
-            cr->client_generation++;
+        if (vk_context_submit_and_wait(ctx, &cmd) == VK_SUCCESS)
             rc = 0;
-        }
     }
     gpu_buffer_destroy(ctx, &staging);
-    return rc;
+    if (rc != 0) {
+        gpu_image_destroy(ctx, &uploaded);
+        return -1;
+    }
+    vk_context_wait_idle(ctx); /* frames in flight may still sample the old map */
+    gpu_image_destroy(ctx, &cr->client_map);
+    cr->client_map = uploaded;
+    cr->has_client_map = true;
+    cr->client_generation++;
+    return 0;
 }
 
 /* ---- amortized maps ---- */
@@ -543,6 +555,12 @@ static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, Vk
     gpu_timer_mark(timer, cmd, cr->pass[P_RESOLVE].name);
 }
 
+/* Within about a degree: reprojection keeps nearly all of a history. */
+static bool same_direction(const float a[4], const sky_vec4 b)
+{
+    return a[0] * b.x + a[1] * b.y + a[2] * b.z > 0.99985f;
+}
+
 static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
                        struct gpu_timer *timer, const struct cloud_frame *f,
                        struct sky_cloud_bindings *out)
@@ -565,6 +583,13 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
         };
         compute_pass_bind(ctx, &cr->pass[P_RECONSTRUCT_0 + i], r);
     }
+    /* A one-off view comes out converged: it starts over when its history shows other clouds
+     * than it would now (a history shared by views at different times, such as snapshots). */
+    uint32_t look = cr->params_generation + cr->weather.generation + cr->shadow.generation;
+    if (!f->live && e->valid && (e->look != look || !same_direction(e->prev_forward,
+                                                                    f->frame->camera_forward)))
+        e->valid = false;
+    e->look = look;
     int frames = (!e->valid && c->temporal && !f->live) ? frames_for_new_history(c->resolution)
                                                          : 1;
     static const float min_weight[5] = { 0, 0.08f, 0.15f, 0, 0.25f };
