@@ -10,6 +10,7 @@
 #include "messages.h"
 #include "png_write.h"
 #include "presets.h"
+#include "text_file.h"
 #include "world_render.h"
 #include "world_sim.h"
 
@@ -39,6 +40,8 @@ static void usage(FILE *out)
             "  --time ISO8601         simulated UTC time (2026-06-21T05:00:00Z); with --lat and\n"
             "  --lat DEG, --lon DEG   --lon the sun and moon follow the ephemeris (sky_bodies)\n"
             "  --weather NAME         apply config/weather/NAME.json (clear, storm, ...)\n"
+            "  --weather-map FILE     a client weather map (PNG: r low coverage, g high coverage,\n"
+            "                         b cloud type, a precipitation; sets weather.map_source)\n"
             "  --frames N             a time-lapse of N frames; --out then holds one %%d or %%0Nd\n"
             "                         for the frame number (e.g. frames/f-%%03d.png)\n"
             "  --step-s S             simulated seconds between frames (default 60)\n"
@@ -136,6 +139,26 @@ static bool start_lapse_transition(struct cli_common *common, const struct lapse
     return true;
 }
 
+/* --weather-map: the PNG a client would send in set_weather_map. */
+static bool load_weather_map(const char *path, struct sky_weather_map *map)
+{
+    enum { MAX_BYTES = 16 << 20 };
+    size_t length = 0;
+    char *bytes = text_file_read(path, MAX_BYTES, &length);
+    char reason[640];
+    if (!bytes) {
+        text_file_describe_error(path, MAX_BYTES, reason, sizeof reason);
+        fprintf(stderr, "skyd render: --weather-map: %s\n", reason);
+        return false;
+    }
+    bool ok = sky_weather_map_decode(SKY_WEATHER_MAP_PNG, (const uint8_t *)bytes, length, 0, 0,
+                                     map, reason, sizeof reason);
+    free(bytes);
+    if (!ok)
+        fprintf(stderr, "skyd render: --weather-map %s: %s\n", path, reason);
+    return ok;
+}
+
 static void print_stats(const struct sky_render_stats *s)
 {
     printf("{\"gpu_ms\":%.3f,\"wall_ms\":%.3f,\"passes\":{", s->gpu_ms, s->wall_ms);
@@ -149,7 +172,7 @@ int skyd_cmd_render(int argc, char **argv)
     struct cli_common common;
     cli_common_init(&common);
     unsigned width = 0, height = 0;
-    const char *out_path = NULL;
+    const char *out_path = NULL, *weather_map_path = NULL;
     bool stats_json = false;
     struct lapse_args lapse = { .frames = 1, .step_s = 60.0 };
     for (int i = 0; i < argc; i++) {
@@ -172,6 +195,9 @@ int skyd_cmd_render(int argc, char **argv)
         } else if (strcmp(opt, "--width") == 0 || strcmp(opt, "--height") == 0) {
             if (!(value = cli_take_value(argc, argv, &i)) ||
                 !cli_parse_uint(opt, value, 1, MAX_DIMENSION, opt[2] == 'w' ? &width : &height))
+                return SKYD_EXIT_USAGE;
+        } else if (strcmp(opt, "--weather-map") == 0) {
+            if (!(weather_map_path = cli_take_value(argc, argv, &i)))
                 return SKYD_EXIT_USAGE;
         } else if (strcmp(opt, "--out") == 0) {
             if (!(out_path = cli_take_value(argc, argv, &i)))
@@ -215,13 +241,24 @@ int skyd_cmd_render(int argc, char **argv)
     }
     if (!start_lapse_transition(&common, &lapse))
         return SKYD_EXIT_USAGE;
+    struct sky_weather_map weather_map = { 0 };
+    if (weather_map_path) {
+        if (!load_weather_map(weather_map_path, &weather_map))
+            return SKYD_EXIT_USAGE;
+        common.state.weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    }
     world_sim_settle(&common.state);
 
     size_t bytes = (size_t)width * height * 4;
     uint8_t *pixels = malloc(bytes);
-    if (!pixels)
-        return SKYD_EXIT_FAILURE;
-    struct sky_renderer *renderer = cli_create_renderer(&common);
+    struct sky_renderer *renderer = pixels ? cli_create_renderer(&common) : NULL;
+    if (renderer && weather_map.rgba &&
+        sky_renderer_set_weather_map(renderer, weather_map.rgba, weather_map.width,
+                                     weather_map.height) != 0) {
+        fprintf(stderr, "skyd render: the renderer could not take the weather map\n");
+        cli_finish(&common, &renderer, SKYD_EXIT_FAILURE);
+    }
+    sky_weather_map_free(&weather_map);
     if (!renderer) {
         free(pixels);
         return SKYD_EXIT_FAILURE;

@@ -50,6 +50,7 @@ static const struct config_field fields[] = {
     FIELD_INT("/limits/max_height", max_height, 1, 16384),
     FIELD_NUMBER("/limits/max_fps", max_fps, 0.1, 240),
     FIELD_NUMBER("/limits/control_messages_per_second", control_messages_per_second, 0.1, 10000),
+    FIELD_INT("/limits/max_upload_bytes", max_upload_bytes, 256, 64 << 20),
     FIELD_STRING("/controller_token", controller_token),
     { "/allowed_origins", CFG_ORIGINS, 0, 0, 0, 0 },
 };
@@ -76,6 +77,7 @@ void skyd_config_defaults(struct skyd_config *c)
     c->max_height = (int)limits.max_height;
     c->max_fps = limits.max_fps;
     c->control_messages_per_second = limits.control_messages_per_second;
+    c->max_upload_bytes = (int)limits.max_upload_bytes;
     c->origin_count = 2;
     snprintf(c->allowed_origins[0], sizeof c->allowed_origins[0], "http://127.0.0.1:8080");
     snprintf(c->allowed_origins[1], sizeof c->allowed_origins[1], "http://localhost:8080");
@@ -234,6 +236,7 @@ void skyd_config_limits(const struct skyd_config *c, struct sky_msg_limits *limi
     limits->max_height = (uint32_t)c->max_height;
     limits->max_fps = c->max_fps;
     limits->control_messages_per_second = c->control_messages_per_second;
+    limits->max_upload_bytes = (size_t)c->max_upload_bytes;
 }
 
 bool skyd_config_load(const char *path, struct skyd_config *config,

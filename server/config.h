@@ -34,6 +34,7 @@ struct skyd_config {
     int max_width, max_height;     /* 3840 x 2160 */
     double max_fps;                /* 60 */
     double control_messages_per_second; /* 20 */
+    int max_upload_bytes;          /* 2 MiB: a controller's set_weather_map */
     char controller_token[128];    /* "" = nobody can control */
     int origin_count;
     char allowed_origins[SKYD_CONFIG_MAX_ORIGINS][128];

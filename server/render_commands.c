@@ -9,6 +9,7 @@
 #include "json_guard.h"
 #include "presets.h"
 #include "probe_query.h"
+#include "state_store.h"
 #include "world_render.h"
 #include "world_sim.h"
 #include "monotonic_clock.h"
@@ -63,17 +64,21 @@ static void reply_field_errors(struct session *session, const struct sky_msg_id 
     reply(session, id, sky_msg_build_error(id, code, message, &prefixed));
 }
 
-/* Makes `next` the live state: a new revision when anything differs, an ack to the sender and
- * an event naming the changed fields to everyone. */
+/* Makes `next` the live state: a new revision when anything differs (or when `also_changed`,
+ * a pointer outside the schema, names something else that did), an ack to the sender and an
+ * event naming the changed fields to everyone. */
 static void commit_state(struct render_context *ctx, struct session *session,
-                         const struct sky_msg_id *id, struct sky_world_state *next)
+                         const struct sky_msg_id *id, struct sky_world_state *next,
+                         const char *also_changed)
 {
     enum { MAX_CHANGED = 192 };
     static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
     world_sim_settle(next);
-    size_t count = sky_msg_state_diff(&ctx->state, next, changed, MAX_CHANGED);
-    if (count > MAX_CHANGED)
-        count = MAX_CHANGED;
+    size_t count = sky_msg_state_diff(&ctx->state, next, changed, MAX_CHANGED - 1);
+    if (count > MAX_CHANGED - 1)
+        count = MAX_CHANGED - 1;
+    if (also_changed)
+        snprintf(changed[count++], SKY_MSG_POINTER_MAX, "%s", also_changed);
     if (count == 0) {
         reply(session, id, sky_msg_build_ack(id, ctx->state.revision, SKY_ROLE_NONE));
         return;
@@ -122,6 +127,18 @@ static void commit_state(struct render_context *ctx, struct session *session,
     free(event);
 }
 
+/* A state that samples the client weather map needs one. */
+static bool client_map_missing(const struct render_context *ctx,
+                               const struct sky_world_state *next, struct sky_field_errors *errors)
+{
+    if (next->weather.map_source != SKY_WEATHER_MAP_CLIENT || ctx->client_map.rgba)
+        return false;
+    sky_field_errors_clear(errors);
+    sky_field_errors_add(errors, SKY_FIELD_INCONSISTENT, "/weather/map_source",
+                         "no client weather map has been sent: send set_weather_map first");
+    return true;
+}
+
 static void handle_set(struct render_context *ctx, struct session *session,
                        const struct sky_client_msg *msg)
 {
@@ -136,8 +153,12 @@ static void handle_set(struct render_context *ctx, struct session *session,
         reply_field_errors(session, &msg->id, "/patch", &errors);
         return;
     }
+    if (client_map_missing(ctx, &next, &errors)) {
+        reply_field_errors(session, &msg->id, "/patch", &errors);
+        return;
+    }
     world_sim_client_changed(&ctx->state, &next);
-    commit_state(ctx, session, &msg->id, &next);
+    commit_state(ctx, session, &msg->id, &next, NULL);
 }
 
 static int list_presets(struct render_context *ctx, enum sky_preset_kind kind,
@@ -195,7 +216,61 @@ static void handle_apply_preset(struct render_context *ctx, struct session *sess
         start_weather_preset(&ctx->state, &applied,
                              msg->preset.has_transition ? msg->preset.transition_s : 0.0, &next);
     }
-    commit_state(ctx, session, &msg->id, &next);
+    if (client_map_missing(ctx, &next, &errors)) {
+        reply_field_errors(session, &msg->id, "", &errors);
+        return;
+    }
+    commit_state(ctx, session, &msg->id, &next, NULL);
+}
+
+static bool copy_map(const struct sky_weather_map *from, struct sky_weather_map *to)
+{
+    size_t bytes = (size_t)from->width * from->height * 4;
+    memset(to, 0, sizeof *to);
+    if (!(to->rgba = malloc(bytes)))
+        return false;
+    memcpy(to->rgba, from->rgba, bytes);
+    to->width = from->width;
+    to->height = from->height;
+    return true;
+}
+
+/* The map is written to disk first, then handed to the renderer, then selected by the state
+ * (weather.map_source "client") in one revision whose event names "/weather/map". A failure at
+ * any step leaves the disk, the renderer and the state as they were. */
+static void handle_set_weather_map(struct render_context *ctx, struct session *session,
+                                   const struct sky_client_msg *msg)
+{
+    const struct sky_weather_map *map = &msg->weather_map;
+    struct sky_weather_map kept;
+    if (!copy_map(map, &kept)) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "out of memory for the weather "
+                    "map; the state is unchanged");
+        return;
+    }
+    char err[512];
+    if (ctx->state_file[0] &&
+        state_store_save_weather_map(ctx->state_file, map, err, sizeof err) != 0) {
+        fprintf(stderr, "skyd: cannot save the weather map: %s\n", err);
+        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "the weather map cannot be saved "
+                    "(%s); the state is unchanged", err);
+        sky_weather_map_free(&kept);
+        return;
+    }
+    if (sky_renderer_set_weather_map(ctx->renderer, map->rgba, map->width, map->height) != 0) {
+        if (ctx->state_file[0] &&
+            state_store_save_weather_map(ctx->state_file, &ctx->client_map, err, sizeof err) != 0)
+            fprintf(stderr, "skyd: cannot restore the saved weather map: %s\n", err);
+        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "the renderer could not take the "
+                    "weather map; the state is unchanged");
+        sky_weather_map_free(&kept);
+        return;
+    }
+    sky_weather_map_free(&ctx->client_map);
+    ctx->client_map = kept;
+    struct sky_world_state next = ctx->state;
+    next.weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    commit_state(ctx, session, &msg->id, &next, "/weather/map");
 }
 
 static void handle_list_presets(struct render_context *ctx, struct session *session,
@@ -378,6 +453,7 @@ void render_commands_handle(struct render_context *ctx, struct session *session,
     case SKY_MSG_LIST_PRESETS: handle_list_presets(ctx, session, msg); break;
     case SKY_MSG_APPLY_PRESET: handle_apply_preset(ctx, session, msg); break;
     case SKY_MSG_STATS: handle_stats(ctx, session, msg); break;
+    case SKY_MSG_SET_WEATHER_MAP: handle_set_weather_map(ctx, session, msg); break;
     }
 }
 

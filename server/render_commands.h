@@ -12,6 +12,7 @@
 #include "config.h"
 #include "messages.h"
 #include "session.h"
+#include "weather_map.h"
 #include "sky_renderer.h"
 #include "world_state.h"
 
@@ -62,6 +63,8 @@ struct render_context {
      * transitions, autopilot). */
     struct sky_render_clouds clouds;
     bool clouds_set;
+    /* The client weather map the renderer holds (no texels: none), as it is on disk. */
+    struct sky_weather_map client_map;
 };
 
 void render_commands_handle(struct render_context *ctx, struct session *session,

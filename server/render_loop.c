@@ -548,6 +548,35 @@ static void *thread_main(void *arg)
     return NULL;
 }
 
+/* The client weather map saved beside the state, if any. A state that selects it without a
+ * usable map falls back to the procedural one (said on stderr): a missing file must not keep
+ * the daemon from starting. */
+static void restore_weather_map(struct render_context *ctx)
+{
+    char msg[640];
+    enum state_load_result result = STATE_LOAD_ABSENT;
+    if (ctx->state_file[0])
+        result = state_store_load_weather_map(ctx->state_file, &ctx->client_map, msg, sizeof msg);
+    if (result == STATE_LOAD_RESTORED &&
+        sky_renderer_set_weather_map(ctx->renderer, ctx->client_map.rgba, ctx->client_map.width,
+                                     ctx->client_map.height) != 0) {
+        snprintf(msg, sizeof msg, "the renderer could not take the saved weather map");
+        sky_weather_map_free(&ctx->client_map);
+        result = STATE_LOAD_FAILED;
+    }
+    if (result == STATE_LOAD_RESTORED) {
+        fprintf(stderr, "skyd: restored the client weather map (%ux%u)\n", ctx->client_map.width,
+                ctx->client_map.height);
+    } else if (ctx->state.weather.map_source == SKY_WEATHER_MAP_CLIENT) {
+        fprintf(stderr, "skyd: %s; weather.map_source is procedural\n",
+                ctx->state_file[0] ? msg : "no state file keeps a client weather map");
+        ctx->state.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+        ctx->dirty = true;
+    } else if (result != STATE_LOAD_ABSENT) {
+        fprintf(stderr, "skyd: %s\n", msg);
+    }
+}
+
 /* The renderer is created on the render thread's behalf before it starts: Vulkan objects are
  * not tied to the creating thread, and creating it here lets a failure be reported at once. */
 struct render_loop *render_loop_create(const struct render_loop_params *params, char *err,
@@ -599,6 +628,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         render_loop_destroy(&loop);
         return NULL;
     }
+    restore_weather_map(ctx);
     /* The cloud noise too, so that no frame pays for it when clouds first appear. */
     if (sky_renderer_prepare_cloud_noise(ctx->renderer, (uint32_t)ctx->state.clouds.noise_seed) !=
         0) {
@@ -643,6 +673,7 @@ void render_loop_destroy(struct render_loop **loop_ptr)
         free_command(c);
     }
     render_commands_release(&loop->ctx);
+    sky_weather_map_free(&loop->ctx.client_map);
     sky_renderer_destroy(&loop->ctx.renderer);
     pthread_cond_destroy(&loop->wake);
     pthread_mutex_destroy(&loop->lock);

@@ -1,4 +1,5 @@
 #include "state_store.h"
+#include "png_write.h"
 #include "text_file.h"
 
 #include <errno.h>
@@ -14,6 +15,8 @@
 #include <cjson/cJSON.h>
 
 #define STATE_FILE_MAX_BYTES (1 << 20)
+/* A 512 x 512 RGBA8 PNG of noise, stored uncompressed, with room to spare. */
+#define WEATHER_MAP_FILE_MAX_BYTES (4 << 20)
 
 /* Parses the file's text onto a copy of the defaults; false with a reason. */
 static bool parse_state(const char *text, size_t length, struct sky_world_state *out, char *msg,
@@ -127,8 +130,9 @@ static void sync_parent_directory(const char *path)
     free(copy);
 }
 
-static int write_all(int fd, const char *data, size_t length)
+static int write_all(int fd, const void *bytes, size_t length)
 {
+    const char *data = bytes;
     while (length > 0) {
         ssize_t n = write(fd, data, length);
         if (n < 0 && errno == EINTR)
@@ -141,18 +145,14 @@ static int write_all(int fd, const char *data, size_t length)
     return 0;
 }
 
-int state_store_save(const char *path, const struct sky_world_state *state, char *err,
-                     size_t errlen)
+/* Writes path through a temporary file beside it: fsync, rename, fsync of the directory. */
+static int write_atomically(const char *path, const void *data, size_t length, char *err,
+                            size_t errlen)
 {
-    cJSON *json = sky_world_state_to_json(state);
-    char *text = json ? cJSON_Print(json) : NULL;
-    cJSON_Delete(json);
     size_t n = strlen(path) + 32;
     char *tmp = malloc(n);
-    if (!text || !tmp) {
+    if (!tmp) {
         snprintf(err, errlen, "out of memory");
-        free(text);
-        free(tmp);
         return -1;
     }
     snprintf(tmp, n, "%s.tmp%ld", path, (long)getpid());
@@ -162,8 +162,7 @@ int state_store_save(const char *path, const struct sky_world_state *state, char
         snprintf(err, errlen, "cannot create the directory of %s: %s", path, strerror(errno));
     } else if ((fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644)) < 0) {
         snprintf(err, errlen, "cannot create %s: %s", tmp, strerror(errno));
-    } else if (write_all(fd, text, strlen(text)) != 0 || write_all(fd, "\n", 1) != 0 ||
-               fsync(fd) != 0) {
+    } else if (write_all(fd, data, length) != 0 || fsync(fd) != 0) {
         snprintf(err, errlen, "cannot write %s: %s", tmp, strerror(errno));
     } else if (close(fd) != 0) {
         fd = -1;
@@ -179,6 +178,88 @@ int state_store_save(const char *path, const struct sky_world_state *state, char
     if (rc != 0)
         unlink(tmp);
     free(tmp);
-    free(text);
     return rc;
+}
+
+int state_store_save(const char *path, const struct sky_world_state *state, char *err,
+                     size_t errlen)
+{
+    cJSON *json = sky_world_state_to_json(state);
+    char *text = json ? cJSON_Print(json) : NULL;
+    cJSON_Delete(json);
+    size_t length = text ? strlen(text) : 0;
+    char *line = text ? realloc(text, length + 2) : NULL;
+    if (!line) {
+        snprintf(err, errlen, "out of memory");
+        free(text);
+        return -1;
+    }
+    memcpy(line + length, "\n", 2); /* newline and terminator */
+    int rc = write_atomically(path, line, length + 1, err, errlen);
+    free(line);
+    return rc;
+}
+
+/* ---- the client weather map ---- */
+
+void state_store_weather_map_path(const char *state_path, char *out, size_t outlen)
+{
+    size_t length = strlen(state_path);
+    const char *suffix = ".json";
+    size_t suffix_length = strlen(suffix);
+    if (length >= suffix_length && strcmp(state_path + length - suffix_length, suffix) == 0)
+        length -= suffix_length;
+    snprintf(out, outlen, "%.*s.weather-map.png", (int)length, state_path);
+}
+
+int state_store_save_weather_map(const char *state_path, const struct sky_weather_map *map,
+                                 char *err, size_t errlen)
+{
+    char path[4096];
+    state_store_weather_map_path(state_path, path, sizeof path);
+    if (!map || !map->rgba) {
+        if (unlink(path) != 0 && errno != ENOENT) {
+            snprintf(err, errlen, "cannot remove %s: %s", path, strerror(errno));
+            return -1;
+        }
+        sync_parent_directory(path);
+        return 0;
+    }
+    uint8_t *png = NULL;
+    size_t length = 0;
+    if (png_encode_rgba8(map->rgba, map->width, map->height, &png, &length) != 0) {
+        snprintf(err, errlen, "cannot encode the weather map as PNG");
+        return -1;
+    }
+    int rc = write_atomically(path, png, length, err, errlen);
+    free(png);
+    return rc;
+}
+
+enum state_load_result state_store_load_weather_map(const char *state_path,
+                                                    struct sky_weather_map *map, char *msg,
+                                                    size_t msglen)
+{
+    char path[4096];
+    state_store_weather_map_path(state_path, path, sizeof path);
+    memset(map, 0, sizeof *map);
+    if (access(path, F_OK) != 0) {
+        snprintf(msg, msglen, "no weather map at %s", path);
+        return STATE_LOAD_ABSENT;
+    }
+    size_t length = 0;
+    char *bytes = text_file_read(path, WEATHER_MAP_FILE_MAX_BYTES, &length);
+    if (!bytes) {
+        text_file_describe_error(path, WEATHER_MAP_FILE_MAX_BYTES, msg, msglen);
+        return STATE_LOAD_FAILED;
+    }
+    char reason[256];
+    bool ok = sky_weather_map_decode(SKY_WEATHER_MAP_PNG, (const uint8_t *)bytes, length, 0, 0,
+                                     map, reason, sizeof reason);
+    free(bytes);
+    if (!ok) {
+        snprintf(msg, msglen, "%s: %s", path, reason);
+        return STATE_LOAD_CORRUPT;
+    }
+    return STATE_LOAD_RESTORED;
 }

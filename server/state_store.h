@@ -6,6 +6,7 @@
 
 #include <stddef.h>
 
+#include "weather_map.h"
 #include "world_state.h"
 
 enum state_load_result {
@@ -22,5 +23,20 @@ enum state_load_result state_store_load(const char *path, struct sky_world_state
 /* Creates missing parent directories. Returns 0, or -1 with a message. */
 int state_store_save(const char *path, const struct sky_world_state *state, char *err,
                      size_t errlen);
+
+/* The client weather map lives beside the state file, as a PNG: "var/skyd-state.json" keeps
+ * it in "var/skyd-state.weather-map.png". */
+void state_store_weather_map_path(const char *state_path, char *out, size_t outlen);
+
+/* Writes the map atomically like the state; NULL (or no texels) removes the file. Returns 0,
+ * or -1 with a message. */
+int state_store_save_weather_map(const char *state_path, const struct sky_weather_map *map,
+                                 char *err, size_t errlen);
+
+/* RESTORED fills *map (free it with sky_weather_map_free); ABSENT, CORRUPT (not a usable PNG;
+ * the file is left where it is) and FAILED (unreadable) leave it empty, with msg saying why. */
+enum state_load_result state_store_load_weather_map(const char *state_path,
+                                                    struct sky_weather_map *map, char *msg,
+                                                    size_t msglen);
 
 #endif

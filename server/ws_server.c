@@ -21,7 +21,10 @@ struct connection {
     struct session *session;
     bool rejected;              /* over max_clients: gets an error and a close, nothing else */
     char *rx;                   /* the message being received */
+    size_t rx_capacity;         /* bytes rx holds, terminator included */
     size_t rx_length;           /* bytes received so far (may exceed what is stored) */
+    size_t rx_limit;            /* the largest message this one may be */
+    bool rx_out_of_memory;      /* the message did not fit in memory */
     bool rx_binary;
     double tokens, refilled_at; /* rate limit: a token bucket */
 };
@@ -155,9 +158,13 @@ static void on_message(struct ws_server *srv, struct connection *c)
     if (c->rx_binary) {
         error = sky_msg_build_error(NULL, SKY_MSG_ERR_INVALID_ENCODING,
                                     "binary messages are not accepted: send JSON text", NULL);
-    } else if (c->rx_length > srv->limits.max_message_bytes) {
-        snprintf(message, sizeof message, "message of %zu bytes is larger than "
-                 "max_message_bytes (%zu)", c->rx_length, srv->limits.max_message_bytes);
+    } else if (c->rx_out_of_memory) {
+        error = sky_msg_build_error(NULL, SKY_MSG_ERR_INTERNAL,
+                                    "out of memory while receiving this message", NULL);
+    } else if (c->rx_length > c->rx_limit) {
+        snprintf(message, sizeof message, "message of %zu bytes is larger than %s (%zu)",
+                 c->rx_length, c->rx_limit > srv->limits.max_message_bytes ? "max_upload_bytes"
+                 : "max_message_bytes", c->rx_limit);
         error = sky_msg_build_error(NULL, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message, NULL);
     } else {
         struct sky_msg_parse_error parse_error;
@@ -178,6 +185,38 @@ static void on_message(struct ws_server *srv, struct connection *c)
     sky_client_msg_free(&msg);
     if (error)
         render_loop_submit_reply(srv->loop, c->session, error);
+    if (c->rx_capacity > srv->limits.max_message_bytes + 1) {
+        free(c->rx); /* an upload's buffer is not kept between uploads */
+        c->rx = NULL;
+        c->rx_capacity = 0;
+    }
+}
+
+/* Room for `needed` bytes and a terminator, growing by doubling; false when memory ran out. */
+static bool reserve_rx(struct connection *c, size_t needed, size_t floor_bytes)
+{
+    if (needed + 1 <= c->rx_capacity)
+        return true;
+    size_t capacity = c->rx_capacity ? c->rx_capacity : floor_bytes + 1;
+    while (capacity < needed + 1)
+        capacity *= 2;
+    char *grown = realloc(c->rx, capacity);
+    if (!grown)
+        return false;
+    c->rx = grown;
+    c->rx_capacity = capacity;
+    return true;
+}
+
+/* A controller may send a set_weather_map up to max_upload_bytes; everything else, and anyone
+ * else's message, stays within max_message_bytes. */
+static size_t message_limit(const struct ws_server *srv, const struct connection *c)
+{
+    size_t limit = srv->limits.max_message_bytes;
+    if (c->session && session_role(c->session) == SKY_ROLE_CONTROLLER &&
+        srv->limits.max_upload_bytes > limit)
+        limit = srv->limits.max_upload_bytes;
+    return limit;
 }
 
 static void on_receive(struct ws_server *srv, struct lws *wsi, struct connection *c,
@@ -188,11 +227,13 @@ static void on_receive(struct ws_server *srv, struct lws *wsi, struct connection
     if (lws_is_first_fragment(wsi)) {
         c->rx_length = 0;
         c->rx_binary = lws_frame_is_binary(wsi);
+        c->rx_limit = message_limit(srv, c);
+        c->rx_out_of_memory = false;
     }
-    size_t limit = srv->limits.max_message_bytes;
-    if (!c->rx_binary && c->rx_length + len <= limit) {
-        if (!c->rx && !(c->rx = malloc(limit + 1))) {
-            c->rx_length += len; /* counted as too large: no room to hold it */
+    if (!c->rx_binary && c->rx_length + len <= c->rx_limit) {
+        if (!reserve_rx(c, c->rx_length + len, srv->limits.max_message_bytes)) {
+            c->rx_out_of_memory = true; /* counted, not kept; answered as an internal error */
+            c->rx_length += len;
         } else {
             memcpy(c->rx + c->rx_length, in, len);
             c->rx_length += len;

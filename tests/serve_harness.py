@@ -36,7 +36,7 @@ READY_TIMEOUT = 60.0      # the "listening" line
 EXIT_TIMEOUT = 20.0       # exit after SIGTERM
 
 CAPABILITIES = ["hello", "auth", "get_state", "set", "subscribe", "unsubscribe", "snapshot",
-                "probe", "list_presets", "apply_preset", "stats", "png"]
+                "probe", "list_presets", "apply_preset", "stats", "set_weather_map", "png"]
 
 HEADER = struct.Struct("<4sHHQQdIIII")
 assert HEADER.size == 48
@@ -213,6 +213,17 @@ def decode_png(data):
     return width, height, channels, rows
 
 
+def encode_png(width, height, rows, color_type=6, bit_depth=8):
+    """A PNG of `rows` (bytes per row, without the filter byte)."""
+    def chunk(kind, body):
+        return (struct.pack(">I", len(body)) + kind + body
+                + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF))
+    raw = b"".join(b"\0" + bytes(r) for r in rows)
+    ihdr = struct.pack(">IIBBBBB", width, height, bit_depth, color_type, 0, 0, 0)
+    return (PNG_SIGNATURE + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw))
+            + chunk(b"IEND", b""))
+
+
 def check_binary_frame(name, text_msg, binary, width, height, revision=None, decode=True):
     """Checks a binary frame (header + PNG) against the frame message that announced it."""
     if not check(f"{name}: binary message", isinstance(binary, bytes),
@@ -358,7 +369,7 @@ class Daemon:
 
 def make_config(scratch, state_file, **limits):
     lim = {"max_message_bytes": 16384, "max_clients": 16, "max_width": 1000, "max_height": 800,
-           "max_fps": 60, "control_messages_per_second": 1000}
+           "max_fps": 60, "control_messages_per_second": 1000, "max_upload_bytes": 1500000}
     lim.update(limits)
     return {
         "listen": {"address": "127.0.0.1", "port": 0},

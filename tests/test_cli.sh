@@ -185,5 +185,19 @@ expect_error "render bad time" 2 '/clock/utc' \
 expect_error "unknown weather" 2 'no weather preset named "hail"' \
   "$skyd" render --width 8 --height 8 --weather hail --out "$out/x.png"
 
+# A client weather map (any PNG up to 512x512; here the render above) turns a clear sky cloudy.
+expect_ok "render with a weather map" "$out/mapped\.png" \
+  "$skyd" render --width 64 --height 36 --weather clear --weather-map "$out/cli.png" \
+  --set sun.elevation_deg=30 --set camera.pitch_deg=20 --out "$out/mapped.png" --validation
+expect_ok "render without it" "$out/unmapped\.png" \
+  "$skyd" render --width 64 --height 36 --weather clear \
+  --set sun.elevation_deg=30 --set camera.pitch_deg=20 --out "$out/unmapped.png"
+if ! cmp -s "$out/mapped.png" "$out/unmapped.png"; then pass; else fail "the weather map changed nothing"; fi
+expect_error "weather map missing" 2 'cannot open' \
+  "$skyd" render --width 8 --height 8 --weather-map "$out/none.png" --out "$out/x.png"
+printf 'not a png' >"$out/not-a-map.png"
+expect_error "weather map not a PNG" 2 'not a PNG file' \
+  "$skyd" render --width 8 --height 8 --weather-map "$out/not-a-map.png" --out "$out/x.png"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -35,6 +35,7 @@ import urllib.request
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import serve_harness  # noqa: E402  (the counters live there)
 from serve_harness import *  # noqa: E402,F401,F403
+from serve_weather_map import t_weather_map  # noqa: E402
 
 async def t_hello(d, ctl):
     h = ctl.hello
@@ -679,6 +680,8 @@ async def t_sigterm_restart(d, ctl):
     check("no temporary state files left", not leftovers, short(leftovers))
 
     d.start()
+    check("restart: the client weather map restored", "restored the client weather map (512x512)"
+          in d.log_tail(4000), d.log_tail(600))
     c = await Client.connect(d.url(), "after-restart")
     try:
         s = await c.get_state()
@@ -943,6 +946,9 @@ async def main_checks(d, repo_config_dir):
     await section("slow reader", t_slow_reader(d), both)
     await section("not reading", t_not_reading(d), both)
     check("no unexpected replies on the viewer", not viewer.stray, short(viewer.stray))
+    await section("weather map", t_weather_map(d, ctl, viewer), both)
+    check("no unexpected replies on the viewer after the weather map", not viewer.stray,
+          short(viewer.stray))
     await viewer.close()
     await section("SIGTERM/restart", t_sigterm_restart(d, ctl))
     return defaults
@@ -961,7 +967,7 @@ async def run(skyd, scratch):
     try:
         # --- main daemon
         state_file = os.path.join(scratch, "main-state.json")
-        for p in glob.glob(state_file + "*"):
+        for p in glob.glob(state_file[:-len(".json")] + "*"):  # the weather map too
             os.unlink(p)
         d = Daemon(skyd, scratch, "main", make_config(scratch, state_file))
         daemons.append(d)
@@ -982,7 +988,7 @@ async def run(skyd, scratch):
 
         # --- limits daemon: rate limit, max clients, corrupt state file
         state_file2 = os.path.join(scratch, "limits-state.json")
-        for p in glob.glob(state_file2 + "*"):
+        for p in glob.glob(state_file2[:-len(".json")] + "*"):
             os.unlink(p)
         with open(state_file2, "w") as f:
             f.write('{"revision": 3, "state": {"sun": ')  # truncated: corrupt

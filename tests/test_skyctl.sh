@@ -189,6 +189,16 @@ expect "storm rain reached" 0 '0\.9' "" c get clouds.precipitation
 expect "transition state is read-only" 1 '' "/patch/weather/transition/progress" \
   t set weather.transition.progress=0.5
 
+# A client weather map from a PNG file (any PNG up to 512x512 is a map: here a snapshot).
+expect "weather-map as viewer" 1 '' "[forbidden]" c weather-map "$out/south.png"
+printf 'not a png' >"$out/not-a-map.png"
+expect "weather-map of a text file names /data" 1 '' "weather-map: /data: not a PNG file" \
+  t weather-map "$out/not-a-map.png"
+expect "weather-map of a missing file" 2 '' "cannot open" t weather-map "$out/none.png"
+expect "weather-map" 0 'revision 7' "" t weather-map "$out/south.png"
+expect "the map is selected" 0 'client' "" c get weather.map_source
+[ -s "$out/state.weather-map.png" ] && pass || fail "the weather map was not saved beside the state"
+
 # watch prints the event of a change made by another client.
 c watch --no-frames --count 1 >"$out/watch-events.txt" 2>&1 &
 watcher=$!

@@ -1,8 +1,11 @@
-/* skyctl get, set, preset, probe and stats: one request, one reply each. */
+/* skyctl get, set, preset, weather-map, probe and stats: one request, one reply each. */
 #include "skyctl.h"
+#include "weather_map.h"
 
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Connects, sends msg, prints nothing; the reply goes to *reply on SKYCTL_OK. Frees msg. */
@@ -123,6 +126,55 @@ int skyctl_preset(const struct skyctl_options *options, int argc, char **argv)
     } else if (rc == SKYCTL_OK) {
         printf("revision %ld\n", revision_of(reply));
     }
+    cJSON_Delete(reply);
+    return rc;
+}
+
+/* A whole file, at most max_bytes; NULL with a reason on stderr. */
+static unsigned char *read_file(const char *path, size_t max_bytes, size_t *length)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        fprintf(stderr, "skyctl weather-map: cannot open %s: %s\n", path, strerror(errno));
+        return NULL;
+    }
+    unsigned char *bytes = malloc(max_bytes + 1);
+    size_t n = bytes ? fread(bytes, 1, max_bytes + 1, f) : 0;
+    bool failed = !bytes || ferror(f) || n > max_bytes;
+    fclose(f);
+    if (failed) {
+        fprintf(stderr, "skyctl weather-map: %s: %s\n", path,
+                !bytes ? "out of memory" : n > max_bytes ? "too large" : "read error");
+        free(bytes);
+        return NULL;
+    }
+    *length = n;
+    return bytes;
+}
+
+/* weather-map FILE.png: the client weather map (PROTOCOL.md, set_weather_map). */
+int skyctl_weather_map(const struct skyctl_options *options, int argc, char **argv)
+{
+    if (argc != 2)
+        return skyctl_usage_error("weather-map", "takes one FILE.png");
+    size_t length = 0;
+    unsigned char *png = read_file(argv[1], 16u << 20, &length);
+    if (!png)
+        return SKYCTL_USAGE;
+    char *data = sky_base64_encode(png, length);
+    free(png);
+    if (!data) {
+        fprintf(stderr, "skyctl weather-map: out of memory\n");
+        return SKYCTL_USAGE;
+    }
+    cJSON *msg = message("set_weather_map");
+    cJSON_AddStringToObject(msg, "format", "png");
+    cJSON_AddStringToObject(msg, "data", data);
+    free(data);
+    cJSON *reply = NULL;
+    int rc = one_request(options, "weather-map", msg, &reply);
+    if (rc == SKYCTL_OK)
+        printf("revision %ld\n", revision_of(reply));
     cJSON_Delete(reply);
     return rc;
 }

@@ -22,6 +22,9 @@ static const char usage_text[] =
     "  preset [--kind K] [--transition-s S] NAME\n"
     "                                   apply a preset (kind atmosphere by default)\n"
     "  preset --list [--kind K]         the presets of a kind\n"
+    "  weather-map FILE.png             send a weather map (r low coverage, g high coverage,\n"
+    "                                   b cloud type, a rain) and select it; prints the\n"
+    "                                   new revision (weather.map_source=procedural undoes)\n"
     "  snapshot --out FILE.png [--width W] [--height H] [--set VIEW_PATH=VALUE]...\n"
     "                                   render one frame (default 640x360) into a PNG\n"
     "  watch [--count N] [--no-frames] [--width W] [--height H] [--fps F]\n"
@@ -46,6 +49,7 @@ static const char usage_text[] =
     "  skyctl --token \"$T\" set atmosphere.ground_albedo=[0.1,0.2,0.3]\n"
     "  skyctl --token \"$T\" preset mars\n"
     "  skyctl --token \"$T\" preset --kind weather --transition-s 600 storm\n"
+    "  skyctl --token \"$T\" weather-map front.png\n"
     "  skyctl snapshot --out west.png --width 1280 --height 720 --set camera.yaw_deg=270\n"
     "  skyctl watch --count 10\n"
     "  skyctl probe transmittance altitude_km=0 mu=0.5\n"
@@ -70,7 +74,7 @@ struct command {
 static const struct command commands[] = {
     {"get", skyctl_get},           {"set", skyctl_set},     {"preset", skyctl_preset},
     {"snapshot", skyctl_snapshot}, {"watch", skyctl_watch}, {"probe", skyctl_probe},
-    {"stats", skyctl_stats},
+    {"stats", skyctl_stats},       {"weather-map", skyctl_weather_map},
 };
 
 int main(int argc, char **argv)
