@@ -241,6 +241,9 @@ const struct sky_field_desc sky_world_field_table[] = {
     NUMBER("exposure.compensation_ev", exposure.compensation_ev, -10, 10,
            "added to the automatic exposure, EV"),
     ENUM("exposure.tonemap", exposure.tonemap, tonemap_names, "tone mapping curve"),
+    ENUM("exposure.night_adaptation", exposure.night_adaptation, switch_names,
+         "on: auto exposure keeps a dark scene dark, as a dark-adapted eye sees it (Krawczyk "
+         "et al. 2005); off: every scene is metered to mid grey, as a camera would"),
     INT_PAIR("render.transmittance_lut", render.transmittance_lut, 8, 4096,
              "transmittance LUT size, [width, height] texels"),
     INT_PAIR("render.multiscattering_lut", render.multiscattering_lut, 4, 1024,
@@ -362,6 +365,7 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->exposure.ev100 = 14.0;
     state->exposure.compensation_ev = 0.0;
     state->exposure.tonemap = SKY_TONEMAP_ACES;
+    state->exposure.night_adaptation = SKY_SWITCH_ON;
 
     set_pair(state->render.transmittance_lut, 256, 64);
     set_pair(state->render.multiscattering_lut, 32, 32);

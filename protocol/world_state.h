@@ -96,6 +96,7 @@ struct sky_exposure_state {
     double ev100;                     /* used when mode is manual */
     double compensation_ev;           /* added to the automatic exposure */
     enum sky_tonemap tonemap;
+    enum sky_switch night_adaptation; /* auto exposure leaves dark scenes dark, as eyes see them */
 };
 
 struct sky_clock_state {

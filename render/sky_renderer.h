@@ -39,6 +39,7 @@ struct sky_render_view {
     double sun_angular_diameter_deg;
     int limb_darkening;               /* SKY_LIMB_* of shaders/include/sky_shared.h */
     bool auto_exposure;
+    bool night_adaptation;            /* auto exposure darkens dim scenes (exposure_resolve.comp) */
     double ev100;                     /* manual exposure */
     double exposure_compensation_ev;  /* for auto exposure */
     int tonemap;                      /* SKY_TONEMAP_OP_* */

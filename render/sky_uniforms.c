@@ -180,7 +180,8 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
         e_top[c] = v->sun_illuminance_lux / fmax(zenith_transmittance[c], 1e-30);
     u->sun_illuminance = V4(e_top[0], e_top[1], e_top[2], v->limb_darkening);
     u->sun_disk = V4(sky_disk_solid_angle(v->sun_angular_diameter_deg), sin(radius), 0, 0);
-    u->exposure = V4(sky_ev100_to_exposure(v->ev100), v->auto_exposure ? 1 : 0,
+    u->exposure = V4(sky_ev100_to_exposure(v->ev100),
+                     v->auto_exposure ? (v->night_adaptation ? 2 : 1) : 0,
                      v->exposure_compensation_ev, v->tonemap);
     u->image = V4(v->width, v->height, v->aerial_perspective_max_km, v->output);
     /* The sky-view LUT frame puts the sun at azimuth 0: (sin zenith, 0, cos zenith). */

@@ -95,6 +95,7 @@ void world_to_render_view(const struct sky_world_state *state, uint32_t width, u
     out->sun_angular_diameter_deg = state->sun.angular_diameter_deg;
     out->limb_darkening = limb_model(state->sun.limb_darkening);
     out->auto_exposure = state->exposure.mode == SKY_EXPOSURE_AUTO;
+    out->night_adaptation = state->exposure.night_adaptation == SKY_SWITCH_ON;
     out->ev100 = state->exposure.ev100;
     out->exposure_compensation_ev = state->exposure.compensation_ev;
     out->tonemap = tonemap_op(state->exposure.tonemap);

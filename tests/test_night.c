@@ -526,6 +526,63 @@ static void test_night_lighting(void)
     CHECK(sky_rgb_to_luminance(sky[1]) > 5.0 * s.night.airglow_luminance_cd_m2);
 }
 
+/* Mean of the upper half of an sRGB8 frame with auto exposure, and the metered EV100. */
+static double exposed_mean(const struct sky_world_state *s, double *ev100)
+{
+    static uint8_t pixels[W * H * 4];
+    struct sky_render_atmosphere atm;
+    struct sky_render_view view;
+    struct sky_render_night night;
+    struct sky_render_stats stats;
+    world_to_render_atmosphere(s, &atm);
+    world_to_render_view(s, W, H, SKY_RENDER_OUTPUT_SRGB8, &view);
+    world_to_render_night(s, &night);
+    sky_renderer_set_night(renderer, &night);
+    CHECK(sky_renderer_render(renderer, &atm, &view, pixels, sizeof pixels, &stats) == 0);
+    *ev100 = stats.metered_ev100;
+    double sum = 0;
+    for (int i = 0; i < W * H / 2; i++)
+        sum += (pixels[4 * i] + pixels[4 * i + 1] + pixels[4 * i + 2]) / 3.0;
+    return sum / (W * H / 2);
+}
+
+/* Krawczyk, Myszkowski & Seidel 2005, eq. 11: the key value for a log-average luminance. */
+static double key_value(double l_avg)
+{
+    return 1.03 - 2.0 / (2.0 + log10(l_avg + 1.0));
+}
+
+/* exposure.night_adaptation: daylight as metered; a night darker than a camera would show it,
+ * by the EV the key value gives for the metered luminance. */
+static void test_night_adaptation(void)
+{
+    struct sky_world_state s;
+    const double sun_elevations[3] = {45, -30, -8}; /* day, night, nautical twilight */
+    double adapted[3], camera[3];
+    for (int k = 0; k < 3; k++) {
+        night_state(&s);
+        s.camera.pitch_deg = 30;
+        s.camera.yaw_deg = 90;
+        s.sun.azimuth_deg = 200, s.sun.elevation_deg = sun_elevations[k];
+        double ev_on, ev_off;
+        s.exposure.night_adaptation = SKY_SWITCH_ON;
+        adapted[k] = exposed_mean(&s, &ev_on);
+        s.exposure.night_adaptation = SKY_SWITCH_OFF;
+        camera[k] = exposed_mean(&s, &ev_off);
+        /* EV100 = log2(L * 100 / 12.5) when metered like a camera. */
+        double l_avg = exp2(ev_off) * 12.5 / 100.0;
+        double expected = fmax(0.0, -log2(key_value(l_avg) / key_value(1000.0)));
+        printf("night adaptation, sun at %g deg: metered %.3g cd/m2, EV100 %.2f -> %.2f "
+               "(expected +%.2f), mean sRGB %.1f -> %.1f\n", sun_elevations[k], l_avg, ev_off,
+               ev_on, expected, camera[k], adapted[k]);
+        CHECK_NEAR(ev_on - ev_off, expected, 0.02);
+    }
+    CHECK_NEAR(adapted[0], camera[0], 2.0);  /* daylight: as metered */
+    CHECK(camera[1] > 40.0);                 /* a camera lifts the night to mid grey ... */
+    CHECK(adapted[1] < 0.35 * camera[1]);    /* ... a dark-adapted eye does not */
+    CHECK(adapted[1] < adapted[2] && adapted[2] < adapted[0]); /* night < twilight < day */
+}
+
 static void test_no_nan(void)
 {
     const double altitudes[] = { 0, 12, 400 };
@@ -585,6 +642,7 @@ int main(int argc, char **argv)
     test_full_moon_luminance();
     test_moon_hidden_below_horizon();
     test_night_lighting();
+    test_night_adaptation();
     test_no_nan();
     write_review_images();
     sky_renderer_destroy(&renderer);

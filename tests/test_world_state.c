@@ -353,7 +353,7 @@ static void test_schema_table(void)
     current_case = "schema table";
     size_t count = 0;
     const struct sky_field_desc *fields = sky_world_state_fields(&count);
-    CHECK_INT(count, 110);
+    CHECK_INT(count, 111);
     for (size_t i = 0; i < count; i++) {
         current_case = fields[i].path;
         CHECK(sky_world_state_find_field(fields[i].path) == &fields[i]);

@@ -63,8 +63,8 @@ struct sky_frame_uniforms {
     SKY_VEC4 sun_direction;       /* xyz unit, toward the sun; w cos(angular radius) */
     SKY_VEC4 sun_illuminance;     /* xyz extraterrestrial illuminance per channel; w limb model */
     SKY_VEC4 sun_disk;            /* x solid angle (sr), y sin(angular radius), zw unused */
-    SKY_VEC4 exposure;            /* x manual exposure multiplier, y 1 = auto, z compensation EV,
-                                     w tonemap operator */
+    SKY_VEC4 exposure;            /* x manual exposure multiplier, y 0 manual, 1 auto, 2 auto
+                                     with night adaptation, z compensation EV, w tonemap operator */
     SKY_VEC4 image;               /* x width, y height, z aerial perspective max km, w output kind */
     SKY_VEC4 sun_local;           /* sun direction in the sky-view LUT frame (azimuth 0) */
     SKY_VEC4 sun_horizontal;      /* sun direction projected on the camera's horizontal plane,
