@@ -7,7 +7,9 @@ ASAN_BUILD ?= build-asan
 JOBS       ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=RelWithDebInfo
 
-.PHONY: all deps configure build run test test-asan bench clean
+FUZZ_SECONDS ?= 1800
+
+.PHONY: all deps configure build run test test-asan fuzz bench clean
 
 all: build
 
@@ -23,9 +25,15 @@ build: configure
 run: build
 	@./scripts/run-default.sh $(BUILD)
 
-# Every suite: unit, reference, render (lavapipe with validation), command line.
+# Every suite: unit, reference, render (lavapipe with validation), command line; then a short
+# fuzzing run (about 60 s) of the protocol parser, weather maps and the configuration loader.
 test: build
 	@cd $(BUILD) && ctest --output-on-failure --timeout 900
+	@./scripts/fuzz.sh 60
+
+# A long fuzzing run (FUZZ_SECONDS, shared by the targets); the corpus grows in build-fuzz/.
+fuzz: deps
+	@./scripts/fuzz.sh $(FUZZ_SECONDS)
 
 # The same suites built with AddressSanitizer and UndefinedBehaviorSanitizer, leak checks on.
 # The Vulkan loader unloads the driver at vkDestroyInstance, after which LeakSanitizer can
@@ -48,4 +56,4 @@ bench: build
 	@$(BUILD)/bench/skyd_bench $(BENCH_ARGS)
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) out
+	rm -rf $(BUILD) $(ASAN_BUILD) build-fuzz out

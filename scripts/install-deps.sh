@@ -9,6 +9,7 @@ packages=(
   glslang-tools
   libwebsockets-dev libcjson-dev libpng-dev
   python3 python3-websockets
+  clang libclang-rt-dev
   chromium chromium-driver
 )
 if [ "${SKYD_DEPS_EXTRA:-}" != "" ]; then

@@ -250,12 +250,35 @@ bool skyd_config_load(const char *path, struct skyd_config *config,
         text_file_describe_error(path, MAX_CONFIG_BYTES, msg, msglen);
         return false;
     }
+    bool ok = skyd_config_parse(text, length, path, config, errors, msg, msglen);
+    free(text);
+    return ok;
+}
+
+bool skyd_config_parse(const char *text, size_t length, const char *name,
+                       struct skyd_config *config, struct sky_field_errors *errors, char *msg,
+                       size_t msglen)
+{
+    memset(errors, 0, sizeof *errors);
+    skyd_config_defaults(config);
+    if (memchr(text, '\0', length)) {
+        snprintf(msg, msglen, "%s: NUL byte at %ld", name,
+                 (long)((const char *)memchr(text, '\0', length) - text));
+        return false;
+    }
+    char *copy = malloc(length + 1);
+    if (!copy) {
+        snprintf(msg, msglen, "%s: out of memory", name);
+        return false;
+    }
+    memcpy(copy, text, length);
+    copy[length] = '\0';
     const char *end = NULL;
-    cJSON *root = cJSON_ParseWithOpts(text, &end, true);
+    cJSON *root = cJSON_ParseWithOpts(copy, &end, true);
     if (!root) {
-        snprintf(msg, msglen, "%s: invalid JSON at byte %ld", path,
-                 end ? (long)(end - text) : 0L);
-        free(text);
+        snprintf(msg, msglen, "%s: invalid JSON at byte %ld", name,
+                 end ? (long)(end - copy) : 0L);
+        free(copy);
         return false;
     }
     struct skyd_config candidate;
@@ -266,9 +289,9 @@ bool skyd_config_load(const char *path, struct skyd_config *config,
     else
         apply_object(&candidate, root, "", errors);
     cJSON_Delete(root);
-    free(text);
+    free(copy);
     if (errors->total > 0) {
-        snprintf(msg, msglen, "%s: %d invalid field%s", path, errors->total,
+        snprintf(msg, msglen, "%s: %d invalid field%s", name, errors->total,
                  errors->total == 1 ? "" : "s");
         return false;
     }

@@ -55,4 +55,10 @@ void skyd_config_limits(const struct skyd_config *config, struct sky_msg_limits 
 bool skyd_config_load(const char *path, struct skyd_config *config,
                       struct sky_field_errors *errors, char *msg, size_t msglen);
 
+/* The same for a configuration's text (`length` bytes, no terminator needed); `name` stands
+ * for the file in messages. */
+bool skyd_config_parse(const char *text, size_t length, const char *name,
+                       struct skyd_config *config, struct sky_field_errors *errors, char *msg,
+                       size_t msglen);
+
 #endif
