@@ -45,6 +45,19 @@ static int check_passed, check_failed;
         }                                                                                 \
     } while (0)
 
+/* CHECK with a printf-style explanation on failure. */
+#define CHECK_MSG(cond, ...)                                                              \
+    do {                                                                                  \
+        if (cond) {                                                                       \
+            check_passed++;                                                               \
+        } else {                                                                          \
+            check_failed++;                                                               \
+            printf("FAIL %s:%d: %s: ", __FILE__, __LINE__, #cond);                       \
+            printf(__VA_ARGS__);                                                          \
+            printf("\n");                                                                \
+        }                                                                                 \
+    } while (0)
+
 static inline int check_summary(void)
 {
     printf("%d passed, %d failed\n", check_passed, check_failed);

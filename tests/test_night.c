@@ -45,9 +45,10 @@ static void render(const struct sky_world_state *s, const struct sky_render_nigh
     CHECK(sky_renderer_render(renderer, &atm, &view, frame, sizeof frame, NULL) == 0);
 }
 
-static void save_png(const struct sky_world_state *s, const char *name, unsigned w, unsigned h)
+/* Renders the state's exposed sRGB8 image of w x h into pixels; stats may be NULL. */
+static bool render_srgb8(const struct sky_world_state *s, unsigned w, unsigned h,
+                         uint8_t *pixels, struct sky_render_stats *stats)
 {
-    uint8_t *pixels = malloc((size_t)w * h * 4);
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
     struct sky_render_night night;
@@ -55,8 +56,14 @@ static void save_png(const struct sky_world_state *s, const char *name, unsigned
     world_to_render_view(s, w, h, SKY_RENDER_OUTPUT_SRGB8, &view);
     world_to_render_night(s, &night);
     sky_renderer_set_night(renderer, &night);
-    CHECK(pixels && sky_renderer_render(renderer, &atm, &view, pixels, (size_t)w * h * 4,
-                                        NULL) == 0);
+    return pixels && sky_renderer_render(renderer, &atm, &view, pixels, (size_t)w * h * 4,
+                                         stats) == 0;
+}
+
+static void save_png(const struct sky_world_state *s, const char *name, unsigned w, unsigned h)
+{
+    uint8_t *pixels = malloc((size_t)w * h * 4);
+    CHECK(render_srgb8(s, w, h, pixels, NULL));
     char path[1024], err[256];
     snprintf(path, sizeof path, "%s/%s.png", out_dir, name);
     CHECK(pixels && png_write_rgba8_file(path, pixels, w, h, err, sizeof err) == 0);
@@ -530,15 +537,8 @@ static void test_night_lighting(void)
 static double exposed_mean(const struct sky_world_state *s, double *ev100)
 {
     static uint8_t pixels[W * H * 4];
-    struct sky_render_atmosphere atm;
-    struct sky_render_view view;
-    struct sky_render_night night;
     struct sky_render_stats stats;
-    world_to_render_atmosphere(s, &atm);
-    world_to_render_view(s, W, H, SKY_RENDER_OUTPUT_SRGB8, &view);
-    world_to_render_night(s, &night);
-    sky_renderer_set_night(renderer, &night);
-    CHECK(sky_renderer_render(renderer, &atm, &view, pixels, sizeof pixels, &stats) == 0);
+    CHECK(render_srgb8(s, W, H, pixels, &stats));
     *ev100 = stats.metered_ev100;
     double sum = 0;
     for (int i = 0; i < W * H / 2; i++)

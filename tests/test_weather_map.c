@@ -12,19 +12,6 @@
 
 #include "check.h"
 
-/* CHECK with a printf-style explanation on failure. */
-#define CHECK_MSG(cond, ...)                                                              \
-    do {                                                                                  \
-        if (cond) {                                                                       \
-            check_passed++;                                                               \
-        } else {                                                                          \
-            check_failed++;                                                               \
-            printf("FAIL %s:%d: %s: ", __FILE__, __LINE__, #cond);                       \
-            printf(__VA_ARGS__);                                                          \
-            printf("\n");                                                                \
-        }                                                                                 \
-    } while (0)
-
 static void test_base64(void)
 {
     /* RFC 4648 section 10. */
