@@ -22,7 +22,8 @@ struct skyd_config {
     /* Relative paths resolve against the working directory skyd starts in. */
     char web_root[SKYD_CONFIG_STRING];   /* "clients/web" */
     char state_file[SKYD_CONFIG_STRING]; /* "var/skyd-state.json" */
-    double state_save_delay_s;     /* 1: the state is written this long after the last change */
+    double state_save_delay_s;     /* 1: retry delay of a state write the daemon owes itself
+                                      (client changes are written before their ack) */
     char render_device[64];        /* "" = automatic (a GPU when present, else lavapipe) */
     int encoder_threads;           /* 2: PNG encoder workers */
     /* Amortized atmosphere LUT rebuilds: GPU ms per frame (0 = at once) and blend frames. */

@@ -64,10 +64,38 @@ static void reply_field_errors(struct session *session, const struct sky_msg_id 
     reply(session, id, sky_msg_build_error(id, code, message, &prefixed));
 }
 
+/* Writes `state` to the state file before anything acknowledges it, so that a restart, even
+ * after kill -9, comes back to the last acknowledged state. On failure (disk full, a read-only
+ * or vanished directory) the sender hears why and false says not to apply the change. */
+static bool persist(struct render_context *ctx, struct session *session,
+                    const struct sky_msg_id *id, const struct sky_world_state *state)
+{
+    if (!ctx->state_file[0])
+        return true;
+    char err[512];
+    if (state_store_save(ctx->state_file, state, err, sizeof err) != 0) {
+        fprintf(stderr, "skyd: cannot save the state: %s\n", err);
+        reply_error(session, id, SKY_MSG_ERR_INTERNAL, "the state cannot be saved (%s); the "
+                    "change is not applied", err);
+        return false;
+    }
+    ctx->dirty = ctx->sim_dirty = false;
+    ctx->last_save_s = monotonic_seconds();
+    return true;
+}
+
+/* After a failure past persist(): the file goes back to the live state. */
+static void unpersist(struct render_context *ctx)
+{
+    char err[512];
+    if (ctx->state_file[0] && state_store_save(ctx->state_file, &ctx->state, err, sizeof err) != 0)
+        ctx->dirty = true; /* the loop tries again */
+}
+
 /* Makes `next` the live state: a new revision when anything differs (or when `also_changed`,
- * a pointer outside the schema, names something else that did), an ack to the sender and an
- * event naming the changed fields to everyone. */
-static void commit_state(struct render_context *ctx, struct session *session,
+ * a pointer outside the schema, names something else that did), written to the state file,
+ * then an ack to the sender and an event naming the changed fields to everyone. */
+static bool commit_state(struct render_context *ctx, struct session *session,
                          const struct sky_msg_id *id, struct sky_world_state *next,
                          const char *also_changed)
 {
@@ -81,8 +109,11 @@ static void commit_state(struct render_context *ctx, struct session *session,
         snprintf(changed[count++], SKY_MSG_POINTER_MAX, "%s", also_changed);
     if (count == 0) {
         reply(session, id, sky_msg_build_ack(id, ctx->state.revision, SKY_ROLE_NONE));
-        return;
+        return true;
     }
+    next->revision = ctx->state.revision + 1;
+    if (!persist(ctx, session, id, next))
+        return false;
     struct sky_render_lut_sizes sizes;
     world_to_lut_sizes(next, &sizes);
     if (memcmp(&sizes, &ctx->lut_sizes, sizeof sizes) != 0) {
@@ -90,7 +121,8 @@ static void commit_state(struct render_context *ctx, struct session *session,
             reply_error(session, id, SKY_MSG_ERR_INTERNAL, "the new LUT sizes could not be "
                         "allocated; the state is unchanged");
             sky_renderer_set_lut_sizes(ctx->renderer, &ctx->lut_sizes);
-            return;
+            unpersist(ctx);
+            return false;
         }
         ctx->lut_sizes = sizes;
     }
@@ -102,7 +134,8 @@ static void commit_state(struct render_context *ctx, struct session *session,
             reply_error(session, id, SKY_MSG_ERR_INTERNAL, "the cloud noise could not be "
                         "generated; the state is unchanged");
             sky_renderer_set_clouds(ctx->renderer, &clouds_before);
-            return;
+            unpersist(ctx);
+            return false;
         }
         ctx->clouds = clouds_after; /* the renderer has them: the next frame need not set them */
         ctx->clouds_set = true;
@@ -112,10 +145,8 @@ static void commit_state(struct render_context *ctx, struct session *session,
     world_to_render_atmosphere(next, &after);
     if (memcmp(&before, &after, sizeof before) != 0)
         ctx->atmosphere_pending = true;
-    next->revision = ctx->state.revision + 1;
     ctx->state = *next;
     ctx->atmosphere = after; /* a client's change is shown at once, not paced like the sim's */
-    ctx->dirty = true;
     ctx->last_change_s = monotonic_seconds();
     reply(session, id, sky_msg_build_ack(id, ctx->state.revision, SKY_ROLE_NONE));
     const char *pointers[MAX_CHANGED];
@@ -125,6 +156,7 @@ static void commit_state(struct render_context *ctx, struct session *session,
     if (event)
         session_hub_broadcast(ctx->hub, event);
     free(event);
+    return true;
 }
 
 /* A state that samples the client weather map needs one. */
@@ -266,11 +298,19 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
         sky_weather_map_free(&kept);
         return;
     }
-    sky_weather_map_free(&ctx->client_map);
-    ctx->client_map = kept;
     struct sky_world_state next = ctx->state;
     next.weather.map_source = SKY_WEATHER_MAP_CLIENT;
-    commit_state(ctx, session, &msg->id, &next, "/weather/map");
+    if (!commit_state(ctx, session, &msg->id, &next, "/weather/map")) {
+        /* The state was not saved: the old map goes back on disk and to the renderer. */
+        if (ctx->state_file[0])
+            state_store_save_weather_map(ctx->state_file, &ctx->client_map, err, sizeof err);
+        sky_renderer_set_weather_map(ctx->renderer, ctx->client_map.rgba, ctx->client_map.width,
+                                     ctx->client_map.height);
+        sky_weather_map_free(&kept);
+        return;
+    }
+    sky_weather_map_free(&ctx->client_map);
+    ctx->client_map = kept;
 }
 
 static void handle_list_presets(struct render_context *ctx, struct session *session,

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
+#include <dirent.h>
 
 #define STATE_FILE_MAX_BYTES (1 << 20)
 /* A 512 x 512 RGBA8 PNG of noise, stored uncompressed, with room to spare. */
@@ -55,9 +56,42 @@ static bool parse_state(const char *text, size_t length, struct sky_world_state 
     return ok;
 }
 
+/* A daemon killed while writing leaves "<file>.tmp<pid>" beside the state file or its map. */
+static void remove_stale_temporaries(const char *path)
+{
+    char *copy = strdup(path);
+    if (!copy)
+        return;
+    char *slash = strrchr(copy, '/');
+    const char *dir = slash ? (slash == copy ? "/" : copy) : ".";
+    const char *base = slash ? slash + 1 : copy;
+    if (slash)
+        *slash = '\0';
+    size_t base_length = strlen(base);
+    DIR *d = opendir(dir);
+    struct dirent *entry;
+    while (d && (entry = readdir(d))) {
+        const char *name = entry->d_name;
+        const char *tmp = name + base_length; /* must be ".tmp" and digits */
+        if (strncmp(name, base, base_length) != 0 || strncmp(tmp, ".tmp", 4) != 0 ||
+            tmp[4] == '\0' || strspn(tmp + 4, "0123456789") != strlen(tmp + 4))
+            continue;
+        char full[4096];
+        if ((size_t)snprintf(full, sizeof full, "%s/%s", dir, name) < sizeof full)
+            unlink(full);
+    }
+    if (d)
+        closedir(d);
+    free(copy);
+}
+
 enum state_load_result state_store_load(const char *path, struct sky_world_state *state,
                                         char *msg, size_t msglen)
 {
+    char stem[4096];
+    state_store_weather_map_path(path, stem, sizeof stem);
+    remove_stale_temporaries(path);
+    remove_stale_temporaries(stem);
     if (access(path, F_OK) != 0) {
         snprintf(msg, msglen, "no state file at %s: starting from the defaults", path);
         return STATE_LOAD_ABSENT;

@@ -635,7 +635,7 @@ async def t_sigterm_restart(d, ctl):
                                      "camera": {"fov_deg": 55}}})
     check("restart: set ack", r.get("type") == "ack", short(r))
     saved = await ctl.get_state()
-    # Written ~1 s after a change (debounced), not only at shutdown.
+    # Written before the ack, not only at shutdown.
     state_file = d.config["state_file"]
     seen = b""
     for _ in range(40):
