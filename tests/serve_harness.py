@@ -707,3 +707,19 @@ def http_get_raw(port, target):
 
 # ------------------------------------------------------------------------------------------
 # Test sections
+
+
+def run_daemon_test(run, doc, timeout_s):
+    """The main() of a test script taking PATH_TO_SKYD SCRATCH_DIR: runs `run(skyd, scratch)`
+    within timeout_s, prints "N passed, M failed" and returns the exit status."""
+    if len(sys.argv) != 3:
+        print(doc, file=sys.stderr)
+        return 2
+    skyd, scratch = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    os.makedirs(scratch, exist_ok=True)
+    try:
+        asyncio.run(asyncio.wait_for(run(skyd, scratch), timeout_s))
+    except asyncio.TimeoutError:
+        check(f"whole run within {timeout_s} s", False, "timed out")
+    print(f"{passed} passed, {failed} failed")
+    return 0 if failed == 0 else 1

@@ -25,9 +25,8 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import serve_harness  # noqa: E402  (the counters live there)
 from serve_harness import (Client, Daemon, approx_equal, check, info,  # noqa: E402
-                           json_diff, make_config, short, stable)
+                           json_diff, make_config, run_daemon_test, short, stable)
 
 ROUNDS = 3
 
@@ -145,15 +144,5 @@ async def run(skyd, scratch):
         d.kill()
 
 
-def main():
-    if len(sys.argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    os.makedirs(sys.argv[2], exist_ok=True)
-    asyncio.run(asyncio.wait_for(run(sys.argv[1], sys.argv[2]), 400))
-    print(f"{serve_harness.passed} passed, {serve_harness.failed} failed")
-    return 0 if serve_harness.failed == 0 else 1
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_daemon_test(run, __doc__, 400))

@@ -22,9 +22,9 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import serve_harness  # noqa: E402  (the counters live there)
 from serve_harness import (Client, Daemon, check, info, make_config,  # noqa: E402
-                           raw_ws_connect, raw_ws_send_text, short, websockets)
+                           raw_ws_connect, raw_ws_send_text, run_daemon_test, short,
+                           websockets)
 
 READERS = 56  # 55 that read and the flooding client
 NON_READERS = 8
@@ -174,15 +174,5 @@ async def run(skyd, scratch):
         check("daemon exits 0 after SIGTERM", status == 0, f"status {status}")
 
 
-def main():
-    if len(sys.argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    os.makedirs(sys.argv[2], exist_ok=True)
-    asyncio.run(asyncio.wait_for(run(sys.argv[1], sys.argv[2]), 300))
-    print(f"{serve_harness.passed} passed, {serve_harness.failed} failed")
-    return 0 if serve_harness.failed == 0 else 1
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_daemon_test(run, __doc__, 300))
