@@ -10,7 +10,7 @@
 #include "messages.h"
 #include "png_write.h"
 #include "presets.h"
-#include "text_file.h"
+#include "state_store.h"
 #include "world_render.h"
 #include "world_sim.h"
 
@@ -142,21 +142,12 @@ static bool start_lapse_transition(struct cli_common *common, const struct lapse
 /* --weather-map: the PNG a client would send in set_weather_map. */
 static bool load_weather_map(const char *path, struct sky_weather_map *map)
 {
-    enum { MAX_BYTES = 16 << 20 };
-    size_t length = 0;
-    char *bytes = text_file_read(path, MAX_BYTES, &length);
-    char reason[640];
-    if (!bytes) {
-        text_file_describe_error(path, MAX_BYTES, reason, sizeof reason);
-        fprintf(stderr, "skyd render: --weather-map: %s\n", reason);
-        return false;
-    }
-    bool ok = sky_weather_map_decode(SKY_WEATHER_MAP_PNG, (const uint8_t *)bytes, length, 0, 0,
-                                     map, reason, sizeof reason);
-    free(bytes);
-    if (!ok)
-        fprintf(stderr, "skyd render: --weather-map %s: %s\n", path, reason);
-    return ok;
+    char msg[640];
+    if (state_store_read_weather_map(path, 16u << 20, map, msg, sizeof msg) ==
+        STATE_LOAD_RESTORED)
+        return true;
+    fprintf(stderr, "skyd render: --weather-map: %s\n", msg);
+    return false;
 }
 
 static void print_stats(const struct sky_render_stats *s)

@@ -242,12 +242,12 @@ void skyd_config_limits(const struct skyd_config *c, struct sky_msg_limits *limi
 bool skyd_config_load(const char *path, struct skyd_config *config,
                       struct sky_field_errors *errors, char *msg, size_t msglen)
 {
-    memset(errors, 0, sizeof *errors);
-    skyd_config_defaults(config);
     size_t length = 0;
     char *text = text_file_read(path, MAX_CONFIG_BYTES, &length);
     if (!text) {
-        text_file_describe_error(path, MAX_CONFIG_BYTES, msg, msglen);
+        text_file_describe_error(path, MAX_CONFIG_BYTES, msg, msglen); /* reads errno */
+        memset(errors, 0, sizeof *errors);
+        skyd_config_defaults(config);
         return false;
     }
     bool ok = skyd_config_parse(text, length, path, config, errors, msg, msglen);
@@ -261,9 +261,9 @@ bool skyd_config_parse(const char *text, size_t length, const char *name,
 {
     memset(errors, 0, sizeof *errors);
     skyd_config_defaults(config);
-    if (memchr(text, '\0', length)) {
-        snprintf(msg, msglen, "%s: NUL byte at %ld", name,
-                 (long)((const char *)memchr(text, '\0', length) - text));
+    const char *nul = memchr(text, '\0', length);
+    if (nul) {
+        snprintf(msg, msglen, "%s: NUL byte at %ld", name, (long)(nul - text));
         return false;
     }
     char *copy = malloc(length + 1);

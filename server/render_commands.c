@@ -88,8 +88,11 @@ static bool persist(struct render_context *ctx, struct session *session,
 static void unpersist(struct render_context *ctx)
 {
     char err[512];
-    if (ctx->state_file[0] && state_store_save(ctx->state_file, &ctx->state, err, sizeof err) != 0)
-        ctx->dirty = true; /* the loop tries again */
+    if (ctx->state_file[0] &&
+        state_store_save(ctx->state_file, &ctx->state, err, sizeof err) != 0) {
+        ctx->dirty = true; /* the loop tries again after state_save_delay_s */
+        ctx->last_change_s = monotonic_seconds();
+    }
 }
 
 /* Makes `next` the live state: a new revision when anything differs (or when `also_changed`,
@@ -147,7 +150,6 @@ static bool commit_state(struct render_context *ctx, struct session *session,
         ctx->atmosphere_pending = true;
     ctx->state = *next;
     ctx->atmosphere = after; /* a client's change is shown at once, not paced like the sim's */
-    ctx->last_change_s = monotonic_seconds();
     reply(session, id, sky_msg_build_ack(id, ctx->state.revision, SKY_ROLE_NONE));
     const char *pointers[MAX_CHANGED];
     for (size_t i = 0; i < count; i++)

@@ -38,8 +38,8 @@ struct render_context {
     struct sky_render_lut_sizes lut_sizes;
     struct sky_renderer *renderer;
     struct session_hub *hub;
-    bool dirty;              /* changed since last written */
-    double last_change_s;
+    bool dirty;              /* a write the daemon owes itself (retried after state_save_delay_s) */
+    double last_change_s;    /* when that write was last due */
     double start_time_s;
     uint64_t render_sequence;
     uint64_t last_subscription_id;

@@ -57,16 +57,27 @@ static bool parse_state(const char *text, size_t length, struct sky_world_state 
 }
 
 /* A daemon killed while writing leaves "<file>.tmp<pid>" beside the state file or its map. */
+/* Splits `copy` (a writable copy of a path) in place into its directory, returned, and its
+ * last component. */
+static const char *split_path(char *copy, const char **base)
+{
+    char *slash = strrchr(copy, '/');
+    if (!slash) {
+        *base = copy;
+        return ".";
+    }
+    *slash = '\0';
+    *base = slash + 1;
+    return slash == copy ? "/" : copy;
+}
+
 static void remove_stale_temporaries(const char *path)
 {
     char *copy = strdup(path);
     if (!copy)
         return;
-    char *slash = strrchr(copy, '/');
-    const char *dir = slash ? (slash == copy ? "/" : copy) : ".";
-    const char *base = slash ? slash + 1 : copy;
-    if (slash)
-        *slash = '\0';
+    const char *base;
+    const char *dir = split_path(copy, &base);
     size_t base_length = strlen(base);
     DIR *d = opendir(dir);
     struct dirent *entry;
@@ -150,13 +161,8 @@ static void sync_parent_directory(const char *path)
     char *copy = strdup(path);
     if (!copy)
         return;
-    char *slash = strrchr(copy, '/');
-    const char *dir = ".";
-    if (slash) {
-        *slash = '\0';
-        dir = slash == copy ? "/" : copy;
-    }
-    int fd = open(dir, O_RDONLY | O_DIRECTORY);
+    const char *base;
+    int fd = open(split_path(copy, &base), O_RDONLY | O_DIRECTORY);
     if (fd >= 0) {
         fsync(fd);
         close(fd);
@@ -281,10 +287,18 @@ enum state_load_result state_store_load_weather_map(const char *state_path,
         snprintf(msg, msglen, "no weather map at %s", path);
         return STATE_LOAD_ABSENT;
     }
+    return state_store_read_weather_map(path, WEATHER_MAP_FILE_MAX_BYTES, map, msg, msglen);
+}
+
+enum state_load_result state_store_read_weather_map(const char *path, size_t max_bytes,
+                                                    struct sky_weather_map *map, char *msg,
+                                                    size_t msglen)
+{
+    memset(map, 0, sizeof *map);
     size_t length = 0;
-    char *bytes = text_file_read(path, WEATHER_MAP_FILE_MAX_BYTES, &length);
+    char *bytes = text_file_read(path, max_bytes, &length);
     if (!bytes) {
-        text_file_describe_error(path, WEATHER_MAP_FILE_MAX_BYTES, msg, msglen);
+        text_file_describe_error(path, max_bytes, msg, msglen);
         return STATE_LOAD_FAILED;
     }
     char reason[256];

@@ -39,4 +39,10 @@ enum state_load_result state_store_load_weather_map(const char *state_path,
                                                     struct sky_weather_map *map, char *msg,
                                                     size_t msglen);
 
+/* A weather map PNG of at most max_bytes at `path` (the state's, or one given to skyd render):
+ * RESTORED, CORRUPT (not a usable map) or FAILED (unreadable), with msg saying why. */
+enum state_load_result state_store_read_weather_map(const char *path, size_t max_bytes,
+                                                    struct sky_weather_map *map, char *msg,
+                                                    size_t msglen);
+
 #endif
