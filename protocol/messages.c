@@ -655,7 +655,7 @@ static void parse_object(struct parser *p, struct sky_client_msg *msg)
     parse_fields(p, found + 2, msg);
 }
 
-static size_t upload_limit(const struct sky_msg_limits *limits)
+size_t sky_msg_upload_limit(const struct sky_msg_limits *limits)
 {
     return limits->max_upload_bytes > limits->max_message_bytes ? limits->max_upload_bytes
                                                                 : limits->max_message_bytes;
@@ -690,9 +690,9 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
     char *copy = NULL;
     if (!text || !limits) {
         fail(p, SKY_MSG_ERR_INTERNAL, "", "no message or no limits");
-    } else if (length > upload_limit(limits)) {
+    } else if (length > sky_msg_upload_limit(limits)) {
         fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "", "message is %zu bytes, the limit is %zu",
-             length, upload_limit(limits));
+             length, sky_msg_upload_limit(limits));
     } else if ((offset = nul_offset(text, length)) < length) {
         error->offset = offset;
         fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "NUL byte at offset %zu", offset);

@@ -116,6 +116,10 @@ struct sky_msg_limits {
 /* 65536 bytes, 64 clients, 3840x2160, 60 fps, 20 control messages per second, 2 MiB uploads. */
 void sky_msg_limits_default(struct sky_msg_limits *limits);
 
+/* The largest message a controller may send: max_upload_bytes, or max_message_bytes when that
+ * is larger. */
+size_t sky_msg_upload_limit(const struct sky_msg_limits *limits);
+
 enum sky_msg_id_kind {
     SKY_MSG_ID_NONE = 0,
     SKY_MSG_ID_STRING = 1,

@@ -138,6 +138,19 @@ static bool decode_png(const uint8_t *bytes, size_t length, uint32_t want_width,
         snprintf(reason, reason_size, "not a PNG file (bad signature)");
         return false;
     }
+    /* The size from the IHDR chunk that must come first, for a clear refusal; libpng's own
+     * user limits below then stop anything that slips past. */
+    if (length >= 24 && memcmp(bytes + 12, "IHDR", 4) == 0) {
+        uint32_t w = (uint32_t)bytes[16] << 24 | (uint32_t)bytes[17] << 16 |
+                     (uint32_t)bytes[18] << 8 | bytes[19];
+        uint32_t h = (uint32_t)bytes[20] << 24 | (uint32_t)bytes[21] << 16 |
+                     (uint32_t)bytes[22] << 8 | bytes[23];
+        if (!side_is_valid(w) || !side_is_valid(h)) {
+            snprintf(reason, reason_size, "PNG is %ux%u; each side must be 1..%d", w, h,
+                     SKY_WEATHER_MAP_MAX_SIDE);
+            return false;
+        }
+    }
     struct png_failure failure = { reason, reason_size };
     struct png_source source = { bytes, length, 0 };
     png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &failure, on_png_error,
@@ -161,14 +174,9 @@ static bool decode_png(const uint8_t *bytes, size_t length, uint32_t want_width,
     png_set_user_limits(png, SKY_WEATHER_MAP_MAX_SIDE, SKY_WEATHER_MAP_MAX_SIDE);
     png_read_info(png, info);
     uint32_t width = png_get_image_width(png, info), height = png_get_image_height(png, info);
-    if (!side_is_valid(width) || !side_is_valid(height) ||
-        (want_width && want_width != width) || (want_height && want_height != height)) {
-        if (!side_is_valid(width) || !side_is_valid(height))
-            snprintf(reason, reason_size, "PNG is %ux%u; each side must be 1..%d", width, height,
-                     SKY_WEATHER_MAP_MAX_SIDE);
-        else
-            snprintf(reason, reason_size, "PNG is %ux%u, the message says %ux%u", width, height,
-                     want_width, want_height);
+    if ((want_width && want_width != width) || (want_height && want_height != height)) {
+        snprintf(reason, reason_size, "PNG is %ux%u, the message says %ux%u", width, height,
+                 want_width, want_height);
         png_longjmp(png, 1);
     }
     int color = png_get_color_type(png, info);

@@ -212,11 +212,9 @@ static bool reserve_rx(struct connection *c, size_t needed, size_t floor_bytes)
  * else's message, stays within max_message_bytes. */
 static size_t message_limit(const struct ws_server *srv, const struct connection *c)
 {
-    size_t limit = srv->limits.max_message_bytes;
-    if (c->session && session_role(c->session) == SKY_ROLE_CONTROLLER &&
-        srv->limits.max_upload_bytes > limit)
-        limit = srv->limits.max_upload_bytes;
-    return limit;
+    if (c->session && session_role(c->session) == SKY_ROLE_CONTROLLER)
+        return sky_msg_upload_limit(&srv->limits);
+    return srv->limits.max_message_bytes;
 }
 
 static void on_receive(struct ws_server *srv, struct lws *wsi, struct connection *c,

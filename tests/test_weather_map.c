@@ -143,6 +143,7 @@ static void test_png(void)
     CHECK(png && !sky_weather_map_decode(SKY_WEATHER_MAP_PNG, png, length, 0, 0, &map, reason,
                                          sizeof reason));
     CHECK(map.rgba == NULL);
+    CHECK_MSG(strstr(reason, "513x1; each side must be 1..512") != NULL, "%s", reason);
     free(png);
     free(wide);
 }
