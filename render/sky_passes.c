@@ -647,7 +647,7 @@ int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p,
     }
     if (!job->from_space && job->moon_rect) {
         ok = ok && record_region(ctx, p, cmd, disc | COMPOSITE_NIGHT_SKY, job->moon_rect);
-        gpu_timer_mark(timer, cmd, "sun_disk");
+        gpu_timer_mark(timer, cmd, "moon_disk");
     }
     gpu_barrier_compute_to_transfer(cmd);
     gpu_copy_image_to_buffer(cmd, &p->output, &p->readback);

@@ -195,12 +195,18 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
     memset(stats, 0, sizeof *stats);
     struct gpu_timer_result t;
     if (gpu_timer_read(r->ctx, r->timer, &t)) {
-        stats->pass_count = t.count;
         for (int i = 0; i < t.count && i < SKY_RENDER_MAX_PASSES; i++) {
-            stats->pass_names[i] = t.names[i];
-            stats->pass_ms[i] = t.ms[i];
             atmosphere_luts_observe(r->luts, t.names[i], t.ms[i]);
             cloud_renderer_observe(r->clouds, t.names[i], t.ms[i]);
+            /* A pass recorded in several dispatches (the LUT blends) is one pass: its total. */
+            int k = 0;
+            while (k < stats->pass_count && strcmp(stats->pass_names[k], t.names[i]) != 0)
+                k++;
+            if (k == stats->pass_count) {
+                stats->pass_names[stats->pass_count++] = t.names[i];
+                stats->pass_ms[k] = 0.0;
+            }
+            stats->pass_ms[k] += t.ms[i];
         }
         stats->gpu_ms = t.total_ms;
         cloud_renderer_observe_frame(r->clouds, t.total_ms);
