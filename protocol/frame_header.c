@@ -59,7 +59,7 @@ static uint64_t get_u64(const uint8_t *p)
 
 static int format_is_known(uint32_t format)
 {
-    return format == SKY_FRAME_FORMAT_PNG;
+    return format == SKY_FRAME_FORMAT_PNG || format == SKY_FRAME_FORMAT_PNG16;
 }
 
 enum sky_frame_header_status sky_frame_header_pack(const struct sky_frame_header *header,

@@ -249,6 +249,9 @@ char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscriptio
     if (v->has_compensation_ev)
         put_number(&b, exposure, "compensation_ev", v->compensation_ev);
     put_string(&b, view, "format", name_of(sky_msg_format_names, COUNT_OF(sky_msg_format_names), (int)v->format));
+    put_string(&b, view, "projection", name_of(sky_msg_projection_names,
+                                               COUNT_OF(sky_msg_projection_names),
+                                               (int)v->projection));
     return finish(&b);
 }
 

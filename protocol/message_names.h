@@ -9,12 +9,14 @@
 #define SKY_MSG_ROLE_NAMES 3        /* enum sky_msg_role; [0] none */
 #define SKY_MSG_QUANTITY_NAMES 3    /* enum sky_probe_quantity */
 #define SKY_MSG_PRESET_KIND_NAMES 2 /* enum sky_preset_kind */
-#define SKY_MSG_FORMAT_NAMES 2      /* enum sky_frame_format; [0] none */
+#define SKY_MSG_FORMAT_NAMES 3      /* enum sky_frame_format; [0] none */
+#define SKY_MSG_PROJECTION_NAMES 2  /* enum sky_view_projection */
 
 extern const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES];
 extern const char *const sky_msg_quantity_names[SKY_MSG_QUANTITY_NAMES];
 extern const char *const sky_msg_preset_kind_names[SKY_MSG_PRESET_KIND_NAMES];
 extern const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES];
+extern const char *const sky_msg_projection_names[SKY_MSG_PROJECTION_NAMES];
 
 /* Helpers both sides use. */
 /* [a-z0-9_-]{1,SKY_MSG_PRESET_NAME_MAX}: preset and pass names. */

@@ -63,14 +63,18 @@ static const char *const type_names[] = {
 static const char *const capabilities[] = {
     "hello", "auth",  "get_state",    "set",          "subscribe", "unsubscribe",
     "snapshot", "probe", "list_presets", "apply_preset", "stats",     "set_weather_map",
-    "png",
+    "png", "png16", "equirectangular",
 };
 
 const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {[SKY_ROLE_VIEWER] = "viewer",
                                          [SKY_ROLE_CONTROLLER] = "controller"};
 const char *const sky_msg_quantity_names[SKY_MSG_QUANTITY_NAMES] = {"transmittance", "luminance", "illuminance"};
 const char *const sky_msg_preset_kind_names[SKY_MSG_PRESET_KIND_NAMES] = {"atmosphere", "weather"};
-const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES] = {[SKY_FRAME_FORMAT_PNG] = "png"};
+const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES] = {[SKY_FRAME_FORMAT_PNG] = "png",
+                                                                [SKY_FRAME_FORMAT_PNG16] = "png16"};
+const char *const sky_msg_projection_names[SKY_MSG_PROJECTION_NAMES] = {
+    [SKY_VIEW_PROJECTION_PERSPECTIVE] = "perspective",
+    [SKY_VIEW_PROJECTION_EQUIRECTANGULAR] = "equirectangular"};
 static const char *const weather_map_format_names[] = {[SKY_WEATHER_MAP_RGBA8] = "rgba8",
                                                         [SKY_WEATHER_MAP_PNG] = "png"};
 
@@ -85,7 +89,8 @@ static const char *const probe_fields[] = {"quantity",         "altitude_km",   
                                            "sun_zenith_deg"};
 static const char *const list_presets_fields[] = {"kind"};
 static const char *const apply_preset_fields[] = {"kind", "name", "transition_s"};
-static const char *const view_fields[] = {"camera", "width", "height", "fps", "exposure", "format"};
+static const char *const view_fields[] = {"camera", "width",  "height",    "fps",
+                                          "exposure", "format", "projection"};
 static const char *const camera_fields[] = {"altitude_km", "yaw_deg", "pitch_deg", "fov_deg"};
 static const char *const exposure_fields[] = {"mode", "ev100", "compensation_ev"};
 static const char *const weather_map_fields[] = {"format", "data", "width", "height"};
@@ -420,8 +425,26 @@ static void parse_view(struct parser *p, const cJSON *object, const char *pointe
         read_number(p, found[3], at, 0, p->limits->max_fps, &view->fps);
     view->format = SKY_FRAME_FORMAT_PNG;
     child_pointer(at, pointer, "format");
-    if (found[5] && read_enum(p, found[5], at, sky_msg_format_names, COUNT_OF(sky_msg_format_names)) < 0)
-        view->format = 0;
+    if (found[5]) {
+        int format = read_enum(p, found[5], at, sky_msg_format_names, COUNT_OF(sky_msg_format_names));
+        view->format = format > 0 ? (enum sky_frame_format)format : 0;
+    }
+    view->projection = SKY_VIEW_PROJECTION_PERSPECTIVE;
+    child_pointer(at, pointer, "projection");
+    if (found[6]) {
+        int projection = read_enum(p, found[6], at, sky_msg_projection_names,
+                                   COUNT_OF(sky_msg_projection_names));
+        view->projection = projection > 0 ? (enum sky_view_projection)projection
+                                          : SKY_VIEW_PROJECTION_PERSPECTIVE;
+    }
+    /* A panorama covers 360 x 180 degrees with square pixels. */
+    if (view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR && view->width &&
+        view->height && view->width != 2 * view->height) {
+        child_pointer(at, pointer, "width");
+        fail(p, SKY_MSG_ERR_INCONSISTENT, at,
+             "an equirectangular view is 2:1: width must be twice the height (%u), got %u",
+             view->height, view->width);
+    }
 
     char group[SKY_MSG_POINTER_MAX];
     const cJSON *members[MAX_MEMBERS];

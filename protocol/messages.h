@@ -133,6 +133,11 @@ struct sky_msg_id {
     int64_t number;                /* INTEGER, |number| <= 2^53 - 1 */
 };
 
+enum sky_view_projection {
+    SKY_VIEW_PROJECTION_PERSPECTIVE = 0,     /* the camera's yaw, pitch and fov */
+    SKY_VIEW_PROJECTION_EQUIRECTANGULAR = 1, /* the whole sphere, 2:1, the yaw at the centre */
+};
+
 /* Each camera and exposure field is optional; an absent one follows the world state. */
 struct sky_msg_view {
     bool has_altitude_km, has_yaw_deg, has_pitch_deg, has_fov_deg;
@@ -143,6 +148,7 @@ struct sky_msg_view {
     uint32_t width, height;
     double fps;                     /* default min(10, max_fps) already applied */
     enum sky_frame_format format;
+    enum sky_view_projection projection;
 };
 
 struct sky_msg_probe {

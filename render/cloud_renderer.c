@@ -586,8 +586,9 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
     /* A one-off view comes out converged: it starts over when its history shows other clouds
      * than it would now (a history shared by views at different times, such as snapshots). */
     uint32_t look = cr->params_generation + cr->weather.generation + cr->shadow.generation;
-    if (!f->live && e->valid && (e->look != look || !same_direction(e->prev_forward,
-                                                                    f->frame->camera_forward)))
+    if (!f->live && e->valid &&
+        (e->look != look || e->prev_up[3] != f->frame->camera_up.w ||
+         !same_direction(e->prev_forward, f->frame->camera_forward)))
         e->valid = false;
     e->look = look;
     int frames = (!e->valid && c->temporal && !f->live) ? frames_for_new_history(c->resolution)
@@ -601,7 +602,7 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
         int ox, oy;
         block_offset(block, e->frame, &ox, &oy);
         push.frame = (sky_ivec4){ (int32_t)e->frame, block, ox, oy };
-        push.target = (sky_ivec4){ (int32_t)width, (int32_t)height, 0, 0 };
+        push.target = (sky_ivec4){ (int32_t)width, (int32_t)height, (int32_t)e->prev_up[3], 0 };
         if (e->valid) {
             push.prev_forward = vec4_of(e->prev_forward);
             push.prev_right = vec4_of(e->prev_right);

@@ -193,7 +193,10 @@ static void fill_moon(const struct sky_render_night *n, const struct sky_render_
  * illuminance whatever the resolution; the grid's support bounds it. */
 static double star_sigma(const struct sky_render_view *v)
 {
-    double pixel = 2.0 * tan(0.5 * v->camera_fov_deg * DEG) / (v->height ? v->height : 1);
+    double span = v->projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR
+                      ? M_PI /* a panorama's rows span 180 deg */
+                      : 2.0 * tan(0.5 * v->camera_fov_deg * DEG);
+    double pixel = span / (v->height ? v->height : 1);
     double sigma = sqrt(STAR_SEEING_SIGMA_RAD * STAR_SEEING_SIGMA_RAD + 0.25 * pixel * pixel);
     return fmin(sigma, NIGHT_STAR_MAX_SIGMA_DEG * DEG);
 }

@@ -315,7 +315,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     }
     sky_passes_bind_clouds(r->ctx, r->passes, &clouds);
     bool night_visible = night_sky_visible(&r->night, v, sky_passes_brightest_star_lux(r->passes));
-    if (v->auto_exposure && v->output == SKY_RENDER_OUTPUT_SRGB8)
+    if (v->auto_exposure)
         sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space,
                                    night_visible);
     int32_t sun_rect[4], moon_rect[4];
@@ -340,6 +340,8 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     }
     sky_passes_copy_output(r->passes, pixels, (size_t)v->width * v->height * texel);
     collect_stats(r, stats, start, rebuilt);
+    if (stats)
+        stats->exposure = sky_ev100_to_exposure(v->auto_exposure ? stats->metered_ev100 : v->ev100);
     return 0;
 }
 

@@ -31,8 +31,18 @@ enum sky_render_output_kind {
     SKY_RENDER_OUTPUT_LINEAR = 1,  /* luminance in cd/m2 as RGBA float32, before exposure */
 };
 
+/* How pixels map to directions. */
+enum sky_render_projection {
+    SKY_RENDER_PROJECTION_PERSPECTIVE = 0,     /* pinhole: yaw, pitch, vertical fov */
+    /* The whole sphere, 2:1: column u = (x + 0.5) / width is the azimuth yaw + (u - 0.5) 360
+     * deg (the camera's yaw at the centre, increasing to the right: north through east), row
+     * v = (y + 0.5) / height the elevation 90 - 180 v deg. Pitch and fov play no part. */
+    SKY_RENDER_PROJECTION_EQUIRECTANGULAR = 1,
+};
+
 struct sky_render_view {
     uint32_t width, height;
+    enum sky_render_projection projection;
     double camera_altitude_km, camera_yaw_deg, camera_pitch_deg, camera_fov_deg;
     double sun_azimuth_deg, sun_elevation_deg;
     double sun_illuminance_lux;       /* ground illuminance with the sun at zenith */
@@ -77,6 +87,9 @@ struct sky_render_stats {
     double lut_rebuild_progress;           /* of an amortized rebuild; 1 when none is under way */
     bool atmosphere_settled;               /* the frame shows exactly the atmosphere asked for */
     double metered_ev100;                  /* auto exposure result (when auto) */
+    /* The exposure multiplier the frame used (auto or manual): the sRGB output tonemaps
+     * luminance x exposure; with LINEAR output it says how the frame would have been exposed. */
+    double exposure;
 };
 
 struct sky_renderer;

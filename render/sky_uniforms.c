@@ -52,11 +52,15 @@ void sky_direction_from_angles(double azimuth_deg, double elevation_deg, double 
 
 struct camera_basis {
     double forward[3], right[3], up[3], tan_half, aspect;
+    bool equirectangular;
 };
 
 static void camera_basis(const struct sky_render_view *v, struct camera_basis *b)
 {
-    sky_direction_from_angles(v->camera_yaw_deg, v->camera_pitch_deg, b->forward);
+    b->equirectangular = v->projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR;
+    /* A panorama keeps the horizon level: its basis is the yaw's horizontal frame. */
+    double pitch = b->equirectangular ? 0.0 : v->camera_pitch_deg;
+    sky_direction_from_angles(v->camera_yaw_deg, pitch, b->forward);
     /* Right from the yaw alone, so looking straight up or down stays well defined. */
     double yaw = v->camera_yaw_deg * DEG;
     const double *f = b->forward;
@@ -71,6 +75,26 @@ static void camera_basis(const struct sky_render_view *v, struct camera_basis *b
     b->aspect = v->height ? (double)v->width / (double)v->height : 1.0;
 }
 
+/* Where direction d lands on the image, in pixels (shaders/include/camera.glsl's camera_uv);
+ * false when it does not (behind a pinhole camera). */
+static bool project(const struct sky_render_view *v, const struct camera_basis *b,
+                    const double d[3], double *px, double *py)
+{
+    double x = d[0] * b->right[0] + d[1] * b->right[1] + d[2] * b->right[2];
+    double y = d[0] * b->up[0] + d[1] * b->up[1] + d[2] * b->up[2];
+    double z = d[0] * b->forward[0] + d[1] * b->forward[1] + d[2] * b->forward[2];
+    if (b->equirectangular) {
+        *px = (atan2(x, z) / (2.0 * M_PI) + 0.5) * v->width;
+        *py = (0.5 - asin(fmax(-1.0, fmin(1.0, y))) / M_PI) * v->height;
+        return true;
+    }
+    if (z <= 1e-6)
+        return false;
+    *px = (x / (z * b->tan_half * b->aspect) * 0.5 + 0.5) * v->width;
+    *py = (0.5 - y / (z * b->tan_half) * 0.5) * v->height;
+    return true;
+}
+
 static double dot3(const double a[3], const double b[3])
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -83,14 +107,24 @@ bool sky_uniforms_ground_rows(const struct sky_render_view *v, double horizon_co
         return false;
     struct camera_basis b;
     camera_basis(v, &b);
+    /* The margin covers the shader's single precision. */
+    const double margin = 1e-3;
+    int64_t first = -1, last = -1;
+    if (b.equirectangular) {
+        /* A panorama's row is one elevation: the ground is below the horizon's. */
+        for (uint32_t y = 0; y < v->height; y++) {
+            double elevation = M_PI * (0.5 - (y + 0.5) / v->height);
+            if (sin(elevation) < horizon_cos + margin) {
+                first = first < 0 ? y : first;
+                last = y;
+            }
+        }
+    }
     /* camera_basis' right is horizontal: along a row the unnormalized ray forward + s right +
      * t up keeps its height forward.z + t up.z, and its length sqrt(1 + s^2 + t^2) grows with
-     * |s|. So a row's lowest ray is at its middle when it points down, else at its ends. The
-     * margin covers the shader's single precision. */
-    const double margin = 1e-3;
+     * |s|. So a row's lowest ray is at its middle when it points down, else at its ends. */
     double s_end = (1.0 - 1.0 / v->width) * b.tan_half * b.aspect;
-    int64_t first = -1, last = -1;
-    for (uint32_t y = 0; y < v->height; y++) {
+    for (uint32_t y = 0; y < v->height && !b.equirectangular; y++) {
         double t = (1.0 - 2.0 * (y + 0.5) / v->height) * b.tan_half;
         double height = b.forward[2] + b.up[2] * t;
         double lowest = height / sqrt(1.0 + t * t + (height < 0.0 ? 0.0 : s_end * s_end));
@@ -134,16 +168,22 @@ bool sky_uniforms_disk_rect(const struct sky_render_view *v, const double dir[3]
     double angle = 1.5 * 0.5 * angular_diameter_deg * DEG;
     double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
     for (int k = 0; k < 16; k++) {
-        double phi = 2.0 * M_PI * k / 16.0, d[3];
+        double phi = 2.0 * M_PI * k / 16.0, d[3], px, py;
         for (int i = 0; i < 3; i++)
             d[i] = cos(angle) * dir[i] + sin(angle) * (cos(phi) * e1[i] + sin(phi) * e2[i]);
-        double z = dot3(d, b.forward);
-        if (z <= 1e-6)
+        if (!project(v, &b, d, &px, &py))
             return false; /* behind or beside the camera: a fov this wide never shows it */
-        double nx = dot3(d, b.right) / (z * b.tan_half * b.aspect);
-        double ny = dot3(d, b.up) / (z * b.tan_half);
-        double px = (nx * 0.5 + 0.5) * v->width, py = (0.5 - ny * 0.5) * v->height;
         x0 = fmin(x0, px), x1 = fmax(x1, px), y0 = fmin(y0, py), y1 = fmax(y1, py);
+    }
+    if (b.equirectangular) {
+        /* Across the panorama's seam, or around a pole, the disk spans whole rows. */
+        bool pole = fabs(dir[2]) > cos(angle);
+        if (pole || x1 - x0 > 0.5 * v->width)
+            x0 = 0.0, x1 = v->width;
+        if (pole && dir[2] > 0.0)
+            y0 = 0.0;
+        else if (pole)
+            y1 = v->height;
     }
     x0 = fmax(floor(x0) - 1, 0), y0 = fmax(floor(y0) - 1, 0);
     x1 = fmin(ceil(x1) + 1, v->width), y1 = fmin(ceil(y1) + 1, v->height);
@@ -169,7 +209,8 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     double sun[3];
     u->camera_forward = V4(b.forward[0], b.forward[1], b.forward[2], b.tan_half);
     u->camera_right = V4(b.right[0], b.right[1], b.right[2], b.aspect);
-    u->camera_up = V4(b.up[0], b.up[1], b.up[2], 0);
+    u->camera_up = V4(b.up[0], b.up[1], b.up[2],
+                      b.equirectangular ? SKY_PROJECTION_EQUIRECTANGULAR : SKY_PROJECTION_PERSPECTIVE);
 
     sky_direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
     double radius = 0.5 * v->sun_angular_diameter_deg * DEG;

@@ -40,6 +40,10 @@ static void usage(FILE *out)
             "  --time ISO8601         simulated UTC time (2026-06-21T05:00:00Z); with --lat and\n"
             "  --lat DEG, --lon DEG   --lon the sun and moon follow the ephemeris (sky_bodies)\n"
             "  --weather NAME         apply config/weather/NAME.json (clear, storm, ...)\n"
+            "  --projection NAME      perspective (default) or equirectangular: the whole sky,\n"
+            "                         2:1, camera.yaw_deg at the centre (an environment map)\n"
+            "  --format NAME          png (8-bit sRGB, default) or png16 (16-bit linear light;\n"
+            "                         tEXt \"" PNG_LINEAR16_FULL_SCALE_KEY "\" = L of 65535)\n"
             "  --weather-map FILE     a client weather map (PNG: r low coverage, g high coverage,\n"
             "                         b cloud type, a precipitation; sets weather.map_source)\n"
             "  --frames N             a time-lapse of N frames; --out then holds one %%d or %%0Nd\n"
@@ -150,6 +154,17 @@ static bool load_weather_map(const char *path, struct sky_weather_map *map)
     return false;
 }
 
+/* An 8-bit frame, or a 16-bit linear one when rgb16 (its buffer) is given. */
+static int write_frame(const char *path, const void *pixels, uint16_t *rgb16, uint32_t width,
+                       uint32_t height, double exposure, char *err, size_t errlen)
+{
+    if (!rgb16)
+        return png_write_rgba8_file(path, pixels, width, height, err, errlen);
+    double full_scale = png_linear16_full_scale(exposure);
+    png_linear16_quantize(pixels, (size_t)width * height, full_scale, rgb16);
+    return png_write_linear16_file(path, rgb16, width, height, full_scale, err, errlen);
+}
+
 static void print_stats(const struct sky_render_stats *s)
 {
     printf("{\"gpu_ms\":%.3f,\"wall_ms\":%.3f,\"passes\":{", s->gpu_ms, s->wall_ms);
@@ -164,7 +179,8 @@ int skyd_cmd_render(int argc, char **argv)
     cli_common_init(&common);
     unsigned width = 0, height = 0;
     const char *out_path = NULL, *weather_map_path = NULL;
-    bool stats_json = false;
+    bool stats_json = false, linear16 = false;
+    enum sky_render_projection projection = SKY_RENDER_PROJECTION_PERSPECTIVE;
     struct lapse_args lapse = { .frames = 1, .step_s = 60.0 };
     for (int i = 0; i < argc; i++) {
         int rc = cli_parse_common(argc, argv, &i, &common);
@@ -187,6 +203,25 @@ int skyd_cmd_render(int argc, char **argv)
             if (!(value = cli_take_value(argc, argv, &i)) ||
                 !cli_parse_uint(opt, value, 1, MAX_DIMENSION, opt[2] == 'w' ? &width : &height))
                 return SKYD_EXIT_USAGE;
+        } else if (strcmp(opt, "--projection") == 0) {
+            if (!(value = cli_take_value(argc, argv, &i)))
+                return SKYD_EXIT_USAGE;
+            if (strcmp(value, "perspective") != 0 && strcmp(value, "equirectangular") != 0) {
+                fprintf(stderr, "skyd render: --projection: expected perspective or "
+                                "equirectangular, got \"%s\"\n", value);
+                return SKYD_EXIT_USAGE;
+            }
+            projection = value[0] == 'e' ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
+                                         : SKY_RENDER_PROJECTION_PERSPECTIVE;
+        } else if (strcmp(opt, "--format") == 0) {
+            if (!(value = cli_take_value(argc, argv, &i)))
+                return SKYD_EXIT_USAGE;
+            if (strcmp(value, "png") != 0 && strcmp(value, "png16") != 0) {
+                fprintf(stderr, "skyd render: --format: expected png or png16, got \"%s\"\n",
+                        value);
+                return SKYD_EXIT_USAGE;
+            }
+            linear16 = strcmp(value, "png16") == 0;
         } else if (strcmp(opt, "--weather-map") == 0) {
             if (!(weather_map_path = cli_take_value(argc, argv, &i)))
                 return SKYD_EXIT_USAGE;
@@ -216,6 +251,11 @@ int skyd_cmd_render(int argc, char **argv)
         return SKYD_EXIT_USAGE;
     }
 
+    if (projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR && width != 2 * height) {
+        fprintf(stderr, "skyd render: an equirectangular image is 2:1: --width must be twice "
+                        "--height (%u), got %u\n", height, width);
+        return SKYD_EXIT_USAGE;
+    }
     if (lapse.has_transition && !lapse.weather_to) {
         fprintf(stderr, "skyd render: --transition-s needs --weather-to\n");
         return SKYD_EXIT_USAGE;
@@ -240,8 +280,14 @@ int skyd_cmd_render(int argc, char **argv)
     }
     world_sim_settle(&common.state);
 
-    size_t bytes = (size_t)width * height * 4;
-    uint8_t *pixels = malloc(bytes);
+    size_t texels = (size_t)width * height;
+    size_t bytes = texels * (linear16 ? 16 : 4);
+    void *pixels = malloc(bytes);
+    uint16_t *rgb16 = linear16 ? malloc(texels * 3 * sizeof *rgb16) : NULL;
+    if (linear16 && !rgb16) {
+        free(pixels);
+        pixels = NULL;
+    }
     struct sky_renderer *renderer = pixels ? cli_create_renderer(&common) : NULL;
     if (renderer && weather_map.rgba &&
         sky_renderer_set_weather_map(renderer, weather_map.rgba, weather_map.width,
@@ -252,6 +298,7 @@ int skyd_cmd_render(int argc, char **argv)
     sky_weather_map_free(&weather_map);
     if (!renderer) {
         free(pixels);
+        free(rgb16);
         return SKYD_EXIT_FAILURE;
     }
     struct sky_render_atmosphere atmosphere;
@@ -263,7 +310,9 @@ int skyd_cmd_render(int argc, char **argv)
         if (frame > 0)
             world_sim_advance(&common.state, lapse.step_s);
         world_to_render_atmosphere(&common.state, &atmosphere);
-        world_to_render_view(&common.state, width, height, SKY_RENDER_OUTPUT_SRGB8, &view);
+        world_to_render_view(&common.state, width, height,
+                             linear16 ? SKY_RENDER_OUTPUT_LINEAR : SKY_RENDER_OUTPUT_SRGB8, &view);
+        view.projection = projection;
         struct sky_render_clouds clouds;
         world_to_render_clouds(&common.state, &clouds);
         struct sky_render_night night;
@@ -274,7 +323,8 @@ int skyd_cmd_render(int argc, char **argv)
             sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {
             fprintf(stderr, "skyd render: rendering failed\n");
             status = SKYD_EXIT_FAILURE;
-        } else if (png_write_rgba8_file(path, pixels, width, height, err, sizeof err) != 0) {
+        } else if (write_frame(path, pixels, rgb16, width, height, stats.exposure, err,
+                               sizeof err) != 0) {
             fprintf(stderr, "skyd render: %s\n", err);
             status = SKYD_EXIT_FAILURE;
         } else {
@@ -288,5 +338,6 @@ int skyd_cmd_render(int argc, char **argv)
     }
     status = cli_finish(&common, &renderer, status);
     free(pixels);
+    free(rgb16);
     return status;
 }

@@ -8,11 +8,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "frame_header.h"
+
 struct encoded_frame_meta {
     uint64_t render_sequence; /* increases with every render: a later frame supersedes */
     uint64_t state_revision;
     double simulation_time_s;
     uint32_t width, height;
+    enum sky_frame_format format;
 };
 
 struct encoded_frame;

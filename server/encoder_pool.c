@@ -36,9 +36,9 @@ static void deliver(struct encode_job *job, struct encoded_frame *frame)
         session_unref(&t->session);
     }
     free(job->targets);
-    free(job->rgba);
+    free(job->pixels);
     job->targets = NULL;
-    job->rgba = NULL;
+    job->pixels = NULL;
 }
 
 static void run_job(struct encode_job *job)
@@ -46,7 +46,20 @@ static void run_job(struct encode_job *job)
     uint8_t *png = NULL;
     size_t png_length = 0;
     struct encoded_frame *frame = NULL;
-    if (png_encode_rgba8(job->rgba, job->meta.width, job->meta.height, &png, &png_length) == 0)
+    uint32_t width = job->meta.width, height = job->meta.height;
+    int encoded = -1;
+    if (job->meta.format == SKY_FRAME_FORMAT_PNG16) {
+        uint16_t *rgb = malloc((size_t)width * height * 3 * sizeof *rgb);
+        if (rgb) {
+            png_linear16_quantize(job->pixels, (size_t)width * height, job->full_scale_cd_m2, rgb);
+            encoded = png_encode_linear16(rgb, width, height, job->full_scale_cd_m2, &png,
+                                          &png_length);
+        }
+        free(rgb);
+    } else {
+        encoded = png_encode_rgba8(job->pixels, width, height, &png, &png_length);
+    }
+    if (encoded == 0)
         frame = encoded_frame_create(&job->meta, png, png_length);
     free(png);
     deliver(job, frame);

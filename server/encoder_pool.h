@@ -1,4 +1,4 @@
-/* PNG encoder workers: turn rendered RGBA8 frames into encoded frames off the render thread
+/* PNG encoder workers: turn rendered frames into encoded frames off the render thread
  * and hand each to the sessions that asked for it (subscription slots and snapshots). */
 #ifndef SKYD_ENCODER_POOL_H
 #define SKYD_ENCODER_POOL_H
@@ -17,8 +17,11 @@ struct encode_target {
 };
 
 struct encode_job {
-    uint8_t *rgba; /* width * height * 4 bytes, owned by the job */
+    /* width x height texels owned by the job: RGBA8 (4 bytes) for meta.format PNG, the
+     * renderer's LINEAR RGBA floats (16 bytes) for PNG16 */
+    void *pixels;
     struct encoded_frame_meta meta;
+    double full_scale_cd_m2; /* PNG16: the luminance of the largest sample */
     struct encode_target *targets; /* owned by the job */
     size_t target_count;
 };

@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "encoder_pool.h"
+#include "png_write.h"
 #include "render_commands.h"
 #include "sky_renderer.h"
 #include "state_store.h"
@@ -131,7 +132,13 @@ static void resolve_render_view(const struct sky_world_state *state,
 {
     struct sky_world_state resolved = *state;
     sky_msg_view_resolve(view, state, &resolved.camera, &resolved.exposure);
-    world_to_render_view(&resolved, view->width, view->height, SKY_RENDER_OUTPUT_SRGB8, out);
+    world_to_render_view(&resolved, view->width, view->height,
+                         view->format == SKY_FRAME_FORMAT_PNG16 ? SKY_RENDER_OUTPUT_LINEAR
+                                                                : SKY_RENDER_OUTPUT_SRGB8,
+                         out);
+    out->projection = view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR
+                          ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
+                          : SKY_RENDER_PROJECTION_PERSPECTIVE;
 }
 
 /* world_to_render_view zero-fills the struct first, so equal views compare equal bytewise. */
@@ -251,8 +258,9 @@ static int warm_up_pipelines(struct render_context *ctx)
 static void render_group(struct render_loop *loop, struct render_group *g)
 {
     struct render_context *ctx = &loop->ctx;
-    size_t bytes = (size_t)g->view.width * g->view.height * 4;
-    uint8_t *rgba = malloc(bytes);
+    bool linear = g->view.output == SKY_RENDER_OUTPUT_LINEAR;
+    size_t bytes = (size_t)g->view.width * g->view.height * (linear ? 16 : 4);
+    void *pixels = malloc(bytes);
     struct sky_render_atmosphere atm = ctx->atmosphere;
     struct sky_render_night night;
     world_to_render_night(&ctx->state, &night);
@@ -264,13 +272,13 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     if (unwatched)
         set_amortization(ctx, 0.0);
     struct sky_render_stats stats;
-    int rendered = rgba ? sky_renderer_render(ctx->renderer, &atm, &g->view, rgba, bytes, &stats)
-                        : -1;
+    int rendered = pixels ? sky_renderer_render(ctx->renderer, &atm, &g->view, pixels, bytes, &stats)
+                          : -1;
     if (unwatched)
         set_amortization(ctx, ctx->config->lut_budget_ms);
     if (rendered != 0) {
         fprintf(stderr, "skyd: rendering a %ux%u frame failed\n", g->view.width, g->view.height);
-        free(rgba);
+        free(pixels);
         fail_targets(g->targets, g->count);
         return;
     }
@@ -285,12 +293,14 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     }
     loop->fps_window_frames++;
     struct encode_job job = {
-        .rgba = rgba,
+        .pixels = pixels,
+        .full_scale_cd_m2 = linear ? png_linear16_full_scale(stats.exposure) : 0.0,
         .meta = { .render_sequence = ++ctx->render_sequence,
                   .state_revision = ctx->settled_revision,
                   .simulation_time_s = ctx->state.clock.utc_unix_s,
                   .width = g->view.width,
-                  .height = g->view.height },
+                  .height = g->view.height,
+                  .format = linear ? SKY_FRAME_FORMAT_PNG16 : SKY_FRAME_FORMAT_PNG },
         .targets = g->targets,
         .target_count = g->count,
     };

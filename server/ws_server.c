@@ -261,7 +261,7 @@ static int on_writeable(struct lws *wsi, struct connection *c)
     case SESSION_OUTPUT_FRAME: {
         const struct encoded_frame_meta *meta = encoded_frame_meta(out.frame);
         struct sky_frame_header header = {
-            .format = SKY_FRAME_FORMAT_PNG,
+            .format = meta->format,
             .frame_number = out.frame_number,
             .state_revision = meta->state_revision,
             .simulation_time_s = meta->simulation_time_s,

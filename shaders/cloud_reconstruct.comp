@@ -25,13 +25,8 @@ const float MAX_SAMPLES = 64.0;
 
 vec2 previous_uv(vec3 dir)
 {
-    float z = dot(dir, view.prev_forward.xyz);
-    if (z <= 1e-6)
-        return vec2(-1.0);
-    float tan_half = view.prev_forward.w, aspect = view.prev_right.w;
-    vec2 ndc = vec2(dot(dir, view.prev_right.xyz) / (z * tan_half * aspect),
-                    dot(dir, view.prev_up.xyz) / (z * tan_half));
-    return vec2(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    return camera_uv_of(dir, view.prev_forward.xyz, view.prev_right.xyz, view.prev_up.xyz,
+                        view.prev_forward.w, view.prev_right.w, view.target.z);
 }
 
 void main()

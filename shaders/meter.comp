@@ -21,8 +21,10 @@ void main()
         vec2 uv = (vec2(px) + 0.5) / vec2(meter.grid_width, meter.grid_height);
         vec3 L = shade_direction(camera_ray(uv), true);
         float Y = dot(L, vec3(0.2126, 0.7152, 0.0722));
-        // Empty space (exactly black) carries no exposure information: leave it out.
-        value = Y > 1e-7 ? vec2(log2(Y), 1.0) : vec2(0.0);
+        // Empty space (exactly black) carries no exposure information: leave it out. Each
+        // sample counts for its solid angle (a panorama's polar rows are small).
+        float w = camera_pixel_weight(uv);
+        value = Y > 1e-7 ? w * vec2(log2(Y), 1.0) : vec2(0.0);
     }
     uint li = gl_LocalInvocationIndex;
     shared_sum[li] = value;

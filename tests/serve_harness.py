@@ -135,13 +135,17 @@ def json_diff(a, b, path=""):
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
-def decode_png(data):
-    """Returns (width, height, channels, rows) or raises ValueError with the reason."""
+def decode_png_full(data):
+    """Returns a dict: width, height, channels, depth (8 or 16), rows (bytes, samples
+    big-endian for 16 bits), text (tEXt key -> value), gamma (gAMA's integer or None); or
+    raises ValueError with the reason."""
     if data[:8] != PNG_SIGNATURE:
         raise ValueError(f"bad signature {data[:8]!r}")
     pos = 8
     ihdr = None
     idat = []
+    text = {}
+    gamma = None
     seen_iend = False
     while pos < len(data):
         if pos + 12 > len(data):
@@ -159,6 +163,11 @@ def decode_png(data):
             ihdr = struct.unpack(">IIBBBBB", body)
         elif ctype == b"IDAT":
             idat.append(body)
+        elif ctype == b"tEXt" and b"\0" in body:
+            key, value = body.split(b"\0", 1)
+            text[key.decode("latin-1")] = value.decode("latin-1")
+        elif ctype == b"gAMA" and length == 4:
+            (gamma,) = struct.unpack(">I", body)
         elif ctype == b"IEND":
             seen_iend = True
             pos += 12 + length
@@ -170,18 +179,18 @@ def decode_png(data):
         raise ValueError(f"{len(data) - pos} bytes after IEND")
     width, height, depth, color, comp, filt, interlace = ihdr
     channels = {0: 1, 2: 3, 4: 2, 6: 4}.get(color)
-    if depth != 8 or channels is None or comp != 0 or filt != 0 or interlace != 0:
+    if depth not in (8, 16) or channels is None or comp != 0 or filt != 0 or interlace != 0:
         raise ValueError(f"unsupported IHDR depth={depth} color={color} comp={comp} "
                          f"filter={filt} interlace={interlace}")
     if not idat:
         raise ValueError("no IDAT chunk")
     raw = zlib.decompress(b"".join(idat))
-    stride = width * channels
+    bpp = channels * depth // 8
+    stride = width * bpp
     if len(raw) != height * (stride + 1):
         raise ValueError(f"inflated {len(raw)} bytes, expected {height * (stride + 1)}")
     rows = []
     prev = bytearray(stride)
-    bpp = channels
     for y in range(height):
         ftype = raw[y * (stride + 1)]
         line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
@@ -210,7 +219,16 @@ def decode_png(data):
             raise ValueError(f"row {y}: bad filter type {ftype}")
         rows.append(bytes(line))
         prev = line
-    return width, height, channels, rows
+    return {"width": width, "height": height, "channels": channels, "depth": depth,
+            "rows": rows, "text": text, "gamma": gamma}
+
+
+def decode_png(data):
+    """Returns (width, height, channels, rows) of an 8-bit PNG or raises ValueError."""
+    png = decode_png_full(data)
+    if png["depth"] != 8:
+        raise ValueError(f"{png['depth']}-bit PNG where 8-bit was expected")
+    return png["width"], png["height"], png["channels"], png["rows"]
 
 
 def encode_png(width, height, rows, color_type=6, bit_depth=8):
@@ -224,8 +242,10 @@ def encode_png(width, height, rows, color_type=6, bit_depth=8):
             + chunk(b"IEND", b""))
 
 
-def check_binary_frame(name, text_msg, binary, width, height, revision=None, decode=True):
-    """Checks a binary frame (header + PNG) against the frame message that announced it."""
+def check_binary_frame(name, text_msg, binary, width, height, revision=None, decode=True,
+                       fmt_expected=1):
+    """Checks a binary frame (header + PNG) against the frame message that announced it:
+    format 1 is an 8-bit RGBA PNG, 2 a 16-bit linear RGB one."""
     if not check(f"{name}: binary message", isinstance(binary, bytes),
                  f"expected a binary message after {short(text_msg)}, got {short(binary)}"):
         return None
@@ -235,7 +255,7 @@ def check_binary_frame(name, text_msg, binary, width, height, revision=None, dec
      reserved) = HEADER.unpack_from(binary)
     check(f"{name}: magic", magic == b"SKYF", repr(magic))
     check(f"{name}: header_version", version == 1, str(version))
-    check(f"{name}: format", fmt == 1, str(fmt))
+    check(f"{name}: format", fmt == fmt_expected, f"{fmt}, expected {fmt_expected}")
     check(f"{name}: reserved", reserved == 0, str(reserved))
     check(f"{name}: frame_number matches the frame message",
           frame_number == text_msg.get("frame_number"),
@@ -250,13 +270,17 @@ def check_binary_frame(name, text_msg, binary, width, height, revision=None, dec
               f"header {state_revision}, expected {revision}")
     if decode:
         try:
-            pw, ph, channels, rows = decode_png(binary[48:])
+            png = decode_png_full(binary[48:])
         except (ValueError, zlib.error, struct.error) as e:
             check(f"{name}: PNG decodes", False, str(e))
             return state_revision
         check(f"{name}: PNG decodes", True)
+        pw, ph, channels, rows = png["width"], png["height"], png["channels"], png["rows"]
         check(f"{name}: PNG IHDR size", (pw, ph) == (width, height), f"{pw}x{ph}")
-        check(f"{name}: PNG is RGBA8", channels == 4, f"{channels} channels")
+        shape = (4, 8) if fmt_expected == 1 else (3, 16)
+        check(f"{name}: PNG is {'RGBA8' if fmt_expected == 1 else 'RGB16'}",
+              (channels, png["depth"]) == shape, f"{channels} channels of {png['depth']} bits")
+        channels = channels * png["depth"] // 8  # bytes per pixel
         pixels = set()
         for row in rows:
             for i in range(0, len(row), channels):

@@ -199,5 +199,22 @@ printf 'not a png' >"$out/not-a-map.png"
 expect_error "weather map not a PNG" 2 'not a PNG file' \
   "$skyd" render --width 8 --height 8 --weather-map "$out/not-a-map.png" --out "$out/x.png"
 
+# Environment maps: an equirectangular 2:1 panorama, 8-bit or 16-bit linear with its scale.
+expect_ok "render an environment map" "$out/env\.png" \
+  "$skyd" render --width 64 --height 32 --projection equirectangular --out "$out/env.png" --validation
+expect_ok "render a 16-bit environment map" "$out/env16\.png" \
+  "$skyd" render --width 64 --height 32 --projection equirectangular --format png16 \
+  --out "$out/env16.png" --validation
+# IHDR: bit depth 16 (byte 24), colour type 2 (byte 25); then the tEXt keyword.
+if [ "$(od -An -tu1 -j24 -N2 "$out/env16.png" | tr -s ' ')" = " 16 2" ]; then pass
+else fail "png16: IHDR depth/colour $(od -An -tu1 -j24 -N2 "$out/env16.png")"; fi
+if grep -qa "Luminance full scale cd/m2" "$out/env16.png"; then pass; else fail "png16: no full-scale tEXt"; fi
+expect_error "panorama not 2:1" 2 'width must be twice --height (32), got 48' \
+  "$skyd" render --width 48 --height 32 --projection equirectangular --out "$out/x.png"
+expect_error "unknown projection" 2 'expected perspective or equirectangular, got "fisheye"' \
+  "$skyd" render --width 64 --height 32 --projection fisheye --out "$out/x.png"
+expect_error "unknown format" 2 'expected png or png16, got "exr"' \
+  "$skyd" render --width 64 --height 32 --format exr --out "$out/x.png"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -126,6 +126,9 @@ static const struct {
     {"{\"type\":\"set_weather_map\",\"id\":16,\"format\":\"rgba8\",\"width\":2,\"height\":1,"
      "\"data\":\"/wCgAIBAoCg=\"}",
      SKY_MSG_SET_WEATHER_MAP},
+    {"{\"type\":\"snapshot\",\"id\":17,\"view\":{\"width\":1024,\"height\":512,"
+     "\"projection\":\"equirectangular\",\"format\":\"png16\"}}",
+     SKY_MSG_SNAPSHOT},
 };
 
 static struct sky_msg_id int_id(int64_t number)
@@ -351,6 +354,12 @@ static const struct parse_case parse_cases[] = {
         "\"format\":\"jpeg\"}}", BAD_VALUE, "/view/format"),
     BAD("view format number", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
         "\"format\":1}}", WRONG_TYPE, "/view/format"),
+    BAD("view projection unknown", "{\"type\":\"subscribe\",\"view\":{\"width\":2,\"height\":1,"
+        "\"projection\":\"fisheye\"}}", BAD_VALUE, "/view/projection"),
+    BAD("view projection number", "{\"type\":\"snapshot\",\"view\":{\"width\":2,\"height\":1,"
+        "\"projection\":1}}", WRONG_TYPE, "/view/projection"),
+    BAD("equirectangular not 2:1", "{\"type\":\"snapshot\",\"view\":{\"width\":300,"
+        "\"height\":200,\"projection\":\"equirectangular\"}}", INCONSISTENT, "/view/width"),
     BAD("view unknown field", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
         "\"depth\":1}}", UNKNOWN_FIELD, "/view/depth"),
     BAD("camera array", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"camera\":[]}}",
@@ -653,6 +662,7 @@ static void test_parsed_values(void)
     CHECK_INT(msg.view.height, 360);
     CHECK_DOUBLE(msg.view.fps, 10);
     CHECK_INT(msg.view.format, SKY_FRAME_FORMAT_PNG);
+    CHECK_INT(msg.view.projection, SKY_VIEW_PROJECTION_PERSPECTIVE);
     CHECK(!msg.view.has_altitude_km && !msg.view.has_yaw_deg && !msg.view.has_pitch_deg &&
           !msg.view.has_fov_deg);
     CHECK(!msg.view.has_exposure_mode && !msg.view.has_ev100 && !msg.view.has_compensation_ev);
@@ -661,6 +671,12 @@ static void test_parsed_values(void)
     const char *snapshot = client_examples[6].text;
     CHECK_INT(parse_with(snapshot, strlen(snapshot), &slow, &msg, &error), SKY_MSG_OK);
     CHECK_DOUBLE(msg.view.fps, 4);
+
+    current_case = "view environment map";
+    CHECK_INT(parse(client_examples[COUNT_OF(client_examples) - 1].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(msg.view.projection, SKY_VIEW_PROJECTION_EQUIRECTANGULAR);
+    CHECK_INT(msg.view.format, SKY_FRAME_FORMAT_PNG16);
+    CHECK_INT(msg.view.width, 2 * msg.view.height);
 
     current_case = "view given";
     CHECK_INT(parse(client_examples[4].text, &msg, &error), SKY_MSG_OK);
@@ -1047,7 +1063,7 @@ static void test_frame_header(void)
         {"version 2", 4, 2, sizeof message, SKY_FRAME_HEADER_BAD_VERSION},
         {"version 0x101", 5, 1, sizeof message, SKY_FRAME_HEADER_BAD_VERSION},
         {"format 0", 6, 0, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
-        {"format 2", 6, 2, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
+        {"format 3", 6, 3, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
         {"format 0x101", 7, 1, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
         {"payload short by one", -1, 0, sizeof message - 1, SKY_FRAME_HEADER_BAD_LENGTH},
         {"payload long by one", 40, 0xE7, sizeof message, SKY_FRAME_HEADER_BAD_LENGTH},
@@ -1074,6 +1090,14 @@ static void test_frame_header(void)
                   sky_frame_header_status_name(rejections[i].status));
         CHECK(memcmp(&untouched, &header, sizeof header) == 0);
     }
+    current_case = "frame header format png16";
+    uint8_t png16[sizeof message];
+    memcpy(png16, message, sizeof png16);
+    png16[6] = SKY_FRAME_FORMAT_PNG16;
+    struct sky_frame_header read16;
+    CHECK_INT(sky_frame_header_unpack(png16, sizeof png16, &read16), SKY_FRAME_HEADER_OK);
+    CHECK_INT(read16.format, SKY_FRAME_FORMAT_PNG16);
+
     current_case = "frame header pack rejections";
     CHECK_INT(sky_frame_header_unpack(NULL, 100, NULL), SKY_FRAME_HEADER_TOO_SHORT);
     struct sky_frame_header bad = header;

@@ -35,6 +35,7 @@ import urllib.request
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import serve_harness  # noqa: E402  (the counters live there)
 from serve_harness import *  # noqa: E402,F401,F403
+from serve_envmap import t_envmap  # noqa: E402
 from serve_weather_map import t_weather_map  # noqa: E402
 
 async def t_hello(d, ctl):
@@ -938,6 +939,7 @@ async def main_checks(d, repo_config_dir):
         await section("unsubscribe", t_unsubscribe(viewer, sub), both)
     await section("subscription limit", t_subscription_limit(d), both)
     await section("probe", t_probe(ctl), both)
+    await section("environment map", t_envmap(d, ctl, viewer), both)
     await section("presets", t_presets(d, ctl, viewer, repo_config_dir), both)
     await section("stats", t_stats(ctl, 2), both)
     await section("world simulation", t_world_sim(ctl, repo_config_dir), both)

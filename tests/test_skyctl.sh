@@ -158,6 +158,11 @@ png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ print $1*16777216+$2*65536+$3*25
 if [ "$(head -c 8 "$out/south.png" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] &&
    [ "$(png_size "$out/south.png")" = 160x90 ]; then pass; else fail "snapshot is not a 160x90 PNG"; fi
 if ! cmp -s "$out/south.png" "$out/north.png"; then pass; else fail "the view's yaw did not change the image"; fi
+expect "environment map snapshot" 0 "$out/env16.png: 64x32 PNG16, [0-9]+ bytes, state revision 3, frame [0-9]+" "" \
+  c snapshot --out "$out/env16.png" --width 64 --height 32 --set projection=equirectangular \
+  --set format=png16
+if [ "$(od -An -tu1 -j24 -N2 "$out/env16.png" | tr -s ' ')" = " 16 2" ]; then pass
+else fail "environment map snapshot is not 16-bit RGB"; fi
 expect "snapshot too wide names the field" 1 '' "snapshot: /view/width: must be in [1, 3840], got 99999 [out_of_range]" \
   c snapshot --out "$out/wide.png" --width 99999
 [ ! -e "$out/wide.png" ] && pass || fail "a refused snapshot wrote a file"

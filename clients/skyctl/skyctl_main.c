@@ -51,6 +51,8 @@ static const char usage_text[] =
     "  skyctl --token \"$T\" preset --kind weather --transition-s 600 storm\n"
     "  skyctl --token \"$T\" weather-map front.png\n"
     "  skyctl snapshot --out west.png --width 1280 --height 720 --set camera.yaw_deg=270\n"
+    "  skyctl snapshot --out env.png --width 2048 --height 1024 --set projection=equirectangular\n"
+    "         --set format=png16\n"
     "  skyctl watch --count 10\n"
     "  skyctl probe transmittance altitude_km=0 mu=0.5\n"
     "  skyctl stats\n";

@@ -155,8 +155,10 @@ static int take_snapshot(struct skyctl_session *session, const struct view_args 
             return rc;
         bool ok = write_file(a->out, binary.data + SKY_FRAME_HEADER_SIZE, header.payload_length);
         if (ok)
-            printf("%s: %ux%u PNG, %u bytes, state revision %llu, frame %llu\n", a->out,
-                   header.width, header.height, header.payload_length,
+            printf("%s: %ux%u %s, %u bytes, state revision %llu, frame %llu\n", a->out,
+                   header.width, header.height,
+                   header.format == SKY_FRAME_FORMAT_PNG16 ? "PNG16" : "PNG",
+                   header.payload_length,
                    (unsigned long long)header.state_revision,
                    (unsigned long long)header.frame_number);
         sky_client_message_free(&binary);

@@ -61,7 +61,8 @@ struct sky_cloud_view_push {
     SKY_VEC4 prev_right;    /* xyz right, w aspect */
     SKY_VEC4 prev_up;       /* xyz up, w 1 when a history exists */
     SKY_IVEC4 frame;        /* x frame index, y block size, z/w traced pixel in the block */
-    SKY_IVEC4 target;       /* xy size of the cloud image (the output, or half of it) */
+    SKY_IVEC4 target;       /* xy size of the cloud image (the output, or half of it), z the
+                               history's SKY_PROJECTION_* */
     SKY_VEC4 motion;        /* xy wind displacement since the history (km), z smallest blend
                                weight of a new sample, w 1 = temporal accumulation on */
 };

@@ -34,6 +34,10 @@ typedef struct { int32_t x, y, z, w; } sky_ivec4;
 #define SKY_OUTPUT_SRGB8 0
 #define SKY_OUTPUT_LINEAR_LUMINANCE 1
 
+/* Camera projections (camera_up.w; sky_cloud_view_push.target.z for the history's). */
+#define SKY_PROJECTION_PERSPECTIVE 0
+#define SKY_PROJECTION_EQUIRECTANGULAR 1
+
 /* Probe modes (probe push constants). */
 #define SKY_PROBE_LUMINANCE 0
 #define SKY_PROBE_TRANSMITTANCE 1
@@ -59,7 +63,8 @@ struct sky_frame_uniforms {
     SKY_VEC4 camera_position;     /* xyz planet-centred km; w altitude km */
     SKY_VEC4 camera_forward;      /* xyz unit; w tan(vertical fov / 2) */
     SKY_VEC4 camera_right;        /* xyz unit; w aspect ratio (width / height) */
-    SKY_VEC4 camera_up;           /* xyz unit */
+    SKY_VEC4 camera_up;           /* xyz unit; w SKY_PROJECTION_* (equirectangular: forward is
+                                     the horizontal yaw direction and up the zenith) */
     SKY_VEC4 sun_direction;       /* xyz unit, toward the sun; w cos(angular radius) */
     SKY_VEC4 sun_illuminance;     /* xyz extraterrestrial illuminance per channel; w limb model */
     SKY_VEC4 sun_disk;            /* x solid angle (sr), y sin(angular radius), zw unused */
