@@ -1,7 +1,9 @@
-/* Frames per second that `skyd serve` delivers to 1, 8 and 32 clients sharing one view.
+/* Frames per second that `skyd serve` delivers to 1, 8 and 32 clients sharing one view, or
+ * spread over several views (--views: the daemon then renders each of them).
  *
- * Starts the daemon itself on a free port (or uses --url), then for each client count: connects
- * the clients, subscribes each to the same view, reads with one thread per client, warms up,
+ * Starts the daemon itself on a free port (or uses --url), then for each view and client count:
+ * connects the clients, subscribes client i to view i mod views (views differ in yaw), reads
+ * with one thread per client, warms up,
  * counts frames over a measurement window and asks the daemon for its stats. Prints a table and
  * a one-line JSON summary. See --help.
  */
@@ -25,6 +27,7 @@
 struct options {
     const char *skyd, *url;
     int counts[MAX_COUNTS], count_n;
+    int views[MAX_COUNTS], view_n;
     int width, height;
     double fps, warmup_s, seconds;
 };
@@ -39,7 +42,7 @@ struct reader {
 };
 
 struct result {
-    int clients;
+    int clients, views;
     double min_fps, mean_fps, max_fps, total_fps, ratio;
     double server_fps;
     long errors;
@@ -68,6 +71,8 @@ static void usage(FILE *out)
             "  --skyd PATH        skyd binary to start (default %s)\n"
             "  --url URL          use a running daemon instead (ws://host:port/)\n"
             "  --clients LIST     client counts, comma-separated (default 1,8,32)\n"
+            "  --views LIST       distinct views the clients spread over, comma-separated;\n"
+            "                     each is run with every client count (default 1)\n"
             "  --size WxH         the shared view's size (default 640x360)\n"
             "  --fps N            the view's fps (default 60)\n"
             "  --warmup S         seconds before counting (default 3)\n"
@@ -75,9 +80,29 @@ static void usage(FILE *out)
             SKYD_BINARY);
 }
 
+/* A comma-separated list of 1..MAX_CLIENTS, at most MAX_COUNTS of them. */
+static bool parse_list(const char *option, const char *text, int *out, int *count)
+{
+    *count = 0;
+    for (const char *p = text; *p;) {
+        char *end;
+        long n = strtol(p, &end, 10);
+        if (end == p || n < 1 || n > MAX_CLIENTS || (*end && *end != ',') ||
+            *count == MAX_COUNTS) {
+            fprintf(stderr, "skyd_bench_serve: bad %s '%s' (at most %d of 1..%d)\n", option,
+                    text, MAX_COUNTS, MAX_CLIENTS);
+            return false;
+        }
+        out[(*count)++] = (int)n;
+        p = *end ? end + 1 : end;
+    }
+    return *count > 0;
+}
+
 static bool parse_args(int argc, char **argv, struct options *o)
 {
     *o = (struct options){.skyd = SKYD_BINARY, .counts = {1, 8, 32}, .count_n = 3,
+                          .views = {1}, .view_n = 1,
                           .width = 640, .height = 360, .fps = 60, .warmup_s = 3,
                           .seconds = 10};
     for (int i = 1; i < argc; i++) {
@@ -86,8 +111,8 @@ static bool parse_args(int argc, char **argv, struct options *o)
             usage(stdout);
             exit(0);
         }
-        static const char *const known[] = {"--skyd", "--url", "--clients", "--size",
-                                            "--fps", "--warmup", "--seconds"};
+        static const char *const known[] = {"--skyd", "--url",    "--clients", "--views",
+                                            "--size", "--fps",    "--warmup",  "--seconds"};
         bool is_known = false;
         for (size_t k = 0; k < sizeof known / sizeof known[0]; k++)
             is_known |= strcmp(a, known[k]) == 0;
@@ -101,19 +126,10 @@ static bool parse_args(int argc, char **argv, struct options *o)
             o->skyd = v;
         } else if (strcmp(a, "--url") == 0) {
             o->url = v;
-        } else if (strcmp(a, "--clients") == 0) {
-            o->count_n = 0;
-            for (const char *p = v; *p && o->count_n < MAX_COUNTS;) {
-                char *end;
-                long n = strtol(p, &end, 10);
-                if (end == p || n < 1 || n > MAX_CLIENTS || (*end && *end != ',')) {
-                    fprintf(stderr, "skyd_bench_serve: bad --clients '%s' (1..%d each)\n", v,
-                            MAX_CLIENTS);
-                    return false;
-                }
-                o->counts[o->count_n++] = (int)n;
-                p = *end ? end + 1 : end;
-            }
+        } else if (strcmp(a, "--clients") == 0 || strcmp(a, "--views") == 0) {
+            bool views = a[2] == 'v';
+            if (!parse_list(a, v, views ? o->views : o->counts, views ? &o->view_n : &o->count_n))
+                return false;
         } else if (strcmp(a, "--size") == 0) {
             if (sscanf(v, "%dx%d", &o->width, &o->height) != 2 || o->width < 1 ||
                 o->height < 1) {
@@ -205,12 +221,10 @@ static void print_stats(struct sky_client *control, double *server_fps)
     cJSON_Delete(stats);
 }
 
-static bool run_count(const char *url, const struct options *o, int n, struct result *res)
+static bool run_count(const char *url, const struct options *o, int n, int views,
+                      struct result *res)
 {
-    char view[160], err[320];
-    snprintf(view, sizeof view,
-             "{\"type\":\"subscribe\",\"id\":1,\"view\":{\"width\":%d,\"height\":%d,\"fps\":%g}}",
-             o->width, o->height, o->fps);
+    char view[200], err[320];
     struct reader *readers = calloc((size_t)n, sizeof *readers);
     struct sky_client *control = sky_client_connect(url, NULL, 10000, err, sizeof err);
     bool ok = readers && control;
@@ -218,6 +232,11 @@ static bool run_count(const char *url, const struct options *o, int n, struct re
         fprintf(stderr, "skyd_bench_serve: control client: %s\n", err);
     for (int i = 0; ok && i < n; i++) {
         cJSON *reply = NULL;
+        err[0] = '\0';
+        snprintf(view, sizeof view,
+                 "{\"type\":\"subscribe\",\"id\":1,\"view\":{\"width\":%d,\"height\":%d,"
+                 "\"fps\":%g,\"camera\":{\"yaw_deg\":%g}}}",
+                 o->width, o->height, o->fps, -180.0 + 360.0 * (i % views) / views);
         readers[i].client = sky_client_connect(url, NULL, 10000, err, sizeof err);
         ok = readers[i].client &&
              sky_client_send_text(readers[i].client, view, strlen(view), 10000) == 0 &&
@@ -225,7 +244,7 @@ static bool run_count(const char *url, const struct options *o, int n, struct re
                                   sizeof err) == 0;
         if (!ok)
             fprintf(stderr, "skyd_bench_serve: client %d of %d: %s\n", i + 1, n,
-                    readers[i].client ? sky_client_error(readers[i].client) : err);
+                    err[0] || !readers[i].client ? err : sky_client_error(readers[i].client));
         cJSON_Delete(reply);
     }
     double start = now_s() + o->warmup_s, end = start + o->seconds;
@@ -247,7 +266,8 @@ static bool run_count(const char *url, const struct options *o, int n, struct re
     for (int i = 0; i < started; i++)
         pthread_join(readers[i].thread, NULL);
 
-    *res = (struct result){.clients = n, .min_fps = 1e30, .server_fps = server_fps};
+    *res = (struct result){.clients = n, .views = views, .min_fps = 1e30,
+                           .server_fps = server_fps};
     for (int i = 0; ok && i < n; i++) {
         double fps = readers[i].frames / o->seconds;
         res->min_fps = fps < res->min_fps ? fps : res->min_fps;
@@ -268,11 +288,11 @@ static bool run_count(const char *url, const struct options *o, int n, struct re
 
 static void print_summary(const struct options *o, const struct result *results, int count)
 {
-    printf("\n%8s %10s %10s %10s %10s %8s %10s\n", "clients", "min fps", "mean fps", "max fps",
-           "total fps", "ratio", "server fps");
+    printf("\n%6s %8s %10s %10s %10s %10s %8s %10s\n", "views", "clients", "min fps", "mean fps",
+           "max fps", "total fps", "ratio", "server fps");
     for (int i = 0; i < count; i++) {
         const struct result *r = &results[i];
-        printf("%8d %10.2f %10.2f %10.2f %10.2f %8.3f %10.2f\n", r->clients, r->min_fps,
+        printf("%6d %8d %10.2f %10.2f %10.2f %10.2f %8.3f %10.2f\n", r->views, r->clients, r->min_fps,
                r->mean_fps, r->max_fps, r->total_fps, r->ratio, r->server_fps);
     }
     printf("{\"bench\":\"serve\",\"width\":%d,\"height\":%d,\"fps\":%g,\"warmup_s\":%g,"
@@ -280,9 +300,9 @@ static void print_summary(const struct options *o, const struct result *results,
            o->width, o->height, o->fps, o->warmup_s, o->seconds);
     for (int i = 0; i < count; i++) {
         const struct result *r = &results[i];
-        printf("%s{\"clients\":%d,\"min_fps\":%.3f,\"mean_fps\":%.3f,\"total_fps\":%.3f,"
+        printf("%s{\"views\":%d,\"clients\":%d,\"min_fps\":%.3f,\"mean_fps\":%.3f,\"total_fps\":%.3f,"
                "\"ratio\":%.4f,\"server_fps\":%.3f,\"errors\":%ld}",
-               i ? "," : "", r->clients, r->min_fps, r->mean_fps, r->total_fps, r->ratio,
+               i ? "," : "", r->views, r->clients, r->min_fps, r->mean_fps, r->total_fps, r->ratio,
                r->server_fps, r->errors);
     }
     printf("]}\n");
@@ -316,12 +336,14 @@ int main(int argc, char **argv)
     printf("view %dx%d at %g fps; warm-up %g s, window %g s\n", o.width, o.height, o.fps,
            o.warmup_s, o.seconds);
 
-    struct result results[MAX_COUNTS];
+    struct result results[MAX_COUNTS * MAX_COUNTS];
     int done = 0;
     bool ok = true;
-    for (int i = 0; i < o.count_n && ok; i++) {
-        printf("%d client%s:\n", o.counts[i], o.counts[i] == 1 ? "" : "s");
-        ok = run_count(url, &o, o.counts[i], &results[done]);
+    for (int k = 0; k < o.view_n * o.count_n && ok; k++) {
+        int views = o.views[k / o.count_n], clients = o.counts[k % o.count_n];
+        printf("%d client%s over %d view%s:\n", clients, clients == 1 ? "" : "s", views,
+               views == 1 ? "" : "s");
+        ok = run_count(url, &o, clients, views, &results[done]);
         if (ok) {
             const struct result *r = &results[done];
             printf("  per client min %.2f mean %.2f fps, total %.2f fps\n", r->min_fps,
@@ -329,9 +351,9 @@ int main(int argc, char **argv)
             done++;
         }
     }
-    /* Ratios are to the single-client run, or to the first count when 1 is not among them. */
+    /* Ratios are to the first single-client run, or to the first run when none has 1 client. */
     const struct result *base = done ? &results[0] : NULL;
-    for (int i = 0; i < done; i++)
+    for (int i = done - 1; i >= 0; i--)
         if (results[i].clients == 1)
             base = &results[i];
     for (int i = 0; i < done; i++)
