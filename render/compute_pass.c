@@ -15,6 +15,7 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
     memcpy(out->bindings, desc->bindings, sizeof out->bindings);
     out->push_constant_bytes = desc->push_constant_bytes;
     VkShaderModule module = VK_NULL_HANDLE;
+    VkResult result;
 
     VkDescriptorSetLayoutBinding bindings[COMPUTE_PASS_MAX_BINDINGS];
     VkDescriptorPoolSize pool_sizes[COMPUTE_PASS_MAX_BINDINGS];
@@ -32,8 +33,9 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
         .bindingCount = desc->binding_count,
         .pBindings = bindings,
     };
-    VK_CHECK_GOTO(vkCreateDescriptorSetLayout(ctx->device, &set_info, NULL, &out->set_layout),
-                  fail);
+    VK_CHECK_KEEP_GOTO(vkCreateDescriptorSetLayout(ctx->device, &set_info, NULL,
+                                                   &out->set_layout),
+                       result, fail);
     VkPushConstantRange range = {
         .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
         .offset = 0,
@@ -46,14 +48,16 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
         .pushConstantRangeCount = desc->push_constant_bytes ? 1 : 0,
         .pPushConstantRanges = &range,
     };
-    VK_CHECK_GOTO(vkCreatePipelineLayout(ctx->device, &layout_info, NULL, &out->layout), fail);
+    VK_CHECK_KEEP_GOTO(vkCreatePipelineLayout(ctx->device, &layout_info, NULL, &out->layout),
+                       result, fail);
 
     VkShaderModuleCreateInfo module_info = {
         .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
         .codeSize = desc->spirv_bytes,
         .pCode = desc->spirv,
     };
-    VK_CHECK_GOTO(vkCreateShaderModule(ctx->device, &module_info, NULL, &module), fail);
+    VK_CHECK_KEEP_GOTO(vkCreateShaderModule(ctx->device, &module_info, NULL, &module), result,
+                       fail);
     uint32_t spec_count = desc->spec_count < COMPUTE_PASS_MAX_SPEC ? desc->spec_count
                                                                : COMPUTE_PASS_MAX_SPEC;
     VkSpecializationMapEntry entries[COMPUTE_PASS_MAX_SPEC];
@@ -76,9 +80,9 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
         },
         .layout = out->layout,
     };
-    VK_CHECK_GOTO(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &pipeline_info, NULL,
-                                           &out->pipeline),
-                  fail);
+    VK_CHECK_KEEP_GOTO(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &pipeline_info,
+                                                NULL, &out->pipeline),
+                       result, fail);
     vkDestroyShaderModule(ctx->device, module, NULL);
     module = VK_NULL_HANDLE;
     vk_context_name_object(ctx, VK_OBJECT_TYPE_PIPELINE, (uint64_t)out->pipeline, desc->name);
@@ -89,22 +93,24 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
         .poolSizeCount = desc->binding_count,
         .pPoolSizes = pool_sizes,
     };
-    VK_CHECK_GOTO(vkCreateDescriptorPool(ctx->device, &pool_info, NULL, &out->pool), fail);
+    VK_CHECK_KEEP_GOTO(vkCreateDescriptorPool(ctx->device, &pool_info, NULL, &out->pool), result,
+                       fail);
     VkDescriptorSetAllocateInfo alloc = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
         .descriptorPool = out->pool,
         .descriptorSetCount = 1,
         .pSetLayouts = &out->set_layout,
     };
-    VK_CHECK_GOTO(vkAllocateDescriptorSets(ctx->device, &alloc, &out->set), fail);
+    VK_CHECK_KEEP_GOTO(vkAllocateDescriptorSets(ctx->device, &alloc, &out->set), result, fail);
     return VK_SUCCESS;
 
 fail:
     fprintf(stderr, "skyd: vulkan: cannot create compute pass %s\n", desc->name);
+    vk_context_note_failure(ctx, result, "creating compute pass %s", desc->name);
     if (module)
         vkDestroyShaderModule(ctx->device, module, NULL);
     compute_pass_destroy(ctx, out);
-    return VK_ERROR_INITIALIZATION_FAILED;
+    return result;
 }
 
 void compute_pass_destroy(struct vk_context *ctx, struct compute_pass *pass)

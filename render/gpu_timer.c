@@ -77,6 +77,7 @@ bool gpu_timer_read(struct vk_context *ctx, struct gpu_timer *timer,
                                          VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
     if (res != VK_SUCCESS) {
         fprintf(stderr, "skyd: vulkan: timestamps unavailable: %s\n", vk_result_name(res));
+        vk_context_note_failure(ctx, res, "reading the timestamps");
         return false;
     }
     out->count = timer->marks;

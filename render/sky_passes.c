@@ -162,16 +162,28 @@ static struct gpu_image *atmosphere_lut(struct sky_passes *p, int copy, int whic
     return sets[copy][which];
 }
 
-static void destroy_luts(struct vk_context *ctx, struct sky_passes *p)
+/* Every image whose size the LUT sizes set: the three copies of the atmosphere LUTs, then the
+ * per-view LUTs. */
+#define LUT_IMAGE_COUNT 14
+static void lut_images(struct sky_passes *p, struct gpu_image *out[LUT_IMAGE_COUNT])
 {
+    int n = 0;
     for (int copy = 0; copy < 3; copy++)
         for (int which = 0; which < 3; which++)
-            gpu_image_destroy(ctx, atmosphere_lut(p, copy, which));
-    gpu_image_destroy(ctx, &p->skyview);
-    gpu_image_destroy(ctx, &p->moon_skyview);
-    gpu_image_destroy(ctx, &p->ap_inscatter);
-    gpu_image_destroy(ctx, &p->ap_transmittance);
-    gpu_image_destroy(ctx, &p->ap_shafts);
+            out[n++] = atmosphere_lut(p, copy, which);
+    out[n++] = &p->skyview;
+    out[n++] = &p->moon_skyview;
+    out[n++] = &p->ap_inscatter;
+    out[n++] = &p->ap_transmittance;
+    out[n++] = &p->ap_shafts;
+}
+
+static void destroy_luts(struct vk_context *ctx, struct sky_passes *p)
+{
+    struct gpu_image *images[LUT_IMAGE_COUNT];
+    lut_images(p, images);
+    for (int i = 0; i < LUT_IMAGE_COUNT; i++)
+        gpu_image_destroy(ctx, images[i]);
 }
 
 static int create_luts(struct vk_context *ctx, struct sky_passes *p,
@@ -407,11 +419,26 @@ void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **pp)
     *pp = NULL;
 }
 
+/* The new images are made beside the old ones, which stay in place when that fails (out of
+ * memory, say): the passes never point at destroyed images. */
 int sky_passes_resize_luts(struct vk_context *ctx, struct sky_passes *p,
                            const struct sky_render_lut_sizes *sizes)
 {
-    destroy_luts(ctx, p);
-    if (create_luts(ctx, p, sizes) != 0)
+    struct gpu_image *images[LUT_IMAGE_COUNT];
+    struct gpu_image kept[LUT_IMAGE_COUNT];
+    lut_images(p, images);
+    for (int i = 0; i < LUT_IMAGE_COUNT; i++) {
+        kept[i] = *images[i];
+        memset(images[i], 0, sizeof *images[i]);
+    }
+    bool created = create_luts(ctx, p, sizes) == 0; /* leaves none behind when it fails */
+    for (int i = 0; i < LUT_IMAGE_COUNT; i++) {
+        if (created)
+            gpu_image_destroy(ctx, &kept[i]);
+        else
+            *images[i] = kept[i];
+    }
+    if (!created)
         return -1;
     bind_passes(ctx, p);
     return 0;

@@ -33,6 +33,7 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
                                      const struct sky_cloud_bindings *clouds);
 void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **passes);
 
+/* Recreates the LUT images at new sizes; -1 keeps the old ones (and their sizes). */
 int sky_passes_resize_luts(struct vk_context *ctx, struct sky_passes *p,
                            const struct sky_render_lut_sizes *sizes);
 /* (Re)creates the output image and readback buffer when the size or kind changes. */

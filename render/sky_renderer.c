@@ -9,6 +9,7 @@
 #include "atmosphere_luts.h"
 #include "cloud_renderer.h"
 #include "compute_pass.h"
+#include "fault_injection.h"
 #include "gpu_timer.h"
 #include "night_sky.h"
 #include "photometry.h"
@@ -175,8 +176,44 @@ const char *sky_renderer_device_name(const struct sky_renderer *r)
     return r->ctx->properties.deviceName;
 }
 
+/* The start of every call that can fail: none is tried on a lost device, and an earlier
+ * failure is forgotten so that sky_renderer_status speaks of this call. */
+static bool call_begins(struct sky_renderer *r)
+{
+    if (r->ctx->device_lost)
+        return false;
+    vk_context_clear_failure(r->ctx);
+    return true;
+}
+
+enum sky_render_status sky_renderer_status(const struct sky_renderer *r, const char **detail)
+{
+    const struct vk_context *ctx = r->ctx;
+    if (detail)
+        *detail = ctx->failure_what;
+    if (ctx->device_lost)
+        return SKY_RENDER_DEVICE_LOST;
+    if (ctx->failure == VK_SUCCESS)
+        return SKY_RENDER_OK;
+    return vk_result_is_out_of_memory(ctx->failure) ? SKY_RENDER_OUT_OF_MEMORY
+                                                    : SKY_RENDER_FAILED;
+}
+
+const char *sky_render_status_name(enum sky_render_status status)
+{
+    switch (status) {
+    case SKY_RENDER_OK: return "ok";
+    case SKY_RENDER_FAILED: return "failed";
+    case SKY_RENDER_OUT_OF_MEMORY: return "out of memory";
+    case SKY_RENDER_DEVICE_LOST: return "device lost";
+    }
+    return "unknown";
+}
+
 int sky_renderer_set_lut_sizes(struct sky_renderer *r, const struct sky_render_lut_sizes *sizes)
 {
+    if (!call_begins(r))
+        return -1;
     struct sky_render_lut_sizes s = sizes_with_defaults(sizes);
     if (memcmp(&s, &r->sizes, sizeof s) == 0)
         return 0;
@@ -221,6 +258,8 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
 int sky_renderer_rebuild_atmosphere(struct sky_renderer *r, const struct sky_render_atmosphere *a,
                                     struct sky_render_stats *stats)
 {
+    if (!call_begins(r))
+        return -1;
     double start = now_ms();
     VkCommandBuffer cmd;
     if (vk_context_begin_commands(r->ctx, &cmd) != VK_SUCCESS)
@@ -277,6 +316,8 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
                         const struct sky_render_view *v, void *pixels, size_t pixels_bytes,
                         struct sky_render_stats *stats)
 {
+    if (!call_begins(r))
+        return -1;
     double start = now_ms();
     size_t texel = v->output == SKY_RENDER_OUTPUT_LINEAR ? 16 : 4;
     if (v->width == 0 || v->height == 0 || pixels_bytes < (size_t)v->width * v->height * texel) {
@@ -342,6 +383,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     collect_stats(r, stats, start, rebuilt);
     if (stats)
         stats->exposure = sky_ev100_to_exposure(v->auto_exposure ? stats->metered_ev100 : v->ev100);
+    fault_injection_frame_rendered();
     return 0;
 }
 
@@ -350,6 +392,8 @@ static int run_probe(struct sky_renderer *r, const struct sky_render_atmosphere 
                      const struct sky_render_view *v, uint32_t mode, const float (*in)[4],
                      size_t count, double (*out)[3])
 {
+    if (!call_begins(r))
+        return -1;
     if (sky_passes_prepare_probe(r->ctx, r->passes, count, in) != 0)
         return -1;
     VkCommandBuffer cmd;
@@ -422,22 +466,30 @@ void sky_renderer_set_amortization(struct sky_renderer *r,
 
 float *sky_renderer_read_lut(struct sky_renderer *r, const char *name, uint32_t size[3])
 {
+    if (!call_begins(r))
+        return NULL;
     return sky_passes_read_lut(r->ctx, r->passes, name, size);
 }
 
 int sky_renderer_set_clouds(struct sky_renderer *r, const struct sky_render_clouds *clouds)
 {
+    if (!call_begins(r))
+        return -1;
     return cloud_renderer_set(r->ctx, r->clouds, clouds);
 }
 
 int sky_renderer_prepare_cloud_noise(struct sky_renderer *r, uint32_t noise_seed)
 {
+    if (!call_begins(r))
+        return -1;
     return cloud_renderer_prepare_noise(r->ctx, r->clouds, noise_seed);
 }
 
 int sky_renderer_set_weather_map(struct sky_renderer *r, const uint8_t *rgba8, uint32_t width,
                                  uint32_t height)
 {
+    if (!call_begins(r))
+        return -1;
     return cloud_renderer_set_weather_map(r->ctx, r->clouds, rgba8, width, height);
 }
 

@@ -101,6 +101,31 @@ void sky_direction_from_angles(double azimuth_deg, double elevation_deg, double 
 struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *params);
 void sky_renderer_destroy(struct sky_renderer **renderer);
 
+/* Why the renderer's last call failed, as far as the device is concerned:
+ *   SKY_RENDER_OK             no Vulkan failure since that call began (it may still have
+ *                             failed on its arguments: said on stderr);
+ *   SKY_RENDER_FAILED         a Vulkan call failed; the renderer stays usable;
+ *   SKY_RENDER_OUT_OF_MEMORY  host or device memory ran out; what that call was making is
+ *                             undone, the renderer stays usable, and a later or a smaller
+ *                             request may succeed;
+ *   SKY_RENDER_DEVICE_LOST    the device is lost (VK_ERROR_DEVICE_LOST, or a submission that
+ *                             did not finish in VK_CONTEXT_SUBMIT_TIMEOUT_S): every call fails
+ *                             from now on, without waiting; destroy the renderer (which does
+ *                             not wait for the device either) and create another.
+ * `detail`, when not NULL, receives what failed and the Vulkan result, e.g.
+ * "creating image "output" (640x360x1): VK_ERROR_OUT_OF_DEVICE_MEMORY" ("" when nothing did).
+ * Each call that can fail begins by forgetting an earlier failure that did not lose the device.
+ * render/fault_injection.h can provoke the last two for tests (SKYD_FAULT). */
+enum sky_render_status {
+    SKY_RENDER_OK = 0,
+    SKY_RENDER_FAILED,
+    SKY_RENDER_OUT_OF_MEMORY,
+    SKY_RENDER_DEVICE_LOST,
+};
+enum sky_render_status sky_renderer_status(const struct sky_renderer *renderer,
+                                           const char **detail);
+const char *sky_render_status_name(enum sky_render_status status);
+
 /* Name of the Vulkan device in use. */
 const char *sky_renderer_device_name(const struct sky_renderer *renderer);
 

@@ -18,6 +18,17 @@ const char *vk_result_name(VkResult result);
         }                                                                                  \
     } while (0)
 
+/* The same, keeping the failed result in `result` for the cleanup to report or return. */
+#define VK_CHECK_KEEP_GOTO(call, result, label)                                            \
+    do {                                                                                   \
+        (result) = (call);                                                                 \
+        if ((result) != VK_SUCCESS) {                                                      \
+            fprintf(stderr, "skyd: vulkan: %s failed: %s (%s:%d)\n", #call,                \
+                    vk_result_name(result), __FILE__, __LINE__);                           \
+            goto label;                                                                    \
+        }                                                                                  \
+    } while (0)
+
 /* For functions returning VkResult themselves: log and return the failure. */
 #define VK_CHECK_RETURN(call)                                                              \
     do {                                                                                   \

@@ -1,12 +1,17 @@
 #include "vk_context.h"
 
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "fault_injection.h"
 #include "vk_check.h"
 
 #define VALIDATION_LAYER "VK_LAYER_KHRONOS_validation"
+#define STRINGIFY_(x) #x
+#define STRINGIFY(x) STRINGIFY_(x)
+#define VK_CONTEXT_TIMEOUT_TEXT STRINGIFY(VK_CONTEXT_SUBMIT_TIMEOUT_S) " s"
 
 const char *vk_result_name(VkResult result)
 {
@@ -28,6 +33,7 @@ const char *vk_result_name(VkResult result)
     case VK_ERROR_FORMAT_NOT_SUPPORTED: return "VK_ERROR_FORMAT_NOT_SUPPORTED";
     case VK_ERROR_FRAGMENTED_POOL: return "VK_ERROR_FRAGMENTED_POOL";
     case VK_ERROR_OUT_OF_POOL_MEMORY: return "VK_ERROR_OUT_OF_POOL_MEMORY";
+    case VK_ERROR_UNKNOWN: return "VK_ERROR_UNKNOWN";
     default: return "VkResult(other)";
     }
 }
@@ -284,6 +290,7 @@ struct vk_context *vk_context_create(const struct vk_context_params *params)
     if (!ctx)
         return NULL;
     ctx->validation_message_counter = p->validation_message_counter;
+    fault_injection_init();
 
     VK_CHECK_GOTO(create_instance(ctx, p->validation), fail);
     VK_CHECK_GOTO(pick_physical_device(ctx, p), fail);
@@ -300,7 +307,11 @@ struct vk_context *vk_context_create(const struct vk_context_params *params)
         .queueCreateInfoCount = 1,
         .pQueueCreateInfos = &queue_info,
     };
-    VK_CHECK_GOTO(vkCreateDevice(ctx->physical_device, &device_info, NULL, &ctx->device), fail);
+    VkResult injected = fault_injection_create_device();
+    VK_CHECK_GOTO(injected != VK_SUCCESS
+                      ? injected
+                      : vkCreateDevice(ctx->physical_device, &device_info, NULL, &ctx->device),
+                  fail);
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
 
     VkCommandPoolCreateInfo pool_info = {
@@ -344,11 +355,46 @@ void vk_context_destroy(struct vk_context **pctx)
     *pctx = NULL;
 }
 
+void vk_context_note_failure(struct vk_context *ctx, VkResult result, const char *what, ...)
+{
+    bool loses_device = result == VK_ERROR_DEVICE_LOST || result == VK_TIMEOUT;
+    if (ctx->device_lost || (ctx->failure != VK_SUCCESS && !loses_device))
+        return; /* the first failure is the cause; a loss outranks everything */
+    /* What failed, then the result's name (which a long description may cut short). */
+    char *out = ctx->failure_what;
+    size_t room = sizeof ctx->failure_what;
+    va_list args;
+    va_start(args, what);
+    vsnprintf(out, room, what, args);
+    va_end(args);
+    size_t used = strlen(out);
+    snprintf(out + used, room - used, ": %s", vk_result_name(result));
+    ctx->failure = result;
+    ctx->device_lost = loses_device;
+}
+
+void vk_context_clear_failure(struct vk_context *ctx)
+{
+    if (ctx->device_lost)
+        return;
+    ctx->failure = VK_SUCCESS;
+    ctx->failure_what[0] = '\0';
+}
+
+bool vk_result_is_out_of_memory(VkResult result)
+{
+    return result == VK_ERROR_OUT_OF_HOST_MEMORY || result == VK_ERROR_OUT_OF_DEVICE_MEMORY;
+}
+
 VkResult vk_context_wait_idle(struct vk_context *ctx)
 {
+    if (ctx->device_lost)
+        return VK_ERROR_DEVICE_LOST;
     VkResult res = vkDeviceWaitIdle(ctx->device);
-    if (res != VK_SUCCESS)
+    if (res != VK_SUCCESS) {
         fprintf(stderr, "skyd: vulkan: vkDeviceWaitIdle failed: %s\n", vk_result_name(res));
+        vk_context_note_failure(ctx, res, "waiting for the device to be idle");
+    }
     return res;
 }
 
@@ -360,13 +406,21 @@ VkResult vk_context_begin_commands(struct vk_context *ctx, VkCommandBuffer *out)
         .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
         .commandBufferCount = 1,
     };
-    VK_CHECK_RETURN(vkAllocateCommandBuffers(ctx->device, &alloc, out));
+    VkResult res = vkAllocateCommandBuffers(ctx->device, &alloc, out);
+    if (res != VK_SUCCESS) {
+        fprintf(stderr, "skyd: vulkan: vkAllocateCommandBuffers failed: %s\n",
+                vk_result_name(res));
+        vk_context_note_failure(ctx, res, "allocating a command buffer");
+        *out = VK_NULL_HANDLE;
+        return res;
+    }
     VkCommandBufferBeginInfo begin = {
         .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
         .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT,
     };
-    VkResult res = vkBeginCommandBuffer(*out, &begin);
+    res = vkBeginCommandBuffer(*out, &begin);
     if (res != VK_SUCCESS) {
+        vk_context_note_failure(ctx, res, "beginning a command buffer");
         vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, out);
         *out = VK_NULL_HANDLE;
     }
@@ -375,21 +429,37 @@ VkResult vk_context_begin_commands(struct vk_context *ctx, VkCommandBuffer *out)
 
 VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd)
 {
+    if (ctx->device_lost) { /* said when it was lost; the commands are dropped */
+        vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, cmd);
+        *cmd = VK_NULL_HANDLE;
+        return VK_ERROR_DEVICE_LOST;
+    }
+    const char *step = "ending a command buffer";
     VkResult res = vkEndCommandBuffer(*cmd);
-    if (res == VK_SUCCESS)
+    if (res == VK_SUCCESS) {
+        step = "resetting the fence";
         res = vkResetFences(ctx->device, 1, &ctx->fence);
+    }
     if (res == VK_SUCCESS) {
         VkSubmitInfo submit = {
             .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
             .commandBufferCount = 1,
             .pCommandBuffers = cmd,
         };
-        res = vkQueueSubmit(ctx->queue, 1, &submit, ctx->fence);
+        step = "submitting to the queue";
+        res = fault_injection_submit();
+        if (res == VK_SUCCESS)
+            res = vkQueueSubmit(ctx->queue, 1, &submit, ctx->fence);
     }
-    if (res == VK_SUCCESS)
-        res = vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, UINT64_MAX);
-    if (res != VK_SUCCESS)
-        fprintf(stderr, "skyd: vulkan: submit failed: %s\n", vk_result_name(res));
+    if (res == VK_SUCCESS) {
+        step = "waiting for the queue (at most " VK_CONTEXT_TIMEOUT_TEXT ")";
+        res = vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE,
+                              (uint64_t)VK_CONTEXT_SUBMIT_TIMEOUT_S * 1000000000ull);
+    }
+    if (res != VK_SUCCESS) {
+        fprintf(stderr, "skyd: vulkan: %s failed: %s\n", step, vk_result_name(res));
+        vk_context_note_failure(ctx, res, "%s", step);
+    }
     vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, cmd);
     *cmd = VK_NULL_HANDLE;
     return res;

@@ -1,6 +1,12 @@
 /* Headless Vulkan context: instance (validation optional), physical device choice, one
  * compute queue, a command pool and a fence for synchronous submission.
  *
+ * Failures that say something about the device are noted here (vk_context_note_failure):
+ * VK_ERROR_DEVICE_LOST, or a submission that has not finished after
+ * VK_CONTEXT_SUBMIT_TIMEOUT_S, makes the device lost for good: nothing is submitted to it any
+ * more, waits return at once, and the owner must destroy the context and create another.
+ * Other failures (out of memory above all) leave the context usable.
+ *
  * Not thread-safe: one thread (the render thread) owns a context and everything made from it. */
 #ifndef SKYD_VK_CONTEXT_H
 #define SKYD_VK_CONTEXT_H
@@ -35,6 +41,12 @@ struct vk_context {
     float timestamp_period_ns;     /* 0 when the queue has no timestamps */
     uint64_t timestamp_mask;       /* valid bits of a timestamp */
     bool validation_enabled;
+    /* Lost for good (see above): every submission and wait fails at once. */
+    bool device_lost;
+    /* The first failure noted since vk_context_clear_failure (a loss replaces any other), and
+     * what failed: VK_SUCCESS and "" when none. */
+    VkResult failure;
+    char failure_what[224];
     /* Validation messages of warning or error severity seen so far (written by the
      * messenger callback, which runs on the thread that made the offending call). */
     unsigned validation_warnings;
@@ -42,16 +54,32 @@ struct vk_context {
     unsigned *validation_message_counter; /* from the params, may be NULL */
 };
 
+/* A submission not finished after this long is taken for a hung device: waits are bounded. */
+#define VK_CONTEXT_SUBMIT_TIMEOUT_S 300
+
 /* Returns NULL on failure after logging why. */
 struct vk_context *vk_context_create(const struct vk_context_params *params);
 void vk_context_destroy(struct vk_context **ctx);
 
-/* Waits until the device is idle (before destroying what it may use); logs a failure. */
+/* Notes that `what` (printf format) failed with `result`: VK_ERROR_DEVICE_LOST and VK_TIMEOUT
+ * (only a bounded wait reports it) make the device lost for good. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+void vk_context_note_failure(struct vk_context *ctx, VkResult result, const char *what, ...);
+/* Forgets the failure noted (a lost device stays lost). */
+void vk_context_clear_failure(struct vk_context *ctx);
+/* VK_ERROR_OUT_OF_HOST_MEMORY or VK_ERROR_OUT_OF_DEVICE_MEMORY. */
+bool vk_result_is_out_of_memory(VkResult result);
+
+/* Waits until the device is idle (before destroying what it may use); logs a failure. A lost
+ * device is not waited for: nothing runs on it any more. */
 VkResult vk_context_wait_idle(struct vk_context *ctx);
 
 /* Allocates a primary command buffer and begins it for one-time submission. */
 VkResult vk_context_begin_commands(struct vk_context *ctx, VkCommandBuffer *out);
-/* Ends, submits, waits for completion and frees the command buffer (always freed). */
+/* Ends, submits, waits for completion (at most VK_CONTEXT_SUBMIT_TIMEOUT_S) and frees the
+ * command buffer (always freed). On a lost device nothing is submitted: VK_ERROR_DEVICE_LOST. */
 VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd);
 
 /* Finds a memory type allowed by type_bits with all `required` flags; UINT32_MAX if none. */

@@ -2,6 +2,7 @@
 
 #include <string.h>
 
+#include "fault_injection.h"
 #include "vk_check.h"
 #include "vk_context.h"
 
@@ -21,6 +22,9 @@ static VkResult bind_new_memory(struct vk_context *ctx, VkMemoryRequirements req
         .allocationSize = req.size,
         .memoryTypeIndex = type,
     };
+    VkResult injected = fault_injection_allocate();
+    if (injected != VK_SUCCESS)
+        return injected;
     return vkAllocateMemory(ctx->device, &info, NULL, out);
 }
 
@@ -49,13 +53,15 @@ VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t widt
         .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
     };
     VkCommandBuffer cmd = VK_NULL_HANDLE;
-    VK_CHECK_GOTO(vkCreateImage(ctx->device, &info, NULL, &out->image), fail);
+    VkResult result;
+    VK_CHECK_KEEP_GOTO(vkCreateImage(ctx->device, &info, NULL, &out->image), result, fail);
     vk_context_name_object(ctx, VK_OBJECT_TYPE_IMAGE, (uint64_t)out->image, name);
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(ctx->device, out->image, &req);
-    VK_CHECK_GOTO(bind_new_memory(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, &out->memory),
-                  fail);
-    VK_CHECK_GOTO(vkBindImageMemory(ctx->device, out->image, out->memory, 0), fail);
+    VK_CHECK_KEEP_GOTO(
+        bind_new_memory(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, &out->memory), result,
+        fail);
+    VK_CHECK_KEEP_GOTO(vkBindImageMemory(ctx->device, out->image, out->memory, 0), result, fail);
 
     VkImageViewCreateInfo view = {
         .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
@@ -64,9 +70,9 @@ VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t widt
         .format = format,
         .subresourceRange = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1 },
     };
-    VK_CHECK_GOTO(vkCreateImageView(ctx->device, &view, NULL, &out->view), fail);
+    VK_CHECK_KEEP_GOTO(vkCreateImageView(ctx->device, &view, NULL, &out->view), result, fail);
 
-    VK_CHECK_GOTO(vk_context_begin_commands(ctx, &cmd), fail);
+    VK_CHECK_KEEP_GOTO(vk_context_begin_commands(ctx, &cmd), result, fail);
     VkImageMemoryBarrier barrier = {
         .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
         .srcAccessMask = 0,
@@ -85,12 +91,14 @@ VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t widt
     vkCmdClearColorImage(cmd, out->image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1,
                          &barrier.subresourceRange);
     gpu_barrier_compute_to_compute(cmd);
-    VK_CHECK_GOTO(vk_context_submit_and_wait(ctx, &cmd), fail);
+    VK_CHECK_KEEP_GOTO(vk_context_submit_and_wait(ctx, &cmd), result, fail);
     return VK_SUCCESS;
 
 fail:
+    vk_context_note_failure(ctx, result, "creating image \"%s\" (%ux%ux%u)", name ? name : "",
+                            width, height, out->depth);
     gpu_image_destroy(ctx, out);
-    return VK_ERROR_INITIALIZATION_FAILED;
+    return result;
 }
 
 void gpu_image_destroy(struct vk_context *ctx, struct gpu_image *image)
@@ -117,22 +125,26 @@ VkResult gpu_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBufferUs
         .usage = usage,
         .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
     };
-    VK_CHECK_GOTO(vkCreateBuffer(ctx->device, &info, NULL, &out->buffer), fail);
+    VkResult result;
+    VK_CHECK_KEEP_GOTO(vkCreateBuffer(ctx->device, &info, NULL, &out->buffer), result, fail);
     vk_context_name_object(ctx, VK_OBJECT_TYPE_BUFFER, (uint64_t)out->buffer, name);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx->device, out->buffer, &req);
     VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
                                  VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    VK_CHECK_GOTO(bind_new_memory(ctx, req, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT, host,
-                                  &out->memory),
-                  fail);
-    VK_CHECK_GOTO(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0), fail);
-    VK_CHECK_GOTO(vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped), fail);
+    VK_CHECK_KEEP_GOTO(bind_new_memory(ctx, req, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT, host,
+                                       &out->memory),
+                       result, fail);
+    VK_CHECK_KEEP_GOTO(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0), result, fail);
+    VK_CHECK_KEEP_GOTO(vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped),
+                       result, fail);
     return VK_SUCCESS;
 
 fail:
+    vk_context_note_failure(ctx, result, "creating buffer \"%s\" (%llu bytes)", name ? name : "",
+                            (unsigned long long)size);
     gpu_buffer_destroy(ctx, out);
-    return VK_ERROR_INITIALIZATION_FAILED;
+    return result;
 }
 
 void gpu_buffer_destroy(struct vk_context *ctx, struct gpu_buffer *buffer)

@@ -2,7 +2,11 @@
  *
  * Images live in VK_IMAGE_LAYOUT_GENERAL for their whole life (storage writes and sampled
  * reads both allowed), so passes need only memory barriers. Buffers are host-visible and
- * persistently mapped: they carry uniforms, probe inputs/outputs and readbacks. */
+ * persistently mapped: they carry uniforms, probe inputs/outputs and readbacks.
+ *
+ * A create that fails leaves nothing behind (out is zeroed), notes in the context what failed
+ * (vk_context_note_failure: the image or buffer's name and size) and returns the result of the
+ * call that failed, so that running out of memory can be told from other failures. */
 #ifndef SKYD_VK_RESOURCES_H
 #define SKYD_VK_RESOURCES_H
 

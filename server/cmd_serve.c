@@ -37,7 +37,10 @@ static void usage(FILE *out)
             "                  [--config-dir DIR] [--device NAME] [--validation]\n"
             "Serves the web client over HTTP and the protocol (protocol/PROTOCOL.md) over\n"
             "WebSocket on one port; prints \"skyd: listening on URL\" when ready. SIGTERM or\n"
-            "SIGINT closes every client (1001), saves the world state and exits 0.\n"
+            "SIGINT closes every client (1001), saves the world state and exits 0. A lost\n"
+            "Vulkan device is reported and the renderer rebuilt; when that fails (or the\n"
+            "device is lost 3 times in a minute) every client is closed (1011), the state is\n"
+            "saved and skyd exits 1.\n"
             "  --config FILE      configuration (config/skyd.json when run from the source tree)\n"
             "  --port N           listen port, 0 for any free one (overrides the config)\n"
             "  --state-file PATH  where the world state persists (overrides the config)\n"
@@ -144,6 +147,21 @@ struct signal_watch {
     struct ws_server *server;
 };
 
+/* The render loop cannot go on (render_loop_params.on_failure, on the render thread): the
+ * service loop stops as after a signal. The hub's wake is the server's once it exists;
+ * before that, ws_server_run sees `stop` when it starts. */
+struct failure_watch {
+    struct signal_watch *signals;
+    struct session_hub *hub;
+};
+
+static void on_render_failure(void *user)
+{
+    struct failure_watch *f = user;
+    f->signals->stop = 1;
+    session_hub_wake(f->hub);
+}
+
 static void *signal_thread(void *arg)
 {
     struct signal_watch *w = arg;
@@ -202,7 +220,10 @@ int skyd_cmd_serve(int argc, char **argv)
                                               .state_file = config.state_file };
     initial_state(config.state_file, &config.initial_state, &loop_params.initial_state);
     struct session_hub *hub = session_hub_create(NULL, NULL);
+    struct failure_watch failure_watch = { .signals = &watch, .hub = hub };
     loop_params.hub = hub;
+    loop_params.on_failure = on_render_failure;
+    loop_params.failure_user = &failure_watch;
     char err[512];
     struct render_loop *loop = hub ? render_loop_create(&loop_params, err, sizeof err) : NULL;
     if (!loop) {
@@ -234,7 +255,15 @@ int skyd_cmd_serve(int argc, char **argv)
     fflush(stdout);
 
     ws_server_run(server, &watch.stop);
-    ws_server_close_all(server, 2.0);
+    char failure[512] = "";
+    const char *why = render_loop_failure(loop);
+    if (why)
+        snprintf(failure, sizeof failure, "%s", why);
+    if (failure[0]) /* the replies saying why go out first */
+        ws_server_close_all(server, SESSION_CLOSE_INTERNAL_ERROR, "rendering device lost", true,
+                            2.0);
+    else
+        ws_server_close_all(server, SESSION_CLOSE_GOING_AWAY, "skyd shutting down", false, 2.0);
     ws_server_detach_loop(server);
     render_loop_destroy(&loop); /* saves the state */
     session_hub_set_wake(hub, NULL, NULL);
@@ -243,6 +272,10 @@ int skyd_cmd_serve(int argc, char **argv)
     pthread_join(watch.thread, NULL);
     ws_server_destroy(&server);
     session_hub_destroy(&hub);
+    if (failure[0]) {
+        fprintf(stderr, "skyd: stopped with the state saved: %s\n", failure);
+        return SKYD_EXIT_FAILURE;
+    }
     fprintf(stderr, "skyd: stopped\n");
     return SKYD_EXIT_OK;
 }

@@ -31,8 +31,12 @@ static void deliver(struct encode_job *job, struct encoded_frame *frame)
         struct encode_target *t = &job->targets[i];
         if (t->subscription)
             session_slot_deliver(t->session, t->subscription, frame);
-        else
+        else if (frame)
             session_snapshot_deliver(t->session, &t->snapshot_id, frame);
+        else
+            session_snapshot_fail(t->session, &t->snapshot_id,
+                                  "encoding the frame failed (out of memory, or the daemon is "
+                                  "stopping)");
         session_unref(&t->session);
     }
     free(job->targets);

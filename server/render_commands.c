@@ -9,6 +9,7 @@
 #include "json_guard.h"
 #include "presets.h"
 #include "probe_query.h"
+#include "render_device.h"
 #include "state_store.h"
 #include "world_render.h"
 #include "world_sim.h"
@@ -37,7 +38,7 @@ __attribute__((format(printf, 4, 5)))
 static void reply_error(struct session *session, const struct sky_msg_id *id,
                         enum sky_msg_error_code code, const char *format, ...)
 {
-    char message[320];
+    char message[512];
     va_list args;
     va_start(args, format);
     vsnprintf(message, sizeof message, format, args);
@@ -97,7 +98,9 @@ static void unpersist(struct render_context *ctx)
 
 /* Makes `next` the live state: a new revision when anything differs (or when `also_changed`,
  * a pointer outside the schema, names something else that did), written to the state file,
- * then an ack to the sender and an event naming the changed fields to everyone. */
+ * then an ack to the sender and an event naming the changed fields to everyone. A renderer
+ * whose device is lost need not take the change: the one made after the tick takes the whole
+ * state. */
 static bool commit_state(struct render_context *ctx, struct session *session,
                          const struct sky_msg_id *id, struct sky_world_state *next,
                          const char *also_changed)
@@ -119,11 +122,12 @@ static bool commit_state(struct render_context *ctx, struct session *session,
         return false;
     struct sky_render_lut_sizes sizes;
     world_to_lut_sizes(next, &sizes);
+    char why[512];
     if (memcmp(&sizes, &ctx->lut_sizes, sizeof sizes) != 0) {
-        if (sky_renderer_set_lut_sizes(ctx->renderer, &sizes) != 0) {
-            reply_error(session, id, SKY_MSG_ERR_INTERNAL, "the new LUT sizes could not be "
-                        "allocated; the state is unchanged");
-            sky_renderer_set_lut_sizes(ctx->renderer, &ctx->lut_sizes);
+        if (sky_renderer_set_lut_sizes(ctx->renderer, &sizes) != 0 && !render_device_lost(ctx)) {
+            /* The renderer keeps the old LUTs and sizes. */
+            render_device_describe_failure(ctx, "allocating the new LUT sizes", why, sizeof why);
+            reply_error(session, id, SKY_MSG_ERR_INTERNAL, "%s; the state is unchanged", why);
             unpersist(ctx);
             return false;
         }
@@ -134,14 +138,20 @@ static bool commit_state(struct render_context *ctx, struct session *session,
     world_to_render_clouds(next, &clouds_after);
     if (memcmp(&clouds_before, &clouds_after, sizeof clouds_before) != 0) {
         if (sky_renderer_set_clouds(ctx->renderer, &clouds_after) != 0) {
-            reply_error(session, id, SKY_MSG_ERR_INTERNAL, "the cloud noise could not be "
-                        "generated; the state is unchanged");
-            sky_renderer_set_clouds(ctx->renderer, &clouds_before);
-            unpersist(ctx);
-            return false;
+            if (!render_device_lost(ctx)) {
+                render_device_describe_failure(ctx, "generating the cloud noise", why,
+                                               sizeof why);
+                reply_error(session, id, SKY_MSG_ERR_INTERNAL, "%s; the state is unchanged",
+                            why);
+                sky_renderer_set_clouds(ctx->renderer, &clouds_before);
+                unpersist(ctx);
+                return false;
+            }
+            ctx->clouds_set = false;
+        } else {
+            ctx->clouds = clouds_after; /* the renderer has them: the next frame need not */
+            ctx->clouds_set = true;
         }
-        ctx->clouds = clouds_after; /* the renderer has them: the next frame need not set them */
-        ctx->clouds_set = true;
     }
     struct sky_render_atmosphere before, after;
     world_to_render_atmosphere(&ctx->state, &before);
@@ -291,12 +301,15 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
         sky_weather_map_free(&kept);
         return;
     }
-    if (sky_renderer_set_weather_map(ctx->renderer, map->rgba, map->width, map->height) != 0) {
+    /* A renderer whose device is lost is made again with ctx->client_map after the tick. */
+    if (sky_renderer_set_weather_map(ctx->renderer, map->rgba, map->width, map->height) != 0 &&
+        !render_device_lost(ctx)) {
         if (ctx->state_file[0] &&
             state_store_save_weather_map(ctx->state_file, &ctx->client_map, err, sizeof err) != 0)
             fprintf(stderr, "skyd: cannot restore the saved weather map: %s\n", err);
-        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "the renderer could not take the "
-                    "weather map; the state is unchanged");
+        char why[512];
+        render_device_describe_failure(ctx, "uploading the weather map", why, sizeof why);
+        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s; the state is unchanged", why);
         sky_weather_map_free(&kept);
         return;
     }
@@ -443,7 +456,9 @@ static void handle_probe(struct render_context *ctx, struct session *session,
 {
     struct sky_msg_probe_result result;
     if (probe_query_run(ctx->renderer, &ctx->state, &msg->probe, &result) != 0) {
-        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "the probe failed on the device");
+        char why[512];
+        render_device_describe_failure(ctx, "the probe", why, sizeof why);
+        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s", why);
         return;
     }
     reply(session, &msg->id, sky_msg_build_probe_result(&msg->id, &result));

@@ -30,9 +30,17 @@ struct pending_snapshot {
     struct sky_msg_view view;
 };
 
+#define RENDER_CONTEXT_LOSSES_KEPT 4
+
 struct render_context {
     const struct skyd_config *config;
     const char *config_dir;
+    /* What the renderer is made with, to make it again after its device is lost, and when the
+     * last losses were, newest first (render_device.c). */
+    const char *device_preference;
+    bool validation;
+    double device_losses_s[RENDER_CONTEXT_LOSSES_KEPT];
+    int device_loss_count;
     char state_file[SKYD_CONFIG_STRING];
     struct sky_world_state state;
     struct sky_render_lut_sizes lut_sizes;

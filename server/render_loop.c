@@ -10,6 +10,7 @@
 #include "encoder_pool.h"
 #include "png_write.h"
 #include "render_commands.h"
+#include "render_device.h"
 #include "sky_renderer.h"
 #include "state_store.h"
 #include "world_render.h"
@@ -47,6 +48,9 @@ struct render_loop {
     struct encoder_pool *encoder;
     double fps_window_start;
     int fps_window_frames;
+    void (*on_failure)(void *user);
+    void *failure_user;
+    char failure[384]; /* why the loop stopped on its own; "" while it runs (under lock) */
 };
 
 static void free_command(struct command *c)
@@ -178,81 +182,18 @@ static bool group_add(struct render_group *g, struct session *session, uint64_t 
     return true;
 }
 
-static void fail_targets(struct encode_target *targets, size_t count)
+/* A view that could not be rendered: its subscriptions skip a frame, its snapshots are
+ * answered with `message`. */
+static void fail_targets(struct encode_target *targets, size_t count, const char *message)
 {
     for (size_t i = 0; i < count; i++) {
         if (targets[i].subscription)
             session_slot_deliver(targets[i].session, targets[i].subscription, NULL);
         else
-            session_snapshot_deliver(targets[i].session, &targets[i].snapshot_id, NULL);
+            session_snapshot_fail(targets[i].session, &targets[i].snapshot_id, message);
         session_unref(&targets[i].session);
     }
     free(targets);
-}
-
-/* Hands the state's clouds to the renderer when they changed; the weather and shadow maps
- * then rebuild amortized over the next frames. */
-static void update_clouds(struct render_context *ctx)
-{
-    struct sky_render_clouds clouds;
-    world_to_render_clouds(&ctx->state, &clouds);
-    if (ctx->clouds_set && memcmp(&clouds, &ctx->clouds, sizeof clouds) == 0)
-        return;
-    if (sky_renderer_set_clouds(ctx->renderer, &clouds) == 0) {
-        ctx->clouds = clouds;
-        ctx->clouds_set = true;
-    } else {
-        fprintf(stderr, "skyd: the cloud noise could not be generated\n");
-    }
-}
-
-static void set_amortization(struct render_context *ctx, double budget_ms)
-{
-    sky_renderer_set_amortization(
-        ctx->renderer, &(struct sky_render_amortization){
-                           .budget_ms = budget_ms, .blend_frames = ctx->config->lut_blend_frames });
-}
-
-/* The CPU driver (lavapipe) compiles a shader variant at its first dispatch: a second or more
- * for each cloud pass on two cores, which stalled every stream the first time clouds showed.
- * A few small frames with clouds, by day (both halves of the reconstruction's ping-pong) and
- * by night, then one clear, dispatch those passes now, before the first client. The caller
- * then sets the state's own clouds. */
-static int warm_up_pipelines(struct render_context *ctx)
-{
-    enum { WARM_W = 64, WARM_H = 36 };
-    static uint8_t rgba[WARM_W * WARM_H * 4];
-    struct sky_world_state s = ctx->state;
-    s.clouds.low.coverage = fmax(s.clouds.low.coverage, 0.5);
-    s.clouds.high.coverage = fmax(s.clouds.high.coverage, 0.3);
-    struct sky_render_clouds clouds;
-    world_to_render_clouds(&s, &clouds);
-    if (sky_renderer_set_clouds(ctx->renderer, &clouds) != 0)
-        return -1;
-    ctx->clouds_set = false;
-    set_amortization(ctx, 0.0); /* the weather and shadow maps at once */
-    static const double sun_elevation_deg[4] = { 30.0, 30.0, -20.0, 30.0 };
-    int status = 0;
-    for (int k = 0; k < 4 && status == 0; k++) {
-        s.sun.elevation_deg = sun_elevation_deg[k];
-        if (k == 3) { /* the clear sky's composite pipelines are others */
-            s.clouds.low.coverage = s.clouds.high.coverage = 0.0;
-            world_to_render_clouds(&s, &clouds);
-            if (sky_renderer_set_clouds(ctx->renderer, &clouds) != 0)
-                return -1;
-        }
-        struct sky_render_night night;
-        world_to_render_night(&s, &night);
-        sky_renderer_set_night(ctx->renderer, &night);
-        struct sky_render_view view;
-        world_to_render_view(&s, WARM_W, WARM_H, SKY_RENDER_OUTPUT_SRGB8, &view);
-        view.history_key = UINT64_MAX;
-        view.live = true;
-        struct sky_render_atmosphere atm = ctx->atmosphere;
-        status = sky_renderer_render(ctx->renderer, &atm, &view, rgba, sizeof rgba, NULL);
-    }
-    set_amortization(ctx, ctx->config->lut_budget_ms);
-    return status;
 }
 
 static void render_group(struct render_loop *loop, struct render_group *g)
@@ -265,21 +206,28 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     struct sky_render_night night;
     world_to_render_night(&ctx->state, &night);
     sky_renderer_set_night(ctx->renderer, &night);
-    update_clouds(ctx);
+    render_device_update_clouds(ctx);
     /* Amortizing map builds only helps a stream: with nobody subscribed a snapshot shows the
      * clouds asked for at once. */
     bool unwatched = ctx->subscription_count == 0;
     if (unwatched)
-        set_amortization(ctx, 0.0);
+        render_device_set_amortization(ctx, 0.0);
     struct sky_render_stats stats;
     int rendered = pixels ? sky_renderer_render(ctx->renderer, &atm, &g->view, pixels, bytes, &stats)
                           : -1;
     if (unwatched)
-        set_amortization(ctx, ctx->config->lut_budget_ms);
+        render_device_set_amortization(ctx, ctx->config->lut_budget_ms);
     if (rendered != 0) {
-        fprintf(stderr, "skyd: rendering a %ux%u frame failed\n", g->view.width, g->view.height);
+        char what[64], message[512];
+        snprintf(what, sizeof what, "rendering the %ux%u view", g->view.width, g->view.height);
+        if (pixels)
+            render_device_describe_failure(ctx, what, message, sizeof message);
+        else
+            snprintf(message, sizeof message, "%s failed: out of memory for its pixels", what);
+        fprintf(stderr, "skyd: %s\n", message);
         free(pixels);
-        fail_targets(g->targets, g->count);
+        fail_targets(g->targets, g->count, message);
+        session_hub_wake(ctx->hub);
         return;
     }
     ctx->last_stats = stats;
@@ -504,6 +452,39 @@ static void run_command(struct render_loop *loop, struct command *c)
     free_command(c);
 }
 
+/* Rendering cannot go on (the device was lost and no renderer could be made again): the
+ * snapshots still waiting hear why, the loop takes no more commands, and the owner is told to
+ * stop serving; the thread then saves the state and ends. */
+static void stop_on_failure(struct render_loop *loop, const char *why)
+{
+    struct render_context *ctx = &loop->ctx;
+    fprintf(stderr, "skyd: error: %s; saving the state and stopping\n", why);
+    char message[448];
+    snprintf(message, sizeof message, "the daemon is stopping: %s", why);
+    for (size_t i = 0; i < ctx->snapshot_count; i++) {
+        session_snapshot_fail(ctx->snapshots[i].session, &ctx->snapshots[i].id, message);
+        session_unref(&ctx->snapshots[i].session);
+    }
+    ctx->snapshot_count = 0;
+    session_hub_wake(ctx->hub);
+    pthread_mutex_lock(&loop->lock);
+    snprintf(loop->failure, sizeof loop->failure, "%s", why);
+    loop->stopping = true;
+    pthread_mutex_unlock(&loop->lock);
+    if (loop->on_failure)
+        loop->on_failure(loop->failure_user);
+}
+
+/* After work that used the renderer: false when its device was lost for good. */
+static bool renderer_usable(struct render_loop *loop)
+{
+    char why[384];
+    if (render_device_check(&loop->ctx, why, sizeof why) != RENDER_DEVICE_FAILED)
+        return true;
+    stop_on_failure(loop, why);
+    return false;
+}
+
 static void *thread_main(void *arg)
 {
     struct render_loop *loop = arg;
@@ -538,10 +519,12 @@ static void *thread_main(void *arg)
         }
         if (replied)
             session_hub_wake(ctx->hub);
-        if (stopping)
+        if (stopping || !renderer_usable(loop))
             break;
         double now = monotonic_seconds();
         wake_at = render_due(loop, now);
+        if (!renderer_usable(loop))
+            break;
         now = monotonic_seconds();
         update_fps(loop, now);
         if (ctx->dirty) {
@@ -615,43 +598,28 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     pthread_cond_init(&loop->wake, &attr);
     pthread_condattr_destroy(&attr);
 
-    struct sky_renderer_params rp = { .device_preference = params->device,
-                                      .validation = params->validation };
-    world_to_lut_sizes(&ctx->state, &rp.lut_sizes);
-    ctx->lut_sizes = rp.lut_sizes;
-    ctx->renderer = sky_renderer_create(&rp);
-    if (ctx->renderer)
-        set_amortization(ctx, params->config->lut_budget_ms);
+    ctx->device_preference = params->device;
+    ctx->validation = params->validation;
+    loop->on_failure = params->on_failure;
+    loop->failure_user = params->failure_user;
     loop->encoder = encoder_pool_create(params->config->encoder_threads, params->hub,
                                         encoder_done, loop);
-    if (!ctx->renderer || !loop->encoder) {
-        snprintf(err, errlen, "%s", !ctx->renderer ? "cannot create the Vulkan renderer"
-                                                   : "cannot start the encoder threads");
+    if (!loop->encoder) {
+        snprintf(err, errlen, "cannot start the encoder threads");
         render_loop_destroy(&loop);
         return NULL;
     }
-    /* Builds the LUTs before the first client arrives. */
-    struct sky_render_atmosphere atm = ctx->atmosphere;
-    struct sky_render_stats stats;
-    if (sky_renderer_rebuild_atmosphere(ctx->renderer, &atm, &stats) != 0) {
-        snprintf(err, errlen, "building the atmosphere LUTs failed");
+    /* The LUTs, the saved weather map, the cloud noise and every pipeline before the first
+     * client arrives. */
+    if (render_device_open(ctx, false, err, errlen) != 0) {
         render_loop_destroy(&loop);
         return NULL;
     }
     restore_weather_map(ctx);
-    /* The cloud noise too, so that no frame pays for it when clouds first appear. */
-    if (sky_renderer_prepare_cloud_noise(ctx->renderer, (uint32_t)ctx->state.clouds.noise_seed) !=
-        0) {
-        snprintf(err, errlen, "generating the cloud noise failed");
+    if (render_device_prepare(ctx, err, errlen) != 0) {
         render_loop_destroy(&loop);
         return NULL;
     }
-    if (warm_up_pipelines(ctx) != 0) {
-        snprintf(err, errlen, "rendering the start-up frames failed");
-        render_loop_destroy(&loop);
-        return NULL;
-    }
-    update_clouds(ctx);
     ctx->settled_revision = ctx->state.revision;
     loop->started = pthread_create(&loop->thread, NULL, thread_main, loop) == 0;
     if (!loop->started) {
@@ -661,6 +629,14 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     }
     fprintf(stderr, "skyd: rendering on %s\n", sky_renderer_device_name(ctx->renderer));
     return loop;
+}
+
+const char *render_loop_failure(struct render_loop *loop)
+{
+    pthread_mutex_lock(&loop->lock);
+    const char *why = loop->failure[0] ? loop->failure : NULL;
+    pthread_mutex_unlock(&loop->lock);
+    return why;
 }
 
 void render_loop_destroy(struct render_loop **loop_ptr)

@@ -2,7 +2,8 @@
  * from clients queue up and are applied in arrival order at the start of a tick; then each
  * distinct view that is due (subscriptions at their frame rate, snapshots) is rendered once
  * and handed to the PNG encoder workers for every session that watches it. The state is
- * written to disk after changes (debounced) and when the loop stops. */
+ * written to disk after changes (debounced) and when the loop stops. A lost device is
+ * reported and the renderer made again for the same state (render_device.h). */
 #ifndef SKYD_RENDER_LOOP_H
 #define SKYD_RENDER_LOOP_H
 
@@ -22,6 +23,12 @@ struct render_loop_params {
     const char *state_file;           /* "" = no persistence */
     struct sky_world_state initial_state;
     struct session_hub *hub;
+    /* Called once, from the render thread, when rendering cannot go on: the device was lost
+     * and no renderer could be made again, or it was lost too often (render_device.h). The
+     * state is saved and the loop takes no more commands; the owner should stop serving and
+     * destroy the loop. May be NULL. */
+    void (*on_failure)(void *user);
+    void *failure_user;
 };
 
 struct render_loop;
@@ -30,6 +37,9 @@ struct render_loop;
  * not start (no Vulkan device, ...). */
 struct render_loop *render_loop_create(const struct render_loop_params *params, char *err,
                                        size_t errlen);
+/* Why the loop stopped on its own (see on_failure), or NULL while it renders. The text lives
+ * as long as the loop. */
+const char *render_loop_failure(struct render_loop *loop);
 /* Stops the thread after the tick under way, writes the state when it changed, frees. */
 void render_loop_destroy(struct render_loop **loop);
 

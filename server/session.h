@@ -32,6 +32,7 @@
 /* Close codes (RFC 6455). */
 #define SESSION_CLOSE_GOING_AWAY 1001
 #define SESSION_CLOSE_POLICY 1008
+#define SESSION_CLOSE_INTERNAL_ERROR 1011
 
 struct session;
 
@@ -84,6 +85,10 @@ void session_slot_deliver(struct session *session, uint64_t subscription,
 bool session_snapshot_reserve(struct session *session);
 void session_snapshot_deliver(struct session *session, const struct sky_msg_id *id,
                               struct encoded_frame *frame);
+/* A snapshot that could not be rendered or encoded: frees its place and queues an `error`
+ * `internal` reply with `message` (the sender must not wait in silence). */
+void session_snapshot_fail(struct session *session, const struct sky_msg_id *id,
+                           const char *message);
 
 enum session_output_kind {
     SESSION_OUTPUT_NONE = 0,

@@ -414,15 +414,23 @@ void ws_server_run(struct ws_server *server, volatile sig_atomic_t *stop)
             break;
 }
 
+struct close_request {
+    int code;
+    const char *reason;
+    bool after_output;
+};
+
 static void close_session(struct session *session, void *user)
 {
-    (void)user;
-    session_request_close(session, SESSION_CLOSE_GOING_AWAY, "skyd shutting down", false);
+    const struct close_request *request = user;
+    session_request_close(session, request->code, request->reason, request->after_output);
 }
 
-void ws_server_close_all(struct ws_server *server, double timeout_s)
+void ws_server_close_all(struct ws_server *server, int code, const char *reason,
+                         bool after_output, double timeout_s)
 {
-    session_hub_for_each(server->hub, close_session, NULL);
+    struct close_request request = { code, reason, after_output };
+    session_hub_for_each(server->hub, close_session, &request);
     lws_cancel_service(server->context);
     double deadline = monotonic_seconds() + timeout_s;
     while (session_hub_count(server->hub) > 0 && monotonic_seconds() < deadline)

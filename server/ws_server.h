@@ -7,6 +7,7 @@
 #define SKYD_WS_SERVER_H
 
 #include <signal.h>
+#include <stdbool.h>
 #include <stddef.h>
 
 #include "config.h"
@@ -31,9 +32,11 @@ const char *ws_server_url(const struct ws_server *server);
 
 /* Serves until *stop becomes non-zero (set it, then call ws_server_wake). */
 void ws_server_run(struct ws_server *server, volatile sig_atomic_t *stop);
-/* Closes every connection with 1001 "skyd shutting down" and serves until they are gone or
- * timeout_s passes. */
-void ws_server_close_all(struct ws_server *server, double timeout_s);
+/* Closes every connection with `code` and `reason` (1001 "skyd shutting down" at a signal),
+ * after what is queued for it when after_output, and serves until they are gone or timeout_s
+ * passes. */
+void ws_server_close_all(struct ws_server *server, int code, const char *reason,
+                         bool after_output, double timeout_s);
 /* The render loop is about to go: messages still arriving are dropped. */
 void ws_server_detach_loop(struct ws_server *server);
 

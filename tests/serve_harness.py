@@ -309,11 +309,12 @@ def daemon_environment():
 
 
 class Daemon:
-    def __init__(self, skyd, scratch, name, config):
+    def __init__(self, skyd, scratch, name, config, env=None):
         self.skyd = skyd
         self.scratch = scratch
         self.name = name
         self.config = config
+        self.env = dict(env or {})  # added to the daemon's environment
         self.config_path = os.path.join(scratch, f"{name}.json")
         self.log_path = os.path.join(scratch, f"{name}.log")
         self.proc = None
@@ -327,9 +328,11 @@ class Daemon:
         self.lines = queue.Queue()  # a fresh one per start: the old reader thread ends with None
         self.log_offset = os.path.getsize(self.log_path) if os.path.exists(self.log_path) else 0
         log = open(self.log_path, "ab")
+        env = daemon_environment()
+        env.update(self.env)
         self.proc = subprocess.Popen([self.skyd, "serve", "--config", self.config_path],
                                      stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                     stderr=log, cwd=self.scratch, env=daemon_environment())
+                                     stderr=log, cwd=self.scratch, env=env)
         log.close()
         threading.Thread(target=self._read_stdout, args=(self.proc, self.lines),
                          daemon=True).start()
@@ -358,6 +361,24 @@ class Daemon:
         for raw in proc.stdout:
             lines.put(raw.decode("utf-8", "replace"))
         lines.put(None)
+
+    def log_text(self):
+        """What the daemon has logged since its last start."""
+        try:
+            with open(self.log_path, "rb") as f:
+                f.seek(self.log_offset)
+                return f.read().decode("utf-8", "replace")
+        except OSError:
+            return ""
+
+    async def wait_exit(self, timeout):
+        """The exit status once the daemon exits by itself, or None after timeout seconds."""
+        def wait():
+            try:
+                return self.proc.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                return None
+        return await asyncio.get_running_loop().run_in_executor(None, wait)
 
     def log_tail(self, n=600):
         try:

@@ -1,0 +1,40 @@
+/* Fault injection for tests: makes the Vulkan device look lost, or out of memory, on demand.
+ * A CPU device (lavapipe) is never lost and rarely runs out of memory, so the daemon's
+ * recovery from those results could not be tested without it.
+ *
+ * SKYD_FAULT, read once per process when the first Vulkan context is created, holds one
+ * fault:
+ *
+ *   device_lost:after_frames=N[:times=K][:permanent]
+ *       Once N frames (successful sky_renderer_render calls, counted over the process) have
+ *       been rendered, the next queue submission reports VK_ERROR_DEVICE_LOST instead of
+ *       running. times=K (default 1): K losses, each N frames after the one before.
+ *       permanent: the device stays lost; every later submission fails, and so does creating
+ *       another device (vkCreateDevice reports VK_ERROR_DEVICE_LOST).
+ *   out_of_memory:after_frames=N[:times=K]
+ *       Once N frames have been rendered, the next K device memory allocations (default 1)
+ *       report VK_ERROR_OUT_OF_DEVICE_MEMORY.
+ *
+ * The fault is process-wide, not per context, because a lost device outlives the renderer
+ * that saw it: a renderer created after the loss must see it too. Unset (always, outside
+ * tests), every hook below is one test of a flag that stays false. A malformed value is
+ * reported on stderr and injects nothing. Thread-safe. */
+#ifndef SKYD_FAULT_INJECTION_H
+#define SKYD_FAULT_INJECTION_H
+
+#include <vulkan/vulkan.h>
+
+/* Reads SKYD_FAULT (the first call only) and says on stderr which fault is armed. */
+void fault_injection_init(void);
+
+/* A frame was rendered. */
+void fault_injection_frame_rendered(void);
+
+/* VK_SUCCESS, or the result a queue submission must report instead of running. */
+VkResult fault_injection_submit(void);
+/* VK_SUCCESS, or the result a device memory allocation must report instead of allocating. */
+VkResult fault_injection_allocate(void);
+/* VK_SUCCESS, or the result creating a logical device must report. */
+VkResult fault_injection_create_device(void);
+
+#endif
