@@ -84,6 +84,8 @@ static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosph
     return 0;
 }
 
+static enum sky_render_projection projection = SKY_RENDER_PROJECTION_PERSPECTIVE;
+
 /* The state's atmosphere and an sRGB view of w x h, with a pixel buffer for it (NULL when
  * out of memory; the caller frees it). */
 static void *frame_setup(struct sky_renderer *r, const struct cli_common *c, unsigned w,
@@ -96,6 +98,7 @@ static void *frame_setup(struct sky_renderer *r, const struct cli_common *c, uns
         return NULL;
     world_to_render_atmosphere(&c->state, atm);
     world_to_render_view(&c->state, w, h, SKY_RENDER_OUTPUT_SRGB8, view);
+    view->projection = projection;
     *bytes = (size_t)w * h * 4;
     return malloc(*bytes);
 }
@@ -245,6 +248,14 @@ int main(int argc, char **argv)
             if (!(v = cli_take_value(argc, argv, &i)) ||
                 !cli_parse_double("--drag", v, 0.1, 1000, &drag_budget_ms))
                 return 2;
+        } else if (strcmp(argv[i], "--projection") == 0) {
+            if (!(v = cli_take_value(argc, argv, &i)) ||
+                (strcmp(v, "perspective") != 0 && strcmp(v, "equirectangular") != 0)) {
+                fprintf(stderr, "bench: --projection expects perspective or equirectangular\n");
+                return 2;
+            }
+            projection = v[0] == 'e' ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
+                                     : SKY_RENDER_PROJECTION_PERSPECTIVE;
         } else if (strcmp(argv[i], "--clouds") == 0) {
             /* A fair-weather cumulus sky with a thin high layer: the cloud benchmark scene. */
             static const char *const sets[] = { "clouds.low.coverage=0.45",
@@ -269,8 +280,8 @@ int main(int argc, char **argv)
             size_count++;
         } else {
             fprintf(stderr, "usage: skyd_bench [--frames N] [--rebuilds N] [--size WxH]... "
-                            "[--drag BUDGET_MS] [--clouds] [--preset NAME] [--set PATH=VALUE] "
-                            "[--device NAME]\n");
+                            "[--drag BUDGET_MS] [--clouds] [--projection NAME] [--preset NAME] "
+                            "[--set PATH=VALUE] [--device NAME]\n");
             return 2;
         }
     }
@@ -282,7 +293,9 @@ int main(int argc, char **argv)
     struct sky_renderer *r = cli_create_renderer(&common);
     if (!r)
         return 1;
-    printf("device: %s\n", sky_renderer_device_name(r));
+    printf("device: %s; projection %s\n", sky_renderer_device_name(r),
+           projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR ? "equirectangular"
+                                                                : "perspective");
     struct series *s = calloc(1, sizeof *s);
     struct sky_render_atmosphere atm;
     world_to_render_atmosphere(&common.state, &atm);

@@ -312,6 +312,14 @@ static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_
     return true;
 }
 
+/* Whether any of a disk (xyz its direction, w the cosine of its radius) reaches above the
+ * horizon whose direction has z = horizon_z, with room for the region's 1.5-radius margin. */
+static bool disk_above_horizon(sky_vec4 disk, double horizon_z)
+{
+    double top = asin(fmax(-1.0, fmin(1.0, disk.z))) + 1.5 * acos(fmin(1.0, disk.w));
+    return sin(fmin(top, 1.5707963267948966)) >= horizon_z - 1e-3; /* top clamped at 90 deg */
+}
+
 int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphere *a,
                         const struct sky_render_view *v, void *pixels, size_t pixels_bytes,
                         struct sky_render_stats *stats)
@@ -359,9 +367,13 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     if (v->auto_exposure)
         sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space,
                                    night_visible);
+    /* A disk wholly below the horizon is hidden by the ground: its pass would change nothing
+     * (a panorama always has the sun and moon in the picture, by night and by day). */
     int32_t sun_rect[4], moon_rect[4];
-    bool sun_on_screen = sky_uniforms_sun_rect(v, sun_rect);
-    bool moon_on_screen = night_moon_rect(&r->night, v, moon_rect);
+    bool sun_on_screen = disk_above_horizon(fu.sun_direction, fu.horizon.z) &&
+                         sky_uniforms_sun_rect(v, sun_rect);
+    bool moon_on_screen = night_moon_rect(&r->night, v, moon_rect) &&
+                          disk_above_horizon(fu.moon_direction, fu.horizon.z);
     struct sky_composite_job job = {
         .kind = v->output,
         .from_space = from_space,
