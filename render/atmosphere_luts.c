@@ -11,29 +11,33 @@
 
 enum phase { PHASE_IDLE, PHASE_BUILDING, PHASE_BLENDING };
 
-/* Starting guesses of GPU ms per row on lavapipe (2 cores): the measured times replace them
+/* Starting guesses of GPU ms per slice on lavapipe (2 cores): the measured times replace them
  * after the first slice. */
-#define INITIAL_MS_PER_TRANSMITTANCE_ROW 0.15
-#define INITIAL_MS_PER_MULTISCATTERING_ROW 1.2
+#define INITIAL_MS_PER_TRANSMITTANCE_BLOCK 0.15 /* 64 texels */
+#define INITIAL_MS_PER_MULTISCATTERING_TEXEL 0.04
 #define IRRADIANCE_MS 0.2
 
 struct atmosphere_luts {
     uint64_t display_generation; /* counts changes of what the displayed LUTs hold */
     bool built;
     enum phase phase;
-    double budget_ms;
+    double budget_ms, budget_fraction;
     int blend_frames;
+    /* GPU time of the rest of the frame (smoothed; 0 before the first), and this frame's LUT
+     * work so far. */
+    double frame_ms, lut_ms_this_frame;
     /* What frames are shaded with now, and the two ends of a rebuild. */
     struct sky_render_atmosphere displayed, previous, target;
     struct sky_atmosphere_uniforms displayed_u, previous_u, target_u;
     double zenith_displayed[3], zenith_previous[3], zenith_target[3];
     /* Progress of the rebuild. */
     enum sky_build_step step;
-    uint32_t next_row, transmittance_rows, multiscattering_rows;
+    uint32_t next_slice, transmittance_slices, multiscattering_slices;
     int blend_frame;
-    /* Row costs, and the rows recorded this frame to turn a measured time into one. */
-    double ms_per_row[2];
-    uint32_t rows_this_frame[2];
+    /* Slice costs (ms per transmittance block of 64 texels, per multiple-scattering texel), and
+     * the slices recorded this frame to turn a measured time into one. */
+    double ms_per_slice[2];
+    uint32_t slices_this_frame[2];
 };
 
 struct atmosphere_luts *atmosphere_luts_create(void)
@@ -42,8 +46,8 @@ struct atmosphere_luts *atmosphere_luts_create(void)
     if (!luts)
         return NULL;
     luts->blend_frames = 4;
-    luts->ms_per_row[SKY_BUILD_TRANSMITTANCE] = INITIAL_MS_PER_TRANSMITTANCE_ROW;
-    luts->ms_per_row[SKY_BUILD_MULTISCATTERING] = INITIAL_MS_PER_MULTISCATTERING_ROW;
+    luts->ms_per_slice[SKY_BUILD_TRANSMITTANCE] = INITIAL_MS_PER_TRANSMITTANCE_BLOCK;
+    luts->ms_per_slice[SKY_BUILD_MULTISCATTERING] = INITIAL_MS_PER_MULTISCATTERING_TEXEL;
     return luts;
 }
 
@@ -54,9 +58,10 @@ void atmosphere_luts_destroy(struct atmosphere_luts **luts)
 }
 
 void atmosphere_luts_set_amortization(struct atmosphere_luts *luts, double budget_ms,
-                                      int blend_frames)
+                                      double budget_fraction, int blend_frames)
 {
     luts->budget_ms = budget_ms;
+    luts->budget_fraction = budget_fraction > 0.0 ? budget_fraction : 0.0;
     luts->blend_frames = blend_frames < 1 ? 1 : blend_frames;
 }
 
@@ -131,36 +136,38 @@ static void start_rebuild(struct atmosphere_luts *luts, struct sky_passes *passe
     luts->target = *a;
     sky_uniforms_fill_atmosphere_media(a, &luts->target_u);
     sky_passes_upload_build_atmosphere(passes, &luts->target_u);
-    sky_passes_atmosphere_rows(passes, &luts->transmittance_rows, &luts->multiscattering_rows);
+    sky_passes_atmosphere_slices(passes, &luts->transmittance_slices, &luts->multiscattering_slices);
     luts->step = SKY_BUILD_TRANSMITTANCE;
-    luts->next_row = 0;
+    luts->next_slice = 0;
     luts->phase = PHASE_BUILDING;
 }
 
-/* Records slices until the budget is spent (at least one row per frame, so a rebuild always
+/* Records slices until the budget is spent (at least one slice per frame, so a rebuild always
  * ends). Returns true when the build is complete. */
 static bool record_slices(struct atmosphere_luts *luts, struct sky_passes *passes,
                           VkCommandBuffer cmd, struct gpu_timer *timer)
 {
     double remaining = luts->budget_ms;
+    if (luts->budget_fraction > 0.0 && luts->frame_ms > 0.0)
+        remaining = fmin(remaining, luts->budget_fraction * luts->frame_ms);
     bool first = true;
     while (luts->step != SKY_BUILD_IRRADIANCE) {
-        uint32_t total = luts->step == SKY_BUILD_TRANSMITTANCE ? luts->transmittance_rows
-                                                               : luts->multiscattering_rows;
-        double cost = luts->ms_per_row[luts->step];
-        uint32_t rows = (uint32_t)fmax(0.0, floor(remaining / cost));
-        if (rows == 0 && !first)
+        uint32_t total = luts->step == SKY_BUILD_TRANSMITTANCE ? luts->transmittance_slices
+                                                               : luts->multiscattering_slices;
+        double cost = luts->ms_per_slice[luts->step];
+        uint32_t slices = (uint32_t)fmax(0.0, floor(remaining / cost));
+        if (slices == 0 && !first)
             return false;
-        if (rows == 0)
-            rows = 1;
-        if (rows > total - luts->next_row)
-            rows = total - luts->next_row;
-        sky_passes_record_build(passes, cmd, timer, luts->step, luts->next_row, rows);
-        luts->rows_this_frame[luts->step] += rows;
-        remaining -= rows * cost;
+        if (slices == 0)
+            slices = 1;
+        if (slices > total - luts->next_slice)
+            slices = total - luts->next_slice;
+        sky_passes_record_build(passes, cmd, timer, luts->step, luts->next_slice, slices);
+        luts->slices_this_frame[luts->step] += slices;
+        remaining -= slices * cost;
         first = false;
-        luts->next_row += rows;
-        if (luts->next_row < total)
+        luts->next_slice += slices;
+        if (luts->next_slice < total)
             return false;
         if (luts->step == SKY_BUILD_TRANSMITTANCE) {
             /* Multiple scattering reads the ground transfer: now it is worth computing. */
@@ -172,7 +179,7 @@ static bool record_slices(struct atmosphere_luts *luts, struct sky_passes *passe
         }
         luts->step = luts->step == SKY_BUILD_TRANSMITTANCE ? SKY_BUILD_MULTISCATTERING
                                                            : SKY_BUILD_IRRADIANCE;
-        luts->next_row = 0;
+        luts->next_slice = 0;
     }
     if (!first && remaining < IRRADIANCE_MS)
         return false;
@@ -186,7 +193,7 @@ bool atmosphere_luts_record_frame(struct atmosphere_luts *luts, struct sky_passe
                                   VkCommandBuffer cmd, struct gpu_timer *timer,
                                   const struct sky_render_atmosphere *a)
 {
-    luts->rows_this_frame[0] = luts->rows_this_frame[1] = 0;
+    luts->slices_this_frame[0] = luts->slices_this_frame[1] = 0;
     if (!luts->built || luts->budget_ms <= 0.0)
         return atmosphere_luts_record_exact(luts, passes, cmd, timer, a);
     bool recorded = false;
@@ -244,24 +251,48 @@ double atmosphere_luts_progress(const struct atmosphere_luts *luts)
 {
     if (luts->phase != PHASE_BUILDING)
         return 1.0;
-    uint32_t total = luts->transmittance_rows + luts->multiscattering_rows + 1;
-    uint32_t done = luts->next_row;
+    uint32_t total = luts->transmittance_slices + luts->multiscattering_slices + 1;
+    uint32_t done = luts->next_slice;
     if (luts->step >= SKY_BUILD_MULTISCATTERING)
-        done += luts->transmittance_rows;
+        done += luts->transmittance_slices;
     if (luts->step == SKY_BUILD_IRRADIANCE)
-        done = luts->transmittance_rows + luts->multiscattering_rows;
+        done = luts->transmittance_slices + luts->multiscattering_slices;
     return (double)done / total;
+}
+
+static bool is_lut_pass(const char *name)
+{
+    static const char *const names[] = { "transmittance", "multiscattering", "irradiance",
+                                         "lut_blend", "lut_save" };
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (strcmp(name, names[i]) == 0)
+            return true;
+    return false;
+}
+
+void atmosphere_luts_observe_frame(struct atmosphere_luts *luts, double total_ms)
+{
+    double rest = total_ms - luts->lut_ms_this_frame;
+    luts->lut_ms_this_frame = 0.0;
+    if (!(rest > 0.0))
+        return;
+    /* Smoothed, but quick to follow a frame that got cheaper (a smaller view). */
+    luts->frame_ms = luts->frame_ms > 0.0 && rest > luts->frame_ms
+                         ? 0.9 * luts->frame_ms + 0.1 * rest
+                         : rest;
 }
 
 void atmosphere_luts_observe(struct atmosphere_luts *luts, const char *pass_name, double ms)
 {
+    if (is_lut_pass(pass_name) && ms > 0.0)
+        luts->lut_ms_this_frame += ms;
     int step = strcmp(pass_name, "transmittance") == 0     ? SKY_BUILD_TRANSMITTANCE
                : strcmp(pass_name, "multiscattering") == 0 ? SKY_BUILD_MULTISCATTERING
                                                            : -1;
-    if (step < 0 || luts->rows_this_frame[step] == 0 || !(ms > 0.0))
+    if (step < 0 || luts->slices_this_frame[step] == 0 || !(ms > 0.0))
         return;
-    double per_row = ms / luts->rows_this_frame[step];
+    double per_slice = ms / luts->slices_this_frame[step];
     /* Smoothed: lavapipe's timings jitter from frame to frame. */
-    luts->ms_per_row[step] = 0.7 * luts->ms_per_row[step] + 0.3 * per_row;
-    luts->rows_this_frame[step] = 0;
+    luts->ms_per_slice[step] = 0.7 * luts->ms_per_slice[step] + 0.3 * per_slice;
+    luts->slices_this_frame[step] = 0;
 }

@@ -1,6 +1,6 @@
 /* Which atmosphere the transmittance, multiple-scattering and irradiance LUTs show, and the
  * amortized rebuild that moves them to a new one (seed 001, 3.5.1): the rebuild is recorded a
- * slice of rows per frame under a GPU-time budget while frames keep reading the last complete
+ * few slices per frame under a GPU-time budget while frames keep reading the last complete
  * LUTs; when it completes, the displayed LUTs (and the atmosphere the frame is shaded with)
  * blend to the new ones over a few frames. A change during a rebuild restarts it from the
  * display as it stands. */
@@ -21,9 +21,10 @@ struct atmosphere_luts;
 struct atmosphere_luts *atmosphere_luts_create(void);
 void atmosphere_luts_destroy(struct atmosphere_luts **luts);
 
-/* budget_ms <= 0: every change is rebuilt at once. */
+/* budget_ms <= 0: every change is rebuilt at once. budget_fraction > 0 caps a frame's share at
+ * that fraction of the rest of the frame (atmosphere_luts_observe_frame). */
 void atmosphere_luts_set_amortization(struct atmosphere_luts *luts, double budget_ms,
-                                      int blend_frames);
+                                      double budget_fraction, int blend_frames);
 /* The LUT images were recreated or a submission failed: the next frame rebuilds at once. */
 void atmosphere_luts_invalidate(struct atmosphere_luts *luts);
 
@@ -48,5 +49,9 @@ bool atmosphere_luts_settled(const struct atmosphere_luts *luts);
 double atmosphere_luts_progress(const struct atmosphere_luts *luts);
 /* GPU time of a recorded pass (from the timestamps), to size the next slices. */
 void atmosphere_luts_observe(struct atmosphere_luts *luts, const char *pass_name, double ms);
+/* A frame's whole GPU time, after its passes were observed: the rest of the frame (without the
+ * atmosphere LUT work) sets the relative budget. NAN for a call that is not a frame (a whole
+ * rebuild): its LUT work is forgotten. */
+void atmosphere_luts_observe_frame(struct atmosphere_luts *luts, double total_ms);
 
 #endif

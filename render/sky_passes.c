@@ -517,26 +517,26 @@ static void record(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *
     gpu_timer_mark(timer, cmd, p->pass[id].name);
 }
 
-void sky_passes_atmosphere_rows(const struct sky_passes *p, uint32_t *transmittance_rows,
-                                 uint32_t *multiscattering_rows)
+void sky_passes_atmosphere_slices(const struct sky_passes *p, uint32_t *transmittance_slices,
+                                 uint32_t *multiscattering_slices)
 {
-    *transmittance_rows = p->transmittance.height;
-    *multiscattering_rows = p->multiscattering.height;
+    /* blocks of 64 texels */
+    *transmittance_slices = (p->transmittance.width * p->transmittance.height + 63) / 64;
+    *multiscattering_slices = p->multiscattering.width * p->multiscattering.height; /* texels */
 }
 
 void sky_passes_record_build(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
-                             enum sky_build_step step, uint32_t first_row, uint32_t row_count)
+                             enum sky_build_step step, uint32_t first_slice, uint32_t slice_count)
 {
-    struct sky_rows_push rows = { .row_offset = first_row };
+    struct sky_rows_push rows = { .row_offset = first_slice };
     switch (step) {
     case SKY_BUILD_TRANSMITTANCE:
-        record(p, cmd, timer, PASS_TRANSMITTANCE, &rows, p->transmittance.width, row_count, 1,
-               8, 8);
+        /* a slice: a block of 64 texels */
+        record(p, cmd, timer, PASS_TRANSMITTANCE, &rows, slice_count, 1, 1, 1, 1);
         break;
     case SKY_BUILD_MULTISCATTERING:
-        /* One workgroup of 64 sphere directions per texel. */
-        record(p, cmd, timer, PASS_MULTISCATTERING, &rows, p->multiscattering.width, row_count,
-               1, 1, 1);
+        /* a slice: one texel, a workgroup of 64 sphere directions */
+        record(p, cmd, timer, PASS_MULTISCATTERING, &rows, slice_count, 1, 1, 1, 1);
         break;
     case SKY_BUILD_IRRADIANCE:
         record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, 8, 1);
@@ -569,9 +569,10 @@ void sky_passes_record_blend(struct sky_passes *p, VkCommandBuffer cmd, struct g
 void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
                                   struct gpu_timer *timer)
 {
-    sky_passes_record_build(p, cmd, timer, SKY_BUILD_TRANSMITTANCE, 0, p->transmittance.height);
-    sky_passes_record_build(p, cmd, timer, SKY_BUILD_MULTISCATTERING, 0,
-                            p->multiscattering.height);
+    uint32_t transmittance_blocks, multiscattering_texels;
+    sky_passes_atmosphere_slices(p, &transmittance_blocks, &multiscattering_texels);
+    sky_passes_record_build(p, cmd, timer, SKY_BUILD_TRANSMITTANCE, 0, transmittance_blocks);
+    sky_passes_record_build(p, cmd, timer, SKY_BUILD_MULTISCATTERING, 0, multiscattering_texels);
     sky_passes_record_build(p, cmd, timer, SKY_BUILD_IRRADIANCE, 0, 1);
     sky_passes_record_blend(p, cmd, timer, 1.0f);
 }

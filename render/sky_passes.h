@@ -49,18 +49,20 @@ void sky_passes_upload_build_atmosphere(struct sky_passes *p,
                                         const struct sky_atmosphere_uniforms *u);
 void sky_passes_upload_frame(struct sky_passes *p, const struct sky_frame_uniforms *u);
 
-/* Steps of an atmosphere rebuild into the build copy, in order; the first two in slices of
- * rows so a rebuild can be spread over frames. */
+/* Steps of an atmosphere rebuild into the build copy, in order; the first two in slices so a
+ * rebuild can be spread over frames: blocks of 64 texels (row-major) of the transmittance LUT,
+ * texels of the multiple-scattering LUT, whose texels cost most. */
 enum sky_build_step {
     SKY_BUILD_TRANSMITTANCE = 0,
     SKY_BUILD_MULTISCATTERING = 1,
     SKY_BUILD_IRRADIANCE = 2,
 };
 
-void sky_passes_atmosphere_rows(const struct sky_passes *p, uint32_t *transmittance_rows,
-                                uint32_t *multiscattering_rows);
+/* The slices of each step: transmittance blocks of 64 texels, multiple-scattering texels. */
+void sky_passes_atmosphere_slices(const struct sky_passes *p, uint32_t *transmittance_slices,
+                                uint32_t *multiscattering_slices);
 void sky_passes_record_build(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
-                             enum sky_build_step step, uint32_t first_row, uint32_t row_count);
+                             enum sky_build_step step, uint32_t first_slice, uint32_t slice_count);
 /* previous = display, before a rebuild whose result the display will blend toward. */
 void sky_passes_record_save_display(struct sky_passes *p, VkCommandBuffer cmd,
                                     struct gpu_timer *timer);

@@ -224,8 +224,9 @@ int sky_renderer_set_lut_sizes(struct sky_renderer *r, const struct sky_render_l
     return 0;
 }
 
+/* `frame`: a rendered frame, whose GPU time sets the relative LUT budget (a rebuild is not). */
 static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats, double start,
-                          bool rebuilt)
+                          bool rebuilt, bool frame)
 {
     if (!stats)
         return;
@@ -247,6 +248,7 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
         }
         stats->gpu_ms = t.total_ms;
         cloud_renderer_observe_frame(r->clouds, t.total_ms);
+        atmosphere_luts_observe_frame(r->luts, frame ? t.total_ms : NAN);
     }
     stats->luts_rebuilt = rebuilt;
     stats->lut_rebuild_progress = atmosphere_luts_progress(r->luts);
@@ -271,7 +273,7 @@ int sky_renderer_rebuild_atmosphere(struct sky_renderer *r, const struct sky_ren
         invalidate_luts(r);
         return -1;
     }
-    collect_stats(r, stats, start, true);
+    collect_stats(r, stats, start, true, false);
     return 0;
 }
 
@@ -392,7 +394,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         return -1;
     }
     sky_passes_copy_output(r->passes, pixels, (size_t)v->width * v->height * texel);
-    collect_stats(r, stats, start, rebuilt);
+    collect_stats(r, stats, start, rebuilt, true);
     if (stats)
         stats->exposure = sky_ev100_to_exposure(v->auto_exposure ? stats->metered_ev100 : v->ev100);
     fault_injection_frame_rendered();
@@ -472,6 +474,7 @@ void sky_renderer_set_amortization(struct sky_renderer *r,
                                    const struct sky_render_amortization *amortization)
 {
     atmosphere_luts_set_amortization(r->luts, amortization->budget_ms,
+                                     amortization->budget_fraction,
                                      amortization->blend_frames);
     cloud_renderer_set_budget(r->clouds, amortization->budget_ms);
 }

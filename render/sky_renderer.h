@@ -163,12 +163,15 @@ int sky_renderer_probe_luminance(struct sky_renderer *renderer,
 
 /* Amortized atmosphere LUT updates (seed 001, 3.5.1). With budget_ms > 0, a frame whose
  * atmosphere differs from the displayed one starts a rebuild that is spread over frames, about
- * budget_ms of GPU time each (at least one LUT row), while frames keep using the last complete
+ * budget_ms of GPU time each, or budget_fraction of the frame's own GPU time (the rest of the
+ * frame, smoothed over frames) when that is less and budget_fraction > 0; at least one slice
+ * (a transmittance row, a multiple-scattering texel) per frame. Frames keep using the last complete
  * LUTs and atmosphere; when it completes they blend to the new ones over blend_frames frames.
  * A different atmosphere during a rebuild restarts it. budget_ms <= 0 (the default) rebuilds at
  * once. Probes and sky_renderer_rebuild_atmosphere always finish a rebuild first. */
 struct sky_render_amortization {
     double budget_ms;
+    double budget_fraction;
     int blend_frames;
 };
 void sky_renderer_set_amortization(struct sky_renderer *renderer,

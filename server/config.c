@@ -41,6 +41,7 @@ static const struct config_field fields[] = {
     FIELD_STRING("/render/device", render_device),
     FIELD_INT("/render/encoder_threads", encoder_threads, 1, 64),
     FIELD_NUMBER("/render/lut_budget_ms", lut_budget_ms, 0, 1000),
+    FIELD_NUMBER("/render/lut_budget_fraction", lut_budget_fraction, 0, 1),
     FIELD_INT("/render/lut_blend_frames", lut_blend_frames, 1, 240),
     FIELD_NUMBER("/state_save_delay_s", state_save_delay_s, 0, 3600),
     { "/render/validation", CFG_BOOL, offsetof(struct skyd_config, render_validation), 0, 0, 0 },
@@ -66,6 +67,7 @@ void skyd_config_defaults(struct skyd_config *c)
     snprintf(c->state_file, sizeof c->state_file, "var/skyd-state.json");
     c->encoder_threads = 2;
     c->lut_budget_ms = 2.0;
+    c->lut_budget_fraction = 0.05;
     c->lut_blend_frames = 4;
     c->state_save_delay_s = 1.0;
     /* The protocol's own defaults, so that the two cannot drift apart. */

@@ -28,6 +28,7 @@ struct skyd_config {
     int encoder_threads;           /* 2: PNG encoder workers */
     /* Amortized atmosphere LUT rebuilds: GPU ms per frame (0 = at once) and blend frames. */
     double lut_budget_ms;          /* 2 */
+    double lut_budget_fraction;    /* 0.05: and at most this share of the rest of a frame */
     int lut_blend_frames;          /* 4 */
     bool render_validation;
     int max_message_bytes;         /* 65536 */

@@ -14,7 +14,9 @@ void render_device_set_amortization(struct render_context *ctx, double budget_ms
 {
     sky_renderer_set_amortization(
         ctx->renderer, &(struct sky_render_amortization){
-                           .budget_ms = budget_ms, .blend_frames = ctx->config->lut_blend_frames });
+                           .budget_ms = budget_ms,
+                           .budget_fraction = ctx->config->lut_budget_fraction,
+                           .blend_frames = ctx->config->lut_blend_frames });
 }
 
 bool render_device_lost(const struct render_context *ctx)

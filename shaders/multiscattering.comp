@@ -3,7 +3,8 @@
 // Multiple-scattering LUT (Hillaire 2020 section 5.2, eqs. 5-10): for each (sun cos-zenith,
 // altitude), second-order luminance L2 and transfer f_ms integrated over the sphere with an
 // isotropic phase, Psi_ms = L2 / (1 - f_ms). One workgroup per texel, one invocation per
-// direction of an 8x8 sphere grid.
+// direction of an 8x8 sphere grid. A dispatch covers consecutive texels (row-major) from
+// rows.row_offset, so that an amortized rebuild can slice it finer than a row.
 #include "sky_shared.h"
 
 layout(local_size_x = 64) in;
@@ -22,7 +23,8 @@ shared vec3 shared_fms[64];
 void main()
 {
     ivec2 size = imageSize(multiscattering_out);
-    ivec2 px = ivec2(gl_WorkGroupID.xy) + ivec2(0, int(rows.row_offset));
+    uint texel = rows.row_offset + gl_WorkGroupID.x;
+    ivec2 px = ivec2(int(texel % uint(size.x)), int(texel / uint(size.x)));
     uint dir_index = gl_LocalInvocationIndex;
     vec2 uv = (vec2(px) + 0.5) / vec2(size);
     vec2 unit = vec2(sub_uv_to_unit(uv.x, float(size.x)), sub_uv_to_unit(uv.y, float(size.y)));

@@ -2,10 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // Transmittance LUT (Hillaire 2020 section 4; Bruneton 2008 parameterization): optical depth
 // from (r, mu) to the top of the atmosphere; T = exp(-tau) (seed 001 eq. 1) is taken by the
-// readers.
+// readers. A dispatch covers consecutive blocks of 64 texels (row-major) from block
+// rows.row_offset, so that an amortized rebuild can slice it finely.
 #include "sky_shared.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 64) in;
 layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
 layout(binding = 1, rgba32f) uniform writeonly image2D transmittance_out;
 layout(push_constant) uniform RowsPush { sky_rows_push rows; };
@@ -17,9 +18,10 @@ const float STEPS = 96.0;
 void main()
 {
     ivec2 size = imageSize(transmittance_out);
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, int(rows.row_offset));
-    if (any(greaterThanEqual(px, size)))
+    uint texel = (rows.row_offset + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+    if (texel >= uint(size.x * size.y))
         return;
+    ivec2 px = ivec2(int(texel % uint(size.x)), int(texel / uint(size.x)));
     vec2 uv = (vec2(px) + 0.5) / vec2(size);
     vec2 unit = vec2(sub_uv_to_unit(uv.x, float(size.x)), sub_uv_to_unit(uv.y, float(size.y)));
     float r, mu;
