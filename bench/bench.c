@@ -150,16 +150,6 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
 
 /* Frames while an atmosphere parameter is dragged (changed every frame), against steady frames,
  * with the LUT rebuild amortized under budget_ms and, for comparison, rebuilt at once. */
-static bool is_atmosphere_lut_pass(const char *name)
-{
-    static const char *const names[] = { "transmittance", "multiscattering", "irradiance",
-                                         "lut_blend", "lut_save" };
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-        if (strcmp(name, names[i]) == 0)
-            return true;
-    return false;
-}
-
 static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsigned w, unsigned h,
                       int n, double budget_ms, double budget_fraction, struct series *steady,
                       struct series *drag)
@@ -195,7 +185,7 @@ static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsign
                 if (i >= 0 && phase == 1) {
                     lut_ms[i] = 0.0;
                     for (int p = 0; p < st.pass_count; p++)
-                        if (is_atmosphere_lut_pass(st.pass_names[p]))
+                        if (sky_render_pass_is_atmosphere_lut(st.pass_names[p]))
                             lut_ms[i] += st.pass_ms[p];
                 }
             }

@@ -260,7 +260,7 @@ double atmosphere_luts_progress(const struct atmosphere_luts *luts)
     return (double)done / total;
 }
 
-static bool is_lut_pass(const char *name)
+bool sky_render_pass_is_atmosphere_lut(const char *name)
 {
     static const char *const names[] = { "transmittance", "multiscattering", "irradiance",
                                          "lut_blend", "lut_save" };
@@ -284,7 +284,7 @@ void atmosphere_luts_observe_frame(struct atmosphere_luts *luts, double total_ms
 
 void atmosphere_luts_observe(struct atmosphere_luts *luts, const char *pass_name, double ms)
 {
-    if (is_lut_pass(pass_name) && ms > 0.0)
+    if (sky_render_pass_is_atmosphere_lut(pass_name) && ms > 0.0)
         luts->lut_ms_this_frame += ms;
     int step = strcmp(pass_name, "transmittance") == 0     ? SKY_BUILD_TRANSMITTANCE
                : strcmp(pass_name, "multiscattering") == 0 ? SKY_BUILD_MULTISCATTERING

@@ -177,6 +177,10 @@ struct sky_render_amortization {
 void sky_renderer_set_amortization(struct sky_renderer *renderer,
                                    const struct sky_render_amortization *amortization);
 
+/* Whether a pass of sky_render_stats is atmosphere LUT work (a rebuild's slices, the save and
+ * blend of the displayed LUTs). */
+bool sky_render_pass_is_atmosphere_lut(const char *pass_name);
+
 /* Reads back a LUT for tests: "transmittance" (optical depth per channel), "multiscattering",
  * "skyview", "irradiance", "ap_inscatter", "ap_transmittance", "ap_shafts" (3D, depth
  * slices; ap_shafts: the in-scattering cloud shadows took away). Fills
