@@ -6,18 +6,22 @@ const float CAMERA_PI = 3.14159265358979;
 
 // A camera's direction for uv: a pinhole with vertical tan(fov/2) and aspect, or an
 // equirectangular panorama around `up` with the azimuth of `forward` at its centre.
+// Both are computed and one is selected, with no branch on `projection`: lavapipe (Mesa 22.3)
+// inlines a uniform that decides a branch and may compile the pipeline again at every
+// dispatch, never freeing the old code, which this branch on frame.camera_up.w did to the
+// metering and sun-disk passes every frame. It runs both sides of a branch anyway, so the
+// select costs nothing.
 vec3 camera_ray_of(vec2 uv, vec3 forward, vec3 right, vec3 up, float tan_half, float aspect,
                    int projection)
 {
-    if (projection == SKY_PROJECTION_EQUIRECTANGULAR) {
-        float azimuth = (uv.x - 0.5) * 2.0 * CAMERA_PI;
-        float elevation = (0.5 - uv.y) * CAMERA_PI;
-        vec3 horizontal = forward * cos(azimuth) + right * sin(azimuth);
-        return normalize(horizontal * cos(elevation) + up * sin(elevation));
-    }
+    float azimuth = (uv.x - 0.5) * 2.0 * CAMERA_PI;
+    float elevation = (0.5 - uv.y) * CAMERA_PI;
+    vec3 horizontal = forward * cos(azimuth) + right * sin(azimuth);
+    vec3 panorama = normalize(horizontal * cos(elevation) + up * sin(elevation));
     vec2 ndc = vec2(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     vec3 d = forward + right * (ndc.x * tan_half * aspect) + up * (ndc.y * tan_half);
-    return d * inversesqrt(dot(d, d));
+    vec3 pinhole = d * inversesqrt(dot(d, d));
+    return mix(pinhole, panorama, bvec3(projection == SKY_PROJECTION_EQUIRECTANGULAR));
 }
 
 // Inverse of camera_ray_of: the uv a direction projects to (outside [0,1] when off screen).

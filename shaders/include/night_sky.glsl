@@ -93,10 +93,14 @@ float airglow_luminance(float mu)
 // Inside the atmosphere. day: what the sun adds to this pixel (for the star cull).
 vec3 night_from_atmosphere(vec3 cam, vec3 dir, bool hits_ground, bool include_bodies, vec3 day)
 {
-    vec3 L = vec3(0.0);
-    if (frame.moon_illuminance.w > 0.5)
-        L += textureLod(moon_skyview_lut, skyview_uv_for(dir, hits_ground, frame.moon_horizontal),
-                        0.0).rgb * frame.moon_illuminance.xyz;
+    // Selected, not branched on: lavapipe inlines a uniform that decides a branch and may
+    // compile the pipeline again at every dispatch (camera.glsl), which this flag did to the
+    // moon-disk and night metering passes every frame. The sample is discarded when the
+    // moonlit LUT is not computed.
+    vec3 moonlit = textureLod(moon_skyview_lut,
+                              skyview_uv_for(dir, hits_ground, frame.moon_horizontal), 0.0).rgb
+                   * frame.moon_illuminance.xyz;
+    vec3 L = mix(vec3(0.0), moonlit, bvec3(frame.moon_illuminance.w > 0.5));
     float r = max(length(cam), bottom_radius() + 1e-3);
     vec3 T = hits_ground ? vec3(0.0) : transmittance_to_top(r, dir.z);
     // The ground under a sky of airglow luminance L reflects albedo x L (Lambert).
