@@ -66,8 +66,13 @@ void world_sim_mix_weather(const struct sky_weather_params *from,
     const double *a = const_params_array(from), *b = const_params_array(to);
     struct sky_weather_params mixed;
     double *m = params_array(&mixed);
-    for (size_t i = 0; i < PARAM_COUNT; i++)
-        m[i] = a[i] * (1.0 - eased) + b[i] * eased; /* exact at eased = 0 and 1 */
+    for (size_t i = 0; i < PARAM_COUNT; i++) {
+        /* Exact at eased = 0 and 1; in between, rounding can put the blend one ulp outside
+         * its two ends (5 and 5 giving 5.000000000000001), past the field's range when they
+         * sit at its bound, so it is kept between them. */
+        double mixed_value = a[i] * (1.0 - eased) + b[i] * eased;
+        m[i] = fmin(fmax(mixed_value, fmin(a[i], b[i])), fmax(a[i], b[i]));
+    }
     double arc = fmod(b[DIRECTION_INDEX] - a[DIRECTION_INDEX] + 540.0, 360.0) - 180.0;
     m[DIRECTION_INDEX] = eased >= 1.0 ? b[DIRECTION_INDEX]
                                       : wrap_degrees(a[DIRECTION_INDEX] + arc * eased);

@@ -234,6 +234,26 @@ static void test_set_during_transition(void)
     world_sim_advance(&s, 500);
     CHECK_NEAR(s.clouds.low.density, 3.0, 0);
     CHECK_NEAR(s.clouds.low.coverage, 0.7, 0);
+
+    /* A parameter held at the top of its range stays exactly there all the way: the blend of
+     * two equal values used to round one ulp past them (15.000000000000002 km), and the
+     * state then failed validation, so that every later set was refused and a saved state
+     * was thrown away at the next start. */
+    load_preset("clear", &s);
+    world_sim_start_transition(&s, &goal, 1000);
+    world_sim_advance(&s, 10);
+    before = s;
+    s.clouds.low.thickness_km = 15.0;
+    s.clouds.high.thickness_km = 5.0;
+    world_sim_client_changed(&before, &s);
+    int outside = 0, invalid = 0;
+    for (int i = 0; i < 1000; i++) {
+        world_sim_advance(&s, 1.0);
+        outside += s.clouds.low.thickness_km != 15.0 || s.clouds.high.thickness_km != 5.0;
+        invalid += !sky_world_state_validate(&s, NULL);
+    }
+    CHECK(outside == 0);
+    CHECK(invalid == 0);
 }
 
 static void run_autopilot(int seed, double span_s, int steps, struct sky_world_state *out)
