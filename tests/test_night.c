@@ -274,7 +274,9 @@ static void test_star_photometry(void)
     world_to_render_view(&s, W, H, SKY_RENDER_OUTPUT_LINEAR, &view);
     world_to_render_night(&s, &night);
     double brightest = night_star_illuminance_lux(-1.44);
-    CHECK(night_sky_visible(&night, &view, brightest)); /* 8 deg: Sirius peaks at ~7 cd/m2 */
+    CHECK(!night_sky_visible(&night, &view, brightest)); /* 8 deg: Sirius peaks at ~7 cd/m2 */
+    view.camera_fov_deg = 2; /* about 100 cd/m2 */
+    CHECK(night_sky_visible(&night, &view, brightest));
     view.camera_fov_deg = 60;
     CHECK(!night_sky_visible(&night, &view, brightest));
     view.sun_elevation_deg = 5;
