@@ -50,7 +50,7 @@ void sky_sun_illuminance_top(const struct sky_render_atmosphere *atmosphere,
     double t[3];
     sky_zenith_transmittance(atmosphere, t);
     for (int c = 0; c < 3; c++)
-        out[c] = ground_zenith_lux / (t[c] > 1e-30 ? t[c] : 1e-30);
+        out[c] = ground_zenith_lux / fmax(t[c], SKY_MIN_ZENITH_TRANSMITTANCE);
 }
 
 double sky_sun_disk_luminance(double illuminance_top, double angular_diameter_deg)

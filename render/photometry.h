@@ -13,6 +13,13 @@ void sky_zenith_transmittance(const struct sky_render_atmosphere *atmosphere, do
 
 /* Extraterrestrial sun illuminance per channel such that the ground illuminance with the sun
  * at zenith is `ground_zenith_lux`: E_top = E_zenith / T_zenith (seed 001 section 4.1). */
+/* sun.illuminance_lux is the ground's with the sun at the zenith, so the illuminance outside
+ * the atmosphere is that over the zenith transmittance. An opaque atmosphere (a valid state:
+ * Mie absorption of 10 /km gives e^-110) would need an astronomical E_top whose products
+ * overflow single precision into inf and NaN; the transmittance is taken as at least this,
+ * so such a sky stays finite and dark. */
+#define SKY_MIN_ZENITH_TRANSMITTANCE 1e-12
+
 void sky_sun_illuminance_top(const struct sky_render_atmosphere *atmosphere,
                              double ground_zenith_lux, double out[3]);
 

@@ -218,7 +218,7 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     /* Extraterrestrial illuminance E_top = E_zenith / T_zenith (seed 001 section 4.1). */
     double e_top[3];
     for (int c = 0; c < 3; c++)
-        e_top[c] = v->sun_illuminance_lux / fmax(zenith_transmittance[c], 1e-30);
+        e_top[c] = v->sun_illuminance_lux / fmax(zenith_transmittance[c], SKY_MIN_ZENITH_TRANSMITTANCE);
     u->sun_illuminance = V4(e_top[0], e_top[1], e_top[2], v->limb_darkening);
     u->sun_disk = V4(sky_disk_solid_angle(v->sun_angular_diameter_deg), sin(radius), 0, 0);
     u->exposure = V4(sky_ev100_to_exposure(v->ev100),

@@ -199,6 +199,11 @@ printf 'not a png' >"$out/not-a-map.png"
 expect_error "weather map not a PNG" 2 'not a PNG file' \
   "$skyd" render --width 8 --height 8 --weather-map "$out/not-a-map.png" --out "$out/x.png"
 
+# An opaque but valid atmosphere (Mie absorption 10 /km) gives finite numbers, not NaN.
+expect_ok "probe an opaque atmosphere" "\{\"luminance\":\[$num,$num,$num\]\}" \
+  "$skyd" probe luminance --altitude 2 --view-zenith 60 --view-azimuth 90 --sun-zenith 30 \
+  --set atmosphere.mie.absorption_per_km=10 --set atmosphere.mie.scale_height_km=11.1 --validation
+
 # Environment maps: an equirectangular 2:1 panorama, 8-bit or 16-bit linear with its scale.
 expect_ok "render an environment map" "$out/env\.png" \
   "$skyd" render --width 64 --height 32 --projection equirectangular --out "$out/env.png" --validation
