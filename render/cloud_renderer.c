@@ -93,19 +93,20 @@ struct cloud_renderer {
     uint32_t params_generation; /* counts changes of the clouds other than the wind's drift */
 };
 
-#define UBO VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+#define PARAMS VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
 #define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
 #define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
 #define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
-#define MARCH_BINDINGS UBO, UBO, SAMPLED, SAMPLED, SAMPLED, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED
+#define MARCH_BINDINGS \
+    PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED
 
 static const struct compute_pass_desc descs[P_COUNT] = {
     [P_WEATHER] = { .name = "cloud_weather", SPIRV(cloud_weather_spv), .binding_count = 2,
                     .bindings = { SAMPLED, STORAGE_IMG },
                     .push_constant_bytes = sizeof(struct sky_cloud_rows_push) },
     [P_SHADOW] = { .name = "cloud_shadow", SPIRV(cloud_shadow_spv), .binding_count = 7,
-                   .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
+                   .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
                    .push_constant_bytes = sizeof(struct sky_cloud_rows_push) },
     [P_HEMISPHERE] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
                        .binding_count = 11, .bindings = { MARCH_BINDINGS, STORAGE_BUF },
@@ -124,18 +125,18 @@ static const struct compute_pass_desc descs[P_COUNT] = {
                           .spec_count = 1, .spec_values = { 1 } },
     [P_RECONSTRUCT_0] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
                           .binding_count = 7,
-                          .bindings = { UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
+                          .bindings = { PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
                                         STORAGE_IMG },
                           .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
     [P_RECONSTRUCT_1] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
                           .binding_count = 7,
-                          .bindings = { UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
+                          .bindings = { PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
                                         STORAGE_IMG },
                           .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
 #define RESOLVE_PASS(id, ground)                                                           \
     [id] = { .name = "cloud_resolve", SPIRV(cloud_resolve_spv), .binding_count = 11,         \
-             .bindings = { UBO, UBO, SAMPLED, SAMPLED, UBO, STORAGE_BUF, SAMPLED, SAMPLED,    \
-                           SAMPLED, STORAGE_IMG, STORAGE_IMG },                               \
+             .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, PARAMS, STORAGE_BUF, SAMPLED,     \
+                           SAMPLED, SAMPLED, STORAGE_IMG, STORAGE_IMG },                      \
              .push_constant_bytes = sizeof(struct sky_cloud_rows_push), .spec_count = 1,     \
              .spec_values = { ground } }
     RESOLVE_PASS(P_RESOLVE, 0),
@@ -175,7 +176,7 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
         goto fail;
     VK_CHECK_GOTO(gpu_image_create(ctx, FLOAT_FORMAT, 1, 1, 1, "cloud_none", &cr->dummy), fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_cloud_uniforms),
-                                    VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "cloud_ubo", &cr->ubo),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "cloud_params", &cr->ubo),
                   fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, 8 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                     "cloud_env", &cr->env),
@@ -397,7 +398,7 @@ static void bind_march(struct vk_context *ctx, struct cloud_renderer *cr, struct
 {
     const struct sky_pass_resources *s = &f->sky;
     struct compute_resource r[14] = {
-        buf(s->atmosphere_ubo), buf(s->frame_ubo), tex(s->transmittance, s->sampler),
+        buf(s->atmosphere_params), buf(s->frame_params), tex(s->transmittance, s->sampler),
         tex(s->multiscattering, s->sampler), tex(s->irradiance, s->sampler), buf(&cr->ubo),
         tex(&cr->noise.base, cr->repeat), tex(&cr->noise.detail, cr->repeat),
         tex(&cr->noise.curl, cr->repeat), tex(shown(cr, &cr->weather), cr->repeat),
@@ -435,7 +436,7 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
         return;
     const struct sky_pass_resources *s = &f->sky;
     struct compute_resource r[7] = {
-        buf(s->atmosphere_ubo), buf(&cr->ubo), tex(&cr->noise.base, cr->repeat),
+        buf(s->atmosphere_params), buf(&cr->ubo), tex(&cr->noise.base, cr->repeat),
         tex(&cr->noise.detail, cr->repeat), tex(&cr->noise.curl, cr->repeat),
         tex(shown(cr, &cr->weather), cr->repeat), img(&cr->shadow.image[1 - cr->shadow.shown]),
     };
@@ -540,7 +541,7 @@ static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, Vk
 {
     const struct sky_pass_resources *s = &f->sky;
     struct compute_resource r[11] = {
-        buf(s->atmosphere_ubo), buf(s->frame_ubo), tex(s->transmittance, s->sampler),
+        buf(s->atmosphere_params), buf(s->frame_params), tex(s->transmittance, s->sampler),
         tex(s->irradiance, s->sampler), buf(&cr->ubo), buf(&cr->env),
         tex(shown(cr, &cr->shadow), cr->repeat), tex(s->ap_shafts, s->sampler),
         tex(&e->color[e->latest], s->sampler), img(&e->over_sky), img(&e->over_ground),
@@ -577,7 +578,7 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
     bind_march(ctx, cr, trace, f, img(&e->trace_color), img(&e->trace_depth));
     for (int i = 0; i < 2; i++) {
         struct compute_resource r[7] = {
-            buf(f->sky.frame_ubo), tex(&e->trace_color, f->sky.sampler),
+            buf(f->sky.frame_params), tex(&e->trace_color, f->sky.sampler),
             tex(&e->trace_depth, f->sky.sampler), tex(&e->color[i], f->sky.sampler),
             tex(&e->aux[i], f->sky.sampler), img(&e->color[1 - i]), img(&e->aux[1 - i]),
         };

@@ -21,7 +21,7 @@ struct composite_variants {
     bool bound; /* resources holds something to bind */
 };
 
-#define UBO VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+#define PARAMS VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
 #define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
 #define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
 #define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
@@ -82,7 +82,7 @@ const struct compute_pass *composite_variants_get(struct vk_context *ctx,
         .spirv = linear ? composite_linear_spv : composite_srgb_spv,
         .spirv_bytes = linear ? sizeof composite_linear_spv : sizeof composite_srgb_spv,
         .binding_count = COMPOSITE_BINDING_COUNT,
-        .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_BUF, SAMPLED,
+        .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_BUF, SAMPLED,
                       STORAGE_BUF, STORAGE_IMG, SAMPLED, SAMPLED },
         .push_constant_bytes = sizeof(struct sky_region_push),
         .spec_count = 5,

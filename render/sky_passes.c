@@ -61,7 +61,7 @@ struct sky_passes {
     struct compute_pass pass[PASS_COUNT];
     struct composite_variants *composite;
     /* The atmosphere LUTs exist three times: what frames read (display), what a rebuild
-     * writes (build, from build_atmosphere_ubo), and the display saved when a rebuild starts
+     * writes (build, from build_atmosphere_params), and the display saved when a rebuild starts
      * (previous), which the display blends away from when the build completes. */
     struct gpu_image transmittance, multiscattering, irradiance, skyview;
     struct gpu_image build_transmittance, build_multiscattering, build_irradiance;
@@ -72,7 +72,8 @@ struct sky_passes {
     struct gpu_image moon_skyview;
     struct gpu_buffer stars; /* night_shared.h layout */
     double brightest_star_lux;
-    struct gpu_buffer atmosphere_ubo, build_atmosphere_ubo, frame_ubo, exposure, meter_partials;
+    struct gpu_buffer atmosphere_params, build_atmosphere_params, frame_params;
+    struct gpu_buffer exposure, meter_partials;
     struct gpu_image output;
     enum sky_render_output_kind output_kind;
     struct gpu_buffer readback;
@@ -83,12 +84,12 @@ struct sky_passes {
     struct sky_cloud_bindings clouds;
 };
 
-#define UBO VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+#define PARAMS VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
 #define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
 #define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
 #define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
 /* 0-5 atmosphere and LUTs, 6-7 the night sky (stars, moonlit sky-view LUT). */
-#define SHADING_BINDINGS UBO, UBO, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_BUF, SAMPLED
+#define SHADING_BINDINGS PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_BUF, SAMPLED
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
 #define SHADING_PAIR(id, label, code, count, extra, push)                                 \
     [id] = { .name = label, SPIRV(code), .binding_count = count,                          \
@@ -104,24 +105,24 @@ struct sky_passes {
 
 static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
     [PASS_TRANSMITTANCE] = { .name = "transmittance", SPIRV(transmittance_spv),
-                             .binding_count = 2, .bindings = { UBO, STORAGE_IMG },
+                             .binding_count = 2, .bindings = { PARAMS, STORAGE_IMG },
                              .push_constant_bytes = sizeof(struct sky_rows_push) },
     [PASS_MULTISCATTERING] = { .name = "multiscattering", SPIRV(multiscattering_spv),
-                               .binding_count = 3, .bindings = { UBO, SAMPLED, STORAGE_IMG },
+                               .binding_count = 3, .bindings = { PARAMS, SAMPLED, STORAGE_IMG },
                                .push_constant_bytes = sizeof(struct sky_rows_push) },
     [PASS_IRRADIANCE] = { .name = "irradiance", SPIRV(irradiance_spv), .binding_count = 4,
-                          .bindings = { UBO, SAMPLED, SAMPLED, STORAGE_IMG } },
+                          .bindings = { PARAMS, SAMPLED, SAMPLED, STORAGE_IMG } },
     [PASS_SKYVIEW] = { .name = "skyview", SPIRV(skyview_spv), .binding_count = 6,
-                       .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG } },
+                       .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG } },
     [PASS_SKYVIEW_MOON] = { .name = "moon_skyview", SPIRV(skyview_spv), .binding_count = 6,
-                            .bindings = { UBO, UBO, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
+                            .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
                             .spec_count = 1, .spec_values = { 1 } },
     [PASS_AERIAL_PERSPECTIVE] = { .name = "aerial_perspective", SPIRV(aerial_perspective_spv),
                                   .binding_count = 9,
-                                  .bindings = { UBO, UBO, SAMPLED, SAMPLED, STORAGE_IMG,
-                                                STORAGE_IMG, STORAGE_IMG, SAMPLED, UBO } },
+                                  .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, STORAGE_IMG,
+                                                STORAGE_IMG, STORAGE_IMG, SAMPLED, PARAMS } },
     [PASS_EXPOSURE_RESOLVE] = { .name = "exposure", SPIRV(exposure_resolve_spv),
-                                .binding_count = 3, .bindings = { UBO, STORAGE_BUF, STORAGE_BUF },
+                                .binding_count = 3, .bindings = { PARAMS, STORAGE_BUF, STORAGE_BUF },
                                 .push_constant_bytes = sizeof(struct sky_meter_push) },
     SHADING_PAIR(PASS_METER, "meter", meter_spv, 9, STORAGE_BUF, sizeof(struct sky_meter_push)),
     SHADING_PAIR(PASS_PROBE, "probe", probe_spv, 10, PAIR(STORAGE_BUF, STORAGE_BUF),
@@ -246,7 +247,7 @@ static void bind_aerial_perspective(struct vk_context *ctx, struct sky_passes *p
 {
     const struct sky_cloud_bindings *c = &p->ap_clouds;
     struct compute_resource r[9] = {
-        buf(&p->atmosphere_ubo), buf(&p->frame_ubo), tex(p, &p->transmittance),
+        buf(&p->atmosphere_params), buf(&p->frame_params), tex(p, &p->transmittance),
         tex(p, &p->multiscattering), img(&p->ap_inscatter), img(&p->ap_transmittance),
         img(&p->ap_shafts), { .image = c->shadow, .sampler = c->shadow_sampler }, buf(c->ubo),
     };
@@ -260,7 +261,7 @@ static void bind_composite(struct vk_context *ctx, struct sky_passes *p)
     if (!p->output.image)
         return;
     struct compute_resource r[COMPOSITE_BINDING_COUNT] = {
-        buf(&p->atmosphere_ubo), buf(&p->frame_ubo), tex(p, &p->transmittance),
+        buf(&p->atmosphere_params), buf(&p->frame_params), tex(p, &p->transmittance),
         tex(p, &p->multiscattering), tex(p, &p->skyview), tex(p, &p->irradiance),
         buf(&p->stars), tex(p, &p->moon_skyview),
         buf(&p->exposure), img(&p->output), tex(p, p->clouds.over_sky),
@@ -274,7 +275,7 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
 {
     struct compute_resource r[COMPUTE_PASS_MAX_BINDINGS];
     /* Rebuilds write the build copy from the build atmosphere. */
-    r[0] = buf(&p->build_atmosphere_ubo);
+    r[0] = buf(&p->build_atmosphere_params);
     r[1] = img(&p->build_transmittance);
     compute_pass_bind(ctx, &p->pass[PASS_TRANSMITTANCE], r);
     r[1] = tex(p, &p->build_transmittance);
@@ -295,8 +296,8 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     }
 
     /* Frames read the display copy. */
-    r[0] = buf(&p->atmosphere_ubo);
-    r[1] = buf(&p->frame_ubo);
+    r[0] = buf(&p->atmosphere_params);
+    r[1] = buf(&p->frame_params);
     r[2] = tex(p, &p->transmittance);
     r[3] = tex(p, &p->multiscattering);
     bind_aerial_perspective(ctx, p);
@@ -321,7 +322,7 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
         bind_pair(ctx, p, PASS_PROBE, r);
     }
 
-    struct compute_resource resolve[3] = { buf(&p->frame_ubo), buf(&p->meter_partials),
+    struct compute_resource resolve[3] = { buf(&p->frame_params), buf(&p->meter_partials),
                                            buf(&p->exposure) };
     compute_pass_bind(ctx, &p->pass[PASS_EXPOSURE_RESOLVE], resolve);
 }
@@ -370,14 +371,14 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
     p->composite = composite_variants_create();
     if (!p->composite)
         goto fail;
-    VkBufferUsageFlags uniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
+    VkBufferUsageFlags params = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), uniform,
-                                    "atmosphere_ubo", &p->atmosphere_ubo), fail);
-    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), uniform,
-                                    "build_atmosphere_ubo", &p->build_atmosphere_ubo), fail);
-    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_frame_uniforms), uniform, "frame_ubo",
-                                    &p->frame_ubo), fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), params,
+                                    "atmosphere_params", &p->atmosphere_params), fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), params,
+                                    "build_atmosphere_params", &p->build_atmosphere_params), fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_frame_uniforms), params, "frame_params",
+                                    &p->frame_params), fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, 4 * sizeof(float), storage, "exposure", &p->exposure),
                   fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, SKY_METER_MAX_GROUPS * 2 * sizeof(float), storage,
@@ -404,9 +405,9 @@ void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **pp)
     gpu_buffer_destroy(ctx, &p->readback);
     gpu_buffer_destroy(ctx, &p->probe_in);
     gpu_buffer_destroy(ctx, &p->probe_out);
-    gpu_buffer_destroy(ctx, &p->atmosphere_ubo);
-    gpu_buffer_destroy(ctx, &p->build_atmosphere_ubo);
-    gpu_buffer_destroy(ctx, &p->frame_ubo);
+    gpu_buffer_destroy(ctx, &p->atmosphere_params);
+    gpu_buffer_destroy(ctx, &p->build_atmosphere_params);
+    gpu_buffer_destroy(ctx, &p->frame_params);
     gpu_buffer_destroy(ctx, &p->exposure);
     gpu_buffer_destroy(ctx, &p->meter_partials);
     gpu_buffer_destroy(ctx, &p->stars);
@@ -493,18 +494,18 @@ fail:
 
 void sky_passes_upload_atmosphere(struct sky_passes *p, const struct sky_atmosphere_uniforms *u)
 {
-    memcpy(p->atmosphere_ubo.mapped, u, sizeof *u);
+    memcpy(p->atmosphere_params.mapped, u, sizeof *u);
 }
 
 void sky_passes_upload_build_atmosphere(struct sky_passes *p,
                                         const struct sky_atmosphere_uniforms *u)
 {
-    memcpy(p->build_atmosphere_ubo.mapped, u, sizeof *u);
+    memcpy(p->build_atmosphere_params.mapped, u, sizeof *u);
 }
 
 void sky_passes_upload_frame(struct sky_passes *p, const struct sky_frame_uniforms *u)
 {
-    memcpy(p->frame_ubo.mapped, u, sizeof *u);
+    memcpy(p->frame_params.mapped, u, sizeof *u);
 }
 
 static void record(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
@@ -767,8 +768,8 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
 
 void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources *out)
 {
-    out->atmosphere_ubo = &p->atmosphere_ubo;
-    out->frame_ubo = &p->frame_ubo;
+    out->atmosphere_params = &p->atmosphere_params;
+    out->frame_params = &p->frame_params;
     out->transmittance = &p->transmittance;
     out->multiscattering = &p->multiscattering;
     out->irradiance = &p->irradiance;

@@ -9,6 +9,9 @@
 #include "vk_check.h"
 
 #define VALIDATION_LAYER "VK_LAYER_KHRONOS_validation"
+/* The passes read their parameters from storage buffers (sky_shared.h, SKY_PARAMETER_BLOCK): the
+ * probe binds 6 per stage, beyond the 4 that Vulkan guarantees. */
+#define MIN_STORAGE_BUFFERS_PER_STAGE 8u
 #define STRINGIFY_(x) #x
 #define STRINGIFY(x) STRINGIFY_(x)
 #define VK_CONTEXT_TIMEOUT_TEXT STRINGIFY(VK_CONTEXT_SUBMIT_TIMEOUT_S) " s"
@@ -149,6 +152,12 @@ static int choose_device(VkPhysicalDevice *devices, uint32_t count, const char *
         uint32_t family, bits;
         if (!find_compute_queue(devices[i], &family, &bits))
             continue;
+        if (p.limits.maxPerStageDescriptorStorageBuffers < MIN_STORAGE_BUFFERS_PER_STAGE) {
+            fprintf(stderr, "skyd: vulkan: %s skipped: %u storage buffers per stage, %u needed\n",
+                    p.deviceName, p.limits.maxPerStageDescriptorStorageBuffers,
+                    MIN_STORAGE_BUFFERS_PER_STAGE);
+            continue;
+        }
         int rank = device_kind_rank(p.deviceType);
         bool ok;
         if (!*pref)

@@ -11,15 +11,15 @@
 #include "cloud_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
-layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
 layout(binding = 2) uniform sampler2D transmittance_lut;
 layout(binding = 3) uniform sampler2D multiscattering_lut;
 layout(binding = 4, rgba32f) uniform writeonly image3D ap_inscatter_out;
 layout(binding = 5, rgba32f) uniform writeonly image3D ap_transmittance_out;
 layout(binding = 6, rgba32f) uniform writeonly image3D ap_shafts_out;
 layout(binding = 7) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
-layout(std140, binding = 8) uniform CloudBlock { sky_cloud_uniforms cloud; };
+SKY_PARAMETER_BLOCK(8, CloudBlock, sky_cloud_uniforms, cloud);
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT
@@ -44,6 +44,9 @@ float cloud_sun_visibility(vec3 p, vec3 sun_dir)
 
 void main()
 {
+    atmo = atmo_block;
+    frame = frame_block;
+    cloud = cloud_block;
     ivec3 size = imageSize(ap_inscatter_out);
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(px, size.xy)))

@@ -14,6 +14,9 @@ shared vec4 partial[CLOUD_HEMISPHERE_RAYS];
 
 void main()
 {
+    atmo = atmo_block;
+    frame = frame_block;
+    cloud = cloud_block;
     uint i = gl_LocalInvocationIndex;
     // Cosine-weighted directions on a Fibonacci spiral.
     float u = (float(i) + 0.5) / float(CLOUD_HEMISPHERE_RAYS);

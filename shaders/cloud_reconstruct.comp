@@ -10,7 +10,7 @@
 #include "cloud_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(std140, binding = 0) uniform FrameBlock { sky_frame_uniforms frame; };
+SKY_PARAMETER_BLOCK(0, FrameBlock, sky_frame_uniforms, frame);
 layout(binding = 1) uniform sampler2D trace_color;
 layout(binding = 2) uniform sampler2D trace_depth;
 layout(binding = 3) uniform sampler2D history_color;
@@ -31,6 +31,7 @@ vec2 previous_uv(vec3 dir)
 
 void main()
 {
+    frame = frame_block;
     ivec2 size = imageSize(out_color);
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(px, size)))

@@ -17,11 +17,11 @@
 #include "cloud_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
-layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
 layout(binding = 2) uniform sampler2D transmittance_lut;
 layout(binding = 3) uniform sampler2D irradiance_lut;
-layout(std140, binding = 4) uniform CloudBlock { sky_cloud_uniforms cloud; };
+SKY_PARAMETER_BLOCK(4, CloudBlock, sky_cloud_uniforms, cloud);
 layout(std430, binding = 5) readonly buffer CloudEnv { vec4 env_luminance; vec4 env_transmittance; };
 layout(binding = 6) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
 layout(binding = 7) uniform sampler3D ap_shafts;        // in-scattering the shadows take away
@@ -88,6 +88,9 @@ vec3 ground_offset(vec3 cam, vec3 dir, vec2 uv, float tr)
 
 void main()
 {
+    atmo = atmo_block;
+    frame = frame_block;
+    cloud = cloud_block;
     ivec2 size = imageSize(resolved_sky);
     ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, int(rows.row_offset));
     if (any(greaterThanEqual(px, size)))

@@ -7,8 +7,8 @@
 #include "cloud_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
-layout(std140, binding = 1) uniform CloudBlock { sky_cloud_uniforms cloud; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(1, CloudBlock, sky_cloud_uniforms, cloud);
 layout(binding = 2) uniform sampler3D base_noise;
 layout(binding = 3) uniform sampler3D detail_noise;
 layout(binding = 4) uniform sampler2D curl_noise;
@@ -35,6 +35,8 @@ float optical_depth(vec3 o, vec3 d, vec4 layer)
 
 void main()
 {
+    atmo = atmo_block;
+    cloud = cloud_block;
     ivec2 size = imageSize(shadow_out);
     ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, int(push.row_offset));
     if (any(greaterThanEqual(px, size)))

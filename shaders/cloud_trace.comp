@@ -36,6 +36,9 @@ bool aerial_perspective_froxel(vec2 uv, float depth, out vec3 inscatter, out vec
 
 void main()
 {
+    atmo = atmo_block;
+    frame = frame_block;
+    cloud = cloud_block;
     ivec2 tsize = imageSize(trace_color);
     ivec2 tp = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(tp, tsize)))

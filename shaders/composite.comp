@@ -45,6 +45,8 @@ vec3 apply_clouds(ivec2 px, vec3 dir, vec3 L)
 
 void main()
 {
+    atmo = atmo_block;
+    frame = frame_block;
     ivec2 size = imageSize(image_out);
     // Lanes past the rectangle redo its last pixel rather than branch on the push constants:
     // lavapipe compiles a variant per value of a uniform that a branch depends on, which

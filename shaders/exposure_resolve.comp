@@ -10,7 +10,7 @@
 #include "sky_shared.h"
 
 layout(local_size_x = 64) in;
-layout(std140, binding = 0) uniform FrameBlock { sky_frame_uniforms frame; };
+SKY_PARAMETER_BLOCK(0, FrameBlock, sky_frame_uniforms, frame);
 layout(std430, binding = 1) readonly buffer Partials { vec2 partials[]; };
 layout(std430, binding = 2) writeonly buffer ExposureBlock { vec4 metered; };
 layout(push_constant) uniform MeterPush { sky_meter_push meter; };
@@ -19,6 +19,7 @@ shared vec2 shared_sum[64];
 
 void main()
 {
+    frame = frame_block;
     uint li = gl_LocalInvocationIndex;
     vec2 sum = vec2(0.0);
     for (uint i = li; i < meter.group_count; i += 64u)

@@ -7,7 +7,7 @@
 #include "sky_shared.h"
 
 layout(local_size_x = 8) in;
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
 layout(binding = 1) uniform sampler2D transmittance_lut;
 layout(binding = 2) uniform sampler2D multiscattering_lut;
 layout(binding = 3, rgba32f) uniform writeonly image2D irradiance_out;
@@ -23,6 +23,7 @@ const float MARCH_STEPS = 16.0;
 
 void main()
 {
+    atmo = atmo_block;
     int size = imageSize(irradiance_out).x;
     int px = int(gl_GlobalInvocationID.x);
     if (px >= size)

@@ -15,6 +15,8 @@ shared vec2 shared_sum[SKY_METER_LOCAL * SKY_METER_LOCAL];
 
 void main()
 {
+    atmo = atmo_block;
+    frame = frame_block;
     uvec2 px = gl_GlobalInvocationID.xy;
     vec2 value = vec2(0.0);
     if (px.x < meter.grid_width && px.y < meter.grid_height) {

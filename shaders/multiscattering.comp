@@ -8,7 +8,7 @@
 #include "sky_shared.h"
 
 layout(local_size_x = 64) in;
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
 layout(binding = 1) uniform sampler2D transmittance_lut;
 layout(binding = 2, rgba32f) uniform writeonly image2D multiscattering_out;
 layout(push_constant) uniform RowsPush { sky_rows_push rows; };
@@ -22,6 +22,7 @@ shared vec3 shared_fms[64];
 
 void main()
 {
+    atmo = atmo_block;
     ivec2 size = imageSize(multiscattering_out);
     uint texel = rows.row_offset + gl_WorkGroupID.x;
     ivec2 px = ivec2(int(texel % uint(size.x)), int(texel / uint(size.x)));

@@ -14,6 +14,8 @@ layout(push_constant) uniform ProbePush { sky_probe_push probe; };
 
 void main()
 {
+    atmo = atmo_block;
+    frame = frame_block;
     uint i = gl_GlobalInvocationID.x;
     if (i >= probe.count)
         return;

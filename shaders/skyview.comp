@@ -8,8 +8,8 @@
 #include "sky_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
-layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
 layout(binding = 2) uniform sampler2D transmittance_lut;
 layout(binding = 3) uniform sampler2D multiscattering_lut;
 layout(binding = 4) uniform sampler2D irradiance_lut;
@@ -32,6 +32,8 @@ const float LONG_RAY_KM = 600.0;
 
 void main()
 {
+    atmo = atmo_block;
+    frame = frame_block;
     ivec2 size = imageSize(skyview_out);
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(px, size)))

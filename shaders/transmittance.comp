@@ -7,7 +7,7 @@
 #include "sky_shared.h"
 
 layout(local_size_x = 64) in;
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
 layout(binding = 1, rgba32f) uniform writeonly image2D transmittance_out;
 layout(push_constant) uniform RowsPush { sky_rows_push rows; };
 
@@ -17,6 +17,7 @@ const float STEPS = 96.0;
 
 void main()
 {
+    atmo = atmo_block;
     ivec2 size = imageSize(transmittance_out);
     uint texel = (rows.row_offset + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
     if (texel >= uint(size.x * size.y))

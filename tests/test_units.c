@@ -66,18 +66,19 @@ static void test_shader_functions(void)
         .spirv = lut_selftest_spv,
         .spirv_bytes = sizeof lut_selftest_spv,
         .binding_count = 2,
-        .bindings = { VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER },
+        .bindings = { VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER },
     };
-    struct gpu_buffer ubo = { 0 }, results = { 0 };
+    struct gpu_buffer atmosphere = { 0 }, results = { 0 };
     CHECK(compute_pass_create(ctx, &desc, &pass) == VK_SUCCESS);
     CHECK(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms),
-                            VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "ubo", &ubo) == VK_SUCCESS);
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "atmosphere",
+                            &atmosphere) == VK_SUCCESS);
     CHECK(gpu_buffer_create(ctx, 8 * 4 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                             "results", &results) == VK_SUCCESS);
     struct sky_render_atmosphere earth;
     test_earth_atmosphere(&earth);
-    sky_uniforms_fill_atmosphere(&earth, ubo.mapped);
-    struct compute_resource res[2] = { { .buffer = &ubo }, { .buffer = &results } };
+    sky_uniforms_fill_atmosphere(&earth, atmosphere.mapped);
+    struct compute_resource res[2] = { { .buffer = &atmosphere }, { .buffer = &results } };
     compute_pass_bind(ctx, &pass, res);
     VkCommandBuffer cmd;
     CHECK(vk_context_begin_commands(ctx, &cmd) == VK_SUCCESS);
@@ -102,7 +103,7 @@ static void test_shader_functions(void)
         CHECK_NEAR(p[2], 1.0, 1e-3);
         CHECK_NEAR(p[3], 1.0, 1e-3);
     }
-    gpu_buffer_destroy(ctx, &ubo);
+    gpu_buffer_destroy(ctx, &atmosphere);
     gpu_buffer_destroy(ctx, &results);
     compute_pass_destroy(ctx, &pass);
     vk_context_destroy(&ctx);

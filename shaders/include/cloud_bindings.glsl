@@ -1,12 +1,12 @@
 // Bindings 0-9 shared by the passes that march the cloud layers (trace, hemisphere): the
 // atmosphere and frame blocks, the atmosphere LUTs, the cloud block, the noise volumes and the
 // weather map. Then the atmosphere, density and march code.
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
-layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
 layout(binding = 2) uniform sampler2D transmittance_lut;
 layout(binding = 3) uniform sampler2D multiscattering_lut;
 layout(binding = 4) uniform sampler2D irradiance_lut;
-layout(std140, binding = 5) uniform CloudBlock { sky_cloud_uniforms cloud; };
+SKY_PARAMETER_BLOCK(5, CloudBlock, sky_cloud_uniforms, cloud);
 layout(binding = 6) uniform sampler3D base_noise;
 layout(binding = 7) uniform sampler3D detail_noise;
 layout(binding = 8) uniform sampler2D curl_noise;

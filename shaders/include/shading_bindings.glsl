@@ -1,7 +1,7 @@
 // Bindings 0-7, common to every pass that shades view directions (composite, probe, meter),
 // and the specialization that picks the camera's situation.
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
-layout(std140, binding = 1) uniform FrameBlock { sky_frame_uniforms frame; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
 layout(binding = 2) uniform sampler2D transmittance_lut;
 layout(binding = 3) uniform sampler2D multiscattering_lut;
 layout(binding = 4) uniform sampler2D skyview_lut;

@@ -1,6 +1,6 @@
-/* Uniform and push-constant layouts shared by C (render/) and GLSL (shaders/).
+/* Parameter-block and push-constant layouts shared by C (render/) and GLSL (shaders/).
  *
- * Only vec4/ivec4 members, so std140 and C agree without padding rules. Lengths are km,
+ * Only vec4/ivec4 members, so std140, std430 and C agree without padding rules. Lengths are km,
  * coefficients per km, illuminance lux, luminance cd/m2. Coordinates: planet centred; the
  * camera stands above the point (0, 0, bottom_radius) and the local frame there is x east,
  * y north, z up. */
@@ -11,6 +11,16 @@
 #define SKY_VEC4 vec4
 #define SKY_IVEC4 ivec4
 #define SKY_UINT uint
+/* A parameter block (atmosphere, frame, clouds): a read-only storage buffer NAME_block and a
+ * private copy NAME that main() fills first (NAME = NAME_block). Not a uniform buffer: lavapipe
+ * (Mesa 22.3) inlines uniform-buffer and push-constant values that decide an `if` or a loop's
+ * end and, when the first such variant is less than half the code, compiles the pipeline again
+ * at every dispatch and never frees the old code; whether it does depends on the state at the
+ * first dispatch. Storage-buffer values are never inlined, and the copy lets marches read
+ * registers instead of memory. */
+#define SKY_PARAMETER_BLOCK(binding_, block_, type_, name_) \
+    layout(std430, binding = binding_) readonly buffer block_ { type_ name_##_block; }; \
+    type_ name_
 #else
 #include <stdint.h>
 typedef struct { float x, y, z, w; } sky_vec4;

@@ -5,7 +5,7 @@
 #include "sky_shared.h"
 
 layout(local_size_x = 1) in;
-layout(std140, binding = 0) uniform AtmosphereBlock { sky_atmosphere_uniforms atmo; };
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
 layout(std430, binding = 1) writeonly buffer Results { vec4 results[]; };
 
 #include "atmosphere.glsl"
@@ -84,6 +84,7 @@ vec4 phase_integrals(float g)
 
 void main()
 {
+    atmo = atmo_block;
     uint i = gl_GlobalInvocationID.x;
     if (i == 0u) results[0] = transmittance_round_trip();
     if (i == 1u) results[1] = skyview_round_trip();
