@@ -18,29 +18,6 @@
 #define BLUE_SIZE 64
 #define SLAB 16 /* z slices of the base volume per submission */
 
-int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *n)
-{
-    memset(n, 0, sizeof *n);
-    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, BASE_SIZE, BASE_SIZE, BASE_SIZE,
-                                   "cloud_base_noise", &n->base), fail);
-    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, DETAIL_SIZE, DETAIL_SIZE,
-                                   DETAIL_SIZE, "cloud_detail_noise", &n->detail), fail);
-    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, CURL_SIZE, CURL_SIZE, 1,
-                                   "cloud_curl_noise", &n->curl), fail);
-    return 0;
-fail:
-    cloud_noise_destroy(ctx, n);
-    return -1;
-}
-
-void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *n)
-{
-    gpu_image_destroy(ctx, &n->base);
-    gpu_image_destroy(ctx, &n->detail);
-    gpu_image_destroy(ctx, &n->curl);
-    n->generated = false;
-}
-
 /* ---- void-and-cluster blue noise ---- */
 
 #define VC_N (BLUE_SIZE * BLUE_SIZE)
@@ -146,33 +123,44 @@ static int run_pass(struct vk_context *ctx, struct compute_pass *pass,
 #define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
 
-static int generate_volumes(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed,
-                            bool quiet)
+static VkResult create_passes(struct vk_context *ctx, struct cloud_noise *n)
 {
-    const struct compute_pass_desc descs[2] = {
+    const struct compute_pass_desc descs[3] = {
         { .name = "cloud_noise_base", SPIRV(cloud_noise_base_spv), .binding_count = 1,
           .bindings = { STORAGE_IMG }, .push_constant_bytes = sizeof(struct sky_cloud_noise_push) },
         { .name = "cloud_noise_detail", SPIRV(cloud_noise_detail_spv), .binding_count = 1,
           .bindings = { STORAGE_IMG }, .push_constant_bytes = sizeof(struct sky_cloud_noise_push) },
+        { .name = "cloud_noise_curl", SPIRV(cloud_noise_curl_spv), .binding_count = 2,
+          .bindings = { VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, STORAGE_IMG },
+          .push_constant_bytes = sizeof(struct sky_cloud_noise_push) },
     };
-    struct gpu_image *images[2] = { &n->base, &n->detail };
+    struct compute_pass *passes[3] = { &n->base_pass, &n->detail_pass, &n->curl_pass };
+    for (int i = 0; i < 3; i++)
+        VK_CHECK_RETURN(compute_pass_create(ctx, &descs[i], passes[i]));
+    compute_pass_bind(ctx, &n->base_pass, &(struct compute_resource){ .image = &n->base });
+    compute_pass_bind(ctx, &n->detail_pass, &(struct compute_resource){ .image = &n->detail });
+    struct compute_resource curl[2] = { { .buffer = &n->blue }, { .image = &n->curl } };
+    compute_pass_bind(ctx, &n->curl_pass, curl);
+    return VK_SUCCESS;
+}
+
+static int generate_volumes(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed,
+                            bool quiet)
+{
+    struct compute_pass *passes[2] = { &n->base_pass, &n->detail_pass };
+    const struct gpu_image *images[2] = { &n->base, &n->detail };
     int rc = 0;
     for (int v = 0; v < 2 && rc == 0; v++) {
-        struct compute_pass pass;
-        if (compute_pass_create(ctx, &descs[v], &pass) != VK_SUCCESS)
-            return -1;
-        compute_pass_bind(ctx, &pass, &(struct compute_resource){ .image = images[v] });
         uint32_t depth = images[v]->depth;
         for (uint32_t z = 0; z < depth && rc == 0; z += SLAB) {
             struct sky_cloud_noise_push push = { .seed = seed, .z_offset = z };
             uint32_t slab = depth - z < SLAB ? depth - z : SLAB;
             const uint32_t size[3] = { images[v]->width, images[v]->height, slab };
             const uint32_t local[3] = { 4, 4, 4 };
-            rc = run_pass(ctx, &pass, &push, size, local);
+            rc = run_pass(ctx, passes[v], &push, size, local);
             if (!quiet && v == 0)
                 fprintf(stderr, "\rskyd: cloud noise %3u%%", (z + slab) * 100 / depth);
         }
-        compute_pass_destroy(ctx, &pass);
     }
     if (!quiet)
         fprintf(stderr, "\n");
@@ -181,28 +169,41 @@ static int generate_volumes(struct vk_context *ctx, struct cloud_noise *n, uint3
 
 static int generate_curl(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed)
 {
-    const struct compute_pass_desc desc = {
-        .name = "cloud_noise_curl", SPIRV(cloud_noise_curl_spv), .binding_count = 2,
-        .bindings = { VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, STORAGE_IMG },
-        .push_constant_bytes = sizeof(struct sky_cloud_noise_push),
-    };
-    struct gpu_buffer blue;
-    if (gpu_buffer_create(ctx, VC_N * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                          "cloud_blue_noise", &blue) != VK_SUCCESS)
-        return -1;
-    cloud_blue_noise(seed, blue.mapped);
-    struct compute_pass pass;
-    int rc = -1;
-    if (compute_pass_create(ctx, &desc, &pass) == VK_SUCCESS) {
-        struct compute_resource r[2] = { { .buffer = &blue }, { .image = &n->curl } };
-        compute_pass_bind(ctx, &pass, r);
-        struct sky_cloud_noise_push push = { .seed = seed };
-        const uint32_t size[3] = { CURL_SIZE, CURL_SIZE, 1 }, local[3] = { 8, 8, 1 };
-        rc = run_pass(ctx, &pass, &push, size, local);
-        compute_pass_destroy(ctx, &pass);
-    }
-    gpu_buffer_destroy(ctx, &blue);
-    return rc;
+    cloud_blue_noise(seed, n->blue.mapped);
+    struct sky_cloud_noise_push push = { .seed = seed };
+    const uint32_t size[3] = { CURL_SIZE, CURL_SIZE, 1 }, local[3] = { 8, 8, 1 };
+    return run_pass(ctx, &n->curl_pass, &push, size, local);
+}
+
+int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *n)
+{
+    memset(n, 0, sizeof *n);
+    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, BASE_SIZE, BASE_SIZE, BASE_SIZE,
+                                   "cloud_base_noise", &n->base), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, DETAIL_SIZE, DETAIL_SIZE,
+                                   DETAIL_SIZE, "cloud_detail_noise", &n->detail), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, CURL_SIZE, CURL_SIZE, 1,
+                                   "cloud_curl_noise", &n->curl), fail);
+    VK_CHECK_GOTO(gpu_buffer_create(ctx, VC_N * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                    "cloud_blue_noise", &n->blue), fail);
+    if (create_passes(ctx, n) != VK_SUCCESS)
+        goto fail;
+    return 0;
+fail:
+    cloud_noise_destroy(ctx, n);
+    return -1;
+}
+
+void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *n)
+{
+    compute_pass_destroy(ctx, &n->base_pass);
+    compute_pass_destroy(ctx, &n->detail_pass);
+    compute_pass_destroy(ctx, &n->curl_pass);
+    gpu_buffer_destroy(ctx, &n->blue);
+    gpu_image_destroy(ctx, &n->base);
+    gpu_image_destroy(ctx, &n->detail);
+    gpu_image_destroy(ctx, &n->curl);
+    n->generated = false;
 }
 
 int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed,

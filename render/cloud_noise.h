@@ -8,17 +8,23 @@
 #include <stdint.h>
 
 #include "cloud_shared.h"
+#include "compute_pass.h"
 #include "vk_resources.h"
 
 struct vk_context;
 
 struct cloud_noise {
     struct gpu_image base, detail, curl;
+    /* Kept for the renderer's life: a new seed must not compile them again (a compile costs
+     * lavapipe tenths of a second and code memory it does not give back). */
+    struct compute_pass base_pass, detail_pass, curl_pass;
+    struct gpu_buffer blue; /* the curl pass's 64x64 blue-noise ranks */
     uint32_t seed;
     bool generated;
 };
 
-/* Creates the images (zero until generated). Returns 0 or -1. */
+/* Creates the images (zero until generated) and the passes that generate them. Returns 0 or
+ * -1. */
 int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *noise);
 void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *noise);
 
