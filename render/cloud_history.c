@@ -50,7 +50,7 @@ fail:
 
 struct cloud_history_entry *cloud_history_acquire(struct vk_context *ctx, struct cloud_history *h,
                                                   uint64_t key, uint32_t width, uint32_t height,
-                                                  int block)
+                                                  int block, double now_s)
 {
     h->clock++;
     struct cloud_history_entry *victim = &h->entries[0];
@@ -59,8 +59,11 @@ struct cloud_history_entry *cloud_history_acquire(struct vk_context *ctx, struct
         if (e->in_use && e->key == key && e->width == width && e->height == height &&
             e->block == block) {
             e->last_used = h->clock;
+            e->last_used_s = now_s;
             return e;
         }
+        if (e->in_use && now_s - e->last_used_s > CLOUD_HISTORY_IDLE_S)
+            entry_destroy(ctx, e);
         if (!e->in_use || (victim->in_use && e->last_used < victim->last_used))
             victim = e;
     }
@@ -68,7 +71,16 @@ struct cloud_history_entry *cloud_history_acquire(struct vk_context *ctx, struct
     if (entry_create(ctx, victim, key, width, height, block) != 0)
         return NULL;
     victim->last_used = h->clock;
+    victim->last_used_s = now_s;
     return victim;
+}
+
+int cloud_history_entries_in_use(const struct cloud_history *h)
+{
+    int n = 0;
+    for (int i = 0; i < CLOUD_HISTORY_ENTRIES; i++)
+        n += h->entries[i].in_use;
+    return n;
 }
 
 void cloud_history_destroy(struct vk_context *ctx, struct cloud_history *h)

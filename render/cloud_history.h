@@ -14,6 +14,9 @@
 struct vk_context;
 
 #define CLOUD_HISTORY_ENTRIES 4
+/* An entry no view has used for this long is released: views come and go (a client's views,
+ * snapshots), and an entry is up to six float images of its view's size. */
+#define CLOUD_HISTORY_IDLE_S 5.0
 
 struct cloud_history_entry {
     bool in_use;
@@ -27,6 +30,7 @@ struct cloud_history_entry {
     bool valid;            /* latest holds a frame of this view */
     uint32_t frame;        /* frames rendered into this history */
     uint64_t last_used;
+    double last_used_s;    /* the `now_s` of its last acquisition */
     float prev_forward[4], prev_right[4], prev_up[4]; /* camera of the latest frame */
     double prev_wind[2];   /* wind displacement of the latest frame */
     uint32_t look;         /* the cloud renderer's parameter and map generations it shows */
@@ -38,10 +42,13 @@ struct cloud_history {
 };
 
 /* The entry for (key, size, block), created (replacing the least recently used) when new;
- * NULL on failure. */
+ * NULL on failure. Entries idle for more than CLOUD_HISTORY_IDLE_S before `now_s` (any
+ * monotonic clock in seconds) are released first. */
 struct cloud_history_entry *cloud_history_acquire(struct vk_context *ctx, struct cloud_history *h,
                                                   uint64_t key, uint32_t width, uint32_t height,
-                                                  int block);
+                                                  int block, double now_s);
+/* Entries holding images. */
+int cloud_history_entries_in_use(const struct cloud_history *h);
 void cloud_history_destroy(struct vk_context *ctx, struct cloud_history *h);
 
 #endif

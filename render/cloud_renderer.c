@@ -571,7 +571,7 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
     uint32_t scale = (uint32_t)cloud_params_downscale(c->resolution);
     uint32_t width = (f->width + scale - 1) / scale, height = (f->height + scale - 1) / scale;
     struct cloud_history_entry *e =
-        cloud_history_acquire(ctx, &cr->history, f->history_key, width, height, block);
+        cloud_history_acquire(ctx, &cr->history, f->history_key, width, height, block, f->now_s);
     if (!e)
         return -1;
     struct compute_pass *trace = &cr->pass[P_TRACE + moonlit(f)];

@@ -349,6 +349,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         .width = v->width,
         .height = v->height,
         .history_key = v->history_key,
+        .now_s = start * 1e-3,
         .live = v->live,
         .ground_rows = ground ? ground_rows : NULL,
     };

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "cloud_history.h"
 #include "compute_pass.h"
 #include "lut_selftest.spv.h"
 #include "photometry.h"
@@ -110,9 +111,50 @@ static void test_shader_functions(void)
     CHECK(validation_messages == 0); /* counted through destruction */
 }
 
+/* Cloud histories: least recently used among CLOUD_HISTORY_ENTRIES, and released after
+ * CLOUD_HISTORY_IDLE_S without a view, so that views that have gone keep no images. */
+static void test_cloud_history(void)
+{
+    unsigned validation_messages = 0;
+    struct vk_context_params params = { .validation = test_validation_requested(),
+                                        .validation_message_counter = &validation_messages };
+    struct vk_context *ctx = vk_context_create(&params);
+    CHECK(ctx != NULL);
+    if (!ctx)
+        return;
+    struct cloud_history h;
+    memset(&h, 0, sizeof h);
+    double t = 100.0;
+    struct cloud_history_entry *a = cloud_history_acquire(ctx, &h, 1, 40, 20, 4, t);
+    CHECK(a != NULL && a->width == 40 && a->color[0].width == 40);
+    CHECK(cloud_history_acquire(ctx, &h, 1, 40, 20, 4, t + 1.0) == a); /* kept */
+    for (uint64_t key = 2; key <= CLOUD_HISTORY_ENTRIES + 1; key++)
+        CHECK(cloud_history_acquire(ctx, &h, key, 16, 8, 4, t + 1.0) != NULL);
+    CHECK(cloud_history_entries_in_use(&h) == CLOUD_HISTORY_ENTRIES);
+    /* Key 1 was the least recently used: a new acquisition gets a new entry for it. */
+    bool key1_kept = false;
+    for (int i = 0; i < CLOUD_HISTORY_ENTRIES; i++)
+        key1_kept |= h.entries[i].in_use && h.entries[i].key == 1;
+    CHECK(!key1_kept);
+    /* Only the last key goes on being rendered: the others go once idle for long enough. */
+    uint64_t last = CLOUD_HISTORY_ENTRIES + 1;
+    CHECK(cloud_history_acquire(ctx, &h, last, 16, 8, 4, t + CLOUD_HISTORY_IDLE_S) != NULL);
+    CHECK(cloud_history_entries_in_use(&h) == CLOUD_HISTORY_ENTRIES);
+    CHECK(cloud_history_acquire(ctx, &h, last, 16, 8, 4, t + 1.5 + CLOUD_HISTORY_IDLE_S) != NULL);
+    CHECK(cloud_history_entries_in_use(&h) == 1);
+    /* A new size for the same key is a new history. */
+    CHECK(cloud_history_acquire(ctx, &h, last, 32, 8, 4, t + 2.0 + CLOUD_HISTORY_IDLE_S) != NULL);
+    CHECK(cloud_history_entries_in_use(&h) == 2);
+    cloud_history_destroy(ctx, &h);
+    CHECK(cloud_history_entries_in_use(&h) == 0);
+    vk_context_destroy(&ctx);
+    CHECK(validation_messages == 0);
+}
+
 int main(void)
 {
     test_photometry();
     test_shader_functions();
+    test_cloud_history();
     return check_summary();
 }
