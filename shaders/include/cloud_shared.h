@@ -1,5 +1,5 @@
-/* Uniform and push-constant layouts of the cloud passes, shared by C (render/cloud_*.c) and
- * GLSL (shaders/cloud_*.comp). Only vec4/ivec4 members (std140 = C layout). Lengths km,
+/* Parameter-block and push-constant layouts of the cloud passes, shared by C (render/cloud_*.c) and
+ * GLSL (shaders/cloud_*.comp). Only vec4/ivec4 members (std430 = C layout). Lengths km,
  * extinction per km, luminance cd/m2. Horizontal cloud coordinates are the planet-centred x
  * (east) and y (north) of a point minus the wind's displacement of the weather pattern: the
  * flat-planet projection around the camera that seed 001 (5.9) also uses for cloud shadows. */
