@@ -48,10 +48,9 @@ void main()
     vec3 ground = normalize(vec3(xy, R)) * (R + 0.002);
     vec3 sun = cloud.shadow_sun.xyz;
     float tau = optical_depth(ground, sun, cloud.low);
-    // No branch on cloud.high.w: lavapipe (Mesa 22.3) inlines a uniform that decides a branch
-    // and compiles the shader again at every dispatch of it, never freeing the old code, so each
-    // shadow-map slice leaked memory and stalled the frame (a weather transition grew the
-    // daemon by 2-4 MiB a second). The high layer is marched even when it is off.
+    // Weighted by cloud.high.w, not branched on: written while `cloud` was a uniform buffer,
+    // whose branch-deciding values lavapipe (Mesa 22.3) inlined, compiling the shader again at
+    // every slice (sky_shared.h, SKY_PARAMETER_BLOCK). The high layer is marched even when off.
     tau += step(0.5, cloud.high.w) * optical_depth(ground, sun, cloud.high);
     imageStore(shadow_out, px, vec4(exp(-tau), tau, 0.0, 1.0));
 }
