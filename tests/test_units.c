@@ -52,15 +52,8 @@ static void test_photometry(void)
     CHECK_NEAR(e[0] * t[0], 1000.0, 1e-6);
 }
 
-static void test_shader_functions(void)
+static void test_shader_functions(struct vk_context *ctx)
 {
-    unsigned validation_messages = 0;
-    struct vk_context_params params = { .validation = test_validation_requested(),
-                                        .validation_message_counter = &validation_messages };
-    struct vk_context *ctx = vk_context_create(&params);
-    CHECK(ctx != NULL);
-    if (!ctx)
-        return;
     struct compute_pass pass;
     struct compute_pass_desc desc = {
         .name = "lut_selftest",
@@ -107,21 +100,12 @@ static void test_shader_functions(void)
     gpu_buffer_destroy(ctx, &atmosphere);
     gpu_buffer_destroy(ctx, &results);
     compute_pass_destroy(ctx, &pass);
-    vk_context_destroy(&ctx);
-    CHECK(validation_messages == 0); /* counted through destruction */
 }
 
 /* Cloud histories: least recently used among CLOUD_HISTORY_ENTRIES, and released after
  * CLOUD_HISTORY_IDLE_S without a view, so that views that have gone keep no images. */
-static void test_cloud_history(void)
+static void test_cloud_history(struct vk_context *ctx)
 {
-    unsigned validation_messages = 0;
-    struct vk_context_params params = { .validation = test_validation_requested(),
-                                        .validation_message_counter = &validation_messages };
-    struct vk_context *ctx = vk_context_create(&params);
-    CHECK(ctx != NULL);
-    if (!ctx)
-        return;
     struct cloud_history h;
     memset(&h, 0, sizeof h);
     double t = 100.0;
@@ -147,14 +131,21 @@ static void test_cloud_history(void)
     CHECK(cloud_history_entries_in_use(&h) == 2);
     cloud_history_destroy(ctx, &h);
     CHECK(cloud_history_entries_in_use(&h) == 0);
-    vk_context_destroy(&ctx);
-    CHECK(validation_messages == 0);
 }
 
 int main(void)
 {
     test_photometry();
-    test_shader_functions();
-    test_cloud_history();
+    unsigned validation_messages = 0;
+    struct vk_context_params params = { .validation = test_validation_requested(),
+                                        .validation_message_counter = &validation_messages };
+    struct vk_context *ctx = vk_context_create(&params);
+    CHECK(ctx != NULL);
+    if (ctx) {
+        test_shader_functions(ctx);
+        test_cloud_history(ctx);
+        vk_context_destroy(&ctx);
+    }
+    CHECK(validation_messages == 0); /* counted through destruction */
     return check_summary();
 }
