@@ -187,9 +187,38 @@ static void destroy_luts(struct vk_context *ctx, struct sky_passes *p)
         gpu_image_destroy(ctx, images[i]);
 }
 
-static int create_luts(struct vk_context *ctx, struct sky_passes *p,
-                       const struct sky_render_lut_sizes *s)
+static bool is_power_of_two(uint32_t n)
 {
+    return n != 0 && (n & (n - 1)) == 0;
+}
+
+/* llvmpipe compiles a shader variant for each combination of whether its bound images'
+ * dimensions are powers of two, and keeps the code. A power-of-two side is made two texels
+ * shorter (4 becomes 6), so that no LUT size the state can ask for compiles a pipeline again.
+ * Shorter: the passes run 8x8 workgroups, and 34 texels would cost a fifth row of them (the
+ * aerial-perspective pass took 55 % longer at 34^3 than at 32^3). Two, not one: an odd
+ * multiple-scattering side puts a texel centre on the sun's horizon, its least accurate value
+ * (test_accuracy's worst sky error: 10.3 % at 30 and 32 texels, 14.6 % at 31). */
+static uint32_t lut_extent(uint32_t requested)
+{
+    uint32_t n = requested;
+    while (n >= 2 && is_power_of_two(n))
+        n = n > 4 ? n - 2 : n + 2;
+    return n;
+}
+
+static int create_luts(struct vk_context *ctx, struct sky_passes *p,
+                       const struct sky_render_lut_sizes *requested)
+{
+    struct sky_render_lut_sizes extents;
+    for (int i = 0; i < 2; i++) {
+        extents.transmittance[i] = lut_extent(requested->transmittance[i]);
+        extents.multiscattering[i] = lut_extent(requested->multiscattering[i]);
+        extents.skyview[i] = lut_extent(requested->skyview[i]);
+    }
+    for (int i = 0; i < 3; i++)
+        extents.aerial_perspective[i] = lut_extent(requested->aerial_perspective[i]);
+    const struct sky_render_lut_sizes *s = &extents;
     const uint32_t *ap = s->aerial_perspective;
     static const char *const names[3][3] = {
         { "transmittance", "multiscattering", "irradiance" },

@@ -19,6 +19,8 @@ struct sky_render_atmosphere {
     double fog_density_per_km, fog_scale_height_km;
 };
 
+/* The sizes asked for. A side that is a power of two is made two texels shorter (4: two
+ * longer; sky_passes.c says why), which sky_renderer_read_lut's size shows. */
 struct sky_render_lut_sizes {
     uint32_t transmittance[2];      /* 256 x 64 */
     uint32_t multiscattering[2];    /* 32 x 32 */
