@@ -34,8 +34,10 @@ taken in the same state and growth means memory not given back. The random part 
 is there because the renderer's working set is reached by combinations, not by single changes:
 a composite pipeline (specialized by output kind, camera in space, sun in view, night, clouds,
 ground) is compiled at its first use, and which combinations a scene needs is drawn at random.
-With the baseline right after the single changes, two runs of seed 1 gave +4.1 % and +15.5 %;
-in the second, 11 MiB of it was library code paged in after the baseline.
+With the baseline right after the single changes, runs of seeds 2 and 1 gave +4.5 % and
++15.5 %. The warm-up does not settle everything: in some runs about 11 MiB of libLLVM's code
+is paged in once, at a time that varies from run to run, and when that falls after the
+baseline the run fails (docs/PERFORMANCE.md, "Soak: where the memory went").
 
 Exit status 0 when RSS growth < --max-growth-percent (5), no validation message, no refused
 or unanswered request, no bad frame and the daemon alive and exiting 0 on SIGTERM; 1

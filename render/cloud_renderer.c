@@ -78,7 +78,7 @@ struct cloud_renderer {
     struct gpu_image client_map, dummy;
     bool has_client_map;
     uint32_t client_generation;
-    struct gpu_buffer ubo, env;
+    struct gpu_buffer params, env;
     struct compute_pass pass[P_COUNT];
     struct cloud_history history;
     struct sky_render_clouds clouds;
@@ -176,12 +176,13 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
         goto fail;
     VK_CHECK_GOTO(gpu_image_create(ctx, FLOAT_FORMAT, 1, 1, 1, "cloud_none", &cr->dummy), fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_cloud_uniforms),
-                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "cloud_params", &cr->ubo),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "cloud_params",
+                                    &cr->params),
                   fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, 8 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                     "cloud_env", &cr->env),
                   fail);
-    memset(cr->ubo.mapped, 0, sizeof(struct sky_cloud_uniforms));
+    memset(cr->params.mapped, 0, sizeof(struct sky_cloud_uniforms));
     const float no_clouds[8] = { 0, 0, 0, 0, 1, 1, 1, 1 };
     memcpy(cr->env.mapped, no_clouds, sizeof no_clouds);
     for (int i = 0; i < P_COUNT; i++)
@@ -205,7 +206,7 @@ void cloud_renderer_destroy(struct vk_context *ctx, struct cloud_renderer **pcr)
     map_destroy(ctx, &cr->shadow);
     gpu_image_destroy(ctx, &cr->client_map);
     gpu_image_destroy(ctx, &cr->dummy);
-    gpu_buffer_destroy(ctx, &cr->ubo);
+    gpu_buffer_destroy(ctx, &cr->params);
     gpu_buffer_destroy(ctx, &cr->env);
     if (cr->repeat)
         vkDestroySampler(ctx->device, cr->repeat, NULL);
@@ -399,7 +400,7 @@ static void bind_march(struct vk_context *ctx, struct cloud_renderer *cr, struct
     const struct sky_pass_resources *s = &f->sky;
     struct compute_resource r[14] = {
         buf(s->atmosphere_params), buf(s->frame_params), tex(s->transmittance, s->sampler),
-        tex(s->multiscattering, s->sampler), tex(s->irradiance, s->sampler), buf(&cr->ubo),
+        tex(s->multiscattering, s->sampler), tex(s->irradiance, s->sampler), buf(&cr->params),
         tex(&cr->noise.base, cr->repeat), tex(&cr->noise.detail, cr->repeat),
         tex(&cr->noise.curl, cr->repeat), tex(shown(cr, &cr->weather), cr->repeat),
         extra0, extra1,
@@ -436,7 +437,7 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
         return;
     const struct sky_pass_resources *s = &f->sky;
     struct compute_resource r[7] = {
-        buf(s->atmosphere_params), buf(&cr->ubo), tex(&cr->noise.base, cr->repeat),
+        buf(s->atmosphere_params), buf(&cr->params), tex(&cr->noise.base, cr->repeat),
         tex(&cr->noise.detail, cr->repeat), tex(&cr->noise.curl, cr->repeat),
         tex(shown(cr, &cr->weather), cr->repeat), img(&cr->shadow.image[1 - cr->shadow.shown]),
     };
@@ -542,7 +543,7 @@ static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, Vk
     const struct sky_pass_resources *s = &f->sky;
     struct compute_resource r[11] = {
         buf(s->atmosphere_params), buf(s->frame_params), tex(s->transmittance, s->sampler),
-        tex(s->irradiance, s->sampler), buf(&cr->ubo), buf(&cr->env),
+        tex(s->irradiance, s->sampler), buf(&cr->params), buf(&cr->env),
         tex(shown(cr, &cr->shadow), cr->repeat), tex(s->ap_shafts, s->sampler),
         tex(&e->color[e->latest], s->sampler), img(&e->over_sky), img(&e->over_ground),
     };
@@ -649,7 +650,7 @@ void cloud_renderer_no_clouds(const struct cloud_renderer *cr, struct sky_cloud_
         .over_ground = &cr->dummy,
         .shadow = &cr->dummy,
         .shadow_sampler = cr->repeat,
-        .ubo = &cr->ubo,
+        .params = &cr->params,
     };
 }
 
@@ -659,12 +660,12 @@ int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr
 {
     cloud_renderer_no_clouds(cr, out);
     if (!cloud_renderer_active(cr)) {
-        memset(cr->ubo.mapped, 0, sizeof(struct sky_cloud_uniforms));
+        memset(cr->params.mapped, 0, sizeof(struct sky_cloud_uniforms));
         return 0;
     }
     cloud_params_fill(&cr->clouds, f->bottom_radius_km, &cr->u);
     cr->u.shadow_sun = (sky_vec4){ cr->shadow_sun[0], cr->shadow_sun[1], cr->shadow_sun[2], 0 };
-    memcpy(cr->ubo.mapped, &cr->u, sizeof cr->u);
+    memcpy(cr->params.mapped, &cr->u, sizeof cr->u);
     /* The budget grows with the frame: on a slow device a fixed few ms would stretch a map
      * build over hundreds of frames, while a tenth of the frame keeps every frame within
      * about 10 % of its neighbours. */
@@ -677,7 +678,7 @@ int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr
     record_shadow(ctx, cr, cmd, timer, f, &budget);
     cr->u.shadow_sun = (sky_vec4){ cr->shadow_sun[0], cr->shadow_sun[1], cr->shadow_sun[2],
                                    cr->shadow.ready ? 1.0f : 0.0f };
-    memcpy(cr->ubo.mapped, &cr->u, sizeof cr->u);
+    memcpy(cr->params.mapped, &cr->u, sizeof cr->u);
     record_hemisphere(ctx, cr, cmd, timer, f);
     out->shadow = shown(cr, &cr->shadow);
     return 0;

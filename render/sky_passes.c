@@ -122,7 +122,8 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
                                   .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, STORAGE_IMG,
                                                 STORAGE_IMG, STORAGE_IMG, SAMPLED, PARAMS } },
     [PASS_EXPOSURE_RESOLVE] = { .name = "exposure", SPIRV(exposure_resolve_spv),
-                                .binding_count = 3, .bindings = { PARAMS, STORAGE_BUF, STORAGE_BUF },
+                                .binding_count = 3,
+                                .bindings = { PARAMS, STORAGE_BUF, STORAGE_BUF },
                                 .push_constant_bytes = sizeof(struct sky_meter_push) },
     SHADING_PAIR(PASS_METER, "meter", meter_spv, 9, STORAGE_BUF, sizeof(struct sky_meter_push)),
     SHADING_PAIR(PASS_PROBE, "probe", probe_spv, 10, PAIR(STORAGE_BUF, STORAGE_BUF),
@@ -278,7 +279,7 @@ static void bind_aerial_perspective(struct vk_context *ctx, struct sky_passes *p
     struct compute_resource r[9] = {
         buf(&p->atmosphere_params), buf(&p->frame_params), tex(p, &p->transmittance),
         tex(p, &p->multiscattering), img(&p->ap_inscatter), img(&p->ap_transmittance),
-        img(&p->ap_shafts), { .image = c->shadow, .sampler = c->shadow_sampler }, buf(c->ubo),
+        img(&p->ap_shafts), { .image = c->shadow, .sampler = c->shadow_sampler }, buf(c->params),
     };
     compute_pass_bind(ctx, &p->pass[PASS_AERIAL_PERSPECTIVE], r);
 }
@@ -624,7 +625,8 @@ void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_pas
     /* Nothing of this command buffer uses the AP pass's set yet: it may follow the clouds.
      * Only the shadow map and the block matter to it, not the view's cloud image. */
     if (p->ap_clouds.shadow != clouds->shadow ||
-        p->ap_clouds.shadow_sampler != clouds->shadow_sampler || p->ap_clouds.ubo != clouds->ubo) {
+        p->ap_clouds.shadow_sampler != clouds->shadow_sampler ||
+        p->ap_clouds.params != clouds->params) {
         p->ap_clouds = *clouds;
         bind_aerial_perspective(ctx, p);
     }

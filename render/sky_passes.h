@@ -25,7 +25,7 @@ struct sky_cloud_bindings {
     const struct gpu_image *over_sky, *over_ground;
     const struct gpu_image *shadow;  /* cloud shadow map (r: transmittance toward the sun) */
     VkSampler shadow_sampler;        /* repeat addressing */
-    const struct gpu_buffer *ubo;    /* sky_cloud_uniforms */
+    const struct gpu_buffer *params; /* sky_cloud_uniforms */
 };
 
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
