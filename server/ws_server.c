@@ -107,12 +107,14 @@ static int on_established(struct ws_server *srv, struct lws *wsi, struct connect
         session_request_close(c->session, SESSION_CLOSE_POLICY, "too many clients", true);
         return 0;
     }
-    session_hub_add(srv->hub, c->session);
     size_t capability_count = 0;
     const char *const *capabilities = sky_msg_default_capabilities(&capability_count);
     queue_and_wake(wsi, c->session,
                    sky_msg_build_hello(SKYD_VERSION, SKY_ROLE_VIEWER, capabilities,
                                        capability_count, &srv->limits));
+    /* Only now among those that events go to: the render thread broadcasts through the hub,
+     * and a state_changed queued in between came before the hello (seen in a soak). */
+    session_hub_add(srv->hub, c->session);
     return 0;
 }
 
