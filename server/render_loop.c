@@ -1,5 +1,8 @@
 #include "render_loop.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -19,6 +22,8 @@
 
 /* While only the simulation changes the state, it is written at most this often. */
 static const double SIM_SAVE_PERIOD_S = 30.0;
+/* Free memory is given back to the system at most this often (give_back_free_memory). */
+static const double TRIM_PERIOD_S = 10.0;
 
 enum command_kind { COMMAND_MESSAGE, COMMAND_REPLY, COMMAND_SESSION_CLOSED };
 
@@ -48,6 +53,7 @@ struct render_loop {
     struct encoder_pool *encoder;
     double fps_window_start;
     int fps_window_frames;
+    double last_trim_s;
     void (*on_failure)(void *user);
     void *failure_user;
     char failure[384]; /* why the loop stopped on its own; "" while it runs (under lock) */
@@ -485,6 +491,26 @@ static bool renderer_usable(struct render_loop *loop)
     return false;
 }
 
+/* glibc keeps what is freed in its arenas, and gives back only the free space at the top of
+ * the main heap: the space between live blocks, and most of the other threads' arenas, stay
+ * resident. Views, cloud histories, snapshots and lavapipe's command buffers and compiles free
+ * a lot of it: at the end of a soak 77 of the daemon's 291 MiB were such free memory, and
+ * malloc_trim gave it back. It takes 8-12 ms on a 2-core machine, so it runs only when the
+ * next frame is not yet due, and at most every TRIM_PERIOD_S. */
+static void give_back_free_memory(struct render_loop *loop, double now, double next_frame_at)
+{
+#ifdef __GLIBC__
+    if (now - loop->last_trim_s < TRIM_PERIOD_S || next_frame_at <= now)
+        return;
+    malloc_trim(0);
+    loop->last_trim_s = now;
+#else
+    (void)loop;
+    (void)now;
+    (void)next_frame_at;
+#endif
+}
+
 static void *thread_main(void *arg)
 {
     struct render_loop *loop = arg;
@@ -536,6 +562,7 @@ static void *thread_main(void *arg)
         } else if (ctx->sim_dirty && now - ctx->last_save_s >= SIM_SAVE_PERIOD_S) {
             save_state(ctx);
         }
+        give_back_free_memory(loop, monotonic_seconds(), wake_at);
     }
     save_state(ctx);
     return NULL;
