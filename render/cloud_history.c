@@ -7,8 +7,23 @@
 
 #define FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
 
-static void entry_destroy(struct vk_context *ctx, struct cloud_history_entry *e)
+struct entry_key {
+    uint64_t key;
+    uint32_t width, height;
+    int block;
+};
+
+static bool entry_matches(const void *slot, const void *key)
 {
+    const struct cloud_history_entry *e = slot;
+    const struct entry_key *k = key;
+    return e->key == k->key && e->width == k->width && e->height == k->height &&
+           e->block == k->block;
+}
+
+static void entry_destroy(struct vk_context *ctx, void *slot)
+{
+    struct cloud_history_entry *e = slot;
     gpu_image_destroy(ctx, &e->trace_color);
     gpu_image_destroy(ctx, &e->trace_depth);
     for (int i = 0; i < 2; i++) {
@@ -20,24 +35,35 @@ static void entry_destroy(struct vk_context *ctx, struct cloud_history_entry *e)
     memset(e, 0, sizeof *e);
 }
 
+static const struct lru_slots_kind kind = {
+    .count = CLOUD_HISTORY_ENTRIES,
+    .stride = sizeof(struct cloud_history_entry),
+    .idle_s = CLOUD_HISTORY_IDLE_S,
+    .matches = entry_matches,
+    .release = entry_destroy,
+};
+
+static VkResult image(struct vk_context *ctx, uint32_t w, uint32_t h, const char *name,
+                      struct gpu_image *out)
+{
+    return gpu_image_create(ctx, FORMAT, w, h, 1, name, out);
+}
+
+/* Fills `e`, a released slot. */
 static int entry_create(struct vk_context *ctx, struct cloud_history_entry *e, uint64_t key,
                         uint32_t w, uint32_t h, int block)
 {
-    memset(e, 0, sizeof *e);
     uint32_t tw = (w + (uint32_t)block - 1) / (uint32_t)block;
     uint32_t th = (h + (uint32_t)block - 1) / (uint32_t)block;
-    VK_CHECK_GOTO(gpu_image_create(ctx, FORMAT, tw, th, 1, "cloud_trace", &e->trace_color), fail);
-    VK_CHECK_GOTO(gpu_image_create(ctx, FORMAT, tw, th, 1, "cloud_trace_depth", &e->trace_depth),
-                  fail);
+    VK_CHECK_GOTO(image(ctx, tw, th, "cloud_trace", &e->trace_color), fail);
+    VK_CHECK_GOTO(image(ctx, tw, th, "cloud_trace_depth", &e->trace_depth), fail);
     for (int i = 0; i < 2; i++) {
-        VK_CHECK_GOTO(gpu_image_create(ctx, FORMAT, w, h, 1, "cloud_history", &e->color[i]), fail);
-        VK_CHECK_GOTO(gpu_image_create(ctx, FORMAT, w, h, 1, "cloud_history_aux", &e->aux[i]),
-                      fail);
+        VK_CHECK_GOTO(image(ctx, w, h, "cloud_history", &e->color[i]), fail);
+        VK_CHECK_GOTO(image(ctx, w, h, "cloud_history_aux", &e->aux[i]), fail);
     }
-    VK_CHECK_GOTO(gpu_image_create(ctx, FORMAT, w, h, 1, "clouds_over_sky", &e->over_sky), fail);
-    VK_CHECK_GOTO(gpu_image_create(ctx, FORMAT, w, h, 1, "clouds_over_ground", &e->over_ground),
-                  fail);
-    e->in_use = true;
+    VK_CHECK_GOTO(image(ctx, w, h, "clouds_over_sky", &e->over_sky), fail);
+    VK_CHECK_GOTO(image(ctx, w, h, "clouds_over_ground", &e->over_ground), fail);
+    e->use.in_use = true;
     e->key = key;
     e->width = w;
     e->height = h;
@@ -52,39 +78,21 @@ struct cloud_history_entry *cloud_history_acquire(struct vk_context *ctx, struct
                                                   uint64_t key, uint32_t width, uint32_t height,
                                                   int block, double now_s)
 {
-    h->clock++;
-    struct cloud_history_entry *victim = &h->entries[0];
-    for (int i = 0; i < CLOUD_HISTORY_ENTRIES; i++) {
-        struct cloud_history_entry *e = &h->entries[i];
-        if (e->in_use && e->key == key && e->width == width && e->height == height &&
-            e->block == block) {
-            e->last_used = h->clock;
-            e->last_used_s = now_s;
-            return e;
-        }
-        if (e->in_use && now_s - e->last_used_s > CLOUD_HISTORY_IDLE_S)
-            entry_destroy(ctx, e);
-        if (!e->in_use || (victim->in_use && e->last_used < victim->last_used))
-            victim = e;
-    }
-    entry_destroy(ctx, victim);
-    if (entry_create(ctx, victim, key, width, height, block) != 0)
+    const struct entry_key k = { key, width, height, block };
+    bool found;
+    struct cloud_history_entry *e = lru_slots_acquire(ctx, &kind, h->entries, &h->clock, &k,
+                                                      now_s, &found);
+    if (!found && entry_create(ctx, e, key, width, height, block) != 0)
         return NULL;
-    victim->last_used = h->clock;
-    victim->last_used_s = now_s;
-    return victim;
+    return e;
 }
 
 int cloud_history_entries_in_use(const struct cloud_history *h)
 {
-    int n = 0;
-    for (int i = 0; i < CLOUD_HISTORY_ENTRIES; i++)
-        n += h->entries[i].in_use;
-    return n;
+    return lru_slots_in_use(&kind, h->entries);
 }
 
 void cloud_history_destroy(struct vk_context *ctx, struct cloud_history *h)
 {
-    for (int i = 0; i < CLOUD_HISTORY_ENTRIES; i++)
-        entry_destroy(ctx, &h->entries[i]);
+    lru_slots_release_all(ctx, &kind, h->entries);
 }

@@ -1,5 +1,5 @@
-/* Per-view cloud histories for temporal reprojection: a small least-recently-used set keyed
- * by the view's history_key, size and trace block. Each entry owns its trace images (the
+/* Per-view cloud histories for temporal reprojection: a least-recently-used set keyed by the
+ * view's history_key, size and trace block. Each entry owns its trace images (the
  * block-resolution samples of one frame), two cloud-image-sized history pairs (colour with
  * opacity; depth and sample count) used alternately, and the resolved clouds' effect on the
  * final image (over the sky, over the ground). */
@@ -9,17 +9,22 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "lru_slots.h"
 #include "vk_resources.h"
 
 struct vk_context;
 
-#define CLOUD_HISTORY_ENTRIES 4
+/* Room for every view of a busy daemon (8 clients with 4 subscriptions each): a view that
+ * finds none free replaces the least recently used, and when more views than entries are
+ * rendered in turn, every frame of each creates its six images again and its clouds never
+ * converge. Idle entries hold no images, so the room costs nothing while unused. */
+#define CLOUD_HISTORY_ENTRIES 32
 /* An entry no view has used for this long is released: views come and go (a client's views,
  * snapshots), and an entry is up to six float images of its view's size. */
 #define CLOUD_HISTORY_IDLE_S 5.0
 
 struct cloud_history_entry {
-    bool in_use;
+    struct lru_slot use; /* first: the entry's place in lru_slots */
     uint64_t key;
     uint32_t width, height;
     int block;
@@ -29,8 +34,6 @@ struct cloud_history_entry {
     int latest;            /* index of the pair holding the last result */
     bool valid;            /* latest holds a frame of this view */
     uint32_t frame;        /* frames rendered into this history */
-    uint64_t last_used;
-    double last_used_s;    /* the `now_s` of its last acquisition */
     float prev_forward[4], prev_right[4], prev_up[4]; /* camera of the latest frame */
     double prev_wind[2];   /* wind displacement of the latest frame */
     uint32_t look;         /* the cloud renderer's parameter and map generations it shows */

@@ -12,6 +12,7 @@
 
 struct composite_variant {
     bool created;
+    unsigned bound_generation; /* the resources' generation its descriptors point at */
     struct compute_pass pass;
 };
 
@@ -19,6 +20,10 @@ struct composite_variants {
     struct composite_variant variant[COMPOSITE_VARIANT_COUNT];
     struct compute_resource resources[COMPOSITE_BINDING_COUNT];
     bool bound; /* resources holds something to bind */
+    /* Counts composite_variants_bind calls. A variant is pointed at new resources when next
+     * used, not at every call: a frame uses a few of the variants created so far, and the
+     * updates of the others were most of the daemon's allocations (heaptrack, soak). */
+    unsigned generation;
 };
 
 #define PARAMS VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
@@ -55,15 +60,24 @@ void composite_variants_destroy(struct vk_context *ctx, struct composite_variant
     *cvp = NULL;
 }
 
-void composite_variants_bind(struct vk_context *ctx, struct composite_variants *cv,
+void composite_variants_bind(struct composite_variants *cv,
                              const struct compute_resource *resources)
 {
     for (int i = 0; i < COMPOSITE_BINDING_COUNT; i++)
         cv->resources[i] = resources[i];
     cv->bound = true;
-    for (int i = 0; i < COMPOSITE_VARIANT_COUNT; i++)
-        if (cv->variant[i].created)
-            compute_pass_bind(ctx, &cv->variant[i].pass, cv->resources);
+    cv->generation++;
+}
+
+static const struct compute_pass *bound_pass(struct vk_context *ctx,
+                                             struct composite_variants *cv,
+                                             struct composite_variant *v)
+{
+    if (cv->bound && v->bound_generation != cv->generation) {
+        compute_pass_bind(ctx, &v->pass, cv->resources);
+        v->bound_generation = cv->generation;
+    }
+    return &v->pass;
 }
 
 const struct compute_pass *composite_variants_get(struct vk_context *ctx,
@@ -73,7 +87,7 @@ const struct compute_pass *composite_variants_get(struct vk_context *ctx,
     flags = normalized(flags);
     struct composite_variant *v = &cv->variant[flags];
     if (v->created)
-        return &v->pass;
+        return bound_pass(ctx, cv, v);
     bool linear = flags & COMPOSITE_LINEAR;
     /* 0-7 the shading bindings; 8-11 exposure, output, then the clouds' effect over the sky
      * and over the ground. */
@@ -97,7 +111,5 @@ const struct compute_pass *composite_variants_get(struct vk_context *ctx,
         return NULL;
     }
     v->created = true;
-    if (cv->bound)
-        compute_pass_bind(ctx, &v->pass, cv->resources);
-    return &v->pass;
+    return bound_pass(ctx, cv, v);
 }

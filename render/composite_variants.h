@@ -29,8 +29,8 @@ struct composite_variants *composite_variants_create(void);
 void composite_variants_destroy(struct vk_context *ctx, struct composite_variants **cv);
 
 /* Points every pipeline, those created later included, at `resources` (binding order of
- * composite.comp, COMPOSITE_BINDING_COUNT entries). */
-void composite_variants_bind(struct vk_context *ctx, struct composite_variants *cv,
+ * composite.comp, COMPOSITE_BINDING_COUNT entries), each when it is next got. */
+void composite_variants_bind(struct composite_variants *cv,
                              const struct compute_resource *resources);
 
 /* The pipeline for `flags` (combinations that change nothing share one), created and bound

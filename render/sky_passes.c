@@ -9,6 +9,7 @@
 #include "compute_pass.h"
 #include "gpu_timer.h"
 #include "night_stars.h"
+#include "view_outputs.h"
 #include "vk_check.h"
 #include "vk_context.h"
 #include "vk_resources.h"
@@ -74,9 +75,8 @@ struct sky_passes {
     double brightest_star_lux;
     struct gpu_buffer atmosphere_params, build_atmosphere_params, frame_params;
     struct gpu_buffer exposure, meter_partials;
-    struct gpu_image output;
-    enum sky_render_output_kind output_kind;
-    struct gpu_buffer readback;
+    struct view_outputs outputs;
+    struct view_output *out; /* the output image and readback buffer of the view being drawn */
     struct gpu_buffer probe_in, probe_out;
     size_t probe_capacity;
     struct sky_meter_push meter;
@@ -286,18 +286,18 @@ static void bind_aerial_perspective(struct vk_context *ctx, struct sky_passes *p
 
 /* The composite passes alone: the clouds they sample change from view to view, while the
  * passes recorded before them in a frame must keep their bindings. */
-static void bind_composite(struct vk_context *ctx, struct sky_passes *p)
+static void bind_composite(struct sky_passes *p)
 {
-    if (!p->output.image)
+    if (!p->out)
         return;
     struct compute_resource r[COMPOSITE_BINDING_COUNT] = {
         buf(&p->atmosphere_params), buf(&p->frame_params), tex(p, &p->transmittance),
         tex(p, &p->multiscattering), tex(p, &p->skyview), tex(p, &p->irradiance),
         buf(&p->stars), tex(p, &p->moon_skyview),
-        buf(&p->exposure), img(&p->output), tex(p, p->clouds.over_sky),
+        buf(&p->exposure), img(&p->out->image), tex(p, p->clouds.over_sky),
         tex(p, p->clouds.over_ground),
     };
-    composite_variants_bind(ctx, p->composite, r);
+    composite_variants_bind(p->composite, r);
 }
 
 /* Points every pass whose resources exist at them; called after any resource changes. */
@@ -345,7 +345,7 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     r[8] = buf(&p->meter_partials);
     bind_pair(ctx, p, PASS_METER, r);
     compute_pass_bind(ctx, &p->pass[PASS_METER_DAY], r);
-    bind_composite(ctx, p);
+    bind_composite(p);
     if (p->probe_in.buffer) {
         r[8] = buf(&p->probe_in);
         r[9] = buf(&p->probe_out);
@@ -431,8 +431,7 @@ void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **pp)
     if (!p)
         return;
     destroy_luts(ctx, p);
-    gpu_image_destroy(ctx, &p->output);
-    gpu_buffer_destroy(ctx, &p->readback);
+    view_outputs_destroy(ctx, &p->outputs);
     gpu_buffer_destroy(ctx, &p->probe_in);
     gpu_buffer_destroy(ctx, &p->probe_out);
     gpu_buffer_destroy(ctx, &p->atmosphere_params);
@@ -476,26 +475,17 @@ int sky_passes_resize_luts(struct vk_context *ctx, struct sky_passes *p,
 }
 
 int sky_passes_prepare_output(struct vk_context *ctx, struct sky_passes *p, uint32_t width,
-                              uint32_t height, enum sky_render_output_kind kind)
+                              uint32_t height, enum sky_render_output_kind kind, double now_s)
 {
-    VkFormat format = kind == SKY_RENDER_OUTPUT_LINEAR ? LUT_FORMAT : VK_FORMAT_R8G8B8A8_UNORM;
-    if (p->output.image && p->output.width == width && p->output.height == height &&
-        p->output.format == format)
-        return 0;
-    gpu_image_destroy(ctx, &p->output);
-    gpu_buffer_destroy(ctx, &p->readback);
-    VkDeviceSize texel = kind == SKY_RENDER_OUTPUT_LINEAR ? 16 : 4;
-    VK_CHECK_GOTO(gpu_image_create(ctx, format, width, height, 1, "output", &p->output), fail);
-    VK_CHECK_GOTO(gpu_buffer_create(ctx, (VkDeviceSize)width * height * texel,
-                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback", &p->readback),
-                  fail);
-    p->output_kind = kind;
-    bind_passes(ctx, p);
-    return 0;
-fail:
-    gpu_image_destroy(ctx, &p->output);
-    gpu_buffer_destroy(ctx, &p->readback);
-    return -1;
+    bool linear = kind == SKY_RENDER_OUTPUT_LINEAR, created;
+    struct view_output *out = view_outputs_acquire(ctx, &p->outputs, width, height,
+                                                   linear ? LUT_FORMAT : VK_FORMAT_R8G8B8A8_UNORM,
+                                                   linear ? 16 : 4, now_s, &created);
+    if (out != p->out || created) {
+        p->out = out;
+        bind_composite(p); /* the only passes that use the output */
+    }
+    return out ? 0 : -1;
 }
 
 int sky_passes_prepare_probe(struct vk_context *ctx, struct sky_passes *p, size_t count,
@@ -677,7 +667,7 @@ int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p,
     unsigned base = (job->kind == SKY_RENDER_OUTPUT_LINEAR ? COMPOSITE_LINEAR : 0) |
                     (job->clouds ? COMPOSITE_CLOUDS : 0);
     unsigned main_flags = base | (job->night_sky ? COMPOSITE_NIGHT_SKY : 0);
-    int32_t w = (int32_t)p->output.width, h = (int32_t)p->output.height;
+    int32_t w = (int32_t)p->out->image.width, h = (int32_t)p->out->image.height;
     bool ok = true;
     if (job->from_space) {
         const int32_t full[4] = { 0, 0, w, h };
@@ -710,7 +700,7 @@ int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p,
         gpu_timer_mark(timer, cmd, "moon_disk");
     }
     gpu_barrier_compute_to_transfer(cmd);
-    gpu_copy_image_to_buffer(cmd, &p->output, &p->readback);
+    gpu_copy_image_to_buffer(cmd, &p->out->image, &p->out->readback);
     gpu_barrier_to_host(cmd);
     gpu_timer_mark(timer, cmd, "readback");
     return ok ? 0 : -1;
@@ -726,7 +716,7 @@ void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct g
 
 void sky_passes_copy_output(const struct sky_passes *p, void *pixels, size_t bytes)
 {
-    memcpy(pixels, p->readback.mapped, bytes);
+    memcpy(pixels, p->out->readback.mapped, bytes);
 }
 
 void sky_passes_read_probe(const struct sky_passes *p, size_t count, double (*out)[3])
@@ -810,11 +800,10 @@ void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources 
     out->sampler = p->sampler;
 }
 
-void sky_passes_bind_clouds(struct vk_context *ctx, struct sky_passes *p,
-                            const struct sky_cloud_bindings *clouds)
+void sky_passes_bind_clouds(struct sky_passes *p, const struct sky_cloud_bindings *clouds)
 {
     if (memcmp(&p->clouds, clouds, sizeof *clouds) == 0)
         return;
     p->clouds = *clouds;
-    bind_composite(ctx, p);
+    bind_composite(p);
 }

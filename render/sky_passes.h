@@ -36,9 +36,11 @@ void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **passes);
 /* Recreates the LUT images at new sizes; -1 keeps the old ones (and their sizes). */
 int sky_passes_resize_luts(struct vk_context *ctx, struct sky_passes *p,
                            const struct sky_render_lut_sizes *sizes);
-/* (Re)creates the output image and readback buffer when the size or kind changes. */
+/* Points the passes at the output image and readback buffer for this size and kind, created
+ * when no view has used them in the last VIEW_OUTPUT_IDLE_S (view_outputs.h) before `now_s`
+ * (a monotonic clock in seconds). */
 int sky_passes_prepare_output(struct vk_context *ctx, struct sky_passes *p, uint32_t width,
-                              uint32_t height, enum sky_render_output_kind kind);
+                              uint32_t height, enum sky_render_output_kind kind, double now_s);
 /* Grows the probe buffers to `count` and copies the inputs in. */
 int sky_passes_prepare_probe(struct vk_context *ctx, struct sky_passes *p, size_t count,
                              const float (*in)[4]);
@@ -121,7 +123,6 @@ struct sky_pass_resources {
 };
 void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources *out);
 /* Points the composite at the clouds (rebinding only when they change). */
-void sky_passes_bind_clouds(struct vk_context *ctx, struct sky_passes *p,
-                            const struct sky_cloud_bindings *clouds);
+void sky_passes_bind_clouds(struct sky_passes *p, const struct sky_cloud_bindings *clouds);
 
 #endif

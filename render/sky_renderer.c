@@ -334,7 +334,8 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         fprintf(stderr, "skyd: render: output buffer too small for %ux%u\n", v->width, v->height);
         return -1;
     }
-    if (sky_passes_prepare_output(r->ctx, r->passes, v->width, v->height, v->output) != 0)
+    if (sky_passes_prepare_output(r->ctx, r->passes, v->width, v->height, v->output,
+                                  start * 1e-3) != 0)
         return -1;
     VkCommandBuffer cmd;
     bool from_space, rebuilt;
@@ -365,7 +366,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
         vk_context_submit_and_wait(r->ctx, &cmd);
         return -1;
     }
-    sky_passes_bind_clouds(r->ctx, r->passes, &clouds);
+    sky_passes_bind_clouds(r->passes, &clouds);
     bool night_visible = night_sky_visible(&r->night, v, sky_passes_brightest_star_lux(r->passes));
     if (v->auto_exposure)
         sky_passes_record_metering(r->passes, cmd, r->timer, v->width, v->height, from_space,

@@ -11,6 +11,7 @@
 #include "photometry.h"
 #include "sky_uniforms.h"
 #include "test_support.h"
+#include "view_outputs.h"
 #include "vk_context.h"
 #include "vk_resources.h"
 
@@ -118,7 +119,7 @@ static void test_cloud_history(struct vk_context *ctx)
     /* Key 1 was the least recently used: a new acquisition gets a new entry for it. */
     bool key1_kept = false;
     for (int i = 0; i < CLOUD_HISTORY_ENTRIES; i++)
-        key1_kept |= h.entries[i].in_use && h.entries[i].key == 1;
+        key1_kept |= h.entries[i].use.in_use && h.entries[i].key == 1;
     CHECK(!key1_kept);
     /* Only the last key goes on being rendered: the others go once idle for long enough. */
     uint64_t last = CLOUD_HISTORY_ENTRIES + 1;
@@ -133,6 +134,42 @@ static void test_cloud_history(struct vk_context *ctx)
     CHECK(cloud_history_entries_in_use(&h) == 0);
 }
 
+/* View outputs: one pair per size and format in use, so that views of different sizes
+ * rendered in turn keep theirs; least recently used among VIEW_OUTPUTS_MAX, released after
+ * VIEW_OUTPUT_IDLE_S unused. */
+static void test_view_outputs(struct vk_context *ctx)
+{
+    struct view_outputs o;
+    memset(&o, 0, sizeof o);
+    const VkFormat rgba8 = VK_FORMAT_R8G8B8A8_UNORM, linear = VK_FORMAT_R32G32B32A32_SFLOAT;
+    double t = 50.0;
+    bool created;
+    struct view_output *a = view_outputs_acquire(ctx, &o, 40, 20, rgba8, 4, t, &created);
+    CHECK(a != NULL && created && a->image.width == 40 && a->readback.size == 40 * 20 * 4);
+    struct view_output *b = view_outputs_acquire(ctx, &o, 24, 12, rgba8, 4, t, &created);
+    CHECK(b != NULL && b != a && created);
+    CHECK(view_outputs_acquire(ctx, &o, 40, 20, rgba8, 4, t + 1.0, &created) == a && !created);
+    CHECK(view_outputs_acquire(ctx, &o, 24, 12, rgba8, 4, t + 1.0, &created) == b && !created);
+    struct view_output *c = view_outputs_acquire(ctx, &o, 40, 20, linear, 16, t + 1.0, &created);
+    CHECK(c != NULL && c != a && created && c->readback.size == 40 * 20 * 16);
+    CHECK(view_outputs_in_use(&o) == 3);
+    /* More sizes than room: the least recently used (40x20 rgba8) makes way. */
+    for (uint32_t i = 0; i < VIEW_OUTPUTS_MAX - 2; i++)
+        CHECK(view_outputs_acquire(ctx, &o, 8 + i, 8, rgba8, 4, t + 2.0, &created) && created);
+    CHECK(view_outputs_in_use(&o) == VIEW_OUTPUTS_MAX);
+    bool kept = false;
+    for (int i = 0; i < VIEW_OUTPUTS_MAX; i++)
+        kept |= o.slot[i].use.in_use && o.slot[i].image.width == 40 &&
+                o.slot[i].image.format == rgba8;
+    CHECK(!kept);
+    /* Only one size goes on being drawn: the others go once idle for long enough. */
+    CHECK(view_outputs_acquire(ctx, &o, 24, 12, rgba8, 4, t + 2.5 + VIEW_OUTPUT_IDLE_S,
+                               &created) != NULL);
+    CHECK(view_outputs_in_use(&o) == 1);
+    view_outputs_destroy(ctx, &o);
+    CHECK(view_outputs_in_use(&o) == 0);
+}
+
 int main(void)
 {
     test_photometry();
@@ -144,6 +181,7 @@ int main(void)
     if (ctx) {
         test_shader_functions(ctx);
         test_cloud_history(ctx);
+        test_view_outputs(ctx);
         vk_context_destroy(&ctx);
     }
     CHECK(validation_messages == 0); /* counted through destruction */
