@@ -46,7 +46,7 @@ static const struct lru_slots_kind kind = {
 static VkResult image(struct vk_context *ctx, uint32_t w, uint32_t h, const char *name,
                       struct gpu_image *out)
 {
-    return gpu_image_create(ctx, FORMAT, w, h, 1, name, out);
+    return gpu_image_create_view_sized(ctx, FORMAT, w, h, name, out);
 }
 
 /* Fills `e`, a released slot. */

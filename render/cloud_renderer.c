@@ -525,11 +525,12 @@ static void cloud_ground_rows(const struct cloud_frame *f, uint32_t cloud_height
 }
 
 static void record_resolve_rows(VkCommandBuffer cmd, struct compute_pass *pass, uint32_t width,
-                                uint32_t first, uint32_t end)
+                                uint32_t height, uint32_t first, uint32_t end)
 {
     if (end <= first)
         return;
-    struct sky_cloud_rows_push push = { .row_offset = first };
+    struct sky_cloud_rows_push push = { .row_offset = first,
+                                        .size = { (float)width, (float)height } };
     const uint32_t size[3] = { width, end - first, 1 }, local[3] = { 8, 8, 1 };
     compute_pass_record(cmd, pass, &push, size, local);
 }
@@ -551,9 +552,9 @@ static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, Vk
     compute_pass_bind(ctx, &cr->pass[P_RESOLVE_GROUND], r);
     uint32_t w = e->over_sky.width, h = e->over_sky.height, ground[2] = { h, h };
     cloud_ground_rows(f, h, ground);
-    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, 0, ground[0]);
-    record_resolve_rows(cmd, &cr->pass[P_RESOLVE_GROUND], w, ground[0], ground[1]);
-    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, ground[1], h);
+    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, h, 0, ground[0]);
+    record_resolve_rows(cmd, &cr->pass[P_RESOLVE_GROUND], w, h, ground[0], ground[1]);
+    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, h, ground[1], h);
     gpu_timer_mark(timer, cmd, cr->pass[P_RESOLVE].name);
 }
 

@@ -188,11 +188,6 @@ static void destroy_luts(struct vk_context *ctx, struct sky_passes *p)
         gpu_image_destroy(ctx, images[i]);
 }
 
-static bool is_power_of_two(uint32_t n)
-{
-    return n != 0 && (n & (n - 1)) == 0;
-}
-
 /* llvmpipe compiles a shader variant for each combination of whether its bound images'
  * dimensions are powers of two, and keeps the code. A power-of-two side is made two texels
  * shorter (4 becomes 6), so that no LUT size the state can ask for compiles a pipeline again.
@@ -203,7 +198,7 @@ static bool is_power_of_two(uint32_t n)
 static uint32_t lut_extent(uint32_t requested)
 {
     uint32_t n = requested;
-    while (n >= 2 && is_power_of_two(n))
+    while (n >= 2 && gpu_is_power_of_two(n))
         n = n > 4 ? n - 2 : n + 2;
     return n;
 }
@@ -653,7 +648,11 @@ static bool record_region(struct vk_context *ctx, struct sky_passes *p, VkComman
     const struct compute_pass *pass = composite_variants_get(ctx, p->composite, flags);
     if (!pass)
         return false;
-    struct sky_region_push push = { .rect = { rect[0], rect[1], rect[2], rect[3] } };
+    const struct gpu_image *clouds = p->clouds.over_sky;
+    struct sky_region_push push = {
+        .rect = { rect[0], rect[1], rect[2], rect[3] },
+        .clouds = { clouds ? (float)clouds->width : 1.0f, clouds ? (float)clouds->height : 1.0f },
+    };
     const uint32_t size[3] = { (uint32_t)rect[2], (uint32_t)rect[3], 1 };
     const uint32_t local[3] = { COMPOSITE_LOCAL, COMPOSITE_LOCAL, 1 };
     compute_pass_record(cmd, pass, &push, size, local);

@@ -45,7 +45,8 @@ struct view_output *view_outputs_acquire(struct vk_context *ctx, struct view_out
     *created = false;
     if (found)
         return s;
-    VK_CHECK_GOTO(gpu_image_create(ctx, format, width, height, 1, "output", &s->image), fail);
+    VK_CHECK_GOTO(gpu_image_create_view_sized(ctx, format, width, height, "output", &s->image),
+                  fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, (VkDeviceSize)width * height * texel_bytes,
                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback", &s->readback),
                   fail);

@@ -28,9 +28,9 @@ static VkResult bind_new_memory(struct vk_context *ctx, VkMemoryRequirements req
     return vkAllocateMemory(ctx->device, &info, NULL, out);
 }
 
-VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t width,
-                          uint32_t height, uint32_t depth, const char *name,
-                          struct gpu_image *out)
+static VkResult image_create(struct vk_context *ctx, VkFormat format, uint32_t width,
+                             uint32_t height, uint32_t depth, uint32_t extent_width,
+                             uint32_t extent_height, const char *name, struct gpu_image *out)
 {
     memset(out, 0, sizeof *out);
     out->format = format;
@@ -42,7 +42,7 @@ VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t widt
         .sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO,
         .imageType = type,
         .format = format,
-        .extent = { width, height, out->depth },
+        .extent = { extent_width, extent_height, out->depth },
         .mipLevels = 1,
         .arrayLayers = 1,
         .samples = VK_SAMPLE_COUNT_1_BIT,
@@ -99,6 +99,33 @@ fail:
                             width, height, out->depth);
     gpu_image_destroy(ctx, out);
     return result;
+}
+
+VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t width,
+                          uint32_t height, uint32_t depth, const char *name,
+                          struct gpu_image *out)
+{
+    return image_create(ctx, format, width, height, depth, width, height, name, out);
+}
+
+bool gpu_is_power_of_two(uint32_t n)
+{
+    return n != 0 && (n & (n - 1)) == 0;
+}
+
+/* The smallest n' >= n that is not a power of two (n >= 1). */
+static uint32_t extent_not_power_of_two(uint32_t n)
+{
+    if (n <= 1)
+        return 3;
+    return gpu_is_power_of_two(n) ? n + 1 : n;
+}
+
+VkResult gpu_image_create_view_sized(struct vk_context *ctx, VkFormat format, uint32_t width,
+                                     uint32_t height, const char *name, struct gpu_image *out)
+{
+    return image_create(ctx, format, width, height, 1, extent_not_power_of_two(width),
+                        extent_not_power_of_two(height), name, out);
 }
 
 void gpu_image_destroy(struct vk_context *ctx, struct gpu_image *image)

@@ -10,6 +10,7 @@
 #ifndef SKYD_VK_RESOURCES_H
 #define SKYD_VK_RESOURCES_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <vulkan/vulkan.h>
@@ -21,7 +22,8 @@ struct gpu_image {
     VkDeviceMemory memory;
     VkImageView view;
     VkFormat format;
-    uint32_t width, height, depth; /* depth > 1 makes a 3D image */
+    uint32_t width, height, depth; /* depth > 1 makes a 3D image; gpu_image_create_view_sized's
+                                      extent may be larger */
 };
 
 struct gpu_buffer {
@@ -36,6 +38,16 @@ struct gpu_buffer {
 VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t width,
                           uint32_t height, uint32_t depth, const char *name,
                           struct gpu_image *out);
+/* A 2D image of a view's size (width x height texels used) whose extent is never a power of
+ * two: the smallest one at least as large. lavapipe compiles a variant of every compute
+ * pipeline for each combination of power-of-two-or-not sizes among the images it binds, so
+ * images whose size follows the views' would make each new view size a hitch of several
+ * compiles and grow the daemon by the code of each (up to 16 variants of a pass). Shaders read
+ * such images at their size, never their extent, and never sample the texels past it. */
+VkResult gpu_image_create_view_sized(struct vk_context *ctx, VkFormat format, uint32_t width,
+                                     uint32_t height, const char *name, struct gpu_image *out);
+/* Whether n is a power of two (lavapipe's variants above; LUT sides in sky_passes.c). */
+bool gpu_is_power_of_two(uint32_t n);
 void gpu_image_destroy(struct vk_context *ctx, struct gpu_image *image);
 
 VkResult gpu_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,

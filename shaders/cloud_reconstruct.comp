@@ -32,13 +32,15 @@ vec2 previous_uv(vec3 dir)
 void main()
 {
     frame = frame_block;
-    ivec2 size = imageSize(out_color);
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(px, size)))
+    if (any(greaterThanEqual(px, imageSize(out_color))))
         return;
+    // The images' sizes in use, not their extents (which may be larger); arithmetic only:
+    // lavapipe would compile a variant per value of a push constant that a branch depends on.
+    ivec2 size = view.target.xy;
     int block = view.frame.y;
-    ivec2 tsize = textureSize(trace_color, 0);
-    ivec2 tp = min(px / block, tsize - 1);
+    ivec2 tlast = (size + block - 1) / block - 1; // the trace's last texel in use
+    ivec2 tp = min(px / block, tlast);
     bool traced = all(equal(px - tp * block, view.frame.zw));
     vec4 current = texelFetch(trace_color, tp, 0);
     if (view.motion.w < 0.5) {
@@ -51,7 +53,7 @@ void main()
     vec4 lo = current, hi = current;
     for (int y = -1; y <= 1; y++)
         for (int x = -1; x <= 1; x++) {
-            vec4 s = texelFetch(trace_color, clamp(tp + ivec2(x, y), ivec2(0), tsize - 1), 0);
+            vec4 s = texelFetch(trace_color, clamp(tp + ivec2(x, y), ivec2(0), tlast), 0);
             lo = min(lo, s);
             hi = max(hi, s);
         }
@@ -80,11 +82,14 @@ void main()
         // frame's sparse samples, a block away, would flatten features thinner than a block.
         // As the history moves (camera turning, clouds drifting) the clamp takes over within
         // a pixel's motion; a traced pixel's history is always clamped.
-        vec4 history = textureLod(history_color, uv, 0.0);
+        // The history's texels past its size are never reached (clamp-to-edge at its size).
+        vec2 history_uv = min(uv * vec2(size), vec2(size) - 0.5)
+                          / vec2(textureSize(history_color, 0));
+        vec4 history = textureLod(history_color, history_uv, 0.0);
         float moved_px = length((uv - (vec2(px) + 0.5) / vec2(size)) * vec2(size));
         float rejection = traced ? 1.0 : clamp(moved_px, 0.0, 1.0);
         history = mix(history, clamp(history, lo, hi), rejection);
-        float history_samples = textureLod(history_aux, uv, 0.0).y;
+        float history_samples = textureLod(history_aux, history_uv, 0.0).y;
         if (traced) {
             samples = min(history_samples + 1.0, MAX_SAMPLES);
             result = mix(history, current, max(1.0 / samples, view.motion.z));

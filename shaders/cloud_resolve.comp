@@ -91,11 +91,12 @@ void main()
     atmo = atmo_block;
     frame = frame_block;
     cloud = cloud_block;
-    ivec2 size = imageSize(resolved_sky);
     ivec2 px = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, int(rows.row_offset));
-    if (any(greaterThanEqual(px, size)))
+    if (any(greaterThanEqual(px, imageSize(resolved_sky))))
         return;
-    vec2 uv = (vec2(px) + 0.5) / vec2(size);
+    // The size in use, not the extent (which may be larger); arithmetic only: lavapipe would
+    // compile a variant per value of a push constant that a branch depends on.
+    vec2 uv = (vec2(px) + 0.5) / rows.size.xy;
     vec4 c = texelFetch(cloud_color, px, 0);
     vec3 cam = frame.camera_position.xyz;
     // From space the march has done everything; until the shadow map exists, the clouds

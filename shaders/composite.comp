@@ -36,7 +36,11 @@ vec3 apply_clouds(ivec2 px, vec3 dir, vec3 L)
 {
     if (!CLOUDS)
         return L;
-    vec2 uv = (vec2(px) + 0.5) / frame.image.xy;
+    // Their texels past their size (up to their extent) are never reached: the last one in
+    // use stands for the edge, as clamp-to-edge would.
+    vec2 texels = region.clouds.xy;
+    vec2 uv = min((vec2(px) + 0.5) / frame.image.xy * texels, texels - 0.5)
+              / vec2(textureSize(clouds_over_sky, 0));
     vec4 c = textureLod(clouds_over_sky, uv, 0.0);
     if (GROUND && !FROM_SPACE && dir.z < frame.horizon.z)
         c = textureLod(clouds_over_ground, uv, 0.0);
@@ -47,7 +51,7 @@ void main()
 {
     atmo = atmo_block;
     frame = frame_block;
-    ivec2 size = imageSize(image_out);
+    ivec2 size = ivec2(frame.image.xy); // the image's extent may be larger
     // Lanes past the rectangle redo its last pixel rather than branch on the push constants:
     // lavapipe compiles a variant per value of a uniform that a branch depends on, which
     // recompiled the sun-disk pass whenever its rectangle moved.

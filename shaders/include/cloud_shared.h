@@ -44,6 +44,8 @@ struct sky_cloud_rows_push {
     SKY_UINT pad0;
     SKY_VEC4 params;       /* weather: x low coverage, y high coverage, z low type,
                               w precipitation */
+    SKY_VEC4 size;         /* resolve: xy the cloud image's size in texels (its extent may be
+                              larger: gpu_image_create_view_sized) */
 };
 
 /* Noise generation: one z slab of a volume per dispatch. */

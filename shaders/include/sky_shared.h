@@ -113,7 +113,9 @@ struct sky_probe_push {
 /* Per-dispatch constants of the composite: the pixel rectangle it covers (the whole image,
  * or the sun's bounding box for the sun-disk pass). */
 struct sky_region_push {
-    SKY_IVEC4 rect; /* x0, y0, width, height in pixels */
+    SKY_IVEC4 rect;   /* x0, y0, width, height in pixels */
+    SKY_VEC4 clouds;  /* xy the cloud images' size in texels (their extent may be larger:
+                         gpu_image_create_view_sized) */
 };
 
 /* A slice of rows of an atmosphere LUT: rebuilds are spread over frames (seed 001, 3.5.1). */
