@@ -9,7 +9,7 @@ Usage: /usr/bin/python3 tests/test_load.py PATH_TO_SKYD SCRATCH_DIR
    solo rate; the flood is answered in order, partly with rate_limited; the daemon's
    resident memory stays bounded while the non-readers' data piles up.
 3. 500 connects and disconnects in a row (half of them closing without a close frame): the
-   daemon still serves, and its memory is back near where it was.
+   daemon still serves, and its memory is back near where it was before them.
 
 Bounded loops and timeouts throughout; prints the figures and "N passed, M failed".
 """
@@ -138,7 +138,12 @@ async def run(skyd, scratch):
         for s in stuck:
             s.close()
 
-        # 3. Churn.
+        # 3. Churn, measured from where the memory is once the load has gone: under
+        # AddressSanitizer the allocator keeps what the 64 clients used (its RSS stays
+        # near the load's peak, about 30 MiB above the solo figure), so only this baseline
+        # isolates what the connections themselves leave behind.
+        await asyncio.sleep(1.0)
+        rss_before_churn = rss_kib(pid)
         t0 = time.monotonic()
         failures = 0
         for k in range(CHURN):
@@ -158,7 +163,7 @@ async def run(skyd, scratch):
         await asyncio.sleep(1.0)
         rss_after = rss_kib(pid)
         info(f"{CHURN} connects and disconnects in {churn_s:.1f} s, {failures} failed; daemon "
-             f"RSS {rss_before / 1024:.1f} -> {rss_after / 1024:.1f} MiB")
+             f"RSS {rss_before_churn / 1024:.1f} -> {rss_after / 1024:.1f} MiB")
         check("churn: every connection opened", failures == 0, f"{failures} failed")
         c = await Client.connect(url, "after-churn")
         try:
@@ -168,7 +173,8 @@ async def run(skyd, scratch):
         finally:
             await c.close()
         check("churn: memory back near where it was (< +32 MiB)",
-              rss_after < rss_before + 32 * 1024, f"{rss_before} -> {rss_after} KiB")
+              rss_after < rss_before_churn + 32 * 1024,
+              f"{rss_before_churn} -> {rss_after} KiB")
     finally:
         status = await d.terminate_async()
         check("daemon exits 0 after SIGTERM", status == 0, f"status {status}")

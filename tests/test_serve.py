@@ -434,6 +434,27 @@ def server_send_queue(server_port, client_port):
     return None
 
 
+async def steady_frame_rate(client, sub, requested_fps, label, window=3.0, windows=4):
+    """Frames per second client receives on sub: the best of up to `windows` windows, ending
+    early once one reaches 90 % of requested_fps.
+
+    One window can land on a transient that has nothing to do with what is measured (a map
+    build an earlier section started, the CI machine's other work: under the sanitizer one
+    3 s window once read 2.7 fps where the next read 4.0). A daemon that is really slow, or
+    that a non-reader really stalls, is slow in every window.
+    """
+    rates = []
+    for _ in range(windows):
+        n0, t0 = client.frame_count.get(sub, 0), time.monotonic()
+        await client.pump(window)
+        rates.append((client.frame_count.get(sub, 0) - n0) / (time.monotonic() - t0))
+        if rates[-1] >= 0.9 * requested_fps:
+            break
+    info(f"slow reader: {label}: fps per {window:.0f} s window "
+         + ", ".join(f"{r:.1f}" for r in rates))
+    return max(rates)
+
+
 async def t_slow_reader(d):
     """A subscriber that never reads must not slow another one down.
 
@@ -459,9 +480,7 @@ async def t_slow_reader(d):
         # A new subscription's clouds converge over its first frames, and map builds the
         # earlier sections started may still be finishing: measure the steady rate after.
         await reader.pump(2.0)
-        n0, t0 = reader.frame_count.get(sub, 0), time.monotonic()
-        await reader.pump(3.0)
-        alone = (reader.frame_count.get(sub, 0) - n0) / (time.monotonic() - t0)
+        alone = await steady_frame_rate(reader, sub, view["fps"], "alone")
 
         # The non-reader: a raw socket with a tiny receive buffer that never reads.
         raw = await asyncio.get_running_loop().run_in_executor(None, raw_ws_connect, d.port)
@@ -487,9 +506,7 @@ async def t_slow_reader(d):
              f"after {time.monotonic() - start:.1f} s")
         check("slow reader: the non-reader is backpressured (server send queue full and flat)",
               stalled, f"send queue {queued!r} bytes, still growing or connection gone")
-        n1, t1 = reader.frame_count.get(sub, 0), time.monotonic()
-        await reader.pump(3.0)
-        together = (reader.frame_count.get(sub, 0) - n1) / (time.monotonic() - t1)
+        together = await steady_frame_rate(reader, sub, view["fps"], "beside the non-reader")
         ratio = together / alone if alone > 0 else 0.0
         print(f"slow reader: reader alone {alone:.1f} fps, beside a client that never reads "
               f"{together:.1f} fps (ratio {ratio:.2f}; requested {view['fps']} fps)", flush=True)
