@@ -56,8 +56,9 @@ bench: build
 	@$(BUILD)/bench/skyd_bench $(BENCH_ARGS)
 
 # The daemon with validation on, clients attached and random valid changes for 30 simulated
-# minutes (about 3 real minutes): fails when its memory grows 5 % or more, on any validation
-# message or on any refused change. Not part of `make test`. SOAK_ARGS="--help" lists options.
+# minutes after a 10-minute warm-up (about 6 real minutes): fails when its memory grows 5 % or
+# more, on any validation message or on any refused change. Not part of `make test`.
+# SOAK_ARGS="--help" lists options.
 soak: build
 	@/usr/bin/python3 bench/soak.py --skyd $(BUILD)/skyd $(SOAK_ARGS)
 

@@ -35,9 +35,16 @@ is there because the renderer's working set is reached by combinations, not by s
 a composite pipeline (specialized by output kind, camera in space, sun in view, night, clouds,
 ground) is compiled at its first use, and which combinations a scene needs is drawn at random.
 With the baseline right after the single changes, runs of seeds 2 and 1 gave +4.5 % and
-+15.5 %. The warm-up does not settle everything: in some runs about 11 MiB of libLLVM's code
-is paged in once, at a time that varies from run to run, and when that falls after the
-baseline the run fails (docs/PERFORMANCE.md, "Soak: where the memory went").
++15.5 %.
+
+The daemon gets an empty Mesa shader cache of its own (MESA_SHADER_CACHE_DIR, in the scratch
+directory; --shader-cache DIR to give one). With the user's cache, most shader variants load
+from it and LLVM's optimizer and code generator are first used at the first variant the cache
+lacks, whenever the random changes happen to ask for one: about 11 MiB of libLLVM's code paged
+in and about 20 MiB more anonymous memory, once per process. After the baseline that failed
+runs at +13 %, and whether it did depended on what earlier runs had left in the cache. With an
+empty cache the first compile comes at start-up, as on a fresh machine (docs/PERFORMANCE.md,
+"Soak: where the memory went").
 
 Exit status 0 when RSS growth < --max-growth-percent (5), no validation message, no refused
 or unanswered request, no bad frame and the daemon alive and exiting 0 on SIGTERM; 1
@@ -575,11 +582,14 @@ class Controller:
         await self.c.send(msg)
         self.pending.append((kind, msg, expect))
 
-    async def collect(self):
+    async def match(self, reply):
+        """Judges `reply` as the answer to the oldest request in flight."""
         kind, msg, expect = self.pending.pop(0)
-        r = await self.c.reply(self.soak.args.reply_timeout)
-        if self.c.judge(kind, msg, r, expect) is None:
-            await dump_failure(self.soak, kind, msg, r)
+        if self.c.judge(kind, msg, reply, expect) is None:
+            await dump_failure(self.soak, kind, msg, reply)
+
+    async def collect(self):
+        await self.match(await self.c.reply(self.soak.args.reply_timeout))
 
     async def drain(self):
         while self.pending:
@@ -602,9 +612,7 @@ class Controller:
             if not self.pending:
                 self.soak.fail(f"controller: reply nobody asked for: {H.short(item[1])}")
                 continue
-            kind, msg, expect = self.pending.pop(0)
-            if self.c.judge(kind, msg, item[1], expect) is None:
-                await dump_failure(self.soak, kind, msg, item[1])
+            await self.match(item[1])
 
     async def set(self, flat, kind="set"):
         await self.send(kind, {"type": "set", "patch": nested(flat)})
@@ -737,6 +745,16 @@ class Controller:
               f"{parts.get('RssFile', 0) / 1024:.1f}, shmem {parts.get('RssShmem', 0) / 1024:.1f}"
               f" MiB)", flush=True)
 
+    async def random_changes(self, rng, done, deadline, late):
+        """Random changes at random intervals until done(); a failure, late(), when the
+        soak's elapsed real time passes `deadline` first."""
+        while not done():
+            if self.soak.elapsed() > deadline:
+                self.soak.fail(late())
+                return
+            await self.random_change(rng)
+            await self.wait(rng.expovariate(self.soak.args.changes_per_second))
+
     async def run(self):
         soak, args = self.soak, self.soak.args
         rng = random.Random(args.seed * 1000 + 1)
@@ -744,26 +762,20 @@ class Controller:
         await self.drain()
         soak.warm.add("controller")
         warm_until = args.warmup_minutes * 60
-        warm_deadline = args.warmup_minutes * 60 / args.time_scale * 2 + 300
-        while soak.sim_s < warm_until or len(soak.warm) < soak.warm_needed:
-            if soak.elapsed() > warm_deadline:
-                soak.fail(f"warm-up not done after {soak.elapsed():.0f} s: "
-                          f"{sorted(soak.warm)} of {soak.warm_needed}")
-                break
-            await self.random_change(rng)
-            await self.wait(rng.expovariate(args.changes_per_second))
+        await self.random_changes(
+            rng, lambda: soak.sim_s >= warm_until and len(soak.warm) >= soak.warm_needed,
+            warm_until / args.time_scale * 2 + 300,
+            lambda: f"warm-up not done after {soak.elapsed():.0f} s: "
+                    f"{sorted(soak.warm)} of {soak.warm_needed}")
         await self.go_home("baseline")
         soak.phase = "random"
         target = soak.sim_s + args.simulated_minutes * 60
         settle_sim = (args.settle_seconds + 5) * args.time_scale
         deadline = soak.elapsed() + args.expected_real_s * 2 + 120
-        while soak.sim_s < target - settle_sim:
-            if soak.elapsed() > deadline:
-                soak.fail(f"the simulated clock reached {soak.sim_s / 60:.1f} min of "
-                          f"{target / 60:.1f} in {soak.elapsed():.0f} s")
-                break
-            await self.random_change(rng)
-            await self.wait(rng.expovariate(args.changes_per_second))
+        await self.random_changes(
+            rng, lambda: soak.sim_s >= target - settle_sim, deadline,
+            lambda: f"the simulated clock reached {soak.sim_s / 60:.1f} min of "
+                    f"{target / 60:.1f} in {soak.elapsed():.0f} s")
         await self.go_home("end")
         while soak.sim_s < target and soak.elapsed() < deadline:
             await self.wait(0.5)
@@ -1056,6 +1068,8 @@ def parse_args():
                    "(such a run cannot pass)")
     p.add_argument("--uncapped", action="store_true",
                    help="draw LUT sizes and cloud step counts from their whole ranges")
+    p.add_argument("--shader-cache", help="Mesa shader cache directory for the daemon "
+                   "(default: a new empty one in the scratch directory)")
     p.add_argument("--scratch", help="state, config and log directory (default: a new one "
                    "under build/)")
     p.add_argument("--rss-csv", help="write the RSS samples (real s, simulated s, KiB, phase) "
@@ -1113,7 +1127,10 @@ def main():
                   "sky_bodies": "ephemeris"},
         "clouds": {"low": {"coverage": 0.35}, "high": {"coverage": 0.2}},
     }
-    soak.daemon = H.Daemon(args.skyd, args.scratch, "skyd", config)
+    shader_cache = args.shader_cache or os.path.join(args.scratch, "shader-cache")
+    os.makedirs(shader_cache, exist_ok=True)
+    soak.daemon = H.Daemon(args.skyd, args.scratch, "skyd", config,
+                           env={"MESA_SHADER_CACHE_DIR": os.path.abspath(shader_cache)})
     print(f"soak: {args.simulated_minutes:g} simulated minutes measured after a "
           f"{args.warmup_minutes:g}-minute warm-up, at time scale {args.time_scale:g} (about "
           f"{args.expected_real_s + args.warmup_minutes * 60 / args.time_scale:.0f} real s), "
