@@ -267,11 +267,29 @@ def run_checks(wd, daemon, out):
           (wd.text("#sim-clock") or "").startswith("2026-06-21 12:"),
           f"{clock_before} -> {wd.text('#sim-clock')}")
 
-    # Move the time of day from noon to 17:30 UTC: the server moves the sun.
+    # Move the time of day from noon to 17:30 UTC: the server moves the sun. First as while
+    # dragging (input events only): the throttled send must carry the slider's time, though
+    # the frames arriving before it fires show the running clock in the time field.
     revision_before = number(wd.text("#revision"))
     frame_revision_before = number(wd.text("#frame-revision"))
     wd.js("const s = document.getElementById('time-of-day'); s.focus(); s.value = '1050';"
-          "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));")
+          "s.dispatchEvent(new Event('input'));")
+    raised = wait_for("revision after the time change",
+                      lambda: (number(wd.text("#revision")) or 0) > (revision_before or 0))
+    check("time slider, while dragged, raises the state revision", raised,
+          f"before {revision_before}, after {wd.text('#revision')}")
+    dragged_revision = number(wd.text("#revision")) or 0
+    wait_for("a frame of the dragged time",
+             lambda: (number(wd.text("#frame-revision")) or 0) >= dragged_revision,
+             timeout=FRAME_TIMEOUT)
+    check("the time sent while dragging is the slider's (17:30)",
+          wait_for("time field at 17:30", lambda: (wd.js(
+              "return document.getElementById('time').value;") or "").startswith("17:30")),
+          wd.js("return document.getElementById('time').value;"))
+    # Then the release (change): the final value, sent at once.
+    revision_before = dragged_revision
+    wd.js("const s = document.getElementById('time-of-day');"
+          "s.dispatchEvent(new Event('change'));")
     raised = wait_for("revision after the time change",
                       lambda: (number(wd.text("#revision")) or 0) > (revision_before or 0))
     check("time control raises the state revision", raised,

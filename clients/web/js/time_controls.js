@@ -2,7 +2,8 @@
 // mode the daemon places the sun and moon, in manual mode they stay where the sliders put them).
 // The daemon's clock runs at clock.time_scale, so the simulated time shown here follows the
 // frame headers (and stats) live; a field being typed in or a slider being dragged is left
-// alone, and frames older than the last accepted set do not pull the fields back.
+// alone, and neither frames older than the last accepted set nor any arriving while a set is
+// on its way pull the fields back.
 
 import { clearErrors, showReplyError } from "./field_errors.js";
 
@@ -25,18 +26,24 @@ export class TimeControls {
     this.dragging = false;
     this.timer = null;
     this.minRevision = 0; // frames before the last accepted set show the old time
+    this.inFlight = 0; // sets sent and not yet answered
     this.date.addEventListener("change", () => this.send(this.composeFromInputs()));
     this.time.addEventListener("change", () => this.send(this.composeFromInputs()));
+    // The throttled and the final send both carry the slider's time, composed when it moved:
+    // the time field follows the running clock, so reading it when the timer fires could send
+    // the time a frame showed meanwhile instead of the one chosen.
     this.slider.addEventListener("input", () => {
       this.time.value = this.sliderTime();
       this.output.textContent = this.time.value.slice(0, 5);
+      this.pendingUtc = this.composeFromSlider();
       if (this.timer === null)
-        this.timer = setTimeout(() => { this.timer = null; this.send(this.composeFromInputs()); },
+        this.timer = setTimeout(() => { this.timer = null; this.send(this.pendingUtc); },
                                 THROTTLE_MS);
     });
     this.slider.addEventListener("change", () => {
+      this.cancelThrottled();
       this.time.value = this.sliderTime();
-      this.send(this.composeFromInputs());
+      this.send(this.composeFromSlider());
     });
     this.slider.addEventListener("pointerdown", () => { this.dragging = true; });
     this.slider.addEventListener("pointerup", () => { this.dragging = false; });
@@ -47,13 +54,29 @@ export class TimeControls {
     return `${pad(Math.floor(minutes / 60))}:${pad(minutes % 60)}:00`;
   }
 
+  composeFromSlider() {
+    return `${this.date.value}T${this.sliderTime()}Z`;
+  }
+
+  cancelThrottled() {
+    if (this.timer === null) return;
+    clearTimeout(this.timer);
+    this.timer = null;
+  }
+
   composeFromInputs() {
     const time = this.time.value.length === 5 ? `${this.time.value}:00` : this.time.value;
     return `${this.date.value}T${time}Z`;
   }
 
   async send(utc) {
-    const reply = await this.sendSet({ clock: { utc } });
+    this.inFlight++;
+    let reply;
+    try {
+      reply = await this.sendSet({ clock: { utc } });
+    } finally {
+      this.inFlight--;
+    }
     if (reply.type === "error") {
       showReplyError(reply, "clock.utc");
     } else {
@@ -64,12 +87,13 @@ export class TimeControls {
 
   // The simulated clock from a frame header (with its state revision) or stats (revision null).
   tick(unixSeconds, revision) {
-    if (!Number.isFinite(unixSeconds)) return;
+    if (!Number.isFinite(unixSeconds) || this.inFlight > 0) return;
     if (revision !== null && revision < this.minRevision) return;
     this.show(isoSeconds(unixSeconds));
   }
 
   update(state) {
+    if (this.inFlight > 0) return;
     if (state.clock && typeof state.clock.utc === "string") this.show(state.clock.utc);
   }
 

@@ -41,7 +41,12 @@ export class WorldControls {
         control.addEventListener("pointerdown", () => this.busy.add(control));
         control.addEventListener("pointerup", () => this.busy.delete(control));
       }
-      control.addEventListener("change", () => this.send(control));
+      // The change sends the final value; a throttled send still pending would repeat it
+      // after a state poll may have put the server's older value back in the control.
+      control.addEventListener("change", () => {
+        this.cancelThrottled(control);
+        this.send(control);
+      });
       control.setAttribute("aria-describedby", `${control.id}-hint`);
       const hint = document.createElement("span");
       hint.id = `${control.id}-hint`;
@@ -69,6 +74,12 @@ export class WorldControls {
       this.timers.delete(control);
       this.send(control);
     }, THROTTLE_MS));
+  }
+
+  cancelThrottled(control) {
+    if (!this.timers.has(control)) return;
+    clearTimeout(this.timers.get(control));
+    this.timers.delete(control);
   }
 
   async send(control) {
