@@ -187,6 +187,22 @@ def image_differs(a, b):
             or max(abs(x - y) for x, y in zip(a["rgb"], b["rgb"])) > 2.0)
 
 
+def time_field(wd):
+    return wd.js("return document.getElementById('time').value;") or ""
+
+
+def move_time_slider(wd, minutes, events, what):
+    """Puts the time-of-day slider at `minutes` and dispatches `events` on it; checks (as
+    `what`) that the state revision rises, and returns the new one."""
+    before = number(wd.text("#revision")) or 0
+    wd.js(f"const s = document.getElementById('time-of-day'); s.focus(); s.value = '{minutes}';"
+          + "".join(f"s.dispatchEvent(new Event('{e}'));" for e in events))
+    raised = wait_for("revision after the time change",
+                      lambda: (number(wd.text("#revision")) or 0) > before)
+    check(what, raised, f"before {before}, after {wd.text('#revision')}")
+    return number(wd.text("#revision")) or 0
+
+
 def run_checks(wd, daemon, out):
     port = daemon.port
     # Small frames (the page's size and fps query parameters) so that lavapipe and the
@@ -270,31 +286,18 @@ def run_checks(wd, daemon, out):
     # Move the time of day from noon to 17:30 UTC: the server moves the sun. First as while
     # dragging (input events only): the throttled send must carry the slider's time, though
     # the frames arriving before it fires show the running clock in the time field.
-    revision_before = number(wd.text("#revision"))
     frame_revision_before = number(wd.text("#frame-revision"))
-    wd.js("const s = document.getElementById('time-of-day'); s.focus(); s.value = '1050';"
-          "s.dispatchEvent(new Event('input'));")
-    raised = wait_for("revision after the time change",
-                      lambda: (number(wd.text("#revision")) or 0) > (revision_before or 0))
-    check("time slider, while dragged, raises the state revision", raised,
-          f"before {revision_before}, after {wd.text('#revision')}")
-    dragged_revision = number(wd.text("#revision")) or 0
+    dragged_revision = move_time_slider(wd, "1050", ["input"],
+                                        "time slider, while dragged, raises the state revision")
     wait_for("a frame of the dragged time",
              lambda: (number(wd.text("#frame-revision")) or 0) >= dragged_revision,
              timeout=FRAME_TIMEOUT)
     check("the time sent while dragging is the slider's (17:30)",
-          wait_for("time field at 17:30", lambda: (wd.js(
-              "return document.getElementById('time').value;") or "").startswith("17:30")),
-          wd.js("return document.getElementById('time').value;"))
+          wait_for("time field at 17:30", lambda: time_field(wd).startswith("17:30")),
+          time_field(wd))
     # Then the release (change): the final value, sent at once.
-    revision_before = dragged_revision
-    wd.js("const s = document.getElementById('time-of-day');"
-          "s.dispatchEvent(new Event('change'));")
-    raised = wait_for("revision after the time change",
-                      lambda: (number(wd.text("#revision")) or 0) > (revision_before or 0))
-    check("time control raises the state revision", raised,
-          f"before {revision_before}, after {wd.text('#revision')}")
-    new_revision = number(wd.text("#revision")) or 0
+    new_revision = move_time_slider(wd, "1050", ["change"],
+                                    "time control raises the state revision")
     shown = wait_for("a frame of the new revision",
                      lambda: (number(wd.text("#frame-revision")) or 0) >= new_revision,
                      timeout=FRAME_TIMEOUT)
@@ -307,9 +310,7 @@ def run_checks(wd, daemon, out):
           f"noon {json.dumps(first)}, 17:30 {json.dumps(after)}")
     check("the late-afternoon sky is darker than noon's", after["mean"] < first["mean"],
           f"noon mean {first['mean']:.1f}, 17:30 mean {after['mean']:.1f}")
-    check("time input shows 17:30", (wd.js("return document.getElementById('time').value;")
-                                    or "").startswith("17:30"),
-          wd.js("return document.getElementById('time').value;"))
+    check("time input shows 17:30", time_field(wd).startswith("17:30"), time_field(wd))
     wd.screenshot(os.path.join(out, "web-time-changed.png"))
 
     # An invalid latitude: the server's out_of_range appears next to the latitude field.
