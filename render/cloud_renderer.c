@@ -636,6 +636,7 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
     record_resolve(ctx, cr, cmd, timer, f, e);
     out->over_sky = &e->over_sky;
     out->over_ground = &e->over_ground;
+    out->over_filled = e->use.filled;
     return 0;
 }
 

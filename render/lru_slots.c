@@ -24,6 +24,7 @@ void *lru_slots_acquire(struct vk_context *ctx, const struct lru_slots_kind *kin
     if (!s) {
         s = victim;
         kind->release(ctx, s);
+        s->filled = *clock;
     }
     s->last_used = *clock;
     s->last_used_s = now_s;

@@ -15,6 +15,9 @@ struct lru_slot {
     bool in_use;
     uint64_t last_used; /* the set's clock at its last acquisition */
     double last_used_s; /* the `now_s` of its last acquisition */
+    /* The set's clock when the slot was last given out to fill: a new occupant at the same
+     * address has a new value, so that what was bound to the old one can tell. */
+    uint64_t filled;
 };
 
 struct lru_slots_kind {

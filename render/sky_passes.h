@@ -23,6 +23,9 @@ struct gpu_buffer;
 struct sky_cloud_bindings {
     /* The clouds' effect on each pixel (cloud_resolve.comp), over the sky and over the ground */
     const struct gpu_image *over_sky, *over_ground;
+    /* Their cloud history's occupant (lru_slot.filled): images made again at the same
+     * address change it, so that the composite is pointed at them again. */
+    uint64_t over_filled;
     const struct gpu_image *shadow;  /* cloud shadow map (r: transmittance toward the sun) */
     VkSampler shadow_sampler;        /* repeat addressing */
     const struct gpu_buffer *params; /* sky_cloud_uniforms */

@@ -125,10 +125,22 @@ static void test_cloud_history(struct vk_context *ctx)
     uint64_t last = CLOUD_HISTORY_ENTRIES + 1;
     CHECK(cloud_history_acquire(ctx, &h, last, 16, 8, 4, t + CLOUD_HISTORY_IDLE_S) != NULL);
     CHECK(cloud_history_entries_in_use(&h) == CLOUD_HISTORY_ENTRIES);
-    CHECK(cloud_history_acquire(ctx, &h, last, 16, 8, 4, t + 1.5 + CLOUD_HISTORY_IDLE_S) != NULL);
+    struct cloud_history_entry *kept =
+        cloud_history_acquire(ctx, &h, last, 16, 8, 4, t + 1.5 + CLOUD_HISTORY_IDLE_S);
+    CHECK(kept != NULL);
     CHECK(cloud_history_entries_in_use(&h) == 1);
+    /* A slot filled again (here the idle entry's images released and a new key's made) has
+     * a new `filled`: the composite knows the images by the entry's address, which a new
+     * entry may share with the one before it. */
+    uint64_t kept_filled = kept->use.filled;
+    struct cloud_history_entry *again =
+        cloud_history_acquire(ctx, &h, last + 1, 16, 8, 4, t + 3.0 + 2 * CLOUD_HISTORY_IDLE_S);
+    CHECK(again != NULL && again->key == last + 1 && again->use.filled != kept_filled);
+    CHECK(cloud_history_acquire(ctx, &h, last + 1, 16, 8, 4, t + 3.5 + 2 * CLOUD_HISTORY_IDLE_S)
+              ->use.filled == again->use.filled); /* found again: the same occupant */
     /* A new size for the same key is a new history. */
-    CHECK(cloud_history_acquire(ctx, &h, last, 32, 8, 4, t + 2.0 + CLOUD_HISTORY_IDLE_S) != NULL);
+    CHECK(cloud_history_acquire(ctx, &h, last + 1, 32, 8, 4, t + 4.0 + 2 * CLOUD_HISTORY_IDLE_S)
+          != NULL);
     CHECK(cloud_history_entries_in_use(&h) == 2);
     cloud_history_destroy(ctx, &h);
     CHECK(cloud_history_entries_in_use(&h) == 0);
