@@ -12,18 +12,18 @@
 
 struct composite_variant {
     bool created;
-    unsigned bound_generation; /* the resources' generation its descriptors point at */
+    uint64_t bound_generation; /* the resources' generation its descriptors point at */
     struct compute_pass pass;
 };
 
 struct composite_variants {
     struct composite_variant variant[COMPOSITE_VARIANT_COUNT];
     struct compute_resource resources[COMPOSITE_BINDING_COUNT];
-    bool bound; /* resources holds something to bind */
-    /* Counts composite_variants_bind calls. A variant is pointed at new resources when next
-     * used, not at every call: a frame uses a few of the variants created so far, and the
-     * updates of the others were most of the daemon's allocations (heaptrack, soak). */
-    unsigned generation;
+    /* Counts composite_variants_bind calls; 0: resources holds nothing to bind. A variant is
+     * pointed at new resources when next used, not at every call: a frame uses a few of the
+     * variants created so far, and the updates of the others were most of the daemon's
+     * allocations (heaptrack, soak). 64 bits: never wraps back to a variant's stamp. */
+    uint64_t generation;
 };
 
 #define PARAMS VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
@@ -65,7 +65,6 @@ void composite_variants_bind(struct composite_variants *cv,
 {
     for (int i = 0; i < COMPOSITE_BINDING_COUNT; i++)
         cv->resources[i] = resources[i];
-    cv->bound = true;
     cv->generation++;
 }
 
@@ -73,7 +72,7 @@ static const struct compute_pass *bound_pass(struct vk_context *ctx,
                                              struct composite_variants *cv,
                                              struct composite_variant *v)
 {
-    if (cv->bound && v->bound_generation != cv->generation) {
+    if (v->bound_generation != cv->generation) {
         compute_pass_bind(ctx, &v->pass, cv->resources);
         v->bound_generation = cv->generation;
     }
