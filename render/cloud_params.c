@@ -19,7 +19,7 @@ static const float type_shapes[CLOUD_PROFILE_COUNT][4] = {
 
 /* Cell size of each type's weather pattern, km (cloud_weather.comp). */
 static const double cell_km[4] = {
-    1.6,  /* cumulus clumps */
+    2.4,  /* cumulus clumps */
     12.0, /* cumulonimbus cells */
     1.6,  /* stratocumulus cells */
     15.0, /* stratus sheet variations */

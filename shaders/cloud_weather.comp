@@ -10,7 +10,7 @@
 // rising toward 1 in its core, where the cloud reaches its type's full height (the dome of a
 // cumulus, the tower of a cumulonimbus). Each cloud type has its own cell scale: stratus a
 // near-uniform sheet, stratocumulus closed cells about 1.5 km across with thin clear borders,
-// cumulus clumps of about 0.5-2 km, cumulonimbus towers about 8-12 km apart. A clump field is a
+// cumulus clumps of about 1-3 km, cumulonimbus towers about 8-12 km apart. A clump field is a
 // sum of octaves (fBm, Hurst exponent about 0.65, so that its level sets have outlines of
 // dimension about 1.35 as real clouds do: Lovejoy 1982), thresholded at the quantile that
 // leaves the asked coverage.
@@ -90,8 +90,8 @@ void main()
     vec4 w = type_weights(type);
     // Cumulus: clumps clustered by a field a few cells wide (cloud streets and clusters).
     float cluster = perlin01(x, max(1, cu_period / 6), 15u);
-    float cu_field = mix(clump_fbm(x, cu_period, 11u, 4, 0.5), cluster, 0.2);
-    float cu = footprint(cu_field, p.x, 0.5, 0.085, 0.1);
+    float cu_field = mix(clump_fbm(x, cu_period, 11u, 4, 0.65), cluster, 0.3);
+    float cu = footprint(cu_field, p.x, 0.5, 0.085, 0.06);
     // Cumulonimbus: few big cells whose cores are towers.
     float cb_field = mix(clump_fbm(x, cb_period, 21u, 4, 0.65), cluster, 0.15);
     float cb = footprint(cb_field, p.x, 0.5, 0.085, 0.22);

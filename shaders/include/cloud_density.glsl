@@ -44,13 +44,13 @@ float layer_fraction(float r, vec4 layer)
 
 // Where a cloud may be at height fraction h over a point of footprint f (Schneider 2017's
 // density-height gradient, made to follow the footprint): the column of a clump reaches
-// shape.x * sqrt(f (2 - f)), a quarter circle in f, so a clump whose footprint rises toward its
-// core is a dome on a flat base, a cumulonimbus core a tower; under the layer top the anvil spreads
+// shape.x * sqrt(1.6 f), so a clump whose footprint rises toward its core is a dome on a flat base
+// (near an ellipsoid's profile), a cumulonimbus core a tower; under the layer top the anvil spreads
 // over the whole footprint (f^0.3 widens it, Schneider 2017's anvil bias).
 float cloud_envelope(float h, float f, vec4 shape)
 {
-    float top = shape.x * sqrt(f * (2.0 - f));
-    float column = smoothstep(0.0, shape.y, h) * (1.0 - smoothstep(top * 0.7, top, h));
+    float top = shape.x * sqrt(min(f * 1.6, 1.0));
+    float column = smoothstep(0.0, shape.y, h) * (1.0 - smoothstep(top * 0.35, top, h));
     float anvil = shape.w * smoothstep(0.7, 0.8, h) * (1.0 - smoothstep(0.9, 0.98, h))
                   * pow(f, 0.3);
     return max(column, anvil);
@@ -140,10 +140,8 @@ bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out fl
         return t_ground < 0.0 && t1 > t0;
     }
     if (r <= r_out) {
-        // Inside the shell. A camera on its inner sphere (at the cloud base) meets that sphere
-        // at t = 0 on a level or rising ray: that is no exit.
         t0 = 0.0;
-        t1 = t_in_near > 1e-4 ? t_in_near : ray_sphere_far(o, d, r_out);
+        t1 = t_in_near >= 0.0 ? t_in_near : ray_sphere_far(o, d, r_out);
         return t1 > 0.0;
     }
     float t_out = ray_sphere_nearest(o, d, r_out);
