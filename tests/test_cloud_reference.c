@@ -36,29 +36,6 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* n-point Gauss-Legendre nodes and weights on (a, b). */
-static void gauss(int n, double a, double b, double *xs, double *ws)
-{
-    for (int i = 0; i < n; ++i) {
-        double z = cos(PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
-        for (int it = 0; it < 100; ++it) {
-            double p0 = 1.0, p1 = 0.0;
-            for (int k = 1; k <= n; ++k) {
-                double p2 = p1;
-                p1 = p0;
-                p0 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p2) / k;
-            }
-            dp = n * (z * p0 - p1) / (z * z - 1.0);
-            double dz = p0 / dp;
-            z -= dz;
-            if (fabs(dz) < 1e-15)
-                break;
-        }
-        xs[i] = 0.5 * (a + b) - 0.5 * (b - a) * z;
-        ws[i] = (b - a) / ((1.0 - z * z) * dp * dp);
-    }
-}
-
 /* Azimuth average of the phase at cos Theta = a + b cos(phi) (trapezoid, periodic). */
 static double phase_avg(const struct phase *ph, double a, double b)
 {
@@ -137,7 +114,7 @@ static void doubling(double tau, double omega, double mu0, const struct phase *p
                      struct da_result *o)
 {
     for (int b = 0; b < NB; ++b)
-        gauss(NG, (double)b / NB, (double)(b + 1) / NB, x + b * NG, c + b * NG);
+        cloud_gauss_legendre(NG, (double)b / NB, (double)(b + 1) / NB, x + b * NG, c + b * NG);
     x[NQ] = mu0, c[NQ] = 0.0;
     o->norm_error = 0.0;
     for (int i = 0; i < NN; ++i) {
@@ -206,7 +183,7 @@ static void h_solve(double omega)
 {
     static const double edges[7] = {0, 1e-4, 1e-3, 1e-2, 0.1, 0.5, 1};
     for (int p = 0; p < 6; ++p)
-        gauss(NH / 6, edges[p], edges[p + 1], hx + p * NH / 6, hw + p * NH / 6);
+        cloud_gauss_legendre(NH / 6, edges[p], edges[p + 1], hx + p * NH / 6, hw + p * NH / 6);
     double next[NH];
     for (int k = 0; k < NH; ++k)
         hv[k] = 1.0;
@@ -247,7 +224,7 @@ static double bin_average(int b, double (*rho)(double, const struct closed *),
 {
     double lo, hi, gx[8], gw[8], s = 0.0;
     cloud_mc_bin_edges(b, &lo, &hi);
-    gauss(8, lo, hi, gx, gw);
+    cloud_gauss_legendre(8, lo, hi, gx, gw);
     for (int k = 0; k < 8; ++k)
         s += gw[k] * 2.0 * gx[k] * rho(gx[k], f);
     return s / (hi * hi - lo * lo);
@@ -376,10 +353,12 @@ int main(void)
     }
 
     /* Doubling-adding against the tracer: isotropic, strongly forward, and the defaults. */
-    struct { double tau, omega, mu0; const struct phase *ph; const char *name; } cases[] = {{1, 1.0, 1.0, &iso, "isotropic tau 1 mu0 1"},
-                 {4, 0.9, 0.3, &iso, "isotropic tau 4 omega .9 mu0 .3"},
-                 {16, 1.0, 0.2, &forward, "g .8/-.5 w .2 tau 16 mu0 .2"},
-                 {8, albedo, 0.7, &cloud, "defaults tau 8 mu0 .7"}};
+    struct { double tau, omega, mu0; const struct phase *ph; const char *name; } cases[] = {
+        { 1, 1.0, 1.0, &iso, "isotropic tau 1 mu0 1" },
+        { 4, 0.9, 0.3, &iso, "isotropic tau 4 omega .9 mu0 .3" },
+        { 16, 1.0, 0.2, &forward, "g .8/-.5 w .2 tau 16 mu0 .2" },
+        { 8, albedo, 0.7, &cloud, "defaults tau 8 mu0 .7" },
+    };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         doubling(cases[k].tau, cases[k].omega, cases[k].mu0, cases[k].ph, &da);
         res = mc(cases[k].tau, cases[k].omega, cases[k].mu0, cases[k].ph, 100000, 40 + k);

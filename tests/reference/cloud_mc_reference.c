@@ -90,6 +90,28 @@ static double hg_sample(double g, double u)
     return c < -1.0 ? -1.0 : c > 1.0 ? 1.0 : c;
 }
 
+void cloud_gauss_legendre(int n, double lo, double hi, double *xs, double *ws)
+{
+    for (int i = 0; i < n; ++i) {
+        double z = cos(PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
+        for (int it = 0; it < 100; ++it) { /* Newton's method on the Legendre polynomial */
+            double p0 = 1.0, p1 = 0.0;
+            for (int k = 1; k <= n; ++k) {
+                double p2 = p1;
+                p1 = p0;
+                p0 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p2) / k;
+            }
+            dp = n * (z * p0 - p1) / (z * z - 1.0);
+            double dz = p0 / dp;
+            z -= dz;
+            if (fabs(dz) < 1e-15)
+                break;
+        }
+        xs[i] = 0.5 * (lo + hi) - 0.5 * (hi - lo) * z;
+        ws[i] = (hi - lo) / ((1.0 - z * z) * dp * dp);
+    }
+}
+
 void cloud_mc_bin_edges(int b, double *mu_lo, double *mu_hi)
 {
     *mu_lo = (double)b / CLOUD_MC_BINS;

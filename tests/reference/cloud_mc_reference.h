@@ -73,4 +73,8 @@ void cloud_mc_bin_edges(int b, double *mu_lo, double *mu_hi);
  * cosine c, as above; the tests use it for the single-scattering limit. */
 double cloud_mc_phase(double c, double g0, double g1, double w);
 
+/* n-point Gauss-Legendre nodes xs[] and weights ws[] on (lo, hi): the quadrature over outgoing
+ * cosines that the deck's references and the renderer's comparison share. */
+void cloud_gauss_legendre(int n, double lo, double hi, double *xs, double *ws);
+
 #endif
