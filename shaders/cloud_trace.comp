@@ -4,7 +4,8 @@
 // the frame index selects), ray-marched through the layers from a blue-noise jittered start, then
 // aerial perspective applied at the transmittance-weighted depth (seed 001 eq. 21), read from
 // the view's froxel volume as the sky's own is (Hillaire 2020 5.4).
-// Writes premultiplied cloud luminance with opacity (1 - transmittance), and the depth.
+// Writes premultiplied cloud luminance with opacity (1 - transmittance), and the depth with the
+// transmittance and the opacity-weighted depth (which the reconstruction interpolates).
 #include "cloud_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -66,5 +67,5 @@ void main()
         L = L * transmittance + opacity * inscatter * frame.sun_illuminance.xyz;
     }
     imageStore(trace_color, tp, vec4(L, opacity));
-    imageStore(trace_depth, tp, vec4(c.depth, c.transmittance, 0.0, 0.0));
+    imageStore(trace_depth, tp, vec4(c.depth, c.transmittance, opacity * c.depth, 0.0));
 }

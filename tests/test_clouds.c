@@ -39,22 +39,11 @@ static void cloudy_state(struct sky_world_state *s)
 /* Renders linear luminance (cd/m2), or sRGB bytes when `srgb` is not NULL. */
 static void render(const struct sky_world_state *s, uint64_t key, float *linear, uint8_t *srgb)
 {
-    struct sky_render_atmosphere atm;
-    struct sky_render_view view;
-    struct sky_render_clouds clouds;
-    world_to_render_atmosphere(s, &atm);
-    world_to_render_view(s, W, H, srgb ? SKY_RENDER_OUTPUT_SRGB8 : SKY_RENDER_OUTPUT_LINEAR,
-                         &view);
-    view.history_key = key;
-    view.live = live_views;
-    world_to_render_clouds(s, &clouds);
-    CHECK(sky_renderer_set_clouds(renderer, &clouds) == 0);
-    struct sky_render_night night;
-    world_to_render_night(s, &night);
-    sky_renderer_set_night(renderer, &night);
     void *out = srgb ? (void *)srgb : (void *)linear;
     size_t bytes = (size_t)W * H * (srgb ? 4 : 16);
-    CHECK(sky_renderer_render(renderer, &atm, &view, out, bytes, NULL) == 0);
+    CHECK(test_render_world(renderer, s, W, H,
+                            srgb ? SKY_RENDER_OUTPUT_SRGB8 : SKY_RENDER_OUTPUT_LINEAR, key,
+                            live_views, out, bytes) == 0);
 }
 
 static double luminance(const float *px)

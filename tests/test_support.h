@@ -33,4 +33,28 @@ static inline void test_earth_atmosphere(struct sky_render_atmosphere *out)
     world_to_render_atmosphere(&state, out);
 }
 
+/* Renders the world state `s` as the daemon does (atmosphere, clouds, night, view) at w x h
+ * into `out` (`bytes` long) with the view's history `key`; `live` asks for a stream's frames
+ * (see sky_render_view.live). Returns sky_renderer_render's result. */
+static inline int test_render_world(struct sky_renderer *renderer,
+                                    const struct sky_world_state *s, uint32_t w, uint32_t h,
+                                    enum sky_render_output_kind output, uint64_t key, bool live,
+                                    void *out, size_t bytes)
+{
+    struct sky_render_atmosphere atm;
+    struct sky_render_view view;
+    struct sky_render_clouds clouds;
+    struct sky_render_night night;
+    world_to_render_atmosphere(s, &atm);
+    world_to_render_view(s, w, h, output, &view);
+    view.history_key = key;
+    view.live = live;
+    world_to_render_clouds(s, &clouds);
+    if (sky_renderer_set_clouds(renderer, &clouds) != 0)
+        return -1;
+    world_to_render_night(s, &night);
+    sky_renderer_set_night(renderer, &night);
+    return sky_renderer_render(renderer, &atm, &view, out, bytes, NULL);
+}
+
 #endif
