@@ -124,8 +124,10 @@ bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out fl
         return t_ground < 0.0 && t1 > t0;
     }
     if (r <= r_out) {
+        // Inside the shell. A camera on its inner sphere (at the cloud base) meets that sphere
+        // at t = 0 on a level or rising ray: that is no exit.
         t0 = 0.0;
-        t1 = t_in_near >= 0.0 ? t_in_near : ray_sphere_far(o, d, r_out);
+        t1 = t_in_near > 1e-4 ? t_in_near : ray_sphere_far(o, d, r_out);
         return t1 > 0.0;
     }
     float t_out = ray_sphere_nearest(o, d, r_out);

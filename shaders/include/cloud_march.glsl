@@ -8,7 +8,13 @@
 #ifndef CLOUD_MARCH_GLSL
 #define CLOUD_MARCH_GLSL
 
-const float LIGHT_MARCH_KM = 2.4;   // reach of the secondary march toward the sun
+// Reach of the secondary march toward the sun: 2.4 km, or most of a thicker layer's depth
+// (the core of a cumulonimbus is dark however far the sun's ray has to go).
+float light_march_km(bool low_layer)
+{
+    float thickness = low_layer ? cloud.low.y - cloud.low.x : cloud.high.y - cloud.high.x;
+    return clamp(0.6 * thickness, 2.4, 8.0);
+}
 const float EARLY_EXIT_T = 0.01;
 
 struct CloudResult {
@@ -31,12 +37,12 @@ float dual_lobe_phase(float cos_theta, float g0, float g1, float w)
     return p0 + w * (hg_phase(cos_theta, g1) - p0);
 }
 
-// Optical depth toward the sun over LIGHT_MARCH_KM in light_steps samples, each step twice the
+// Optical depth toward the sun over light_march_km() in light_steps samples, each step twice the
 // previous one (seed 001 5.5.2), on the coarse shape of the sample's own layer.
 float light_optical_depth(vec3 p, vec3 sun_dir, float jitter, bool low_layer)
 {
     float steps = cloud.octaves.w;
-    float ds = LIGHT_MARCH_KM / (exp2(steps) - 1.0);
+    float ds = light_march_km(low_layer) / (exp2(steps) - 1.0);
     float t = 0.0, tau = 0.0;
     for (float i = 0.0; i < steps; i += 1.0) {
         tau += cloud_layer_extinction(p + sun_dir * (t + jitter * ds), false, low_layer) * ds;
@@ -127,6 +133,7 @@ CloudAmbient cloud_ambient(vec3 sun_dir)
 // Empty-space skipping: after EMPTY_RUN empty fine samples the march probes the coarse shape
 // SKIP_FACTOR steps at a time; on a hit it backs up one probe and marches finely again.
 const float SKIP_FACTOR = 3.0;
+const float MARCH_LOD = 0.02; // longest primary step per km of distance
 const int EMPTY_RUN = 3;
 
 // low_layer: which layer's density the segment marches (a constant at every call).
@@ -135,7 +142,13 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
                          CloudAmbient amb, bool low_layer, inout CloudResult res,
                          inout vec2 depth_sum)
 {
-    float ds = (t1 - t0) / steps;
+    // Steps of (t1 - t0) / steps as before, but no longer than 2 % of the distance (a few
+    // pixels' width) once past the layer's thickness / steps: a ray that grazes the layer
+    // from inside it crosses 80 km of shell, and even steps of 1.25 km cut the clouds near
+    // the camera into slices.
+    float thickness = low_layer ? cloud.low.y - cloud.low.x : cloud.high.y - cloud.high.x;
+    float ds_far = (t1 - t0) / steps, ds_near = min(ds_far, thickness / steps);
+    float ds = clamp(MARCH_LOD * t0, ds_near, ds_far);
     vec3 sun_top = frame.sun_illuminance.xyz;
     // Sunlight through the atmosphere at the segment's middle: its colour barely changes
     // across one layer.
@@ -148,6 +161,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     float tau_moon = 0.0;
     float albedo = cloud.media.x * (1.0 - 0.5 * cloud.media.y);
     float t = t0 + jitter * ds;
+    float t_fine = t; // the last fine sample: the skip never backs up behind it
     int empty = EMPTY_RUN;
     bool skipped = false; // the last probe stepped over empty space
     float tau = 0.0;
@@ -155,6 +169,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     for (float i = 0.0; i < 2.0 * steps && t < t1; i += 1.0) {
         if (res.transmittance < EARLY_EXIT_T)
             break;
+        ds = clamp(MARCH_LOD * t, ds_near, ds_far);
         vec3 p = o + t * d;
         if (empty >= EMPTY_RUN) {
             // Probing: the coarse shape only, big steps.
@@ -166,11 +181,12 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
             empty = 0;
             // Back over the skipped stretch, never behind the last fine sample.
             if (skipped)
-                t = max(t0 + jitter * ds, t - (SKIP_FACTOR - 1.0) * ds);
+                t = max(t_fine, t - (SKIP_FACTOR - 1.0) * ds);
             skipped = false;
             p = o + t * d;
         }
         float sigma_t = cloud_layer_extinction(p, true, low_layer);
+        t_fine = t;
         if (sigma_t <= 0.0) {
             empty++;
             t += ds;
@@ -235,6 +251,11 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
         march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, moon_phases, amb,
                             false, res, depth_sum);
     res.depth = depth_sum.y > 0.0 ? depth_sum.x / depth_sum.y : 0.0;
+    // A march that stopped early went through an optical depth of 4.6 or more: nothing is
+    // seen through it, the sun's disk included (1 % of a disk of 1e9 cd/m2 would still
+    // outshine the cloud a thousandfold).
+    if (res.transmittance < EARLY_EXIT_T)
+        res.transmittance = 0.0;
     return res;
 }
 
