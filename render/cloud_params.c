@@ -5,14 +5,24 @@
 
 #define V4(x_, y_, z_, w_) ((sky_vec4){ (float)(x_), (float)(y_), (float)(z_), (float)(w_) })
 
-/* Height profiles over the layer's height fraction h: smoothstep(b0, b1, h) *
- * (1 - smoothstep(t0, t1, h)). Stratus hug the base; cumulonimbus fill the whole layer
- * (after Schneider 2015's gradients, stretched to this project's layer thickness). */
-static const float profiles[CLOUD_PROFILE_COUNT][4] = {
-    { 0.00f, 0.08f, 0.15f, 0.30f }, /* stratus */
-    { 0.00f, 0.12f, 0.30f, 0.50f }, /* stratocumulus */
-    { 0.00f, 0.10f, 0.45f, 0.80f }, /* cumulus */
-    { 0.00f, 0.06f, 0.80f, 1.00f }, /* cumulonimbus */
+/* Cloud-type shapes over the layer's height fraction (after Schneider 2015/2017's density
+ * gradients per type): the height a core reaches, the base's rounding, the detail erosion, the
+ * anvil. Stratus are thin flat sheets; stratocumulus reach half the layer; cumulus domes most
+ * of it (humilis at lower types, congestus toward cumulonimbus); cumulonimbus towers fill it
+ * and spread into an anvil under its top. */
+static const float type_shapes[CLOUD_PROFILE_COUNT][4] = {
+    { 0.30f, 0.10f, 0.20f, 0.0f }, /* stratus */
+    { 0.50f, 0.08f, 0.30f, 0.0f }, /* stratocumulus */
+    { 0.95f, 0.04f, 0.40f, 0.0f }, /* cumulus */
+    { 1.00f, 0.03f, 0.35f, 1.0f }, /* cumulonimbus */
+};
+
+/* Cell size of each type's weather pattern, km (cloud_weather.comp). */
+static const double cell_km[4] = {
+    1.6,  /* cumulus clumps */
+    12.0, /* cumulonimbus cells */
+    1.6,  /* stratocumulus cells */
+    15.0, /* stratus sheet variations */
 };
 
 /* Longest distance marched through one layer (grazing rays would otherwise take the whole
@@ -23,6 +33,14 @@ bool cloud_params_any_layer(const struct sky_render_clouds *c)
 {
     return c->use_client_map || (c->low.coverage > 0.0 && c->low.density > 0.0) ||
            (c->high.coverage > 0.0 && c->high.density > 0.0);
+}
+
+void cloud_params_weather_periods(const struct sky_render_clouds *c, float periods[4])
+{
+    double extent = c->map_extent_km > 0.0 ? c->map_extent_km : 60.0;
+    for (int i = 0; i < 4; i++)
+        /* At most 64 cells over the 512 texels of the map: 8 texels a cell at least. */
+        periods[i] = (float)fmin(64.0, fmax(1.0, round(extent / cell_km[i])));
 }
 
 int cloud_params_block(enum sky_render_cloud_resolution resolution)
@@ -66,6 +84,9 @@ void cloud_params_fill(const struct sky_render_clouds *c, double R, struct sky_c
     u->weather = V4(east, north, 1.0 / extent, extent);
     u->march = V4(c->primary_steps, LONGEST_MARCH_KM, cloud_params_any_layer(c) ? 1 : 0, 0);
     for (int i = 0; i < CLOUD_PROFILE_COUNT; i++)
-        u->profiles[i] = V4(profiles[i][0], profiles[i][1], profiles[i][2], profiles[i][3]);
-    u->tiles = V4(tile_km(extent, 9.0), tile_km(extent, 1.1), tile_km(extent, 24.0), 0);
+        u->profiles[i] = V4(type_shapes[i][0], type_shapes[i][1], type_shapes[i][2],
+                            type_shapes[i][3]);
+    /* Base noise billows of about a kilometre (the size of a fair-weather cumulus), detail of
+     * tens of metres, curl distortion over a few kilometres. */
+    u->tiles = V4(tile_km(extent, 5.0), tile_km(extent, 0.8), tile_km(extent, 12.0), 0);
 }

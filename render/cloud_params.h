@@ -16,6 +16,10 @@ bool cloud_params_any_layer(const struct sky_render_clouds *c);
 void cloud_params_fill(const struct sky_render_clouds *c, double bottom_radius_km,
                        struct sky_cloud_uniforms *u);
 
+/* Cells across the weather map for each cloud type's pattern (cloud_weather.comp): cumulus,
+ * cumulonimbus, stratocumulus, stratus; whole numbers so that the map tiles. */
+void cloud_params_weather_periods(const struct sky_render_clouds *c, float periods[4]);
+
 /* Trace block size of a resolution: 1, 2 or 4 pixels of the cloud image per side. */
 int cloud_params_block(enum sky_render_cloud_resolution resolution);
 

@@ -24,8 +24,8 @@
 /* Share of the last frame's GPU time that weather and shadow map builds may take. */
 #define RELATIVE_MAP_BUDGET 0.1
 #define FLOAT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
-#define WEATHER_SIZE 256
-#define SHADOW_SIZE 256
+#define WEATHER_SIZE 512
+#define SHADOW_SIZE 384
 /* The shadow map follows the sun once it has moved this far (radians, about 0.3 degree). */
 #define SHADOW_SUN_TOLERANCE 5e-3
 /* Starting guesses of GPU ms per row on lavapipe; measured times replace them. */
@@ -45,7 +45,9 @@ struct cloud_map {
 /* What the weather map is built from. */
 struct weather_key {
     float params[4];
-    uint32_t seed, mode, client_generation, pad;
+    float periods[4]; /* cells across the map per cloud type (cloud_weather.comp) */
+    uint32_t seed, mode, client_generation;
+    uint32_t high_fibrous; /* the high layer's type in thousandths */
 };
 
 /* What the shadow map is built from, besides the sun. */
@@ -169,7 +171,7 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
     VK_CHECK_GOTO(gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_REPEAT, &cr->repeat),
                   fail);
     if (cloud_noise_create(ctx, &cr->noise) != 0 ||
-        map_create(ctx, &cr->weather, VK_FORMAT_R8G8B8A8_UNORM, WEATHER_SIZE, "cloud_weather",
+        map_create(ctx, &cr->weather, FLOAT_FORMAT, WEATHER_SIZE, "cloud_weather",
                    INITIAL_MS_PER_WEATHER_ROW) != 0 ||
         map_create(ctx, &cr->shadow, FLOAT_FORMAT, SHADOW_SIZE, "cloud_shadow",
                    INITIAL_MS_PER_SHADOW_ROW) != 0)
@@ -360,7 +362,9 @@ static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr,
         .seed = c->weather_seed,
         .mode = client ? 1u : 0u,
         .client_generation = client ? cr->client_generation : 0u,
+        .high_fibrous = (uint32_t)lround(fmin(fmax(c->high.type, 0.0), 1.0) * 1000.0),
     };
+    cloud_params_weather_periods(c, key.periods);
     /* A build runs to the end with the inputs it started from, and the next one starts from the
      * newest inputs: parameters that change every tick (a weather transition) would otherwise
      * restart it for ever. The shown map stays until a build completes. */
@@ -380,7 +384,9 @@ static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr,
     struct sky_cloud_rows_push push = {
         .mode = build->mode,
         .seed = build->seed,
+        .high_fibrous = build->high_fibrous,
         .params = { build->params[0], build->params[1], build->params[2], build->params[3] },
+        .size = { build->periods[0], build->periods[1], build->periods[2], build->periods[3] },
     };
     map_record(cr, &cr->weather, cmd, timer, &cr->pass[P_WEATHER], &push, budget);
 }

@@ -1,35 +1,130 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Weather map (seed 001 5.3): r low-layer coverage, g high-layer coverage, b low-layer cloud
-// type, a precipitation; tileable over weather.map_extent_km (the wind shifts the lookup, not
-// the map). Procedural from the layer parameters and the weather seed, or resampled from a
-// client's map. Written a slice of rows per dispatch so rebuilds spread over frames.
+// Weather map (seed 001 5.3; Schneider 2015/2017): r low-layer footprint, g high-layer
+// coverage, b low-layer cloud type, a precipitation; tileable over weather.map_extent_km (the
+// wind shifts the lookup, not the map). Procedural from the layer parameters and the weather
+// seed, or resampled from a client's map. Written a slice of rows per dispatch so rebuilds
+// spread over frames.
+//
+// The footprint is what cloud_density.glsl builds a cloud's column from: 0 outside a cloud,
+// rising toward 1 in its core, where the cloud reaches its type's full height (the dome of a
+// cumulus, the tower of a cumulonimbus). Each cloud type has its own pattern and cell scale
+// (render/cloud_params.c): stratus a near-uniform sheet, stratocumulus closed cells with thin
+// clear borders, cumulus clumps of about 0.5-2 km, cumulonimbus towers about 10 km apart. A
+// clump field is a sum of octaves of gradient noise (fBm, Hurst exponent about 0.5, so that its
+// level sets have outlines of dimension about 1.35 as real clouds do: Lovejoy 1982) with round
+// maxima (so cores are domes, not cones), thresholded at the quantile that leaves the asked
+// coverage. Only the types present at a texel are evaluated.
 #include "cloud_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0) uniform sampler2D client_map;
-layout(binding = 1, rgba8) uniform writeonly image2D weather_out;
+layout(binding = 1, rgba32f) uniform writeonly image2D weather_out;
 layout(push_constant) uniform RowsPush { sky_cloud_rows_push push; };
 
 #define noise_seed push.seed
 #include "cloud_noise_lib.glsl"
 
-float fbm2(vec2 x, int period, uint salt)
+// Cells across the map per cloud type (render/cloud_renderer.c: whole numbers, so the map
+// tiles, chosen from the extent): x cumulus, y cumulonimbus, z stratocumulus, w stratus.
+#define PERIODS push.size
+
+// Deviation of one octave of gradient2() over the plane, and the mean and deviation of
+// worley2() (measured over 3 seeds x 1024^2 texels).
+const float OCTAVE_SIGMA = 0.2144;
+const float WORLEY_MEAN = 0.5706, WORLEY_SIGMA = 0.1893;
+
+vec2 hash2(ivec2 cell, uint salt)
 {
-    return perlin_fbm(vec3(x, 0.37), period, salt);
+    uvec4 k = uvec4(uvec2(cell), noise_seed * 7919u + salt, 0u);
+    return vec2(hash(k), hash(k + uvec4(0u, 0u, 0u, 101u))) / 4294967295.0;
 }
 
-const float FIELD_SIGMA = 0.11;
+// Periodic 2D gradient (Perlin) noise, mean 0, with `period` cells across the unit square
+// (x and y may differ: a stretched pattern still tiles).
+float gradient2(vec2 x, ivec2 period, uint salt)
+{
+    vec2 p = x * vec2(period);
+    ivec2 cell = ivec2(floor(p));
+    vec2 f = p - vec2(cell);
+    vec2 u = f * f * f * (f * (f * 6.0 - 15.0) + 10.0);
+    float c[4];
+    for (int n = 0; n < 4; n++) {
+        ivec2 o = ivec2(n & 1, n >> 1);
+        ivec2 wrapped = (((cell + o) % period) + period) % period;
+        vec2 g = normalize(hash2(wrapped, salt) * 2.0 - 1.0 + 1e-4);
+        c[n] = dot(g, f - vec2(o));
+    }
+    return mix(mix(c[0], c[1], u.x), mix(c[2], c[3], u.x), u.y);
+}
 
-float clump(float field, float coverage)
+// Inverted 2D cellular (Worley) noise: 1 at a cell's feature point, falling with distance.
+float worley2(vec2 x, int period, uint salt)
+{
+    vec2 p = x * float(period);
+    ivec2 cell = ivec2(floor(p));
+    float best = 1e9;
+    for (int j = -1; j <= 1; j++)
+        for (int i = -1; i <= 1; i++) {
+            ivec2 c = cell + ivec2(i, j);
+            vec2 delta = vec2(c) + hash2(((c % period) + period) % period, salt) - p;
+            best = min(best, dot(delta, delta));
+        }
+    return 1.0 - clamp(sqrt(best), 0.0, 1.0);
+}
+
+// fBm of `octaves` octaves of gradient2 starting at `period` cells, amplitudes falling by
+// 2^-hurst per octave, in units of its own deviation (mean 0, deviation about 1).
+float fbm2(vec2 x, ivec2 period, uint salt, int octaves, float hurst)
+{
+    float sum = 0.0, power = 0.0, amp = 1.0;
+    for (int o = 0; o < octaves; o++) {
+        sum += amp * gradient2(x, period << o, salt + uint(o));
+        power += amp * amp;
+        amp *= exp2(-hurst);
+    }
+    return sum / (OCTAVE_SIGMA * sqrt(power));
+}
+
+// Deviations of the field past the threshold over which a cumulus reaches the layer's full
+// height: a clump's peak rises about 1 deviation above it, and its column rises as the square
+// root of the footprint (cloud_density.glsl), so most fair cumulus are half as tall as wide to
+// as tall as wide (humilis to mediocris) and only the largest fill the layer. Cumulonimbus
+// cores reach the top sooner: towers.
+const float CUMULUS_RAMP = 3.5, TOWER_RAMP = 3.0;
+// Stratocumulus cells and stratus sheets reach their (low) tops just inside their edges.
+const float CELL_RAMP = 0.8, SHEET_RAMP = 0.4;
+
+// mix(a, b, t) of two independent fields of deviation 1, scaled back to deviation 1.
+float blend(float a, float b, float t)
+{
+    return mix(a, b, t) / sqrt((1.0 - t) * (1.0 - t) + t * t);
+}
+
+// The normal quantile of 1 - coverage (logistic approximation of the probit).
+float threshold_for(float coverage)
+{
+    coverage = clamp(coverage, 1e-4, 1.0 - 1e-4);
+    return log((1.0 - coverage) / coverage) / 1.702;
+}
+
+// Footprint of a field of deviation 1 thresholded so that about `coverage` of the map is
+// inside, rising to 1 over `ramp` deviations past the threshold.
+float footprint(float field, float coverage, float ramp)
 {
     if (coverage <= 0.0)
         return 0.0;
     if (coverage >= 1.0)
         return 1.0;
-    float threshold = 0.5 + FIELD_SIGMA * log((1.0 - coverage) / coverage) / 1.702;
-    float inside = clamp((field - threshold) / 0.06, 0.0, 1.0);
-    return inside * mix(0.55, 1.0, coverage);
+    return clamp((field - threshold_for(coverage)) / ramp, 0.0, 1.0);
+}
+
+// Weights of the four tabulated types (stratus, stratocumulus, cumulus, cumulonimbus) at
+// type t: tents over 0, 1/3, 2/3 and 1.
+vec4 type_weights(float t)
+{
+    vec4 centres = vec4(0.0, 1.0, 2.0, 3.0) / 3.0;
+    return max(vec4(0.0), 1.0 - abs(vec4(t) - centres) * 3.0);
 }
 
 void main()
@@ -45,14 +140,50 @@ void main()
         return;
     }
     vec4 p = push.params;
-    // Clumps of cloud covering about the asked fraction of the map: the clump field is near
-    // normal (mean 0.5, deviation FIELD_SIGMA), so thresholding it at its (1 - coverage)
-    // quantile (logistic approximation of the probit) covers that fraction; inside a clump
-    // the local coverage rises toward 1 so overcast is overcast.
-    float field = mix(fbm2(x, 4, 11u), worley(vec3(x, 0.5), 6, 12u), 0.35);
-    float low = clump(field, p.x);
-    float high = clump(fbm2(x, 3, 13u), p.y);
-    float type = clamp(p.z + (fbm2(x, 2, 14u) - 0.5) * 0.25, 0.0, 1.0);
+    int cu_period = int(PERIODS.x), cb_period = int(PERIODS.y);
+    int sc_period = int(PERIODS.z), st_period = int(PERIODS.w);
+    // The type varies from cloud to cloud around the asked one (cumulus of several ages).
+    float type = clamp(p.z + gradient2(x, ivec2(max(1, cu_period / 4)), 14u) * 0.3, 0.0, 1.0);
+    vec4 w = type_weights(type);
+    // The fields of the types present, blended with their weights (each has deviation 1, and
+    // so has the blend), thresholded once: a sum of thresholded fields would cover their union.
+    float low = 0.0;
+    if (p.x > 0.0) {
+        float field = 0.0, ramp = 0.0;
+        // Clusters a few cells wide (cloud streets and groups) shift the clump fields.
+        float cluster = gradient2(x, ivec2(max(1, cu_period / 6)), 15u) / OCTAVE_SIGMA;
+        if (w.z > 0.0) { // cumulus: round clumps of many sizes
+            field += w.z * blend(fbm2(x, ivec2(cu_period), 11u, 4, 0.8), cluster, 0.25);
+            ramp += w.z * CUMULUS_RAMP;
+        }
+        if (w.w > 0.0) { // cumulonimbus: few big cells whose cores are towers
+            field += w.w * blend(fbm2(x, ivec2(cb_period), 21u, 4, 0.6), cluster, 0.15);
+            ramp += w.w * TOWER_RAMP;
+        }
+        if (w.y > 0.0) {
+            // Stratocumulus: closed cells (inverted cellular noise is high at a cell's centre
+            // and low along its borders), roughened.
+            float cells = (worley2(x, sc_period, 31u) - WORLEY_MEAN) / WORLEY_SIGMA;
+            field += w.y * blend(cells, gradient2(x, ivec2(sc_period * 2), 32u) / OCTAVE_SIGMA,
+                                 0.35);
+            ramp += w.y * CELL_RAMP;
+        }
+        if (w.x > 0.0) { // stratus: a sheet with gentle variations and ragged gaps
+            field += w.x * fbm2(x, ivec2(st_period), 41u, 3, 0.5);
+            ramp += w.x * SHEET_RAMP;
+        }
+        low = footprint(field / length(w), p.x, ramp);
+    }
+    // The high layer: cirrostratus a veil of gentle variations (type 0), cirrus streaks ten
+    // times longer east-west than wide (type 1).
+    float high = 0.0;
+    if (p.y > 0.0) {
+        float fibrous = float(push.high_fibrous) / 1000.0;
+        float veil = fbm2(x, ivec2(6), 13u, 3, 0.5);
+        float streaks = fbm2(x, ivec2(3, 30), 16u, 4, 0.4);
+        high = footprint(blend(veil, streaks, fibrous), p.y, 0.6);
+        high *= mix(0.55, 1.0, p.y);
+    }
     float rain = p.w * smoothstep(0.3, 0.9, low);
     imageStore(weather_out, px, vec4(low, high, type, rain));
 }

@@ -11,6 +11,10 @@
 
 const float CURL_STRENGTH_KM = 0.35;
 
+// How much the detail noise erodes, in [0, 1]: the march lowers it where its steps are longer
+// than the detail's features (tens of metres), which it would only alias into grain.
+float cloud_detail_weight = 1.0;
+
 float remap(float v, float lo, float hi, float new_lo, float new_hi)
 {
     return new_lo + (v - lo) / max(hi - lo, 1e-5) * (new_hi - new_lo);
@@ -27,20 +31,35 @@ vec4 sample_weather(vec2 pattern_xy)
     return textureLod(weather_map, pattern_xy * cloud.weather.z + 0.5, 0.0);
 }
 
-// Height profile of a cloud type in [0, 1] (stratus .. cumulonimbus), interpolated between
-// the tabulated profiles (render/cloud_params.c).
-float type_profile(float type, float h)
+// Shape parameters of a cloud type in [0, 1] (stratus .. cumulonimbus), interpolated between
+// the tabulated types (render/cloud_params.c): x core height, y base rounding, z erosion,
+// w anvil.
+vec4 type_shape(float type)
 {
     float x = clamp(type, 0.0, 1.0) * float(CLOUD_PROFILE_COUNT - 1);
     int i = min(int(x), CLOUD_PROFILE_COUNT - 2);
-    vec4 a = cloud.profiles[i], b = cloud.profiles[i + 1];
-    vec4 p = mix(a, b, x - float(i));
-    return smoothstep(p.x, p.y, h) * (1.0 - smoothstep(p.z, p.w, h));
+    return mix(cloud.profiles[i], cloud.profiles[i + 1], x - float(i));
 }
 
 float layer_fraction(float r, vec4 layer)
 {
     return (r - layer.x) / (layer.y - layer.x);
+}
+
+// Where a cloud may be at height fraction h over a point of footprint f (Schneider 2017's
+// density-height gradient, made to follow the footprint): the column of a clump reaches
+// shape.x * sqrt(f (2 - f)), a quarter circle in f; the footprint rises smoothly toward a
+// clump's core (cloud_weather.comp), so a clump is a dome with steep sides on a flat base and a
+// cumulonimbus core a tower; the billows carve its upper 40 % into cauliflower domes. Under
+// the layer top the anvil spreads over the whole footprint (f^0.3 widens it, Schneider 2017's
+// anvil bias).
+float cloud_envelope(float h, float f, vec4 shape)
+{
+    float top = shape.x * sqrt(f * (2.0 - f));
+    float column = smoothstep(0.0, shape.y, h) * (1.0 - smoothstep(0.6 * top, top, h));
+    float anvil = shape.w * smoothstep(0.7, 0.8, h) * (1.0 - smoothstep(0.9, 0.98, h))
+                  * pow(f, 0.3);
+    return max(column, anvil);
 }
 
 // Low layer. `detail` false gives the coarse shape used by shadow and light marches.
@@ -49,10 +68,12 @@ float low_density(vec3 p, float r, vec4 wm, bool detail)
     float h = layer_fraction(r, cloud.low);
     if (h <= 0.0 || h >= 1.0 || wm.r <= 0.0)
         return 0.0;
-    // Precipitation lowers and thickens the base (seed 001 5.4: weather drives the shape).
-    float profile = type_profile(wm.b, h);
-    float coverage = clamp(wm.r * (1.0 + 0.5 * wm.a), 0.0, 1.0);
-    if (profile * coverage <= 0.0)
+    // Precipitation widens the footprint and darkens the base (seed 001 5.4: weather drives
+    // the shape).
+    float f = clamp(wm.r * (1.0 + 0.5 * wm.a), 0.0, 1.0);
+    vec4 shape = type_shape(wm.b);
+    float envelope = cloud_envelope(h, f, shape);
+    if (envelope <= 0.0)
         return 0.0;
     float altitude = r - bottom_radius();
     vec3 q = vec3(cloud_pattern_xy(p), altitude);
@@ -62,15 +83,16 @@ float low_density(vec3 p, float r, vec4 wm, bool detail)
     }
     vec4 n = textureLod(base_noise, q / cloud.tiles.x, 0.0);
     float fbm = dot(n.gba, vec3(0.625, 0.25, 0.125));
-    float shape = clamp(remap(n.r, fbm - 1.0, 1.0, 0.0, 1.0), 0.0, 1.0) * profile;
-    // Coverage remap (Schneider 2015): only the densest shapes survive low coverage.
-    float d = clamp(remap(shape, 1.0 - coverage, 1.0, 0.0, 1.0), 0.0, 1.0) * coverage;
+    // Perlin-Worley billows (Schneider 2015), then the envelope as coverage: only the densest
+    // billows survive where the envelope is low, so outlines are billowy level sets.
+    float billows = clamp(remap(n.r, fbm - 1.0, 1.0, 0.0, 1.0), 0.0, 1.0);
+    float d = clamp(remap(billows, 1.0 - envelope, 1.0, 0.0, 1.0), 0.0, 1.0) * envelope;
     if (detail && d > 0.0) {
         vec3 dn = textureLod(detail_noise, q / cloud.tiles.y, 0.0).rgb;
         float dfbm = dot(dn, vec3(0.625, 0.25, 0.125));
-        // Wispy at the base, billowy toward the top.
-        float modifier = mix(dfbm, 1.0 - dfbm, clamp(h * 5.0, 0.0, 1.0));
-        d = clamp(remap(d, modifier * 0.35, 1.0, 0.0, 1.0), 0.0, 1.0);
+        // Wispy at the base, billowy toward the top (Schneider 2015).
+        float modifier = mix(dfbm, 1.0 - dfbm, clamp(h * 6.0, 0.0, 1.0));
+        d = clamp(remap(d, modifier * shape.z * cloud_detail_weight, 1.0, 0.0, 1.0), 0.0, 1.0);
     }
     return d * cloud.low.z * (1.0 + wm.a * (1.0 - h));
 }

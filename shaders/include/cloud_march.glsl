@@ -133,7 +133,9 @@ CloudAmbient cloud_ambient(vec3 sun_dir)
 // Empty-space skipping: after EMPTY_RUN empty fine samples the march probes the coarse shape
 // SKIP_FACTOR steps at a time; on a hit it backs up one probe and marches finely again.
 const float SKIP_FACTOR = 3.0;
-const float MARCH_LOD = 0.02; // longest primary step per km of distance
+const float MARCH_LOD = 0.008; // longest primary step per km of distance
+// Steps (km) over which the detail erosion fades out: its features are 50-200 m.
+const vec2 DETAIL_FADE_KM = vec2(0.1, 0.3);
 const int EMPTY_RUN = 3;
 
 // low_layer: which layer's density the segment marches (a constant at every call).
@@ -170,6 +172,8 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         if (res.transmittance < EARLY_EXIT_T)
             break;
         ds = clamp(MARCH_LOD * t, ds_near, ds_far);
+        cloud_detail_weight = clamp((DETAIL_FADE_KM.y - ds) / (DETAIL_FADE_KM.y - DETAIL_FADE_KM.x),
+                                    0.0, 1.0);
         vec3 p = o + t * d;
         if (empty >= EMPTY_RUN) {
             // Probing: the coarse shape only, big steps.

@@ -8,7 +8,9 @@
 
 #include "sky_shared.h"
 
-/* Cloud-type height profiles (stratus, stratocumulus, cumulus, cumulonimbus). */
+/* Cloud-type shapes (stratus, stratocumulus, cumulus, cumulonimbus): profiles[i] holds x the
+ * height fraction of the layer a core reaches, y the base's rounding (height fraction), z how
+ * much the detail noise erodes, w the anvil's spread under the layer top. */
 #define CLOUD_PROFILE_COUNT 4
 
 /* Weather-map texel channels (procedural and client maps alike). */
@@ -29,8 +31,8 @@ struct sky_cloud_uniforms {
                               w extent km */
     SKY_VEC4 march;        /* x primary steps, y longest march km, z 1 when any layer is on,
                               w blue-noise frame phase */
-    SKY_VEC4 profiles[CLOUD_PROFILE_COUNT]; /* smoothstep(x, y, h) * (1 - smoothstep(z, w, h))
-                                               over the layer's height fraction h */
+    SKY_VEC4 profiles[CLOUD_PROFILE_COUNT]; /* per type: x top, y base rounding, z erosion,
+                                               w anvil (above) */
     SKY_VEC4 shadow_sun;   /* xyz sun direction the shadow map was built for; w 1 when built */
     SKY_VEC4 tiles;        /* km per repeat of the base, detail and curl noise (x, y, z): whole
                               fractions of the weather extent, so the pattern tiles with it */
@@ -41,11 +43,13 @@ struct sky_cloud_rows_push {
     SKY_UINT row_offset;
     SKY_UINT mode;         /* weather: 0 procedural, 1 client map */
     SKY_UINT seed;
-    SKY_UINT pad0;
+    SKY_UINT high_fibrous; /* weather: the high layer's type, 0 a veil .. 1000 fibrous */
     SKY_VEC4 params;       /* weather: x low coverage, y high coverage, z low type,
                               w precipitation */
     SKY_VEC4 size;         /* resolve: xy the cloud image's size in texels (its extent may be
-                              larger: gpu_image_create_view_sized) */
+                              larger: gpu_image_create_view_sized); weather: cells across
+                              the map of the cumulus, cumulonimbus, stratocumulus and
+                              stratus patterns */
 };
 
 /* Noise generation: one z slab of a volume per dispatch. */

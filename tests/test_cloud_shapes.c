@@ -1,0 +1,406 @@
+/* Cloud shapes against the issue's targets, measured on skyd's renders (tests/cloud_metrics.h)
+ * with the weather presets applied as `skyd render --weather NAME` applies them:
+ * - seen from above, fair cumulus outlines have an area-perimeter fractal dimension of
+ *   1.25-1.45 over at least 30 whole clouds (Lovejoy 1982: 1.35), and at coverage 0.3 they
+ *   are many small cumuli, not ten blobs (three weather seeds and sun azimuths; from 14 km with
+ *   a 90 deg field of view and from 40 km with 40 deg, nearer the vertical everywhere);
+ * - seen from the side (from the ground toward the horizon, the field thinned so that clouds
+ *   stand apart), fair cumulus have a median height / width of at least 0.35 over at least 10
+ *   whole clouds;
+ * - overcast and storm decks hide the sun's disk; thin cirrus dims it and leaves it visible.
+ * argv[1]: where the renders and the masks measured on them are written as PNGs (boxes: green
+ * the objects measured, red those cut by the image's border); argv[2]: the config directory. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "cloud_metrics.h"
+#include "png_write.h"
+#include "presets.h"
+#include "test_support.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#define W 640
+#define H 360
+#define MAX_OBJECTS 8192
+#define DEG (M_PI / 180.0)
+
+/* Objects smaller than this are pixel noise for the area-perimeter fit (cloud_metrics.h). */
+#define D_MIN_AREA 30
+
+static const char *out_dir = ".";
+static const char *config_dir = "config";
+static struct sky_renderer *renderer;
+static float rgba[W * H * 4];
+static float cloudy[W * H], clear[W * H];
+static unsigned char mask[W * H];
+static struct cloud_object objects[MAX_OBJECTS];
+static uint64_t next_history_key = 1;
+
+/* The defaults with config/weather/<name>.json applied, as `skyd render --weather NAME`
+ * does (server/cli_args.c); clouds traced at every pixel. */
+static bool weather_state(const char *name, struct sky_world_state *s)
+{
+    sky_world_state_defaults(s);
+    struct sky_field_errors errors = { 0 };
+    char msg[1024] = "";
+    bool ok = sky_preset_apply(config_dir, "weather", name, s, &errors, msg, sizeof msg);
+    CHECK_MSG(ok, "weather preset %s: %s", name, msg);
+    s->clouds.resolution = SKY_CLOUD_RESOLUTION_FULL;
+    return ok;
+}
+
+/* Renders linear RGBA (cd/m2) into rgba[] and its luminance into luma[]. */
+static void render(const struct sky_world_state *s, float *luma)
+{
+    /* A one-off view, converged from scratch. */
+    CHECK(test_render_world(renderer, s, W, H, SKY_RENDER_OUTPUT_LINEAR, next_history_key++,
+                            false, rgba, sizeof rgba) == 0);
+    int bad = 0;
+    for (int i = 0; i < W * H * 4; i++)
+        bad += !isfinite(rgba[i]) || rgba[i] < 0.0f;
+    CHECK(bad == 0);
+    cloud_metrics_luma(rgba, W, H, luma);
+}
+
+static uint8_t srgb8(double v)
+{
+    v = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
+    return (uint8_t)lround(fmin(fmax(v, 0.0), 1.0) * 255.0);
+}
+
+static void write_png(const char *name, const uint8_t *pixels)
+{
+    char path[1024], err[256];
+    snprintf(path, sizeof path, "%s/cloud_shapes_%s.png", out_dir, name);
+    CHECK(png_write_rgba8_file(path, pixels, W, H, err, sizeof err) == 0);
+}
+
+/* The render in rgba[], exposed for its mean luminance and tone mapped (Reinhard). */
+static void save_render(const char *name)
+{
+    static uint8_t pixels[W * H * 4];
+    double mean = 0.0;
+    for (int i = 0; i < W * H; i++)
+        mean += 0.2126 * rgba[4 * i] + 0.7152 * rgba[4 * i + 1] + 0.0722 * rgba[4 * i + 2];
+    double k = 0.25 / fmax(mean / (W * H), 1e-9);
+    for (int i = 0; i < W * H; i++) {
+        for (int c = 0; c < 3; c++) {
+            double v = rgba[4 * i + c] * k;
+            pixels[4 * i + c] = srgb8(v / (1.0 + v));
+        }
+        pixels[4 * i + 3] = 255;
+    }
+    write_png(name, pixels);
+}
+
+static bool measured(const struct cloud_object *o, int min_area, int min_width)
+{
+    return !o->touches_border && o->area >= min_area && o->x1 - o->x0 + 1 >= min_width;
+}
+
+/* The mask (white) with boxes around its objects: green the measured ones, red those cut by
+ * the border; the others (specks, narrow ones) unboxed. */
+static void save_mask(const char *name, int count, int min_area, int min_width)
+{
+    static uint8_t pixels[W * H * 4];
+    for (int i = 0; i < W * H; i++) {
+        uint8_t v = mask[i] ? 200 : 0;
+        pixels[4 * i] = pixels[4 * i + 1] = pixels[4 * i + 2] = v;
+        pixels[4 * i + 3] = 255;
+    }
+    for (int k = 0; k < count; k++) {
+        const struct cloud_object *o = &objects[k];
+        bool used = measured(o, min_area, min_width);
+        if (!used && !o->touches_border)
+            continue;
+        for (int y = o->y0; y <= o->y1; y++)
+            for (int x = o->x0; x <= o->x1; x++) {
+                if (y != o->y0 && y != o->y1 && x != o->x0 && x != o->x1)
+                    continue;
+                uint8_t *p = pixels + 4 * ((size_t)y * W + (size_t)x);
+                p[0] = used ? 0 : 255;
+                p[1] = used ? 255 : 0;
+                p[2] = 0;
+            }
+    }
+    write_png(name, pixels);
+}
+
+/* The camera's basis as render/sky_uniforms.c builds it, and tan(fov / 2). */
+static double camera_basis(const struct sky_world_state *s, double f[3], double r[3],
+                           double u[3])
+{
+    double yaw = s->camera.yaw_deg * DEG;
+    sky_direction_from_angles(s->camera.yaw_deg, s->camera.pitch_deg, f);
+    r[0] = cos(yaw);
+    r[1] = -sin(yaw);
+    r[2] = 0.0;
+    u[0] = r[1] * f[2] - r[2] * f[1];
+    u[1] = r[2] * f[0] - r[0] * f[2];
+    u[2] = r[0] * f[1] - r[1] * f[0];
+    return tan(0.5 * s->camera.fov_deg * DEG);
+}
+
+/* Pixel (x, y)'s direction in the pinhole of shaders/include/camera.glsl, unit length. */
+static void pixel_direction(const double f[3], const double r[3], const double u[3],
+                            double tan_half, int x, int y, double d[3])
+{
+    double nx = 2.0 * ((x + 0.5) / W) - 1.0, ny = 1.0 - 2.0 * ((y + 0.5) / H), len = 0.0;
+    for (int c = 0; c < 3; c++) {
+        d[c] = f[c] + r[c] * nx * tan_half * W / H + u[c] * ny * tan_half;
+        len += d[c] * d[c];
+    }
+    for (int c = 0; c < 3; c++)
+        d[c] /= sqrt(len);
+}
+
+/* Renders the cloudy state `s`, then `s` without its low layer (its cirrus stays in both: the
+ * shapes measured are the cumulus'), both over a black ground so that no shadow on it makes an
+ * object; saves the cloudy render as <name>.png. */
+static void render_pair(struct sky_world_state *s, const char *name)
+{
+    for (int c = 0; c < 3; c++)
+        s->atmosphere.ground_albedo[c] = 0.0;
+    render(s, cloudy);
+    save_render(name);
+    double coverage = s->clouds.low.coverage;
+    s->clouds.low.coverage = 0.0;
+    render(s, clear);
+    s->clouds.low.coverage = coverage;
+}
+
+/* How label() tells cloud from background below the horizon. */
+enum below_horizon {
+    BELOW_BRIGHTER, /* only where brighter: the background is the ground and the air over it,
+                       and what clouds darken there is their shadow, not cloud */
+    BELOW_NONE,     /* nothing below 2 deg over the camera's horizontal: clouds seen from the
+                       side stand above the band that the far ones merge into there */
+};
+
+/* mask: where the cloudy render differs from the clear one by more than 10 % of the clear one,
+ * below the horizon as `below` says. Then its objects into objects[]: returns how many, and
+ * the masked fraction of the image in *cover. */
+static int label(const struct sky_world_state *s, enum below_horizon below, double *cover)
+{
+    double f[3], r[3], u[3], d[3], tan_half = camera_basis(s, f, r, u);
+    double radius = s->atmosphere.bottom_radius_km;
+    double dip = -sqrt(1.0 - pow(radius / (radius + s->camera.altitude_km), 2.0));
+    long on = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            size_t i = (size_t)y * W + (size_t)x;
+            double change = (double)cloudy[i] - clear[i];
+            pixel_direction(f, r, u, tan_half, x, y, d);
+            if (below == BELOW_NONE && d[2] < sin(2.0 * DEG))
+                change = 0.0;
+            else if (below == BELOW_NONE || d[2] >= dip)
+                change = fabs(change);
+            mask[i] = change > 0.10 * clear[i];
+            on += mask[i];
+        }
+    *cover = (double)on / (W * H);
+    int n = cloud_metrics_objects(mask, W, H, objects, MAX_OBJECTS);
+    CHECK(n >= 0 && n <= MAX_OBJECTS);
+    return n < 0 ? 0 : n > MAX_OBJECTS ? MAX_OBJECTS : n;
+}
+
+static int compare_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Fair cumulus (coverage 0.3) seen from above, cloud = brighter than the black ground and the
+ * air over it by more than 10 %: the area-perimeter dimension of the whole clouds' outlines,
+ * and many small clouds (ten blobs covering 0.3 of the view would be 3 % of the image each;
+ * the median cloud must be a tenth of that or less). */
+static void test_from_above(const char *name, int seed, double sun_azimuth_deg,
+                            double altitude_km, double fov_deg)
+{
+    struct sky_world_state s;
+    if (!weather_state("fair_cumulus", &s))
+        return;
+    s.weather.seed = seed;
+    s.sun.azimuth_deg = sun_azimuth_deg;
+    s.camera.altitude_km = altitude_km;
+    s.camera.pitch_deg = -90.0;
+    s.camera.fov_deg = fov_deg;
+    render_pair(&s, name);
+    double cover;
+    int n = label(&s, BELOW_BRIGHTER, &cover);
+    char mask_name[64];
+    snprintf(mask_name, sizeof mask_name, "%s_mask", name);
+    save_mask(mask_name, n, D_MIN_AREA, 1);
+
+    int used = 0, whole = 0;
+    double d = cloud_metrics_fractal_dimension(objects, n, D_MIN_AREA, &used);
+    static int areas[MAX_OBJECTS];
+    for (int k = 0; k < n; k++)
+        if (measured(&objects[k], D_MIN_AREA, 1))
+            areas[whole++] = objects[k].area;
+    qsort(areas, (size_t)whole, sizeof areas[0], compare_int);
+    double median_fraction = whole ? (double)areas[whole / 2] / (W * H) : NAN;
+    printf("from above (%s: %.0f km, fov %.0f, seed %d, sun azimuth %.0f): cloud cover %.3f of "
+           "the image, %d objects, %d whole of >= %d px (%d..%d px, median %.3f %% of the "
+           "image); D = %.3f over %d\n",
+           name, altitude_km, fov_deg, seed, sun_azimuth_deg, cover, n, whole, D_MIN_AREA,
+           whole ? areas[0] : 0, whole ? areas[whole - 1] : 0, 100.0 * median_fraction, d,
+           used);
+    CHECK_MSG(used >= 30, "%s: %d whole clouds in the fit, want >= 30", name, used);
+    CHECK_MSG(d >= 1.25 && d <= 1.45, "%s: D = %.3f, want 1.25..1.45", name, d);
+    CHECK_MSG(median_fraction <= 0.003, "%s: median cloud %.3f %% of the image, want <= 0.3 %%",
+              name, 100.0 * median_fraction);
+}
+
+/* Fair cumulus seen from the ground toward the horizon, in four directions, against the sky
+ * above the camera's horizontal. At the preset's coverage (0.3) every ray near the horizon
+ * crosses several clouds, which merge into one band, so the field is thinned to a coverage of
+ * 0.12 (the same clouds, fewer of them): separate clouds then stand against the sky, seen from
+ * the side. The whole clouds at least 8 px wide, pooled; their median height / width. */
+static void test_edge_on(void)
+{
+    static struct cloud_object pooled[MAX_OBJECTS];
+    int count = 0;
+    for (int k = 0; k < 4; k++) {
+        struct sky_world_state s;
+        if (!weather_state("fair_cumulus", &s))
+            return;
+        s.clouds.low.coverage = 0.12;
+        s.camera.pitch_deg = 12.0;
+        s.camera.fov_deg = 50.0;
+        s.camera.yaw_deg = 90.0 * k;
+        char name[64];
+        snprintf(name, sizeof name, "edge_on_%d", 90 * k);
+        render_pair(&s, name);
+        double cover, largest;
+        int n = label(&s, BELOW_NONE, &cover), used = 0;
+        strcat(name, "_mask");
+        save_mask(name, n, 1, 8);
+        double median = cloud_metrics_median_aspect(objects, n, 8, &used, &largest);
+        printf("edge-on (camera at %.2f km, yaw %.0f): cloud cover %.3f, %d objects, %d whole "
+               ">= 8 px wide (height/width median %.3f, largest %.3f)\n",
+               s.camera.altitude_km, s.camera.yaw_deg, cover, n, used, median, largest);
+        for (int i = 0; i < n && count < MAX_OBJECTS; i++)
+            pooled[count++] = objects[i];
+    }
+    double largest;
+    int used = 0;
+    double median = cloud_metrics_median_aspect(pooled, count, 8, &used, &largest);
+    printf("edge-on, pooled: %d whole clouds >= 8 px wide; height/width median %.3f, largest "
+           "%.3f\n", used, median, largest);
+    CHECK_MSG(used >= 10, "edge-on: %d whole clouds, want >= 10", used);
+    CHECK_MSG(median >= 0.35, "edge-on: median height/width %.3f, want >= 0.35", median);
+}
+
+/* The brightest pixel whose centre lies within disk_deg of the sun (the pinhole of
+ * shaders/include/camera.glsl, as cloud_metrics_sun_contrast measures it). */
+static double sun_peak(const struct sky_world_state *s, const double sun[3], double disk_deg)
+{
+    double f[3], r[3], u[3], d[3], tan_half = camera_basis(s, f, r, u), peak = 0.0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            pixel_direction(f, r, u, tan_half, x, y, d);
+            if (d[0] * sun[0] + d[1] * sun[1] + d[2] * sun[2] >= cos(disk_deg * DEG))
+                peak = fmax(peak, cloudy[(size_t)y * W + (size_t)x]);
+        }
+    return peak;
+}
+
+/* Looks at the sun (30 deg up) through the clouds of `s`: its contrast against the sky 3-6 deg
+ * away (cloud_metrics_sun_contrast, disk 0.5 deg) and the brightest pixel of its disk. */
+static double sun_view(struct sky_world_state *s, const char *name, double *peak)
+{
+    s->sun.elevation_deg = 30.0;
+    s->camera.yaw_deg = s->sun.azimuth_deg;
+    s->camera.pitch_deg = s->sun.elevation_deg;
+    s->camera.fov_deg = 30.0;
+    render(s, cloudy);
+    save_render(name);
+    double f[3], r[3], u[3], sun[3], tan_half = camera_basis(s, f, r, u);
+    sky_direction_from_angles(s->sun.azimuth_deg, s->sun.elevation_deg, sun);
+    const double ring[2] = { 3.0, 6.0 };
+    *peak = sun_peak(s, sun, 0.5);
+    return cloud_metrics_sun_contrast(cloudy, W, H, f, r, u, tan_half, sun, 0.5, ring);
+}
+
+/* Nominal optical depth of a layer along the sun's ray: extinction x density x thickness /
+ * sin(elevation), at full density throughout (the noise thins it). */
+static double nominal_tau(const struct sky_world_state *s, const struct sky_cloud_layer_state *l)
+{
+    return s->clouds.extinction_per_km * l->density * l->thickness_km /
+           sin(s->sun.elevation_deg * DEG);
+}
+
+/* Overcast and storm decks (optical depth along the sun's ray far above 5) show no disk: its
+ * brightest pixel under twice the sky 3-6 deg away. Thin cirrus (optical depth ~1) dims the
+ * disk and leaves it plainly visible (over ten times the sky around it). */
+static void test_sun_through_clouds(void)
+{
+    struct sky_world_state s;
+    double clear_peak, peak;
+    weather_state("clear", &s);
+    s.clouds.low.coverage = s.clouds.high.coverage = 0.0;
+    double clear_contrast = sun_view(&s, "sun_clear", &clear_peak);
+    printf("sun, clear sky: contrast %.4g, disk peak %.4g cd/m2\n", clear_contrast, clear_peak);
+    CHECK(clear_contrast > 100.0);
+
+    static const char *decks[] = { "overcast", "storm" };
+    for (int k = 0; k < 2; k++) {
+        if (!weather_state(decks[k], &s))
+            continue;
+        s.sun.elevation_deg = 30.0;
+        double tau = nominal_tau(&s, &s.clouds.low);
+        char name[64];
+        snprintf(name, sizeof name, "sun_%s", decks[k]);
+        double contrast = sun_view(&s, name, &peak);
+        printf("sun, %s (low layer's nominal optical depth along the sun's ray %.0f): "
+               "contrast %.4g, disk peak %.4g cd/m2 (%.3g of the clear sky's)\n",
+               decks[k], tau, contrast, peak, peak / clear_peak);
+        CHECK_MSG(contrast < 2.0, "%s: sun contrast %.4g, want < 2 (no disk)", decks[k],
+                  contrast);
+    }
+
+    /* Cirrus alone, its density set for a nominal optical depth of 3 along the sun's ray: the
+     * profile and the noise thin a layer to about a third of that, ~1. */
+    weather_state("clear", &s);
+    s.sun.elevation_deg = 30.0;
+    s.clouds.low.coverage = 0.0;
+    s.clouds.high.coverage = 1.0;
+    s.clouds.high.density = 1.0;
+    s.clouds.high.density = 3.0 / nominal_tau(&s, &s.clouds.high);
+    double contrast = sun_view(&s, "sun_cirrus", &peak);
+    printf("sun, thin cirrus (density %.4f, nominal optical depth 3): contrast %.4g, disk peak "
+           "%.4g cd/m2 (%.3g of the clear sky's: optical depth %.2f)\n",
+           s.clouds.high.density, contrast, peak, peak / clear_peak, -log(peak / clear_peak));
+    CHECK_MSG(contrast > 10.0, "cirrus: sun contrast %.4g, want > 10 (a visible disk)",
+              contrast);
+    CHECK_MSG(peak < 0.9 * clear_peak, "cirrus: disk peak %.4g of the clear sky's, want < 0.9",
+              peak / clear_peak);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1)
+        out_dir = argv[1];
+    if (argc > 2)
+        config_dir = argv[2];
+    unsigned validation_messages = 0;
+    renderer = test_renderer_create(&validation_messages);
+    CHECK(renderer != NULL);
+    if (!renderer)
+        return check_summary();
+    test_from_above("above_seed1", 1, 180.0, 14.0, 90.0);
+    test_from_above("above_seed7", 7, 100.0, 14.0, 90.0);
+    test_from_above("nadir_seed3", 3, 250.0, 40.0, 40.0);
+    test_edge_on();
+    test_sun_through_clouds();
+    sky_renderer_destroy(&renderer);
+    CHECK(validation_messages == 0); /* counted through destruction */
+    return check_summary();
+}
