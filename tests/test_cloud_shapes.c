@@ -61,10 +61,7 @@ static void render(const struct sky_world_state *s, float *luma)
     /* A one-off view, converged from scratch. */
     CHECK(test_render_world(renderer, s, W, H, SKY_RENDER_OUTPUT_LINEAR, next_history_key++,
                             false, rgba, sizeof rgba) == 0);
-    int bad = 0;
-    for (int i = 0; i < W * H * 4; i++)
-        bad += !isfinite(rgba[i]) || rgba[i] < 0.0f;
-    CHECK(bad == 0);
+    CHECK(test_count_bad(rgba, (size_t)W * H) == 0);
     cloud_metrics_luma(rgba, W, H, luma);
 }
 
@@ -87,7 +84,7 @@ static void save_render(const char *name)
     static uint8_t pixels[W * H * 4];
     double mean = 0.0;
     for (int i = 0; i < W * H; i++)
-        mean += 0.2126 * rgba[4 * i] + 0.7152 * rgba[4 * i + 1] + 0.0722 * rgba[4 * i + 2];
+        mean += test_pixel_luminance(rgba + 4 * i);
     double k = 0.25 / fmax(mean / (W * H), 1e-9);
     for (int i = 0; i < W * H; i++) {
         for (int c = 0; c < 3; c++) {

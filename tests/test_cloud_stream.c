@@ -71,31 +71,6 @@ static double blockiness(const float *linear)
     return cloud_metrics_blockiness(luma, W, H, PERIOD);
 }
 
-static double luminance(const float *px)
-{
-    return 0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2];
-}
-
-/* Mean |a - b| / mean(b) over the image. */
-static double relative_difference(const float *a, const float *b)
-{
-    double diff = 0.0, sum = 0.0;
-    for (int i = 0; i < W * H; i++) {
-        diff += fabs(luminance(a + 4 * i) - luminance(b + 4 * i));
-        sum += luminance(b + 4 * i);
-    }
-    return diff / fmax(sum, 1e-9);
-}
-
-static int count_bad(const float *f)
-{
-    int bad = 0;
-    for (int i = 0; i < W * H * 4; i++)
-        if (!isfinite(f[i]) || f[i] < 0.0f)
-            bad++;
-    return bad;
-}
-
 static int compare_doubles(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -116,7 +91,7 @@ static void save_png(const float *linear, const char *name)
     static uint8_t pixels[W * H * 4];
     double mean = 0.0;
     for (int i = 0; i < W * H; i++)
-        mean += luminance(linear + 4 * i);
+        mean += test_pixel_luminance(linear + 4 * i);
     double scale = 0.18 / fmax(mean / (W * H), 1e-9);
     for (int i = 0; i < W * H; i++)
         for (int c = 0; c < 4; c++) {
@@ -168,7 +143,7 @@ static void test_transition(int *frame)
     for (int k = 0; k < TRANSITION; k++, (*frame)++) {
         stream_state(&s, (k + 1.0) / TRANSITION, *frame);
         render(&s, STREAM_KEY, true, live);
-        bad += count_bad(live);
+        bad += test_count_bad(live, (size_t)W * H);
         live_b[k] = blockiness(live);
         render(&s, one_off_key++, false, converged);
         conv_b[k] = blockiness(converged);
@@ -217,8 +192,8 @@ static void test_instant_change(int *frame)
         render(&s, RESTART_KEY, true, restarted);
         if (k == 4 || k == 8 || k == AFTER_CHANGE) {
             render(&s, one_off_key++, false, converged);
-            double d_live = relative_difference(live, converged);
-            double d_new = relative_difference(restarted, converged);
+            double d_live = test_relative_difference(live, converged, (size_t)W * H);
+            double d_new = test_relative_difference(restarted, converged, (size_t)W * H);
             ratio[n++] = blockiness(live) / blockiness(converged);
             printf("instant change: frame %2d vs a converged render %.4f (a new stream %.4f), "
                    "blockiness live / converged %.3f\n", k, d_live, d_new, ratio[n - 1]);

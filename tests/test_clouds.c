@@ -46,35 +46,12 @@ static void render(const struct sky_world_state *s, uint64_t key, float *linear,
                             live_views, out, bytes) == 0);
 }
 
-static double luminance(const float *px)
-{
-    return 0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2];
-}
-
 static double mean_luminance(const float *f)
 {
     double sum = 0.0;
     for (int i = 0; i < W * H; i++)
-        sum += luminance(f + 4 * i);
+        sum += test_pixel_luminance(f + 4 * i);
     return sum / (W * H);
-}
-
-static int count_bad(const float *f)
-{
-    int bad = 0;
-    for (int i = 0; i < W * H * 4; i++)
-        if (!isfinite(f[i]) || f[i] < 0.0f)
-            bad++;
-    return bad;
-}
-
-/* Mean |a - b| / mean(b) over the image. */
-static double relative_difference(const float *a, const float *b)
-{
-    double diff = 0.0;
-    for (int i = 0; i < W * H; i++)
-        diff += fabs(luminance(a + 4 * i) - luminance(b + 4 * i));
-    return diff / (W * H) / fmax(mean_luminance(b), 1e-9);
 }
 
 static void save_png(const struct sky_world_state *s, uint64_t key, const char *name)
@@ -107,8 +84,8 @@ static void test_views(void)
         render(&s, 10 + v, frame_a, NULL);
         double mean = mean_luminance(frame_a);
         printf("view %s: mean %.4g cd/m2, %d bad values\n", views[v].name, mean,
-               count_bad(frame_a));
-        CHECK(count_bad(frame_a) == 0);
+               test_count_bad(frame_a, (size_t)W * H));
+        CHECK(test_count_bad(frame_a, (size_t)W * H) == 0);
         CHECK(mean > views[v].lo && mean < views[v].hi);
         save_png(&s, 20 + v, views[v].name);
     }
@@ -208,7 +185,7 @@ static void test_overcast_ground_darker(void)
     render(&s, 301, frame_b, NULL);
     double clear = mean_luminance(frame_a), overcast = mean_luminance(frame_b);
     printf("ground: clear %.5g, overcast %.5g cd/m2\n", clear, overcast);
-    CHECK(count_bad(frame_b) == 0);
+    CHECK(test_count_bad(frame_b, (size_t)W * H) == 0);
     CHECK_LE(overcast, 0.6 * clear);
 }
 
@@ -227,7 +204,7 @@ static void test_temporal(enum sky_cloud_resolution resolution, uint64_t key)
     for (; frame < 12 && change > 0.02; frame++) {
         memcpy(frame_b, frame_a, sizeof frame_a);
         render(&s, key, frame_a, NULL);
-        change = relative_difference(frame_a, frame_b);
+        change = test_relative_difference(frame_a, frame_b, (size_t)W * H);
     }
     printf("temporal (resolution %d): frame-to-frame change %.4f after %d frames\n",
            (int)resolution, change, frame);
@@ -237,9 +214,9 @@ static void test_temporal(enum sky_cloud_resolution resolution, uint64_t key)
         s.weather.offset_east_km += 0.05;
         render(&s, key, frame_a, NULL);
     }
-    CHECK(count_bad(frame_a) == 0);
+    CHECK(test_count_bad(frame_a, (size_t)W * H) == 0);
     render(&s, key + 1, frame_b, NULL); /* a new history: converged from scratch */
-    double smear = relative_difference(frame_a, frame_b);
+    double smear = test_relative_difference(frame_a, frame_b, (size_t)W * H);
     printf("temporal (resolution %d): moving camera vs fresh render %.4f\n", (int)resolution,
            smear);
     /* The history is resampled bilinearly every frame; at half size each resampling blurs
@@ -259,12 +236,12 @@ static void test_live_convergence(void)
     render(&s, 601, frame_b, NULL); /* one-off: converged before it is shown */
     live_views = true;
     render(&s, 600, first, NULL);
-    CHECK(count_bad(first) == 0);
+    CHECK(test_count_bad(first, (size_t)W * H) == 0);
     for (int frame = 1; frame < 32; frame++)
         render(&s, 600, frame_a, NULL);
     live_views = false;
-    double at_first = relative_difference(first, frame_b);
-    double at_32 = relative_difference(frame_a, frame_b);
+    double at_first = test_relative_difference(first, frame_b, (size_t)W * H);
+    double at_32 = test_relative_difference(frame_a, frame_b, (size_t)W * H);
     printf("live: first frame vs a one-off render %.4f, after 32 frames %.4f\n", at_first, at_32);
     CHECK(at_first > 2.0 * at_32); /* it did start unconverged: nothing accumulated up front */
     CHECK_LE(at_32, 0.05);
@@ -340,8 +317,8 @@ static void test_client_weather_map(void)
     s.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
     static float clear[W * H * 4];
     render(&s, 502, clear, NULL);
-    double empty_vs_clear = relative_difference(frame_a, clear);
-    double full_vs_clear = relative_difference(frame_b, clear);
+    double empty_vs_clear = test_relative_difference(frame_a, clear, (size_t)W * H);
+    double full_vs_clear = test_relative_difference(frame_b, clear, (size_t)W * H);
     printf("client map: empty vs clear %.4f, full vs clear %.4f\n", empty_vs_clear,
            full_vs_clear);
     CHECK_LE(empty_vs_clear, 0.01);
@@ -369,7 +346,7 @@ static void test_moonlit_clouds(void)
     s.moon.elevation_deg = 30;
     render(&s, 300, frame_a, NULL);
     double moon_up = mean_luminance(frame_a);
-    CHECK(count_bad(frame_a) == 0);
+    CHECK(test_count_bad(frame_a, (size_t)W * H) == 0);
     s.moon.elevation_deg = -30;
     render(&s, 301, frame_b, NULL);
     double moon_down = mean_luminance(frame_b);

@@ -2,7 +2,9 @@
 #ifndef SKYD_TEST_SUPPORT_H
 #define SKYD_TEST_SUPPORT_H
 
+#include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -31,6 +33,32 @@ static inline void test_earth_atmosphere(struct sky_render_atmosphere *out)
     struct sky_world_state state;
     sky_world_state_defaults(&state);
     world_to_render_atmosphere(&state, out);
+}
+
+/* Luminance of a linear RGBA pixel (cd/m2 when the render is in cd/m2; Rec. 709 weights). */
+static inline double test_pixel_luminance(const float *px)
+{
+    return 0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2];
+}
+
+/* Channels of `pixels` RGBA pixels that are NaN, infinite or negative. */
+static inline int test_count_bad(const float *rgba, size_t pixels)
+{
+    int bad = 0;
+    for (size_t i = 0; i < 4 * pixels; i++)
+        bad += !isfinite(rgba[i]) || rgba[i] < 0.0f;
+    return bad;
+}
+
+/* Mean |L(a) - L(b)| / mean L(b) over `pixels` RGBA pixels. */
+static inline double test_relative_difference(const float *a, const float *b, size_t pixels)
+{
+    double diff = 0.0, sum = 0.0;
+    for (size_t i = 0; i < pixels; i++) {
+        diff += fabs(test_pixel_luminance(a + 4 * i) - test_pixel_luminance(b + 4 * i));
+        sum += test_pixel_luminance(b + 4 * i);
+    }
+    return diff / fmax(sum, 1e-9);
 }
 
 /* Renders the world state `s` as the daemon does (atmosphere, clouds, night, view) at w x h
