@@ -40,8 +40,10 @@ float dual_lobe_phase(float cos_theta, float g0, float g1, float w)
     return p0 + w * (hg_phase(cos_theta, g1) - p0);
 }
 
-// Optical depth toward the sun over light_march_km() in light_steps samples, each step twice the
-// previous one (seed 001 5.5.2), on the coarse shape of the sample's own layer.
+// Optical depth toward the sun over light_march_km() in light_steps samples, each step
+// LIGHT_RATIO times the previous one (seed 001 5.5.2 doubles them; a first step of 38 m spans
+// 1.5 optical depths and exp of its jittered estimate is biased high), on the coarse shape of
+// the sample's own layer.
 float light_optical_depth(vec3 p, vec3 sun_dir, float jitter, bool low_layer)
 {
     float steps = cloud.octaves.w;
