@@ -180,9 +180,9 @@ const struct sky_field_desc sky_world_field_table[] = {
     NUMBER("clouds.phase.w", clouds.phase_w, 0, 1,
            "blend toward the g1 lobe: (1 - w) p(g0) + w p(g1), seed 000 eq. 14.17"),
     NUMBER("clouds.multiscatter.a", clouds.multiscatter_a, 0, 1,
-           "extinction attenuation per multiple-scattering octave (a <= b conserves energy)"),
+           "scattering attenuation per multiple-scattering octave (a <= b conserves energy)"),
     NUMBER("clouds.multiscatter.b", clouds.multiscatter_b, 0, 1,
-           "scattering contribution per multiple-scattering octave"),
+           "extinction attenuation per multiple-scattering octave, along the sun and the view"),
     NUMBER("clouds.multiscatter.c", clouds.multiscatter_c, 0, 1,
            "phase eccentricity attenuation per multiple-scattering octave"),
     INT("clouds.multiscatter.octaves", clouds.multiscatter_octaves, 1, 8,
@@ -328,11 +328,13 @@ void sky_world_state_defaults(struct sky_world_state *state)
     clouds->precipitation = 0.0;
     clouds->phase_g0 = 0.8;
     clouds->phase_g1 = -0.3;
-    clouds->phase_w = 0.7;
-    clouds->multiscatter_a = 0.5;
+    /* A forward-dominated phase (mean cosine 0.53: silver linings on backlit edges) and the
+     * octaves fitted to it against Monte Carlo (docs/ACCURACY.md, tests/test_cloud_accuracy.c). */
+    clouds->phase_w = 0.25;
+    clouds->multiscatter_a = 0.48;
     clouds->multiscatter_b = 0.5;
-    clouds->multiscatter_c = 0.5;
-    clouds->multiscatter_octaves = 3;
+    clouds->multiscatter_c = 0.3;
+    clouds->multiscatter_octaves = 4;
     clouds->ambient_scale = 1.0;
     clouds->noise_seed = 1;
     clouds->primary_steps = 64;

@@ -376,7 +376,9 @@ int main(void)
 
     /* Conservative slabs, default phase: R rises with tau; thick-slab diffusion limit
      * T_total ~ K(mu0) (4/3) / ((1 - g) tau + 4/3), Eddington escape function
-     * K(mu0) = 3/7 (1 + 2 mu0), within 8 % at tau 64. */
+     * K(mu0) = 3/7 (1 + 2 mu0), within 12 % at tau 64: the similarity (1 - g) tau is only 30
+     * for the forward-dominated default phase (g 0.53), and diffusion's error falls like
+     * 1 / ((1 - g) tau) (8 % held for the old phase, g 0.03). */
     double prev = 0.0;
     for (int k = 0; k < 7; ++k) {
         double tau = (double)(1 << k);
@@ -390,7 +392,7 @@ int main(void)
         double diff = 3.0 / 7.0 * (1 + 2 * mu0) * (4.0 / 3.0) / ((1 - g_cloud) * 64 + 4.0 / 3.0);
         printf("omega 1 tau 64 mu0 %.1f: T MC %.5f +- %.5f, diffusion %.5f\n", mu0,
                res.T_diffuse + res.T_direct, res.T_stderr, diff);
-        CHECK_NEAR(res.T_diffuse + res.T_direct, diff, 0.08 * diff);
+        CHECK_NEAR(res.T_diffuse + res.T_direct, diff, 0.12 * diff);
     }
 
     /* The table for the renderer's defaults, each entry checked against the doubling. */

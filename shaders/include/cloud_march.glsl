@@ -16,11 +16,14 @@ float light_march_km(bool low_layer)
     return clamp(0.6 * thickness, 2.4, 8.0);
 }
 const float EARLY_EXIT_T = 0.01;
+const float LIGHT_RATIO = 3.0;
 
+const int MAX_OCTAVES = 8;
 struct CloudResult {
     vec3 luminance;   // scattered by the clouds toward the origin (cd/m2)
     float transmittance;
     float depth;      // transmittance-weighted front depth (seed 001 eq. 21), km
+    float octave_t[MAX_OCTAVES]; // the view's transmittance for each octave (0: transmittance)
 };
 
 // Henyey-Greenstein phase, normalized over the sphere.
@@ -37,26 +40,29 @@ float dual_lobe_phase(float cos_theta, float g0, float g1, float w)
     return p0 + w * (hg_phase(cos_theta, g1) - p0);
 }
 
-// Optical depth toward the sun over light_march_km() in light_steps samples, each step twice the
-// previous one (seed 001 5.5.2), on the coarse shape of the sample's own layer.
+// Optical depth toward the sun over light_march_km() in light_steps samples, each step
+// LIGHT_RATIO times the previous one (seed 001 5.5.2 doubles them; a first step of 38 m spans
+// 1.5 optical depths and exp of its jittered estimate is biased high), on the coarse shape of
+// the sample's own layer.
 float light_optical_depth(vec3 p, vec3 sun_dir, float jitter, bool low_layer)
 {
     float steps = cloud.octaves.w;
-    float ds = light_march_km(low_layer) / (exp2(steps) - 1.0);
+    float ds = light_march_km(low_layer) * (LIGHT_RATIO - 1.0) / (pow(LIGHT_RATIO, steps) - 1.0);
     float t = 0.0, tau = 0.0;
     for (float i = 0.0; i < steps; i += 1.0) {
         tau += cloud_layer_extinction(p + sun_dir * (t + jitter * ds), false, low_layer) * ds;
         t += ds;
-        ds *= 2.0;
+        ds *= LIGHT_RATIO;
     }
     return tau;
 }
 
-// The phase of each octave along a ray (its angle to the sun is fixed): a^n p(g c^n), with
-// p the dual lobe of seed 000 eq. 14.17 and the octaves of seed 000 eq. 14.18.
-const int MAX_OCTAVES = 8;
+// Wrenninge et al.'s octaves (seed 000 eq. 14.18): octave n is the medium once more with
+// scattering a^n sigma_s, extinction b^n sigma_t and phase p(g c^n), p the dual lobe of seed 000
+// eq. 14.17. Each octave is seen through its own thinned extinction along the view ray too, as
+// in the whole renders the octaves stand for: its light comes from deeper inside the cloud.
 struct OctavePhases {
-    float weighted[MAX_OCTAVES];
+    float weighted[MAX_OCTAVES]; // a^n p(g c^n): the angle to the light is fixed along a ray
 };
 
 OctavePhases octave_phases(float cos_theta)
@@ -74,15 +80,28 @@ OctavePhases octave_phases(float cos_theta)
     return o;
 }
 
-// Sum over octaves n of a^n p(g c^n) exp(-b^n tau) (seed 000 eq. 14.18).
-float octave_sun_scattering(OctavePhases o, float tau)
+// The octaves n >= 1 stand for light that has forgotten the sun's direction: it enters through
+// the lit surface with the flux E mu0 (mu0: the sun's cosine to the surface) and fades with the
+// depth below it, not with the distance along the sun's ray. Below the top of a layer at the
+// local extinction sigma, tau_up = sigma (top - r) estimates that depth; mu0 ~ tau_up / tau_sun
+// (1 inside a cloud lit from the side, where the sun's ray is the shorter way out). Fitted to
+// the Monte Carlo decks of tests/test_cloud_accuracy.c: the depth tau_sun (0.1 + 0.9 mu0).
+const float MU0_FLOOR = 0.1;
+const float NORMAL_DEPTH = 0.9;
+
+// The light each octave scatters toward the viewer per unit of its own optical depth, per unit
+// illuminance: a^n p_n exp(-b^n tau) / b^n (seed 000 eq. 14.18), the diffuse octaves by the
+// incidence above.
+void octave_sources(OctavePhases o, float tau, float tau_up, out float src[MAX_OCTAVES])
 {
-    float b = 1.0, sum = 0.0;
-    for (int n = 0; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
-        sum += o.weighted[n] * exp(-b * tau);
+    float mu0 = clamp(tau_up / max(tau, 1e-6), MU0_FLOOR, 1.0);
+    float depth = tau * mix(1.0, mu0, NORMAL_DEPTH);
+    src[0] = o.weighted[0] * exp(-tau);
+    float b = cloud.octaves.y;
+    for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
+        src[n] = o.weighted[n] * mu0 * exp(-b * depth) / b;
         b *= cloud.octaves.y;
     }
-    return sum;
 }
 
 // Isotropic ambient radiance (cd/m2) under (top) and over (bottom) the clouds: the sky lit by
@@ -168,6 +187,9 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     bool skipped = false; // the last probe stepped over empty space
     float tau = 0.0;
     bool fresh_light = true;
+    // The view's optical depth, and it and the sun's at the last fresh light sample.
+    float tau_view = 0.0, tau_fresh = 0.0, tau_view_fresh = 0.0, tau_last = 0.0,
+          tau_view_last = 0.0;
     for (float i = 0.0; i < 2.0 * steps && t < t1; i += 1.0) {
         if (res.transmittance < EARLY_EXIT_T)
             break;
@@ -201,23 +223,65 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         // The secondary march runs on every other sample; the one between reuses its optical
         // depth (samples are tens of metres apart, the march reaches kilometres).
         if (fresh_light) {
+            tau_last = tau_fresh;
+            tau_view_last = tau_view_fresh;
+            tau_view_fresh = tau_view;
             tau = light_optical_depth(p, sun_dir, jitter, low_layer);
+            tau_fresh = tau;
             if (moon_on)
                 tau_moon = light_optical_depth(p, moon_dir, jitter, low_layer);
         }
         fresh_light = !fresh_light;
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
         vec3 ambient = mix(amb.bottom, amb.top, h);
-        vec3 light = sun * octave_sun_scattering(phases, tau) + ambient;
+        float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
+        float top = low_layer ? cloud.low.y : cloud.high.y;
+        float tau_up = sigma_t * max(top - r, 0.0);
+        octave_sources(phases, tau, tau_up, src);
         if (moon_on)
-            light += moon * octave_sun_scattering(moon_phases, tau_moon);
-        vec3 source = sigma_t * albedo * light;
+            octave_sources(moon_phases, tau_moon, tau_up, moon_src);
+        // seed 001 eq. 17 per octave: the source integrated over the step against the octave's
+        // own extinction b^n sigma_t (the 1 / b^n is in the sources).
+        float b = 1.0, sun_sum = 0.0, moon_sum = 0.0;
+        for (int n = 0; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
+            float step_n = exp(-b * sigma_t * ds);
+            float seen = res.octave_t[n] * (1.0 - step_n);
+            sun_sum += seen * src[n];
+            if (moon_on)
+                moon_sum += seen * moon_src[n];
+            res.octave_t[n] *= step_n;
+            b *= cloud.octaves.y;
+        }
+        // The sky's ambient light is scattered once (octave 0).
         float step_t = exp(-sigma_t * ds);
-        // seed 001 eq. 17: the source integrated over the step against its own extinction.
-        res.luminance += res.transmittance * (source - source * step_t) / max(sigma_t, 1e-7);
+        res.luminance += albedo * (sun * sun_sum + moon * moon_sum +
+                                   ambient * (res.transmittance * (1.0 - step_t)));
         // seed 001 eq. 21: front depth weighted by the transmittance to the viewer.
         depth_sum += vec2(res.transmittance * t, res.transmittance);
         res.transmittance *= step_t;
+        tau_view += sigma_t * ds;
+        if (res.transmittance < EARLY_EXIT_T) {
+            // The octaves' light from behind the exit, up to the layer's far side: the medium
+            // continued with this sample's extinction, the sun's optical depth growing along
+            // the view as it did over the last light samples (at least constant).
+            float k = tau_view_fresh > tau_view_last
+                          ? max(0.0, (tau_fresh - tau_last) / (tau_view_fresh - tau_view_last))
+                          : 0.0;
+            float rest = sigma_t * max(t1 - t - ds, 0.0);
+            b = cloud.octaves.y;
+            sun_sum = 0.0;
+            moon_sum = 0.0;
+            for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
+                float seen = res.octave_t[n] * exp(-b * k * sigma_t * ds) *
+                             (1.0 - exp(-b * (1.0 + k) * rest)) / (1.0 + k);
+                sun_sum += seen * src[n];
+                if (moon_on)
+                    moon_sum += seen * moon_src[n];
+                b *= cloud.octaves.y;
+            }
+            res.luminance += albedo * (sun * sun_sum + moon * moon_sum);
+            break;
+        }
         t += ds;
     }
 }
@@ -229,6 +293,8 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
     res.luminance = vec3(0.0);
     res.transmittance = 1.0;
     res.depth = 0.0;
+    for (int n = 0; n < MAX_OCTAVES; n++)
+        res.octave_t[n] = 1.0;
     if (cloud.march.z < 0.5)
         return res;
     float lo0, lo1, hi0, hi1;

@@ -1,0 +1,101 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The renderer's cloud march (cloud_march.glsl, unchanged) through a homogeneous plane-parallel
+// deck, for the Monte Carlo comparison of tests/test_cloud_accuracy.c: the bindings of
+// cloud_bindings.glsl, the real atmosphere and march code, and in place of cloud_density.glsl a
+// low layer of uniform extinction. One invocation marches one ray (origin, direction, jitter)
+// of one case (deck, sun, phase, octaves) and writes the luminance per unit sun illuminance.
+#include "cloud_shared.h"
+
+layout(local_size_x = 64) in;
+
+// The declarations of cloud_bindings.glsl (which would include cloud_density.glsl).
+SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
+layout(binding = 2) uniform sampler2D transmittance_lut;
+layout(binding = 3) uniform sampler2D multiscattering_lut;
+layout(binding = 4) uniform sampler2D irradiance_lut;
+SKY_PARAMETER_BLOCK(5, CloudBlock, sky_cloud_uniforms, cloud);
+layout(binding = 6) uniform sampler3D base_noise;
+layout(binding = 7) uniform sampler3D detail_noise;
+layout(binding = 8) uniform sampler2D curl_noise;
+layout(binding = 9) uniform sampler2D weather_map;
+layout(constant_id = 0) const bool MOONLIT = true;
+
+// One case: the deck, the sun and the cloud parameters that the comparison varies.
+struct SlabCase {
+    vec4 low;     // cloud.low: x bottom radius, y top radius, z extinction per km, w 1
+    vec4 sun;     // xyz toward the sun, w primary steps
+    vec4 phase;   // cloud.phase: g0, g1, w, octave count
+    vec4 octaves; // cloud.octaves: a, b, c, light steps
+};
+// One ray: xyz origin (planet-centred km), w the case; xyz direction, w the jitter.
+struct SlabRay {
+    vec4 origin;
+    vec4 direction;
+};
+layout(std430, binding = 10) readonly buffer Cases { SlabCase cases[]; };
+layout(std430, binding = 11) readonly buffer Rays { uvec4 ray_count; SlabRay rays[]; };
+layout(std430, binding = 12) writeonly buffer Results { float luminance[]; };
+
+#define SKY_HAS_TRANSMITTANCE_LUT
+#define SKY_HAS_MULTISCATTERING_LUT
+#include "atmosphere.glsl"
+
+// In place of cloud_density.glsl: the low layer's shell filled with extinction cloud.low.z,
+// nothing in the high layer.
+#define CLOUD_DENSITY_GLSL
+// The march sets it per step (cloud_density.glsl); the uniform deck has no detail to fade.
+float cloud_detail_weight = 1.0;
+
+float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
+{
+    float r = length(p);
+    return low_layer && r > cloud.low.x && r < cloud.low.y ? cloud.low.z : 0.0;
+}
+
+// The logic of cloud_density.glsl's shell_segment: range [t0, t1] of a ray inside the shell
+// [r_in, r_out], first crossing only; false when it misses it or the planet is in the way.
+bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out float t1)
+{
+    float r = length(o);
+    float t_ground = ray_sphere_nearest(o, d, bottom_radius());
+    float t_in_near = ray_sphere_nearest(o, d, r_in);
+    if (r < r_in) {
+        t0 = ray_sphere_far(o, d, r_in);
+        t1 = ray_sphere_far(o, d, r_out);
+        return t_ground < 0.0 && t1 > t0;
+    }
+    if (r <= r_out) {
+        t0 = 0.0;
+        t1 = t_in_near >= 0.0 ? t_in_near : ray_sphere_far(o, d, r_out);
+        return t1 > 0.0;
+    }
+    float t_out = ray_sphere_nearest(o, d, r_out);
+    if (t_out < 0.0)
+        return false;
+    t0 = t_out;
+    t1 = t_in_near >= 0.0 ? t_in_near : ray_sphere_far(o, d, r_out);
+    return t1 > t0;
+}
+
+#include "cloud_march.glsl"
+
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= ray_count.x)
+        return;
+    atmo = atmo_block;
+    frame = frame_block;
+    cloud = cloud_block;
+    SlabRay ray = rays[i];
+    SlabCase c = cases[uint(ray.origin.w)];
+    cloud.low = c.low;
+    cloud.phase = c.phase;
+    cloud.octaves = c.octaves;
+    frame.sun_direction.xyz = c.sun.xyz;
+    CloudResult res = march_clouds(ray.origin.xyz, ray.direction.xyz, c.sun.xyz,
+                                   ray.direction.w, c.sun.w);
+    luminance[i] = res.luminance.g / frame.sun_illuminance.y;
+}
