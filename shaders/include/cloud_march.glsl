@@ -187,9 +187,6 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     bool skipped = false; // the last probe stepped over empty space
     float tau = 0.0;
     bool fresh_light = true;
-    // The view's optical depth, and it and the sun's at the last fresh light sample.
-    float tau_view = 0.0, tau_fresh = 0.0, tau_view_fresh = 0.0, tau_last = 0.0,
-          tau_view_last = 0.0;
     for (float i = 0.0; i < 2.0 * steps && t < t1; i += 1.0) {
         if (res.transmittance < EARLY_EXIT_T)
             break;
@@ -223,13 +220,14 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         // The secondary march runs on every other sample; the one between reuses its optical
         // depth (samples are tens of metres apart, the march reaches kilometres).
         if (fresh_light) {
-            tau_last = tau_fresh;
-            tau_view_last = tau_view_fresh;
-            tau_view_fresh = tau_view;
-            tau = light_optical_depth(p, sun_dir, jitter, low_layer);
-            tau_fresh = tau;
+            // Each light march starts at its own offset (a golden-ratio sequence along the
+            // ray): with the pixel's one jitter for all of them, one unlucky offset would
+            // bias every light sample of the ray alike, and the octaves that see deep into
+            // the cloud would turn that into grain.
+            float light_jitter = fract(jitter + 0.6180340 * i);
+            tau = light_optical_depth(p, sun_dir, light_jitter, low_layer);
             if (moon_on)
-                tau_moon = light_optical_depth(p, moon_dir, jitter, low_layer);
+                tau_moon = light_optical_depth(p, moon_dir, light_jitter, low_layer);
         }
         fresh_light = !fresh_light;
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
@@ -259,14 +257,14 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         // seed 001 eq. 21: front depth weighted by the transmittance to the viewer.
         depth_sum += vec2(res.transmittance * t, res.transmittance);
         res.transmittance *= step_t;
-        tau_view += sigma_t * ds;
         if (res.transmittance < EARLY_EXIT_T) {
             // The octaves' light from behind the exit, up to the layer's far side: the medium
             // continued with this sample's extinction, the sun's optical depth growing along
-            // the view as it did over the last light samples (at least constant).
-            float k = tau_view_fresh > tau_view_last
-                          ? max(0.0, (tau_fresh - tau_last) / (tau_view_fresh - tau_view_last))
-                          : 0.0;
+            // the view by k per unit of the view's, as in a plane-parallel deck (0 on a rising
+            // ray). Geometric, not the difference of two jittered light marches, whose noise
+            // 1 / (1 + k) would turn into a bias.
+            vec3 up = p / r;
+            float k = max(0.0, -dot(d, up)) / max(dot(sun_dir, up), 0.1);
             float rest = sigma_t * max(t1 - t - ds, 0.0);
             b = cloud.octaves.y;
             sun_sum = 0.0;
