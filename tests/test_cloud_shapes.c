@@ -255,7 +255,7 @@ static void test_from_above(const char *name, int seed, double sun_azimuth_deg,
               name, 100.0 * median_fraction);
 }
 
-/* Fair cumulus seen from the ground toward the horizon, in four directions, against the sky
+/* Fair cumulus seen from the ground toward the horizon, in eight directions, against the sky
  * above the camera's horizontal. At the preset's coverage (0.3) every ray near the horizon
  * crosses several clouds, which merge into one band, so the field is thinned to a coverage of
  * 0.12 (the same clouds, fewer of them): separate clouds then stand against the sky, seen from
@@ -264,16 +264,16 @@ static void test_edge_on(void)
 {
     static struct cloud_object pooled[MAX_OBJECTS];
     int count = 0;
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < 8; k++) {
         struct sky_world_state s;
         if (!weather_state("fair_cumulus", &s))
             return;
         s.clouds.low.coverage = 0.12;
         s.camera.pitch_deg = 12.0;
         s.camera.fov_deg = 50.0;
-        s.camera.yaw_deg = 90.0 * k;
+        s.camera.yaw_deg = 45.0 * k;
         char name[64];
-        snprintf(name, sizeof name, "edge_on_%d", 90 * k);
+        snprintf(name, sizeof name, "edge_on_%d", 45 * k);
         render_pair(&s, name);
         double cover, largest;
         int n = label(&s, BELOW_NONE, &cover), used = 0;

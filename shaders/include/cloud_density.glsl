@@ -48,14 +48,18 @@ float layer_fraction(float r, vec4 layer)
 
 // Where a cloud may be at height fraction h over a point of footprint f (Schneider 2017's
 // density-height gradient, made to follow the footprint): the column of a clump reaches
-// shape.x * sqrt(f (2 - f)), a quarter circle in f; the footprint rises smoothly toward a
-// clump's core (cloud_weather.comp), so a clump is a dome with steep sides on a flat base and a
-// cumulonimbus core a tower; the billows carve its upper 40 % into cauliflower domes. Under
+// shape.x * sqrt(c (2 - c)), a quarter circle in c = f / CORE_FOOTPRINT; the footprint rises
+// smoothly toward a clump's core (cloud_weather.comp), so a clump is a dome with steep sides on
+// a flat base and a cumulonimbus core a tower. The top levels off over the core (f past
+// CORE_FOOTPRINT) instead of following the footprint to its peak, which made pyramids; the
+// billows carve its upper 40 % into cauliflower domes. Under
 // the layer top the anvil spreads over the whole footprint (f^0.3 widens it, Schneider 2017's
 // anvil bias).
+const float CORE_FOOTPRINT = 0.7;
 float cloud_envelope(float h, float f, vec4 shape)
 {
-    float top = shape.x * sqrt(f * (2.0 - f));
+    float core = clamp(f / CORE_FOOTPRINT, 0.0, 1.0);
+    float top = shape.x * sqrt(core * (2.0 - core));
     float column = smoothstep(0.0, shape.y, h) * (1.0 - smoothstep(0.6 * top, top, h));
     float anvil = shape.w * smoothstep(0.7, 0.8, h) * (1.0 - smoothstep(0.9, 0.98, h))
                   * pow(f, 0.3);
