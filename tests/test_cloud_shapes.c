@@ -7,6 +7,8 @@
  * - seen from the side (from the ground toward the horizon, the field thinned so that clouds
  *   stand apart), fair cumulus have a median height / width of at least 0.35 over at least 10
  *   whole clouds;
+ * - a storm cell (the storm preset's layer, one cumulonimbus footprint on a client weather
+ *   map) is a tower taller than it is wide;
  * - overcast and storm decks hide the sun's disk; thin cirrus dims it and leaves it visible.
  * argv[1]: where the renders and the masks measured on them are written as PNGs (boxes: green
  * the objects measured, red those cut by the image's border); argv[2]: the config directory. */
@@ -178,6 +180,8 @@ enum below_horizon {
                        and what clouds darken there is their shadow, not cloud */
     BELOW_NONE,     /* nothing below 2 deg over the camera's horizontal: clouds seen from the
                        side stand above the band that the far ones merge into there */
+    BRIGHTER_ABOVE, /* as BELOW_NONE, and only where brighter: clouds lit from behind the
+                       camera, not the air their shadows darken */
 };
 
 /* mask: where the cloudy render differs from the clear one by more than 10 % of the clear one,
@@ -194,7 +198,7 @@ static int label(const struct sky_world_state *s, enum below_horizon below, doub
             size_t i = (size_t)y * W + (size_t)x;
             double change = (double)cloudy[i] - clear[i];
             pixel_direction(f, r, u, tan_half, x, y, d);
-            if (below == BELOW_NONE && d[2] < sin(2.0 * DEG))
+            if (below != BELOW_BRIGHTER && d[2] < sin(2.0 * DEG))
                 change = 0.0;
             else if (below == BELOW_NONE || d[2] >= dip)
                 change = fabs(change);
@@ -295,6 +299,65 @@ static void test_edge_on(void)
     CHECK_MSG(median >= 0.35, "edge-on: median height/width %.3f, want >= 0.35", median);
 }
 
+/* One storm cell, alone: a client weather map holds a single cumulonimbus footprint (6 km
+ * across, coverage 1 at its centre falling to 0 at its rim, heavy rain) 25 km north of the
+ * camera, whose repeats lie outside the view or behind the cell. Seen from the ground, lit from
+ * behind the camera (cloud = brighter than the clear sky: the air its shadow darkens is not),
+ * the cell is a whole object taller than it is wide: a tower, not a pancake or a dome. */
+static void test_storm_tower(void)
+{
+    struct sky_world_state s;
+    if (!weather_state("storm", &s))
+        return;
+    enum { MAP = 128 };
+    static uint8_t map[MAP * MAP * 4];
+    double extent = s.weather.map_extent_km, radius = 3.0, north = 25.0;
+    for (int y = 0; y < MAP; y++)
+        for (int x = 0; x < MAP; x++) {
+            double east_km = ((x + 0.5) / MAP - 0.5) * extent;
+            double north_km = (0.5 - (y + 0.5) / MAP) * extent;
+            double r = hypot(east_km, north_km - north) / radius;
+            uint8_t *t = map + 4 * (y * MAP + x);
+            t[0] = (uint8_t)lround(255.0 * fmax(0.0, 1.0 - r * r));
+            t[1] = 0;
+            t[2] = 255;
+            t[3] = r < 1.0 ? 230 : 0;
+        }
+    CHECK(sky_renderer_set_weather_map(renderer, map, MAP, MAP) == 0);
+    s.weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    s.clouds.high.coverage = 0.0;
+    s.camera.altitude_km = 0.2;
+    s.camera.yaw_deg = 0.0;
+    s.camera.pitch_deg = 12.0;
+    s.camera.fov_deg = 60.0;
+    s.sun.azimuth_deg = 180.0;
+    s.sun.elevation_deg = 30.0;
+    for (int c = 0; c < 3; c++)
+        s.atmosphere.ground_albedo[c] = 0.0;
+    render(&s, cloudy);
+    save_render("storm_cell");
+    s.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL; /* the clear sky: no low layer */
+    s.clouds.low.coverage = 0.0;
+    render(&s, clear);
+    double cover;
+    int n = label(&s, BRIGHTER_ABOVE, &cover), largest = -1;
+    save_mask("storm_cell_mask", n, 1, 8);
+    for (int i = 0; i < n; i++)
+        if (largest < 0 || objects[i].area > objects[largest].area)
+            largest = i;
+    CHECK_MSG(largest >= 0, "storm cell: no cloud in view");
+    if (largest < 0)
+        return;
+    const struct cloud_object *o = &objects[largest];
+    double width = o->x1 - o->x0 + 1, height = o->y1 - o->y0 + 1;
+    printf("storm cell: cloud cover %.3f, %d objects; the largest %d px, %.0f x %.0f px "
+           "(height/width %.2f)%s\n", cover, n, o->area, width, height, height / width,
+           o->touches_border ? ", touches the border" : "");
+    CHECK_MSG(!o->touches_border, "storm cell: the tower leaves the view");
+    CHECK_MSG(height > width, "storm cell: %.0f px tall, %.0f px wide", height, width);
+    CHECK(sky_renderer_set_weather_map(renderer, NULL, 0, 0) == 0);
+}
+
 /* The brightest pixel whose centre lies within disk_deg of the sun (the pinhole of
  * shaders/include/camera.glsl, as cloud_metrics_sun_contrast measures it). */
 static double sun_peak(const struct sky_world_state *s, const double sun[3], double disk_deg)
@@ -392,11 +455,12 @@ int main(int argc, char **argv)
     CHECK(renderer != NULL);
     if (!renderer)
         return check_summary();
-    test_from_above("above_seed1", 1, 180.0, 14.0, 90.0);
-    test_from_above("above_seed7", 7, 100.0, 14.0, 90.0);
-    test_from_above("nadir_seed3", 3, 250.0, 40.0, 40.0);
-    test_edge_on();
-    test_sun_through_clouds();
+test_from_above("above_seed1", 1, 180.0, 14.0, 90.0);
+test_from_above("above_seed7", 7, 100.0, 14.0, 90.0);
+test_from_above("nadir_seed3", 3, 250.0, 40.0, 40.0);
+test_edge_on();
+    test_storm_tower();
+test_sun_through_clouds();
     sky_renderer_destroy(&renderer);
     CHECK(validation_messages == 0); /* counted through destruction */
     return check_summary();
