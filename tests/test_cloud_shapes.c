@@ -299,19 +299,14 @@ static void test_edge_on(void)
     CHECK_MSG(median >= 0.35, "edge-on: median height/width %.3f, want >= 0.35", median);
 }
 
-/* One storm cell, alone: a client weather map holds a single cumulonimbus footprint (6 km
- * across, coverage 1 at its centre falling to 0 at its rim, heavy rain) 25 km north of the
- * camera, whose repeats lie outside the view or behind the cell. Seen from the ground, lit from
- * behind the camera (cloud = brighter than the clear sky: the air its shadow darkens is not),
- * the cell is a whole object taller than it is wide: a tower, not a pancake or a dome. */
-static void test_storm_tower(void)
+/* A client weather map with one cumulonimbus footprint of `radius` km (coverage 1 at its centre
+ * falling to 0 at its rim; precipitation `rain` inside it) `north` km north of the camera. */
+static void set_storm_cell_map(const struct sky_world_state *s, double radius, double north,
+                               uint8_t rain)
 {
-    struct sky_world_state s;
-    if (!weather_state("storm", &s))
-        return;
     enum { MAP = 128 };
     static uint8_t map[MAP * MAP * 4];
-    double extent = s.weather.map_extent_km, radius = 3.0, north = 25.0;
+    double extent = s->weather.map_extent_km;
     for (int y = 0; y < MAP; y++)
         for (int x = 0; x < MAP; x++) {
             double east_km = ((x + 0.5) / MAP - 0.5) * extent;
@@ -321,17 +316,38 @@ static void test_storm_tower(void)
             t[0] = (uint8_t)lround(255.0 * fmax(0.0, 1.0 - r * r));
             t[1] = 0;
             t[2] = 255;
-            t[3] = r < 1.0 ? 230 : 0;
+            t[3] = r < 1.0 ? rain : 0;
         }
     CHECK(sky_renderer_set_weather_map(renderer, map, MAP, MAP) == 0);
-    s.weather.map_source = SKY_WEATHER_MAP_CLIENT;
-    s.clouds.high.coverage = 0.0;
-    s.camera.altitude_km = 0.2;
-    s.camera.yaw_deg = 0.0;
-    s.camera.pitch_deg = 12.0;
-    s.camera.fov_deg = 60.0;
-    s.sun.azimuth_deg = 180.0;
-    s.sun.elevation_deg = 30.0;
+}
+
+/* The storm preset from the ground with the sun behind the camera, on a client map (by
+ * set_storm_cell_map) and without the high layer. */
+static bool storm_cell_state(struct sky_world_state *s)
+{
+    if (!weather_state("storm", s))
+        return false;
+    s->weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    s->clouds.high.coverage = 0.0;
+    s->camera.altitude_km = 0.2;
+    s->camera.yaw_deg = 0.0;
+    s->camera.pitch_deg = 12.0;
+    s->camera.fov_deg = 60.0;
+    s->sun.azimuth_deg = 180.0;
+    s->sun.elevation_deg = 30.0;
+    return true;
+}
+
+/* One storm cell, alone: a single cumulonimbus footprint 6 km across, 25 km north of the camera,
+ * whose repeats lie outside the view or behind the cell. Seen from the ground, lit from behind
+ * the camera (cloud = brighter than the clear sky: the air its shadow darkens is not), the cell
+ * is a whole object taller than it is wide: a tower, not a pancake or a dome. */
+static void test_storm_tower(void)
+{
+    struct sky_world_state s;
+    if (!storm_cell_state(&s))
+        return;
+    set_storm_cell_map(&s, 3.0, 25.0, 230);
     for (int c = 0; c < 3; c++)
         s.atmosphere.ground_albedo[c] = 0.0;
     render(&s, cloudy);
@@ -355,6 +371,46 @@ static void test_storm_tower(void)
            o->touches_border ? ", touches the border" : "");
     CHECK_MSG(!o->touches_border, "storm cell: the tower leaves the view");
     CHECK_MSG(height > width, "storm cell: %.0f px tall, %.0f px wide", height, width);
+    CHECK(sky_renderer_set_weather_map(renderer, NULL, 0, 0) == 0);
+}
+
+/* Rain shafts: the same cell with its base at 1.5 km, raining and not. Between the horizon and
+ * the base (0.5-2.5 deg up) the air under the cell changes by more than 10 % with its rain;
+ * beside it (15 deg and more off the cell's azimuth) by under 1 %. */
+static void test_rain_shaft(void)
+{
+    struct sky_world_state s;
+    if (!storm_cell_state(&s))
+        return;
+    s.clouds.low.bottom_km = 1.5;
+    s.clouds.low.thickness_km = 8.0;
+    s.camera.pitch_deg = 5.0;
+    double f[3], r[3], u[3], d[3], tan_half = camera_basis(&s, f, r, u);
+    set_storm_cell_map(&s, 3.0, 25.0, 230);
+    render(&s, cloudy);
+    save_render("rain_shaft");
+    set_storm_cell_map(&s, 3.0, 25.0, 0);
+    render(&s, clear);
+    double under[2] = { 0 }, beside[2] = { 0 };
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            pixel_direction(f, r, u, tan_half, x, y, d);
+            double up = asin(d[2]) / DEG, off = fabs(atan2(d[0], d[1])) / DEG;
+            if (up < 0.5 || up > 2.5)
+                continue;
+            size_t i = (size_t)y * W + (size_t)x;
+            double *sum = off < 2.0 ? under : off > 15.0 ? beside : NULL;
+            if (sum) {
+                sum[0] += fabs((double)cloudy[i] - clear[i]);
+                sum[1] += clear[i];
+            }
+        }
+    double change_under = under[0] / fmax(under[1], 1e-9);
+    double change_beside = beside[0] / fmax(beside[1], 1e-9);
+    printf("rain shaft: the air under the cell changes by %.3f with its rain, beside it by %.4f\n",
+           change_under, change_beside);
+    CHECK_MSG(change_under > 0.10, "rain shaft: %.3f under the cell", change_under);
+    CHECK_MSG(change_beside < 0.01, "rain shaft: %.4f beside the cell", change_beside);
     CHECK(sky_renderer_set_weather_map(renderer, NULL, 0, 0) == 0);
 }
 
@@ -460,6 +516,7 @@ test_from_above("above_seed7", 7, 100.0, 14.0, 90.0);
 test_from_above("nadir_seed3", 3, 250.0, 40.0, 40.0);
 test_edge_on();
     test_storm_tower();
+    test_rain_shaft();
 test_sun_through_clouds();
     sky_renderer_destroy(&renderer);
     CHECK(validation_messages == 0); /* counted through destruction */

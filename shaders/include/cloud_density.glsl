@@ -136,6 +136,15 @@ float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
     return low_layer ? low_density(p, r, wm, detail) : high_density(p, r, wm);
 }
 
+// Rain under the low layer's precipitating bases, 0..1 (the weather map's precipitation, which
+// lies under the cores of the footprint), the same from the base down to the ground: shafts.
+// y: the layer's nominal optical depth over p (its coverage there, full density).
+vec2 cloud_rain(vec3 p)
+{
+    vec4 wm = sample_weather(cloud_pattern_xy(p));
+    return vec2(wm.a, wm.r * cloud.low.z * (cloud.low.y - cloud.low.x));
+}
+
 // Range [t0, t1] of a ray inside the spherical shell [r_in, r_out], first crossing only;
 // false when it misses it or the planet is in the way first.
 bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out float t1)

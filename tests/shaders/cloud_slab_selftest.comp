@@ -48,6 +48,12 @@ layout(std430, binding = 12) writeonly buffer Results { float luminance[]; };
 // The march sets it per step (cloud_density.glsl); the uniform deck has no detail to fade.
 float cloud_detail_weight = 1.0;
 
+// No rain under the deck.
+vec2 cloud_rain(vec3 p)
+{
+    return vec2(0.0);
+}
+
 float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
 {
     float r = length(p);
