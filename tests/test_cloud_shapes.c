@@ -8,7 +8,8 @@
  *   stand apart), fair cumulus have a median height / width of at least 0.35 over at least 10
  *   whole clouds;
  * - a storm cell (the storm preset's layer, one cumulonimbus footprint on a client weather
- *   map) is a tower taller than it is wide;
+ *   map) is a tower taller than it is wide, and its rain makes a shaft under its base;
+ * - a cumulus backlit by a low sun has a silver lining: its outline outshines its core;
  * - overcast and storm decks hide the sun's disk; thin cirrus dims it and leaves it visible.
  * argv[1]: where the renders and the masks measured on them are written as PNGs (boxes: green
  * the objects measured, red those cut by the image's border); argv[2]: the config directory. */
@@ -299,10 +300,11 @@ static void test_edge_on(void)
     CHECK_MSG(median >= 0.35, "edge-on: median height/width %.3f, want >= 0.35", median);
 }
 
-/* A client weather map with one cumulonimbus footprint of `radius` km (coverage 1 at its centre
- * falling to 0 at its rim; precipitation `rain` inside it) `north` km north of the camera. */
-static void set_storm_cell_map(const struct sky_world_state *s, double radius, double north,
-                               uint8_t rain)
+/* A client weather map with one footprint of `radius` km (coverage 1 at its centre falling to 0
+ * at its rim; cloud type `type`, 255 cumulonimbus; precipitation `rain` inside it) `north` km
+ * north of the camera. */
+static void set_cell_map(const struct sky_world_state *s, double radius, double north,
+                         uint8_t type, uint8_t rain)
 {
     enum { MAP = 128 };
     static uint8_t map[MAP * MAP * 4];
@@ -315,14 +317,14 @@ static void set_storm_cell_map(const struct sky_world_state *s, double radius, d
             uint8_t *t = map + 4 * (y * MAP + x);
             t[0] = (uint8_t)lround(255.0 * fmax(0.0, 1.0 - r * r));
             t[1] = 0;
-            t[2] = 255;
+            t[2] = type;
             t[3] = r < 1.0 ? rain : 0;
         }
     CHECK(sky_renderer_set_weather_map(renderer, map, MAP, MAP) == 0);
 }
 
 /* The storm preset from the ground with the sun behind the camera, on a client map (by
- * set_storm_cell_map) and without the high layer. */
+ * set_cell_map) and without the high layer. */
 static bool storm_cell_state(struct sky_world_state *s)
 {
     if (!weather_state("storm", s))
@@ -347,7 +349,7 @@ static void test_storm_tower(void)
     struct sky_world_state s;
     if (!storm_cell_state(&s))
         return;
-    set_storm_cell_map(&s, 3.0, 25.0, 230);
+    set_cell_map(&s, 3.0, 25.0, 255, 230);
     for (int c = 0; c < 3; c++)
         s.atmosphere.ground_albedo[c] = 0.0;
     render(&s, cloudy);
@@ -386,10 +388,10 @@ static void test_rain_shaft(void)
     s.clouds.low.thickness_km = 8.0;
     s.camera.pitch_deg = 5.0;
     double f[3], r[3], u[3], d[3], tan_half = camera_basis(&s, f, r, u);
-    set_storm_cell_map(&s, 3.0, 25.0, 230);
+    set_cell_map(&s, 3.0, 25.0, 255, 230);
     render(&s, cloudy);
     save_render("rain_shaft");
-    set_storm_cell_map(&s, 3.0, 25.0, 0);
+    set_cell_map(&s, 3.0, 25.0, 255, 0);
     render(&s, clear);
     double under[2] = { 0 }, beside[2] = { 0 };
     for (int y = 0; y < H; y++)
@@ -412,6 +414,71 @@ static void test_rain_shaft(void)
     CHECK_MSG(change_under > 0.10, "rain shaft: %.3f under the cell", change_under);
     CHECK_MSG(change_beside < 0.01, "rain shaft: %.4f beside the cell", change_beside);
     CHECK(sky_renderer_set_weather_map(renderer, NULL, 0, 0) == 0);
+}
+
+/* Mean luminance of the masked pixels on the outline (a 4-neighbour outside the mask) over
+ * that of those at least 3 px inside it. */
+static double rim_over_core(const float *luma)
+{
+    double rim = 0.0, core = 0.0;
+    long rims = 0, cores = 0;
+    for (int y = 3; y < H - 3; y++)
+        for (int x = 3; x < W - 3; x++) {
+            size_t i = (size_t)y * W + (size_t)x;
+            if (!mask[i])
+                continue;
+            bool edge = !mask[i - 1] || !mask[i + 1] || !mask[i - W] || !mask[i + W];
+            bool inner = true;
+            for (int dy = -3; dy <= 3 && inner; dy++)
+                for (int dx = -3; dx <= 3 && inner; dx++)
+                    inner = mask[i + (size_t)(dy * W + dx)] != 0;
+            if (edge) {
+                rim += luma[i];
+                rims++;
+            } else if (inner) {
+                core += luma[i];
+                cores++;
+            }
+        }
+    return rims > 0 && cores > 0 ? (rim / rims) / (core / cores) : NAN;
+}
+
+/* Silver lining: one cumulus 8 km away, seen from the ground against a sun 6 deg up just beside
+ * it. With the renderer's forward-peaked phase its thin outline outshines its thick core, by
+ * far more than with an isotropic phase (the same cloud, the same light otherwise). */
+static void test_silver_lining(void)
+{
+    double ratio[2];
+    for (int k = 0; k < 2; k++) {
+        struct sky_world_state s;
+        if (!weather_state("fair_cumulus", &s))
+            return;
+        s.weather.map_source = SKY_WEATHER_MAP_CLIENT;
+        s.clouds.high.coverage = 0.0;
+        s.camera.altitude_km = 0.2;
+        s.camera.yaw_deg = 0.0;
+        s.camera.pitch_deg = 12.0;
+        s.camera.fov_deg = 40.0;
+        s.sun.azimuth_deg = 8.0;
+        s.sun.elevation_deg = 6.0;
+        if (k == 1)
+            s.clouds.phase_g0 = s.clouds.phase_g1 = 0.0;
+        set_cell_map(&s, 1.5, 8.0, 168, 0);
+        render(&s, cloudy);
+        save_render(k == 0 ? "silver_lining" : "silver_lining_isotropic");
+        s.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+        s.clouds.low.coverage = 0.0;
+        render(&s, clear);
+        double cover;
+        label(&s, BELOW_NONE, &cover);
+        ratio[k] = rim_over_core(cloudy);
+        printf("silver lining (%s phase): cloud cover %.3f, outline / core luminance %.3f\n",
+               k == 0 ? "the renderer's" : "an isotropic", cover, ratio[k]);
+    }
+    CHECK(sky_renderer_set_weather_map(renderer, NULL, 0, 0) == 0);
+    CHECK_MSG(ratio[0] > 1.2, "silver lining: outline / core %.3f", ratio[0]);
+    CHECK_MSG(ratio[0] > 1.5 * ratio[1], "silver lining: %.3f, isotropic %.3f", ratio[0],
+              ratio[1]);
 }
 
 /* The brightest pixel whose centre lies within disk_deg of the sun (the pinhole of
@@ -511,13 +578,14 @@ int main(int argc, char **argv)
     CHECK(renderer != NULL);
     if (!renderer)
         return check_summary();
-test_from_above("above_seed1", 1, 180.0, 14.0, 90.0);
-test_from_above("above_seed7", 7, 100.0, 14.0, 90.0);
-test_from_above("nadir_seed3", 3, 250.0, 40.0, 40.0);
-test_edge_on();
+    test_from_above("above_seed1", 1, 180.0, 14.0, 90.0);
+    test_from_above("above_seed7", 7, 100.0, 14.0, 90.0);
+    test_from_above("nadir_seed3", 3, 250.0, 40.0, 40.0);
+    test_edge_on();
     test_storm_tower();
     test_rain_shaft();
-test_sun_through_clouds();
+    test_silver_lining();
+    test_sun_through_clouds();
     sky_renderer_destroy(&renderer);
     CHECK(validation_messages == 0); /* counted through destruction */
     return check_summary();
