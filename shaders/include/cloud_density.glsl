@@ -31,30 +31,6 @@ vec4 sample_weather(vec2 pattern_xy)
     return textureLod(weather_map, pattern_xy * cloud.weather.z + 0.5, 0.0);
 }
 
-// The weather map through a cubic B-spline (4 bilinear taps; Sigg and Hadwiger 2005, GPU Gems
-// 2 ch. 20), for the samples the viewer sees: near clouds span many of its 100 m texels, and the
-// outline of a bilinear footprint steps along the texels' edges where the footprint rises
-// steeply. Light and shadow marches keep the bilinear map (a quarter of the taps): the B-spline
-// moves an outline by a fraction of a texel. The primary march's probes use it too: a probe on
-// the bilinear map would skip the B-spline's outline and leave the bilinear one in view.
-vec4 sample_weather_smooth(vec2 pattern_xy)
-{
-    vec2 size = vec2(textureSize(weather_map, 0));
-    vec2 x = (pattern_xy * cloud.weather.z + 0.5) * size - 0.5;
-    vec2 i = floor(x), f = x - i;
-    vec2 f2 = f * f, f3 = f2 * f;
-    vec2 w0 = (1.0 - 3.0 * f + 3.0 * f2 - f3) / 6.0;
-    vec2 w1 = (4.0 - 6.0 * f2 + 3.0 * f3) / 6.0;
-    vec2 w2 = (1.0 + 3.0 * f + 3.0 * f2 - 3.0 * f3) / 6.0;
-    vec2 w3 = f3 / 6.0;
-    vec2 g0 = w0 + w1, g1 = w2 + w3;
-    vec2 h0 = (i - 0.5 + w1 / g0) / size, h1 = (i + 1.5 + w3 / g1) / size;
-    return g0.y * (g0.x * textureLod(weather_map, vec2(h0.x, h0.y), 0.0) +
-                   g1.x * textureLod(weather_map, vec2(h1.x, h0.y), 0.0)) +
-           g1.y * (g0.x * textureLod(weather_map, vec2(h0.x, h1.y), 0.0) +
-                   g1.x * textureLod(weather_map, vec2(h1.x, h1.y), 0.0));
-}
-
 // Shape parameters of a cloud type in [0, 1] (stratus .. cumulonimbus), interpolated between
 // the tabulated types (render/cloud_params.c): x core height, y base rounding, z erosion,
 // w anvil.
@@ -157,14 +133,6 @@ float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
 {
     float r = length(p);
     vec4 wm = sample_weather(cloud_pattern_xy(p));
-    return low_layer ? low_density(p, r, wm, detail) : high_density(p, r, wm);
-}
-
-// The same on the smooth weather map: the samples the viewer sees.
-float cloud_layer_extinction_seen(vec3 p, bool detail, bool low_layer)
-{
-    float r = length(p);
-    vec4 wm = sample_weather_smooth(cloud_pattern_xy(p));
     return low_layer ? low_density(p, r, wm, detail) : high_density(p, r, wm);
 }
 

@@ -196,7 +196,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         vec3 p = o + t * d;
         if (empty >= EMPTY_RUN) {
             // Probing: the coarse shape only, big steps.
-            if (cloud_layer_extinction_seen(p, false, low_layer) <= 0.0) {
+            if (cloud_layer_extinction(p, false, low_layer) <= 0.0) {
                 t += SKIP_FACTOR * ds;
                 skipped = true;
                 continue;
@@ -208,7 +208,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
             skipped = false;
             p = o + t * d;
         }
-        float sigma_t = cloud_layer_extinction_seen(p, true, low_layer);
+        float sigma_t = cloud_layer_extinction(p, true, low_layer);
         t_fine = t;
         if (sigma_t <= 0.0) {
             empty++;
