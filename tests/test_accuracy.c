@@ -300,13 +300,9 @@ static void test_aerial_perspective(const struct sky_render_atmosphere *atm,
     free(transmittance);
 }
 
-int main(void)
+/* The tests, in order, with the renderer. */
+static void run_tests(void)
 {
-    unsigned validation_messages = 0;
-    renderer = test_renderer_create(&validation_messages);
-    CHECK(renderer != NULL);
-    if (!renderer)
-        return check_summary();
     struct sky_render_atmosphere atm;
     struct ref_atmosphere ref;
     test_earth_atmosphere(&atm);
@@ -315,7 +311,9 @@ int main(void)
     test_luminance(&atm, &ref);
     test_illuminance(&atm, &ref);
     test_aerial_perspective(&atm, &ref);
-    sky_renderer_destroy(&renderer);
-    CHECK(validation_messages == 0); /* counted through destruction */
-    return check_summary();
+}
+
+int main(void)
+{
+    return test_run_with_renderer(&renderer, run_tests);
 }

@@ -567,17 +567,9 @@ static void test_sun_through_clouds(void)
               peak / clear_peak);
 }
 
-int main(int argc, char **argv)
+/* The tests, in order, with the renderer. */
+static void run_tests(void)
 {
-    if (argc > 1)
-        out_dir = argv[1];
-    if (argc > 2)
-        config_dir = argv[2];
-    unsigned validation_messages = 0;
-    renderer = test_renderer_create(&validation_messages);
-    CHECK(renderer != NULL);
-    if (!renderer)
-        return check_summary();
     test_from_above("above_seed1", 1, 180.0, 14.0, 90.0);
     test_from_above("above_seed7", 7, 100.0, 14.0, 90.0);
     test_from_above("nadir_seed3", 3, 250.0, 40.0, 40.0);
@@ -586,7 +578,13 @@ int main(int argc, char **argv)
     test_rain_shaft();
     test_silver_lining();
     test_sun_through_clouds();
-    sky_renderer_destroy(&renderer);
-    CHECK(validation_messages == 0); /* counted through destruction */
-    return check_summary();
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1)
+        out_dir = argv[1];
+    if (argc > 2)
+        config_dir = argv[2];
+    return test_run_with_renderer(&renderer, run_tests);
 }

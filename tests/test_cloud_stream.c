@@ -207,21 +207,19 @@ static void test_instant_change(int *frame)
     CHECK_LE(median(ratio, 3), 1.25);
 }
 
-int main(int argc, char **argv)
+/* The tests, in order, with the renderer. */
+static void run_tests(void)
 {
-    if (argc > 1)
-        out_dir = argv[1];
-    unsigned validation_messages = 0;
-    renderer = test_renderer_create(&validation_messages);
-    CHECK(renderer != NULL);
-    if (!renderer)
-        return check_summary();
     double start = seconds_now();
     int frame = 0;
     test_transition(&frame);
     test_instant_change(&frame);
     printf("cloud stream: %.1f s\n", seconds_now() - start);
-    sky_renderer_destroy(&renderer);
-    CHECK(validation_messages == 0); /* counted through destruction */
-    return check_summary();
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1)
+        out_dir = argv[1];
+    return test_run_with_renderer(&renderer, run_tests);
 }

@@ -366,15 +366,9 @@ static void test_moonlit_clouds(void)
     CHECK(moon_up < 1e-3 * day);
 }
 
-int main(int argc, char **argv)
+/* The tests, in order, with the renderer. */
+static void run_tests(void)
 {
-    if (argc > 1)
-        out_dir = argv[1];
-    unsigned validation_messages = 0;
-    renderer = test_renderer_create(&validation_messages);
-    CHECK(renderer != NULL);
-    if (!renderer)
-        return check_summary();
     test_views();
     test_step_count_independence();
     test_thick_isotropic_cloud();
@@ -385,7 +379,11 @@ int main(int argc, char **argv)
     test_light_shafts();
     test_client_weather_map();
     test_moonlit_clouds();
-    sky_renderer_destroy(&renderer);
-    CHECK(validation_messages == 0); /* counted through destruction */
-    return check_summary();
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1)
+        out_dir = argv[1];
+    return test_run_with_renderer(&renderer, run_tests);
 }

@@ -269,20 +269,18 @@ static void test_clouds_in_panorama(void)
     free(cloudy);
 }
 
-int main(int argc, char **argv)
+/* The tests, in order, with the renderer. */
+static void run_tests(void)
 {
-    if (argc > 1)
-        out_dir = argv[1];
-    unsigned validation_messages = 0;
-    renderer = test_renderer_create(&validation_messages);
-    CHECK(renderer != NULL);
-    if (!renderer)
-        return check_summary();
     test_pixels_look_where_documented();
     test_sun_disk_whole_anywhere();
     test_metering_weighs_solid_angle();
     test_clouds_in_panorama();
-    sky_renderer_destroy(&renderer);
-    CHECK(validation_messages == 0); /* counted through destruction */
-    return check_summary();
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1)
+        out_dir = argv[1];
+    return test_run_with_renderer(&renderer, run_tests);
 }

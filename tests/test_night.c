@@ -629,15 +629,9 @@ static void write_review_images(void)
     save_png(&s, "night_gibbous", 320, 180);
 }
 
-int main(int argc, char **argv)
+/* The tests, in order, with the renderer. */
+static void run_tests(void)
 {
-    if (argc > 1)
-        out_dir = argv[1];
-    unsigned validation_messages = 0;
-    renderer = test_renderer_create(&validation_messages);
-    CHECK(renderer != NULL);
-    if (!renderer)
-        return check_summary();
     test_star_positions();
     test_star_photometry();
     test_moon_phases();
@@ -647,7 +641,11 @@ int main(int argc, char **argv)
     test_night_adaptation();
     test_no_nan();
     write_review_images();
-    sky_renderer_destroy(&renderer);
-    CHECK(validation_messages == 0);
-    return check_summary();
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1)
+        out_dir = argv[1];
+    return test_run_with_renderer(&renderer, run_tests);
 }

@@ -293,15 +293,9 @@ static void write_review_images(void)
     save_png(&s, "mars");
 }
 
-int main(int argc, char **argv)
+/* The tests, in order, with the renderer. */
+static void run_tests(void)
 {
-    if (argc > 1)
-        out_dir = argv[1];
-    unsigned validation_messages = 0;
-    renderer = test_renderer_create(&validation_messages);
-    CHECK(renderer != NULL);
-    if (!renderer)
-        return check_summary();
     struct frame *f = malloc(sizeof *f);
     test_no_nan_anywhere(f);
     test_night_darker_than_day(f);
@@ -312,7 +306,11 @@ int main(int argc, char **argv)
     test_manual_exposure_matches_metered();
     write_review_images();
     free(f);
-    sky_renderer_destroy(&renderer);
-    CHECK(validation_messages == 0); /* counted through destruction */
-    return check_summary();
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1)
+        out_dir = argv[1];
+    return test_run_with_renderer(&renderer, run_tests);
 }

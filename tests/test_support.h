@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "check.h"
 #include "sky_renderer.h"
 #include "world_render.h"
 #include "world_state.h"
@@ -26,6 +27,22 @@ static inline struct sky_renderer *test_renderer_create(unsigned *validation_mes
     struct sky_renderer_params params = { .validation = test_validation_requested(),
                                           .validation_message_counter = validation_messages };
     return sky_renderer_create(&params);
+}
+
+/* Creates the test's renderer into *renderer (test_renderer_create), runs `tests`, destroys it
+ * and checks that validation reported nothing, counted through destruction. Returns
+ * check_summary(): a test's main in one line. */
+static inline int test_run_with_renderer(struct sky_renderer **renderer, void (*tests)(void))
+{
+    unsigned validation_messages = 0;
+    *renderer = test_renderer_create(&validation_messages);
+    CHECK(*renderer != NULL);
+    if (*renderer) {
+        tests();
+        sky_renderer_destroy(renderer);
+        CHECK(validation_messages == 0);
+    }
+    return check_summary();
 }
 
 static inline void test_earth_atmosphere(struct sky_render_atmosphere *out)
