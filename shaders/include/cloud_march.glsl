@@ -320,15 +320,11 @@ void march_rain(vec3 o, vec3 d, float t0, float t1, float jitter, CloudAmbient a
 // The ray's stretch between the ground and the low layer's base: [t0, t1], false when none.
 bool under_base_segment(vec3 o, vec3 d, out float t0, out float t1)
 {
-    float r = length(o), base = cloud.low.x;
+    float base = cloud.low.x;
     float t_ground = ray_sphere_nearest(o, d, bottom_radius());
-    if (r < base) {
-        t0 = 0.0;
-        t1 = t_ground >= 0.0 ? t_ground : ray_sphere_far(o, d, base);
-    } else {
-        t0 = ray_sphere_nearest(o, d, base);
-        t1 = t_ground >= 0.0 ? t_ground : ray_sphere_far(o, d, base);
-    }
+    // From under the base at once; from above where the ray enters the base's sphere (-1: never).
+    t0 = length(o) < base ? 0.0 : ray_sphere_nearest(o, d, base);
+    t1 = t_ground >= 0.0 ? t_ground : ray_sphere_far(o, d, base);
     return t0 >= 0.0 && t1 > t0;
 }
 
