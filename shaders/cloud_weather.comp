@@ -34,17 +34,28 @@ layout(push_constant) uniform RowsPush { sky_cloud_rows_push push; };
 const float OCTAVE_SIGMA = 0.2144;
 const float WORLEY_MEAN = 0.5706, WORLEY_SIGMA = 0.1893;
 
+// Octaves with fewer texels a cell than this fade out (gone at half of it): finer noise would
+// change from texel to texel, and the bilinear lookup of such a map draws clouds whose outlines
+// are stair steps one texel (117 m) high. The outlines' finer roughness comes from the 3D
+// billows (cloud_density.glsl).
+const float MIN_TEXELS_PER_CELL = 4.0;
+
 // fBm of `octaves` octaves of gradient2 starting at `period` cells, amplitudes falling by
-// 2^-hurst per octave, in units of its own deviation (mean 0, deviation about 1).
-float fbm2(vec2 x, ivec2 period, uint salt, int octaves, float hurst)
+// 2^-hurst per octave, in units of its own deviation (mean 0, deviation about 1). texels: the
+// map's width.
+float fbm2(vec2 x, ivec2 period, uint salt, int octaves, float hurst, float texels)
 {
     float sum = 0.0, power = 0.0, amp = 1.0;
     for (int o = 0; o < octaves; o++) {
-        sum += amp * gradient2(x, period << o, salt + uint(o));
-        power += amp * amp;
+        ivec2 cells = period << o;
+        float resolved = texels / float(max(cells.x, cells.y));
+        float a = amp * clamp(2.0 * resolved / MIN_TEXELS_PER_CELL - 1.0, 0.0, 1.0);
+        if (a > 0.0)
+            sum += a * gradient2(x, cells, salt + uint(o));
+        power += a * a;
         amp *= exp2(-hurst);
     }
-    return sum / (OCTAVE_SIGMA * sqrt(power));
+    return sum / (OCTAVE_SIGMA * sqrt(max(power, 1e-12)));
 }
 
 // Deviations of the field past the threshold over which a cumulus reaches the layer's full
@@ -70,14 +81,18 @@ float threshold_for(float coverage)
 }
 
 // Footprint of a field of deviation 1 thresholded so that about `coverage` of the map is
-// inside, rising to 1 over `ramp` deviations past the threshold.
+// inside, rising to 1 over `ramp` deviations past the threshold. Stored signed: outside the
+// cloud it goes on falling to -1, and the lookup clamps it at 0 (cloud_density.glsl). The
+// bilinear lookup of a footprint clamped here would be positive over whole squares between
+// texel centres around every texel inside a cloud, and outlines would follow their edges: stair
+// steps of one texel.
 float footprint(float field, float coverage, float ramp)
 {
     if (coverage <= 0.0)
-        return 0.0;
+        return -1.0;
     if (coverage >= 1.0)
         return 1.0;
-    return clamp((field - threshold_for(coverage)) / ramp, 0.0, 1.0);
+    return clamp((field - threshold_for(coverage)) / ramp, -1.0, 1.0);
 }
 
 // Weights of the four tabulated types (stratus, stratocumulus, cumulus, cumulonimbus) at
@@ -95,6 +110,7 @@ void main()
     if (any(greaterThanEqual(px, size)))
         return;
     vec2 x = (vec2(px) + 0.5) / vec2(size);
+    float texels = float(size.x);
     if (push.mode == 1u) {
         // Client rows run from the north edge southward; map rows from the south.
         imageStore(weather_out, px, textureLod(client_map, vec2(x.x, 1.0 - x.y), 0.0));
@@ -114,11 +130,11 @@ void main()
         // Clusters a few cells wide (cloud streets and groups) shift the clump fields.
         float cluster = gradient2(x, ivec2(max(1, cu_period / 6)), 15u) / OCTAVE_SIGMA;
         if (w.z > 0.0) { // cumulus: round clumps of many sizes
-            field += w.z * blend(fbm2(x, ivec2(cu_period), 11u, 4, 0.8), cluster, 0.25);
+            field += w.z * blend(fbm2(x, ivec2(cu_period), 11u, 4, 0.8, texels), cluster, 0.25);
             ramp += w.z * CUMULUS_RAMP;
         }
         if (w.w > 0.0) { // cumulonimbus: few big cells whose cores are towers
-            field += w.w * blend(fbm2(x, ivec2(cb_period), 21u, 4, 0.6), cluster, 0.15);
+            field += w.w * blend(fbm2(x, ivec2(cb_period), 21u, 4, 0.6, texels), cluster, 0.15);
             ramp += w.w * TOWER_RAMP;
         }
         if (w.y > 0.0) {
@@ -130,7 +146,7 @@ void main()
             ramp += w.y * CELL_RAMP;
         }
         if (w.x > 0.0) { // stratus: a sheet with gentle variations and ragged gaps
-            field += w.x * fbm2(x, ivec2(st_period), 41u, 3, 0.5);
+            field += w.x * fbm2(x, ivec2(st_period), 41u, 3, 0.5, texels);
             ramp += w.x * SHEET_RAMP;
         }
         low = footprint(field / length(w), p.x, ramp);
@@ -140,8 +156,8 @@ void main()
     float high = 0.0;
     if (p.y > 0.0) {
         float fibrous = float(push.high_fibrous) / 1000.0;
-        float veil = fbm2(x, ivec2(6), 13u, 3, 0.5);
-        float streaks = fbm2(x, ivec2(3, 30), 16u, 4, 0.4);
+        float veil = fbm2(x, ivec2(6), 13u, 3, 0.5, texels);
+        float streaks = fbm2(x, ivec2(3, 30), 16u, 4, 0.4, texels);
         high = footprint(blend(veil, streaks, fibrous), p.y, 0.6);
         high *= mix(0.55, 1.0, p.y);
     }

@@ -481,6 +481,74 @@ static void test_silver_lining(void)
               ratio[1]);
 }
 
+static int compare_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* Fraction of the luminance gradient (Sobel, weighted by its magnitude, over the strongest
+ * 10 % of pixels) whose direction lies within 10 deg of the image's axes. */
+static double axis_aligned_edges(const float *luma)
+{
+    static float mag[W * H], sorted[W * H];
+    static bool along_axis[W * H];
+    size_t n = 0;
+    for (int y = 1; y < H - 1; y++)
+        for (int x = 1; x < W - 1; x++) {
+            size_t i = (size_t)y * W + (size_t)x;
+            double gx = (luma[i - W + 1] + 2.0 * luma[i + 1] + luma[i + W + 1]) -
+                        (luma[i - W - 1] + 2.0 * luma[i - 1] + luma[i + W - 1]);
+            double gy = (luma[i + W - 1] + 2.0 * luma[i + W] + luma[i + W + 1]) -
+                        (luma[i - W - 1] + 2.0 * luma[i - W] + luma[i - W + 1]);
+            double angle = atan2(fabs(gy), fabs(gx)) / DEG; /* 0..90 */
+            mag[i] = (float)hypot(gx, gy);
+            along_axis[i] = angle < 10.0 || angle > 80.0;
+            sorted[n++] = mag[i];
+        }
+    qsort(sorted, n, sizeof *sorted, compare_float);
+    float threshold = sorted[n * 9 / 10];
+    double aligned = 0.0, total = 0.0;
+    for (int y = 1; y < H - 1; y++)
+        for (int x = 1; x < W - 1; x++) {
+            size_t i = (size_t)y * W + (size_t)x;
+            if (mag[i] <= threshold)
+                continue;
+            total += mag[i];
+            aligned += along_axis[i] ? mag[i] : 0.0;
+        }
+    return total > 0.0 ? aligned / total : NAN;
+}
+
+/* Outlines without stair steps: broken clouds seen straight up from the ground, their weather
+ * map's texels about 40 px wide. Outlines that follow the texels are runs along the map's
+ * axes: with the camera turned so that those are the image's axes (yaw 0 and 90 deg), more of
+ * the edges lie along the image's axes than with them diagonal (45 and 135 deg). A clamped
+ * footprint (every texel's square, cloud_weather.comp) gives 1.84 times as many; the signed
+ * one 1.23. */
+static void test_smooth_outlines(void)
+{
+    double aligned[4];
+    for (int k = 0; k < 4; k++) {
+        struct sky_world_state s;
+        if (!weather_state("broken", &s))
+            return;
+        s.clouds.high.coverage = 0.0;
+        s.camera.yaw_deg = 45.0 * k;
+        s.camera.pitch_deg = 89.0;
+        s.camera.fov_deg = 120.0;
+        render(&s, cloudy);
+        if (k == 0)
+            save_render("outlines_overhead");
+        aligned[k] = axis_aligned_edges(cloudy);
+    }
+    double along = 0.5 * (aligned[0] + aligned[2]), across = 0.5 * (aligned[1] + aligned[3]);
+    printf("outlines overhead: edges within 10 deg of the image axes %.3f with the map's axes "
+           "there, %.3f with them diagonal (%.3f)\n", along, across, along / across);
+    CHECK_MSG(along < 1.4 * across, "stair-stepped outlines: %.3f along the map's axes, %.3f "
+              "across", along, across);
+}
+
 /* The brightest pixel whose centre lies within disk_deg of the sun (the pinhole of
  * shaders/include/camera.glsl, as cloud_metrics_sun_contrast measures it). */
 static double sun_peak(const struct sky_world_state *s, const double sun[3], double disk_deg)
@@ -577,6 +645,7 @@ static void run_tests(void)
     test_storm_tower();
     test_rain_shaft();
     test_silver_lining();
+    test_smooth_outlines();
     test_sun_through_clouds();
 }
 

@@ -91,8 +91,9 @@ static void test_views(void)
     }
 }
 
-/* seed 001 eq. 17 integrates each step exactly for its extinction: the mean cloud luminance
- * barely depends on the step count. */
+/* seed 001 eq. 17 integrates each step exactly for its extinction, and the empty-space probes
+ * do not jump cloud fringes (cloud_march.glsl): the mean cloud luminance barely depends on the
+ * step count (16 steps were 4.6 % darker than 256 when the probes read the billows). */
 static void test_step_count_independence(void)
 {
     struct sky_world_state s;
@@ -107,7 +108,7 @@ static void test_step_count_independence(void)
     double few = mean_luminance(frame_a), many = mean_luminance(frame_b);
     printf("steps: 16 -> %.5g, 256 -> %.5g cd/m2 (%.2f%%)\n", few, many,
            100.0 * (few - many) / many);
-    CHECK_NEAR(few / many, 1.0, 0.05);
+    CHECK_NEAR(few / many, 1.0, 0.02);
 }
 
 /* Single scattering off a semi-infinite slab with an isotropic phase, in double precision:

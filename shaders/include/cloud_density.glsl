@@ -26,9 +26,12 @@ vec2 cloud_pattern_xy(vec3 p)
     return p.xy - cloud.weather.xy;
 }
 
+// The map's footprints are signed (cloud_weather.comp): their zero crossings, interpolated,
+// are the outlines; clamped here.
 vec4 sample_weather(vec2 pattern_xy)
 {
-    return textureLod(weather_map, pattern_xy * cloud.weather.z + 0.5, 0.0);
+    vec4 wm = textureLod(weather_map, pattern_xy * cloud.weather.z + 0.5, 0.0);
+    return vec4(max(wm.rg, vec2(0.0)), wm.ba);
 }
 
 // Shape parameters of a cloud type in [0, 1] (stratus .. cumulonimbus), interpolated between
@@ -134,6 +137,25 @@ float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
     float r = length(p);
     vec4 wm = sample_weather(cloud_pattern_xy(p));
     return low_layer ? low_density(p, r, wm, detail) : high_density(p, r, wm);
+}
+
+// Whether the layer may hold cloud around p: its envelope (low) or its coverage (high) is
+// positive there. Unlike the density, which the billows cut into level sets, this stays
+// positive over a cloud's whole fringe, so a march that probes it steps over empty space
+// without jumping across fringes thinner than its probe spacing.
+bool cloud_layer_occupied(vec3 p, bool low_layer)
+{
+    float r = length(p);
+    vec4 wm = sample_weather(cloud_pattern_xy(p));
+    if (!low_layer) {
+        float h = layer_fraction(r, cloud.high);
+        return cloud.high.w > 0.5 && h > 0.0 && h < 1.0 && wm.g > 0.0;
+    }
+    float h = layer_fraction(r, cloud.low);
+    if (h <= 0.0 || h >= 1.0 || wm.r <= 0.0)
+        return false;
+    float f = clamp(wm.r * (1.0 + 0.5 * wm.a), 0.0, 1.0);
+    return cloud_envelope(h, f, type_shape(wm.b)) > 0.0;
 }
 
 // Rain under the low layer's precipitating bases, 0..1 (the weather map's precipitation, which

@@ -60,6 +60,11 @@ float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
     return low_layer && r > cloud.low.x && r < cloud.low.y ? cloud.low.z : 0.0;
 }
 
+bool cloud_layer_occupied(vec3 p, bool low_layer)
+{
+    return cloud_layer_extinction(p, false, low_layer) > 0.0;
+}
+
 // The logic of cloud_density.glsl's shell_segment: range [t0, t1] of a ray inside the shell
 // [r_in, r_out], first crossing only; false when it misses it or the planet is in the way.
 bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out float t1)
