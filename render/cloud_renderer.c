@@ -101,7 +101,7 @@ struct cloud_renderer {
 #define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
 #define MARCH_BINDINGS \
-    PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED
+    PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, SAMPLED
 
 static const struct compute_pass_desc descs[P_COUNT] = {
     [P_WEATHER] = { .name = "cloud_weather", SPIRV(cloud_weather_spv), .binding_count = 2,
@@ -111,16 +111,16 @@ static const struct compute_pass_desc descs[P_COUNT] = {
                    .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
                    .push_constant_bytes = sizeof(struct sky_cloud_rows_push) },
     [P_HEMISPHERE] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
-                       .binding_count = 11, .bindings = { MARCH_BINDINGS, STORAGE_BUF },
+                       .binding_count = 12, .bindings = { MARCH_BINDINGS, STORAGE_BUF },
                        .spec_count = 1, .spec_values = { 0 } },
     [P_HEMISPHERE_MOONLIT] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
-                               .binding_count = 11, .bindings = { MARCH_BINDINGS, STORAGE_BUF },
+                               .binding_count = 12, .bindings = { MARCH_BINDINGS, STORAGE_BUF },
                                .spec_count = 1, .spec_values = { 1 } },
-    [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 14,
+    [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 15,
                   .bindings = { MARCH_BINDINGS, STORAGE_IMG, STORAGE_IMG, SAMPLED, SAMPLED },
                   .push_constant_bytes = sizeof(struct sky_cloud_view_push), .spec_count = 1,
                   .spec_values = { 0 } },
-    [P_TRACE_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 14,
+    [P_TRACE_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 15,
                           .bindings = { MARCH_BINDINGS, STORAGE_IMG, STORAGE_IMG, SAMPLED,
                                         SAMPLED },
                           .push_constant_bytes = sizeof(struct sky_cloud_view_push),
@@ -397,19 +397,19 @@ static float angle_between(const float a[3], const float b[3])
     return acosf(fminf(1.0f, fmaxf(-1.0f, d)));
 }
 
-/* The march bindings (0-9), then the pass's own two, and for the trace (14 bindings) the
+/* The march bindings (0-10), then the pass's own two, and for the trace (15 bindings) the
  * view's aerial-perspective volume. */
 static void bind_march(struct vk_context *ctx, struct cloud_renderer *cr, struct compute_pass *pass,
                        const struct cloud_frame *f, struct compute_resource extra0,
                        struct compute_resource extra1)
 {
     const struct sky_pass_resources *s = &f->sky;
-    struct compute_resource r[14] = {
+    struct compute_resource r[15] = {
         buf(s->atmosphere_params), buf(s->frame_params), tex(s->transmittance, s->sampler),
         tex(s->multiscattering, s->sampler), tex(s->irradiance, s->sampler), buf(&cr->params),
         tex(&cr->noise.base, cr->repeat), tex(&cr->noise.detail, cr->repeat),
         tex(&cr->noise.curl, cr->repeat), tex(shown(cr, &cr->weather), cr->repeat),
-        extra0, extra1,
+        tex(s->skyview, s->sampler), extra0, extra1,
         tex(s->ap_inscatter, s->sampler), tex(s->ap_transmittance, s->sampler),
     };
     compute_pass_bind(ctx, pass, r);

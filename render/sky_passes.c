@@ -792,6 +792,7 @@ void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources 
     out->frame_params = &p->frame_params;
     out->transmittance = &p->transmittance;
     out->multiscattering = &p->multiscattering;
+    out->skyview = &p->skyview;
     out->irradiance = &p->irradiance;
     out->ap_inscatter = &p->ap_inscatter;
     out->ap_transmittance = &p->ap_transmittance;

@@ -119,7 +119,7 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
 /* The resources the cloud passes share with the sky's. */
 struct sky_pass_resources {
     const struct gpu_buffer *atmosphere_params, *frame_params;
-    const struct gpu_image *transmittance, *multiscattering, *irradiance;
+    const struct gpu_image *transmittance, *multiscattering, *irradiance, *skyview;
     const struct gpu_image *ap_inscatter, *ap_transmittance; /* this view's froxel volume */
     const struct gpu_image *ap_shafts; /* in-scattering the cloud shadows take (light shafts) */
     VkSampler sampler; /* linear, clamp to edge */

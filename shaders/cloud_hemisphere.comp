@@ -7,7 +7,7 @@
 
 layout(local_size_x = CLOUD_HEMISPHERE_RAYS) in;
 #include "cloud_bindings.glsl"
-layout(std430, binding = 10) writeonly buffer Env { vec4 env_luminance; vec4 env_transmittance; };
+layout(std430, binding = 11) writeonly buffer Env { vec4 env_luminance; vec4 env_transmittance; };
 
 const float STEPS = 24.0;
 shared vec4 partial[CLOUD_HEMISPHERE_RAYS];

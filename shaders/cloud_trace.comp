@@ -10,10 +10,10 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "cloud_bindings.glsl"
-layout(binding = 10, rgba32f) uniform writeonly image2D trace_color;
-layout(binding = 11, rgba32f) uniform writeonly image2D trace_depth;
-layout(binding = 12) uniform sampler3D ap_inscatter;     // the view's froxel volume
-layout(binding = 13) uniform sampler3D ap_transmittance;
+layout(binding = 11, rgba32f) uniform writeonly image2D trace_color;
+layout(binding = 12, rgba32f) uniform writeonly image2D trace_depth;
+layout(binding = 13) uniform sampler3D ap_inscatter;     // the view's froxel volume
+layout(binding = 14) uniform sampler3D ap_transmittance;
 layout(push_constant) uniform ViewPush { sky_cloud_view_push view; };
 
 #include "scattering_march.glsl"

@@ -117,7 +117,8 @@ struct harness {
     struct vk_context *ctx;
     struct compute_pass pass;
     struct gpu_buffer atmo, frame, cloud, cases, rays, results;
-    struct gpu_image transmittance, multiscattering, irradiance, base, detail, curl, weather;
+    struct gpu_image transmittance, multiscattering, irradiance, base, detail, curl, weather,
+        skyview;
     VkSampler sampler;
     uint32_t ray_count;
 };
@@ -304,6 +305,7 @@ static void harness_destroy(struct harness *h)
     gpu_image_destroy(h->ctx, &h->detail);
     gpu_image_destroy(h->ctx, &h->curl);
     gpu_image_destroy(h->ctx, &h->weather);
+    gpu_image_destroy(h->ctx, &h->skyview);
     if (h->sampler)
         vkDestroySampler(h->ctx->device, h->sampler, NULL);
     h->sampler = VK_NULL_HANDLE;
@@ -311,7 +313,7 @@ static void harness_destroy(struct harness *h)
 
 /* The pass, its buffers, and images that start at zero (gpu_image_create clears them): a
  * transmittance LUT of optical depth 0 (transmittance 1), empty irradiance (no sky light, and
- * ambient_scale 0 besides) and multiple-scattering LUTs, unused noise and weather. */
+ * ambient_scale 0 besides), multiple-scattering and sky-view LUTs, unused noise and weather. */
 static bool harness_create(struct vk_context *ctx, const struct options *o, struct harness *h)
 {
     memset(h, 0, sizeof *h);
@@ -322,8 +324,8 @@ static bool harness_create(struct vk_context *ctx, const struct options *o, stru
         .name = "cloud_slab_selftest",
         .spirv = cloud_slab_selftest_spv,
         .spirv_bytes = sizeof cloud_slab_selftest_spv,
-        .binding_count = 13,
-        .bindings = { sb, sb, cis, cis, cis, sb, cis, cis, cis, cis, sb, sb, sb },
+        .binding_count = 14,
+        .bindings = { sb, sb, cis, cis, cis, sb, cis, cis, cis, cis, cis, sb, sb, sb },
         .spec_count = 1,
         .spec_values = { 0 }, /* MOONLIT false: no moon */
     };
@@ -358,12 +360,13 @@ static bool harness_create(struct vk_context *ctx, const struct options *o, stru
     ok = ok && gpu_image_create(ctx, f, 4, 4, 4, "slab_detail", &h->detail) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 4, 4, 1, "slab_curl", &h->curl) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 4, 4, 1, "slab_weather", &h->weather) == VK_SUCCESS;
+    ok = ok && gpu_image_create(ctx, f, 8, 8, 1, "slab_skyview", &h->skyview) == VK_SUCCESS;
     ok = ok && gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
                                          &h->sampler) == VK_SUCCESS;
     CHECK(ok);
     if (!ok)
         return false;
-    struct compute_resource res[13] = {
+    struct compute_resource res[14] = {
         { .buffer = &h->atmo },
         { .buffer = &h->frame },
         { .image = &h->transmittance, .sampler = h->sampler },
@@ -374,6 +377,7 @@ static bool harness_create(struct vk_context *ctx, const struct options *o, stru
         { .image = &h->detail, .sampler = h->sampler },
         { .image = &h->curl, .sampler = h->sampler },
         { .image = &h->weather, .sampler = h->sampler },
+        { .image = &h->skyview, .sampler = h->sampler },
         { .buffer = &h->cases },
         { .buffer = &h->rays },
         { .buffer = &h->results },

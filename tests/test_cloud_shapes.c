@@ -549,6 +549,48 @@ static void test_smooth_outlines(void)
               "across", along, across);
 }
 
+/* Sky ambient from the sky-view LUT: an overcast deck seen from 200 m over its top in the
+ * twilight (sun 4 deg down: no sunlight reaches the deck), looking down toward the glow and away
+ * from it. The deck scatters the sky behind it forward, so the side toward the glow is
+ * brighter; with an isotropic phase the ambient is isotropic too and both sides match. */
+static double deck_toward_over_away(bool isotropic)
+{
+    double mean[2];
+    for (int k = 0; k < 2; k++) {
+        struct sky_world_state s;
+        if (!weather_state("overcast", &s))
+            return NAN;
+        s.clouds.high.coverage = 0.0;
+        s.clouds.precipitation = 0.0;
+        s.camera.altitude_km = s.clouds.low.bottom_km + s.clouds.low.thickness_km + 0.2;
+        s.camera.yaw_deg = k == 0 ? 0.0 : 180.0;
+        s.camera.pitch_deg = -30.0;
+        s.camera.fov_deg = 30.0;
+        s.sun.azimuth_deg = 0.0;
+        s.sun.elevation_deg = -4.0;
+        if (isotropic)
+            s.clouds.phase_g0 = s.clouds.phase_g1 = 0.0;
+        render(&s, cloudy);
+        if (!isotropic)
+            save_render(k == 0 ? "deck_twilight_toward" : "deck_twilight_away");
+        double sum = 0.0;
+        for (size_t i = 0; i < (size_t)W * H; i++)
+            sum += cloudy[i];
+        mean[k] = sum / ((double)W * H);
+    }
+    printf("twilight deck (%s phase): toward the glow %.4g, away %.4g cd/m2 (%.3f)\n",
+           isotropic ? "an isotropic" : "the renderer's", mean[0], mean[1], mean[0] / mean[1]);
+    return mean[0] / mean[1];
+}
+
+static void test_sky_ambient(void)
+{
+    double shaped = deck_toward_over_away(false), flat = deck_toward_over_away(true);
+    CHECK_MSG(shaped > 1.12 && shaped > flat + 0.08, "sky ambient: toward / away %.3f, "
+              "isotropic %.3f", shaped, flat);
+    CHECK_MSG(shaped < 2.0, "sky ambient: toward / away %.3f", shaped);
+}
+
 /* The brightest pixel whose centre lies within disk_deg of the sun (the pinhole of
  * shaders/include/camera.glsl, as cloud_metrics_sun_contrast measures it). */
 static double sun_peak(const struct sky_world_state *s, const double sun[3], double disk_deg)
@@ -645,6 +687,7 @@ static void run_tests(void)
     test_storm_tower();
     test_rain_shaft();
     test_silver_lining();
+    test_sky_ambient();
     test_smooth_outlines();
     test_sun_through_clouds();
 }

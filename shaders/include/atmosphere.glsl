@@ -186,6 +186,19 @@ vec3 sun_transmittance(vec3 p, vec3 sun_dir)
 }
 #endif
 
+#ifdef SKY_HAS_SKYVIEW_LUT
+// Texture coordinates in `skyview_lut` (Hillaire 2020 5.3) of a direction seen from the camera,
+// by its zenith cosine and the cosine of its azimuth from the light's. Needs `frame` (the
+// camera's horizon angle).
+vec2 skyview_uv_at(float view_zenith_cos, float light_view_cos, bool hits_ground)
+{
+    vec2 unit = skyview_dir_to_unit_beta(frame.horizon.x, view_zenith_cos, light_view_cos,
+                                         hits_ground);
+    vec2 size = vec2(textureSize(skyview_lut, 0));
+    return vec2(unit_to_sub_uv(unit.x, size.x), unit_to_sub_uv(unit.y, size.y));
+}
+#endif
+
 #ifdef SKY_HAS_MULTISCATTERING_LUT
 // Psi_ms: isotropic multiple-scattered luminance per unit illuminance (Hillaire 2020 eq. 10).
 vec3 multiscattering(float r, float mu_s)

@@ -2,9 +2,9 @@
 // (seed 001 eq. 17), dual-lobe Henyey-Greenstein phase (seed 000 eq. 14.17), Wrenninge's
 // multiple-scattering octaves (seed 000 eq. 14.18), sun light through a short secondary march
 // and the atmosphere's transmittance LUT (so sunsets colour the clouds), sky ambient from the
-// ground irradiance LUT (top) and the lit ground (bottom), early exit at low transmittance and
-// empty-space skipping. Needs atmosphere.glsl with both LUTs, cloud_density.glsl and an
-// `irradiance_lut` sampler.
+// sky-view and irradiance LUTs (top) and the lit ground (bottom), early exit at low
+// transmittance and empty-space skipping. Needs atmosphere.glsl with the transmittance and
+// sky-view LUTs, cloud_density.glsl and an `irradiance_lut` sampler.
 #ifndef CLOUD_MARCH_GLSL
 #define CLOUD_MARCH_GLSL
 
@@ -104,12 +104,47 @@ void octave_sources(OctavePhases o, float tau, float tau_up, out float src[MAX_O
     }
 }
 
-// Isotropic ambient radiance (cd/m2) under (top) and over (bottom) the clouds: the sky lit by
-// the sun, by the moon at night (the same irradiance LUT per unit illuminance outside the
+// Ambient radiance (cd/m2) under (top) and over (bottom) the clouds along one view ray: the sky
+// lit by the sun, by the moon at night (the same irradiance LUT per unit illuminance outside the
 // atmosphere, seed 001 4.2) and the airglow floor.
 struct CloudAmbient {
     vec3 top, bottom;
 };
+
+// Directions of the sky ambient's quadrature: cosine-weighted over the upper hemisphere on a
+// Fibonacci spiral, fixed in the sun's azimuth frame (so each frame fetches the same sky, and a
+// sample that sweeps across the sun's aureole cannot make bands across the picture).
+const int AMBIENT_DIRECTIONS = 16;
+
+// The sky's light as the clouds scatter it toward the viewer along d, per unit sun illuminance:
+// the cosine-weighted sky radiance of the sky-view LUT (whose mean over the hemisphere is E / pi),
+// each direction w weighted by the phase function truncated to its first two Legendre terms,
+// 1 + 3 g (w . d) with g the mean cosine of seed 000 eq. 14.17, so the sky behind a cloud (the
+// glow around a low sun) lights it most, as the sun lights a silver lining. Returned as the
+// ratio to the unweighted mean, per colour channel: the irradiance LUT keeps the level.
+vec3 sky_ambient_shape(vec3 d)
+{
+    // The view in the sun's frame: x toward the sun's azimuth.
+    vec2 s = frame.sun_horizontal.w > 0.5 ? frame.sun_horizontal.xy : vec2(1.0, 0.0);
+    vec3 v = vec3(dot(d.xy, s), dot(d.xy, vec2(-s.y, s.x)), d.z);
+    float g = cloud.phase.x + cloud.phase.z * (cloud.phase.y - cloud.phase.x);
+    vec3 weighted = vec3(0.0), plain = vec3(0.0);
+    float weight_sum = 0.0;
+    for (int k = 0; k < AMBIENT_DIRECTIONS; k++) {
+        float u = (float(k) + 0.5) / float(AMBIENT_DIRECTIONS);
+        float phi = float(k) * 2.39996323;
+        float sin_t = sqrt(u), cos_t = sqrt(1.0 - u);
+        vec3 w = vec3(sin_t * cos(phi), sin_t * sin(phi), cos_t);
+        vec3 L = textureLod(skyview_lut, skyview_uv_at(cos_t, cos(phi), false), 0.0).rgb;
+        float lobe = max(0.0, 1.0 + 3.0 * g * dot(w, v));
+        weighted += lobe * L;
+        weight_sum += lobe;
+        plain += L;
+    }
+    vec3 mean = plain / float(AMBIENT_DIRECTIONS);
+    vec3 shaped = weighted / max(weight_sum, 1e-6);
+    return mix(vec3(1.0), shaped / max(mean, vec3(1e-30)), step(vec3(1e-30), mean));
+}
 
 // Sky irradiance and direct irradiance at the ground per unit illuminance of a light toward l.
 void ground_light_per_lux(vec3 l, out vec3 sky, out vec3 direct)
@@ -129,12 +164,15 @@ bool moon_lights_clouds()
     return MOONLIT && frame.moon_illuminance.w > 0.5;
 }
 
-CloudAmbient cloud_ambient(vec3 sun_dir)
+// d: the view ray's direction.
+CloudAmbient cloud_ambient(vec3 sun_dir, vec3 d)
 {
     CloudAmbient a;
     vec3 sky, direct;
     ground_light_per_lux(sun_dir, sky, direct);
-    vec3 sky_e = sky * frame.sun_illuminance.xyz;
+    // The sky-view LUT holds the sky around a camera inside the atmosphere only.
+    bool sky_view = length(frame.camera_position.xyz) < top_radius();
+    vec3 sky_e = sky * frame.sun_illuminance.xyz * (sky_view ? sky_ambient_shape(d) : vec3(1.0));
     // The ground under the clouds is lit by a light they half hide, on average.
     vec3 ground_e = (0.5 * direct + sky) * frame.sun_illuminance.xyz;
     if (moon_lights_clouds()) {
@@ -352,7 +390,7 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
     OctavePhases moon_phases = phases;
     if (moon_lights_clouds())
         moon_phases = octave_phases(dot(d, frame.moon_direction.xyz));
-    CloudAmbient amb = cloud_ambient(sun_dir);
+    CloudAmbient amb = cloud_ambient(sun_dir, d);
     vec2 depth_sum = vec2(0.0);
     float high_steps = max(4.0, floor(primary_steps / 8.0));
     bool high_first = high && (!low || hi0 < lo0);

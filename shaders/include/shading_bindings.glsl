@@ -20,3 +20,4 @@ layout(constant_id = 2) const bool NIGHT_SKY = true;
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT
+#define SKY_HAS_SKYVIEW_LUT

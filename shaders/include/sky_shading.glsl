@@ -51,9 +51,7 @@ vec2 skyview_uv_for(vec3 dir, bool hits_ground, vec4 light_horizontal)
     float light_view_cos = dir_h_len2 > 1e-14 && light_horizontal.w > 0.5
                                ? dot(dir.xy, light_horizontal.xy) * inversesqrt(dir_h_len2)
                                : 1.0;
-    vec2 unit = skyview_dir_to_unit_beta(frame.horizon.x, dir.z, light_view_cos, hits_ground);
-    vec2 size = vec2(textureSize(skyview_lut, 0));
-    return vec2(unit_to_sub_uv(unit.x, size.x), unit_to_sub_uv(unit.y, size.y));
+    return skyview_uv_at(dir.z, light_view_cos, hits_ground);
 }
 
 vec2 skyview_uv(vec3 dir, bool hits_ground)

@@ -20,6 +20,7 @@ layout(binding = 6) uniform sampler3D base_noise;
 layout(binding = 7) uniform sampler3D detail_noise;
 layout(binding = 8) uniform sampler2D curl_noise;
 layout(binding = 9) uniform sampler2D weather_map;
+layout(binding = 10) uniform sampler2D skyview_lut;
 layout(constant_id = 0) const bool MOONLIT = true;
 
 // One case: the deck, the sun and the cloud parameters that the comparison varies.
@@ -34,12 +35,13 @@ struct SlabRay {
     vec4 origin;
     vec4 direction;
 };
-layout(std430, binding = 10) readonly buffer Cases { SlabCase cases[]; };
-layout(std430, binding = 11) readonly buffer Rays { uvec4 ray_count; SlabRay rays[]; };
-layout(std430, binding = 12) writeonly buffer Results { float luminance[]; };
+layout(std430, binding = 11) readonly buffer Cases { SlabCase cases[]; };
+layout(std430, binding = 12) readonly buffer Rays { uvec4 ray_count; SlabRay rays[]; };
+layout(std430, binding = 13) writeonly buffer Results { float luminance[]; };
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT
+#define SKY_HAS_SKYVIEW_LUT
 #include "atmosphere.glsl"
 
 // In place of cloud_density.glsl: the low layer's shell filled with extinction cloud.low.z,
