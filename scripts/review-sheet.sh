@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The clouds' review sheet: every cloud type by day, at sunset looking toward the sun and from
 # 14 km straight above, rendered by `skyd render` into docs/images/clouds/ and listed in
-# docs/CLOUDS.md. Usage: scripts/review-sheet.sh [BUILD_DIR] (default build). About a minute
-# on two lavapipe cores.
+# docs/CLOUDS.md; then the README's cloud image and time-lapse (docs/images/clouds.png,
+# timelapse.png). Usage: scripts/review-sheet.sh [BUILD_DIR] (default build). About a minute
+# and a half on two lavapipe cores.
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -58,3 +59,17 @@ done
   echo "clouds.low.type 0.85 in a 3.5 km layer, cumulonimbus \`storm\` at coverage 0.55, cirrus and"
   echo "cirrostratus the high layer alone (type 1 and 0)."
 } >> "$doc"
+
+# The README's images: fair-weather cumulus under a thin high layer, and a day's time-lapse
+# (the command the README shows; twelve of its hourly frames, four to a row).
+"$skyd" render --width 640 --height 360 --weather fair_cumulus --set camera.pitch_deg=10 \
+  --out docs/images/clouds.png >/dev/null
+lapse=$(mktemp -d)
+trap 'rm -rf "$lapse"' EXIT
+"$skyd" render --width 320 --height 180 --time 2026-08-27T04:00:00Z --lat 45 --lon 6 \
+  --set camera.yaw_deg=115 --set camera.pitch_deg=12 --weather overcast --weather-to clear \
+  --transition-s 50400 --frames 20 --step-s 3600 --out "$lapse/f-%02d.png" >/dev/null
+frames=()
+for i in 00 01 02 04 08 12 14 15 16 17 18 19; do frames+=("$lapse/f-$i.png"); done
+python3 scripts/contact-sheet.py 4 docs/images/timelapse.png "${frames[@]}"
+echo "review-sheet: README images"
