@@ -69,17 +69,22 @@ float cloud_envelope(float h, float f, vec4 shape)
     return max(column, anvil);
 }
 
+// The low layer's envelope at height fraction h over a point of weather wm (0 outside the
+// layer or the footprint). Precipitation widens the footprint (seed 001 5.4: weather drives the
+// shape).
+float low_envelope(float h, vec4 wm, vec4 shape)
+{
+    if (h <= 0.0 || h >= 1.0 || wm.r <= 0.0)
+        return 0.0;
+    return cloud_envelope(h, clamp(wm.r * (1.0 + 0.5 * wm.a), 0.0, 1.0), shape);
+}
+
 // Low layer. `detail` false gives the coarse shape used by shadow and light marches.
 float low_density(vec3 p, float r, vec4 wm, bool detail)
 {
     float h = layer_fraction(r, cloud.low);
-    if (h <= 0.0 || h >= 1.0 || wm.r <= 0.0)
-        return 0.0;
-    // Precipitation widens the footprint and darkens the base (seed 001 5.4: weather drives
-    // the shape).
-    float f = clamp(wm.r * (1.0 + 0.5 * wm.a), 0.0, 1.0);
     vec4 shape = type_shape(wm.b);
-    float envelope = cloud_envelope(h, f, shape);
+    float envelope = low_envelope(h, wm, shape);
     if (envelope <= 0.0)
         return 0.0;
     float altitude = r - bottom_radius();
@@ -101,6 +106,7 @@ float low_density(vec3 p, float r, vec4 wm, bool detail)
         float modifier = mix(dfbm, 1.0 - dfbm, clamp(h * 6.0, 0.0, 1.0));
         d = clamp(remap(d, modifier * shape.z * cloud_detail_weight, 1.0, 0.0, 1.0), 0.0, 1.0);
     }
+    // Precipitation also darkens the base: denser toward it.
     return d * cloud.low.z * (1.0 + wm.a * (1.0 - h));
 }
 
@@ -151,11 +157,7 @@ bool cloud_layer_occupied(vec3 p, bool low_layer)
         float h = layer_fraction(r, cloud.high);
         return cloud.high.w > 0.5 && h > 0.0 && h < 1.0 && wm.g > 0.0;
     }
-    float h = layer_fraction(r, cloud.low);
-    if (h <= 0.0 || h >= 1.0 || wm.r <= 0.0)
-        return false;
-    float f = clamp(wm.r * (1.0 + 0.5 * wm.a), 0.0, 1.0);
-    return cloud_envelope(h, f, type_shape(wm.b)) > 0.0;
+    return low_envelope(layer_fraction(r, cloud.low), wm, type_shape(wm.b)) > 0.0;
 }
 
 // Rain under the low layer's precipitating bases, 0..1 (the weather map's precipitation, which
