@@ -71,5 +71,5 @@ trap 'rm -rf "$lapse"' EXIT
   --transition-s 50400 --frames 20 --step-s 3600 --out "$lapse/f-%02d.png" >/dev/null
 frames=()
 for i in 00 01 02 04 08 12 14 15 16 17 18 19; do frames+=("$lapse/f-$i.png"); done
-python3 scripts/contact-sheet.py 4 docs/images/timelapse.png "${frames[@]}"
+/usr/bin/python3 scripts/contact-sheet.py 4 docs/images/timelapse.png "${frames[@]}"
 echo "review-sheet: README images"
