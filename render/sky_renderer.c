@@ -12,7 +12,8 @@
 #include "fault_injection.h"
 #include "gpu_timer.h"
 #include "night_sky.h"
-#include "photometry.h"
+#include "night_stars.h"
+#include "sky_photometry.h"
 #include "sky_passes.h"
 #include "sky_uniforms.h"
 #include "sky_shared.h"
@@ -146,7 +147,14 @@ struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *param
         goto fail;
     struct sky_cloud_bindings no_clouds;
     cloud_renderer_no_clouds(r->clouds, &no_clouds);
-    r->passes = sky_passes_create(r->ctx, &r->sizes, &no_clouds);
+    struct night_stars *stars = night_stars_create();
+    if (!stars)
+        goto fail;
+    size_t star_words;
+    const uint32_t(*words)[4] = night_stars_words(stars, &star_words);
+    struct sky_star_field field = { words, star_words, night_stars_brightest_lux(stars) };
+    r->passes = sky_passes_create(r->ctx, &r->sizes, &no_clouds, &field);
+    night_stars_destroy(&stars);
     if (!r->passes)
         goto fail;
     return r;

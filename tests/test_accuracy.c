@@ -10,7 +10,7 @@
 #include "atmosphere_reference.h"
 #include "check.h"
 #include "illuminance.h"
-#include "photometry.h"
+#include "sky_photometry.h"
 #include "sky_uniforms.h"
 #include "test_support.h"
 

@@ -46,7 +46,7 @@ static struct cloud_object objects[MAX_OBJECTS];
 static uint64_t next_history_key = 1;
 
 /* The defaults with config/weather/<name>.json applied, as `skyd render --weather NAME`
- * does (server/cli_args.c); clouds traced at every pixel. */
+ * does (server/cli/cli_args.c); clouds traced at every pixel. */
 static bool weather_state(const char *name, struct sky_world_state *s)
 {
     sky_world_state_defaults(s);
@@ -132,7 +132,7 @@ static void save_mask(const char *name, int count, int min_area, int min_width)
     write_png(name, pixels);
 }
 
-/* The camera's basis as render/sky_uniforms.c builds it, and tan(fov / 2). */
+/* The camera's basis as render/sky/sky_uniforms.c builds it, and tan(fov / 2). */
 static double camera_basis(const struct sky_world_state *s, double f[3], double r[3],
                            double u[3])
 {

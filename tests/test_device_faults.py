@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Device faults on the real daemon: a lost Vulkan device and a failed device memory
-allocation, provoked through SKYD_FAULT (render/fault_injection.h: after N rendered frames,
+allocation, provoked through SKYD_FAULT (render/vk/fault_injection.h: after N rendered frames,
 the next queue submission reports VK_ERROR_DEVICE_LOST, or the next memory allocation
 VK_ERROR_OUT_OF_DEVICE_MEMORY; lavapipe never does either by itself). Every daemon here runs
 with the validation layer on and its log must hold no validation message, so a renderer

@@ -11,7 +11,7 @@
 #include "night_shared.h"
 #include "night_sky.h"
 #include "night_stars.h"
-#include "photometry.h"
+#include "sky_photometry.h"
 #include "png_write.h"
 #include "test_support.h"
 

@@ -21,7 +21,7 @@ It also renders one scene at view sizes with and without powers of two, into an 
 shader cache (MESA_SHADER_CACHE_DIR): llvmpipe keys a compute pipeline's compiled code on
 whether each bound image's width and height are powers of two, and writes each new variant to
 that cache. Images of a view's size are therefore made with extents that never are
-(gpu_image_create_view_sized in render/vk_resources.h), and the sizes after the first must add
+(gpu_image_create_view_sized in render/vk/vk_resources.h), and the sizes after the first must add
 nothing to the cache. Before that, 96x54 then 128x64, 64x32, 127x64 and 128x65 took it from 23
 to 40 entries: each new combination a hitch of several compiles, and code kept for good.
 

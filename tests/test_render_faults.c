@@ -1,5 +1,5 @@
 /* The renderer's failures on lavapipe with validation, provoked through SKYD_FAULT
- * (render/fault_injection.h), which ctest sets for each run; argv[1] names the scenario it
+ * (render/vk/fault_injection.h), which ctest sets for each run; argv[1] names the scenario it
  * set up for:
  *
  *   out_of_memory  (SKYD_FAULT=out_of_memory:after_frames=1:times=2) The first allocation

@@ -8,7 +8,7 @@
 #include "cloud_history.h"
 #include "compute_pass.h"
 #include "lut_selftest.spv.h"
-#include "photometry.h"
+#include "sky_photometry.h"
 #include "sky_uniforms.h"
 #include "test_support.h"
 #include "view_outputs.h"

@@ -66,7 +66,7 @@ struct sky_atmosphere_uniforms {
     SKY_VEC4 mie_g;               /* xyz Cornette-Shanks asymmetry per channel */
     SKY_VEC4 ozone_absorption;    /* xyz */
     SKY_VEC4 ground_albedo;       /* xyz */
-    SKY_VEC4 ground_transfer;     /* xyz: A of render/ground_transfer.h */
+    SKY_VEC4 ground_transfer;     /* xyz: A of render/sky/ground_transfer.h */
 };
 
 struct sky_frame_uniforms {
@@ -86,7 +86,7 @@ struct sky_frame_uniforms {
                                      normalised; w 1, or 0 when the sun is at the zenith */
     SKY_VEC4 horizon;             /* camera's geometric horizon: x beta = acos(sqrt(r^2-R^2)/r),
                                      y pi - beta (zenith angle of the horizon), z cos of that */
-    /* Night sky (render/night_sky.c, shaders/include/night_sky.glsl). */
+    /* Night sky (render/night/night_sky.c, shaders/include/night_sky.glsl). */
     SKY_VEC4 moon_direction;      /* xyz unit, toward the moon; w cos(angular radius) */
     SKY_VEC4 moon_illuminance;    /* xyz per channel outside the atmosphere, phase included;
                                      w 1 when the moonlit sky-view LUT is computed this frame */

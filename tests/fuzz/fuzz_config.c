@@ -1,5 +1,5 @@
 /* libFuzzer target: a configuration file's text through the loader's parser and validator
- * (server/config.c), initial_state included. */
+ * (server/host/config.c), initial_state included. */
 #include "config.h"
 
 #include <stdint.h>

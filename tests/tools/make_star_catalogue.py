@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""Prints render/star_catalogue.h: the bright named stars of PyEphem's catalogue (ephem.stars,
+"""Prints render/night/star_catalogue.h: the bright named stars of PyEphem's catalogue (ephem.stars,
 from the Hipparcos/XEphem databases) with J2000 right ascension and declination, visual
 magnitude and an effective temperature from the spectral class.
 
-    /usr/bin/python3 tests/tools/make_star_catalogue.py > render/star_catalogue.h
+    /usr/bin/python3 tests/tools/make_star_catalogue.py > render/night/star_catalogue.h
 
 Needs Debian's python3-ephem (apt-get install python3-ephem) only when regenerating; the build
 reads the committed header.

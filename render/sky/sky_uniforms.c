@@ -4,12 +4,20 @@
 #include <string.h>
 
 #include "ground_transfer.h"
-#include "photometry.h"
+#include "sky_photometry.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
 #define DEG (M_PI / 180.0)
+/* The public enums are the shaders' constants. */
+_Static_assert(SKY_RENDER_LIMB_NONE == SKY_LIMB_NONE && SKY_RENDER_LIMB_NECKEL96 == SKY_LIMB_NECKEL96 &&
+                   SKY_RENDER_LIMB_HM98 == SKY_LIMB_HM98,
+               "limb darkening models");
+_Static_assert(SKY_RENDER_TONEMAP_ACES == SKY_TONEMAP_OP_ACES &&
+                   SKY_RENDER_TONEMAP_REINHARD == SKY_TONEMAP_OP_REINHARD &&
+                   SKY_RENDER_TONEMAP_CLAMP == SKY_TONEMAP_OP_CLAMP,
+               "tone curves");
 #define V4(x_, y_, z_, w_) ((sky_vec4){ (float)(x_), (float)(y_), (float)(z_), (float)(w_) })
 
 void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,

@@ -1,4 +1,4 @@
-/* The star field the night sky draws: the bright-star catalogue (render/star_catalogue.h) plus
+/* The star field the night sky draws: the bright-star catalogue (render/night/star_catalogue.h) plus
  * a procedural field of fainter stars down to magnitude 6.5, packed into the GPU layout of
  * shaders/include/night_shared.h. Pure CPU code, no Vulkan. */
 #ifndef SKYD_NIGHT_STARS_H

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "night_shared.h"
-#include "photometry.h"
+#include "sky_photometry.h"
 #include "sky_uniforms.h"
 
 #ifndef M_PI

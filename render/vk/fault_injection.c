@@ -90,7 +90,7 @@ static void read_environment(void)
         return;
     if (!parse(spec)) {
         fprintf(stderr, "skyd: SKYD_FAULT=\"%s\" is not understood; no fault is injected "
-                        "(render/fault_injection.h describes the forms)\n", spec);
+                        "(render/vk/fault_injection.h describes the forms)\n", spec);
         return;
     }
     fault.due_frame = fault.after_frames;

@@ -8,7 +8,6 @@
 #include "composite_variants.h"
 #include "compute_pass.h"
 #include "gpu_timer.h"
-#include "night_stars.h"
 #include "view_outputs.h"
 #include "vk_check.h"
 #include "vk_context.h"
@@ -352,30 +351,26 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     compute_pass_bind(ctx, &p->pass[PASS_EXPOSURE_RESOLVE], resolve);
 }
 
-/* The star field never changes: built and uploaded once. */
-static int create_stars(struct vk_context *ctx, struct sky_passes *p)
+/* The star field never changes: uploaded once. */
+static int create_stars(struct vk_context *ctx, struct sky_passes *p,
+                        const struct sky_star_field *stars)
 {
-    struct night_stars *stars = night_stars_create();
-    if (!stars)
-        return -1;
-    size_t words;
-    const uint32_t (*data)[4] = night_stars_words(stars, &words);
-    VkResult result = gpu_buffer_create(ctx, words * sizeof *data,
+    VkResult result = gpu_buffer_create(ctx, stars->word_count * sizeof *stars->words,
                                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "stars", &p->stars);
-    if (result == VK_SUCCESS) {
-        memcpy(p->stars.mapped, data, words * sizeof *data);
-        p->brightest_star_lux = night_stars_brightest_lux(stars);
-    } else {
+    if (result != VK_SUCCESS) {
         fprintf(stderr, "skyd: render: cannot create the star buffer: %s\n",
                 vk_result_name(result));
+        return -1;
     }
-    night_stars_destroy(&stars);
-    return result == VK_SUCCESS ? 0 : -1;
+    memcpy(p->stars.mapped, stars->words, stars->word_count * sizeof *stars->words);
+    p->brightest_star_lux = stars->brightest_lux;
+    return 0;
 }
 
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
                                      const struct sky_render_lut_sizes *sizes,
-                                     const struct sky_cloud_bindings *clouds)
+                                     const struct sky_cloud_bindings *clouds,
+                                     const struct sky_star_field *stars)
 {
     if (!format_supports(ctx, LUT_FORMAT,
                          VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |
@@ -409,7 +404,7 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
     VK_CHECK_GOTO(gpu_buffer_create(ctx, SKY_METER_MAX_GROUPS * 2 * sizeof(float), storage,
                                     "meter_partials", &p->meter_partials), fail);
     memset(p->exposure.mapped, 0, 4 * sizeof(float));
-    if (create_stars(ctx, p) != 0)
+    if (create_stars(ctx, p, stars) != 0)
         goto fail;
     if (create_luts(ctx, p, sizes) != 0)
         goto fail;

@@ -4,7 +4,6 @@
 #include <string.h>
 
 #include "ephemeris.h"
-#include "sky_shared.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -61,21 +60,21 @@ void world_to_render_atmosphere(const struct sky_world_state *state,
     out->fog_scale_height_km = a->fog_scale_height_km;
 }
 
-static int limb_model(enum sky_limb_darkening model)
+static enum sky_render_limb limb_model(enum sky_limb_darkening model)
 {
     switch (model) {
-    case SKY_LIMB_DARKENING_NECKEL96: return SKY_LIMB_NECKEL96;
-    case SKY_LIMB_DARKENING_HM98: return SKY_LIMB_HM98;
-    default: return SKY_LIMB_NONE;
+    case SKY_LIMB_DARKENING_NECKEL96: return SKY_RENDER_LIMB_NECKEL96;
+    case SKY_LIMB_DARKENING_HM98: return SKY_RENDER_LIMB_HM98;
+    default: return SKY_RENDER_LIMB_NONE;
     }
 }
 
-static int tonemap_op(enum sky_tonemap tonemap)
+static enum sky_render_tonemap tonemap_op(enum sky_tonemap tonemap)
 {
     switch (tonemap) {
-    case SKY_TONEMAP_REINHARD: return SKY_TONEMAP_OP_REINHARD;
-    case SKY_TONEMAP_CLAMP: return SKY_TONEMAP_OP_CLAMP;
-    default: return SKY_TONEMAP_OP_ACES;
+    case SKY_TONEMAP_REINHARD: return SKY_RENDER_TONEMAP_REINHARD;
+    case SKY_TONEMAP_CLAMP: return SKY_RENDER_TONEMAP_CLAMP;
+    default: return SKY_RENDER_TONEMAP_ACES;
     }
 }
 

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "ground_transfer.h"
-#include "photometry.h"
+#include "sky_photometry.h"
 #include "sky_shared.h"
 #include "sky_uniforms.h"
 

@@ -17,7 +17,7 @@ struct vk_context;
 struct gpu_timer;
 struct sky_passes;
 
-/* What the composite samples of the clouds (render/cloud_renderer.h fills it). */
+/* What the composite samples of the clouds (render/clouds/cloud_renderer.h fills it). */
 struct gpu_image;
 struct gpu_buffer;
 struct sky_cloud_bindings {
@@ -31,9 +31,18 @@ struct sky_cloud_bindings {
     const struct gpu_buffer *params; /* sky_cloud_uniforms */
 };
 
+/* The star field the night pass draws (night/night_stars.h builds it): `words` uvec4 words,
+ * uploaded once. */
+struct sky_star_field {
+    const uint32_t (*words)[4];
+    size_t word_count;
+    double brightest_lux; /* the brightest star's illuminance outside the atmosphere */
+};
+
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
                                      const struct sky_render_lut_sizes *sizes,
-                                     const struct sky_cloud_bindings *clouds);
+                                     const struct sky_cloud_bindings *clouds,
+                                     const struct sky_star_field *stars);
 void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **passes);
 
 /* Recreates the LUT images at new sizes; -1 keeps the old ones (and their sizes). */

@@ -3,7 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "photometry.h"
+#include "sky_photometry.h"
 
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)

@@ -1,4 +1,4 @@
-#include "photometry.h"
+#include "sky_photometry.h"
 
 #include <math.h>
 

@@ -33,6 +33,21 @@ enum sky_render_output_kind {
     SKY_RENDER_OUTPUT_LINEAR = 1,  /* luminance in cd/m2 as RGBA float32, before exposure */
 };
 
+/* The sun disk's limb darkening; the values are the shaders' SKY_LIMB_* (checked in
+ * sky_uniforms.c). */
+enum sky_render_limb {
+    SKY_RENDER_LIMB_NONE = 0,
+    SKY_RENDER_LIMB_NECKEL96 = 1, /* Neckel & Labs 1994, fifth-order polynomial */
+    SKY_RENDER_LIMB_HM98 = 2,     /* Hestroffer & Magnan 1998, power law */
+};
+
+/* The sRGB output's tone curve; the values are the shaders' SKY_TONEMAP_OP_*. */
+enum sky_render_tonemap {
+    SKY_RENDER_TONEMAP_ACES = 0,
+    SKY_RENDER_TONEMAP_REINHARD = 1,
+    SKY_RENDER_TONEMAP_CLAMP = 2,
+};
+
 /* How pixels map to directions. */
 enum sky_render_projection {
     SKY_RENDER_PROJECTION_PERSPECTIVE = 0,     /* pinhole: yaw, pitch, vertical fov */
@@ -49,12 +64,12 @@ struct sky_render_view {
     double sun_azimuth_deg, sun_elevation_deg;
     double sun_illuminance_lux;       /* ground illuminance with the sun at zenith */
     double sun_angular_diameter_deg;
-    int limb_darkening;               /* SKY_LIMB_* of shaders/include/sky_shared.h */
+    enum sky_render_limb limb_darkening;
     bool auto_exposure;
     bool night_adaptation;            /* auto exposure darkens dim scenes (exposure_resolve.comp) */
     double ev100;                     /* manual exposure */
     double exposure_compensation_ev;  /* for auto exposure */
-    int tonemap;                      /* SKY_TONEMAP_OP_* */
+    enum sky_render_tonemap tonemap;
     double aerial_perspective_max_km;
     enum sky_render_output_kind output;
     /* Which cloud history (temporal reprojection) this view continues: views of one key share
@@ -117,7 +132,7 @@ void sky_renderer_destroy(struct sky_renderer **renderer);
  * `detail`, when not NULL, receives what failed and the Vulkan result, e.g.
  * "creating image "output" (640x360x1): VK_ERROR_OUT_OF_DEVICE_MEMORY" ("" when nothing did).
  * Each call that can fail begins by forgetting an earlier failure that did not lose the device.
- * render/fault_injection.h can provoke the last two for tests (SKYD_FAULT). */
+ * render/vk/fault_injection.h can provoke the last two for tests (SKYD_FAULT). */
 enum sky_render_status {
     SKY_RENDER_OK = 0,
     SKY_RENDER_FAILED,
