@@ -38,7 +38,7 @@ fuzz: deps
 # The same suites built with AddressSanitizer and UndefinedBehaviorSanitizer, leak checks on.
 # The Vulkan loader unloads the driver at vkDestroyInstance, after which LeakSanitizer can
 # neither scan nor name it; preloading it (after the ASan runtime, which must come first)
-# keeps it resident, and tests/lsan.supp then suppresses what it allocates, by module name.
+# keeps it resident, and tests/common/lsan.supp then suppresses what it allocates, by module name.
 # The driver allocates and frees blocks of a few hundred KiB per dispatch; behind ASan's
 # default 256 MiB quarantine each one is freshly mapped, which made a sanitized frame four
 # times slower, almost all of it in the kernel. A 16 MiB quarantine still holds the last
@@ -49,7 +49,7 @@ test-asan: deps
 	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DSKYD_SANITIZE=ON >/dev/null
 	@cmake --build $(ASAN_BUILD) -j$(JOBS)
 	@cd $(ASAN_BUILD) && LD_PRELOAD="$(ASAN_RUNTIME) $(VK_DRIVER)" \
-	  ASAN_OPTIONS=detect_leaks=1:quarantine_size_mb=16 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \
+	  ASAN_OPTIONS=detect_leaks=1:quarantine_size_mb=16 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/common/lsan.supp \
 	  UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure --timeout 1800
 
 bench: build

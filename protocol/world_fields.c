@@ -329,7 +329,7 @@ void sky_world_state_defaults(struct sky_world_state *state)
     clouds->phase_g0 = 0.8;
     clouds->phase_g1 = -0.3;
     /* A forward-dominated phase (mean cosine 0.53: silver linings on backlit edges) and the
-     * octaves fitted to it against Monte Carlo (docs/ACCURACY.md, tests/test_cloud_accuracy.c). */
+     * octaves fitted to it against Monte Carlo (docs/ACCURACY.md, tests/reference/test_cloud_accuracy.c). */
     clouds->phase_w = 0.25;
     clouds->multiscatter_a = 0.48;
     clouds->multiscatter_b = 0.5;

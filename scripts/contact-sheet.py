@@ -3,11 +3,12 @@
 
 Usage: scripts/contact-sheet.py COLUMNS OUT.png IN.png... (the README's time-lapse is assembled
 with it by scripts/review-sheet.sh). PNGs are read and written by the tests' decoder and
-encoder (tests/serve_harness.py)."""
+encoder (tests/e2e/serve_harness.py)."""
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests",
+                                "e2e"))
 from serve_harness import decode_png, encode_png  # noqa: E402
 
 

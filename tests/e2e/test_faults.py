@@ -2,7 +2,7 @@
 """Faults on the real daemon: kill -9 during state writes, and a state directory that cannot
 be written.
 
-Usage: /usr/bin/python3 tests/test_faults.py PATH_TO_SKYD SCRATCH_DIR
+Usage: /usr/bin/python3 tests/e2e/test_faults.py PATH_TO_SKYD SCRATCH_DIR
 
 1. Three rounds: a controller sends `set` after `set` (each waiting for its ack) while the
    daemon is killed with SIGKILL at a random moment; after each restart the state is the last

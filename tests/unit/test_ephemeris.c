@@ -1,6 +1,6 @@
 /* The ephemeris: ISO 8601 time stamps, the sun against the SPA paper's example and the moon
  * against Meeus's, sidereal time against Meeus 12.a, and both bodies against PyEphem over
- * 1900..2100 at sites on both hemispheres (tests/ephemeris_reference.h). */
+ * 1900..2100 at sites on both hemispheres (tests/unit/ephemeris_reference.h). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

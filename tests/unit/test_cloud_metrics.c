@@ -1,4 +1,4 @@
-/* Unit tests for the cloud image measurements (tests/cloud_metrics.c) on synthetic images with
+/* Unit tests for the cloud image measurements (tests/common/cloud_metrics.c) on synthetic images with
  * known answers: objects, perimeters and 8-connectivity; the area-perimeter dimension of
  * squares and discs (1) and of quadratic Koch islands (1.5, exactly on the pixel grid);
  * aspect ratios of rectangles; blockiness of ramps, blocks and bilinear upsampling; the sun's

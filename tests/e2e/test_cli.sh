@@ -87,10 +87,10 @@ expect_error "config bad field" 2 '/render/device' \
 expect_error "config unknown field" 2 '/bogus' \
   "$skyd" probe transmittance --altitude 0 --mu 1 --config "$out/config-bad.json"
 expect_ok "shipped config" "\{\"transmittance\":\[$num,$num,$num\]\}" \
-  "$skyd" probe transmittance --altitude 0 --mu 1 --config "$(dirname "$0")/../config/skyd.json"
+  "$skyd" probe transmittance --altitude 0 --mu 1 --config "$(dirname "$0")/../../config/skyd.json"
 
 # Sun and moon positions (the ephemeris alone, no renderer): the JSON's exact shape, a case of
-# PyEphem's reference table (tests/ephemeris_reference.h) within the ephemeris's tolerances, and
+# PyEphem's reference table (tests/unit/ephemeris_reference.h) within the ephemeris's tolerances, and
 # usage errors that name the option.
 expect_ok "probe sun" "\{\"azimuth_deg\":$num,\"elevation_deg\":$num\}" \
   "$skyd" probe sun --time 2026-06-21T12:00:00Z --lat 48.1 --lon 11.6
@@ -103,7 +103,7 @@ reference_case() {
   awk -v col="$1" '/^    \{ "/ {
       gsub(/[{"]/, ""); head = $0; getline; gsub(/[} ]/, ""); split(head $0, f, /, */)
       if (f[col] > 5) { print f[2], f[4], f[5], f[6], f[9], f[10], f[11], f[12], f[13], f[15]; exit }
-    }' "$(dirname "$0")/ephemeris_reference.h"
+    }' "$(dirname "$0")/../unit/ephemeris_reference.h"
 }
 # within NAME JSON AZ EL TOLERANCE: the JSON's direction is within TOLERANCE deg of (AZ, EL).
 within() {

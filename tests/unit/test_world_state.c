@@ -1,4 +1,4 @@
-/* Unit tests for the world state schema (protocol/world_state.c) and presets (server/presets.c).
+/* Unit tests for the world state schema (protocol/world_state.c) and presets (server/world/presets.c).
  *
  * Usage: test_world_state [CONFIG_DIR]
  * CONFIG_DIR is the repository's config directory; without it, SKYD_SOURCE_DIR "/config" when
@@ -23,7 +23,7 @@
 #define DEFAULT_CONFIG_DIR "config"
 #endif
 
-#include "check_cases.h"
+#include "check.h"
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 
@@ -95,7 +95,7 @@ static bool apply_patch_text(struct sky_world_state *state, const char *text,
 {
     cJSON *patch = cJSON_Parse(text);
     if (!patch) {
-        record(false, __FILE__, __LINE__);
+        check_record(false, __FILE__, __LINE__);
         printf("test patch is not valid JSON: %s\n", text);
         return false;
     }
@@ -321,7 +321,7 @@ typedef bool (*apply_text_fn)(struct sky_world_state *state, const char *text,
 
 static void run_state_case(const struct state_case *test, apply_text_fn apply)
 {
-    current_case = test->input;
+    check_case_name = test->input;
     struct sky_world_state state, before;
     starting_state(&state);
     memcpy(&before, &state, sizeof before);
@@ -350,12 +350,12 @@ static void test_state_cases(void)
 
 static void test_schema_table(void)
 {
-    current_case = "schema table";
+    check_case_name = "schema table";
     size_t count = 0;
     const struct sky_field_desc *fields = sky_world_state_fields(&count);
     CHECK_INT(count, 111);
     for (size_t i = 0; i < count; i++) {
-        current_case = fields[i].path;
+        check_case_name = fields[i].path;
         CHECK(sky_world_state_find_field(fields[i].path) == &fields[i]);
         CHECK(fields[i].min <= fields[i].max);
         CHECK(fields[i].description && fields[i].description[0]);
@@ -363,7 +363,7 @@ static void test_schema_table(void)
         if (fields[i].type == SKY_FIELD_TYPE_ENUM)
             CHECK(fields[i].enum_names && fields[i].enum_count > 0);
     }
-    current_case = "schema lookups";
+    check_case_name = "schema lookups";
     CHECK(sky_world_state_find_field("atmosphere.mie") == NULL);
     CHECK(sky_world_state_find_field("revision") == NULL);
     CHECK(sky_world_state_find_field(NULL) == NULL);
@@ -371,7 +371,7 @@ static void test_schema_table(void)
 
 static void test_defaults(void)
 {
-    current_case = "defaults";
+    check_case_name = "defaults";
     struct sky_world_state state;
     struct sky_field_errors errors;
     memset(&state, 0x5A, sizeof state);
@@ -392,7 +392,7 @@ static void test_defaults(void)
 
 static void test_validate_corrupt_state(void)
 {
-    current_case = "validate a corrupt state";
+    check_case_name = "validate a corrupt state";
     struct sky_world_state state, before;
     struct sky_field_errors errors;
     starting_state(&state);
@@ -409,7 +409,7 @@ static void test_validate_corrupt_state(void)
     CHECK_STR(errors.items[3].pointer, "/atmosphere/top_radius_km");
     CHECK_INT(errors.items[3].code, SKY_FIELD_INCONSISTENT);
 
-    current_case = "a valid patch cannot apply to a corrupt state";
+    check_case_name = "a valid patch cannot apply to a corrupt state";
     memcpy(&before, &state, sizeof before);
     CHECK(!apply_patch_text(&state, "{\"sun\":{\"elevation_deg\":10}}", &errors));
     CHECK_INT(errors.total, 4);
@@ -418,7 +418,7 @@ static void test_validate_corrupt_state(void)
 
 static void test_error_overflow(void)
 {
-    current_case = "more errors than fit";
+    check_case_name = "more errors than fit";
     cJSON *patch = cJSON_CreateObject();
     for (int i = 0; i < 40; i++) {
         char name[16];
@@ -445,7 +445,7 @@ static void test_error_overflow(void)
 
 static void test_format(void)
 {
-    current_case = "format";
+    check_case_name = "format";
     struct sky_field_errors errors;
     sky_field_errors_clear(&errors);
     sky_field_errors_add(&errors, SKY_FIELD_UNKNOWN, "/a", "first");
@@ -454,7 +454,7 @@ static void test_format(void)
     sky_field_errors_format(&errors, text, sizeof text);
     CHECK_STR(text, "/a: first\n(root): second");
 
-    current_case = "format truncates";
+    check_case_name = "format truncates";
     char small[12];
     memset(small, 'Z', sizeof small);
     sky_field_errors_format(&errors, small, sizeof small);
@@ -467,12 +467,12 @@ static void test_format(void)
     sky_field_errors_format(&errors, one, sizeof one);
     CHECK_INT(one[0], '\0');
 
-    current_case = "format of no errors";
+    check_case_name = "format of no errors";
     sky_field_errors_clear(&errors);
     sky_field_errors_format(&errors, text, sizeof text);
     CHECK_STR(text, "");
 
-    current_case = "long texts are truncated when added";
+    check_case_name = "long texts are truncated when added";
     char long_text[600];
     memset(long_text, 'q', sizeof long_text - 1);
     long_text[sizeof long_text - 1] = '\0';
@@ -539,7 +539,7 @@ static bool json_has_path(const cJSON *root, const char *dotted_path)
 
 static void test_to_json(void)
 {
-    current_case = "to_json content";
+    check_case_name = "to_json content";
     struct sky_world_state state;
     struct sky_field_errors errors;
     odd_valued_state(&state);
@@ -559,7 +559,7 @@ static void test_to_json(void)
     const cJSON *render = cJSON_GetObjectItemCaseSensitive(json, "render");
     CHECK_INT(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(render, "skyview_lut")), 2);
 
-    current_case = "to_json output is rejected while it carries revision";
+    check_case_name = "to_json output is rejected while it carries revision";
     struct sky_world_state other;
     starting_state(&other);
     CHECK(!sky_world_state_apply_json(&other, json, &errors));
@@ -579,29 +579,29 @@ static void test_round_trip(void)
 {
     struct sky_world_state state, restored;
 
-    current_case = "round trip through the cJSON tree is exact";
+    check_case_name = "round trip through the cJSON tree is exact";
     odd_valued_state(&state);
     CHECK(round_trip(&state, false, &restored));
     CHECK(states_equal(&restored, &state));
 
-    current_case = "round trip of the defaults through text is exact";
+    check_case_name = "round trip of the defaults through text is exact";
     starting_state(&state);
     CHECK(round_trip(&state, true, &restored));
     CHECK(states_equal(&restored, &state));
 
     /* cJSON 1.7 prints "%.15g" whenever that reads back within a relative DBL_EPSILON, so
      * through text a double may come back one unit in the last place off. */
-    current_case = "round trip through text is within an ulp";
+    check_case_name = "round trip through text is within an ulp";
     odd_valued_state(&state);
     CHECK(round_trip(&state, true, &restored));
     size_t count = 0;
     const struct sky_field_desc *fields = sky_world_state_fields(&count);
     for (size_t i = 0; i < count; i++) {
-        current_case = fields[i].path;
+        check_case_name = fields[i].path;
         for (int e = 0; e < field_elements(&fields[i]); e++) {
             double expected = read_element(&state, fields[i].path, e);
             double actual = read_element(&restored, fields[i].path, e);
-            if (!record(nearly_equal(actual, expected), __FILE__, __LINE__))
+            if (!check_record(nearly_equal(actual, expected), __FILE__, __LINE__))
                 printf("nearly_equal(%.17g, %.17g) failed at element %d\n", actual, expected, e);
         }
     }
@@ -609,7 +609,7 @@ static void test_round_trip(void)
 
 static void test_null_arguments(void)
 {
-    current_case = "null arguments";
+    check_case_name = "null arguments";
     struct sky_world_state state;
     struct sky_field_errors errors;
     starting_state(&state);
@@ -626,7 +626,7 @@ static void test_null_arguments(void)
 
 static void test_real_presets(const char *config_dir)
 {
-    current_case = "preset list";
+    check_case_name = "preset list";
     char names[8][SKY_PRESET_NAME_MAX + 1];
     int count = sky_preset_list(config_dir, "atmosphere", names, 8);
     CHECK(count >= 2);
@@ -640,7 +640,7 @@ static void test_real_presets(const char *config_dir)
     CHECK(has_earth);
     CHECK(has_mars);
 
-    current_case = "mars preset";
+    check_case_name = "mars preset";
     struct sky_world_state state, defaults;
     struct sky_field_errors errors;
     char msg[512];
@@ -659,11 +659,11 @@ static void test_real_presets(const char *config_dir)
     CHECK(states_equal(&state, &only_atmosphere_changed));
     CHECK_INT(state.revision, STARTING_REVISION);
 
-    current_case = "earth preset restores the default atmosphere";
+    check_case_name = "earth preset restores the default atmosphere";
     CHECK(sky_preset_apply(config_dir, "atmosphere", "earth", &state, &errors, msg, sizeof msg));
     CHECK(states_equal(&state, &defaults));
 
-    current_case = "missing preset lists the available ones";
+    check_case_name = "missing preset lists the available ones";
     struct sky_world_state before;
     memcpy(&before, &state, sizeof before);
     CHECK(!sky_preset_apply(config_dir, "atmosphere", "venus", &state, &errors, msg, sizeof msg));
@@ -678,16 +678,16 @@ static void test_real_presets(const char *config_dir)
         "a12345678901234567890123456789012345678901234567890123456789012345", /* 65 */
     };
     for (size_t i = 0; i < sizeof invalid_names / sizeof invalid_names[0]; i++) {
-        current_case = invalid_names[i];
+        check_case_name = invalid_names[i];
         CHECK(!sky_preset_apply(config_dir, "atmosphere", invalid_names[i], &state, &errors, msg,
                                 sizeof msg));
         CHECK_CONTAINS(msg, "invalid preset name");
         CHECK(memcmp(&state, &before, sizeof state) == 0);
     }
-    current_case = "longest valid name";
+    check_case_name = "longest valid name";
     CHECK(sky_preset_name_is_valid(
         "a1234567890123456789012345678901234567890123456789012345678901-_"));
-    current_case = "invalid kind";
+    check_case_name = "invalid kind";
     CHECK(!sky_preset_apply(config_dir, "../config", "earth", &state, &errors, msg, sizeof msg));
     CHECK_CONTAINS(msg, "invalid preset kind");
     CHECK(!sky_preset_apply(config_dir, "atmosphere", NULL, &state, &errors, msg, sizeof msg));
@@ -742,7 +742,7 @@ static void remove_temp_tree(struct temp_tree *tree)
 static void expect_preset_failure(const char *dir, const char *name, const char *msg_part,
                                   int error_total)
 {
-    current_case = name;
+    check_case_name = name;
     struct sky_world_state state, before;
     struct sky_field_errors errors;
     char msg[512];
@@ -773,7 +773,7 @@ static void write_temp_presets(struct temp_tree *tree)
               TEXT_FILE(tree, "listing/Upper.json", "{}") &&
               TEXT_FILE(tree, "listing/c.txt", "{}") && TEXT_FILE(tree, "listing/.json", "{}") &&
               TEXT_FILE(tree, "listing/d.json.bak", "{}");
-    current_case = "writing temporary presets";
+    check_case_name = "writing temporary presets";
     CHECK(ok);
 
     size_t huge_length = SKY_PRESET_MAX_FILE_BYTES + 1;
@@ -791,7 +791,7 @@ static void write_temp_presets(struct temp_tree *tree)
 static void test_temp_presets(void)
 {
     struct temp_tree tree = {.root = "/tmp/skyd-presets-XXXXXX", .count = 0};
-    current_case = "temporary directory";
+    check_case_name = "temporary directory";
     CHECK(mkdtemp(tree.root) != NULL);
     write_temp_presets(&tree);
     const char *dir = tree.root;
@@ -810,7 +810,7 @@ static void test_temp_presets(void)
     expect_preset_failure(dir, "huge", "larger than the limit of 1048576 bytes", 0);
     expect_preset_failure(dir, "nothing", "available: baddesc, badfield, broken, described", 0);
 
-    current_case = "description is stripped";
+    check_case_name = "description is stripped";
     struct sky_world_state state;
     struct sky_field_errors errors;
     char msg[512];
@@ -819,11 +819,11 @@ static void test_temp_presets(void)
     CHECK_DOUBLE(state.sun.elevation_deg, 10);
     CHECK(sky_preset_apply(dir, "atmosphere", "described", &state, NULL, NULL, 0));
 
-    current_case = "missing kind directory";
+    check_case_name = "missing kind directory";
     CHECK(!sky_preset_apply(dir, "scene", "x", &state, &errors, msg, sizeof msg));
     CHECK_CONTAINS(msg, "available: none");
 
-    current_case = "listing is sorted and filtered";
+    check_case_name = "listing is sorted and filtered";
     char names[4][SKY_PRESET_NAME_MAX + 1];
     CHECK_INT(sky_preset_list(dir, "listing", names, 4), 2);
     CHECK_STR(names[0], "a");
@@ -835,7 +835,7 @@ static void test_temp_presets(void)
     CHECK_INT(sky_preset_list(dir, "../listing", names, 4), -1);
 
     remove_temp_tree(&tree);
-    current_case = "temporary directory removed";
+    check_case_name = "temporary directory removed";
     struct stat info;
     CHECK(stat(tree.root, &info) != 0);
 }
@@ -856,6 +856,5 @@ int main(int argc, char **argv)
     test_real_presets(config_dir);
     test_temp_presets();
 
-    printf("%d passed, %d failed\n", checks_passed, checks_failed);
-    return checks_failed == 0 ? 0 : 1;
+    return check_summary();
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Browser test of the web client (clients/web) in headless Chromium.
 
-Usage: /usr/bin/python3 tests/test_web.py PATH_TO_SKYD WEB_ROOT OUTPUT_DIR
+Usage: /usr/bin/python3 tests/e2e/test_web.py PATH_TO_SKYD WEB_ROOT OUTPUT_DIR
 
 Starts `skyd serve` on a free loopback port with WEB_ROOT as its web root, starts Debian's
 chromedriver and drives Chromium (--headless=new) through the WebDriver HTTP API (standard

@@ -1,4 +1,4 @@
-"""Support for tests/test_serve.py: check bookkeeping, a PNG decoder, the daemon under test
+"""Support for tests/e2e/test_serve.py: check bookkeeping, a PNG decoder, the daemon under test
 (started on a free port, stopped with SIGTERM), a WebSocket client wrapper on Debian's
 python3-websockets 10.4, and raw-socket helpers for what the library will not send."""
 

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Runs clients/python/skyd_timelapse.py against the real daemon and checks its time-lapse.
 
-Usage: /usr/bin/python3 tests/test_python_example.py PATH_TO_SKYD EXAMPLE OUTPUT_DIR
+Usage: /usr/bin/python3 tests/e2e/test_python_example.py PATH_TO_SKYD EXAMPLE OUTPUT_DIR
 
 Sweeps 04:00 to 20:00 UTC on 21 June at 45 N 6 E in four steps with a fixed exposure. The
 daemon starts in manual mode; the example switches it to the ephemeris with the clock paused.

@@ -6,7 +6,7 @@ VK_ERROR_OUT_OF_DEVICE_MEMORY; lavapipe never does either by itself). Every daem
 with the validation layer on and its log must hold no validation message, so a renderer
 destroyed after a loss, or a create that failed half way, may leave no object behind.
 
-Usage: /usr/bin/python3 tests/test_device_faults.py PATH_TO_SKYD SCRATCH_DIR
+Usage: /usr/bin/python3 tests/e2e/test_device_faults.py PATH_TO_SKYD SCRATCH_DIR
 
 Frames are counted over the process, the start-up's warm-up frames included (four of them,
 again in each rebuilt renderer); where a check needs the fault to meet one request, a loop

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Load on the real daemon over loopback: many clients, slow clients, churn and a flood.
 
-Usage: /usr/bin/python3 tests/test_load.py PATH_TO_SKYD SCRATCH_DIR
+Usage: /usr/bin/python3 tests/e2e/test_load.py PATH_TO_SKYD SCRATCH_DIR
 
 1. One reader alone: its frame rate (the solo rate).
 2. 64 clients at once: 55 readers of that view, 8 that subscribe and never read a byte, and

@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check_cases.h"
+#include "check.h"
 
 #define COUNT_OF(array) (sizeof(array) / sizeof((array)[0]))
 
@@ -454,7 +454,7 @@ static void test_parse_table(void)
 {
     for (size_t i = 0; i < COUNT_OF(parse_cases); i++) {
         const struct parse_case *c = &parse_cases[i];
-        current_case = c->name;
+        check_case_name = c->name;
         struct sky_client_msg msg;
         struct sky_msg_parse_error error;
         enum sky_msg_error_code code = parse(c->text, &msg, &error);
@@ -477,7 +477,7 @@ static void test_parse_table(void)
         }
         sky_client_msg_free(&msg);
     }
-    current_case = "";
+    check_case_name = "";
 }
 
 /* ---- parser details --------------------------------------------------------------------- */
@@ -488,40 +488,40 @@ static void test_offsets_and_limits(void)
     struct sky_client_msg msg;
     struct sky_msg_parse_error error;
 
-    current_case = "trailing garbage offset";
+    check_case_name = "trailing garbage offset";
     CHECK_INT(parse("{\"type\":\"stats\"}  x", &msg, &error), SKY_MSG_ERR_MALFORMED_JSON);
     CHECK_INT(error.offset, 18);
 
-    current_case = "syntax error offset";
+    check_case_name = "syntax error offset";
     CHECK_INT(parse("{\"type\" \"stats\"}", &msg, &error), SKY_MSG_ERR_MALFORMED_JSON);
     CHECK_INT(error.offset, 8);
 
-    current_case = "raw NUL byte";
+    check_case_name = "raw NUL byte";
     static const char with_nul[] = "{\"type\":\"auth\",\"token\":\"ab\0cd\"}";
     CHECK_INT(parse_with(with_nul, sizeof with_nul - 1, &limits, &msg, &error),
               SKY_MSG_ERR_MALFORMED_JSON);
     CHECK_INT(error.offset, 26);
-    current_case = "NUL after the object";
+    check_case_name = "NUL after the object";
     static const char nul_after[] = "{\"type\":\"stats\"}\0";
     CHECK_INT(parse_with(nul_after, sizeof nul_after - 1, &limits, &msg, &error),
               SKY_MSG_ERR_MALFORMED_JSON);
     CHECK_INT(error.offset, 16);
 
-    current_case = "length bounds the text";
+    check_case_name = "length bounds the text";
     static const char longer[] = "{\"type\":\"stats\"}{garbage";
     CHECK_INT(parse_with(longer, 16, &limits, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.type, SKY_MSG_STATS);
 
-    current_case = "invalid utf-8 offset";
+    check_case_name = "invalid utf-8 offset";
     CHECK_INT(parse("{\"type\":\"hello\",\"client\":\"ab\x80\"}", &msg, &error),
               SKY_MSG_ERR_INVALID_ENCODING);
     CHECK_INT(error.offset, 28);
 
-    current_case = "message at the size limit";
+    check_case_name = "message at the size limit";
     char *text = repeat(' ', limits.max_message_bytes);
     memcpy(text, "{\"type\":\"stats\"}", 16);
     CHECK_INT(parse_with(text, limits.max_message_bytes, &limits, &msg, &error), SKY_MSG_OK);
-    current_case = "message over the size limit";
+    check_case_name = "message over the size limit";
     struct sky_msg_limits no_uploads = limits;
     no_uploads.max_upload_bytes = 0; /* else a set_weather_map may be larger (test_weather_map) */
     text[0] = '\x01'; /* never looked at: the size check comes first */
@@ -530,7 +530,7 @@ static void test_offsets_and_limits(void)
     CHECK_STR(first_pointer(&error), "");
     free(text);
 
-    current_case = "token at and over its limit";
+    check_case_name = "token at and over its limit";
     char token_message[600];
     char *token = repeat('t', SKY_MSG_TOKEN_MAX + 1);
     snprintf(token_message, sizeof token_message, "{\"type\":\"auth\",\"token\":\"%s\"}", token);
@@ -541,14 +541,14 @@ static void test_offsets_and_limits(void)
     CHECK_INT(strlen(msg.auth.token), SKY_MSG_TOKEN_MAX);
     free(token);
 
-    current_case = "deep nesting";
+    check_case_name = "deep nesting";
     struct sky_msg_limits large = limits;
     large.max_message_bytes = 1 << 20;
     char *deep = repeat('[', 100000);
     CHECK_INT(parse_with(deep, 100000, &large, &msg, &error), SKY_MSG_ERR_MALFORMED_JSON);
     free(deep);
 
-    current_case = "many unknown fields";
+    check_case_name = "many unknown fields";
     size_t used = 0;
     char *many = malloc(large.max_message_bytes);
     used += (size_t)sprintf(many, "{\"type\":\"stats\"");
@@ -565,7 +565,7 @@ static void test_offsets_and_limits(void)
     cJSON_Delete(json);
     free(many);
 
-    current_case = "every failure is listed";
+    check_case_name = "every failure is listed";
     CHECK_INT(parse("{\"type\":\"subscribe\",\"id\":\"v\",\"view\":{\"width\":0,\"height\":0,"
                     "\"fps\":100}}", &msg, &error), SKY_MSG_ERR_OUT_OF_RANGE);
     CHECK_INT(error.fields.total, 3);
@@ -573,9 +573,9 @@ static void test_offsets_and_limits(void)
     CHECK_STR(error.fields.items[2].pointer, "/view/fps");
     CHECK_INT(error.fields.items[2].code, SKY_MSG_ERR_OUT_OF_RANGE);
 
-    current_case = "no limits";
+    check_case_name = "no limits";
     CHECK_INT(sky_msg_parse("{}", 2, NULL, &msg, &error), SKY_MSG_ERR_INTERNAL);
-    current_case = "";
+    check_case_name = "";
 }
 
 static void test_parsed_values(void)
@@ -583,7 +583,7 @@ static void test_parsed_values(void)
     struct sky_client_msg msg;
     struct sky_msg_parse_error error;
 
-    current_case = "hello values";
+    check_case_name = "hello values";
     CHECK_INT(parse(client_examples[0].text, &msg, &error), SKY_MSG_OK);
     CHECK(msg.hello.has_client);
     CHECK_STR(msg.hello.client, "sky-web 0.1");
@@ -591,11 +591,11 @@ static void test_parsed_values(void)
     CHECK_INT(msg.id.kind, SKY_MSG_ID_INTEGER);
     CHECK_INT(msg.id.number, 1);
 
-    current_case = "auth values";
+    check_case_name = "auth values";
     CHECK_INT(parse(client_examples[1].text, &msg, &error), SKY_MSG_OK);
     CHECK_STR(msg.auth.token, "s3cret-token");
 
-    current_case = "id kinds";
+    check_case_name = "id kinds";
     CHECK_INT(parse("{\"type\":\"stats\"}", &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.id.kind, SKY_MSG_ID_NONE);
     CHECK_INT(parse("{\"type\":\"stats\",\"id\":-9007199254740991}", &msg, &error), SKY_MSG_OK);
@@ -604,7 +604,7 @@ static void test_parsed_values(void)
     CHECK_INT(msg.id.kind, SKY_MSG_ID_STRING);
     CHECK_STR(msg.id.text, "q");
 
-    current_case = "id kept when the rest fails";
+    check_case_name = "id kept when the rest fails";
     CHECK_INT(parse("{\"type\":\"bogus\",\"id\":\"keep-me\"}", &msg, &error),
               SKY_MSG_ERR_UNKNOWN_TYPE);
     CHECK_STR(msg.id.text, "keep-me");
@@ -624,14 +624,14 @@ static void test_parsed_values(void)
     CHECK(string_at(field, "reason") != NULL);
     cJSON_Delete(json);
 
-    current_case = "invalid id not echoed";
+    check_case_name = "invalid id not echoed";
     CHECK_INT(parse("{\"type\":\"stats\",\"id\":1.5}", &msg, &error), SKY_MSG_ERR_BAD_VALUE);
     CHECK_INT(msg.id.kind, SKY_MSG_ID_NONE);
     json = parse_built(sky_msg_build_parse_error(&msg, &error), "error");
     CHECK(get(json, "id") == NULL);
     cJSON_Delete(json);
 
-    current_case = "patch is detached and applies";
+    check_case_name = "patch is detached and applies";
     CHECK_INT(parse(client_examples[3].text, &msg, &error), SKY_MSG_OK);
     CHECK(cJSON_IsObject(msg.set.patch));
     struct sky_world_state state;
@@ -643,7 +643,7 @@ static void test_parsed_values(void)
     CHECK(msg.set.patch == NULL);
     sky_client_msg_free(&msg);
 
-    current_case = "inconsistency is left to the apply";
+    check_case_name = "inconsistency is left to the apply";
     CHECK_INT(parse("{\"type\":\"set\",\"patch\":{\"atmosphere\":{\"bottom_radius_km\":7000}}}",
                     &msg, &error), SKY_MSG_OK);
     struct sky_field_errors apply_errors;
@@ -656,7 +656,7 @@ static void test_parsed_values(void)
     cJSON_Delete(json);
     sky_client_msg_free(&msg);
 
-    current_case = "view defaults";
+    check_case_name = "view defaults";
     CHECK_INT(parse(client_examples[6].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.view.width, 640);
     CHECK_INT(msg.view.height, 360);
@@ -672,13 +672,13 @@ static void test_parsed_values(void)
     CHECK_INT(parse_with(snapshot, strlen(snapshot), &slow, &msg, &error), SKY_MSG_OK);
     CHECK_DOUBLE(msg.view.fps, 4);
 
-    current_case = "view environment map";
+    check_case_name = "view environment map";
     CHECK_INT(parse(client_examples[COUNT_OF(client_examples) - 1].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.view.projection, SKY_VIEW_PROJECTION_EQUIRECTANGULAR);
     CHECK_INT(msg.view.format, SKY_FRAME_FORMAT_PNG16);
     CHECK_INT(msg.view.width, 2 * msg.view.height);
 
-    current_case = "view given";
+    check_case_name = "view given";
     CHECK_INT(parse(client_examples[4].text, &msg, &error), SKY_MSG_OK);
     CHECK(msg.view.has_yaw_deg && msg.view.has_fov_deg && !msg.view.has_pitch_deg);
     CHECK_DOUBLE(msg.view.yaw_deg, 200);
@@ -688,7 +688,7 @@ static void test_parsed_values(void)
     CHECK_INT(msg.view.exposure_mode, SKY_EXPOSURE_MANUAL);
     CHECK_DOUBLE(msg.view.ev100, 12);
 
-    current_case = "view resolve";
+    check_case_name = "view resolve";
     struct sky_camera_state camera;
     struct sky_exposure_state exposure;
     sky_world_state_defaults(&state);
@@ -702,7 +702,7 @@ static void test_parsed_values(void)
     CHECK_DOUBLE(exposure.compensation_ev, state.exposure.compensation_ev);
     CHECK_INT(exposure.tonemap, state.exposure.tonemap);
 
-    current_case = "probe values";
+    check_case_name = "probe values";
     CHECK_INT(parse(client_examples[8].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.probe.quantity, SKY_PROBE_LUMINANCE);
     CHECK_DOUBLE(msg.probe.view_zenith_deg, 45);
@@ -712,7 +712,7 @@ static void test_parsed_values(void)
     CHECK_INT(msg.probe.quantity, SKY_PROBE_TRANSMITTANCE);
     CHECK_DOUBLE(msg.probe.mu, 0.5);
 
-    current_case = "preset values";
+    check_case_name = "preset values";
     CHECK_INT(parse(client_examples[11].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.preset.kind, SKY_PRESET_ATMOSPHERE);
     CHECK_STR(msg.preset.name, "mars");
@@ -725,7 +725,7 @@ static void test_parsed_values(void)
     CHECK_INT(parse(client_examples[5].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.unsubscribe.subscription, 1);
 
-    current_case = "roles";
+    check_case_name = "roles";
     for (int t = SKY_MSG_HELLO; t <= SKY_MSG_STATS; t++) {
         bool expected = t == SKY_MSG_SET || t == SKY_MSG_APPLY_PRESET;
         CHECK_INT(protocol_message_needs_controller((enum sky_msg_type)t), expected);
@@ -733,7 +733,7 @@ static void test_parsed_values(void)
     }
     CHECK(sky_msg_type_name(SKY_MSG_NONE) == NULL);
 
-    current_case = "error names";
+    check_case_name = "error names";
     static const struct {
         int code;
         const char *name;
@@ -756,7 +756,7 @@ static void test_parsed_values(void)
     CHECK(sky_msg_error_name(13) == NULL);
     CHECK(sky_msg_error_name(-1) == NULL);
     CHECK(sky_msg_error_name(1000) == NULL);
-    current_case = "";
+    check_case_name = "";
 }
 
 /* ---- builders --------------------------------------------------------------------------- */
@@ -769,7 +769,7 @@ static void test_builders(void)
     const char *const *caps = sky_msg_default_capabilities(&capability_count);
     struct sky_msg_id id = string_id("abc"), id5 = int_id(5);
 
-    current_case = "hello";
+    check_case_name = "hello";
     cJSON *json = parse_built(
         sky_msg_build_hello("1.2.3", SKY_ROLE_CONTROLLER, caps, capability_count, &limits), "hello");
     CHECK_DOUBLE(number_at(json, "protocol"), SKY_PROTOCOL_VERSION);
@@ -794,7 +794,7 @@ static void test_builders(void)
     bad.max_clients = -1;
     CHECK(sky_msg_build_hello("1", SKY_ROLE_VIEWER, caps, capability_count, &bad) == NULL);
 
-    current_case = "state";
+    check_case_name = "state";
     struct sky_world_state state;
     sky_world_state_defaults(&state);
     state.revision = 41;
@@ -819,7 +819,7 @@ static void test_builders(void)
     CHECK(sky_msg_build_state(&id, &state) == NULL);
     CHECK(sky_msg_build_state(&id, NULL) == NULL);
 
-    current_case = "ack";
+    check_case_name = "ack";
     json = parse_built(sky_msg_build_ack(&id5, 9007199254740991ULL, SKY_ROLE_NONE), "ack");
     CHECK_DOUBLE(number_at(json, "id"), 5);
     CHECK_DOUBLE(number_at(json, "revision"), 9007199254740991.0);
@@ -838,7 +838,7 @@ static void test_builders(void)
     CHECK(sky_msg_build_ack(&bad_id, 1, SKY_ROLE_NONE) == NULL);
     CHECK(sky_msg_build_ack(NULL, 1, (enum sky_msg_role)9) == NULL);
 
-    current_case = "error";
+    check_case_name = "error";
     struct sky_field_errors fields;
     sky_field_errors_clear(&fields);
     sky_field_errors_add(&fields, SKY_MSG_ERR_OUT_OF_RANGE, "/view/fps", "too fast");
@@ -864,14 +864,14 @@ static void test_builders(void)
     sky_field_errors_add(&fields, 99, "/x", "unknown code");
     CHECK(sky_msg_build_error(NULL, SKY_MSG_ERR_BAD_VALUE, "x", &fields) == NULL);
 
-    current_case = "error text is made UTF-8";
+    check_case_name = "error text is made UTF-8";
     char *text = sky_msg_build_error(NULL, SKY_MSG_ERR_BAD_VALUE, "cut \xe2\x98", NULL);
     CHECK(text != NULL);
     json = parse_built(text, "error");
     CHECK_STR(string_at(json, "message"), "cut ??");
     cJSON_Delete(json);
 
-    current_case = "subscribed round trip";
+    check_case_name = "subscribed round trip";
     struct sky_client_msg msg, again;
     struct sky_msg_parse_error error;
     CHECK_INT(parse(client_examples[4].text, &msg, &error), SKY_MSG_OK);
@@ -892,7 +892,7 @@ static void test_builders(void)
     CHECK(sky_msg_build_subscribed(&msg.id, 1, &msg.view) == NULL);
     CHECK(sky_msg_build_subscribed(&msg.id, 1, NULL) == NULL);
 
-    current_case = "frame";
+    check_case_name = "frame";
     json = parse_built(sky_msg_build_frame(NULL, 2, 100), "frame");
     CHECK_DOUBLE(number_at(json, "subscription"), 2);
     CHECK_DOUBLE(number_at(json, "frame_number"), 100);
@@ -905,7 +905,7 @@ static void test_builders(void)
     CHECK(sky_msg_build_frame(&id, 2, 1) == NULL);
     CHECK(sky_msg_build_frame(NULL, 0, 1) == NULL);
 
-    current_case = "state_changed";
+    check_case_name = "state_changed";
     struct sky_world_state before, after;
     sky_world_state_defaults(&before);
     after = before;
@@ -927,7 +927,7 @@ static void test_builders(void)
     CHECK(sky_msg_build_state_changed(8, not_pointers, 1) == NULL);
     CHECK(sky_msg_build_state_changed(8, NULL, 1) == NULL);
 
-    current_case = "presets";
+    check_case_name = "presets";
     const char *names[] = {"earth", "mars"};
     json = parse_built(sky_msg_build_presets(&id, SKY_PRESET_ATMOSPHERE, names, 2), "presets");
     CHECK_STR(string_at(json, "kind"), "atmosphere");
@@ -940,7 +940,7 @@ static void test_builders(void)
     CHECK(sky_msg_build_presets(NULL, SKY_PRESET_ATMOSPHERE, bad_names, 2) == NULL);
     CHECK(sky_msg_build_presets(NULL, (enum sky_preset_kind)3, names, 2) == NULL);
 
-    current_case = "probe_result";
+    check_case_name = "probe_result";
     struct sky_msg_probe_result result = {SKY_PROBE_TRANSMITTANCE, {0.5, 0.25, 0.125}, 0, 0};
     json = parse_built(sky_msg_build_probe_result(&id5, &result), "probe_result");
     CHECK_STR(string_at(json, "quantity"), "transmittance");
@@ -966,7 +966,7 @@ static void test_builders(void)
     result.quantity = (enum sky_probe_quantity)5;
     CHECK(sky_msg_build_probe_result(NULL, &result) == NULL);
 
-    current_case = "stats";
+    check_case_name = "stats";
     struct sky_msg_pass_time passes[] = {{"skyview", 0.5}, {"composite", 1.25}};
     struct sky_msg_stats stats = {30, 2, passes, 2, 0.5, 1782043200.25};
     json = parse_built(sky_msg_build_stats(NULL, &stats), "stats");
@@ -992,14 +992,14 @@ static void test_builders(void)
     passes[1].ms = 1;
     stats.fps = INFINITY;
     CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
-    current_case = "";
+    check_case_name = "";
 }
 
 /* ---- frame header ----------------------------------------------------------------------- */
 
 static void test_frame_header(void)
 {
-    current_case = "frame header layout";
+    check_case_name = "frame header layout";
     struct sky_frame_header header = {
         .format = SKY_FRAME_FORMAT_PNG,
         .frame_number = 0x0102030405060708ULL,
@@ -1028,7 +1028,7 @@ static void test_frame_header(void)
     }
     CHECK_INT(message[SKY_FRAME_HEADER_SIZE], 0xAB);
 
-    current_case = "frame header round trip";
+    check_case_name = "frame header round trip";
     struct sky_frame_header read;
     memset(&read, 0, sizeof read);
     CHECK_INT(sky_frame_header_unpack(message, sizeof message, &read), SKY_FRAME_HEADER_OK);
@@ -1074,7 +1074,7 @@ static void test_frame_header(void)
         {"NaN time", 30, 0xFF, sizeof message, SKY_FRAME_HEADER_BAD_VALUE},
     };
     for (size_t i = 0; i < COUNT_OF(rejections); i++) {
-        current_case = rejections[i].name;
+        check_case_name = rejections[i].name;
         uint8_t copy[sizeof message];
         memcpy(copy, message, sizeof copy);
         if (rejections[i].offset >= 0)
@@ -1090,7 +1090,7 @@ static void test_frame_header(void)
                   sky_frame_header_status_name(rejections[i].status));
         CHECK(memcmp(&untouched, &header, sizeof header) == 0);
     }
-    current_case = "frame header format png16";
+    check_case_name = "frame header format png16";
     uint8_t png16[sizeof message];
     memcpy(png16, message, sizeof png16);
     png16[6] = SKY_FRAME_FORMAT_PNG16;
@@ -1098,7 +1098,7 @@ static void test_frame_header(void)
     CHECK_INT(sky_frame_header_unpack(png16, sizeof png16, &read16), SKY_FRAME_HEADER_OK);
     CHECK_INT(read16.format, SKY_FRAME_FORMAT_PNG16);
 
-    current_case = "frame header pack rejections";
+    check_case_name = "frame header pack rejections";
     CHECK_INT(sky_frame_header_unpack(NULL, 100, NULL), SKY_FRAME_HEADER_TOO_SHORT);
     struct sky_frame_header bad = header;
     bad.simulation_time_s = NAN;
@@ -1111,7 +1111,7 @@ static void test_frame_header(void)
     CHECK_INT(sky_frame_header_pack(&bad, bare), SKY_FRAME_HEADER_BAD_VALUE);
     CHECK_STR(sky_frame_header_status_name(SKY_FRAME_HEADER_BAD_LENGTH), "bad_length");
     CHECK(sky_frame_header_status_name(8) == NULL);
-    current_case = "";
+    check_case_name = "";
 }
 
 /* ---- PROTOCOL.md ------------------------------------------------------------------------ */
@@ -1184,7 +1184,7 @@ static size_t doc_blocks(const char *doc, const char *role, char **out, size_t m
 
 static void test_documented_examples(const char *doc_path)
 {
-    current_case = "client examples parse";
+    check_case_name = "client examples parse";
     for (size_t i = 0; i < COUNT_OF(client_examples); i++) {
         struct sky_client_msg msg;
         struct sky_msg_parse_error error;
@@ -1196,12 +1196,12 @@ static void test_documented_examples(const char *doc_path)
     }
 
     char *doc = read_file(doc_path);
-    current_case = doc_path;
+    check_case_name = doc_path;
     CHECK(doc != NULL);
     if (!doc)
         return;
     char *blocks[64];
-    current_case = "PROTOCOL.md client examples";
+    check_case_name = "PROTOCOL.md client examples";
     size_t count = doc_blocks(doc, "client", blocks, 64);
     CHECK_INT(count, COUNT_OF(client_examples));
     for (size_t i = 0; i < count && i < 64; i++) {
@@ -1215,7 +1215,7 @@ static void test_documented_examples(const char *doc_path)
         free(blocks[i]);
     }
 
-    current_case = "PROTOCOL.md server examples";
+    check_case_name = "PROTOCOL.md server examples";
     char *built[64];
     size_t built_count = build_server_examples(built, 64);
     count = doc_blocks(doc, "server", blocks, 64);
@@ -1235,13 +1235,13 @@ static void test_documented_examples(const char *doc_path)
     for (size_t i = 0; i < built_count && i < 64; i++)
         free(built[i]);
     free(doc);
-    current_case = "";
+    check_case_name = "";
 }
 
 static char *default_doc_path(void)
 {
     const char *file = __FILE__;
-    const char *suffix = "tests/test_protocol.c";
+    const char *suffix = "tests/unit/test_protocol.c";
     size_t length = strlen(file), suffix_length = strlen(suffix);
     size_t prefix = length >= suffix_length && strcmp(file + length - suffix_length, suffix) == 0
                         ? length - suffix_length
@@ -1262,6 +1262,5 @@ int main(int argc, char **argv)
     char *doc_path = argc > 1 ? NULL : default_doc_path();
     test_documented_examples(argc > 1 ? argv[1] : doc_path);
     free(doc_path);
-    printf("%d passed, %d failed\n", checks_passed, checks_failed);
-    return checks_failed ? 1 : 0;
+    return check_summary();
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """End-to-end test of `skyd serve` with a real WebSocket client.
 
-Usage: /usr/bin/python3 tests/test_serve.py PATH_TO_SKYD SCRATCH_DIR
+Usage: /usr/bin/python3 tests/e2e/test_serve.py PATH_TO_SKYD SCRATCH_DIR
 
 Starts the daemon itself (config JSON in SCRATCH_DIR, port 0), talks to it with Debian's
 python3-websockets 10.4 (asyncio API), and checks the contract in protocol/PROTOCOL.md:
@@ -974,8 +974,8 @@ async def main_checks(d, repo_config_dir):
 
 
 async def run(skyd, scratch):
-    repo_config_dir = os.path.join(os.path.dirname(os.path.dirname(
-        os.path.abspath(__file__))), "config")
+    repo_config_dir = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__)))), "config")
     os.makedirs(os.path.join(scratch, "web"), exist_ok=True)
     with open(os.path.join(scratch, "web", "index.html"), "wb") as f:
         f.write(INDEX_HTML)
@@ -1046,7 +1046,7 @@ async def run(skyd, scratch):
 
 def main():
     if len(sys.argv) != 3:
-        print("usage: /usr/bin/python3 tests/test_serve.py PATH_TO_SKYD SCRATCH_DIR",
+        print("usage: /usr/bin/python3 tests/e2e/test_serve.py PATH_TO_SKYD SCRATCH_DIR",
               file=sys.stderr)
         return 2
     skyd = os.path.abspath(sys.argv[1])

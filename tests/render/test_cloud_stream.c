@@ -4,7 +4,7 @@
  * default resolution (half-size clouds, one pixel of each 4x4 block traced per frame, so blocks
  * of 8x8 output pixels). Checks:
  *  - the live frames do not break into blocks: their blockiness on the 8-pixel grid
- *    (tests/cloud_metrics.h) stays close to that of a converged one-off render of the same
+ *    (tests/common/cloud_metrics.h) stays close to that of a converged one-off render of the same
  *    state, frame by frame;
  *  - a converged render has no stair-steps on the blocks' grid itself;
  *  - after an instant change the stream forgets the old clouds about as fast as a new stream

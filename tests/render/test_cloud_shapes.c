@@ -1,4 +1,4 @@
-/* Cloud shapes against the issue's targets, measured on skyd's renders (tests/cloud_metrics.h)
+/* Cloud shapes against the issue's targets, measured on skyd's renders (tests/common/cloud_metrics.h)
  * with the weather presets applied as `skyd render --weather NAME` applies them:
  * - seen from above, fair cumulus outlines have an area-perimeter fractal dimension of
  *   1.25-1.45 over at least 30 whole clouds (Lovejoy 1982: 1.35), and at coverage 0.3 they
