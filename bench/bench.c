@@ -289,9 +289,15 @@ int main(int argc, char **argv)
         sizes[1][0] = 1280, sizes[1][1] = 720;
         size_count = 2;
     }
-    struct sky_renderer *r = cli_create_renderer(&common);
-    if (!r)
+    /* The renderer itself (not the renderer host): the bench times its passes. */
+    struct sky_renderer_params params = { .device_preference = common.device,
+                                          .validation = common.validation };
+    world_to_lut_sizes(&common.state, &params.lut_sizes);
+    struct sky_renderer *r = sky_renderer_create(&params);
+    if (!r) {
+        fprintf(stderr, "skyd_bench: cannot start the Vulkan renderer\n");
         return 1;
+    }
     printf("device: %s; projection %s\n", sky_renderer_device_name(r),
            projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR ? "equirectangular"
                                                                 : "perspective");

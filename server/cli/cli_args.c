@@ -220,23 +220,23 @@ bool cli_parse_uint(const char *option, const char *text, unsigned min, unsigned
     return true;
 }
 
-struct sky_renderer *cli_create_renderer(struct cli_common *c)
+struct renderer_host *cli_create_renderer(struct cli_common *c)
 {
-    struct sky_renderer_params params = {
+    struct renderer_host_params params = {
         .device_preference = c->device,
         .validation = c->validation,
         .validation_message_counter = &c->validation_messages,
     };
-    world_to_lut_sizes(&c->state, &params.lut_sizes);
-    struct sky_renderer *r = sky_renderer_create(&params);
+    char err[256];
+    struct renderer_host *r = renderer_host_create(&params, &c->state, NULL, err, sizeof err);
     if (!r)
         fprintf(stderr, "skyd: cannot start the Vulkan renderer\n");
     return r;
 }
 
-int cli_finish(struct cli_common *c, struct sky_renderer **renderer, int status)
+int cli_finish(struct cli_common *c, struct renderer_host **renderer, int status)
 {
-    sky_renderer_destroy(renderer);
+    renderer_host_destroy(renderer);
     if (c->validation && c->validation_messages > 0) {
         fprintf(stderr, "skyd: %u Vulkan validation messages\n", c->validation_messages);
         if (status == SKYD_EXIT_OK)

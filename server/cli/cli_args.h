@@ -6,6 +6,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "renderer_host.h"
 #include "sky_renderer.h"
 #include "world_state.h"
 
@@ -56,10 +57,10 @@ int cli_parse_number_option(int argc, char **argv, int *i, const struct cli_numb
                             size_t count, void *target);
 
 /* Creates the renderer for these options with the state's LUT sizes; NULL after a message. */
-struct sky_renderer *cli_create_renderer(struct cli_common *c);
+struct renderer_host *cli_create_renderer(struct cli_common *c);
 
 /* Destroys the renderer; with validation on, reports its messages and turns a successful
  * status into SKYD_EXIT_VALIDATION (3) when there were any. Returns the final status. */
-int cli_finish(struct cli_common *c, struct sky_renderer **renderer, int status);
+int cli_finish(struct cli_common *c, struct renderer_host **renderer, int status);
 
 #endif

@@ -7,7 +7,7 @@
 #include "cli_args.h"
 #include "commands.h"
 #include "ephemeris.h"
-#include "probe_query.h"
+#include "renderer_host.h"
 
 enum probe_kind { PROBE_TRANSMITTANCE, PROBE_LUMINANCE, PROBE_ILLUMINANCE };
 
@@ -158,7 +158,7 @@ static int probe_body(int argc, char **argv)
 }
 
 /* Runs the query and prints exactly the members `skyd probe` promises. */
-static int run_probe(struct sky_renderer *r, const struct cli_common *c, const struct probe_args *a)
+static int run_probe(struct renderer_host *r, const struct cli_common *c, const struct probe_args *a)
 {
     static const enum sky_probe_quantity quantities[] = {
         [PROBE_TRANSMITTANCE] = SKY_PROBE_TRANSMITTANCE,
@@ -172,7 +172,7 @@ static int run_probe(struct sky_renderer *r, const struct cli_common *c, const s
                                    .view_azimuth_deg = a->view_azimuth_deg,
                                    .sun_zenith_deg = a->sun_zenith_deg };
     struct sky_msg_probe_result result;
-    if (probe_query_run(r, &c->state, &query, &result) != 0)
+    if (renderer_host_probe(r, &c->state, &query, &result) != 0)
         return SKYD_EXIT_FAILURE;
     if (a->kind == PROBE_ILLUMINANCE)
         printf("{\"sun_lux\":%.6g,\"sky_lux\":%.6g}\n", result.sun_lux, result.sky_lux);
@@ -219,7 +219,7 @@ int skyd_cmd_probe(int argc, char **argv)
     if (!check_required(&a))
         return SKYD_EXIT_USAGE;
 
-    struct sky_renderer *renderer = cli_create_renderer(&common);
+    struct renderer_host *renderer = cli_create_renderer(&common);
     if (!renderer)
         return SKYD_EXIT_FAILURE;
     int status = run_probe(renderer, &common, &a);

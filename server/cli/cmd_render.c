@@ -288,10 +288,9 @@ int skyd_cmd_render(int argc, char **argv)
         free(pixels);
         pixels = NULL;
     }
-    struct sky_renderer *renderer = pixels ? cli_create_renderer(&common) : NULL;
+    struct renderer_host *renderer = pixels ? cli_create_renderer(&common) : NULL;
     if (renderer && weather_map.rgba &&
-        sky_renderer_set_weather_map(renderer, weather_map.rgba, weather_map.width,
-                                     weather_map.height) != 0) {
+        renderer_host_set_weather_map(renderer, &weather_map) != 0) {
         fprintf(stderr, "skyd render: the renderer could not take the weather map\n");
         cli_finish(&common, &renderer, SKYD_EXIT_FAILURE);
     }
@@ -301,7 +300,6 @@ int skyd_cmd_render(int argc, char **argv)
         free(rgb16);
         return SKYD_EXIT_FAILURE;
     }
-    struct sky_render_atmosphere atmosphere;
     struct sky_render_view view;
     struct sky_render_stats stats;
     int status = SKYD_EXIT_OK;
@@ -309,18 +307,12 @@ int skyd_cmd_render(int argc, char **argv)
     for (unsigned frame = 0; frame < lapse.frames && status == SKYD_EXIT_OK; frame++) {
         if (frame > 0)
             world_sim_advance(&common.state, lapse.step_s);
-        world_to_render_atmosphere(&common.state, &atmosphere);
         world_to_render_view(&common.state, width, height,
                              linear16 ? SKY_RENDER_OUTPUT_LINEAR : SKY_RENDER_OUTPUT_SRGB8, &view);
         view.projection = projection;
-        struct sky_render_clouds clouds;
-        world_to_render_clouds(&common.state, &clouds);
-        struct sky_render_night night;
-        world_to_render_night(&common.state, &night);
-        sky_renderer_set_night(renderer, &night);
         frame_path(prefix, number_width, suffix, frame, path, sizeof path);
-        if (sky_renderer_set_clouds(renderer, &clouds) != 0 ||
-            sky_renderer_render(renderer, &atmosphere, &view, pixels, bytes, &stats) != 0) {
+        if (renderer_host_render(renderer, &common.state, NULL, &view, false, pixels, bytes,
+                                 &stats) != 0) {
             fprintf(stderr, "skyd render: rendering failed\n");
             status = SKYD_EXIT_FAILURE;
         } else if (write_frame(path, pixels, rgb16, width, height, stats.exposure, err,

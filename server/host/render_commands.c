@@ -8,8 +8,6 @@
 
 #include "json_guard.h"
 #include "presets.h"
-#include "probe_query.h"
-#include "render_device.h"
 #include "state_store.h"
 #include "world_render.h"
 #include "world_sim.h"
@@ -120,38 +118,11 @@ static bool commit_state(struct render_context *ctx, struct session *session,
     next->revision = ctx->state.revision + 1;
     if (!persist(ctx, session, id, next))
         return false;
-    struct sky_render_lut_sizes sizes;
-    world_to_lut_sizes(next, &sizes);
     char why[512];
-    if (memcmp(&sizes, &ctx->lut_sizes, sizeof sizes) != 0) {
-        if (sky_renderer_set_lut_sizes(ctx->renderer, &sizes) != 0 && !render_device_lost(ctx)) {
-            /* The renderer keeps the old LUTs and sizes. */
-            render_device_describe_failure(ctx, "allocating the new LUT sizes", why, sizeof why);
-            reply_error(session, id, SKY_MSG_ERR_INTERNAL, "%s; the state is unchanged", why);
-            unpersist(ctx);
-            return false;
-        }
-        ctx->lut_sizes = sizes;
-    }
-    struct sky_render_clouds clouds_before, clouds_after;
-    world_to_render_clouds(&ctx->state, &clouds_before);
-    world_to_render_clouds(next, &clouds_after);
-    if (memcmp(&clouds_before, &clouds_after, sizeof clouds_before) != 0) {
-        if (sky_renderer_set_clouds(ctx->renderer, &clouds_after) != 0) {
-            if (!render_device_lost(ctx)) {
-                render_device_describe_failure(ctx, "generating the cloud noise", why,
-                                               sizeof why);
-                reply_error(session, id, SKY_MSG_ERR_INTERNAL, "%s; the state is unchanged",
-                            why);
-                sky_renderer_set_clouds(ctx->renderer, &clouds_before);
-                unpersist(ctx);
-                return false;
-            }
-            ctx->clouds_set = false;
-        } else {
-            ctx->clouds = clouds_after; /* the renderer has them: the next frame need not */
-            ctx->clouds_set = true;
-        }
+    if (renderer_host_apply_change(ctx->renderer, &ctx->state, next, why, sizeof why) != 0) {
+        reply_error(session, id, SKY_MSG_ERR_INTERNAL, "%s; the state is unchanged", why);
+        unpersist(ctx);
+        return false;
     }
     struct sky_render_atmosphere before, after;
     world_to_render_atmosphere(&ctx->state, &before);
@@ -301,14 +272,13 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
         sky_weather_map_free(&kept);
         return;
     }
-    /* A renderer whose device is lost is made again with ctx->client_map after the tick. */
-    if (sky_renderer_set_weather_map(ctx->renderer, map->rgba, map->width, map->height) != 0 &&
-        !render_device_lost(ctx)) {
+    /* A renderer whose device is lost is made again with this map after the tick. */
+    if (renderer_host_set_weather_map(ctx->renderer, map) != 0) {
         if (ctx->state_file[0] &&
             state_store_save_weather_map(ctx->state_file, &ctx->client_map, err, sizeof err) != 0)
             fprintf(stderr, "skyd: cannot restore the saved weather map: %s\n", err);
         char why[512];
-        render_device_describe_failure(ctx, "uploading the weather map", why, sizeof why);
+        renderer_host_describe_failure(ctx->renderer, "uploading the weather map", why, sizeof why);
         reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s; the state is unchanged", why);
         sky_weather_map_free(&kept);
         return;
@@ -319,8 +289,7 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
         /* The state was not saved: the old map goes back on disk and to the renderer. */
         if (ctx->state_file[0])
             state_store_save_weather_map(ctx->state_file, &ctx->client_map, err, sizeof err);
-        sky_renderer_set_weather_map(ctx->renderer, ctx->client_map.rgba, ctx->client_map.width,
-                                     ctx->client_map.height);
+        renderer_host_set_weather_map(ctx->renderer, &ctx->client_map);
         sky_weather_map_free(&kept);
         return;
     }
@@ -455,9 +424,9 @@ static void handle_probe(struct render_context *ctx, struct session *session,
                          const struct sky_client_msg *msg)
 {
     struct sky_msg_probe_result result;
-    if (probe_query_run(ctx->renderer, &ctx->state, &msg->probe, &result) != 0) {
+    if (renderer_host_probe(ctx->renderer, &ctx->state, &msg->probe, &result) != 0) {
         char why[512];
-        render_device_describe_failure(ctx, "the probe", why, sizeof why);
+        renderer_host_describe_failure(ctx->renderer, "the probe", why, sizeof why);
         reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s", why);
         return;
     }

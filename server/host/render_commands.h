@@ -11,6 +11,7 @@
 
 #include "config.h"
 #include "messages.h"
+#include "renderer_host.h"
 #include "session.h"
 #include "weather_map.h"
 #include "sky_renderer.h"
@@ -30,21 +31,12 @@ struct pending_snapshot {
     struct sky_msg_view view;
 };
 
-#define RENDER_CONTEXT_LOSSES_KEPT 4
-
 struct render_context {
     const struct skyd_config *config;
     const char *config_dir;
-    /* What the renderer is made with, to make it again after its device is lost, and when the
-     * last losses were, newest first (render_device.c). */
-    const char *device_preference;
-    bool validation;
-    double device_losses_s[RENDER_CONTEXT_LOSSES_KEPT];
-    int device_loss_count;
     char state_file[SKYD_CONFIG_STRING];
     struct sky_world_state state;
-    struct sky_render_lut_sizes lut_sizes;
-    struct sky_renderer *renderer;
+    struct renderer_host *renderer;
     struct session_hub *hub;
     bool dirty;              /* a write the daemon owes itself (retried after state_save_delay_s) */
     double last_change_s;    /* when that write was last due */
@@ -67,11 +59,7 @@ struct render_context {
     double last_tick_s;
     bool sim_dirty;
     double last_save_s;
-    /* The clouds last handed to the renderer: the simulation moves them every tick (wind,
-     * transitions, autopilot). */
-    struct sky_render_clouds clouds;
-    bool clouds_set;
-    /* The client weather map the renderer holds (no texels: none), as it is on disk. */
+    /* The client weather map the state may select (no texels: none), as it is on disk. */
     struct sky_weather_map client_map;
 };
 

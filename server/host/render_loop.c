@@ -13,7 +13,6 @@
 #include "encoder_pool.h"
 #include "png_write.h"
 #include "render_commands.h"
-#include "render_device.h"
 #include "sky_renderer.h"
 #include "state_store.h"
 #include "world_render.h"
@@ -208,26 +207,18 @@ static void render_group(struct render_loop *loop, struct render_group *g)
     bool linear = g->view.output == SKY_RENDER_OUTPUT_LINEAR;
     size_t bytes = (size_t)g->view.width * g->view.height * (linear ? 16 : 4);
     void *pixels = malloc(bytes);
-    struct sky_render_atmosphere atm = ctx->atmosphere;
-    struct sky_render_night night;
-    world_to_render_night(&ctx->state, &night);
-    sky_renderer_set_night(ctx->renderer, &night);
-    render_device_update_clouds(ctx);
     /* Amortizing map builds only helps a stream: with nobody subscribed a snapshot shows the
      * clouds asked for at once. */
     bool unwatched = ctx->subscription_count == 0;
-    if (unwatched)
-        render_device_set_amortization(ctx, 0.0);
     struct sky_render_stats stats;
-    int rendered = pixels ? sky_renderer_render(ctx->renderer, &atm, &g->view, pixels, bytes, &stats)
+    int rendered = pixels ? renderer_host_render(ctx->renderer, &ctx->state, &ctx->atmosphere,
+                                                 &g->view, unwatched, pixels, bytes, &stats)
                           : -1;
-    if (unwatched)
-        render_device_set_amortization(ctx, ctx->config->lut_budget_ms);
     if (rendered != 0) {
         char what[64], message[512];
         snprintf(what, sizeof what, "rendering the %ux%u view", g->view.width, g->view.height);
         if (pixels)
-            render_device_describe_failure(ctx, what, message, sizeof message);
+            renderer_host_describe_failure(ctx->renderer, what, message, sizeof message);
         else
             snprintf(message, sizeof message, "%s failed: out of memory for its pixels", what);
         fprintf(stderr, "skyd: %s\n", message);
@@ -310,8 +301,7 @@ static void settle_atmosphere_if_unwatched(struct render_context *ctx)
 {
     if (!ctx->atmosphere_pending || ctx->subscription_count > 0)
         return;
-    struct sky_render_atmosphere atm = ctx->atmosphere;
-    if (sky_renderer_rebuild_atmosphere(ctx->renderer, &atm, NULL) == 0) {
+    if (renderer_host_rebuild_atmosphere(ctx->renderer, &ctx->atmosphere) == 0) {
         ctx->atmosphere_pending = false;
         ctx->settled_revision = ctx->state.revision;
     }
@@ -406,7 +396,7 @@ static void simulate(struct render_context *ctx, double now)
     if (memcmp(&fresh, &ctx->atmosphere, sizeof fresh) == 0 || ctx->atmosphere_pending)
         return;
     if (ctx->subscription_count == 0) {
-        if (sky_renderer_rebuild_atmosphere(ctx->renderer, &fresh, NULL) == 0)
+        if (renderer_host_rebuild_atmosphere(ctx->renderer, &fresh) == 0)
             ctx->atmosphere = fresh;
     } else if (!ctx->has_stats || ctx->last_stats.atmosphere_settled) {
         ctx->atmosphere = fresh;
@@ -484,9 +474,19 @@ static void stop_on_failure(struct render_loop *loop, const char *why)
 /* After work that used the renderer: false when its device was lost for good. */
 static bool renderer_usable(struct render_loop *loop)
 {
+    struct render_context *ctx = &loop->ctx;
     char why[384];
-    if (render_device_check(&loop->ctx, why, sizeof why) != RENDER_DEVICE_FAILED)
+    switch (renderer_host_check(ctx->renderer, &ctx->state, &ctx->atmosphere, why, sizeof why)) {
+    case RENDERER_HOST_OK:
         return true;
+    case RENDERER_HOST_REBUILT:
+        /* The LUTs were built at once for the atmosphere frames are asked to show. */
+        ctx->atmosphere_pending = false;
+        ctx->settled_revision = ctx->state.revision;
+        return true;
+    case RENDERER_HOST_FAILED:
+        break;
+    }
     stop_on_failure(loop, why);
     return false;
 }
@@ -578,8 +578,7 @@ static void restore_weather_map(struct render_context *ctx)
     if (ctx->state_file[0])
         result = state_store_load_weather_map(ctx->state_file, &ctx->client_map, msg, sizeof msg);
     if (result == STATE_LOAD_RESTORED &&
-        sky_renderer_set_weather_map(ctx->renderer, ctx->client_map.rgba, ctx->client_map.width,
-                                     ctx->client_map.height) != 0) {
+        renderer_host_set_weather_map(ctx->renderer, &ctx->client_map) != 0) {
         snprintf(msg, sizeof msg, "the renderer could not take the saved weather map");
         sky_weather_map_free(&ctx->client_map);
         result = STATE_LOAD_FAILED;
@@ -625,8 +624,6 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     pthread_cond_init(&loop->wake, &attr);
     pthread_condattr_destroy(&attr);
 
-    ctx->device_preference = params->device;
-    ctx->validation = params->validation;
     loop->on_failure = params->on_failure;
     loop->failure_user = params->failure_user;
     loop->encoder = encoder_pool_create(params->config->encoder_threads, params->hub,
@@ -638,12 +635,21 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     }
     /* The LUTs, the saved weather map, the cloud noise and every pipeline before the first
      * client arrives. */
-    if (render_device_open(ctx, false, err, errlen) != 0) {
+    struct renderer_host_params host = {
+        .device_preference = params->device,
+        .validation = params->validation,
+        .amortize = true,
+        .lut_budget_ms = params->config->lut_budget_ms,
+        .lut_budget_fraction = params->config->lut_budget_fraction,
+        .lut_blend_frames = params->config->lut_blend_frames,
+    };
+    ctx->renderer = renderer_host_create(&host, &ctx->state, &ctx->atmosphere, err, errlen);
+    if (!ctx->renderer) {
         render_loop_destroy(&loop);
         return NULL;
     }
     restore_weather_map(ctx);
-    if (render_device_prepare(ctx, err, errlen) != 0) {
+    if (renderer_host_prepare(ctx->renderer, &ctx->state, &ctx->atmosphere, err, errlen) != 0) {
         render_loop_destroy(&loop);
         return NULL;
     }
@@ -654,7 +660,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         render_loop_destroy(&loop);
         return NULL;
     }
-    fprintf(stderr, "skyd: rendering on %s\n", sky_renderer_device_name(ctx->renderer));
+    fprintf(stderr, "skyd: rendering on %s\n", renderer_host_device_name(ctx->renderer));
     return loop;
 }
 
@@ -687,7 +693,7 @@ void render_loop_destroy(struct render_loop **loop_ptr)
     }
     render_commands_release(&loop->ctx);
     sky_weather_map_free(&loop->ctx.client_map);
-    sky_renderer_destroy(&loop->ctx.renderer);
+    renderer_host_destroy(&loop->ctx.renderer);
     pthread_cond_destroy(&loop->wake);
     pthread_mutex_destroy(&loop->lock);
     free(loop);

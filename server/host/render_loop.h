@@ -3,7 +3,7 @@
  * distinct view that is due (subscriptions at their frame rate, snapshots) is rendered once
  * and handed to the PNG encoder workers for every session that watches it. The state is
  * written to disk after changes (debounced) and when the loop stops. A lost device is
- * reported and the renderer made again for the same state (render_device.h). */
+ * reported and the renderer made again for the same state (renderer_host.h). */
 #ifndef SKYD_RENDER_LOOP_H
 #define SKYD_RENDER_LOOP_H
 
@@ -24,7 +24,7 @@ struct render_loop_params {
     struct sky_world_state initial_state;
     struct session_hub *hub;
     /* Called once, from the render thread, when rendering cannot go on: the device was lost
-     * and no renderer could be made again, or it was lost too often (render_device.h). The
+     * and no renderer could be made again, or it was lost too often (renderer_host.h). The
      * state is saved and the loop takes no more commands; the owner should stop serving and
      * destroy the loop. May be NULL. */
     void (*on_failure)(void *user);
