@@ -242,6 +242,20 @@ bool sky_weather_map_decode(enum sky_weather_map_format format, const uint8_t *b
     return true;
 }
 
+bool sky_weather_map_copy(const struct sky_weather_map *from, struct sky_weather_map *to)
+{
+    memset(to, 0, sizeof *to);
+    if (!from || !from->rgba)
+        return true;
+    size_t bytes = (size_t)from->width * from->height * 4;
+    if (!(to->rgba = malloc(bytes)))
+        return false;
+    memcpy(to->rgba, from->rgba, bytes);
+    to->width = from->width;
+    to->height = from->height;
+    return true;
+}
+
 void sky_weather_map_free(struct sky_weather_map *map)
 {
     if (!map)

@@ -41,5 +41,7 @@ bool sky_weather_map_decode(enum sky_weather_map_format format, const uint8_t *b
                             struct sky_weather_map *map, char *reason, size_t reason_size);
 
 void sky_weather_map_free(struct sky_weather_map *map);
+/* A deep copy into *to (a map without texels copies as one); false when memory is out. */
+bool sky_weather_map_copy(const struct sky_weather_map *from, struct sky_weather_map *to);
 
 #endif

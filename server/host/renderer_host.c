@@ -196,24 +196,10 @@ int renderer_host_rebuild_atmosphere(struct renderer_host *h,
     return sky_renderer_rebuild_atmosphere(h->renderer, &atm, NULL);
 }
 
-static int copy_map(const struct sky_weather_map *from, struct sky_weather_map *to)
-{
-    memset(to, 0, sizeof *to);
-    if (!from || !from->rgba)
-        return 0;
-    size_t bytes = (size_t)from->width * from->height * 4;
-    if (!(to->rgba = malloc(bytes)))
-        return -1;
-    memcpy(to->rgba, from->rgba, bytes);
-    to->width = from->width;
-    to->height = from->height;
-    return 0;
-}
-
 int renderer_host_set_weather_map(struct renderer_host *h, const struct sky_weather_map *map)
 {
     struct sky_weather_map copy;
-    if (copy_map(map, &copy) != 0)
+    if (!sky_weather_map_copy(map, &copy))
         return -1;
     if (h->renderer &&
         sky_renderer_set_weather_map(h->renderer, copy.rgba, copy.width, copy.height) != 0 &&

@@ -286,11 +286,27 @@ static void test_message(void)
     free(hello);
 }
 
+/* A deep copy: its own texels, equal to the original's; a map without texels copies as one. */
+static void test_copy(void)
+{
+    uint8_t texels[8] = { 1, 2, 3, 4, 250, 251, 252, 253 };
+    struct sky_weather_map from = { .rgba = texels, .width = 2, .height = 1 }, to;
+    CHECK(sky_weather_map_copy(&from, &to));
+    CHECK(to.rgba != NULL && to.rgba != texels);
+    CHECK(to.width == 2 && to.height == 1);
+    CHECK(to.rgba && memcmp(to.rgba, texels, sizeof texels) == 0);
+    sky_weather_map_free(&to);
+    struct sky_weather_map none = { 0 };
+    CHECK(sky_weather_map_copy(&none, &to));
+    CHECK(to.rgba == NULL && to.width == 0 && to.height == 0);
+}
+
 int main(void)
 {
     test_base64();
     test_png();
     test_rgba8();
     test_message();
+    test_copy();
     return check_summary();
 }

@@ -1,0 +1,436 @@
+#include "frame_scheduler.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "encoder_pool.h"
+#include "monotonic_clock.h"
+#include "png_write.h"
+#include "world_render.h"
+
+struct subscription {
+    uint64_t id; /* unique in the daemon, >= 1 */
+    struct session *session;
+    struct sky_msg_view view;
+    double period_s, next_due; /* CLOCK_MONOTONIC seconds */
+    bool waiting_for_encoder;
+};
+
+struct pending_snapshot {
+    struct session *session;
+    struct sky_msg_id id;
+    struct sky_msg_view view;
+};
+
+/* Views that are due this tick, one entry per distinct render view. */
+struct render_group {
+    struct sky_render_view view;
+    struct encode_target *targets;
+    size_t count, capacity;
+};
+
+struct frame_scheduler {
+    struct session_hub *hub;
+    int encoder_threads;
+    struct encoder_pool *encoder;
+    uint64_t last_subscription_id;
+    struct subscription *subscriptions;
+    size_t subscription_count, subscription_capacity;
+    struct pending_snapshot *snapshots;
+    size_t snapshot_count, snapshot_capacity;
+    uint64_t render_sequence;
+    struct sky_render_stats last_stats;
+    bool has_stats;
+    double fps; /* frames rendered per second over the last second */
+    double fps_window_start;
+    int fps_window_frames;
+};
+
+static void resolve_render_view(const struct sky_world_state *state,
+                                const struct sky_msg_view *view, struct sky_render_view *out)
+{
+    struct sky_world_state resolved = *state;
+    sky_msg_view_resolve(view, state, &resolved.camera, &resolved.exposure);
+    world_to_render_view(&resolved, view->width, view->height,
+                         view->format == SKY_FRAME_FORMAT_PNG16 ? SKY_RENDER_OUTPUT_LINEAR
+                                                                : SKY_RENDER_OUTPUT_SRGB8,
+                         out);
+    out->projection = view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR
+                          ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
+                          : SKY_RENDER_PROJECTION_PERSPECTIVE;
+}
+
+/* world_to_render_view zero-fills the struct first, so equal views compare equal bytewise. */
+static struct render_group *group_for(struct render_group **groups, size_t *count,
+                                      const struct sky_render_view *view)
+{
+    for (size_t i = 0; i < *count; i++)
+        if (memcmp(&(*groups)[i].view, view, sizeof *view) == 0)
+            return &(*groups)[i];
+    struct render_group *grown = realloc(*groups, sizeof *grown * (*count + 1));
+    if (!grown)
+        return NULL;
+    *groups = grown;
+    struct render_group *g = &grown[(*count)++];
+    memset(g, 0, sizeof *g);
+    g->view = *view;
+    return g;
+}
+
+static bool group_add(struct render_group *g, struct session *session, uint64_t subscription,
+                      const struct sky_msg_id *snapshot_id)
+{
+    if (g->count == g->capacity) {
+        size_t capacity = g->capacity ? g->capacity * 2 : 4;
+        struct encode_target *grown = realloc(g->targets, sizeof *grown * capacity);
+        if (!grown)
+            return false;
+        g->targets = grown;
+        g->capacity = capacity;
+    }
+    struct encode_target *t = &g->targets[g->count++];
+    memset(t, 0, sizeof *t);
+    t->session = session_ref(session);
+    t->subscription = subscription;
+    if (snapshot_id)
+        t->snapshot_id = *snapshot_id;
+    return true;
+}
+
+/* A view that could not be rendered: its subscriptions skip a frame, its snapshots are
+ * answered with `message`. */
+static void fail_targets(struct encode_target *targets, size_t count, const char *message)
+{
+    for (size_t i = 0; i < count; i++) {
+        if (targets[i].subscription)
+            session_slot_deliver(targets[i].session, targets[i].subscription, NULL);
+        else
+            session_snapshot_fail(targets[i].session, &targets[i].snapshot_id, message);
+        session_unref(&targets[i].session);
+    }
+    free(targets);
+}
+
+static void render_group(struct frame_scheduler *fs, struct world_host *world,
+                         struct renderer_host *renderer, struct render_group *g)
+{
+    const struct sky_world_state *state = world_host_state(world);
+    bool linear = g->view.output == SKY_RENDER_OUTPUT_LINEAR;
+    size_t bytes = (size_t)g->view.width * g->view.height * (linear ? 16 : 4);
+    void *pixels = malloc(bytes);
+    /* Amortizing map builds only helps a stream: with nobody subscribed a snapshot shows the
+     * clouds asked for at once. */
+    bool unwatched = fs->subscription_count == 0;
+    struct sky_render_stats stats;
+    int rendered = pixels ? renderer_host_render(renderer, state, world_host_atmosphere(world),
+                                                 &g->view, unwatched, pixels, bytes, &stats)
+                          : -1;
+    if (rendered != 0) {
+        char what[64], message[512];
+        snprintf(what, sizeof what, "rendering the %ux%u view", g->view.width, g->view.height);
+        if (pixels)
+            renderer_host_describe_failure(renderer, what, message, sizeof message);
+        else
+            snprintf(message, sizeof message, "%s failed: out of memory for its pixels", what);
+        fprintf(stderr, "skyd: %s\n", message);
+        free(pixels);
+        fail_targets(g->targets, g->count, message);
+        session_hub_wake(fs->hub);
+        return;
+    }
+    fs->last_stats = stats;
+    fs->has_stats = true;
+    uint64_t revision = world_host_frame_rendered(world, stats.atmosphere_settled);
+    fs->fps_window_frames++;
+    struct encode_job job = {
+        .pixels = pixels,
+        .full_scale_cd_m2 = linear ? png_linear16_full_scale(stats.exposure) : 0.0,
+        .meta = { .render_sequence = ++fs->render_sequence,
+                  .state_revision = revision,
+                  .simulation_time_s = state->clock.utc_unix_s,
+                  .width = g->view.width,
+                  .height = g->view.height,
+                  .format = linear ? SKY_FRAME_FORMAT_PNG16 : SKY_FRAME_FORMAT_PNG },
+        .targets = g->targets,
+        .target_count = g->count,
+    };
+    encoder_pool_submit(fs->encoder, &job);
+}
+
+/* Next due time after a frame: keeps the rate, without a burst after falling behind. */
+static double advance_due(double due, double period, double now)
+{
+    return now - due < period ? due + period : now + period;
+}
+
+/* Subscriptions to the same view are scheduled together, so they stay in step and share
+ * every rendering: a view is rendered when one of its subscriptions is due and none of them
+ * has a frame in the encoder; it then serves every subscription within half a period of due.
+ */
+static void schedule_view(struct frame_scheduler *fs, const size_t *members, size_t count,
+                          const struct sky_render_view *view, struct render_group **groups,
+                          size_t *group_count, double now)
+{
+    enum slot_state states[count];
+    bool encoding = false, due = false;
+    for (size_t k = 0; k < count; k++) {
+        struct subscription *s = &fs->subscriptions[members[k]];
+        states[k] = session_slot_state(s->session, s->id, now, fmax(2.0 * s->period_s, 0.25));
+        encoding |= states[k] == SLOT_ENCODING;
+        due |= states[k] == SLOT_READY && now >= s->next_due;
+        if (states[k] == SLOT_STALLED && now >= s->next_due)
+            s->next_due = now + s->period_s; /* look again later; nothing is rendered */
+    }
+    for (size_t k = 0; k < count; k++)
+        fs->subscriptions[members[k]].waiting_for_encoder = encoding;
+    if (encoding || !due)
+        return;
+    struct render_group *g = group_for(groups, group_count, view);
+    for (size_t k = 0; k < count && g; k++) {
+        struct subscription *s = &fs->subscriptions[members[k]];
+        if (states[k] != SLOT_READY || now < s->next_due - 0.5 * s->period_s ||
+            !session_slot_begin_encode(s->session, s->id))
+            continue;
+        if (!group_add(g, s->session, s->id, NULL)) {
+            session_slot_deliver(s->session, s->id, NULL);
+            continue;
+        }
+        s->next_due = advance_due(s->next_due, s->period_s, now);
+    }
+}
+
+/* Groups the pending snapshots and the due subscriptions by view, renders each view once, and
+ * returns when the loop should next look at the schedule. */
+double frame_scheduler_render_due(struct frame_scheduler *fs, struct world_host *world,
+                                  struct renderer_host *renderer, double now)
+{
+    world_host_settle_unwatched(world, renderer, fs->subscription_count > 0);
+    const struct sky_world_state *state = world_host_state(world);
+    struct render_group *groups = NULL;
+    size_t group_count = 0;
+    double next_wake = now + 1.0;
+    bool encoder_full = encoder_pool_backlog(fs->encoder) >= 2 * fs->encoder_threads;
+
+    for (size_t i = 0; i < fs->snapshot_count; i++) {
+        struct pending_snapshot *p = &fs->snapshots[i];
+        struct sky_render_view view;
+        resolve_render_view(state, &p->view, &view);
+        struct render_group *g = group_for(&groups, &group_count, &view);
+        if (!g || !group_add(g, p->session, 0, &p->id))
+            session_snapshot_deliver(p->session, &p->id, NULL);
+        session_unref(&p->session);
+    }
+    fs->snapshot_count = 0;
+
+    size_t n = fs->subscription_count;
+    struct sky_render_view *views = n ? malloc(sizeof *views * n) : NULL;
+    size_t *members = n ? malloc(sizeof *members * n) : NULL;
+    bool *grouped = n ? calloc(n, sizeof *grouped) : NULL;
+    if (n && (!views || !members || !grouped))
+        encoder_full = true; /* out of memory: try again at the next tick */
+    for (size_t i = 0; i < n; i++)
+        fs->subscriptions[i].waiting_for_encoder = encoder_full;
+    for (size_t i = 0; i < n && !encoder_full; i++)
+        resolve_render_view(state, &fs->subscriptions[i].view, &views[i]);
+    for (size_t i = 0; i < n && !encoder_full; i++) {
+        if (grouped[i])
+            continue;
+        size_t count = 0;
+        for (size_t j = i; j < n; j++) {
+            if (!grouped[j] && memcmp(&views[i], &views[j], sizeof views[i]) == 0) {
+                grouped[j] = true;
+                members[count++] = j;
+            }
+        }
+        /* The group's cloud history follows its oldest subscription, which keeps it while the
+         * camera moves (reprojection handles that); snapshots share key 0. */
+        views[i].history_key = fs->subscriptions[members[0]].id;
+        views[i].live = true; /* a new subscriber's clouds converge live, nobody waits */
+        schedule_view(fs, members, count, &views[i], &groups, &group_count, now);
+    }
+    free(views);
+    free(members);
+    free(grouped);
+    for (size_t i = 0; i < group_count; i++) {
+        if (groups[i].count > 0)
+            render_group(fs, world, renderer, &groups[i]);
+        else
+            free(groups[i].targets);
+    }
+    free(groups);
+
+    double after = monotonic_seconds();
+    for (size_t i = 0; i < fs->subscription_count; i++) {
+        struct subscription *s = &fs->subscriptions[i];
+        if (!s->waiting_for_encoder)
+            next_wake = fmin(next_wake, fmax(s->next_due, after));
+    }
+    return next_wake;
+}
+void frame_scheduler_tick(struct frame_scheduler *fs, double now)
+{
+    double elapsed = now - fs->fps_window_start;
+    if (elapsed < 1.0)
+        return;
+    fs->fps = fs->fps_window_frames / elapsed;
+    fs->fps_window_frames = 0;
+    fs->fps_window_start = now;
+}
+
+double frame_scheduler_fps(const struct frame_scheduler *fs)
+{
+    return fs->fps;
+}
+
+const struct sky_render_stats *frame_scheduler_last_stats(const struct frame_scheduler *fs)
+{
+    return fs->has_stats ? &fs->last_stats : NULL;
+}
+
+size_t frame_scheduler_subscription_count(const struct frame_scheduler *fs)
+{
+    return fs->subscription_count;
+}
+
+/* ---- subscriptions and snapshots ---- */
+
+struct frame_scheduler *frame_scheduler_create(const struct frame_scheduler_params *params)
+{
+    struct frame_scheduler *fs = calloc(1, sizeof *fs);
+    if (!fs)
+        return NULL;
+    fs->hub = params->hub;
+    fs->encoder_threads = params->encoder_threads;
+    fs->fps_window_start = monotonic_seconds();
+    fs->encoder = encoder_pool_create(params->encoder_threads, params->hub, params->encoded,
+                                      params->user);
+    if (!fs->encoder) {
+        free(fs);
+        return NULL;
+    }
+    return fs;
+}
+
+static void remove_subscription(struct frame_scheduler *fs, size_t index)
+{
+    struct subscription *s = &fs->subscriptions[index];
+    session_remove_slot(s->session, s->id);
+    session_unref(&s->session);
+    fs->subscriptions[index] = fs->subscriptions[--fs->subscription_count];
+}
+
+void frame_scheduler_destroy(struct frame_scheduler **scheduler)
+{
+    struct frame_scheduler *fs = scheduler ? *scheduler : NULL;
+    if (!fs)
+        return;
+    encoder_pool_destroy(&fs->encoder);
+    while (fs->subscription_count > 0)
+        remove_subscription(fs, fs->subscription_count - 1);
+    for (size_t i = 0; i < fs->snapshot_count; i++)
+        session_unref(&fs->snapshots[i].session);
+    free(fs->subscriptions);
+    free(fs->snapshots);
+    free(fs);
+    *scheduler = NULL;
+}
+
+/* Makes room for one more item in a growing array; false when memory is out. */
+static bool reserve_one(void **items, size_t *capacity, size_t count, size_t item_size)
+{
+    if (count < *capacity)
+        return true;
+    size_t grown_capacity = *capacity ? *capacity * 2 : 8;
+    void *grown = realloc(*items, item_size * grown_capacity);
+    if (!grown)
+        return false;
+    *items = grown;
+    *capacity = grown_capacity;
+    return true;
+}
+
+static struct frame_refusal refusal(enum sky_msg_error_code code, const char *message)
+{
+    struct frame_refusal r = { .code = code };
+    snprintf(r.message, sizeof r.message, "%s", message);
+    return r;
+}
+
+struct frame_refusal frame_scheduler_subscribe(struct frame_scheduler *fs, struct session *session,
+                                               const struct sky_msg_view *view, uint64_t *id)
+{
+    if (!reserve_one((void **)&fs->subscriptions, &fs->subscription_capacity,
+                     fs->subscription_count, sizeof *fs->subscriptions))
+        return refusal(SKY_MSG_ERR_INTERNAL, "out of memory");
+    uint64_t next = fs->last_subscription_id + 1;
+    if (!session_add_slot(session, next)) {
+        struct frame_refusal r = { .code = SKY_MSG_ERR_LIMIT_REACHED };
+        snprintf(r.message, sizeof r.message, "at most %d subscriptions per connection",
+                 SESSION_MAX_SUBSCRIPTIONS);
+        return r;
+    }
+    fs->last_subscription_id = next;
+    fs->subscriptions[fs->subscription_count++] = (struct subscription){
+        .id = next,
+        .session = session_ref(session),
+        .view = *view,
+        .period_s = 1.0 / view->fps,
+        .next_due = monotonic_seconds(),
+    };
+    *id = next;
+    return refusal(SKY_MSG_OK, "");
+}
+
+bool frame_scheduler_unsubscribe(struct frame_scheduler *fs, struct session *session, uint64_t id)
+{
+    for (size_t i = 0; i < fs->subscription_count; i++) {
+        if (fs->subscriptions[i].session == session && fs->subscriptions[i].id == id) {
+            remove_subscription(fs, i);
+            return true;
+        }
+    }
+    return false;
+}
+
+struct frame_refusal frame_scheduler_snapshot(struct frame_scheduler *fs, struct session *session,
+                                              const struct sky_msg_id *id,
+                                              const struct sky_msg_view *view)
+{
+    if (!reserve_one((void **)&fs->snapshots, &fs->snapshot_capacity, fs->snapshot_count,
+                     sizeof *fs->snapshots))
+        return refusal(SKY_MSG_ERR_INTERNAL, "out of memory");
+    if (!session_snapshot_reserve(session)) {
+        struct frame_refusal r = { .code = SKY_MSG_ERR_LIMIT_REACHED };
+        snprintf(r.message, sizeof r.message,
+                 "at most %d snapshots may be pending per connection", SESSION_MAX_SNAPSHOTS);
+        return r;
+    }
+    fs->snapshots[fs->snapshot_count++] =
+        (struct pending_snapshot){ .session = session_ref(session), .id = *id, .view = *view };
+    return refusal(SKY_MSG_OK, "");
+}
+
+void frame_scheduler_session_closed(struct frame_scheduler *fs, struct session *session)
+{
+    for (size_t i = fs->subscription_count; i-- > 0;)
+        if (fs->subscriptions[i].session == session)
+            remove_subscription(fs, i);
+    for (size_t i = fs->snapshot_count; i-- > 0;) {
+        if (fs->snapshots[i].session == session) {
+            session_unref(&fs->snapshots[i].session);
+            fs->snapshots[i] = fs->snapshots[--fs->snapshot_count];
+        }
+    }
+}
+
+void frame_scheduler_fail_snapshots(struct frame_scheduler *fs, const char *message)
+{
+    for (size_t i = 0; i < fs->snapshot_count; i++) {
+        session_snapshot_fail(fs->snapshots[i].session, &fs->snapshots[i].id, message);
+        session_unref(&fs->snapshots[i].session);
+    }
+    fs->snapshot_count = 0;
+    session_hub_wake(fs->hub);
+}

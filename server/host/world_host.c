@@ -1,0 +1,297 @@
+#include "world_host.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "config.h"
+#include "messages.h"
+#include "monotonic_clock.h"
+#include "state_store.h"
+#include "world_render.h"
+#include "world_sim.h"
+
+struct world_host {
+    char state_file[SKYD_CONFIG_STRING];
+    struct sky_world_state state;
+    struct sky_weather_map client_map;
+    struct sky_render_atmosphere atmosphere;
+    bool atmosphere_pending;   /* the atmosphere changed and frames do not show it fully yet */
+    uint64_t settled_revision;
+    double save_delay_s;
+    bool dirty;                /* a write the daemon owes itself (retried after save_delay_s) */
+    double last_change_s;      /* when that write was last due */
+    bool sim_dirty;            /* the simulation changed the state since the last write */
+    double last_save_s, last_tick_s;
+};
+
+struct world_host *world_host_create(const struct world_host_params *params)
+{
+    struct world_host *h = calloc(1, sizeof *h);
+    if (!h)
+        return NULL;
+    snprintf(h->state_file, sizeof h->state_file, "%s",
+             params->state_file ? params->state_file : "");
+    h->state = params->initial_state;
+    world_sim_settle(&h->state); /* sun and moon at the restored clock */
+    world_to_render_atmosphere(&h->state, &h->atmosphere);
+    h->settled_revision = h->state.revision;
+    h->save_delay_s = params->save_delay_s;
+    h->last_tick_s = h->last_save_s = params->now_s;
+    return h;
+}
+
+void world_host_destroy(struct world_host **host)
+{
+    struct world_host *h = host ? *host : NULL;
+    if (!h)
+        return;
+    sky_weather_map_free(&h->client_map);
+    free(h);
+    *host = NULL;
+}
+
+const struct sky_world_state *world_host_state(const struct world_host *h)
+{
+    return &h->state;
+}
+
+const struct sky_render_atmosphere *world_host_atmosphere(const struct world_host *h)
+{
+    return &h->atmosphere;
+}
+
+uint64_t world_host_settled_revision(const struct world_host *h)
+{
+    return h->settled_revision;
+}
+
+const struct sky_weather_map *world_host_client_map(const struct world_host *h)
+{
+    return &h->client_map;
+}
+
+/* Writes `state` before anything acknowledges it, so that a restart, even after kill -9, comes
+ * back to the last acknowledged state (disk full, a read-only or vanished directory: false). */
+static bool persist(struct world_host *h, const struct sky_world_state *state, char *why,
+                    size_t whylen)
+{
+    if (!h->state_file[0])
+        return true;
+    char err[448];
+    if (state_store_save(h->state_file, state, err, sizeof err) != 0) {
+        fprintf(stderr, "skyd: cannot save the state: %s\n", err);
+        snprintf(why, whylen, "the state cannot be saved (%s); the change is not applied", err);
+        return false;
+    }
+    h->dirty = h->sim_dirty = false;
+    h->last_save_s = monotonic_seconds();
+    return true;
+}
+
+/* After a failure past persist(): the file goes back to the live state. */
+static void unpersist(struct world_host *h)
+{
+    char err[512];
+    if (h->state_file[0] && state_store_save(h->state_file, &h->state, err, sizeof err) != 0) {
+        h->dirty = true; /* written again after save_delay_s */
+        h->last_change_s = monotonic_seconds();
+    }
+}
+
+bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
+                       struct sky_world_state *next, const char *also_changed,
+                       struct world_commit *out)
+{
+    enum { MAX_CHANGED = 192 };
+    static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
+    memset(out, 0, sizeof *out);
+    out->revision = h->state.revision;
+    world_sim_settle(next);
+    size_t count = sky_msg_state_diff(&h->state, next, changed, MAX_CHANGED - 1);
+    if (count > MAX_CHANGED - 1)
+        count = MAX_CHANGED - 1;
+    if (also_changed)
+        snprintf(changed[count++], SKY_MSG_POINTER_MAX, "%s", also_changed);
+    if (count == 0)
+        return true;
+    next->revision = h->state.revision + 1;
+    if (!persist(h, next, out->error, sizeof out->error))
+        return false;
+    char why[448];
+    if (renderer_host_apply_change(renderer, &h->state, next, why, sizeof why) != 0) {
+        snprintf(out->error, sizeof out->error, "%s; the state is unchanged", why);
+        unpersist(h);
+        return false;
+    }
+    struct sky_render_atmosphere before, after;
+    world_to_render_atmosphere(&h->state, &before);
+    world_to_render_atmosphere(next, &after);
+    if (memcmp(&before, &after, sizeof before) != 0)
+        h->atmosphere_pending = true;
+    h->state = *next;
+    h->atmosphere = after; /* a client's change is shown at once, not paced like the sim's */
+    out->revision = h->state.revision;
+    const char *pointers[MAX_CHANGED];
+    for (size_t i = 0; i < count; i++)
+        pointers[i] = changed[i];
+    out->event = sky_msg_build_state_changed(h->state.revision, pointers, count);
+    return true;
+}
+
+bool world_host_client_map_missing(const struct world_host *h,
+                                   const struct sky_world_state *next,
+                                   struct sky_field_errors *errors)
+{
+    if (next->weather.map_source != SKY_WEATHER_MAP_CLIENT || h->client_map.rgba)
+        return false;
+    sky_field_errors_clear(errors);
+    sky_field_errors_add(errors, SKY_FIELD_INCONSISTENT, "/weather/map_source",
+                         "no client weather map has been sent: send set_weather_map first");
+    return true;
+}
+
+bool world_host_set_weather_map(struct world_host *h, struct renderer_host *renderer,
+                                 const struct sky_weather_map *map, struct world_commit *out)
+{
+    memset(out, 0, sizeof *out);
+    out->revision = h->state.revision;
+    struct sky_weather_map kept;
+    if (!sky_weather_map_copy(map, &kept)) {
+        snprintf(out->error, sizeof out->error,
+                 "out of memory for the weather map; the state is unchanged");
+        return false;
+    }
+    char err[448];
+    if (h->state_file[0] && state_store_save_weather_map(h->state_file, map, err, sizeof err) != 0) {
+        fprintf(stderr, "skyd: cannot save the weather map: %s\n", err);
+        snprintf(out->error, sizeof out->error,
+                 "the weather map cannot be saved (%s); the state is unchanged", err);
+        sky_weather_map_free(&kept);
+        return false;
+    }
+    /* A renderer whose device is lost is made again with this map after the tick. */
+    if (renderer_host_set_weather_map(renderer, map) != 0) {
+        if (h->state_file[0] &&
+            state_store_save_weather_map(h->state_file, &h->client_map, err, sizeof err) != 0)
+            fprintf(stderr, "skyd: cannot restore the saved weather map: %s\n", err);
+        char why[448];
+        renderer_host_describe_failure(renderer, "uploading the weather map", why, sizeof why);
+        snprintf(out->error, sizeof out->error, "%s; the state is unchanged", why);
+        sky_weather_map_free(&kept);
+        return false;
+    }
+    struct sky_world_state next = h->state;
+    next.weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    if (!world_host_commit(h, renderer, &next, "/weather/map", out)) {
+        /* The state was not saved: the old map goes back on disk and to the renderer. */
+        if (h->state_file[0])
+            state_store_save_weather_map(h->state_file, &h->client_map, err, sizeof err);
+        renderer_host_set_weather_map(renderer, &h->client_map);
+        sky_weather_map_free(&kept);
+        return false;
+    }
+    sky_weather_map_free(&h->client_map);
+    h->client_map = kept;
+    return true;
+}
+
+void world_host_restore_weather_map(struct world_host *h, struct renderer_host *renderer)
+{
+    char msg[640];
+    enum state_load_result result = STATE_LOAD_ABSENT;
+    if (h->state_file[0])
+        result = state_store_load_weather_map(h->state_file, &h->client_map, msg, sizeof msg);
+    if (result == STATE_LOAD_RESTORED && renderer_host_set_weather_map(renderer, &h->client_map) != 0) {
+        snprintf(msg, sizeof msg, "the renderer could not take the saved weather map");
+        sky_weather_map_free(&h->client_map);
+        result = STATE_LOAD_FAILED;
+    }
+    if (result == STATE_LOAD_RESTORED) {
+        fprintf(stderr, "skyd: restored the client weather map (%ux%u)\n", h->client_map.width,
+                h->client_map.height);
+    } else if (h->state.weather.map_source == SKY_WEATHER_MAP_CLIENT) {
+        fprintf(stderr, "skyd: %s; weather.map_source is procedural\n",
+                h->state_file[0] ? msg : "no state file keeps a client weather map");
+        h->state.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+        h->dirty = true;
+    } else if (result != STATE_LOAD_ABSENT) {
+        fprintf(stderr, "skyd: %s\n", msg);
+    }
+}
+
+void world_host_advance(struct world_host *h, struct renderer_host *renderer, double now_s,
+                        bool watched, bool frames_settled)
+{
+    double real_dt = now_s - h->last_tick_s;
+    h->last_tick_s = now_s;
+    struct sky_world_state before;
+    memcpy(&before, &h->state, sizeof before);
+    world_sim_advance(&h->state, world_sim_scaled_dt(&h->state, real_dt));
+    if (memcmp(&before, &h->state, sizeof before) != 0)
+        h->sim_dirty = true;
+    struct sky_render_atmosphere fresh;
+    world_to_render_atmosphere(&h->state, &fresh);
+    if (memcmp(&fresh, &h->atmosphere, sizeof fresh) == 0 || h->atmosphere_pending)
+        return;
+    if (!watched) {
+        if (renderer_host_rebuild_atmosphere(renderer, &fresh) == 0)
+            h->atmosphere = fresh;
+    } else if (frames_settled) {
+        h->atmosphere = fresh;
+    }
+}
+
+void world_host_settle_unwatched(struct world_host *h, struct renderer_host *renderer,
+                                 bool watched)
+{
+    if (!h->atmosphere_pending || watched)
+        return;
+    if (renderer_host_rebuild_atmosphere(renderer, &h->atmosphere) == 0)
+        world_host_renderer_rebuilt(h);
+}
+
+uint64_t world_host_frame_rendered(struct world_host *h, bool atmosphere_settled)
+{
+    /* While an atmosphere change is still being rebuilt, a frame shows the state of the last
+     * revision whose atmosphere was on screen: a client waiting for its revision then knows
+     * its change is visible when a frame carries it. */
+    if (atmosphere_settled || !h->atmosphere_pending)
+        world_host_renderer_rebuilt(h);
+    return h->settled_revision;
+}
+
+void world_host_renderer_rebuilt(struct world_host *h)
+{
+    h->atmosphere_pending = false;
+    h->settled_revision = h->state.revision;
+}
+
+void world_host_save(struct world_host *h, double now_s)
+{
+    if (!h->state_file[0] || !(h->dirty || h->sim_dirty))
+        return;
+    char err[512];
+    h->last_save_s = now_s;
+    if (state_store_save(h->state_file, &h->state, err, sizeof err) == 0) {
+        h->dirty = false;
+        h->sim_dirty = false;
+    } else {
+        fprintf(stderr, "skyd: cannot save the state: %s\n", err);
+        h->last_change_s = monotonic_seconds(); /* try again after another delay */
+    }
+}
+
+double world_host_save_due(struct world_host *h, double now_s, double sim_period_s)
+{
+    if (h->dirty) {
+        double save_at = h->last_change_s + h->save_delay_s;
+        if (now_s < save_at)
+            return save_at;
+        world_host_save(h, now_s);
+    } else if (h->sim_dirty && now_s - h->last_save_s >= sim_period_s) {
+        world_host_save(h, now_s);
+    }
+    return INFINITY;
+}

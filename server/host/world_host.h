@@ -1,0 +1,91 @@
+/* The world host: the one live world state, its revision, how a change is committed (validated
+ * elsewhere, then settled, written to disk, handed to the renderer, and announced), how the
+ * simulation advances it, when it is written, and which revision frames fully show. Every
+ * change to the state goes through one of its verbs. Only the render thread calls these. */
+#ifndef SKYD_WORLD_HOST_H
+#define SKYD_WORLD_HOST_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "renderer_host.h"
+#include "sky_renderer.h"
+#include "weather_map.h"
+#include "world_state.h"
+
+struct world_host_params {
+    const char *state_file;      /* "" or NULL: no persistence */
+    struct sky_world_state initial_state;
+    double save_delay_s;         /* a failed write is tried again after this */
+    double now_s;                /* CLOCK_MONOTONIC seconds: the simulation's first tick */
+};
+
+struct world_host;
+
+struct world_host *world_host_create(const struct world_host_params *params);
+void world_host_destroy(struct world_host **host);
+
+const struct sky_world_state *world_host_state(const struct world_host *host);
+/* The atmosphere frames are asked to show: a client's change at once, the simulation's haze
+ * once the previous change has settled. */
+const struct sky_render_atmosphere *world_host_atmosphere(const struct world_host *host);
+/* The newest revision frames fully show (an atmosphere change still being rebuilt is not). */
+uint64_t world_host_settled_revision(const struct world_host *host);
+/* The client weather map a state may select (no texels: none), as it is on disk. */
+const struct sky_weather_map *world_host_client_map(const struct world_host *host);
+
+/* What a commit did. */
+struct world_commit {
+    uint64_t revision; /* the live revision afterwards */
+    char *event;       /* the state_changed event for every client (malloc'd); NULL: none */
+    char error[512];   /* why it failed */
+};
+
+/* Makes `next` (validated) the live state: settled, diffed, and when anything differs (or
+ * `also_changed`, a pointer outside the schema, names something else that did) written to the
+ * state file before anything acknowledges it, handed to the renderer, given the next revision
+ * and announced. false with out->error and nothing changed when the disk or the renderer
+ * refuses it; a renderer whose device is lost need not take it (its rebuild takes the state). */
+bool world_host_commit(struct world_host *host, struct renderer_host *renderer,
+                       struct sky_world_state *next, const char *also_changed,
+                       struct world_commit *out);
+
+/* Whether `next` samples the client weather map when there is none (errors filled). */
+bool world_host_client_map_missing(const struct world_host *host,
+                                   const struct sky_world_state *next,
+                                   struct sky_field_errors *errors);
+
+/* A client weather map: written to disk, handed to the renderer, then selected by the state
+ * (weather.map_source "client") in one revision whose event names "/weather/map". false with
+ * out->error and the disk, the renderer and the state as they were when a step fails. */
+bool world_host_set_weather_map(struct world_host *host, struct renderer_host *renderer,
+                                const struct sky_weather_map *map, struct world_commit *out);
+
+/* At start-up: the client weather map saved beside the state, if any, to the renderer. A state
+ * that selects it without a usable map falls back to the procedural one (said on stderr). */
+void world_host_restore_weather_map(struct world_host *host, struct renderer_host *renderer);
+
+/* Advances the world by the real time since the last tick times clock.time_scale; the revision
+ * stays (it counts accepted changes). A haze change is handed to frames once the previous one
+ * has settled (frames_settled: the last frame's atmosphere_settled), so a humidity that changes
+ * every tick cannot keep restarting the amortized rebuild; unwatched, it is rebuilt at once. */
+void world_host_advance(struct world_host *host, struct renderer_host *renderer, double now_s,
+                        bool watched, bool frames_settled);
+
+/* Unwatched, a pending atmosphere change is rebuilt at once, so that a snapshot, or the first
+ * frames of a new subscription, show it. */
+void world_host_settle_unwatched(struct world_host *host, struct renderer_host *renderer,
+                                 bool watched);
+/* A frame was rendered; atmosphere_settled: it showed the atmosphere fully. Returns the
+ * revision the frame carries. */
+uint64_t world_host_frame_rendered(struct world_host *host, bool atmosphere_settled);
+/* The renderer was made again, its LUTs built at once for world_host_atmosphere(). */
+void world_host_renderer_rebuilt(struct world_host *host);
+
+/* Writes the state when a write is owed: a failed one after save_delay_s, the simulation's
+ * changes every sim_period_s. Returns when it should be called again (INFINITY: not owed). */
+double world_host_save_due(struct world_host *host, double now_s, double sim_period_s);
+/* Writes the state now if it changed since the last write. */
+void world_host_save(struct world_host *host, double now_s);
+
+#endif
