@@ -8,18 +8,19 @@
 // single scattering the shadows take away is kept in a third volume for the sky and ground
 // pixels, whose in-scattering comes from the unshadowed sky-view LUT.
 #include "sky_shared.h"
+#include "sky_layouts.h"
 #include "cloud_shared.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
-SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
-SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
-layout(binding = 2) uniform sampler2D transmittance_lut;
-layout(binding = 3) uniform sampler2D multiscattering_lut;
-layout(binding = 4, rgba32f) uniform writeonly image3D ap_inscatter_out;
-layout(binding = 5, rgba32f) uniform writeonly image3D ap_transmittance_out;
-layout(binding = 6, rgba32f) uniform writeonly image3D ap_shafts_out;
-layout(binding = 7) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
-SKY_PARAMETER_BLOCK(8, CloudBlock, sky_cloud_uniforms, cloud);
+layout(local_size_x = SKY_AP_LOCAL, local_size_y = SKY_AP_LOCAL) in;
+SKY_PARAMETER_BLOCK(SKY_AP_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(SKY_AP_FRAME, FrameBlock, sky_frame_uniforms, frame);
+layout(binding = SKY_AP_TRANSMITTANCE) uniform sampler2D transmittance_lut;
+layout(binding = SKY_AP_MULTISCATTERING) uniform sampler2D multiscattering_lut;
+layout(binding = SKY_AP_INSCATTER_OUT, rgba32f) uniform writeonly image3D ap_inscatter_out;
+layout(binding = SKY_AP_TRANSMITTANCE_OUT, rgba32f) uniform writeonly image3D ap_transmittance_out;
+layout(binding = SKY_AP_SHAFTS_OUT, rgba32f) uniform writeonly image3D ap_shafts_out;
+layout(binding = SKY_AP_CLOUD_SHADOW) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
+SKY_PARAMETER_BLOCK(SKY_AP_CLOUD, CloudBlock, sky_cloud_uniforms, cloud);
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT

@@ -4,10 +4,14 @@
 // cosine weight: transmittance Tr_cloud and scattered luminance L_cloud per unit sun
 // illuminance, the inputs of seed 001 eq. 22 (clouds on the aerial perspective below them).
 #include "cloud_shared.h"
+#include "cloud_layouts.h"
 
 layout(local_size_x = CLOUD_HEMISPHERE_RAYS) in;
 #include "cloud_bindings.glsl"
-layout(std430, binding = 11) writeonly buffer Env { vec4 env_luminance; vec4 env_transmittance; };
+layout(std430, binding = SKY_CLOUD_HEMISPHERE_ENV_OUT) writeonly buffer Env {
+    vec4 env_luminance;
+    vec4 env_transmittance;
+};
 
 const float STEPS = 24.0;
 shared vec4 partial[CLOUD_HEMISPHERE_RAYS];

@@ -6,17 +6,19 @@
 //  CLOUD_NOISE_CURL   128^2: rg curl of a tileable Perlin fBm (distortion), b blue noise
 //                     (void-and-cluster, render/cloud_noise.c) tiled from the input buffer
 #include "cloud_shared.h"
+#include "cloud_layouts.h"
 
 layout(push_constant) uniform NoisePush { sky_cloud_noise_push push; };
 
 #ifdef CLOUD_NOISE_CURL
-layout(local_size_x = 8, local_size_y = 8) in;
-layout(std430, binding = 0) readonly buffer BlueNoise { float blue[]; };
-layout(binding = 1, rgba32f) uniform writeonly image2D noise_out;
+layout(local_size_x = SKY_CLOUD_LOCAL, local_size_y = SKY_CLOUD_LOCAL) in;
+layout(std430, binding = SKY_CLOUD_NOISE_CURL_BLUE) readonly buffer BlueNoise { float blue[]; };
+layout(binding = SKY_CLOUD_NOISE_CURL_OUT, rgba32f) uniform writeonly image2D noise_out;
 const int BLUE_SIZE = 64;
 #else
-layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-layout(binding = 0, rgba8) uniform writeonly image3D noise_out;
+layout(local_size_x = SKY_CLOUD_NOISE_VOLUME_LOCAL, local_size_y = SKY_CLOUD_NOISE_VOLUME_LOCAL,
+       local_size_z = SKY_CLOUD_NOISE_VOLUME_LOCAL) in;
+layout(binding = SKY_CLOUD_NOISE_VOLUME_OUT, rgba8) uniform writeonly image3D noise_out;
 #endif
 
 #define noise_seed push.seed

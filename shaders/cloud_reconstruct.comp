@@ -23,17 +23,19 @@
 // pixel not traced since its history began (or was replaced) moves toward the interpolation.
 #include "sky_shared.h"
 #include "cloud_shared.h"
+#include "cloud_layouts.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
-SKY_PARAMETER_BLOCK(0, FrameBlock, sky_frame_uniforms, frame);
-layout(binding = 1) uniform sampler2D trace_color;
-layout(binding = 2) uniform sampler2D trace_depth; // x depth, y transmittance, z opacity x depth
-layout(binding = 3) uniform sampler2D history_color;
+layout(local_size_x = SKY_CLOUD_LOCAL, local_size_y = SKY_CLOUD_LOCAL) in;
+SKY_PARAMETER_BLOCK(SKY_CLOUD_RECONSTRUCT_FRAME, FrameBlock, sky_frame_uniforms, frame);
+layout(binding = SKY_CLOUD_RECONSTRUCT_TRACE_COLOR) uniform sampler2D trace_color;
+// x depth, y transmittance, z opacity x depth
+layout(binding = SKY_CLOUD_RECONSTRUCT_TRACE_DEPTH) uniform sampler2D trace_depth;
+layout(binding = SKY_CLOUD_RECONSTRUCT_HISTORY_COLOR) uniform sampler2D history_color;
 // x depth, y samples, z how far outside the samples' range the history was (change_now),
 // w 1 where the history came from traces, 0 where it was interpolated
-layout(binding = 4) uniform sampler2D history_aux;
-layout(binding = 5, rgba32f) uniform writeonly image2D out_color;
-layout(binding = 6, rgba32f) uniform writeonly image2D out_aux;
+layout(binding = SKY_CLOUD_RECONSTRUCT_HISTORY_AUX) uniform sampler2D history_aux;
+layout(binding = SKY_CLOUD_RECONSTRUCT_COLOR_OUT, rgba32f) uniform writeonly image2D out_color;
+layout(binding = SKY_CLOUD_RECONSTRUCT_AUX_OUT, rgba32f) uniform writeonly image2D out_aux;
 layout(push_constant) uniform ViewPush { sky_cloud_view_push view; };
 
 #include "camera.glsl"

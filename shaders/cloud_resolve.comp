@@ -15,23 +15,30 @@
 // Each term is affine in L; its coefficients (scalar tr, vec3 offset) fold into (rgb, a).
 #include "sky_shared.h"
 #include "cloud_shared.h"
+#include "cloud_layouts.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
-SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
-SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
-layout(binding = 2) uniform sampler2D transmittance_lut;
-layout(binding = 3) uniform sampler2D irradiance_lut;
-SKY_PARAMETER_BLOCK(4, CloudBlock, sky_cloud_uniforms, cloud);
-layout(std430, binding = 5) readonly buffer CloudEnv { vec4 env_luminance; vec4 env_transmittance; };
-layout(binding = 6) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
-layout(binding = 7) uniform sampler3D ap_shafts;        // in-scattering the shadows take away
-layout(binding = 8) uniform sampler2D cloud_color;      // reconstructed: premultiplied, opacity
-layout(binding = 9, rgba32f) uniform writeonly image2D resolved_sky;
-layout(binding = 10, rgba32f) uniform writeonly image2D resolved_ground;
+layout(local_size_x = SKY_CLOUD_LOCAL, local_size_y = SKY_CLOUD_LOCAL) in;
+SKY_PARAMETER_BLOCK(SKY_CLOUD_RESOLVE_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(SKY_CLOUD_RESOLVE_FRAME, FrameBlock, sky_frame_uniforms, frame);
+layout(binding = SKY_CLOUD_RESOLVE_TRANSMITTANCE) uniform sampler2D transmittance_lut;
+layout(binding = SKY_CLOUD_RESOLVE_IRRADIANCE) uniform sampler2D irradiance_lut;
+SKY_PARAMETER_BLOCK(SKY_CLOUD_RESOLVE_CLOUD, CloudBlock, sky_cloud_uniforms, cloud);
+layout(std430, binding = SKY_CLOUD_RESOLVE_ENV) readonly buffer CloudEnv {
+    vec4 env_luminance;
+    vec4 env_transmittance;
+};
+// r: transmittance toward the sun
+layout(binding = SKY_CLOUD_RESOLVE_SHADOW) uniform sampler2D cloud_shadow_map;
+// in-scattering the shadows take away
+layout(binding = SKY_CLOUD_RESOLVE_AP_SHAFTS) uniform sampler3D ap_shafts;
+// reconstructed: premultiplied, opacity
+layout(binding = SKY_CLOUD_RESOLVE_CLOUD_COLOR) uniform sampler2D cloud_color;
+layout(binding = SKY_CLOUD_RESOLVE_SKY_OUT, rgba32f) uniform writeonly image2D resolved_sky;
+layout(binding = SKY_CLOUD_RESOLVE_GROUND_OUT, rgba32f) uniform writeonly image2D resolved_ground;
 layout(push_constant) uniform RowsPush { sky_cloud_rows_push rows; };
 // False for rows where no pixel sees the ground: their ground image is never read
 // (render/cloud_renderer.c), and lavapipe would run the ground's part under a mask.
-layout(constant_id = 0) const bool GROUND = true;
+layout(constant_id = SKY_CLOUD_RESOLVE_CONST_GROUND) const bool GROUND = true;
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #include "atmosphere.glsl"

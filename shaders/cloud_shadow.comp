@@ -5,15 +5,16 @@
 // The wind moves the lookup, not the map; it is rebuilt when the sun or the clouds change, a
 // slice of rows per dispatch.
 #include "cloud_shared.h"
+#include "cloud_layouts.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
-SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
-SKY_PARAMETER_BLOCK(1, CloudBlock, sky_cloud_uniforms, cloud);
-layout(binding = 2) uniform sampler3D base_noise;
-layout(binding = 3) uniform sampler3D detail_noise;
-layout(binding = 4) uniform sampler2D curl_noise;
-layout(binding = 5) uniform sampler2D weather_map;
-layout(binding = 6, rgba32f) uniform writeonly image2D shadow_out;
+layout(local_size_x = SKY_CLOUD_LOCAL, local_size_y = SKY_CLOUD_LOCAL) in;
+SKY_PARAMETER_BLOCK(SKY_CLOUD_SHADOW_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(SKY_CLOUD_SHADOW_CLOUD, CloudBlock, sky_cloud_uniforms, cloud);
+layout(binding = SKY_CLOUD_SHADOW_BASE_NOISE) uniform sampler3D base_noise;
+layout(binding = SKY_CLOUD_SHADOW_DETAIL_NOISE) uniform sampler3D detail_noise;
+layout(binding = SKY_CLOUD_SHADOW_CURL_NOISE) uniform sampler2D curl_noise;
+layout(binding = SKY_CLOUD_SHADOW_WEATHER) uniform sampler2D weather_map;
+layout(binding = SKY_CLOUD_SHADOW_OUT, rgba32f) uniform writeonly image2D shadow_out;
 layout(push_constant) uniform RowsPush { sky_cloud_rows_push push; };
 
 #include "atmosphere.glsl"

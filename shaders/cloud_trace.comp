@@ -7,13 +7,15 @@
 // Writes premultiplied cloud luminance with opacity (1 - transmittance), and the depth with the
 // transmittance and the opacity-weighted depth (which the reconstruction interpolates).
 #include "cloud_shared.h"
+#include "cloud_layouts.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = SKY_CLOUD_LOCAL, local_size_y = SKY_CLOUD_LOCAL) in;
 #include "cloud_bindings.glsl"
-layout(binding = 11, rgba32f) uniform writeonly image2D trace_color;
-layout(binding = 12, rgba32f) uniform writeonly image2D trace_depth;
-layout(binding = 13) uniform sampler3D ap_inscatter;     // the view's froxel volume
-layout(binding = 14) uniform sampler3D ap_transmittance;
+layout(binding = SKY_CLOUD_TRACE_COLOR_OUT, rgba32f) uniform writeonly image2D trace_color;
+layout(binding = SKY_CLOUD_TRACE_DEPTH_OUT, rgba32f) uniform writeonly image2D trace_depth;
+// The view's froxel volume.
+layout(binding = SKY_CLOUD_TRACE_AP_INSCATTER) uniform sampler3D ap_inscatter;
+layout(binding = SKY_CLOUD_TRACE_AP_TRANSMITTANCE) uniform sampler3D ap_transmittance;
 layout(push_constant) uniform ViewPush { sky_cloud_view_push view; };
 
 #include "scattering_march.glsl"

@@ -16,10 +16,11 @@
 // maxima (so cores are domes, not cones), thresholded at the quantile that leaves the asked
 // coverage. Only the types present at a texel are evaluated.
 #include "cloud_shared.h"
+#include "cloud_layouts.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform sampler2D client_map;
-layout(binding = 1, rgba32f) uniform writeonly image2D weather_out;
+layout(local_size_x = SKY_CLOUD_LOCAL, local_size_y = SKY_CLOUD_LOCAL) in;
+layout(binding = SKY_CLOUD_WEATHER_CLIENT_MAP) uniform sampler2D client_map;
+layout(binding = SKY_CLOUD_WEATHER_OUT, rgba32f) uniform writeonly image2D weather_out;
 layout(push_constant) uniform RowsPush { sky_cloud_rows_push push; };
 
 #define noise_seed push.seed

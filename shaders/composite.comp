@@ -6,26 +6,27 @@
 // constants. Specialized with SUN_REGION it is the sun-disk pass: the same shading with the
 // sun included, run only over the sun's bounding box after the main pass.
 #include "sky_shared.h"
+#include "sky_layouts.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = SKY_COMPOSITE_LOCAL, local_size_y = SKY_COMPOSITE_LOCAL) in;
 #include "shading_bindings.glsl"
-layout(std430, binding = 8) readonly buffer ExposureBlock { vec4 metered; }; // x exposure
+layout(std430, binding = SKY_COMPOSITE_EXPOSURE) readonly buffer ExposureBlock { vec4 metered; }; // x exposure
 #ifdef SKY_OUTPUT_LINEAR
-layout(binding = 9, rgba32f) uniform writeonly image2D image_out;
+layout(binding = SKY_COMPOSITE_OUT, rgba32f) uniform writeonly image2D image_out;
 #else
-layout(binding = 9, rgba8) uniform writeonly image2D image_out;
+layout(binding = SKY_COMPOSITE_OUT, rgba8) uniform writeonly image2D image_out;
 #endif
 // The clouds' effect on a pixel as (rgb, a), applied as L (1 - a) + rgb (cloud_resolve.comp):
 // for pixels that see the sky, and for those that see the ground.
-layout(binding = 10) uniform sampler2D clouds_over_sky;
-layout(binding = 11) uniform sampler2D clouds_over_ground;
+layout(binding = SKY_COMPOSITE_CLOUDS_OVER_SKY) uniform sampler2D clouds_over_sky;
+layout(binding = SKY_COMPOSITE_CLOUDS_OVER_GROUND) uniform sampler2D clouds_over_ground;
 layout(push_constant) uniform RegionPush { sky_region_push region; };
-layout(constant_id = 1) const bool SUN_REGION = false;
+layout(constant_id = SKY_CONST_SUN_REGION) const bool SUN_REGION = false;
 // False without a cloud layer; GROUND false where no pixel of the dispatch sees the ground
 // (render/composite_variants.h: lavapipe runs every branch, so only leaving code out saves
 // its cost).
-layout(constant_id = 3) const bool CLOUDS = true;
-layout(constant_id = 4) const bool GROUND = true;
+layout(constant_id = SKY_CONST_CLOUDS) const bool CLOUDS = true;
+layout(constant_id = SKY_CONST_GROUND) const bool GROUND = true;
 
 #include "sky_shading.glsl"
 #include "tonemap.glsl"

@@ -8,11 +8,12 @@
 // 2005, eq. 11), and the exposure follows a(L) / a(1000 cd/m2): daylight as metered, civil
 // twilight about 2 EV darker, a starlit night about 4.4 EV darker than mid grey.
 #include "sky_shared.h"
+#include "sky_layouts.h"
 
-layout(local_size_x = 64) in;
-SKY_PARAMETER_BLOCK(0, FrameBlock, sky_frame_uniforms, frame);
-layout(std430, binding = 1) readonly buffer Partials { vec2 partials[]; };
-layout(std430, binding = 2) writeonly buffer ExposureBlock { vec4 metered; };
+layout(local_size_x = SKY_EXPOSURE_LOCAL) in;
+SKY_PARAMETER_BLOCK(SKY_EXPOSURE_FRAME, FrameBlock, sky_frame_uniforms, frame);
+layout(std430, binding = SKY_EXPOSURE_PARTIALS) readonly buffer Partials { vec2 partials[]; };
+layout(std430, binding = SKY_EXPOSURE_OUT) writeonly buffer ExposureBlock { vec4 metered; };
 layout(push_constant) uniform MeterPush { sky_meter_push meter; };
 
 shared vec2 shared_sum[64];

@@ -5,12 +5,13 @@
 // E = integral of L cos(theta) over the upper hemisphere (seed 000 eq. 14.3 family), by a
 // midpoint rule in zenith and azimuth.
 #include "sky_shared.h"
+#include "sky_layouts.h"
 
-layout(local_size_x = 8) in;
-SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
-layout(binding = 1) uniform sampler2D transmittance_lut;
-layout(binding = 2) uniform sampler2D multiscattering_lut;
-layout(binding = 3, rgba32f) uniform writeonly image2D irradiance_out;
+layout(local_size_x = SKY_IRRADIANCE_LOCAL) in;
+SKY_PARAMETER_BLOCK(SKY_IRRADIANCE_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+layout(binding = SKY_IRRADIANCE_TRANSMITTANCE) uniform sampler2D transmittance_lut;
+layout(binding = SKY_IRRADIANCE_MULTISCATTERING) uniform sampler2D multiscattering_lut;
+layout(binding = SKY_IRRADIANCE_OUT, rgba32f) uniform writeonly image2D irradiance_out;
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT

@@ -3,10 +3,11 @@
 // Auto-exposure metering: shades a coarse grid over the view with the frame's own shading
 // and writes, per workgroup, the sum of log2(luminance) and the sample count.
 #include "sky_shared.h"
+#include "sky_layouts.h"
 
 layout(local_size_x = SKY_METER_LOCAL, local_size_y = SKY_METER_LOCAL) in;
 #include "shading_bindings.glsl"
-layout(std430, binding = 8) writeonly buffer Partials { vec2 partials[]; };
+layout(std430, binding = SKY_METER_PARTIALS) writeonly buffer Partials { vec2 partials[]; };
 layout(push_constant) uniform MeterPush { sky_meter_push meter; };
 
 #include "sky_shading.glsl"

@@ -6,11 +6,12 @@
 // direction of an 8x8 sphere grid. A dispatch covers consecutive texels (row-major) from
 // rows.row_offset, so that an amortized rebuild can slice it finer than a row.
 #include "sky_shared.h"
+#include "sky_layouts.h"
 
-layout(local_size_x = 64) in;
-SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
-layout(binding = 1) uniform sampler2D transmittance_lut;
-layout(binding = 2, rgba32f) uniform writeonly image2D multiscattering_out;
+layout(local_size_x = SKY_MULTISCATTERING_LOCAL) in;
+SKY_PARAMETER_BLOCK(SKY_MULTISCATTERING_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+layout(binding = SKY_MULTISCATTERING_TRANSMITTANCE) uniform sampler2D transmittance_lut;
+layout(binding = SKY_MULTISCATTERING_OUT, rgba32f) uniform writeonly image2D multiscattering_out;
 layout(push_constant) uniform RowsPush { sky_rows_push rows; };
 
 #define SKY_HAS_TRANSMITTANCE_LUT

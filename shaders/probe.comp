@@ -3,11 +3,12 @@
 // Probes for `skyd probe`: per input, luminance (cd/m2) in a view direction through the same
 // shading as frames, or transmittance from (radius, mu) to the top of the atmosphere.
 #include "sky_shared.h"
+#include "sky_layouts.h"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = SKY_PROBE_LOCAL) in;
 #include "shading_bindings.glsl"
-layout(std430, binding = 8) readonly buffer ProbeIn { vec4 probe_in[]; };
-layout(std430, binding = 9) writeonly buffer ProbeOut { vec4 probe_out[]; };
+layout(std430, binding = SKY_PROBE_IN) readonly buffer ProbeIn { vec4 probe_in[]; };
+layout(std430, binding = SKY_PROBE_OUT) writeonly buffer ProbeOut { vec4 probe_out[]; };
 layout(push_constant) uniform ProbePush { sky_probe_push probe; };
 
 #include "sky_shading.glsl"

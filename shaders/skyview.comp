@@ -6,16 +6,17 @@
 // through the path's transmittance: the ground with its aerial perspective, exactly along
 // the ray.
 #include "sky_shared.h"
+#include "sky_layouts.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
-SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
-SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
-layout(binding = 2) uniform sampler2D transmittance_lut;
-layout(binding = 3) uniform sampler2D multiscattering_lut;
-layout(binding = 4) uniform sampler2D irradiance_lut;
-layout(binding = 5, rgba32f) uniform writeonly image2D skyview_out;
+layout(local_size_x = SKY_SKYVIEW_LOCAL, local_size_y = SKY_SKYVIEW_LOCAL) in;
+SKY_PARAMETER_BLOCK(SKY_SKYVIEW_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(SKY_SKYVIEW_FRAME, FrameBlock, sky_frame_uniforms, frame);
+layout(binding = SKY_SKYVIEW_TRANSMITTANCE) uniform sampler2D transmittance_lut;
+layout(binding = SKY_SKYVIEW_MULTISCATTERING) uniform sampler2D multiscattering_lut;
+layout(binding = SKY_SKYVIEW_IRRADIANCE) uniform sampler2D irradiance_lut;
+layout(binding = SKY_SKYVIEW_OUT, rgba32f) uniform writeonly image2D skyview_out;
 // The moonlit sky-view LUT: the same integral with the moon as the light (seed 001 4.2).
-layout(constant_id = 0) const bool MOON_LIGHT = false;
+layout(constant_id = SKY_SKYVIEW_CONST_MOON_LIGHT) const bool MOON_LIGHT = false;
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT

@@ -5,10 +5,11 @@
 // readers. A dispatch covers consecutive blocks of 64 texels (row-major) from block
 // rows.row_offset, so that an amortized rebuild can slice it finely.
 #include "sky_shared.h"
+#include "sky_layouts.h"
 
-layout(local_size_x = 64) in;
-SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
-layout(binding = 1, rgba32f) uniform writeonly image2D transmittance_out;
+layout(local_size_x = SKY_TRANSMITTANCE_LOCAL) in;
+SKY_PARAMETER_BLOCK(SKY_TRANSMITTANCE_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+layout(binding = SKY_TRANSMITTANCE_OUT, rgba32f) uniform writeonly image2D transmittance_out;
 layout(push_constant) uniform RowsPush { sky_rows_push rows; };
 
 #include "atmosphere.glsl"

@@ -4,13 +4,12 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cloud_layouts.h"
 #include "compute_pass.h"
 #include "vk_check.h"
 #include "vk_context.h"
 
-#include "cloud_noise_base.spv.h"
-#include "cloud_noise_curl.spv.h"
-#include "cloud_noise_detail.spv.h"
+#include "clouds_shaders.h"
 
 #define BASE_SIZE 128
 #define DETAIL_SIZE 32
@@ -120,26 +119,34 @@ static int run_pass(struct vk_context *ctx, struct compute_pass *pass,
     return vk_context_submit_and_wait(ctx, &cmd) == VK_SUCCESS ? 0 : -1;
 }
 
-#define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
+#define NOISE_PUSH .push_constant_bytes = sizeof(struct sky_cloud_noise_push)
 
 static VkResult create_passes(struct vk_context *ctx, struct cloud_noise *n)
 {
     const struct compute_pass_desc descs[3] = {
-        { .name = "cloud_noise_base", SPIRV(cloud_noise_base_spv), .binding_count = 1,
-          .bindings = { STORAGE_IMG }, .push_constant_bytes = sizeof(struct sky_cloud_noise_push) },
-        { .name = "cloud_noise_detail", SPIRV(cloud_noise_detail_spv), .binding_count = 1,
-          .bindings = { STORAGE_IMG }, .push_constant_bytes = sizeof(struct sky_cloud_noise_push) },
-        { .name = "cloud_noise_curl", SPIRV(cloud_noise_curl_spv), .binding_count = 2,
-          .bindings = { VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, STORAGE_IMG },
-          .push_constant_bytes = sizeof(struct sky_cloud_noise_push) },
+        { .name = "cloud_noise_base", SPIRV(cloud_noise_base_spv),
+          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_NOISE_VOLUME), NOISE_PUSH },
+        { .name = "cloud_noise_detail", SPIRV(cloud_noise_detail_spv),
+          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_NOISE_VOLUME), NOISE_PUSH },
+        { .name = "cloud_noise_curl", SPIRV(cloud_noise_curl_spv),
+          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_NOISE_CURL), NOISE_PUSH },
     };
     struct compute_pass *passes[3] = { &n->base_pass, &n->detail_pass, &n->curl_pass };
     for (int i = 0; i < 3; i++)
         VK_CHECK_RETURN(compute_pass_create(ctx, &descs[i], passes[i]));
-    compute_pass_bind(ctx, &n->base_pass, &(struct compute_resource){ .image = &n->base });
-    compute_pass_bind(ctx, &n->detail_pass, &(struct compute_resource){ .image = &n->detail });
-    struct compute_resource curl[2] = { { .buffer = &n->blue }, { .image = &n->curl } };
+    struct compute_resource base[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_NOISE_VOLUME)] = {
+        [SKY_CLOUD_NOISE_VOLUME_OUT] = { .image = &n->base },
+    };
+    struct compute_resource detail[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_NOISE_VOLUME)] = {
+        [SKY_CLOUD_NOISE_VOLUME_OUT] = { .image = &n->detail },
+    };
+    struct compute_resource curl[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_NOISE_CURL)] = {
+        [SKY_CLOUD_NOISE_CURL_BLUE] = { .buffer = &n->blue },
+        [SKY_CLOUD_NOISE_CURL_OUT] = { .image = &n->curl },
+    };
+    compute_pass_bind(ctx, &n->base_pass, base);
+    compute_pass_bind(ctx, &n->detail_pass, detail);
     compute_pass_bind(ctx, &n->curl_pass, curl);
     return VK_SUCCESS;
 }
@@ -156,7 +163,8 @@ static int generate_volumes(struct vk_context *ctx, struct cloud_noise *n, uint3
             struct sky_cloud_noise_push push = { .seed = seed, .z_offset = z };
             uint32_t slab = depth - z < SLAB ? depth - z : SLAB;
             const uint32_t size[3] = { images[v]->width, images[v]->height, slab };
-            const uint32_t local[3] = { 4, 4, 4 };
+            const uint32_t local[3] = { SKY_CLOUD_NOISE_VOLUME_LOCAL, SKY_CLOUD_NOISE_VOLUME_LOCAL,
+                                        SKY_CLOUD_NOISE_VOLUME_LOCAL };
             rc = run_pass(ctx, passes[v], &push, size, local);
             if (!quiet && v == 0)
                 fprintf(stderr, "\rskyd: cloud noise %3u%%", (z + slab) * 100 / depth);
@@ -171,7 +179,8 @@ static int generate_curl(struct vk_context *ctx, struct cloud_noise *n, uint32_t
 {
     cloud_blue_noise(seed, n->blue.mapped);
     struct sky_cloud_noise_push push = { .seed = seed };
-    const uint32_t size[3] = { CURL_SIZE, CURL_SIZE, 1 }, local[3] = { 8, 8, 1 };
+    const uint32_t size[3] = { CURL_SIZE, CURL_SIZE, 1 };
+    const uint32_t local[3] = { SKY_CLOUD_LOCAL, SKY_CLOUD_LOCAL, 1 };
     return run_pass(ctx, &n->curl_pass, &push, size, local);
 }
 

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cloud_history.h"
+#include "cloud_layouts.h"
 #include "cloud_noise.h"
 #include "cloud_params.h"
 #include "compute_pass.h"
@@ -14,12 +15,7 @@
 #include "vk_context.h"
 #include "vk_resources.h"
 
-#include "cloud_hemisphere.spv.h"
-#include "cloud_reconstruct.spv.h"
-#include "cloud_resolve.spv.h"
-#include "cloud_shadow.spv.h"
-#include "cloud_trace.spv.h"
-#include "cloud_weather.spv.h"
+#include "clouds_shaders.h"
 
 /* Share of the last frame's GPU time that weather and shadow map builds may take. */
 #define RELATIVE_MAP_BUDGET 0.1
@@ -56,8 +52,8 @@ struct shadow_key {
     uint32_t weather_generation, noise_seed;
 };
 
-/* The marching passes come twice: without the moon's light (MOONLIT false, constant_id 0),
- * then with it, for frames the moon lights. */
+/* The marching passes come twice: without the moon's light (MOONLIT false), then with it, for
+ * frames the moon lights. */
 enum {
     P_WEATHER,
     P_SHADOW,
@@ -67,7 +63,7 @@ enum {
     P_TRACE_MOONLIT,
     P_RECONSTRUCT_0,
     P_RECONSTRUCT_1,
-    P_RESOLVE,        /* rows that see no ground (GROUND false, constant_id 0) */
+    P_RESOLVE,        /* rows that see no ground (GROUND false) */
     P_RESOLVE_GROUND, /* rows that may */
     P_COUNT
 };
@@ -95,55 +91,42 @@ struct cloud_renderer {
     uint32_t params_generation; /* counts changes of the clouds other than the wind's drift */
 };
 
-#define PARAMS VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-#define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-#define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-#define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
-#define MARCH_BINDINGS \
-    PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, SAMPLED
+#define MARCH_SPEC(moonlit)                                                                \
+    .spec_count = SKY_CLOUD_CONST_MOONLIT + 1,                                             \
+    .spec_values = { [SKY_CLOUD_CONST_MOONLIT] = moonlit }
+#define RESOLVE_SPEC(ground)                                                               \
+    .spec_count = SKY_CLOUD_RESOLVE_CONST_GROUND + 1,                                      \
+    .spec_values = { [SKY_CLOUD_RESOLVE_CONST_GROUND] = ground }
+#define ROWS_PUSH .push_constant_bytes = sizeof(struct sky_cloud_rows_push)
+#define VIEW_PUSH .push_constant_bytes = sizeof(struct sky_cloud_view_push)
 
 static const struct compute_pass_desc descs[P_COUNT] = {
-    [P_WEATHER] = { .name = "cloud_weather", SPIRV(cloud_weather_spv), .binding_count = 2,
-                    .bindings = { SAMPLED, STORAGE_IMG },
-                    .push_constant_bytes = sizeof(struct sky_cloud_rows_push) },
-    [P_SHADOW] = { .name = "cloud_shadow", SPIRV(cloud_shadow_spv), .binding_count = 7,
-                   .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
-                   .push_constant_bytes = sizeof(struct sky_cloud_rows_push) },
+    [P_WEATHER] = { .name = "cloud_weather", SPIRV(cloud_weather_spv),
+                    SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_WEATHER), ROWS_PUSH },
+    [P_SHADOW] = { .name = "cloud_shadow", SPIRV(cloud_shadow_spv),
+                   SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_SHADOW), ROWS_PUSH },
     [P_HEMISPHERE] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
-                       .binding_count = 12, .bindings = { MARCH_BINDINGS, STORAGE_BUF },
-                       .spec_count = 1, .spec_values = { 0 } },
+                       SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE), MARCH_SPEC(0) },
     [P_HEMISPHERE_MOONLIT] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
-                               .binding_count = 12, .bindings = { MARCH_BINDINGS, STORAGE_BUF },
-                               .spec_count = 1, .spec_values = { 1 } },
-    [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 15,
-                  .bindings = { MARCH_BINDINGS, STORAGE_IMG, STORAGE_IMG, SAMPLED, SAMPLED },
-                  .push_constant_bytes = sizeof(struct sky_cloud_view_push), .spec_count = 1,
-                  .spec_values = { 0 } },
-    [P_TRACE_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv), .binding_count = 15,
-                          .bindings = { MARCH_BINDINGS, STORAGE_IMG, STORAGE_IMG, SAMPLED,
-                                        SAMPLED },
-                          .push_constant_bytes = sizeof(struct sky_cloud_view_push),
-                          .spec_count = 1, .spec_values = { 1 } },
+                               SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE), MARCH_SPEC(1) },
+    [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
+                  SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(0) },
+    [P_TRACE_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
+                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(1) },
     [P_RECONSTRUCT_0] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
-                          .binding_count = 7,
-                          .bindings = { PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
-                                        STORAGE_IMG },
-                          .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
+                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RECONSTRUCT), VIEW_PUSH },
     [P_RECONSTRUCT_1] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
-                          .binding_count = 7,
-                          .bindings = { PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG,
-                                        STORAGE_IMG },
-                          .push_constant_bytes = sizeof(struct sky_cloud_view_push) },
-#define RESOLVE_PASS(id, ground)                                                           \
-    [id] = { .name = "cloud_resolve", SPIRV(cloud_resolve_spv), .binding_count = 11,         \
-             .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, PARAMS, STORAGE_BUF, SAMPLED,     \
-                           SAMPLED, SAMPLED, STORAGE_IMG, STORAGE_IMG },                      \
-             .push_constant_bytes = sizeof(struct sky_cloud_rows_push), .spec_count = 1,     \
-             .spec_values = { ground } }
-    RESOLVE_PASS(P_RESOLVE, 0),
-    RESOLVE_PASS(P_RESOLVE_GROUND, 1),
+                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RECONSTRUCT), VIEW_PUSH },
+    [P_RESOLVE] = { .name = "cloud_resolve", SPIRV(cloud_resolve_spv),
+                    SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RESOLVE), ROWS_PUSH, RESOLVE_SPEC(0) },
+    [P_RESOLVE_GROUND] = { .name = "cloud_resolve", SPIRV(cloud_resolve_spv),
+                           SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RESOLVE), ROWS_PUSH,
+                           RESOLVE_SPEC(1) },
 };
+
+/* The workgroup of the 2D passes. */
+static const uint32_t local_2d[3] = { SKY_CLOUD_LOCAL, SKY_CLOUD_LOCAL, 1 };
 
 static int map_create(struct vk_context *ctx, struct cloud_map *m, VkFormat format, uint32_t size,
                       const char *name, double ms_per_row)
@@ -330,8 +313,8 @@ static bool map_record(struct cloud_renderer *cr, struct cloud_map *m, VkCommand
             rows = (uint32_t)affordable;
     }
     push->row_offset = m->next_row;
-    const uint32_t size[3] = { m->image[0].width, rows, 1 }, local[3] = { 8, 8, 1 };
-    compute_pass_record(cmd, pass, push, size, local);
+    const uint32_t size[3] = { m->image[0].width, rows, 1 };
+    compute_pass_record(cmd, pass, push, size, local_2d);
     gpu_timer_mark(timer, cmd, pass->name);
     m->rows_this_frame = rows;
     *budget -= rows * m->ms_per_row;
@@ -376,9 +359,10 @@ static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr,
     if (!cr->weather.building)
         return;
     const struct weather_key *build = &cr->weather_target;
-    struct compute_resource r[2] = {
-        tex(build->mode && cr->has_client_map ? &cr->client_map : &cr->dummy, cr->repeat),
-        img(&cr->weather.image[1 - cr->weather.shown]),
+    struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_WEATHER)] = {
+        [SKY_CLOUD_WEATHER_CLIENT_MAP] =
+            tex(build->mode && cr->has_client_map ? &cr->client_map : &cr->dummy, cr->repeat),
+        [SKY_CLOUD_WEATHER_OUT] = img(&cr->weather.image[1 - cr->weather.shown]),
     };
     compute_pass_bind(ctx, &cr->pass[P_WEATHER], r);
     struct sky_cloud_rows_push push = {
@@ -397,22 +381,22 @@ static float angle_between(const float a[3], const float b[3])
     return acosf(fminf(1.0f, fmaxf(-1.0f, d)));
 }
 
-/* The march bindings (0-10), then the pass's own two, and for the trace (15 bindings) the
- * view's aerial-perspective volume. */
-static void bind_march(struct vk_context *ctx, struct cloud_renderer *cr, struct compute_pass *pass,
-                       const struct cloud_frame *f, struct compute_resource extra0,
-                       struct compute_resource extra1)
+/* The bindings that the marching passes share (SKY_LAYOUT_CLOUD_MARCH). */
+static void march_resources(const struct cloud_renderer *cr, const struct cloud_frame *f,
+                            struct compute_resource *r)
 {
     const struct sky_pass_resources *s = &f->sky;
-    struct compute_resource r[15] = {
-        buf(s->atmosphere_params), buf(s->frame_params), tex(s->transmittance, s->sampler),
-        tex(s->multiscattering, s->sampler), tex(s->irradiance, s->sampler), buf(&cr->params),
-        tex(&cr->noise.base, cr->repeat), tex(&cr->noise.detail, cr->repeat),
-        tex(&cr->noise.curl, cr->repeat), tex(shown(cr, &cr->weather), cr->repeat),
-        tex(s->skyview, s->sampler), extra0, extra1,
-        tex(s->ap_inscatter, s->sampler), tex(s->ap_transmittance, s->sampler),
-    };
-    compute_pass_bind(ctx, pass, r);
+    r[SKY_CLOUD_MARCH_ATMOSPHERE] = buf(s->atmosphere_params);
+    r[SKY_CLOUD_MARCH_FRAME] = buf(s->frame_params);
+    r[SKY_CLOUD_MARCH_TRANSMITTANCE] = tex(s->transmittance, s->sampler);
+    r[SKY_CLOUD_MARCH_MULTISCATTERING] = tex(s->multiscattering, s->sampler);
+    r[SKY_CLOUD_MARCH_IRRADIANCE] = tex(s->irradiance, s->sampler);
+    r[SKY_CLOUD_MARCH_CLOUD] = buf(&cr->params);
+    r[SKY_CLOUD_MARCH_BASE_NOISE] = tex(&cr->noise.base, cr->repeat);
+    r[SKY_CLOUD_MARCH_DETAIL_NOISE] = tex(&cr->noise.detail, cr->repeat);
+    r[SKY_CLOUD_MARCH_CURL_NOISE] = tex(&cr->noise.curl, cr->repeat);
+    r[SKY_CLOUD_MARCH_WEATHER] = tex(shown(cr, &cr->weather), cr->repeat);
+    r[SKY_CLOUD_MARCH_SKYVIEW] = tex(s->skyview, s->sampler);
 }
 
 static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
@@ -442,10 +426,14 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
     if (!cr->shadow.building)
         return;
     const struct sky_pass_resources *s = &f->sky;
-    struct compute_resource r[7] = {
-        buf(s->atmosphere_params), buf(&cr->params), tex(&cr->noise.base, cr->repeat),
-        tex(&cr->noise.detail, cr->repeat), tex(&cr->noise.curl, cr->repeat),
-        tex(shown(cr, &cr->weather), cr->repeat), img(&cr->shadow.image[1 - cr->shadow.shown]),
+    struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_SHADOW)] = {
+        [SKY_CLOUD_SHADOW_ATMOSPHERE] = buf(s->atmosphere_params),
+        [SKY_CLOUD_SHADOW_CLOUD] = buf(&cr->params),
+        [SKY_CLOUD_SHADOW_BASE_NOISE] = tex(&cr->noise.base, cr->repeat),
+        [SKY_CLOUD_SHADOW_DETAIL_NOISE] = tex(&cr->noise.detail, cr->repeat),
+        [SKY_CLOUD_SHADOW_CURL_NOISE] = tex(&cr->noise.curl, cr->repeat),
+        [SKY_CLOUD_SHADOW_WEATHER] = tex(shown(cr, &cr->weather), cr->repeat),
+        [SKY_CLOUD_SHADOW_OUT] = img(&cr->shadow.image[1 - cr->shadow.shown]),
     };
     compute_pass_bind(ctx, &cr->pass[P_SHADOW], r);
     struct sky_cloud_rows_push push = { .row_offset = 0 };
@@ -467,7 +455,10 @@ static void record_hemisphere(struct vk_context *ctx, struct cloud_renderer *cr,
     if (!cr->env_dirty)
         return;
     struct compute_pass *pass = &cr->pass[P_HEMISPHERE + moonlit(f)];
-    bind_march(ctx, cr, pass, f, buf(&cr->env), buf(&cr->env));
+    struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_HEMISPHERE)];
+    march_resources(cr, f, r);
+    r[SKY_CLOUD_HEMISPHERE_ENV_OUT] = buf(&cr->env);
+    compute_pass_bind(ctx, pass, r);
     const uint32_t size[3] = { CLOUD_HEMISPHERE_RAYS, 1, 1 };
     const uint32_t local[3] = { CLOUD_HEMISPHERE_RAYS, 1, 1 };
     compute_pass_record(cmd, pass, NULL, size, local);
@@ -537,8 +528,8 @@ static void record_resolve_rows(VkCommandBuffer cmd, struct compute_pass *pass, 
         return;
     struct sky_cloud_rows_push push = { .row_offset = first,
                                         .size = { (float)width, (float)height } };
-    const uint32_t size[3] = { width, end - first, 1 }, local[3] = { 8, 8, 1 };
-    compute_pass_record(cmd, pass, &push, size, local);
+    const uint32_t size[3] = { width, end - first, 1 };
+    compute_pass_record(cmd, pass, &push, size, local_2d);
 }
 
 /* The clouds' effect on the final image from the latest reconstruction (cloud_resolve.comp):
@@ -548,11 +539,18 @@ static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, Vk
                            struct cloud_history_entry *e)
 {
     const struct sky_pass_resources *s = &f->sky;
-    struct compute_resource r[11] = {
-        buf(s->atmosphere_params), buf(s->frame_params), tex(s->transmittance, s->sampler),
-        tex(s->irradiance, s->sampler), buf(&cr->params), buf(&cr->env),
-        tex(shown(cr, &cr->shadow), cr->repeat), tex(s->ap_shafts, s->sampler),
-        tex(&e->color[e->latest], s->sampler), img(&e->over_sky), img(&e->over_ground),
+    struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_RESOLVE)] = {
+        [SKY_CLOUD_RESOLVE_ATMOSPHERE] = buf(s->atmosphere_params),
+        [SKY_CLOUD_RESOLVE_FRAME] = buf(s->frame_params),
+        [SKY_CLOUD_RESOLVE_TRANSMITTANCE] = tex(s->transmittance, s->sampler),
+        [SKY_CLOUD_RESOLVE_IRRADIANCE] = tex(s->irradiance, s->sampler),
+        [SKY_CLOUD_RESOLVE_CLOUD] = buf(&cr->params),
+        [SKY_CLOUD_RESOLVE_ENV] = buf(&cr->env),
+        [SKY_CLOUD_RESOLVE_SHADOW] = tex(shown(cr, &cr->shadow), cr->repeat),
+        [SKY_CLOUD_RESOLVE_AP_SHAFTS] = tex(s->ap_shafts, s->sampler),
+        [SKY_CLOUD_RESOLVE_CLOUD_COLOR] = tex(&e->color[e->latest], s->sampler),
+        [SKY_CLOUD_RESOLVE_SKY_OUT] = img(&e->over_sky),
+        [SKY_CLOUD_RESOLVE_GROUND_OUT] = img(&e->over_ground),
     };
     compute_pass_bind(ctx, &cr->pass[P_RESOLVE], r);
     compute_pass_bind(ctx, &cr->pass[P_RESOLVE_GROUND], r);
@@ -583,12 +581,23 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
     if (!e)
         return -1;
     struct compute_pass *trace = &cr->pass[P_TRACE + moonlit(f)];
-    bind_march(ctx, cr, trace, f, img(&e->trace_color), img(&e->trace_depth));
+    struct compute_resource tr[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_TRACE)];
+    march_resources(cr, f, tr);
+    tr[SKY_CLOUD_TRACE_COLOR_OUT] = img(&e->trace_color);
+    tr[SKY_CLOUD_TRACE_DEPTH_OUT] = img(&e->trace_depth);
+    tr[SKY_CLOUD_TRACE_AP_INSCATTER] = tex(f->sky.ap_inscatter, f->sky.sampler);
+    tr[SKY_CLOUD_TRACE_AP_TRANSMITTANCE] = tex(f->sky.ap_transmittance, f->sky.sampler);
+    compute_pass_bind(ctx, trace, tr);
     for (int i = 0; i < 2; i++) {
-        struct compute_resource r[7] = {
-            buf(f->sky.frame_params), tex(&e->trace_color, f->sky.sampler),
-            tex(&e->trace_depth, f->sky.sampler), tex(&e->color[i], f->sky.sampler),
-            tex(&e->aux[i], f->sky.sampler), img(&e->color[1 - i]), img(&e->aux[1 - i]),
+        VkSampler smp = f->sky.sampler;
+        struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_RECONSTRUCT)] = {
+            [SKY_CLOUD_RECONSTRUCT_FRAME] = buf(f->sky.frame_params),
+            [SKY_CLOUD_RECONSTRUCT_TRACE_COLOR] = tex(&e->trace_color, smp),
+            [SKY_CLOUD_RECONSTRUCT_TRACE_DEPTH] = tex(&e->trace_depth, smp),
+            [SKY_CLOUD_RECONSTRUCT_HISTORY_COLOR] = tex(&e->color[i], smp),
+            [SKY_CLOUD_RECONSTRUCT_HISTORY_AUX] = tex(&e->aux[i], smp),
+            [SKY_CLOUD_RECONSTRUCT_COLOR_OUT] = img(&e->color[1 - i]),
+            [SKY_CLOUD_RECONSTRUCT_AUX_OUT] = img(&e->aux[1 - i]),
         };
         compute_pass_bind(ctx, &cr->pass[P_RECONSTRUCT_0 + i], r);
     }
@@ -604,7 +613,7 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
                                                          : 1;
     static const float min_weight[5] = { 0, 0.08f, 0.15f, 0, 0.25f };
     const uint32_t tsize[3] = { e->trace_color.width, e->trace_color.height, 1 };
-    const uint32_t size[3] = { width, height, 1 }, local[3] = { 8, 8, 1 };
+    const uint32_t size[3] = { width, height, 1 };
     for (int k = 0; k < frames; k++) {
         struct sky_cloud_view_push push;
         memset(&push, 0, sizeof push);
@@ -622,10 +631,11 @@ static int record_view(struct vk_context *ctx, struct cloud_renderer *cr, VkComm
         }
         push.motion.z = min_weight[block];
         push.motion.w = c->temporal ? 1.0f : 0.0f;
-        compute_pass_record(cmd, trace, &push, tsize, local);
+        compute_pass_record(cmd, trace, &push, tsize, local_2d);
         if (frames == 1)
             gpu_timer_mark(timer, cmd, "cloud_trace");
-        compute_pass_record(cmd, &cr->pass[P_RECONSTRUCT_0 + e->latest], &push, size, local);
+        compute_pass_record(cmd, &cr->pass[P_RECONSTRUCT_0 + e->latest], &push, size,
+                            local_2d);
         if (frames == 1)
             gpu_timer_mark(timer, cmd, "cloud_reconstruct");
         e->latest = 1 - e->latest;

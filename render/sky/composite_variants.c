@@ -6,8 +6,7 @@
 #include "vk_check.h"
 #include "vk_context.h"
 
-#include "composite_linear.spv.h"
-#include "composite_srgb.spv.h"
+#include "sky_shaders.h"
 #include "sky_shared.h"
 
 struct composite_variant {
@@ -25,11 +24,6 @@ struct composite_variants {
      * allocations (heaptrack, soak). 64 bits: never wraps back to a variant's stamp. */
     uint64_t generation;
 };
-
-#define PARAMS VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-#define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-#define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-#define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
 
 /* Flags that make no difference in a pipeline collapse onto one: from space every pixel is
  * marched (ground included) and the sun is drawn by the march; the night sky is always
@@ -88,20 +82,18 @@ const struct compute_pass *composite_variants_get(struct vk_context *ctx,
     if (v->created)
         return bound_pass(ctx, cv, v);
     bool linear = flags & COMPOSITE_LINEAR;
-    /* 0-7 the shading bindings; 8-11 exposure, output, then the clouds' effect over the sky
-     * and over the ground. */
     struct compute_pass_desc desc = {
         .name = (flags & COMPOSITE_SUN_REGION) ? "sun_disk" : "composite",
         .spirv = linear ? composite_linear_spv : composite_srgb_spv,
         .spirv_bytes = linear ? sizeof composite_linear_spv : sizeof composite_srgb_spv,
-        .binding_count = COMPOSITE_BINDING_COUNT,
-        .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_BUF, SAMPLED,
-                      STORAGE_BUF, STORAGE_IMG, SAMPLED, SAMPLED },
+        SKY_PASS_LAYOUT(SKY_LAYOUT_COMPOSITE),
         .push_constant_bytes = sizeof(struct sky_region_push),
-        .spec_count = 5,
-        .spec_values = { (flags & COMPOSITE_FROM_SPACE) != 0, (flags & COMPOSITE_SUN_REGION) != 0,
-                         (flags & COMPOSITE_NIGHT_SKY) != 0, (flags & COMPOSITE_CLOUDS) != 0,
-                         (flags & COMPOSITE_GROUND) != 0 },
+        .spec_count = SKY_CONST_GROUND + 1,
+        .spec_values = { [SKY_CONST_FROM_SPACE] = (flags & COMPOSITE_FROM_SPACE) != 0,
+                         [SKY_CONST_SUN_REGION] = (flags & COMPOSITE_SUN_REGION) != 0,
+                         [SKY_CONST_NIGHT_SKY] = (flags & COMPOSITE_NIGHT_SKY) != 0,
+                         [SKY_CONST_CLOUDS] = (flags & COMPOSITE_CLOUDS) != 0,
+                         [SKY_CONST_GROUND] = (flags & COMPOSITE_GROUND) != 0 },
     };
     VkResult result = compute_pass_create(ctx, &desc, &v->pass);
     if (result != VK_SUCCESS) {

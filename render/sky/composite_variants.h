@@ -1,5 +1,5 @@
 /* The composite pipelines: one SPIR-V per output kind, specialized by what a dispatch needs
- * (composite.comp constant_ids 0-4), so each pipeline carries only its own paths. lavapipe
+ * (composite.comp, the SKY_CONST_* of sky_layouts.h), so each pipeline carries only its own paths. lavapipe
  * executes both sides of every branch under a mask, so a uniform `if (no clouds) return` still
  * costs the clouds' work: leaving code out of the pipeline is the only way to skip it.
  * Pipelines are created at first use and bound to the resources last given. */
@@ -9,6 +9,7 @@
 #include <stdbool.h>
 
 #include "compute_pass.h"
+#include "sky_layouts.h"
 
 struct vk_context;
 
@@ -21,7 +22,7 @@ enum composite_flag {
     COMPOSITE_GROUND = 1 << 5,     /* some pixel of the dispatch may see the ground */
 };
 #define COMPOSITE_VARIANT_COUNT 64
-#define COMPOSITE_BINDING_COUNT 12
+#define COMPOSITE_BINDING_COUNT SKY_LAYOUT_COUNT(SKY_LAYOUT_COMPOSITE)
 
 struct composite_variants;
 

@@ -13,20 +13,11 @@
 #include "vk_context.h"
 #include "vk_resources.h"
 
-#include "aerial_perspective.spv.h"
-#include "exposure_resolve.spv.h"
-#include "irradiance.spv.h"
-#include "lut_blend.spv.h"
-#include "meter.spv.h"
-#include "multiscattering.spv.h"
-#include "probe.spv.h"
-#include "skyview.spv.h"
-#include "transmittance.spv.h"
+#include "sky_shaders.h"
 
 #define LUT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
 #define IRRADIANCE_SIZE 64
 #define METER_MAX_GRID 256
-#define COMPOSITE_LOCAL 8 /* composite.comp local size */
 
 /* Shading passes come in pairs: the camera inside the atmosphere, then above it (the same
  * SPIR-V specialized with FROM_SPACE, so each pipeline holds only its own path). */
@@ -83,60 +74,48 @@ struct sky_passes {
     struct sky_cloud_bindings clouds;
 };
 
-#define PARAMS VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-#define SAMPLED VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-#define STORAGE_IMG VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-#define STORAGE_BUF VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-/* 0-5 atmosphere and LUTs, 6-7 the night sky (stars, moonlit sky-view LUT). */
-#define SHADING_BINDINGS PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, SAMPLED, STORAGE_BUF, SAMPLED
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
-#define SHADING_PAIR(id, label, code, count, extra, push)                                 \
-    [id] = { .name = label, SPIRV(code), .binding_count = count,                          \
-             .bindings = { SHADING_BINDINGS, extra }, .push_constant_bytes = push },      \
-    [id##_SPACE] = { .name = label, SPIRV(code), .binding_count = count,                  \
-                     .bindings = { SHADING_BINDINGS, extra }, .push_constant_bytes = push,\
-                     .spec_count = 1, .spec_values = { 1 } }
-#define PAIR(...) __VA_ARGS__
+/* The camera inside the atmosphere, and above it (FROM_SPACE). */
+#define SHADING_PAIR(id, label, code, layout, push)                                       \
+    [id] = { .name = label, SPIRV(code), SKY_PASS_LAYOUT(layout), .push_constant_bytes = push }, \
+    [id##_SPACE] = { .name = label, SPIRV(code), SKY_PASS_LAYOUT(layout),                 \
+                     .push_constant_bytes = push, .spec_count = SKY_CONST_FROM_SPACE + 1,  \
+                     .spec_values = { [SKY_CONST_FROM_SPACE] = 1 } }
 #define BLEND_PASS(id, label)                                                             \
-    [id] = { .name = label, SPIRV(lut_blend_spv), .binding_count = 3,                     \
-             .bindings = { STORAGE_IMG, STORAGE_IMG, STORAGE_IMG },                      \
+    [id] = { .name = label, SPIRV(lut_blend_spv), SKY_PASS_LAYOUT(SKY_LAYOUT_LUT_BLEND),  \
              .push_constant_bytes = sizeof(struct sky_blend_push) }
 
 static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
     [PASS_TRANSMITTANCE] = { .name = "transmittance", SPIRV(transmittance_spv),
-                             .binding_count = 2, .bindings = { PARAMS, STORAGE_IMG },
+                             SKY_PASS_LAYOUT(SKY_LAYOUT_TRANSMITTANCE),
                              .push_constant_bytes = sizeof(struct sky_rows_push) },
     [PASS_MULTISCATTERING] = { .name = "multiscattering", SPIRV(multiscattering_spv),
-                               .binding_count = 3, .bindings = { PARAMS, SAMPLED, STORAGE_IMG },
+                               SKY_PASS_LAYOUT(SKY_LAYOUT_MULTISCATTERING),
                                .push_constant_bytes = sizeof(struct sky_rows_push) },
-    [PASS_IRRADIANCE] = { .name = "irradiance", SPIRV(irradiance_spv), .binding_count = 4,
-                          .bindings = { PARAMS, SAMPLED, SAMPLED, STORAGE_IMG } },
-    [PASS_SKYVIEW] = { .name = "skyview", SPIRV(skyview_spv), .binding_count = 6,
-                       .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG } },
-    [PASS_SKYVIEW_MOON] = { .name = "moon_skyview", SPIRV(skyview_spv), .binding_count = 6,
-                            .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, SAMPLED, STORAGE_IMG },
-                            .spec_count = 1, .spec_values = { 1 } },
+    [PASS_IRRADIANCE] = { .name = "irradiance", SPIRV(irradiance_spv),
+                          SKY_PASS_LAYOUT(SKY_LAYOUT_IRRADIANCE) },
+    [PASS_SKYVIEW] = { .name = "skyview", SPIRV(skyview_spv), SKY_PASS_LAYOUT(SKY_LAYOUT_SKYVIEW) },
+    [PASS_SKYVIEW_MOON] = { .name = "moon_skyview", SPIRV(skyview_spv),
+                            SKY_PASS_LAYOUT(SKY_LAYOUT_SKYVIEW),
+                            .spec_count = SKY_SKYVIEW_CONST_MOON_LIGHT + 1,
+                            .spec_values = { [SKY_SKYVIEW_CONST_MOON_LIGHT] = 1 } },
     [PASS_AERIAL_PERSPECTIVE] = { .name = "aerial_perspective", SPIRV(aerial_perspective_spv),
-                                  .binding_count = 9,
-                                  .bindings = { PARAMS, PARAMS, SAMPLED, SAMPLED, STORAGE_IMG,
-                                                STORAGE_IMG, STORAGE_IMG, SAMPLED, PARAMS } },
+                                  SKY_PASS_LAYOUT(SKY_LAYOUT_AERIAL_PERSPECTIVE) },
     [PASS_EXPOSURE_RESOLVE] = { .name = "exposure", SPIRV(exposure_resolve_spv),
-                                .binding_count = 3,
-                                .bindings = { PARAMS, STORAGE_BUF, STORAGE_BUF },
+                                SKY_PASS_LAYOUT(SKY_LAYOUT_EXPOSURE_RESOLVE),
                                 .push_constant_bytes = sizeof(struct sky_meter_push) },
-    SHADING_PAIR(PASS_METER, "meter", meter_spv, 9, STORAGE_BUF, sizeof(struct sky_meter_push)),
-    SHADING_PAIR(PASS_PROBE, "probe", probe_spv, 10, PAIR(STORAGE_BUF, STORAGE_BUF),
-                 sizeof(struct sky_probe_push)),
+    SHADING_PAIR(PASS_METER, "meter", meter_spv, SKY_LAYOUT_METER, sizeof(struct sky_meter_push)),
+    SHADING_PAIR(PASS_PROBE, "probe", probe_spv, SKY_LAYOUT_PROBE, sizeof(struct sky_probe_push)),
     BLEND_PASS(PASS_BLEND_TRANSMITTANCE, "lut_blend"),
     BLEND_PASS(PASS_BLEND_MULTISCATTERING, "lut_blend"),
     BLEND_PASS(PASS_BLEND_IRRADIANCE, "lut_blend"),
     BLEND_PASS(PASS_SAVE_TRANSMITTANCE, "lut_save"),
     BLEND_PASS(PASS_SAVE_MULTISCATTERING, "lut_save"),
     BLEND_PASS(PASS_SAVE_IRRADIANCE, "lut_save"),
-    [PASS_METER_DAY] = { .name = "meter", SPIRV(meter_spv), .binding_count = 9,
-                         .bindings = { SHADING_BINDINGS, STORAGE_BUF },
-                         .push_constant_bytes = sizeof(struct sky_meter_push), .spec_count = 3,
-                         .spec_values = { 0, 0, 0 } },
+    [PASS_METER_DAY] = { .name = "meter", SPIRV(meter_spv), SKY_PASS_LAYOUT(SKY_LAYOUT_METER),
+                         .push_constant_bytes = sizeof(struct sky_meter_push),
+                         .spec_count = SKY_CONST_NIGHT_SKY + 1,
+                         .spec_values = { [SKY_CONST_NIGHT_SKY] = 0 } },
 };
 
 /* The pass of a shading pair for the camera's situation. */
@@ -270,12 +249,31 @@ static void bind_pair(struct vk_context *ctx, struct sky_passes *p, enum pass_id
 static void bind_aerial_perspective(struct vk_context *ctx, struct sky_passes *p)
 {
     const struct sky_cloud_bindings *c = &p->ap_clouds;
-    struct compute_resource r[9] = {
-        buf(&p->atmosphere_params), buf(&p->frame_params), tex(p, &p->transmittance),
-        tex(p, &p->multiscattering), img(&p->ap_inscatter), img(&p->ap_transmittance),
-        img(&p->ap_shafts), { .image = c->shadow, .sampler = c->shadow_sampler }, buf(c->params),
+    struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_AERIAL_PERSPECTIVE)] = {
+        [SKY_AP_ATMOSPHERE] = buf(&p->atmosphere_params),
+        [SKY_AP_FRAME] = buf(&p->frame_params),
+        [SKY_AP_TRANSMITTANCE] = tex(p, &p->transmittance),
+        [SKY_AP_MULTISCATTERING] = tex(p, &p->multiscattering),
+        [SKY_AP_INSCATTER_OUT] = img(&p->ap_inscatter),
+        [SKY_AP_TRANSMITTANCE_OUT] = img(&p->ap_transmittance),
+        [SKY_AP_SHAFTS_OUT] = img(&p->ap_shafts),
+        [SKY_AP_CLOUD_SHADOW] = { .image = c->shadow, .sampler = c->shadow_sampler },
+        [SKY_AP_CLOUD] = buf(c->params),
     };
     compute_pass_bind(ctx, &p->pass[PASS_AERIAL_PERSPECTIVE], r);
+}
+
+/* Bindings 0-7 of the passes that shade view directions. */
+static void shading_resources(struct sky_passes *p, struct compute_resource *r)
+{
+    r[SKY_SHADING_ATMOSPHERE] = buf(&p->atmosphere_params);
+    r[SKY_SHADING_FRAME] = buf(&p->frame_params);
+    r[SKY_SHADING_TRANSMITTANCE] = tex(p, &p->transmittance);
+    r[SKY_SHADING_MULTISCATTERING] = tex(p, &p->multiscattering);
+    r[SKY_SHADING_SKYVIEW] = tex(p, &p->skyview);
+    r[SKY_SHADING_IRRADIANCE] = tex(p, &p->irradiance);
+    r[SKY_SHADING_STARS] = buf(&p->stars);
+    r[SKY_SHADING_MOON_SKYVIEW] = tex(p, &p->moon_skyview);
 }
 
 /* The composite passes alone: the clouds they sample change from view to view, while the
@@ -284,70 +282,84 @@ static void bind_composite(struct sky_passes *p)
 {
     if (!p->out)
         return;
-    struct compute_resource r[COMPOSITE_BINDING_COUNT] = {
-        buf(&p->atmosphere_params), buf(&p->frame_params), tex(p, &p->transmittance),
-        tex(p, &p->multiscattering), tex(p, &p->skyview), tex(p, &p->irradiance),
-        buf(&p->stars), tex(p, &p->moon_skyview),
-        buf(&p->exposure), img(&p->out->image), tex(p, p->clouds.over_sky),
-        tex(p, p->clouds.over_ground),
-    };
+    struct compute_resource r[COMPOSITE_BINDING_COUNT];
+    shading_resources(p, r);
+    r[SKY_COMPOSITE_EXPOSURE] = buf(&p->exposure);
+    r[SKY_COMPOSITE_OUT] = img(&p->out->image);
+    r[SKY_COMPOSITE_CLOUDS_OVER_SKY] = tex(p, p->clouds.over_sky);
+    r[SKY_COMPOSITE_CLOUDS_OVER_GROUND] = tex(p, p->clouds.over_ground);
     composite_variants_bind(p->composite, r);
 }
 
 /* Points every pass whose resources exist at them; called after any resource changes. */
 static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
 {
-    struct compute_resource r[COMPUTE_PASS_MAX_BINDINGS];
     /* Rebuilds write the build copy from the build atmosphere. */
-    r[0] = buf(&p->build_atmosphere_params);
-    r[1] = img(&p->build_transmittance);
-    compute_pass_bind(ctx, &p->pass[PASS_TRANSMITTANCE], r);
-    r[1] = tex(p, &p->build_transmittance);
-    r[2] = img(&p->build_multiscattering);
-    compute_pass_bind(ctx, &p->pass[PASS_MULTISCATTERING], r);
-    r[2] = tex(p, &p->build_multiscattering);
-    r[3] = img(&p->build_irradiance);
-    compute_pass_bind(ctx, &p->pass[PASS_IRRADIANCE], r);
+    struct compute_resource transmittance[SKY_LAYOUT_COUNT(SKY_LAYOUT_TRANSMITTANCE)] = {
+        [SKY_TRANSMITTANCE_ATMOSPHERE] = buf(&p->build_atmosphere_params),
+        [SKY_TRANSMITTANCE_OUT] = img(&p->build_transmittance),
+    };
+    compute_pass_bind(ctx, &p->pass[PASS_TRANSMITTANCE], transmittance);
+    struct compute_resource multiscattering[SKY_LAYOUT_COUNT(SKY_LAYOUT_MULTISCATTERING)] = {
+        [SKY_MULTISCATTERING_ATMOSPHERE] = buf(&p->build_atmosphere_params),
+        [SKY_MULTISCATTERING_TRANSMITTANCE] = tex(p, &p->build_transmittance),
+        [SKY_MULTISCATTERING_OUT] = img(&p->build_multiscattering),
+    };
+    compute_pass_bind(ctx, &p->pass[PASS_MULTISCATTERING], multiscattering);
+    struct compute_resource irradiance[SKY_LAYOUT_COUNT(SKY_LAYOUT_IRRADIANCE)] = {
+        [SKY_IRRADIANCE_ATMOSPHERE] = buf(&p->build_atmosphere_params),
+        [SKY_IRRADIANCE_TRANSMITTANCE] = tex(p, &p->build_transmittance),
+        [SKY_IRRADIANCE_MULTISCATTERING] = tex(p, &p->build_multiscattering),
+        [SKY_IRRADIANCE_OUT] = img(&p->build_irradiance),
+    };
+    compute_pass_bind(ctx, &p->pass[PASS_IRRADIANCE], irradiance);
     for (int which = 0; which < 3; which++) {
-        struct compute_resource blend[3] = { img(atmosphere_lut(p, 2, which)),
-                                             img(atmosphere_lut(p, 1, which)),
-                                             img(atmosphere_lut(p, 0, which)) };
+        struct compute_resource blend[SKY_LAYOUT_COUNT(SKY_LAYOUT_LUT_BLEND)] = {
+            [SKY_LUT_BLEND_FROM] = img(atmosphere_lut(p, 2, which)),
+            [SKY_LUT_BLEND_TO] = img(atmosphere_lut(p, 1, which)),
+            [SKY_LUT_BLEND_OUT] = img(atmosphere_lut(p, 0, which)),
+        };
         compute_pass_bind(ctx, &p->pass[PASS_BLEND_TRANSMITTANCE + which], blend);
-        struct compute_resource save[3] = { img(atmosphere_lut(p, 0, which)),
-                                            img(atmosphere_lut(p, 0, which)),
-                                            img(atmosphere_lut(p, 2, which)) };
+        struct compute_resource save[SKY_LAYOUT_COUNT(SKY_LAYOUT_LUT_BLEND)] = {
+            [SKY_LUT_BLEND_FROM] = img(atmosphere_lut(p, 0, which)),
+            [SKY_LUT_BLEND_TO] = img(atmosphere_lut(p, 0, which)),
+            [SKY_LUT_BLEND_OUT] = img(atmosphere_lut(p, 2, which)),
+        };
         compute_pass_bind(ctx, &p->pass[PASS_SAVE_TRANSMITTANCE + which], save);
     }
 
     /* Frames read the display copy. */
-    r[0] = buf(&p->atmosphere_params);
-    r[1] = buf(&p->frame_params);
-    r[2] = tex(p, &p->transmittance);
-    r[3] = tex(p, &p->multiscattering);
     bind_aerial_perspective(ctx, p);
-    r[4] = tex(p, &p->irradiance);
-    r[5] = img(&p->skyview);
-    compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW], r);
-    r[5] = img(&p->moon_skyview);
-    compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW_MOON], r);
+    struct compute_resource skyview[SKY_LAYOUT_COUNT(SKY_LAYOUT_SKYVIEW)] = {
+        [SKY_SKYVIEW_ATMOSPHERE] = buf(&p->atmosphere_params),
+        [SKY_SKYVIEW_FRAME] = buf(&p->frame_params),
+        [SKY_SKYVIEW_TRANSMITTANCE] = tex(p, &p->transmittance),
+        [SKY_SKYVIEW_MULTISCATTERING] = tex(p, &p->multiscattering),
+        [SKY_SKYVIEW_IRRADIANCE] = tex(p, &p->irradiance),
+        [SKY_SKYVIEW_OUT] = img(&p->skyview),
+    };
+    compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW], skyview);
+    skyview[SKY_SKYVIEW_OUT] = img(&p->moon_skyview);
+    compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW_MOON], skyview);
 
-    /* The shading passes share bindings 0-5. */
-    r[4] = tex(p, &p->skyview);
-    r[5] = tex(p, &p->irradiance);
-    r[6] = buf(&p->stars);
-    r[7] = tex(p, &p->moon_skyview);
-    r[8] = buf(&p->meter_partials);
+    struct compute_resource r[COMPUTE_PASS_MAX_BINDINGS];
+    shading_resources(p, r);
+    r[SKY_METER_PARTIALS] = buf(&p->meter_partials);
     bind_pair(ctx, p, PASS_METER, r);
     compute_pass_bind(ctx, &p->pass[PASS_METER_DAY], r);
     bind_composite(p);
     if (p->probe_in.buffer) {
-        r[8] = buf(&p->probe_in);
-        r[9] = buf(&p->probe_out);
+        shading_resources(p, r);
+        r[SKY_PROBE_IN] = buf(&p->probe_in);
+        r[SKY_PROBE_OUT] = buf(&p->probe_out);
         bind_pair(ctx, p, PASS_PROBE, r);
     }
 
-    struct compute_resource resolve[3] = { buf(&p->frame_params), buf(&p->meter_partials),
-                                           buf(&p->exposure) };
+    struct compute_resource resolve[SKY_LAYOUT_COUNT(SKY_LAYOUT_EXPOSURE_RESOLVE)] = {
+        [SKY_EXPOSURE_FRAME] = buf(&p->frame_params),
+        [SKY_EXPOSURE_PARTIALS] = buf(&p->meter_partials),
+        [SKY_EXPOSURE_OUT] = buf(&p->exposure),
+    };
     compute_pass_bind(ctx, &p->pass[PASS_EXPOSURE_RESOLVE], resolve);
 }
 
@@ -531,8 +543,8 @@ static void record(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *
 void sky_passes_atmosphere_slices(const struct sky_passes *p, uint32_t *transmittance_slices,
                                  uint32_t *multiscattering_slices)
 {
-    /* blocks of 64 texels */
-    *transmittance_slices = (p->transmittance.width * p->transmittance.height + 63) / 64;
+    *transmittance_slices = (p->transmittance.width * p->transmittance.height +
+                             SKY_TRANSMITTANCE_LOCAL - 1) / SKY_TRANSMITTANCE_LOCAL;
     *multiscattering_slices = p->multiscattering.width * p->multiscattering.height; /* texels */
 }
 
@@ -542,15 +554,15 @@ void sky_passes_record_build(struct sky_passes *p, VkCommandBuffer cmd, struct g
     struct sky_rows_push rows = { .row_offset = first_slice };
     switch (step) {
     case SKY_BUILD_TRANSMITTANCE:
-        /* a slice: a block of 64 texels */
+        /* a slice: a workgroup's block of SKY_TRANSMITTANCE_LOCAL texels */
         record(p, cmd, timer, PASS_TRANSMITTANCE, &rows, slice_count, 1, 1, 1, 1);
         break;
     case SKY_BUILD_MULTISCATTERING:
-        /* a slice: one texel, a workgroup of 64 sphere directions */
+        /* a slice: one texel, a workgroup of SKY_MULTISCATTERING_LOCAL sphere directions */
         record(p, cmd, timer, PASS_MULTISCATTERING, &rows, slice_count, 1, 1, 1, 1);
         break;
     case SKY_BUILD_IRRADIANCE:
-        record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, 8, 1);
+        record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, SKY_IRRADIANCE_LOCAL, 1);
         break;
     }
 }
@@ -562,7 +574,7 @@ static void record_lut_copies(struct sky_passes *p, VkCommandBuffer cmd, struct 
     const struct gpu_image *out[3] = { &p->transmittance, &p->multiscattering, &p->irradiance };
     for (int which = 0; which < 3; which++)
         record(p, cmd, timer, (enum pass_id)(first + which), &push, out[which]->width,
-               out[which]->height, 1, 8, 8);
+               out[which]->height, 1, SKY_LUT_BLEND_LOCAL, SKY_LUT_BLEND_LOCAL);
 }
 
 void sky_passes_record_save_display(struct sky_passes *p, VkCommandBuffer cmd,
@@ -592,10 +604,11 @@ void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
                                  struct gpu_timer *timer, bool skyview, bool moonlit_sky)
 {
     if (skyview)
-        record(p, cmd, timer, PASS_SKYVIEW, NULL, p->skyview.width, p->skyview.height, 1, 8, 8);
+        record(p, cmd, timer, PASS_SKYVIEW, NULL, p->skyview.width, p->skyview.height, 1,
+               SKY_SKYVIEW_LOCAL, SKY_SKYVIEW_LOCAL);
     if (skyview && moonlit_sky)
         record(p, cmd, timer, PASS_SKYVIEW_MOON, NULL, p->moon_skyview.width,
-               p->moon_skyview.height, 1, 8, 8);
+               p->moon_skyview.height, 1, SKY_SKYVIEW_LOCAL, SKY_SKYVIEW_LOCAL);
 }
 
 void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_passes *p,
@@ -611,7 +624,7 @@ void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_pas
         bind_aerial_perspective(ctx, p);
     }
     record(p, cmd, timer, PASS_AERIAL_PERSPECTIVE, NULL, p->ap_inscatter.width,
-           p->ap_inscatter.height, 1, 8, 8);
+           p->ap_inscatter.height, 1, SKY_AP_LOCAL, SKY_AP_LOCAL);
 }
 
 void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
@@ -649,7 +662,7 @@ static bool record_region(struct vk_context *ctx, struct sky_passes *p, VkComman
         .clouds = { clouds ? (float)clouds->width : 1.0f, clouds ? (float)clouds->height : 1.0f },
     };
     const uint32_t size[3] = { (uint32_t)rect[2], (uint32_t)rect[3], 1 };
-    const uint32_t local[3] = { COMPOSITE_LOCAL, COMPOSITE_LOCAL, 1 };
+    const uint32_t local[3] = { SKY_COMPOSITE_LOCAL, SKY_COMPOSITE_LOCAL, 1 };
     compute_pass_record(cmd, pass, &push, size, local);
     return true;
 }
@@ -704,7 +717,8 @@ void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct g
                              uint32_t mode, uint32_t count, bool from_space)
 {
     struct sky_probe_push push = { .count = count, .mode = mode };
-    record(p, cmd, timer, variant(PASS_PROBE, from_space), &push, count, 1, 1, 64, 1);
+    record(p, cmd, timer, variant(PASS_PROBE, from_space), &push, count, 1, 1, SKY_PROBE_LOCAL,
+           1);
     gpu_barrier_to_host(cmd);
 }
 

@@ -40,6 +40,7 @@
 #include "cloud_mc_reference.h"
 #include "cloud_params.h"
 #include "cloud_slab_selftest.spv.h"
+#include "cloud_layouts.h"
 #include "cloud_shared.h"
 #include "compute_pass.h"
 #include "test_support.h"
@@ -318,16 +319,13 @@ static bool harness_create(struct vk_context *ctx, const struct options *o, stru
 {
     memset(h, 0, sizeof *h);
     h->ctx = ctx;
-    const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                           cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     struct compute_pass_desc desc = {
         .name = "cloud_slab_selftest",
         .spirv = cloud_slab_selftest_spv,
         .spirv_bytes = sizeof cloud_slab_selftest_spv,
-        .binding_count = 14,
-        .bindings = { sb, sb, cis, cis, cis, sb, cis, cis, cis, cis, cis, sb, sb, sb },
-        .spec_count = 1,
-        .spec_values = { 0 }, /* MOONLIT false: no moon */
+        SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_SLAB),
+        .spec_count = SKY_CLOUD_CONST_MOONLIT + 1,
+        .spec_values = { [SKY_CLOUD_CONST_MOONLIT] = 0 }, /* no moon */
     };
     const VkFormat f = VK_FORMAT_R32G32B32A32_SFLOAT;
     h->ray_count = NCASE * rays_per_case(o);
@@ -366,21 +364,22 @@ static bool harness_create(struct vk_context *ctx, const struct options *o, stru
     CHECK(ok);
     if (!ok)
         return false;
-    struct compute_resource res[14] = {
-        { .buffer = &h->atmo },
-        { .buffer = &h->frame },
-        { .image = &h->transmittance, .sampler = h->sampler },
-        { .image = &h->multiscattering, .sampler = h->sampler },
-        { .image = &h->irradiance, .sampler = h->sampler },
-        { .buffer = &h->cloud },
-        { .image = &h->base, .sampler = h->sampler },
-        { .image = &h->detail, .sampler = h->sampler },
-        { .image = &h->curl, .sampler = h->sampler },
-        { .image = &h->weather, .sampler = h->sampler },
-        { .image = &h->skyview, .sampler = h->sampler },
-        { .buffer = &h->cases },
-        { .buffer = &h->rays },
-        { .buffer = &h->results },
+    VkSampler smp = h->sampler;
+    struct compute_resource res[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_SLAB)] = {
+        [SKY_CLOUD_MARCH_ATMOSPHERE] = { .buffer = &h->atmo },
+        [SKY_CLOUD_MARCH_FRAME] = { .buffer = &h->frame },
+        [SKY_CLOUD_MARCH_TRANSMITTANCE] = { .image = &h->transmittance, .sampler = smp },
+        [SKY_CLOUD_MARCH_MULTISCATTERING] = { .image = &h->multiscattering, .sampler = smp },
+        [SKY_CLOUD_MARCH_IRRADIANCE] = { .image = &h->irradiance, .sampler = smp },
+        [SKY_CLOUD_MARCH_CLOUD] = { .buffer = &h->cloud },
+        [SKY_CLOUD_MARCH_BASE_NOISE] = { .image = &h->base, .sampler = smp },
+        [SKY_CLOUD_MARCH_DETAIL_NOISE] = { .image = &h->detail, .sampler = smp },
+        [SKY_CLOUD_MARCH_CURL_NOISE] = { .image = &h->curl, .sampler = smp },
+        [SKY_CLOUD_MARCH_WEATHER] = { .image = &h->weather, .sampler = smp },
+        [SKY_CLOUD_MARCH_SKYVIEW] = { .image = &h->skyview, .sampler = smp },
+        [SKY_CLOUD_SLAB_CASES] = { .buffer = &h->cases },
+        [SKY_CLOUD_SLAB_RAYS] = { .buffer = &h->rays },
+        [SKY_CLOUD_SLAB_RESULTS] = { .buffer = &h->results },
     };
     compute_pass_bind(ctx, &h->pass, res);
 
@@ -490,7 +489,7 @@ static bool harness_run(struct harness *h, const struct sky_world_state *state,
     CHECK(r == VK_SUCCESS);
     if (r != VK_SUCCESS)
         return false;
-    const uint32_t size[3] = { h->ray_count, 1, 1 }, local[3] = { 64, 1, 1 };
+    const uint32_t size[3] = { h->ray_count, 1, 1 }, local[3] = { SKY_CLOUD_SLAB_LOCAL, 1, 1 };
     compute_pass_record(cmd, &h->pass, NULL, size, local);
     gpu_barrier_to_host(cmd);
     r = vk_context_submit_and_wait(h->ctx, &cmd);

@@ -6,22 +6,23 @@
 // low layer of uniform extinction. One invocation marches one ray (origin, direction, jitter)
 // of one case (deck, sun, phase, octaves) and writes the luminance per unit sun illuminance.
 #include "cloud_shared.h"
+#include "cloud_layouts.h"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = SKY_CLOUD_SLAB_LOCAL) in;
 
 // The declarations of cloud_bindings.glsl (which would include cloud_density.glsl).
-SKY_PARAMETER_BLOCK(0, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
-SKY_PARAMETER_BLOCK(1, FrameBlock, sky_frame_uniforms, frame);
-layout(binding = 2) uniform sampler2D transmittance_lut;
-layout(binding = 3) uniform sampler2D multiscattering_lut;
-layout(binding = 4) uniform sampler2D irradiance_lut;
-SKY_PARAMETER_BLOCK(5, CloudBlock, sky_cloud_uniforms, cloud);
-layout(binding = 6) uniform sampler3D base_noise;
-layout(binding = 7) uniform sampler3D detail_noise;
-layout(binding = 8) uniform sampler2D curl_noise;
-layout(binding = 9) uniform sampler2D weather_map;
-layout(binding = 10) uniform sampler2D skyview_lut;
-layout(constant_id = 0) const bool MOONLIT = true;
+SKY_PARAMETER_BLOCK(SKY_CLOUD_MARCH_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
+SKY_PARAMETER_BLOCK(SKY_CLOUD_MARCH_FRAME, FrameBlock, sky_frame_uniforms, frame);
+layout(binding = SKY_CLOUD_MARCH_TRANSMITTANCE) uniform sampler2D transmittance_lut;
+layout(binding = SKY_CLOUD_MARCH_MULTISCATTERING) uniform sampler2D multiscattering_lut;
+layout(binding = SKY_CLOUD_MARCH_IRRADIANCE) uniform sampler2D irradiance_lut;
+SKY_PARAMETER_BLOCK(SKY_CLOUD_MARCH_CLOUD, CloudBlock, sky_cloud_uniforms, cloud);
+layout(binding = SKY_CLOUD_MARCH_BASE_NOISE) uniform sampler3D base_noise;
+layout(binding = SKY_CLOUD_MARCH_DETAIL_NOISE) uniform sampler3D detail_noise;
+layout(binding = SKY_CLOUD_MARCH_CURL_NOISE) uniform sampler2D curl_noise;
+layout(binding = SKY_CLOUD_MARCH_WEATHER) uniform sampler2D weather_map;
+layout(binding = SKY_CLOUD_MARCH_SKYVIEW) uniform sampler2D skyview_lut;
+layout(constant_id = SKY_CLOUD_CONST_MOONLIT) const bool MOONLIT = true;
 
 // One case: the deck, the sun and the cloud parameters that the comparison varies.
 struct SlabCase {
@@ -35,9 +36,12 @@ struct SlabRay {
     vec4 origin;
     vec4 direction;
 };
-layout(std430, binding = 11) readonly buffer Cases { SlabCase cases[]; };
-layout(std430, binding = 12) readonly buffer Rays { uvec4 ray_count; SlabRay rays[]; };
-layout(std430, binding = 13) writeonly buffer Results { float luminance[]; };
+layout(std430, binding = SKY_CLOUD_SLAB_CASES) readonly buffer Cases { SlabCase cases[]; };
+layout(std430, binding = SKY_CLOUD_SLAB_RAYS) readonly buffer Rays {
+    uvec4 ray_count;
+    SlabRay rays[];
+};
+layout(std430, binding = SKY_CLOUD_SLAB_RESULTS) writeonly buffer Results { float luminance[]; };
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT

@@ -1,0 +1,129 @@
+/* The interfaces of the atmosphere, sky and composite passes (render/sky/), declared once for
+ * their shaders and for render/sky/sky_passes.c and composite_variants.c: binding indices,
+ * specialization-constant ids, workgroup sizes and each pass's layout (pass_layout.h). */
+#ifndef SKY_LAYOUTS_H
+#define SKY_LAYOUTS_H
+
+#include "pass_layout.h"
+
+/* ---- atmosphere LUTs ---- */
+
+/* transmittance.comp: a workgroup covers a block of SKY_TRANSMITTANCE_LOCAL texels. */
+#define SKY_TRANSMITTANCE_LOCAL 64
+#define SKY_TRANSMITTANCE_ATMOSPHERE 0
+#define SKY_TRANSMITTANCE_OUT 1
+#define SKY_LAYOUT_TRANSMITTANCE(X) X(SKY_TRANSMITTANCE_ATMOSPHERE, BLOCK) X(SKY_TRANSMITTANCE_OUT, IMAGE)
+
+/* multiscattering.comp: a workgroup is one texel, SKY_MULTISCATTERING_LOCAL sphere directions. */
+#define SKY_MULTISCATTERING_LOCAL 64
+#define SKY_MULTISCATTERING_ATMOSPHERE 0
+#define SKY_MULTISCATTERING_TRANSMITTANCE 1
+#define SKY_MULTISCATTERING_OUT 2
+#define SKY_LAYOUT_MULTISCATTERING(X)                                                     \
+    X(SKY_MULTISCATTERING_ATMOSPHERE, BLOCK) X(SKY_MULTISCATTERING_TRANSMITTANCE, SAMPLED)  \
+    X(SKY_MULTISCATTERING_OUT, IMAGE)
+
+/* irradiance.comp */
+#define SKY_IRRADIANCE_LOCAL 8
+#define SKY_IRRADIANCE_ATMOSPHERE 0
+#define SKY_IRRADIANCE_TRANSMITTANCE 1
+#define SKY_IRRADIANCE_MULTISCATTERING 2
+#define SKY_IRRADIANCE_OUT 3
+#define SKY_LAYOUT_IRRADIANCE(X)                                                          \
+    X(SKY_IRRADIANCE_ATMOSPHERE, BLOCK) X(SKY_IRRADIANCE_TRANSMITTANCE, SAMPLED)            \
+    X(SKY_IRRADIANCE_MULTISCATTERING, SAMPLED) X(SKY_IRRADIANCE_OUT, IMAGE)
+
+/* lut_blend.comp: out = mix(from, to, weight), per texel. */
+#define SKY_LUT_BLEND_LOCAL 8
+#define SKY_LUT_BLEND_FROM 0
+#define SKY_LUT_BLEND_TO 1
+#define SKY_LUT_BLEND_OUT 2
+#define SKY_LAYOUT_LUT_BLEND(X)                                                           \
+    X(SKY_LUT_BLEND_FROM, IMAGE) X(SKY_LUT_BLEND_TO, IMAGE) X(SKY_LUT_BLEND_OUT, IMAGE)
+
+/* ---- per-view LUTs ---- */
+
+/* skyview.comp; MOON_LIGHT: the same LUT lit by the moon. */
+#define SKY_SKYVIEW_LOCAL 8
+#define SKY_SKYVIEW_ATMOSPHERE 0
+#define SKY_SKYVIEW_FRAME 1
+#define SKY_SKYVIEW_TRANSMITTANCE 2
+#define SKY_SKYVIEW_MULTISCATTERING 3
+#define SKY_SKYVIEW_IRRADIANCE 4
+#define SKY_SKYVIEW_OUT 5
+#define SKY_SKYVIEW_CONST_MOON_LIGHT 0
+#define SKY_LAYOUT_SKYVIEW(X)                                                             \
+    X(SKY_SKYVIEW_ATMOSPHERE, BLOCK) X(SKY_SKYVIEW_FRAME, BLOCK)                            \
+    X(SKY_SKYVIEW_TRANSMITTANCE, SAMPLED) X(SKY_SKYVIEW_MULTISCATTERING, SAMPLED)           \
+    X(SKY_SKYVIEW_IRRADIANCE, SAMPLED) X(SKY_SKYVIEW_OUT, IMAGE)
+
+/* aerial_perspective.comp: the froxel volumes, with the clouds' shadow map and block. */
+#define SKY_AP_LOCAL 8
+#define SKY_AP_ATMOSPHERE 0
+#define SKY_AP_FRAME 1
+#define SKY_AP_TRANSMITTANCE 2
+#define SKY_AP_MULTISCATTERING 3
+#define SKY_AP_INSCATTER_OUT 4
+#define SKY_AP_TRANSMITTANCE_OUT 5
+#define SKY_AP_SHAFTS_OUT 6
+#define SKY_AP_CLOUD_SHADOW 7
+#define SKY_AP_CLOUD 8
+#define SKY_LAYOUT_AERIAL_PERSPECTIVE(X)                                                  \
+    X(SKY_AP_ATMOSPHERE, BLOCK) X(SKY_AP_FRAME, BLOCK) X(SKY_AP_TRANSMITTANCE, SAMPLED)     \
+    X(SKY_AP_MULTISCATTERING, SAMPLED) X(SKY_AP_INSCATTER_OUT, IMAGE)                       \
+    X(SKY_AP_TRANSMITTANCE_OUT, IMAGE) X(SKY_AP_SHAFTS_OUT, IMAGE)                          \
+    X(SKY_AP_CLOUD_SHADOW, SAMPLED) X(SKY_AP_CLOUD, BLOCK)
+
+/* ---- passes that shade view directions (shading_bindings.glsl) ---- */
+
+/* Bindings 0-7 of the composite, meter and probe passes. */
+#define SKY_SHADING_ATMOSPHERE 0
+#define SKY_SHADING_FRAME 1
+#define SKY_SHADING_TRANSMITTANCE 2
+#define SKY_SHADING_MULTISCATTERING 3
+#define SKY_SHADING_SKYVIEW 4
+#define SKY_SHADING_IRRADIANCE 5
+#define SKY_SHADING_STARS 6
+#define SKY_SHADING_MOON_SKYVIEW 7
+#define SKY_LAYOUT_SHADING(X)                                                             \
+    X(SKY_SHADING_ATMOSPHERE, BLOCK) X(SKY_SHADING_FRAME, BLOCK)                            \
+    X(SKY_SHADING_TRANSMITTANCE, SAMPLED) X(SKY_SHADING_MULTISCATTERING, SAMPLED)           \
+    X(SKY_SHADING_SKYVIEW, SAMPLED) X(SKY_SHADING_IRRADIANCE, SAMPLED)                      \
+    X(SKY_SHADING_STARS, BUFFER) X(SKY_SHADING_MOON_SKYVIEW, SAMPLED)
+/* Their specialization: the camera above the atmosphere, the composite's sun-disk region, the
+ * night sky, and the composite's clouds and ground. */
+#define SKY_CONST_FROM_SPACE 0
+#define SKY_CONST_SUN_REGION 1
+#define SKY_CONST_NIGHT_SKY 2
+#define SKY_CONST_CLOUDS 3
+#define SKY_CONST_GROUND 4
+
+/* meter.comp: auto-exposure partial sums over a grid (SKY_METER_LOCAL in sky_shared.h). */
+#define SKY_METER_PARTIALS 8
+#define SKY_LAYOUT_METER(X) SKY_LAYOUT_SHADING(X) X(SKY_METER_PARTIALS, BUFFER)
+
+/* exposure_resolve.comp */
+#define SKY_EXPOSURE_LOCAL 64
+#define SKY_EXPOSURE_FRAME 0
+#define SKY_EXPOSURE_PARTIALS 1
+#define SKY_EXPOSURE_OUT 2
+#define SKY_LAYOUT_EXPOSURE_RESOLVE(X)                                                    \
+    X(SKY_EXPOSURE_FRAME, BLOCK) X(SKY_EXPOSURE_PARTIALS, BUFFER) X(SKY_EXPOSURE_OUT, BUFFER)
+
+/* probe.comp: one direction (or transmittance query) per invocation. */
+#define SKY_PROBE_LOCAL 64
+#define SKY_PROBE_IN 8
+#define SKY_PROBE_OUT 9
+#define SKY_LAYOUT_PROBE(X) SKY_LAYOUT_SHADING(X) X(SKY_PROBE_IN, BUFFER) X(SKY_PROBE_OUT, BUFFER)
+
+/* composite.comp: the frame from the LUTs, the exposure and the clouds' reconstruction. */
+#define SKY_COMPOSITE_LOCAL 8
+#define SKY_COMPOSITE_EXPOSURE 8
+#define SKY_COMPOSITE_OUT 9
+#define SKY_COMPOSITE_CLOUDS_OVER_SKY 10
+#define SKY_COMPOSITE_CLOUDS_OVER_GROUND 11
+#define SKY_LAYOUT_COMPOSITE(X)                                                           \
+    SKY_LAYOUT_SHADING(X) X(SKY_COMPOSITE_EXPOSURE, BUFFER) X(SKY_COMPOSITE_OUT, IMAGE)     \
+    X(SKY_COMPOSITE_CLOUDS_OVER_SKY, SAMPLED) X(SKY_COMPOSITE_CLOUDS_OVER_GROUND, SAMPLED)
+
+#endif
