@@ -1,4 +1,4 @@
-#include "sky_passes.h"
+#include "sky_passes_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -15,69 +15,11 @@
 
 #include "sky_shaders.h"
 
-#define LUT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
-#define IRRADIANCE_SIZE 64
-#define METER_MAX_GRID 256
-
-/* Shading passes come in pairs: the camera inside the atmosphere, then above it (the same
- * SPIR-V specialized with FROM_SPACE, so each pipeline holds only its own path). */
-enum pass_id {
-    PASS_TRANSMITTANCE,
-    PASS_MULTISCATTERING,
-    PASS_IRRADIANCE,
-    PASS_SKYVIEW,
-    PASS_SKYVIEW_MOON, /* the same LUT lit by the moon (night sky) */
-    PASS_AERIAL_PERSPECTIVE,
-    PASS_EXPOSURE_RESOLVE,
-    PASS_METER,
-    PASS_METER_SPACE,
-    PASS_PROBE,
-    PASS_PROBE_SPACE,
-    /* display = mix(previous, build, weight), one per atmosphere LUT; then the same shader
-     * saving the display into previous (weight 0). */
-    PASS_BLEND_TRANSMITTANCE,
-    PASS_BLEND_MULTISCATTERING,
-    PASS_BLEND_IRRADIANCE,
-    PASS_SAVE_TRANSMITTANCE,
-    PASS_SAVE_MULTISCATTERING,
-    PASS_SAVE_IRRADIANCE,
-    /* Inside the atmosphere without the night sky (NIGHT_SKY, constant_id 2, false): frames
-     * where it adds nothing visible (night_sky_visible) skip its cost. */
-    PASS_METER_DAY,
-    PASS_COUNT
-};
-
-struct sky_passes {
-    VkSampler sampler;
-    struct compute_pass pass[PASS_COUNT];
-    struct composite_variants *composite;
-    /* The atmosphere LUTs exist three times: what frames read (display), what a rebuild
-     * writes (build, from build_atmosphere_params), and the display saved when a rebuild starts
-     * (previous), which the display blends away from when the build completes. */
-    struct gpu_image transmittance, multiscattering, irradiance, skyview;
-    struct gpu_image build_transmittance, build_multiscattering, build_irradiance;
-    struct gpu_image previous_transmittance, previous_multiscattering, previous_irradiance;
-    struct gpu_image ap_inscatter, ap_transmittance;
-    struct gpu_image ap_shafts; /* in-scattering the clouds' shadows take away (light shafts) */
-    struct sky_cloud_bindings ap_clouds; /* the clouds (shadow map, block) the AP pass reads */
-    struct gpu_image moon_skyview;
-    struct gpu_buffer stars; /* night_shared.h layout */
-    double brightest_star_lux;
-    struct gpu_buffer atmosphere_params, build_atmosphere_params, frame_params;
-    struct gpu_buffer exposure, meter_partials;
-    struct view_outputs outputs;
-    struct view_output *out; /* the output image and readback buffer of the view being drawn */
-    struct gpu_buffer probe_in, probe_out;
-    size_t probe_capacity;
-    struct sky_meter_push meter;
-    double metered_ev100;
-    struct sky_cloud_bindings clouds;
-};
-
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
 /* The camera inside the atmosphere, and above it (FROM_SPACE). */
 #define SHADING_PAIR(id, label, code, layout, push)                                       \
-    [id] = { .name = label, SPIRV(code), SKY_PASS_LAYOUT(layout), .push_constant_bytes = push }, \
+    [id] = { .name = label, SPIRV(code), SKY_PASS_LAYOUT(layout),                         \
+             .push_constant_bytes = push },                                               \
     [id##_SPACE] = { .name = label, SPIRV(code), SKY_PASS_LAYOUT(layout),                 \
                      .push_constant_bytes = push, .spec_count = SKY_CONST_FROM_SPACE + 1,  \
                      .spec_values = { [SKY_CONST_FROM_SPACE] = 1 } }
@@ -117,12 +59,6 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
                          .spec_count = SKY_CONST_NIGHT_SKY + 1,
                          .spec_values = { [SKY_CONST_NIGHT_SKY] = 0 } },
 };
-
-/* The pass of a shading pair for the camera's situation. */
-static enum pass_id variant(enum pass_id inside, bool from_space)
-{
-    return from_space ? (enum pass_id)(inside + 1) : inside;
-}
 
 static bool format_supports(struct vk_context *ctx, VkFormat format, VkFormatFeatureFlags need)
 {
@@ -246,7 +182,7 @@ static void bind_pair(struct vk_context *ctx, struct sky_passes *p, enum pass_id
 }
 
 /* The aerial-perspective pass, with p->ap_clouds' shadow map and cloud block. */
-static void bind_aerial_perspective(struct vk_context *ctx, struct sky_passes *p)
+void sky_passes_bind_aerial_perspective(struct vk_context *ctx, struct sky_passes *p)
 {
     const struct sky_cloud_bindings *c = &p->ap_clouds;
     struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_AERIAL_PERSPECTIVE)] = {
@@ -278,7 +214,7 @@ static void shading_resources(struct sky_passes *p, struct compute_resource *r)
 
 /* The composite passes alone: the clouds they sample change from view to view, while the
  * passes recorded before them in a frame must keep their bindings. */
-static void bind_composite(struct sky_passes *p)
+void sky_passes_bind_composite(struct sky_passes *p)
 {
     if (!p->out)
         return;
@@ -329,7 +265,7 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     }
 
     /* Frames read the display copy. */
-    bind_aerial_perspective(ctx, p);
+    sky_passes_bind_aerial_perspective(ctx, p);
     struct compute_resource skyview[SKY_LAYOUT_COUNT(SKY_LAYOUT_SKYVIEW)] = {
         [SKY_SKYVIEW_ATMOSPHERE] = buf(&p->atmosphere_params),
         [SKY_SKYVIEW_FRAME] = buf(&p->frame_params),
@@ -347,7 +283,7 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
     r[SKY_METER_PARTIALS] = buf(&p->meter_partials);
     bind_pair(ctx, p, PASS_METER, r);
     compute_pass_bind(ctx, &p->pass[PASS_METER_DAY], r);
-    bind_composite(p);
+    sky_passes_bind_composite(p);
     if (p->probe_in.buffer) {
         shading_resources(p, r);
         r[SKY_PROBE_IN] = buf(&p->probe_in);
@@ -485,7 +421,7 @@ int sky_passes_prepare_output(struct vk_context *ctx, struct sky_passes *p, uint
                                                    linear ? 16 : 4, now_s, &created);
     if (out != p->out || created) {
         p->out = out;
-        bind_composite(p); /* the only passes that use the output */
+        sky_passes_bind_composite(p); /* the only passes that use the output */
     }
     return out ? 0 : -1;
 }
@@ -528,198 +464,6 @@ void sky_passes_upload_build_atmosphere(struct sky_passes *p,
 void sky_passes_upload_frame(struct sky_passes *p, const struct sky_frame_uniforms *u)
 {
     memcpy(p->frame_params.mapped, u, sizeof *u);
-}
-
-static void record(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
-                   enum pass_id id, const void *push, uint32_t sx, uint32_t sy, uint32_t sz,
-                   uint32_t lx, uint32_t ly)
-{
-    const uint32_t size[3] = { sx, sy, sz };
-    const uint32_t local[3] = { lx, ly, 1 };
-    compute_pass_record(cmd, &p->pass[id], push, size, local);
-    gpu_timer_mark(timer, cmd, p->pass[id].name);
-}
-
-void sky_passes_atmosphere_slices(const struct sky_passes *p, uint32_t *transmittance_slices,
-                                 uint32_t *multiscattering_slices)
-{
-    *transmittance_slices = (p->transmittance.width * p->transmittance.height +
-                             SKY_TRANSMITTANCE_LOCAL - 1) / SKY_TRANSMITTANCE_LOCAL;
-    *multiscattering_slices = p->multiscattering.width * p->multiscattering.height; /* texels */
-}
-
-void sky_passes_record_build(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
-                             enum sky_build_step step, uint32_t first_slice, uint32_t slice_count)
-{
-    struct sky_rows_push rows = { .row_offset = first_slice };
-    switch (step) {
-    case SKY_BUILD_TRANSMITTANCE:
-        /* a slice: a workgroup's block of SKY_TRANSMITTANCE_LOCAL texels */
-        record(p, cmd, timer, PASS_TRANSMITTANCE, &rows, slice_count, 1, 1, 1, 1);
-        break;
-    case SKY_BUILD_MULTISCATTERING:
-        /* a slice: one texel, a workgroup of SKY_MULTISCATTERING_LOCAL sphere directions */
-        record(p, cmd, timer, PASS_MULTISCATTERING, &rows, slice_count, 1, 1, 1, 1);
-        break;
-    case SKY_BUILD_IRRADIANCE:
-        record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, SKY_IRRADIANCE_LOCAL, 1);
-        break;
-    }
-}
-
-static void record_lut_copies(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
-                              enum pass_id first, float weight)
-{
-    struct sky_blend_push push = { .weight = weight };
-    const struct gpu_image *out[3] = { &p->transmittance, &p->multiscattering, &p->irradiance };
-    for (int which = 0; which < 3; which++)
-        record(p, cmd, timer, (enum pass_id)(first + which), &push, out[which]->width,
-               out[which]->height, 1, SKY_LUT_BLEND_LOCAL, SKY_LUT_BLEND_LOCAL);
-}
-
-void sky_passes_record_save_display(struct sky_passes *p, VkCommandBuffer cmd,
-                                    struct gpu_timer *timer)
-{
-    record_lut_copies(p, cmd, timer, PASS_SAVE_TRANSMITTANCE, 0.0f);
-}
-
-void sky_passes_record_blend(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
-                             float weight)
-{
-    record_lut_copies(p, cmd, timer, PASS_BLEND_TRANSMITTANCE, weight);
-}
-
-void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
-                                  struct gpu_timer *timer)
-{
-    uint32_t transmittance_blocks, multiscattering_texels;
-    sky_passes_atmosphere_slices(p, &transmittance_blocks, &multiscattering_texels);
-    sky_passes_record_build(p, cmd, timer, SKY_BUILD_TRANSMITTANCE, 0, transmittance_blocks);
-    sky_passes_record_build(p, cmd, timer, SKY_BUILD_MULTISCATTERING, 0, multiscattering_texels);
-    sky_passes_record_build(p, cmd, timer, SKY_BUILD_IRRADIANCE, 0, 1);
-    sky_passes_record_blend(p, cmd, timer, 1.0f);
-}
-
-void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer, bool skyview, bool moonlit_sky)
-{
-    if (skyview)
-        record(p, cmd, timer, PASS_SKYVIEW, NULL, p->skyview.width, p->skyview.height, 1,
-               SKY_SKYVIEW_LOCAL, SKY_SKYVIEW_LOCAL);
-    if (skyview && moonlit_sky)
-        record(p, cmd, timer, PASS_SKYVIEW_MOON, NULL, p->moon_skyview.width,
-               p->moon_skyview.height, 1, SKY_SKYVIEW_LOCAL, SKY_SKYVIEW_LOCAL);
-}
-
-void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_passes *p,
-                                          VkCommandBuffer cmd, struct gpu_timer *timer,
-                                          const struct sky_cloud_bindings *clouds)
-{
-    /* Nothing of this command buffer uses the AP pass's set yet: it may follow the clouds.
-     * Only the shadow map and the block matter to it, not the view's cloud image. */
-    if (p->ap_clouds.shadow != clouds->shadow ||
-        p->ap_clouds.shadow_sampler != clouds->shadow_sampler ||
-        p->ap_clouds.params != clouds->params) {
-        p->ap_clouds = *clouds;
-        bind_aerial_perspective(ctx, p);
-    }
-    record(p, cmd, timer, PASS_AERIAL_PERSPECTIVE, NULL, p->ap_inscatter.width,
-           p->ap_inscatter.height, 1, SKY_AP_LOCAL, SKY_AP_LOCAL);
-}
-
-void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
-                                struct gpu_timer *timer, uint32_t width, uint32_t height,
-                                bool from_space, bool night_sky)
-{
-    /* About one sample per 16x16 pixels (a log average of a smooth sky needs few), at most
-     * METER_MAX_GRID^2 so the partials fit. */
-    uint32_t gw = (width + 15) / 16, gh = (height + 15) / 16;
-    if (gw > METER_MAX_GRID)
-        gw = METER_MAX_GRID;
-    if (gh > METER_MAX_GRID)
-        gh = METER_MAX_GRID;
-    p->meter = (struct sky_meter_push){
-        .grid_width = gw,
-        .grid_height = gh,
-        .group_count = ((gw + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL) *
-                       ((gh + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL),
-    };
-    enum pass_id meter = night_sky || from_space ? variant(PASS_METER, from_space) : PASS_METER_DAY;
-    record(p, cmd, timer, meter, &p->meter, gw, gh, 1, SKY_METER_LOCAL, SKY_METER_LOCAL);
-    record(p, cmd, timer, PASS_EXPOSURE_RESOLVE, &p->meter, 1, 1, 1, 1, 1);
-}
-
-/* One composite dispatch over `rect` (x0, y0, w, h); false when its pipeline is missing. */
-static bool record_region(struct vk_context *ctx, struct sky_passes *p, VkCommandBuffer cmd,
-                          unsigned flags, const int32_t rect[4])
-{
-    const struct compute_pass *pass = composite_variants_get(ctx, p->composite, flags);
-    if (!pass)
-        return false;
-    const struct gpu_image *clouds = p->clouds.over_sky;
-    struct sky_region_push push = {
-        .rect = { rect[0], rect[1], rect[2], rect[3] },
-        .clouds = { clouds ? (float)clouds->width : 1.0f, clouds ? (float)clouds->height : 1.0f },
-    };
-    const uint32_t size[3] = { (uint32_t)rect[2], (uint32_t)rect[3], 1 };
-    const uint32_t local[3] = { SKY_COMPOSITE_LOCAL, SKY_COMPOSITE_LOCAL, 1 };
-    compute_pass_record(cmd, pass, &push, size, local);
-    return true;
-}
-
-int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p,
-                                VkCommandBuffer cmd, struct gpu_timer *timer,
-                                const struct sky_composite_job *job)
-{
-    unsigned base = (job->kind == SKY_RENDER_OUTPUT_LINEAR ? COMPOSITE_LINEAR : 0) |
-                    (job->clouds ? COMPOSITE_CLOUDS : 0);
-    unsigned main_flags = base | (job->night_sky ? COMPOSITE_NIGHT_SKY : 0);
-    int32_t w = (int32_t)p->out->image.width, h = (int32_t)p->out->image.height;
-    bool ok = true;
-    if (job->from_space) {
-        const int32_t full[4] = { 0, 0, w, h };
-        ok = record_region(ctx, p, cmd, main_flags | COMPOSITE_FROM_SPACE, full);
-    } else {
-        /* The rows that may see the ground get the ground's work; the rest go without it. */
-        int32_t g0 = h, g1 = h;
-        if (job->ground_rows)
-            g0 = (int32_t)job->ground_rows[0], g1 = (int32_t)job->ground_rows[1];
-        const int32_t above[4] = { 0, 0, w, g0 }, ground[4] = { 0, g0, w, g1 - g0 };
-        const int32_t below[4] = { 0, g1, w, h - g1 };
-        if (above[3] > 0)
-            ok = ok && record_region(ctx, p, cmd, main_flags, above);
-        if (ground[3] > 0)
-            ok = ok && record_region(ctx, p, cmd, main_flags | COMPOSITE_GROUND, ground);
-        if (below[3] > 0)
-            ok = ok && record_region(ctx, p, cmd, main_flags, below);
-    }
-    gpu_timer_mark(timer, cmd, "composite");
-    /* The sun's box is rewritten with the sun included, so the main pass never carries the
-     * disk's cost; the moon's likewise (always with the night sky: the moon shows by day). */
-    unsigned disc = base | COMPOSITE_SUN_REGION | COMPOSITE_GROUND;
-    if (!job->from_space && job->sun_rect) {
-        ok = ok && record_region(ctx, p, cmd, disc | (job->night_sky ? COMPOSITE_NIGHT_SKY : 0),
-                                 job->sun_rect);
-        gpu_timer_mark(timer, cmd, "sun_disk");
-    }
-    if (!job->from_space && job->moon_rect) {
-        ok = ok && record_region(ctx, p, cmd, disc | COMPOSITE_NIGHT_SKY, job->moon_rect);
-        gpu_timer_mark(timer, cmd, "moon_disk");
-    }
-    gpu_barrier_compute_to_transfer(cmd);
-    gpu_copy_image_to_buffer(cmd, &p->out->image, &p->out->readback);
-    gpu_barrier_to_host(cmd);
-    gpu_timer_mark(timer, cmd, "readback");
-    return ok ? 0 : -1;
-}
-
-void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
-                             uint32_t mode, uint32_t count, bool from_space)
-{
-    struct sky_probe_push push = { .count = count, .mode = mode };
-    record(p, cmd, timer, variant(PASS_PROBE, from_space), &push, count, 1, 1, SKY_PROBE_LOCAL,
-           1);
-    gpu_barrier_to_host(cmd);
 }
 
 void sky_passes_copy_output(const struct sky_passes *p, void *pixels, size_t bytes)
@@ -814,5 +558,5 @@ void sky_passes_bind_clouds(struct sky_passes *p, const struct sky_cloud_binding
     if (memcmp(&p->clouds, clouds, sizeof *clouds) == 0)
         return;
     p->clouds = *clouds;
-    bind_composite(p);
+    sky_passes_bind_composite(p);
 }

@@ -1,0 +1,198 @@
+#include "cloud_renderer_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "cloud_params.h"
+#include "gpu_timer.h"
+#include "vk_context.h"
+
+/* ---- per-view trace and reconstruction ---- */
+
+/* Order in which the pixels of a block are traced: a 4x4 Bayer matrix (and its 2x2 corner),
+ * so that consecutive frames land far apart. */
+static void block_offset(int block, uint32_t frame, int *x, int *y)
+{
+    static const int bayer4[16] = { 0, 10, 2, 8, 5, 15, 7, 13, 1, 11, 3, 9, 4, 14, 6, 12 };
+    static const int bayer2[4] = { 0, 3, 1, 2 };
+    int count = block * block;
+    int i = block == 4 ? bayer4[frame % 16] : block == 2 ? bayer2[frame % 4] : 0;
+    (void)count;
+    *x = i % block;
+    *y = i / block;
+}
+
+static void copy4(float dst[4], sky_vec4 v)
+{
+    dst[0] = v.x, dst[1] = v.y, dst[2] = v.z, dst[3] = v.w;
+}
+
+static sky_vec4 vec4_of(const float v[4])
+{
+    return (sky_vec4){ v[0], v[1], v[2], v[3] };
+}
+
+/* Internal frames a new history accumulates before its first image is shown, so that one-off
+ * renders come out converged: about two samples per pixel (four for the half-size image),
+ * at least four frames. */
+static int frames_for_new_history(enum sky_render_cloud_resolution resolution)
+{
+    switch (resolution) {
+    case SKY_RENDER_CLOUDS_FULL: return 4;
+    case SKY_RENDER_CLOUDS_QUARTER: return 8;
+    case SKY_RENDER_CLOUDS_SIXTEENTH: return 32;
+    default: return 64;
+    }
+}
+
+/* Rows [first, end) of the cloud image that the output's ground rows sample (bilinear: two
+ * taps per output row); left as they are when there are none. */
+static void cloud_ground_rows(const struct cloud_frame *f, uint32_t cloud_height, uint32_t rows[2])
+{
+    if (!f->ground_rows)
+        return;
+    double scale = (double)cloud_height / f->height;
+    double first = floor((f->ground_rows[0] + 0.5) * scale - 0.5);
+    double last = floor((f->ground_rows[1] - 0.5) * scale - 0.5) + 1.0;
+    first = fmax(first, 0.0);
+    last = fmin(last, cloud_height - 1.0);
+    if (last < first)
+        return;
+    rows[0] = (uint32_t)first;
+    rows[1] = (uint32_t)last + 1;
+}
+
+static void record_resolve_rows(VkCommandBuffer cmd, struct compute_pass *pass, uint32_t width,
+                                uint32_t height, uint32_t first, uint32_t end)
+{
+    if (end <= first)
+        return;
+    struct sky_cloud_rows_push push = { .row_offset = first,
+                                        .size = { (float)width, (float)height } };
+    const uint32_t size[3] = { width, end - first, 1 };
+    compute_pass_record(cmd, pass, &push, size, local_2d);
+}
+
+/* The clouds' effect on the final image from the latest reconstruction (cloud_resolve.comp):
+ * the rows that may see the ground with the ground's part, the rest without it. */
+static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
+                           struct gpu_timer *timer, const struct cloud_frame *f,
+                           struct cloud_history_entry *e)
+{
+    const struct sky_pass_resources *s = &f->sky;
+    struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_RESOLVE)] = {
+        [SKY_CLOUD_RESOLVE_ATMOSPHERE] = buf(s->atmosphere_params),
+        [SKY_CLOUD_RESOLVE_FRAME] = buf(s->frame_params),
+        [SKY_CLOUD_RESOLVE_TRANSMITTANCE] = tex(s->transmittance, s->sampler),
+        [SKY_CLOUD_RESOLVE_IRRADIANCE] = tex(s->irradiance, s->sampler),
+        [SKY_CLOUD_RESOLVE_CLOUD] = buf(&cr->params),
+        [SKY_CLOUD_RESOLVE_ENV] = buf(&cr->env),
+        [SKY_CLOUD_RESOLVE_SHADOW] = tex(shown(cr, &cr->shadow), cr->repeat),
+        [SKY_CLOUD_RESOLVE_AP_SHAFTS] = tex(s->ap_shafts, s->sampler),
+        [SKY_CLOUD_RESOLVE_CLOUD_COLOR] = tex(&e->color[e->latest], s->sampler),
+        [SKY_CLOUD_RESOLVE_SKY_OUT] = img(&e->over_sky),
+        [SKY_CLOUD_RESOLVE_GROUND_OUT] = img(&e->over_ground),
+    };
+    compute_pass_bind(ctx, &cr->pass[P_RESOLVE], r);
+    compute_pass_bind(ctx, &cr->pass[P_RESOLVE_GROUND], r);
+    uint32_t w = e->over_sky.width, h = e->over_sky.height, ground[2] = { h, h };
+    cloud_ground_rows(f, h, ground);
+    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, h, 0, ground[0]);
+    record_resolve_rows(cmd, &cr->pass[P_RESOLVE_GROUND], w, h, ground[0], ground[1]);
+    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, h, ground[1], h);
+    gpu_timer_mark(timer, cmd, cr->pass[P_RESOLVE].name);
+}
+
+/* Within about a degree: reprojection keeps nearly all of a history. */
+static bool same_direction(const float a[4], const sky_vec4 b)
+{
+    return a[0] * b.x + a[1] * b.y + a[2] * b.z > 0.99985f;
+}
+
+int cloud_view_record(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
+                      struct gpu_timer *timer, const struct cloud_frame *f,
+                      struct sky_cloud_bindings *out)
+{
+    const struct sky_render_clouds *c = &cr->clouds;
+    int block = cloud_params_block(c->resolution);
+    uint32_t scale = (uint32_t)cloud_params_downscale(c->resolution);
+    uint32_t width = (f->width + scale - 1) / scale, height = (f->height + scale - 1) / scale;
+    struct cloud_history_entry *e =
+        cloud_history_acquire(ctx, &cr->history, f->history_key, width, height, block, f->now_s);
+    if (!e)
+        return -1;
+    struct compute_pass *trace = &cr->pass[P_TRACE + moonlit(f)];
+    struct compute_resource tr[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_TRACE)];
+    cloud_march_resources(cr, f, tr);
+    tr[SKY_CLOUD_TRACE_COLOR_OUT] = img(&e->trace_color);
+    tr[SKY_CLOUD_TRACE_DEPTH_OUT] = img(&e->trace_depth);
+    tr[SKY_CLOUD_TRACE_AP_INSCATTER] = tex(f->sky.ap_inscatter, f->sky.sampler);
+    tr[SKY_CLOUD_TRACE_AP_TRANSMITTANCE] = tex(f->sky.ap_transmittance, f->sky.sampler);
+    compute_pass_bind(ctx, trace, tr);
+    for (int i = 0; i < 2; i++) {
+        VkSampler smp = f->sky.sampler;
+        struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_RECONSTRUCT)] = {
+            [SKY_CLOUD_RECONSTRUCT_FRAME] = buf(f->sky.frame_params),
+            [SKY_CLOUD_RECONSTRUCT_TRACE_COLOR] = tex(&e->trace_color, smp),
+            [SKY_CLOUD_RECONSTRUCT_TRACE_DEPTH] = tex(&e->trace_depth, smp),
+            [SKY_CLOUD_RECONSTRUCT_HISTORY_COLOR] = tex(&e->color[i], smp),
+            [SKY_CLOUD_RECONSTRUCT_HISTORY_AUX] = tex(&e->aux[i], smp),
+            [SKY_CLOUD_RECONSTRUCT_COLOR_OUT] = img(&e->color[1 - i]),
+            [SKY_CLOUD_RECONSTRUCT_AUX_OUT] = img(&e->aux[1 - i]),
+        };
+        compute_pass_bind(ctx, &cr->pass[P_RECONSTRUCT_0 + i], r);
+    }
+    /* A one-off view comes out converged: it starts over when its history shows other clouds
+     * than it would now (a history shared by views at different times, such as snapshots). */
+    uint32_t look = cr->params_generation + cr->weather.generation + cr->shadow.generation;
+    if (!f->live && e->valid &&
+        (e->look != look || e->prev_up[3] != f->frame->camera_up.w ||
+         !same_direction(e->prev_forward, f->frame->camera_forward)))
+        e->valid = false;
+    e->look = look;
+    int frames = (!e->valid && c->temporal && !f->live) ? frames_for_new_history(c->resolution)
+                                                         : 1;
+    static const float min_weight[5] = { 0, 0.08f, 0.15f, 0, 0.25f };
+    const uint32_t tsize[3] = { e->trace_color.width, e->trace_color.height, 1 };
+    const uint32_t size[3] = { width, height, 1 };
+    for (int k = 0; k < frames; k++) {
+        struct sky_cloud_view_push push;
+        memset(&push, 0, sizeof push);
+        int ox, oy;
+        block_offset(block, e->frame, &ox, &oy);
+        push.frame = (sky_ivec4){ (int32_t)e->frame, block, ox, oy };
+        push.target = (sky_ivec4){ (int32_t)width, (int32_t)height, (int32_t)e->prev_up[3], 0 };
+        if (e->valid) {
+            push.prev_forward = vec4_of(e->prev_forward);
+            push.prev_right = vec4_of(e->prev_right);
+            push.prev_up = vec4_of(e->prev_up);
+            push.prev_up.w = 1.0f;
+            push.motion.x = (float)(c->wind_offset_east_km - e->prev_wind[0]);
+            push.motion.y = (float)(c->wind_offset_north_km - e->prev_wind[1]);
+        }
+        push.motion.z = min_weight[block];
+        push.motion.w = c->temporal ? 1.0f : 0.0f;
+        compute_pass_record(cmd, trace, &push, tsize, local_2d);
+        if (frames == 1)
+            gpu_timer_mark(timer, cmd, "cloud_trace");
+        compute_pass_record(cmd, &cr->pass[P_RECONSTRUCT_0 + e->latest], &push, size,
+                            local_2d);
+        if (frames == 1)
+            gpu_timer_mark(timer, cmd, "cloud_reconstruct");
+        e->latest = 1 - e->latest;
+        e->valid = true;
+        e->frame++;
+        copy4(e->prev_forward, f->frame->camera_forward);
+        copy4(e->prev_right, f->frame->camera_right);
+        copy4(e->prev_up, f->frame->camera_up);
+        e->prev_wind[0] = c->wind_offset_east_km;
+        e->prev_wind[1] = c->wind_offset_north_km;
+    }
+    if (frames > 1)
+        gpu_timer_mark(timer, cmd, "cloud_accumulate");
+    record_resolve(ctx, cr, cmd, timer, f, e);
+    out->over_sky = &e->over_sky;
+    out->over_ground = &e->over_ground;
+    out->over_filled = e->use.filled;
+    return 0;
+}
