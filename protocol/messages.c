@@ -1,5 +1,6 @@
 #include "messages.h"
 #include "message_names.h"
+#include "message_parser.h"
 
 #include <cjson/cJSON.h>
 
@@ -10,11 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#if defined(__GNUC__)
-#define PRINTF_LIKE(format_index, first_arg) __attribute__((format(printf, format_index, first_arg)))
-#else
-#define PRINTF_LIKE(format_index, first_arg)
-#endif
 
 _Static_assert((int)SKY_MSG_ERR_UNKNOWN_FIELD == (int)SKY_FIELD_UNKNOWN, "shared code");
 _Static_assert((int)SKY_MSG_ERR_WRONG_TYPE == (int)SKY_FIELD_WRONG_TYPE, "shared code");
@@ -24,8 +20,6 @@ _Static_assert((int)SKY_MSG_ERR_INCONSISTENT == (int)SKY_FIELD_INCONSISTENT, "sh
 _Static_assert(SKY_MSG_POINTER_MAX == sizeof(((struct sky_field_error *)NULL)->pointer),
                "pointer capacity");
 
-#define COUNT_OF(array) (sizeof(array) / sizeof((array)[0]))
-#define REASON_MAX sizeof(((struct sky_field_error *)NULL)->reason)
 
 /* ---- constant tables -------------------------------------------------------------------- */
 
@@ -75,8 +69,6 @@ const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES] = {[SKY_FRAME_FORMA
 const char *const sky_msg_projection_names[SKY_MSG_PROJECTION_NAMES] = {
     [SKY_VIEW_PROJECTION_PERSPECTIVE] = "perspective",
     [SKY_VIEW_PROJECTION_EQUIRECTANGULAR] = "equirectangular"};
-static const char *const weather_map_format_names[] = {[SKY_WEATHER_MAP_RGBA8] = "rgba8",
-                                                        [SKY_WEATHER_MAP_PNG] = "png"};
 
 /* Fields of each client message after "type" and "id". */
 static const char *const hello_fields[] = {"client", "protocol"};
@@ -89,13 +81,8 @@ static const char *const probe_fields[] = {"quantity",         "altitude_km",   
                                            "sun_zenith_deg"};
 static const char *const list_presets_fields[] = {"kind"};
 static const char *const apply_preset_fields[] = {"kind", "name", "transition_s"};
-static const char *const view_fields[] = {"camera", "width",  "height",    "fps",
-                                          "exposure", "format", "projection"};
-static const char *const camera_fields[] = {"altitude_km", "yaw_deg", "pitch_deg", "fov_deg"};
-static const char *const exposure_fields[] = {"mode", "ev100", "compensation_ev"};
 static const char *const weather_map_fields[] = {"format", "data", "width", "height"};
 
-#define MAX_MEMBERS 8
 
 /* Probe parameters, in probe_fields order after "quantity". */
 static const struct {
@@ -149,28 +136,7 @@ const char *const *sky_msg_default_capabilities(size_t *count)
     return capabilities;
 }
 
-static int find_name(const char *const *names, size_t count, const char *name)
-{
-    for (size_t i = 0; i < count; i++) {
-        if (names[i] && strcmp(names[i], name) == 0)
-            return (int)i;
-    }
-    return -1;
-}
 
-static void join_names(const char *const *names, size_t count, char *out, size_t capacity)
-{
-    size_t used = 0;
-    out[0] = '\0';
-    for (size_t i = 0; i < count; i++) {
-        if (!names[i])
-            continue;
-        int written = snprintf(out + used, capacity - used, "%s%s", used ? ", " : "", names[i]);
-        if (written < 0 || (size_t)written >= capacity - used)
-            return;
-        used += (size_t)written;
-    }
-}
 
 bool sky_msg_preset_name_is_valid(const char *name)
 {
@@ -243,305 +209,48 @@ static size_t nul_offset(const char *text, size_t length)
     return nul ? (size_t)(nul - text) : length;
 }
 
-/* "a/b" -> "a~1b" (RFC 6901), appended to parent after a '/'; truncated to fit. */
-static void child_pointer(char *out, const char *parent, const char *name)
-{
-    size_t used = (size_t)snprintf(out, SKY_MSG_POINTER_MAX, "%s/", parent);
-    for (const char *c = name; *c && used + 3 < SKY_MSG_POINTER_MAX; c++) {
-        if (*c == '~' || *c == '/') {
-            out[used++] = '~';
-            out[used++] = *c == '~' ? '0' : '1';
-        } else {
-            out[used++] = *c;
-        }
-    }
-    out[used < SKY_MSG_POINTER_MAX ? used : SKY_MSG_POINTER_MAX - 1] = '\0';
-}
 
 /* ---- parsing ---------------------------------------------------------------------------- */
-
-struct parser {
-    const struct sky_msg_limits *limits;
-    struct sky_msg_parse_error *error;
-    cJSON *root;
-    size_t length; /* of the message text */
-};
-
-PRINTF_LIKE(4, 5)
-static void fail(struct parser *p, enum sky_msg_error_code code, const char *pointer,
-                 const char *format, ...)
-{
-    va_list args;
-    va_start(args, format);
-    sky_field_errors_vaddf(&p->error->fields, (int)code, pointer, format, args);
-    va_end(args);
-}
-
-/* Splits an object's members by name into found[] (index into names); reports unknown and
- * duplicate members. */
-static void collect(struct parser *p, const cJSON *object, const char *pointer,
-                    const char *const *names, size_t count, const cJSON **found)
-{
-    for (size_t i = 0; i < count; i++)
-        found[i] = NULL;
-    for (const cJSON *member = object->child; member; member = member->next) {
-        char member_pointer[SKY_MSG_POINTER_MAX];
-        child_pointer(member_pointer, pointer, member->string);
-        int index = find_name(names, count, member->string);
-        if (index < 0) {
-            char expected[REASON_MAX];
-            join_names(names, count, expected, sizeof expected);
-            fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, member_pointer, "unknown field; expected one of: %s",
-                 expected);
-        } else if (found[index]) {
-            fail(p, SKY_MSG_ERR_BAD_VALUE, member_pointer, "duplicate field");
-        } else {
-            found[index] = member;
-        }
-    }
-}
-
-static bool require(struct parser *p, const cJSON *item, const char *pointer)
-{
-    if (item)
-        return true;
-    fail(p, SKY_MSG_ERR_MISSING_FIELD, pointer, "required");
-    return false;
-}
-
-static bool read_number(struct parser *p, const cJSON *item, const char *pointer, double min,
-                        double max, double *out)
-{
-    if (!cJSON_IsNumber(item)) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a number, got %s", sky_json_type_name(item));
-        return false;
-    }
-    double value = item->valuedouble;
-    if (!isfinite(value) || value < min || value > max) {
-        fail(p, SKY_MSG_ERR_OUT_OF_RANGE, pointer, "must be in [%.15g, %.15g], got %.15g", min,
-             max, value);
-        return false;
-    }
-    *out = value;
-    return true;
-}
-
-static bool read_integer(struct parser *p, const cJSON *item, const char *pointer, int64_t min,
-                         int64_t max, int64_t *out)
-{
-    double value;
-    if (!read_number(p, item, pointer, (double)min, (double)max, &value))
-        return false;
-    if (value != floor(value)) {
-        fail(p, SKY_MSG_ERR_BAD_VALUE, pointer, "must be an integer, got %.15g", value);
-        return false;
-    }
-    *out = (int64_t)value;
-    return true;
-}
-
-static bool read_string(struct parser *p, const cJSON *item, const char *pointer, size_t min,
-                        size_t max, char *out)
-{
-    if (!cJSON_IsString(item)) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a string, got %s", sky_json_type_name(item));
-        return false;
-    }
-    size_t length = strlen(item->valuestring);
-    if (length < min || length > max) {
-        fail(p, SKY_MSG_ERR_OUT_OF_RANGE, pointer, "must be %zu to %zu bytes long, got %zu", min,
-             max, length);
-        return false;
-    }
-    memcpy(out, item->valuestring, length + 1);
-    return true;
-}
-
-static int read_enum(struct parser *p, const cJSON *item, const char *pointer,
-                     const char *const *names, size_t count)
-{
-    char expected[REASON_MAX];
-    join_names(names, count, expected, sizeof expected);
-    if (!cJSON_IsString(item)) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected one of: %s, got %s", expected,
-             sky_json_type_name(item));
-        return -1;
-    }
-    int index = find_name(names, count, item->valuestring);
-    if (index < 0)
-        fail(p, SKY_MSG_ERR_BAD_VALUE, pointer, "expected one of: %s, got \"%.64s\"", expected,
-             item->valuestring);
-    return index;
-}
-
-/* A camera or exposure number, optional, with the world-state schema's range. */
-static void read_schema_number(struct parser *p, const cJSON *item, const char *pointer,
-                               const char *schema_path, bool *has, double *out)
-{
-    const struct sky_field_desc *field = sky_world_state_find_field(schema_path);
-    double min = field ? field->min : -DBL_MAX, max = field ? field->max : DBL_MAX;
-    if (item)
-        *has = read_number(p, item, pointer, min, max, out);
-}
 
 static void parse_id(struct parser *p, const cJSON *item, struct sky_msg_id *id)
 {
     if (cJSON_IsString(item)) {
-        if (read_string(p, item, "/id", 1, SKY_MSG_ID_MAX, id->text))
+        if (parser_read_string(p, item, "/id", 1, SKY_MSG_ID_MAX, id->text))
             id->kind = SKY_MSG_ID_STRING;
     } else if (cJSON_IsNumber(item)) {
-        if (read_integer(p, item, "/id", -SKY_MSG_MAX_SAFE_INTEGER, SKY_MSG_MAX_SAFE_INTEGER,
-                         &id->number))
+        if (parser_read_integer(p, item, "/id", -SKY_MSG_MAX_SAFE_INTEGER, SKY_MSG_MAX_SAFE_INTEGER,
+                                &id->number))
             id->kind = SKY_MSG_ID_INTEGER;
     } else {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, "/id", "expected a string or an integer, got %s",
-             sky_json_type_name(item));
-    }
-}
-
-static void parse_view(struct parser *p, const cJSON *object, const char *pointer,
-                       struct sky_msg_view *view)
-{
-    if (!cJSON_IsObject(object)) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected an object, got %s", sky_json_type_name(object));
-        return;
-    }
-    const cJSON *found[MAX_MEMBERS];
-    char at[SKY_MSG_POINTER_MAX];
-    collect(p, object, pointer, view_fields, COUNT_OF(view_fields), found);
-    int64_t size;
-    child_pointer(at, pointer, "width");
-    if (require(p, found[1], at) && read_integer(p, found[1], at, 1, p->limits->max_width, &size))
-        view->width = (uint32_t)size;
-    child_pointer(at, pointer, "height");
-    if (require(p, found[2], at) && read_integer(p, found[2], at, 1, p->limits->max_height, &size))
-        view->height = (uint32_t)size;
-    view->fps = p->limits->max_fps < 10 ? p->limits->max_fps : 10;
-    child_pointer(at, pointer, "fps");
-    if (found[3] && cJSON_IsNumber(found[3]) && !(found[3]->valuedouble > 0))
-        fail(p, SKY_MSG_ERR_OUT_OF_RANGE, at, "must be greater than 0, got %.15g",
-             found[3]->valuedouble);
-    else if (found[3])
-        read_number(p, found[3], at, 0, p->limits->max_fps, &view->fps);
-    view->format = SKY_FRAME_FORMAT_PNG;
-    child_pointer(at, pointer, "format");
-    if (found[5]) {
-        int format = read_enum(p, found[5], at, sky_msg_format_names, COUNT_OF(sky_msg_format_names));
-        view->format = format > 0 ? (enum sky_frame_format)format : 0;
-    }
-    view->projection = SKY_VIEW_PROJECTION_PERSPECTIVE;
-    child_pointer(at, pointer, "projection");
-    if (found[6]) {
-        int projection = read_enum(p, found[6], at, sky_msg_projection_names,
-                                   COUNT_OF(sky_msg_projection_names));
-        view->projection = projection > 0 ? (enum sky_view_projection)projection
-                                          : SKY_VIEW_PROJECTION_PERSPECTIVE;
-    }
-    /* A panorama covers 360 x 180 degrees with square pixels. */
-    if (view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR && view->width &&
-        view->height && view->width != 2 * view->height) {
-        child_pointer(at, pointer, "width");
-        fail(p, SKY_MSG_ERR_INCONSISTENT, at,
-             "an equirectangular view is 2:1: width must be twice the height (%u), got %u",
-             view->height, view->width);
-    }
-
-    char group[SKY_MSG_POINTER_MAX];
-    const cJSON *members[MAX_MEMBERS];
-    child_pointer(group, pointer, "camera");
-    if (found[0] && !cJSON_IsObject(found[0])) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, group, "expected an object, got %s", sky_json_type_name(found[0]));
-    } else if (found[0]) {
-        collect(p, found[0], group, camera_fields, COUNT_OF(camera_fields), members);
-        bool *has[] = {&view->has_altitude_km, &view->has_yaw_deg, &view->has_pitch_deg,
-                       &view->has_fov_deg};
-        double *value[] = {&view->altitude_km, &view->yaw_deg, &view->pitch_deg, &view->fov_deg};
-        for (size_t i = 0; i < COUNT_OF(camera_fields); i++) {
-            char schema_path[64];
-            snprintf(schema_path, sizeof schema_path, "camera.%s", camera_fields[i]);
-            child_pointer(at, group, camera_fields[i]);
-            read_schema_number(p, members[i], at, schema_path, has[i], value[i]);
-        }
-    }
-    child_pointer(group, pointer, "exposure");
-    if (found[4] && !cJSON_IsObject(found[4])) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, group, "expected an object, got %s", sky_json_type_name(found[4]));
-    } else if (found[4]) {
-        collect(p, found[4], group, exposure_fields, COUNT_OF(exposure_fields), members);
-        const struct sky_field_desc *mode = sky_world_state_find_field("exposure.mode");
-        child_pointer(at, group, "mode");
-        if (members[0] && mode) {
-            int index = read_enum(p, members[0], at, mode->enum_names, (size_t)mode->enum_count);
-            view->has_exposure_mode = index >= 0;
-            view->exposure_mode = index >= 0 ? (enum sky_exposure_mode)index : 0;
-        }
-        child_pointer(at, group, "ev100");
-        read_schema_number(p, members[1], at, "exposure.ev100", &view->has_ev100, &view->ev100);
-        child_pointer(at, group, "compensation_ev");
-        read_schema_number(p, members[2], at, "exposure.compensation_ev",
-                           &view->has_compensation_ev, &view->compensation_ev);
+        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/id", "expected a string or an integer, got %s",
+                    sky_json_type_name(item));
     }
 }
 
 static void parse_probe(struct parser *p, const cJSON **found, struct sky_msg_probe *probe)
 {
     int quantity = -1;
-    if (require(p, found[0], "/quantity"))
-        quantity = read_enum(p, found[0], "/quantity", sky_msg_quantity_names, COUNT_OF(sky_msg_quantity_names));
+    if (parser_require(p, found[0], "/quantity"))
+        quantity = parser_read_enum(p, found[0], "/quantity", sky_msg_quantity_names,
+                                    COUNT_OF(sky_msg_quantity_names));
     if (quantity >= 0)
         probe->quantity = (enum sky_probe_quantity)quantity;
     for (size_t i = 0; i < COUNT_OF(probe_params); i++) {
         char at[SKY_MSG_POINTER_MAX];
-        child_pointer(at, "", probe_fields[i + 1]);
+        msg_child_pointer(at, "", probe_fields[i + 1]);
         const cJSON *item = found[i + 1];
         double *value = (double *)((char *)probe + probe_params[i].offset);
         bool used = quantity >= 0 && (probe_params[i].used_by & (1u << quantity));
         if (quantity >= 0 && !used && item)
-            fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, at, "not a parameter of %s", sky_msg_quantity_names[quantity]);
+            parser_fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, at, "not a parameter of %s",
+                        sky_msg_quantity_names[quantity]);
         else if (quantity >= 0 && used && !item)
-            fail(p, SKY_MSG_ERR_MISSING_FIELD, at, "required for %s", sky_msg_quantity_names[quantity]);
-        else if (item && !read_number(p, item, at, probe_params[i].min, probe_params[i].max, value))
+            parser_fail(p, SKY_MSG_ERR_MISSING_FIELD, at, "required for %s",
+                        sky_msg_quantity_names[quantity]);
+        else if (item && !parser_read_number(p, item, at, probe_params[i].min, probe_params[i].max,
+                                             value))
             *value = 0;
     }
-}
-
-/* format, data (base64), and width and height (required for rgba8, checked for png). */
-static void parse_weather_map(struct parser *p, const cJSON **found, struct sky_weather_map *map)
-{
-    int format = -1;
-    if (require(p, found[0], "/format"))
-        format = read_enum(p, found[0], "/format", weather_map_format_names,
-                           COUNT_OF(weather_map_format_names));
-    int64_t side[2] = {0, 0};
-    const char *side_pointers[2] = {"/width", "/height"};
-    for (int i = 0; i < 2; i++) {
-        const cJSON *item = found[2 + i];
-        if (format == SKY_WEATHER_MAP_RGBA8 && !require(p, item, side_pointers[i]))
-            continue;
-        if (item)
-            read_integer(p, item, side_pointers[i], 1, SKY_WEATHER_MAP_MAX_SIDE, &side[i]);
-    }
-    if (!require(p, found[1], "/data"))
-        return;
-    if (!cJSON_IsString(found[1])) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, "/data", "expected a base64 string, got %s",
-             sky_json_type_name(found[1]));
-        return;
-    }
-    if (p->error->fields.total > 0 || format < 0)
-        return;
-    char reason[REASON_MAX];
-    uint8_t *bytes;
-    size_t length;
-    if (!sky_base64_decode(found[1]->valuestring, strlen(found[1]->valuestring), &bytes, &length,
-                           reason, sizeof reason)) {
-        fail(p, SKY_MSG_ERR_BAD_VALUE, "/data", "%s", reason);
-        return;
-    }
-    if (!sky_weather_map_decode((enum sky_weather_map_format)format, bytes, length,
-                                (uint32_t)side[0], (uint32_t)side[1], map, reason, sizeof reason))
-        fail(p, SKY_MSG_ERR_BAD_VALUE, "/data", "%s", reason);
-    free(bytes);
 }
 
 static void parse_fields(struct parser *p, const cJSON **found, struct sky_client_msg *msg)
@@ -552,24 +261,26 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
     case SKY_MSG_HELLO:
         if (found[0])
             msg->hello.has_client =
-                read_string(p, found[0], "/client", 0, SKY_MSG_CLIENT_MAX, msg->hello.client);
-        if (found[1] && read_integer(p, found[1], "/protocol", 1, INT32_MAX, &number)) {
+                parser_read_string(p, found[0], "/client", 0, SKY_MSG_CLIENT_MAX,
+                                   msg->hello.client);
+        if (found[1] && parser_read_integer(p, found[1], "/protocol", 1, INT32_MAX, &number)) {
             if (number != SKY_PROTOCOL_VERSION)
-                fail(p, SKY_MSG_ERR_UNSUPPORTED_PROTOCOL, "/protocol",
-                     "this server speaks protocol %d, got %d", SKY_PROTOCOL_VERSION, (int)number);
+                parser_fail(p, SKY_MSG_ERR_UNSUPPORTED_PROTOCOL, "/protocol",
+                            "this server speaks protocol %d, got %d", SKY_PROTOCOL_VERSION,
+                            (int)number);
             msg->hello.protocol = (int)number;
         }
         break;
     case SKY_MSG_AUTH:
-        if (require(p, found[0], "/token"))
-            read_string(p, found[0], "/token", 1, SKY_MSG_TOKEN_MAX, msg->auth.token);
+        if (parser_require(p, found[0], "/token"))
+            parser_read_string(p, found[0], "/token", 1, SKY_MSG_TOKEN_MAX, msg->auth.token);
         break;
     case SKY_MSG_SET:
-        if (!require(p, found[0], "/patch"))
+        if (!parser_require(p, found[0], "/patch"))
             break;
         if (!cJSON_IsObject(found[0])) {
-            fail(p, SKY_MSG_ERR_WRONG_TYPE, "/patch", "expected an object, got %s",
-                 sky_json_type_name(found[0]));
+            parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/patch", "expected an object, got %s",
+                        sky_json_type_name(found[0]));
         } else if (sky_msg_validate_patch(found[0], "/patch", &p->error->fields) &&
                    p->error->fields.total == 0) {
             msg->set.patch = cJSON_DetachItemViaPointer(p->root, (cJSON *)found[0]);
@@ -577,12 +288,12 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
         break;
     case SKY_MSG_SUBSCRIBE:
     case SKY_MSG_SNAPSHOT:
-        if (require(p, found[0], "/view"))
-            parse_view(p, found[0], "/view", &msg->view);
+        if (parser_require(p, found[0], "/view"))
+            msg_parse_view(p, found[0], "/view", &msg->view);
         break;
     case SKY_MSG_UNSUBSCRIBE:
-        if (require(p, found[0], "/subscription") &&
-            read_integer(p, found[0], "/subscription", 1, SKY_MSG_MAX_SAFE_INTEGER, &number))
+        if (parser_require(p, found[0], "/subscription") &&
+            parser_read_integer(p, found[0], "/subscription", 1, SKY_MSG_MAX_SAFE_INTEGER, &number))
             msg->unsubscribe.subscription = (uint64_t)number;
         break;
     case SKY_MSG_PROBE:
@@ -590,28 +301,29 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
         break;
     case SKY_MSG_LIST_PRESETS:
     case SKY_MSG_APPLY_PRESET:
-        if (require(p, found[0], "/kind") &&
-            (index = read_enum(p, found[0], "/kind", sky_msg_preset_kind_names,
-                               COUNT_OF(sky_msg_preset_kind_names))) >= 0)
+        if (parser_require(p, found[0], "/kind") &&
+            (index = parser_read_enum(p, found[0], "/kind", sky_msg_preset_kind_names,
+                                      COUNT_OF(sky_msg_preset_kind_names))) >= 0)
             msg->preset.kind = (enum sky_preset_kind)index;
-        if (msg->type == SKY_MSG_LIST_PRESETS || !require(p, found[1], "/name"))
+        if (msg->type == SKY_MSG_LIST_PRESETS || !parser_require(p, found[1], "/name"))
             break;
         if (!cJSON_IsString(found[1]))
-            fail(p, SKY_MSG_ERR_WRONG_TYPE, "/name", "expected a string, got %s",
-                 sky_json_type_name(found[1]));
+            parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/name", "expected a string, got %s",
+                        sky_json_type_name(found[1]));
         else if (!sky_msg_preset_name_is_valid(found[1]->valuestring))
-            fail(p, SKY_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
+            parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
         else
             memcpy(msg->preset.name, found[1]->valuestring, strlen(found[1]->valuestring) + 1);
         if (found[2] && index >= 0 && msg->preset.kind != SKY_PRESET_WEATHER)
-            fail(p, SKY_MSG_ERR_BAD_VALUE, "/transition_s", "only weather presets have a transition");
+            parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/transition_s",
+                        "only weather presets have a transition");
         else if (found[2])
             msg->preset.has_transition =
-                read_number(p, found[2], "/transition_s", 0, SKY_MSG_MAX_TRANSITION_S,
-                            &msg->preset.transition_s);
+                parser_read_number(p, found[2], "/transition_s", 0, SKY_MSG_MAX_TRANSITION_S,
+                                   &msg->preset.transition_s);
         break;
     case SKY_MSG_SET_WEATHER_MAP:
-        parse_weather_map(p, found, &msg->weather_map);
+        msg_parse_weather_map(p, found, &msg->weather_map);
         break;
     case SKY_MSG_NONE:
     case SKY_MSG_GET_STATE:
@@ -647,34 +359,36 @@ static void parse_object(struct parser *p, struct sky_client_msg *msg)
     const cJSON *id = cJSON_GetObjectItemCaseSensitive(p->root, "id");
     if (id)
         parse_id(p, id, &msg->id);
-    if (!require(p, type, "/type"))
+    if (!parser_require(p, type, "/type"))
         return;
     if (!cJSON_IsString(type)) {
-        fail(p, SKY_MSG_ERR_WRONG_TYPE, "/type", "expected a string, got %s", sky_json_type_name(type));
+        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/type", "expected a string, got %s",
+                    sky_json_type_name(type));
         return;
     }
-    int index = find_name(type_names, COUNT_OF(type_names), type->valuestring);
+    int index = msg_find_name(type_names, COUNT_OF(type_names), type->valuestring);
     if (index < 0) {
         char expected[REASON_MAX];
-        join_names(type_names, COUNT_OF(type_names), expected, sizeof expected);
-        fail(p, SKY_MSG_ERR_UNKNOWN_TYPE, "/type", "expected one of: %s", expected);
+        msg_join_names(type_names, COUNT_OF(type_names), expected, sizeof expected);
+        parser_fail(p, SKY_MSG_ERR_UNKNOWN_TYPE, "/type", "expected one of: %s", expected);
         return;
     }
     msg->type = (enum sky_msg_type)index;
     if (p->length > p->limits->max_message_bytes && msg->type != SKY_MSG_SET_WEATHER_MAP) {
-        fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "", "message is %zu bytes, the limit is %zu "
-             "(only set_weather_map may be larger)", p->length, p->limits->max_message_bytes);
+        parser_fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "",
+                    "message is %zu bytes, the limit is %zu (only set_weather_map may be larger)",
+                    p->length, p->limits->max_message_bytes);
         return;
     }
 
     const char *names[2 + MAX_MEMBERS] = {"type", "id"};
-    const char *const *specific;
-    size_t count;
+    const char *const *specific = NULL;
+    size_t count = 0;
     fields_of(msg->type, &specific, &count);
     for (size_t i = 0; i < count; i++)
         names[2 + i] = specific[i];
     const cJSON *found[2 + MAX_MEMBERS];
-    collect(p, p->root, "", names, 2 + count, found);
+    parser_collect(p, p->root, "", names, 2 + count, found);
     parse_fields(p, found + 2, msg);
 }
 
@@ -712,18 +426,18 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
     size_t offset;
     char *copy = NULL;
     if (!text || !limits) {
-        fail(p, SKY_MSG_ERR_INTERNAL, "", "no message or no limits");
+        parser_fail(p, SKY_MSG_ERR_INTERNAL, "", "no message or no limits");
     } else if (length > sky_msg_upload_limit(limits)) {
-        fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "", "message is %zu bytes, the limit is %zu",
-             length, sky_msg_upload_limit(limits));
+        parser_fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "", "message is %zu bytes, the limit is %zu",
+                    length, sky_msg_upload_limit(limits));
     } else if ((offset = nul_offset(text, length)) < length) {
         error->offset = offset;
-        fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "NUL byte at offset %zu", offset);
+        parser_fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "NUL byte at offset %zu", offset);
     } else if ((offset = utf8_invalid_offset(text, length)) < length) {
         error->offset = offset;
-        fail(p, SKY_MSG_ERR_INVALID_ENCODING, "", "invalid UTF-8 at offset %zu", offset);
+        parser_fail(p, SKY_MSG_ERR_INVALID_ENCODING, "", "invalid UTF-8 at offset %zu", offset);
     } else if (!(copy = malloc(length + 1))) {
-        fail(p, SKY_MSG_ERR_INTERNAL, "", "out of memory");
+        parser_fail(p, SKY_MSG_ERR_INTERNAL, "", "out of memory");
     } else {
         /* A terminated copy: cJSON then never needs to honour the length bound itself. */
         memcpy(copy, text, length);
@@ -735,14 +449,15 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
             offset += strspn(end, " \t\r\n");
         if (!p->root || offset < length) {
             error->offset = offset;
-            fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "%s at offset %zu",
-                 p->root ? "unexpected text after the JSON value" : "invalid JSON", offset);
+            parser_fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "%s at offset %zu",
+                        p->root ? "unexpected text after the JSON value" : "invalid JSON", offset);
         } else if ((offset = escaped_nul_offset(copy, length)) < length) {
             error->offset = offset;
-            fail(p, SKY_MSG_ERR_BAD_VALUE, "", "\\u0000 at offset %zu: NUL is not allowed", offset);
+            parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "", "\\u0000 at offset %zu: NUL is not allowed",
+                        offset);
         } else if (!cJSON_IsObject(p->root)) {
-            fail(p, SKY_MSG_ERR_NOT_AN_OBJECT, "", "expected a JSON object, got %s",
-                 sky_json_type_name(p->root));
+            parser_fail(p, SKY_MSG_ERR_NOT_AN_OBJECT, "", "expected a JSON object, got %s",
+                        sky_json_type_name(p->root));
         } else {
             parse_object(p, msg);
         }

@@ -1,0 +1,169 @@
+/* The message parser's readers: each checks one member (presence, type, range, enum name,
+ * length) and records a failure under its JSON Pointer. */
+#include "message_parser.h"
+#include "message_names.h"
+
+#include <cjson/cJSON.h>
+
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int msg_find_name(const char *const *names, size_t count, const char *name)
+{
+    for (size_t i = 0; i < count; i++) {
+        if (names[i] && strcmp(names[i], name) == 0)
+            return (int)i;
+    }
+    return -1;
+}
+
+void msg_join_names(const char *const *names, size_t count, char *out, size_t capacity)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    for (size_t i = 0; i < count; i++) {
+        if (!names[i])
+            continue;
+        int written = snprintf(out + used, capacity - used, "%s%s", used ? ", " : "", names[i]);
+        if (written < 0 || (size_t)written >= capacity - used)
+            return;
+        used += (size_t)written;
+    }
+}
+
+/* "a/b" -> "a~1b" (RFC 6901), appended to parent after a '/'; truncated to fit. */
+void msg_child_pointer(char *out, const char *parent, const char *name)
+{
+    size_t used = (size_t)snprintf(out, SKY_MSG_POINTER_MAX, "%s/", parent);
+    for (const char *c = name; *c && used + 3 < SKY_MSG_POINTER_MAX; c++) {
+        if (*c == '~' || *c == '/') {
+            out[used++] = '~';
+            out[used++] = *c == '~' ? '0' : '1';
+        } else {
+            out[used++] = *c;
+        }
+    }
+    out[used < SKY_MSG_POINTER_MAX ? used : SKY_MSG_POINTER_MAX - 1] = '\0';
+}
+
+void parser_fail(struct parser *p, enum sky_msg_error_code code, const char *pointer,
+                 const char *format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    sky_field_errors_vaddf(&p->error->fields, (int)code, pointer, format, args);
+    va_end(args);
+}
+
+/* Splits an object's members by name into found[] (index into names); reports unknown and
+ * duplicate members. */
+void parser_collect(struct parser *p, const cJSON *object, const char *pointer,
+                    const char *const *names, size_t count, const cJSON **found)
+{
+    for (size_t i = 0; i < count; i++)
+        found[i] = NULL;
+    for (const cJSON *member = object->child; member; member = member->next) {
+        char member_pointer[SKY_MSG_POINTER_MAX];
+        msg_child_pointer(member_pointer, pointer, member->string);
+        int index = msg_find_name(names, count, member->string);
+        if (index < 0) {
+            char expected[REASON_MAX];
+            msg_join_names(names, count, expected, sizeof expected);
+            parser_fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, member_pointer,
+                        "unknown field; expected one of: %s", expected);
+        } else if (found[index]) {
+            parser_fail(p, SKY_MSG_ERR_BAD_VALUE, member_pointer, "duplicate field");
+        } else {
+            found[index] = member;
+        }
+    }
+}
+
+bool parser_require(struct parser *p, const cJSON *item, const char *pointer)
+{
+    if (item)
+        return true;
+    parser_fail(p, SKY_MSG_ERR_MISSING_FIELD, pointer, "required");
+    return false;
+}
+
+bool parser_read_number(struct parser *p, const cJSON *item, const char *pointer, double min,
+                        double max, double *out)
+{
+    if (!cJSON_IsNumber(item)) {
+        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a number, got %s",
+                    sky_json_type_name(item));
+        return false;
+    }
+    double value = item->valuedouble;
+    if (!isfinite(value) || value < min || value > max) {
+        parser_fail(p, SKY_MSG_ERR_OUT_OF_RANGE, pointer, "must be in [%.15g, %.15g], got %.15g",
+                    min, max, value);
+        return false;
+    }
+    *out = value;
+    return true;
+}
+
+bool parser_read_integer(struct parser *p, const cJSON *item, const char *pointer, int64_t min,
+                         int64_t max, int64_t *out)
+{
+    double value;
+    if (!parser_read_number(p, item, pointer, (double)min, (double)max, &value))
+        return false;
+    if (value != floor(value)) {
+        parser_fail(p, SKY_MSG_ERR_BAD_VALUE, pointer, "must be an integer, got %.15g", value);
+        return false;
+    }
+    *out = (int64_t)value;
+    return true;
+}
+
+bool parser_read_string(struct parser *p, const cJSON *item, const char *pointer, size_t min,
+                        size_t max, char *out)
+{
+    if (!cJSON_IsString(item)) {
+        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a string, got %s",
+                    sky_json_type_name(item));
+        return false;
+    }
+    size_t length = strlen(item->valuestring);
+    if (length < min || length > max) {
+        parser_fail(p, SKY_MSG_ERR_OUT_OF_RANGE, pointer, "must be %zu to %zu bytes long, got %zu",
+                    min, max, length);
+        return false;
+    }
+    memcpy(out, item->valuestring, length + 1);
+    return true;
+}
+
+int parser_read_enum(struct parser *p, const cJSON *item, const char *pointer,
+                     const char *const *names, size_t count)
+{
+    char expected[REASON_MAX];
+    msg_join_names(names, count, expected, sizeof expected);
+    if (!cJSON_IsString(item)) {
+        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected one of: %s, got %s", expected,
+                    sky_json_type_name(item));
+        return -1;
+    }
+    int index = msg_find_name(names, count, item->valuestring);
+    if (index < 0)
+        parser_fail(p, SKY_MSG_ERR_BAD_VALUE, pointer, "expected one of: %s, got \"%.64s\"",
+                    expected, item->valuestring);
+    return index;
+}
+
+/* A camera or exposure number, optional, with the world-state schema's range. */
+void parser_read_schema_number(struct parser *p, const cJSON *item, const char *pointer,
+                               const char *schema_path, bool *has, double *out)
+{
+    const struct sky_field_desc *field = sky_world_state_find_field(schema_path);
+    double min = field ? field->min : -DBL_MAX, max = field ? field->max : DBL_MAX;
+    if (item)
+        *has = parser_read_number(p, item, pointer, min, max, out);
+}
