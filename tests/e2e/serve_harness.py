@@ -1,23 +1,22 @@
-"""Support for tests/e2e/test_serve.py: check bookkeeping, a PNG decoder, the daemon under test
-(started on a free port, stopped with SIGTERM), a WebSocket client wrapper on Debian's
-python3-websockets 10.4, and raw-socket helpers for what the library will not send."""
+"""Support for tests/e2e/test_serve.py: check bookkeeping (the passed/failed counters live
+here), the binary frame check, the daemon under test (started on a free port, stopped with
+SIGTERM), a WebSocket client wrapper on Debian's python3-websockets 10.4, and the error and
+bad-input checks. It re-exports the PNG decoder and encoder (png_codec.py), the JSON comparison
+helpers (serve_json.py) and the raw-socket helpers for what the library will not send
+(serve_raw.py), so that every name is still importable from here."""
 
 import asyncio
-import base64
 import json
 import math
 import os
 import queue
 import re
 import signal
-import socket
 import struct
 import subprocess
 import sys
 import threading
 import time
-import urllib.error
-import urllib.request
 import zlib
 
 try:
@@ -27,6 +26,12 @@ except ImportError:  # pragma: no cover - environment problem, not a test result
     print("test_serve.py: the websockets package is missing; run with /usr/bin/python3 "
           "(Debian python3-websockets)", file=sys.stderr)
     sys.exit(1)
+
+from png_codec import PNG_SIGNATURE, decode_png, decode_png_full, encode_png  # noqa: E402,F401
+from serve_json import (SIMULATED_FIELDS, approx_equal, json_diff, short,  # noqa: E402,F401
+                        stable)
+from serve_raw import (http_get_raw, raw_handshake_status, raw_ws_connect,  # noqa: E402,F401
+                       raw_ws_send_text)
 
 TOKEN = "e2e-controller-token"
 ALLOWED_ORIGIN = "http://example.test"
@@ -66,180 +71,8 @@ def info(text):
     print(f"info: {text}", flush=True)
 
 
-def short(obj, limit=400):
-    if isinstance(obj, bytes):
-        text = repr(obj[:64])
-    elif isinstance(obj, str):
-        text = obj
-    else:
-        text = json.dumps(obj, default=lambda o: f"<{len(o)} bytes>" if isinstance(o, bytes)
-                          else repr(o))
-    return text if len(text) <= limit else text[:limit] + "..."
-
-
-def approx_equal(a, b, rel=1e-6, abs_tol=1e-9):
-    """Deep comparison of JSON values with a tolerance on numbers."""
-    if isinstance(a, bool) or isinstance(b, bool):
-        return a is b
-    if isinstance(a, (int, float)) and isinstance(b, (int, float)):
-        return math.isclose(a, b, rel_tol=rel, abs_tol=abs_tol)
-    if isinstance(a, dict) and isinstance(b, dict):
-        return a.keys() == b.keys() and all(approx_equal(a[k], b[k], rel, abs_tol) for k in a)
-    if isinstance(a, list) and isinstance(b, list):
-        return len(a) == len(b) and all(approx_equal(x, y, rel, abs_tol) for x, y in zip(a, b))
-    return a == b
-
-
-# Fields the world simulation moves between two reads while the clock runs: comparisons of
-# client-visible state leave them out.
-SIMULATED_FIELDS = (("clock", "utc"), ("weather", "offset_east_km"), ("weather", "offset_north_km"))
-
-
-def stable(state):
-    """A copy of a state tree without the fields the running simulation moves."""
-    if not isinstance(state, dict):
-        return state
-    out = json.loads(json.dumps(state))
-    moved = list(SIMULATED_FIELDS)
-    if out.get("clock", {}).get("sky_bodies") == "ephemeris":
-        moved += [(body, angle) for body in ("sun", "moon")
-                  for angle in ("azimuth_deg", "elevation_deg")]
-    for group, name in moved:
-        if isinstance(out.get(group), dict):
-            out[group].pop(name, None)
-    return out
-
-
-def json_diff(a, b, path=""):
-    """First difference between two JSON values, as text (for failure details)."""
-    if isinstance(a, dict) and isinstance(b, dict):
-        for k in sorted(set(a) | set(b)):
-            if k not in a or k not in b:
-                return f"{path}/{k}: present in only one ({short(a.get(k))} vs {short(b.get(k))})"
-            d = json_diff(a[k], b[k], f"{path}/{k}")
-            if d:
-                return d
-        return ""
-    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
-        for i, (x, y) in enumerate(zip(a, b)):
-            d = json_diff(x, y, f"{path}/{i}")
-            if d:
-                return d
-        return ""
-    return "" if approx_equal(a, b) else f"{path}: {short(a)} != {short(b)}"
-
-
 # ------------------------------------------------------------------------------------------
-# PNG decoding (signature, chunk CRCs, IHDR, inflate IDAT, undo filters)
-
-PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-
-
-def decode_png_full(data):
-    """Returns a dict: width, height, channels, depth (8 or 16), rows (bytes, samples
-    big-endian for 16 bits), text (tEXt key -> value), gamma (gAMA's integer or None); or
-    raises ValueError with the reason."""
-    if data[:8] != PNG_SIGNATURE:
-        raise ValueError(f"bad signature {data[:8]!r}")
-    pos = 8
-    ihdr = None
-    idat = []
-    text = {}
-    gamma = None
-    seen_iend = False
-    while pos < len(data):
-        if pos + 12 > len(data):
-            raise ValueError(f"truncated chunk at offset {pos}")
-        length, ctype = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        if len(body) != length or pos + 12 + length > len(data):
-            raise ValueError(f"chunk {ctype!r} at {pos} runs past the end")
-        (crc,) = struct.unpack(">I", data[pos + 8 + length:pos + 12 + length])
-        if zlib.crc32(ctype + body) & 0xFFFFFFFF != crc:
-            raise ValueError(f"bad CRC in chunk {ctype!r} at offset {pos}")
-        if ihdr is None and ctype != b"IHDR":
-            raise ValueError(f"first chunk is {ctype!r}, not IHDR")
-        if ctype == b"IHDR":
-            ihdr = struct.unpack(">IIBBBBB", body)
-        elif ctype == b"IDAT":
-            idat.append(body)
-        elif ctype == b"tEXt" and b"\0" in body:
-            key, value = body.split(b"\0", 1)
-            text[key.decode("latin-1")] = value.decode("latin-1")
-        elif ctype == b"gAMA" and length == 4:
-            (gamma,) = struct.unpack(">I", body)
-        elif ctype == b"IEND":
-            seen_iend = True
-            pos += 12 + length
-            break
-        pos += 12 + length
-    if not seen_iend:
-        raise ValueError("no IEND chunk")
-    if pos != len(data):
-        raise ValueError(f"{len(data) - pos} bytes after IEND")
-    width, height, depth, color, comp, filt, interlace = ihdr
-    channels = {0: 1, 2: 3, 4: 2, 6: 4}.get(color)
-    if depth not in (8, 16) or channels is None or comp != 0 or filt != 0 or interlace != 0:
-        raise ValueError(f"unsupported IHDR depth={depth} color={color} comp={comp} "
-                         f"filter={filt} interlace={interlace}")
-    if not idat:
-        raise ValueError("no IDAT chunk")
-    raw = zlib.decompress(b"".join(idat))
-    bpp = channels * depth // 8
-    stride = width * bpp
-    if len(raw) != height * (stride + 1):
-        raise ValueError(f"inflated {len(raw)} bytes, expected {height * (stride + 1)}")
-    rows = []
-    prev = bytearray(stride)
-    for y in range(height):
-        ftype = raw[y * (stride + 1)]
-        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        if ftype == 0:
-            pass
-        elif ftype == 1:
-            for i in range(bpp, stride):
-                line[i] = (line[i] + line[i - bpp]) & 0xFF
-        elif ftype == 2:
-            for i in range(stride):
-                line[i] = (line[i] + prev[i]) & 0xFF
-        elif ftype == 3:
-            for i in range(stride):
-                left = line[i - bpp] if i >= bpp else 0
-                line[i] = (line[i] + ((left + prev[i]) >> 1)) & 0xFF
-        elif ftype == 4:
-            for i in range(stride):
-                a = line[i - bpp] if i >= bpp else 0
-                b = prev[i]
-                c = prev[i - bpp] if i >= bpp else 0
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                pred = a if (pa <= pb and pa <= pc) else (b if pb <= pc else c)
-                line[i] = (line[i] + pred) & 0xFF
-        else:
-            raise ValueError(f"row {y}: bad filter type {ftype}")
-        rows.append(bytes(line))
-        prev = line
-    return {"width": width, "height": height, "channels": channels, "depth": depth,
-            "rows": rows, "text": text, "gamma": gamma}
-
-
-def decode_png(data):
-    """Returns (width, height, channels, rows) of an 8-bit PNG or raises ValueError."""
-    png = decode_png_full(data)
-    if png["depth"] != 8:
-        raise ValueError(f"{png['depth']}-bit PNG where 8-bit was expected")
-    return png["width"], png["height"], png["channels"], png["rows"]
-
-
-def encode_png(width, height, rows, color_type=6, bit_depth=8):
-    """A PNG of `rows` (bytes per row, without the filter byte)."""
-    def chunk(kind, body):
-        return (struct.pack(">I", len(body)) + kind + body
-                + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF))
-    raw = b"".join(b"\0" + bytes(r) for r in rows)
-    ihdr = struct.pack(">IIBBBBB", width, height, bit_depth, color_type, 0, 0, 0)
-    return (PNG_SIGNATURE + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw))
-            + chunk(b"IEND", b""))
+# Binary frames (header + PNG)
 
 
 def check_binary_frame(name, text_msg, binary, width, height, revision=None, decode=True,
@@ -671,83 +504,6 @@ async def bad_input(name, client, payload, code, pointer=None, id_=None, raw_fra
         return
     check_error(name, r, code, pointer, id_)
     await check_unchanged(name, client, before)
-
-
-# ------------------------------------------------------------------------------------------
-# Raw WebSocket client (for the client that never reads, and HTTP checks)
-
-
-def raw_ws_connect(port, rcvbuf=4096):
-    s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-    s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, rcvbuf)
-    s.settimeout(10)
-    s.connect(("127.0.0.1", port))
-    key = base64.b64encode(os.urandom(16)).decode()
-    s.sendall((f"GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
-               f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
-               f"Sec-WebSocket-Version: 13\r\n\r\n").encode())
-    head = b""
-    while b"\r\n\r\n" not in head:
-        chunk = s.recv(1)  # byte by byte: read no further than the response head
-        if not chunk:
-            raise RuntimeError(f"raw client: connection closed during the handshake: {head!r}")
-        head += chunk
-    if not head.startswith(b"HTTP/1.1 101"):
-        raise RuntimeError(f"raw client: handshake refused: {head[:200]!r}")
-    return s
-
-
-def raw_handshake_status(port, origin):
-    """The status line the server answers a WebSocket handshake from `origin` with."""
-    key = base64.b64encode(os.urandom(16)).decode()
-    with socket.create_connection(("127.0.0.1", port), timeout=10) as s:
-        s.sendall((f"GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
-                   f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
-                   f"Sec-WebSocket-Version: 13\r\nOrigin: {origin}\r\n\r\n").encode())
-        data = b""
-        try:
-            while b"\r\n" not in data:
-                chunk = s.recv(4096)
-                if not chunk:
-                    break
-                data += chunk
-        except socket.timeout:
-            pass
-    return data.split(b"\r\n", 1)[0].decode("latin-1") if data else None
-
-
-def raw_ws_send_text(s, text):
-    data = text.encode()
-    mask = os.urandom(4)
-    n = len(data)
-    if n < 126:
-        head = bytes([0x81, 0x80 | n])
-    elif n < 65536:
-        head = bytes([0x81, 0x80 | 126]) + struct.pack(">H", n)
-    else:
-        head = bytes([0x81, 0x80 | 127]) + struct.pack(">Q", n)
-    s.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data)))
-
-
-def http_get_raw(port, target):
-    """Sends a GET with an unnormalized target; returns (status, body)."""
-    with socket.create_connection(("127.0.0.1", port), timeout=10) as s:
-        s.sendall(f"GET {target} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n"
-                  f"Connection: close\r\n\r\n".encode())
-        data = b""
-        try:
-            while True:
-                chunk = s.recv(65536)
-                if not chunk:
-                    break
-                data += chunk
-                if len(data) > 1 << 20:
-                    break
-        except socket.timeout:
-            pass
-    head, _, body = data.partition(b"\r\n\r\n")
-    m = re.match(rb"HTTP/1\.[01] (\d{3})", head)
-    return (int(m.group(1)) if m else None), body
 
 
 # ------------------------------------------------------------------------------------------

@@ -1,0 +1,203 @@
+"""bench/soak.py's other clients: the subscribers that keep changing their views, the viewer
+taking snapshots, probes, stats, presets lists and states, the client that connects and
+disconnects, and the monitor that reads stats (the simulated clock) and samples RSS."""
+
+import asyncio
+import json
+import os
+import random
+import sys
+import time
+
+_E2E = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tests", "e2e")
+if _E2E not in sys.path:  # bench/soak.py puts it there; this for an import on its own
+    sys.path.insert(0, _E2E)
+import serve_harness as H  # noqa: E402
+from soak_bookkeeping import connect, rss_kib  # noqa: E402
+from soak_fields import (HOME_VIEWS, MAX_SNAPSHOT, MAX_STREAM, SNAPSHOT_SIZES,  # noqa: E402
+                         STREAM_SIZES, Draw)
+
+# ------------------------------------------------------------------------------------------
+# The other clients
+
+
+async def subscriber(soak, index, draw_seed):
+    draw = Draw(random.Random(draw_seed), [], True)
+    rng = draw.rng
+    name = f"sub{index}"
+    home = HOME_VIEWS[index]
+    c = await connect(soak, name)
+    subs = {}  # subscription -> view
+    try:
+        # Warm-up: every stream size once, one frame each, then home.
+        order = STREAM_SIZES[index:] + STREAM_SIZES[:index]
+        for size in order:
+            view = draw.view(STREAM_SIZES, MAX_STREAM, size)
+            view["fps"] = 10
+            sub = await c.subscribe(view)
+            if sub is None:
+                continue
+            seen = c.subscription_frames
+            deadline = time.monotonic() + soak.args.reply_timeout
+            while c.subscription_frames == seen and time.monotonic() < deadline:
+                await c.pump(0.2)
+            if c.subscription_frames == seen:
+                soak.fail(f"{name}: no frame for {size[0]}x{size[1]} within "
+                          f"{soak.args.reply_timeout:.0f} s")
+            await c.unsubscribe(sub)
+        sub = await c.subscribe(home)
+        subs[sub] = home
+        soak.warm.add(name)
+        at_gen = 0
+        while not soak.done:
+            if soak.phase == "settle":
+                if at_gen != soak.home_generation:
+                    for s in [s for s, v in subs.items() if v is not home]:
+                        await c.unsubscribe(s)
+                        del subs[s]
+                    if not subs:
+                        subs[await c.subscribe(home)] = home
+                    at_gen = soak.home_generation
+                    soak.at_home[name] = at_gen
+                await c.idle(0.5)
+                continue
+            await c.idle(rng.uniform(2, 8))
+            if soak.done or soak.phase == "settle":
+                continue
+            r = rng.random()
+            if r < 0.5 or len(subs) >= 3:  # a new view in place of one
+                old = rng.choice(list(subs))
+                view = draw.view(STREAM_SIZES, MAX_STREAM)
+                new = await c.subscribe(view)
+                if new is not None:
+                    subs[new] = view
+                await c.unsubscribe(old)
+                del subs[old]
+            elif r < 0.75:  # another at once, sometimes the same view as another client's
+                view = (dict(rng.choice(HOME_VIEWS)) if rng.random() < 0.4
+                        else draw.view(STREAM_SIZES, MAX_STREAM))
+                new = await c.subscribe(view)
+                if new is not None:
+                    subs[new] = view
+            elif len(subs) > 1:
+                old = rng.choice(list(subs))
+                await c.unsubscribe(old)
+                del subs[old]
+            if not subs:
+                subs[await c.subscribe(home)] = home
+    finally:
+        soak.at_home.pop(name, None)
+        await c.close()
+
+
+async def viewer(soak, seed):
+    draw = Draw(random.Random(seed), [], True)
+    rng = draw.rng
+    c = await connect(soak, "viewer")
+
+    async def snapshot(size=None):
+        view = draw.view(SNAPSHOT_SIZES, MAX_SNAPSHOT, size)
+        r = await c.ask("snapshot", {"type": "snapshot", "view": view}, "frame")
+        if r:
+            soak.snapshots += 1
+            c.check_frame(r, r.get("_binary"), (view["width"], view["height"]), "snapshot")
+
+    async def other():
+        k = rng.random()
+        if k < 0.4:
+            await c.ask("probe", draw.probe(), "probe_result")
+        elif k < 0.6:
+            await c.ask("stats", {"type": "stats"}, "stats")
+        elif k < 0.8:
+            await c.ask("list_presets", {"type": "list_presets",
+                                         "kind": rng.choice(["weather", "atmosphere"])},
+                        "presets")
+        else:
+            await c.ask("get_state", {"type": "get_state"}, "state")
+
+    try:
+        for size in SNAPSHOT_SIZES:
+            await snapshot(size)
+        for _ in range(6):
+            await other()
+        soak.warm.add("viewer")
+        while not soak.done:
+            if soak.phase == "settle":
+                await c.idle(0.5)
+                continue
+            await c.idle(rng.uniform(0.5, 3))
+            if soak.done or soak.phase == "settle":
+                continue
+            if rng.random() < 0.5:
+                await snapshot()
+            else:
+                await other()
+    finally:
+        await c.close()
+
+
+async def churn(soak, seed):
+    rng = random.Random(seed)
+    loop = asyncio.get_running_loop()
+    connections = 0
+    soak.warm.add("churn")
+    while not soak.done:
+        await asyncio.sleep(rng.uniform(1, 5))
+        if soak.done or soak.phase == "settle":
+            continue
+        connections += 1
+        soak.count(soak.sent, "connect")
+        if rng.random() < 0.3:  # gone without a close frame, a subscription open
+            def abrupt():
+                s = H.raw_ws_connect(soak.daemon.port)
+                H.raw_ws_send_text(s, json.dumps({"type": "subscribe", "id": 1,
+                                                  "view": {"width": 32, "height": 18}}))
+                time.sleep(0.3)
+                s.close()
+            try:
+                await loop.run_in_executor(None, abrupt)
+                soak.count(soak.acked, "connect")
+            except Exception as e:  # noqa: BLE001 - reported as a failure
+                soak.fail(f"churn: raw connection: {e!r}")
+            continue
+        try:
+            c = await connect(soak, "churn")
+            soak.count(soak.acked, "connect")
+            if rng.random() < 0.5:
+                sub = await c.subscribe({"width": rng.randint(1, 128), "height":
+                                         rng.randint(1, 72)})
+                if sub is not None:
+                    await c.wait_frame(timeout=soak.args.reply_timeout)
+            await c.close()
+        except Exception as e:  # noqa: BLE001 - reported as a failure
+            soak.fail(f"churn: {e!r}")
+    soak.churned = connections
+
+
+async def monitor(soak):
+    """Stats every second (the simulated clock), RSS every --rss-interval, the daemon alive."""
+    c = await connect(soak, "monitor")
+    last_rss = 0.0
+    try:
+        while not soak.done:
+            if soak.daemon.proc.poll() is not None:
+                soak.fail(f"the daemon died (status {soak.daemon.proc.returncode})")
+                soak.done = True
+                break
+            epoch = soak.clock_epoch
+            r = await c.ask("stats", {"type": "stats"}, "stats")
+            if r:
+                sim = r.get("simulation_time_s")
+                soak.render_fps.append(r.get("fps"))
+                if (soak.last_sim is not None and epoch == soak.last_sim[1] and epoch % 2 == 0
+                        and soak.clock_epoch == epoch and sim >= soak.last_sim[0]):
+                    soak.sim_s += sim - soak.last_sim[0]
+                soak.last_sim = (sim, soak.clock_epoch)
+            if soak.elapsed() - last_rss >= soak.args.rss_interval:
+                last_rss = soak.elapsed()
+                kib = rss_kib(soak.daemon.proc.pid)
+                if kib:
+                    soak.rss.append((soak.elapsed(), soak.sim_s, kib, soak.phase))
+            await c.idle(1.0)
+    finally:
+        await c.close()
