@@ -317,4 +317,13 @@ const struct sky_field_desc *sky_world_state_fields(size_t *count);
 /* The descriptor of a leaf field by dotted path, or NULL (also for group paths like "sun"). */
 const struct sky_field_desc *sky_world_state_find_field(const char *dotted_path);
 
+/* The unit of a field ("km", "deg", "1/km", "lx", "cd/m2", "EV", "UTC", ...), read from its
+ * name's suffix; NULL for a dimensionless one. */
+const char *sky_field_unit(const struct sky_field_desc *field);
+
+/* The world state's JSON Schema (draft 2020-12) generated from the descriptor table: types,
+ * ranges, enum names, units ("x-unit"), defaults, descriptions, read-only fields; every object
+ * closed to other members. NULL when memory is out. The caller deletes it. */
+struct cJSON *sky_world_state_json_schema(void);
+
 #endif

@@ -57,6 +57,18 @@ t2=$("$skyd" probe transmittance --altitude 0 --mu 1 --set atmosphere.mie.scatte
 if awk -v a="$t1" -v b="$t2" 'BEGIN { exit !(b < a) }'; then pass; else fail "--set had no effect: $t1 vs $t2"; fi
 
 expect_error "unknown command" 2 'unknown command "bogus"' "$skyd" bogus
+expect_error "schema with an argument" 2 'usage: skyd schema' "$skyd" schema extra
+
+# skyd schema: one JSON Schema document (2020-12) with the world state's fields.
+if "$skyd" schema >"$out/schema.json" 2>"$out/stderr.txt" &&
+   /usr/bin/python3 -c '
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["$schema"] == "https://json-schema.org/draft/2020-12/schema"
+sun = s["properties"]["sun"]["properties"]["elevation_deg"]
+assert sun["type"] == "number" and sun["minimum"] == -90 and sun["x-unit"] == "deg", sun
+assert s["properties"]["exposure"]["properties"]["tonemap"]["enum"] == ["aces", "reinhard", "clamp"]
+' "$out/schema.json"; then pass; else fail "skyd schema: $(cat "$out/stderr.txt")"; fi
 expect_error "unknown probe" 2 'unknown quantity "colour"' "$skyd" probe colour
 expect_error "unknown option" 2 'unknown option "--bogus"' "$skyd" probe transmittance --altitude 0 --mu 1 --bogus
 expect_error "missing value" 2 '--mu needs a value' "$skyd" probe transmittance --altitude 0 --mu

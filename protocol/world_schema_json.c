@@ -1,0 +1,205 @@
+/* The world state's JSON Schema (2020-12), generated from the field table: one property per
+ * leaf with its type, range, enum names, unit, default and description, nested like the state's
+ * JSON, no other members allowed. */
+#include "world_schema.h"
+
+#include <cjson/cJSON.h>
+
+#include <stdio.h>
+#include <string.h>
+
+#define JSON_SCHEMA_DIALECT "https://json-schema.org/draft/2020-12/schema"
+
+/* Units by the field name's suffix, longest first: the names carry them ("bottom_km",
+ * "scattering_per_km", "elevation_deg"), so the table needs no second copy. */
+static const struct {
+    const char *suffix, *unit;
+} unit_suffixes[] = {
+    { "_per_km", "1/km" }, { "_cd_m2", "cd/m2" }, { "_m_s", "m/s" }, { "_lux", "lx" },
+    { "_deg", "deg" },     { "_km", "km" },       { "_ev", "EV" },   { ".ev100", "EV" },
+    { "_s", "s" },         { "_m", "m" },
+};
+
+const char *sky_field_unit(const struct sky_field_desc *field)
+{
+    if (field->type == SKY_FIELD_TYPE_TIME)
+        return "UTC";
+    size_t length = strlen(field->path);
+    for (size_t i = 0; i < sizeof unit_suffixes / sizeof unit_suffixes[0]; i++) {
+        size_t n = strlen(unit_suffixes[i].suffix);
+        if (length > n && strcmp(field->path + length - n, unit_suffixes[i].suffix) == 0)
+            return unit_suffixes[i].unit;
+    }
+    return NULL;
+}
+
+/* The object under `root` for the groups of `dotted_path` (all but its last segment), made as
+ * needed: {"type": "object", "properties": {...}, "additionalProperties": false}. *leaf_name
+ * receives the last segment. */
+static cJSON *group_properties(cJSON *root, const char *dotted_path, char *leaf_name,
+                               size_t capacity)
+{
+    cJSON *properties = cJSON_GetObjectItemCaseSensitive(root, "properties");
+    const char *segment = dotted_path;
+    for (const char *dot; (dot = strchr(segment, '.')) != NULL; segment = dot + 1) {
+        char name[DOTTED_PATH_CAPACITY];
+        snprintf(name, sizeof name, "%.*s", (int)(dot - segment), segment);
+        cJSON *group = cJSON_GetObjectItemCaseSensitive(properties, name);
+        if (!group) {
+            group = cJSON_AddObjectToObject(properties, name);
+            if (!group || !cJSON_AddStringToObject(group, "type", "object") ||
+                !cJSON_AddObjectToObject(group, "properties") ||
+                !cJSON_AddFalseToObject(group, "additionalProperties"))
+                return NULL;
+        }
+        properties = cJSON_GetObjectItemCaseSensitive(group, "properties");
+    }
+    snprintf(leaf_name, capacity, "%s", segment);
+    return properties;
+}
+
+/* The value at a dotted path of a state's JSON (sky_world_state_to_json). */
+static const cJSON *value_at(const cJSON *state, const char *dotted_path)
+{
+    const cJSON *node = state;
+    const char *segment = dotted_path;
+    for (;;) {
+        const char *dot = strchr(segment, '.');
+        char name[DOTTED_PATH_CAPACITY];
+        snprintf(name, sizeof name, "%.*s", dot ? (int)(dot - segment) : (int)strlen(segment),
+                 segment);
+        node = cJSON_GetObjectItemCaseSensitive(node, name);
+        if (!node || !dot)
+            return node;
+        segment = dot + 1;
+    }
+}
+
+static bool add_range(cJSON *schema, const struct sky_field_desc *field)
+{
+    return cJSON_AddNumberToObject(schema, "minimum", field->min) &&
+           cJSON_AddNumberToObject(schema, "maximum", field->max);
+}
+
+static cJSON *scalar_schema(const struct sky_field_desc *field, const char *type)
+{
+    cJSON *schema = cJSON_CreateObject();
+    if (!schema || !cJSON_AddStringToObject(schema, "type", type) || !add_range(schema, field)) {
+        cJSON_Delete(schema);
+        return NULL;
+    }
+    return schema;
+}
+
+/* {"type": "array", "items": {element}, "minItems": n, "maxItems": n}. */
+static cJSON *array_schema(cJSON *element, int count)
+{
+    cJSON *schema = cJSON_CreateObject();
+    if (!schema || !element || !cJSON_AddStringToObject(schema, "type", "array") ||
+        !cJSON_AddItemToObject(schema, "items", element)) {
+        cJSON_Delete(element);
+        cJSON_Delete(schema);
+        return NULL;
+    }
+    element = NULL;
+    if (!cJSON_AddNumberToObject(schema, "minItems", count) ||
+        !cJSON_AddNumberToObject(schema, "maxItems", count)) {
+        cJSON_Delete(schema);
+        return NULL;
+    }
+    return schema;
+}
+
+/* The type part of a leaf's schema. */
+static cJSON *type_schema(const struct sky_field_desc *field)
+{
+    switch (field->type) {
+    case SKY_FIELD_TYPE_NUMBER: return scalar_schema(field, "number");
+    case SKY_FIELD_TYPE_INT: return scalar_schema(field, "integer");
+    case SKY_FIELD_TYPE_INT_PAIR: return array_schema(scalar_schema(field, "integer"), 2);
+    case SKY_FIELD_TYPE_INT_TRIPLE: return array_schema(scalar_schema(field, "integer"), 3);
+    case SKY_FIELD_TYPE_RGB: {
+        /* Three numbers, or one for all three. */
+        cJSON *schema = cJSON_CreateObject();
+        cJSON *any = schema ? cJSON_AddArrayToObject(schema, "oneOf") : NULL;
+        cJSON *one = scalar_schema(field, "number");
+        cJSON *three = array_schema(scalar_schema(field, "number"), 3);
+        bool ok = any && one && cJSON_AddItemToArray(any, one);
+        if (!ok)
+            cJSON_Delete(one);
+        ok = ok && three && cJSON_AddItemToArray(any, three);
+        if (!ok) {
+            cJSON_Delete(three);
+            cJSON_Delete(schema);
+            return NULL;
+        }
+        return schema;
+    }
+    case SKY_FIELD_TYPE_ENUM: {
+        cJSON *schema = cJSON_CreateObject();
+        cJSON *names = schema ? cJSON_AddArrayToObject(schema, "enum") : NULL;
+        bool ok = names && cJSON_AddStringToObject(schema, "type", "string");
+        for (int i = 0; ok && i < field->enum_count; i++)
+            ok = cJSON_AddItemToArray(names, cJSON_CreateString(field->enum_names[i]));
+        if (!ok) {
+            cJSON_Delete(schema);
+            return NULL;
+        }
+        return schema;
+    }
+    case SKY_FIELD_TYPE_TIME: {
+        cJSON *schema = cJSON_CreateObject();
+        if (!schema || !cJSON_AddStringToObject(schema, "type", "string") ||
+            !cJSON_AddStringToObject(schema, "format", "date-time")) {
+            cJSON_Delete(schema);
+            return NULL;
+        }
+        return schema;
+    }
+    }
+    return NULL;
+}
+
+static bool add_leaf(cJSON *root, const cJSON *defaults, const struct sky_field_desc *field)
+{
+    char name[DOTTED_PATH_CAPACITY];
+    cJSON *properties = group_properties(root, field->path, name, sizeof name);
+    cJSON *leaf = type_schema(field);
+    if (!properties || !leaf || !cJSON_AddItemToObject(properties, name, leaf)) {
+        cJSON_Delete(leaf);
+        return false;
+    }
+    const char *unit = sky_field_unit(field);
+    const cJSON *value = value_at(defaults, field->path);
+    return cJSON_AddStringToObject(leaf, "description", field->description) &&
+           (!unit || cJSON_AddStringToObject(leaf, "x-unit", unit)) &&
+           (!value || cJSON_AddItemToObject(leaf, "default", cJSON_Duplicate(value, true))) &&
+           (!field->read_only || cJSON_AddTrueToObject(leaf, "readOnly"));
+}
+
+cJSON *sky_world_state_json_schema(void)
+{
+    struct sky_world_state state;
+    sky_world_state_defaults(&state);
+    cJSON *defaults = sky_world_state_to_json(&state);
+    cJSON *root = cJSON_CreateObject();
+    bool ok = defaults && root && cJSON_AddStringToObject(root, "$schema", JSON_SCHEMA_DIALECT) &&
+              cJSON_AddStringToObject(root, "title", "skyd world state") &&
+              cJSON_AddStringToObject(root, "type", "object");
+    cJSON *properties = ok ? cJSON_AddObjectToObject(root, "properties") : NULL;
+    cJSON *revision = properties ? cJSON_AddObjectToObject(properties, "revision") : NULL;
+    ok = revision && cJSON_AddStringToObject(revision, "type", "integer") &&
+         cJSON_AddNumberToObject(revision, "minimum", 0) &&
+         cJSON_AddStringToObject(revision, "description",
+                                 "accepted changes so far; set by the daemon") &&
+         cJSON_AddTrueToObject(revision, "readOnly") &&
+         cJSON_AddFalseToObject(root, "additionalProperties");
+    for (size_t i = 0; ok && i < FIELD_COUNT; i++)
+        ok = add_leaf(root, defaults, &fields[i]);
+    cJSON_Delete(defaults);
+    if (!ok) {
+        cJSON_Delete(root);
+        return NULL;
+    }
+    return root;
+}
