@@ -27,39 +27,13 @@
  * (the relative errors' denominator is max(reference, F)), --verbose (radiance factors per
  * bin), --single (one octave against exact single scattering: the march's own error).
  * Only a run without lists checks the bounds below. */
-#include <errno.h>
-#include <stddef.h>
-#include <math.h>
-#include <stdbool.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 #include <time.h>
 
-#include "check.h"
-#include "cloud_mc_reference.h"
-#include "cloud_params.h"
-#include "cloud_slab_selftest.spv.h"
-#include "cloud_layouts.h"
-#include "cloud_shared.h"
-#include "compute_pass.h"
+#include "test_cloud_accuracy.h"
 #include "test_support.h"
-#include "vk_context.h"
-#include "vk_resources.h"
-#include "world_render.h"
-#include "world_state.h"
 
-#define PI 3.14159265358979323846
-#define NTAU 7
-#define NMU0 3
-#define NCASE (NTAU * NMU0)
-#define NBIN CLOUD_MC_BINS
-#define MAX_LIST 16
-#define MAX_NODES 8
-#define MC_THREADS 2
-
-static const double taus[NTAU] = { 1, 2, 4, 8, 16, 32, 64 };
-static const double mu0s[NMU0] = { 1.0, 0.5, 0.2 };
+const double slab_taus[NTAU] = { 1, 2, 4, 8, 16, 32, 64 };
+const double slab_mu0s[NMU0] = { 1.0, 0.5, 0.2 };
 
 /* Bounds over the table (run without lists). The relative errors divide by max(reference,
  * floor): 1 % of the incident flux, so that the thickest decks' T of a few 1e-4 counts in
@@ -71,466 +45,12 @@ static const double mu0s[NMU0] = { 1.0, 0.5, 0.2 };
 #define BOUND_MEAN_T 0.16
 #define BOUND_WORST 0.40
 #define BOUND_ENERGY 1.0
-#define DEFAULT_FLOOR 0.01
-
-/* std430 layouts of cloud_slab_selftest.comp. */
-struct slab_case_gpu {
-    float low[4], sun[4], phase[4], octaves[4];
-};
-struct slab_ray_gpu {
-    float origin[4], direction[4];
-};
-
-struct list {
-    double v[MAX_LIST];
-    int n;
-};
-
-struct options {
-    struct list a, b, c, octaves, g0, g1, w;
-    double albedo;
-    int primary_steps, light_steps;
-    long photons;
-    double thickness_km; /* 0: tau / default extinction */
-    double radius_km;
-    int jitters, azimuths, nodes;
-    double floor;
-    bool verbose;
-    bool single; /* octaves 1 against exact single scattering instead of the tracer */
-    bool sweep;  /* a list was given */
-};
-
-/* R and T_diffuse with their radiance factors per bin (pi L / (E mu0), mu-weighted bin mean). */
-struct slab_answer {
-    double R, T, reflect[NBIN], transmit[NBIN];
-    double R_stderr, T_stderr;
-};
-
-struct phase_set {
-    double g0, g1, w;
-};
-struct octave_set {
-    double a, b, c;
-    int octaves;
-};
-
-struct harness {
-    struct vk_context *ctx;
-    struct compute_pass pass;
-    struct gpu_buffer atmo, frame, cloud, cases, rays, results;
-    struct gpu_image transmittance, multiscattering, irradiance, base, detail, curl, weather,
-        skyview;
-    VkSampler sampler;
-    uint32_t ray_count;
-};
 
 static double now_s(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* ------------------------------------------------------------------ options */
-
-static bool parse_list(const char *text, struct list *out)
-{
-    out->n = 0;
-    const char *p = text;
-    while (*p) {
-        if (out->n == MAX_LIST)
-            return false;
-        char *end;
-        errno = 0;
-        double v = strtod(p, &end);
-        if (end == p || errno || !isfinite(v))
-            return false;
-        out->v[out->n++] = v;
-        p = end;
-        if (*p == ',')
-            p++;
-        else if (*p)
-            return false;
-    }
-    return out->n > 0;
-}
-
-static bool parse_number(const char *text, double lo, double hi, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(text, &end);
-    if (end == text || *end || errno || !(v >= lo && v <= hi))
-        return false;
-    *out = v;
-    return true;
-}
-
-static void single(struct list *l, double v)
-{
-    l->v[0] = v;
-    l->n = 1;
-}
-
-/* The options that take a value: a list (sweepable), a number or an integer in [lo, hi]. */
-enum option_kind { OPT_LIST, OPT_NUMBER, OPT_INT, OPT_LONG };
-struct option_spec {
-    const char *name;
-    enum option_kind kind;
-    size_t offset;
-    double lo, hi;
-};
-#define OPT(name, kind, field, lo, hi) { name, kind, offsetof(struct options, field), lo, hi }
-static const struct option_spec option_specs[] = {
-    OPT("--a", OPT_LIST, a, 0, 1),
-    OPT("--b", OPT_LIST, b, 0, 1),
-    OPT("--c", OPT_LIST, c, 0, 1),
-    OPT("--octaves", OPT_LIST, octaves, 1, 8),
-    OPT("--g0", OPT_LIST, g0, -0.99, 0.99),
-    OPT("--g1", OPT_LIST, g1, -0.99, 0.99),
-    OPT("--w", OPT_LIST, w, 0, 1),
-    OPT("--albedo", OPT_NUMBER, albedo, 1e-3, 1),
-    OPT("--steps", OPT_INT, primary_steps, 4, 512),
-    OPT("--light-steps", OPT_INT, light_steps, 1, 32),
-    OPT("--photons", OPT_LONG, photons, 100, 1e9),
-    OPT("--thickness", OPT_NUMBER, thickness_km, 0, 15),
-    OPT("--radius", OPT_NUMBER, radius_km, 100, 1e5),
-    OPT("--jitters", OPT_INT, jitters, 1, 64),
-    OPT("--azimuths", OPT_INT, azimuths, 1, 64),
-    OPT("--nodes", OPT_INT, nodes, 1, MAX_NODES),
-    OPT("--floor", OPT_NUMBER, floor, 0, 1),
-};
-
-static bool parse_value(const struct option_spec *spec, const char *v, struct options *o)
-{
-    void *field = (char *)o + spec->offset;
-    if (spec->kind == OPT_LIST) {
-        struct list *l = field;
-        if (!parse_list(v, l))
-            return false;
-        for (int i = 0; i < l->n; i++)
-            if (!(l->v[i] >= spec->lo && l->v[i] <= spec->hi))
-                return false;
-        o->sweep |= l->n > 1;
-        return true;
-    }
-    double x;
-    if (!parse_number(v, spec->lo, spec->hi, &x))
-        return false;
-    if (spec->kind == OPT_NUMBER)
-        *(double *)field = x;
-    else if (x != floor(x))
-        return false;
-    else if (spec->kind == OPT_INT)
-        *(int *)field = (int)x;
-    else
-        *(long *)field = (long)x;
-    return true;
-}
-
-static bool parse_options(int argc, char **argv, const struct sky_world_state *state,
-                          struct options *o)
-{
-    const struct sky_cloud_state *c = &state->clouds;
-    memset(o, 0, sizeof *o);
-    single(&o->a, c->multiscatter_a);
-    single(&o->b, c->multiscatter_b);
-    single(&o->c, c->multiscatter_c);
-    single(&o->octaves, c->multiscatter_octaves);
-    single(&o->g0, c->phase_g0);
-    single(&o->g1, c->phase_g1);
-    single(&o->w, c->phase_w);
-    o->albedo = c->albedo;
-    o->primary_steps = c->primary_steps;
-    o->light_steps = c->light_steps;
-    o->photons = 40000;
-    o->radius_km = 1000.0;
-    o->jitters = 8;
-    o->azimuths = 16;
-    o->nodes = 3;
-    o->floor = DEFAULT_FLOOR;
-    for (int i = 1; i < argc; i++) {
-        const char *k = argv[i];
-        if (strcmp(k, "--verbose") == 0 || strcmp(k, "--single") == 0) {
-            *(k[2] == 'v' ? &o->verbose : &o->single) = true;
-            continue;
-        }
-        const struct option_spec *spec = NULL;
-        for (size_t j = 0; j < sizeof option_specs / sizeof option_specs[0]; j++)
-            if (strcmp(k, option_specs[j].name) == 0)
-                spec = &option_specs[j];
-        if (!spec) {
-            fprintf(stderr, "unknown option %s\n", k);
-            return false;
-        }
-        if (i + 1 >= argc || !parse_value(spec, argv[i + 1], o)) {
-            fprintf(stderr, "%s: a %s in [%g, %g] expected\n", k,
-                    spec->kind == OPT_LIST ? "comma-separated list of numbers" : "number",
-                    spec->lo, spec->hi);
-            return false;
-        }
-        i++;
-    }
-    for (int i = 0; i < o->octaves.n; i++)
-        if (o->octaves.v[i] != floor(o->octaves.v[i])) {
-            fprintf(stderr, "--octaves: whole numbers\n");
-            return false;
-        }
-    return true;
-}
-
-/* ------------------------------------------------------------------ device harness */
-
-/* Rays per case: 2 sides x NBIN bins x nodes x azimuths x jitters. */
-static uint32_t rays_per_case(const struct options *o)
-{
-    return (uint32_t)(2 * NBIN * o->nodes * o->azimuths * o->jitters);
-}
-
-static void harness_destroy(struct harness *h)
-{
-    if (!h->ctx)
-        return;
-    CHECK(vk_context_wait_idle(h->ctx) == VK_SUCCESS);
-    compute_pass_destroy(h->ctx, &h->pass); /* safe on a zeroed or partly made pass */
-    gpu_buffer_destroy(h->ctx, &h->atmo);
-    gpu_buffer_destroy(h->ctx, &h->frame);
-    gpu_buffer_destroy(h->ctx, &h->cloud);
-    gpu_buffer_destroy(h->ctx, &h->cases);
-    gpu_buffer_destroy(h->ctx, &h->rays);
-    gpu_buffer_destroy(h->ctx, &h->results);
-    gpu_image_destroy(h->ctx, &h->transmittance);
-    gpu_image_destroy(h->ctx, &h->multiscattering);
-    gpu_image_destroy(h->ctx, &h->irradiance);
-    gpu_image_destroy(h->ctx, &h->base);
-    gpu_image_destroy(h->ctx, &h->detail);
-    gpu_image_destroy(h->ctx, &h->curl);
-    gpu_image_destroy(h->ctx, &h->weather);
-    gpu_image_destroy(h->ctx, &h->skyview);
-    if (h->sampler)
-        vkDestroySampler(h->ctx->device, h->sampler, NULL);
-    h->sampler = VK_NULL_HANDLE;
-}
-
-/* The pass, its buffers, and images that start at zero (gpu_image_create clears them): a
- * transmittance LUT of optical depth 0 (transmittance 1), empty irradiance (no sky light, and
- * ambient_scale 0 besides), multiple-scattering and sky-view LUTs, unused noise and weather. */
-static bool harness_create(struct vk_context *ctx, const struct options *o, struct harness *h)
-{
-    memset(h, 0, sizeof *h);
-    h->ctx = ctx;
-    struct compute_pass_desc desc = {
-        .name = "cloud_slab_selftest",
-        .spirv = cloud_slab_selftest_spv,
-        .spirv_bytes = sizeof cloud_slab_selftest_spv,
-        SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_SLAB),
-        .spec_count = SKY_CLOUD_CONST_MOONLIT + 1,
-        .spec_values = { [SKY_CLOUD_CONST_MOONLIT] = 0 }, /* no moon */
-    };
-    const VkFormat f = VK_FORMAT_R32G32B32A32_SFLOAT;
-    h->ray_count = NCASE * rays_per_case(o);
-    bool ok = compute_pass_create(ctx, &desc, &h->pass) == VK_SUCCESS;
-    ok = ok && gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_atmo",
-                                 &h->atmo) == VK_SUCCESS;
-    ok = ok && gpu_buffer_create(ctx, sizeof(struct sky_frame_uniforms),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_frame",
-                                 &h->frame) == VK_SUCCESS;
-    ok = ok && gpu_buffer_create(ctx, sizeof(struct sky_cloud_uniforms),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_cloud",
-                                 &h->cloud) == VK_SUCCESS;
-    ok = ok && gpu_buffer_create(ctx, NCASE * sizeof(struct slab_case_gpu),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_cases",
-                                 &h->cases) == VK_SUCCESS;
-    ok = ok && gpu_buffer_create(ctx, 16 + (VkDeviceSize)h->ray_count * sizeof(struct slab_ray_gpu),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_rays",
-                                 &h->rays) == VK_SUCCESS;
-    ok = ok && gpu_buffer_create(ctx, (VkDeviceSize)h->ray_count * sizeof(float),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_results",
-                                 &h->results) == VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 8, 8, 1, "slab_transmittance", &h->transmittance) ==
-                   VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 8, 8, 1, "slab_multiscattering",
-                                &h->multiscattering) == VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 8, 2, 1, "slab_irradiance", &h->irradiance) ==
-                   VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 4, 4, 4, "slab_base", &h->base) == VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 4, 4, 4, "slab_detail", &h->detail) == VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 4, 4, 1, "slab_curl", &h->curl) == VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 4, 4, 1, "slab_weather", &h->weather) == VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 8, 8, 1, "slab_skyview", &h->skyview) == VK_SUCCESS;
-    ok = ok && gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-                                         &h->sampler) == VK_SUCCESS;
-    CHECK(ok);
-    if (!ok)
-        return false;
-    VkSampler smp = h->sampler;
-    struct compute_resource res[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_SLAB)] = {
-        [SKY_CLOUD_MARCH_ATMOSPHERE] = { .buffer = &h->atmo },
-        [SKY_CLOUD_MARCH_FRAME] = { .buffer = &h->frame },
-        [SKY_CLOUD_MARCH_TRANSMITTANCE] = { .image = &h->transmittance, .sampler = smp },
-        [SKY_CLOUD_MARCH_MULTISCATTERING] = { .image = &h->multiscattering, .sampler = smp },
-        [SKY_CLOUD_MARCH_IRRADIANCE] = { .image = &h->irradiance, .sampler = smp },
-        [SKY_CLOUD_MARCH_CLOUD] = { .buffer = &h->cloud },
-        [SKY_CLOUD_MARCH_BASE_NOISE] = { .image = &h->base, .sampler = smp },
-        [SKY_CLOUD_MARCH_DETAIL_NOISE] = { .image = &h->detail, .sampler = smp },
-        [SKY_CLOUD_MARCH_CURL_NOISE] = { .image = &h->curl, .sampler = smp },
-        [SKY_CLOUD_MARCH_WEATHER] = { .image = &h->weather, .sampler = smp },
-        [SKY_CLOUD_MARCH_SKYVIEW] = { .image = &h->skyview, .sampler = smp },
-        [SKY_CLOUD_SLAB_CASES] = { .buffer = &h->cases },
-        [SKY_CLOUD_SLAB_RAYS] = { .buffer = &h->rays },
-        [SKY_CLOUD_SLAB_RESULTS] = { .buffer = &h->results },
-    };
-    compute_pass_bind(ctx, &h->pass, res);
-
-    /* An atmosphere of nothing (radii only), a black ground. */
-    struct sky_atmosphere_uniforms *a = h->atmo.mapped;
-    memset(a, 0, sizeof *a);
-    a->radii = (sky_vec4){ (float)o->radius_km, (float)(o->radius_km + 100.0), 8.0f, 1.2f };
-    /* The sun: unit illuminance outside the atmosphere; no moon, no airglow. */
-    struct sky_frame_uniforms *fr = h->frame.mapped;
-    memset(fr, 0, sizeof *fr);
-    fr->sun_illuminance = (sky_vec4){ 1.0f, 1.0f, 1.0f, 0.0f };
-    fr->sun_direction = (sky_vec4){ 0.0f, 0.0f, 1.0f, 0.99999f };
-    return true;
-}
-
-/* The deck of a case: bottom radius, thickness and extinction giving optical depth tau. */
-static void deck(const struct sky_world_state *state, const struct options *o, double tau,
-                 double *bottom, double *thickness, double *extinction)
-{
-    const struct sky_cloud_state *c = &state->clouds;
-    *bottom = o->radius_km + c->low.bottom_km;
-    double sigma = c->extinction_per_km * c->low.density;
-    *thickness = o->thickness_km > 0.0 ? o->thickness_km : tau / sigma;
-    *extinction = tau / *thickness;
-}
-
-/* Marches every ray of every case for one phase and octave set; answers per case. */
-static bool harness_run(struct harness *h, const struct sky_world_state *state,
-                        const struct options *o, const struct phase_set *ph,
-                        const struct octave_set *os, struct slab_answer out[NCASE])
-{
-    /* The cloud block as the renderer fills it (cloud_params_fill: a <= b, albedo, steps). */
-    struct sky_render_clouds rc;
-    world_to_render_clouds(state, &rc);
-    rc.low.coverage = 1.0;
-    rc.high.coverage = 0.0;
-    rc.albedo = o->albedo;
-    rc.precipitation = 0.0;
-    rc.ambient_scale = 0.0;
-    rc.phase_g0 = ph->g0;
-    rc.phase_g1 = ph->g1;
-    rc.phase_w = ph->w;
-    rc.multiscatter_a = os->a;
-    rc.multiscatter_b = os->b;
-    rc.multiscatter_c = os->c;
-    rc.multiscatter_octaves = os->octaves;
-    rc.primary_steps = o->primary_steps;
-    rc.light_steps = o->light_steps;
-    rc.use_client_map = false;
-    struct sky_cloud_uniforms *u = h->cloud.mapped;
-    cloud_params_fill(&rc, o->radius_km, u);
-    u->shadow_sun = (sky_vec4){ 0, 0, 1, 0 };
-
-    const int G = o->nodes, P = o->azimuths, J = o->jitters;
-    double mu_node[NBIN][MAX_NODES], mu_weight[NBIN][MAX_NODES];
-    for (int b = 0; b < NBIN; b++) {
-        double lo, hi;
-        cloud_mc_bin_edges(b, &lo, &hi);
-        cloud_gauss_legendre(G, lo, hi, mu_node[b], mu_weight[b]);
-    }
-    struct slab_case_gpu *cases = h->cases.mapped;
-    uint32_t *header = h->rays.mapped;
-    header[0] = h->ray_count;
-    header[1] = header[2] = header[3] = 0;
-    struct slab_ray_gpu *rays = (struct slab_ray_gpu *)((char *)h->rays.mapped + 16);
-    uint32_t i = 0;
-    for (int ci = 0; ci < NCASE; ci++) {
-        double tau = taus[ci / NMU0], mu0 = mu0s[ci % NMU0];
-        double bottom, thickness, sigma;
-        deck(state, o, tau, &bottom, &thickness, &sigma);
-        double top = bottom + thickness;
-        double sun_sin = sqrt(fmax(0.0, 1.0 - mu0 * mu0));
-        cases[ci] = (struct slab_case_gpu){
-            .low = { (float)bottom, (float)top, (float)sigma, 1.0f },
-            .sun = { (float)sun_sin, 0.0f, (float)mu0, u->march.x },
-            .phase = { u->phase.x, u->phase.y, u->phase.z, u->phase.w },
-            .octaves = { u->octaves.x, u->octaves.y, u->octaves.z, u->octaves.w },
-        };
-        /* 1 m above the top (looking down), 1 m below the bottom (looking up). */
-        const double eps = 1e-3;
-        for (int side = 0; side < 2; side++) {
-            double z0 = side == 0 ? top + eps : bottom - eps, sz = side == 0 ? -1.0 : 1.0;
-            for (int b = 0; b < NBIN; b++)
-                for (int g = 0; g < G; g++) {
-                    double mu = mu_node[b][g], s = sqrt(fmax(0.0, 1.0 - mu * mu));
-                    for (int k = 0; k < P; k++) {
-                        /* Midpoints over [0, pi]: the radiance is symmetric about the sun's
-                         * vertical plane. */
-                        double phi = PI * (k + 0.5) / P;
-                        for (int j = 0; j < J; j++, i++) {
-                            rays[i] = (struct slab_ray_gpu){
-                                .origin = { 0.0f, 0.0f, (float)z0, (float)ci },
-                                .direction = { (float)(s * cos(phi)), (float)(s * sin(phi)),
-                                               (float)(sz * mu), (float)((j + 0.5) / J) },
-                            };
-                        }
-                    }
-                }
-        }
-    }
-    if (i != h->ray_count) {
-        CHECK(i == h->ray_count);
-        return false;
-    }
-    VkCommandBuffer cmd;
-    VkResult r = vk_context_begin_commands(h->ctx, &cmd);
-    CHECK(r == VK_SUCCESS);
-    if (r != VK_SUCCESS)
-        return false;
-    const uint32_t size[3] = { h->ray_count, 1, 1 }, local[3] = { SKY_CLOUD_SLAB_LOCAL, 1, 1 };
-    compute_pass_record(cmd, &h->pass, NULL, size, local);
-    gpu_barrier_to_host(cmd);
-    r = vk_context_submit_and_wait(h->ctx, &cmd);
-    CHECK(r == VK_SUCCESS);
-    if (r != VK_SUCCESS)
-        return false;
-
-    /* R = (2 pi / mu0) int L mu dmu; a bin's factor = (pi / mu0) int_bin L mu dmu / int_bin mu
-     * dmu (the tracer's rho = pi L / (E mu0), mu-weighted bin mean). */
-    const float *L = h->results.mapped;
-    bool finite = true;
-    i = 0;
-    for (int ci = 0; ci < NCASE; ci++) {
-        double mu0 = mu0s[ci % NMU0];
-        struct slab_answer *a = &out[ci];
-        memset(a, 0, sizeof *a);
-        for (int side = 0; side < 2; side++)
-            for (int b = 0; b < NBIN; b++) {
-                double lo, hi, sum = 0.0;
-                cloud_mc_bin_edges(b, &lo, &hi);
-                for (int g = 0; g < G; g++) {
-                    double mean = 0.0;
-                    for (int k = 0; k < P * J; k++, i++) {
-                        finite &= isfinite(L[i]) != 0;
-                        mean += L[i];
-                    }
-                    mean /= P * J;
-                    sum += mu_weight[b][g] * mu_node[b][g] * mean;
-                }
-                double factor = PI / mu0 * sum / (0.5 * (hi * hi - lo * lo));
-                if (side == 0) {
-                    a->reflect[b] = factor;
-                    a->R += factor * (hi * hi - lo * lo);
-                } else {
-                    a->transmit[b] = factor;
-                    a->T += factor * (hi * hi - lo * lo);
-                }
-            }
-    }
-    CHECK(finite);
-    return finite;
 }
 
 /* ------------------------------------------------------------------ comparison */
@@ -540,9 +60,9 @@ static bool run_mc(const struct options *o, const struct phase_set *ph,
 {
     for (int ci = 0; ci < NCASE; ci++) {
         struct cloud_mc_slab in = {
-            .tau = taus[ci / NMU0],
+            .tau = slab_taus[ci / NMU0],
             .omega = o->albedo,
-            .mu0 = mu0s[ci % NMU0],
+            .mu0 = slab_mu0s[ci % NMU0],
             .g0 = ph->g0,
             .g1 = ph->g1,
             .w = ph->w,
@@ -575,7 +95,7 @@ static void single_exact(const struct options *o, const struct phase_set *ph, in
                          int azimuths, struct slab_answer out[NCASE])
 {
     for (int ci = 0; ci < NCASE; ci++) {
-        double tau = taus[ci / NMU0], mu0 = mu0s[ci % NMU0], s0 = sqrt(1.0 - mu0 * mu0);
+        double tau = slab_taus[ci / NMU0], mu0 = slab_mu0s[ci % NMU0], s0 = sqrt(1.0 - mu0 * mu0);
         struct slab_answer *ans = &out[ci];
         memset(ans, 0, sizeof *ans);
         for (int side = 0; side < 2; side++)
@@ -643,7 +163,7 @@ static void print_table(const struct options *o, const struct slab_answer mc[NCA
            "|\n");
     printf("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for (int ci = 0; ci < NCASE; ci++) {
-        double tau = taus[ci / NMU0], mu0 = mu0s[ci % NMU0];
+        double tau = slab_taus[ci / NMU0], mu0 = slab_mu0s[ci % NMU0];
         printf("| %g | %.1f | %.4f | %.4f | %+.1f%% | %.4f | %.4f | %+.1f%% | %.3f |\n", tau, mu0,
                mc[ci].R, model[ci].R, 100.0 * rel_error(model[ci].R, mc[ci].R, o->floor),
                mc[ci].T, model[ci].T, 100.0 * rel_error(model[ci].T, mc[ci].T, o->floor),
@@ -667,13 +187,23 @@ static void print_table(const struct options *o, const struct slab_answer mc[NCA
     }
 }
 
+/* check_summary() over this file's checks and the harness's. */
+static int all_files_summary(void)
+{
+    int passed = 0, failed = 0;
+    slab_harness_counts(&passed, &failed);
+    check_passed += passed;
+    check_failed += failed;
+    return check_summary();
+}
+
 int main(int argc, char **argv)
 {
     double t_start = now_s();
     struct sky_world_state state;
     sky_world_state_defaults(&state);
     struct options o;
-    if (!parse_options(argc, argv, &state, &o))
+    if (!slab_parse_options(argc, argv, &state, &o))
         return 2;
     printf("deck: %s, planet radius %g km, base %g km; rays per case %u (%d cosines per bin x "
            "%d azimuths x %d jitters, up and down); Monte Carlo %ld photons\n",
@@ -696,9 +226,9 @@ int main(int argc, char **argv)
     struct vk_context *ctx = vk_context_create(&params);
     CHECK(ctx != NULL);
     if (!ctx)
-        return check_summary();
+        return all_files_summary();
     struct harness h;
-    bool ok = harness_create(ctx, &o, &h);
+    bool ok = slab_harness_create(ctx, &o, &h);
     static struct slab_answer mc[NCASE], model[NCASE], best_mc[NCASE], best_model[NCASE];
     struct summary best = { 0 };
     double best_score = INFINITY, mc_s = 0.0, gpu_s = 0.0;
@@ -730,7 +260,7 @@ int main(int argc, char **argv)
                                 struct octave_set os = { o.a.v[ia], o.b.v[ib], o.c.v[ic],
                                                          o.single ? 1 : (int)o.octaves.v[in] };
                                 t0 = now_s();
-                                ok = harness_run(&h, &state, &o, &ph, &os, model);
+                                ok = slab_harness_run(&h, &state, &o, &ph, &os, model);
                                 gpu_s += now_s() - t0;
                                 if (!ok)
                                     break;
@@ -777,7 +307,7 @@ int main(int argc, char **argv)
                 eT += fabs(rel_error(best_model[ci].T, best_mc[ci].T, o.floor)) / NTAU;
             }
             printf("  sun elevation %4.1f deg (mu0 %.1f): mean |error| R %.1f%%, T %.1f%%\n",
-                   asin(mu0s[m]) * 180.0 / PI, mu0s[m], 100 * eR, 100 * eT);
+                   asin(slab_mu0s[m]) * 180.0 / PI, slab_mu0s[m], 100 * eR, 100 * eT);
         }
         double se_R = 0.0, se_T = 0.0;
         for (int ci = 0; ci < NCASE && !o.single; ci++) {
@@ -800,8 +330,8 @@ int main(int argc, char **argv)
         }
     }
     CHECK(ok);
-    harness_destroy(&h);
+    slab_harness_destroy(&h);
     vk_context_destroy(&ctx);
     CHECK(validation_messages == 0); /* counted through destruction */
-    return check_summary();
+    return all_files_summary();
 }

@@ -1,0 +1,317 @@
+/* The world state's JSON Schema (protocol/world_schema_json.c) against the field table it is
+ * generated from and against the schema engine that validates every `set`: every field is
+ * there with its type, range, unit, default and description, nothing else is; the default
+ * state conforms to it (checked by a small validator of the keywords the schema uses, written
+ * here independently of the generator); and out-of-range values, unknown members and bad enum
+ * names that the engine refuses, the schema refuses too. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "check.h"
+#include "world_state.h"
+
+/* ---- a validator for the keywords the schema uses ---- */
+
+static bool is_date_time(const char *s)
+{
+    int y, mo, d, h, mi;
+    double sec;
+    char z;
+    return sscanf(s, "%4d-%2d-%2dT%2d:%2d:%lf%c", &y, &mo, &d, &h, &mi, &sec, &z) == 7 && z == 'Z';
+}
+
+static bool conforms(const cJSON *schema, const cJSON *value);
+
+static bool conforms_type(const cJSON *schema, const cJSON *value)
+{
+    const cJSON *type = cJSON_GetObjectItemCaseSensitive(schema, "type");
+    if (!type)
+        return true;
+    const char *t = type->valuestring;
+    if (strcmp(t, "object") == 0)
+        return cJSON_IsObject(value);
+    if (strcmp(t, "array") == 0)
+        return cJSON_IsArray(value);
+    if (strcmp(t, "string") == 0)
+        return cJSON_IsString(value);
+    if (strcmp(t, "number") == 0)
+        return cJSON_IsNumber(value);
+    if (strcmp(t, "integer") == 0)
+        return cJSON_IsNumber(value) && value->valuedouble == floor(value->valuedouble);
+    return false;
+}
+
+static bool conforms(const cJSON *schema, const cJSON *value)
+{
+    if (!conforms_type(schema, value))
+        return false;
+    const cJSON *k;
+    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "minimum")) && cJSON_IsNumber(value) &&
+        value->valuedouble < k->valuedouble)
+        return false;
+    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "maximum")) && cJSON_IsNumber(value) &&
+        value->valuedouble > k->valuedouble)
+        return false;
+    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "enum"))) {
+        bool found = false;
+        const cJSON *name;
+        cJSON_ArrayForEach(name, k) found |= cJSON_Compare(name, value, true);
+        if (!found)
+            return false;
+    }
+    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "format")) &&
+        strcmp(k->valuestring, "date-time") == 0 && !is_date_time(value->valuestring))
+        return false;
+    if (cJSON_IsArray(value)) {
+        int n = cJSON_GetArraySize(value);
+        if ((k = cJSON_GetObjectItemCaseSensitive(schema, "minItems")) && n < k->valueint)
+            return false;
+        if ((k = cJSON_GetObjectItemCaseSensitive(schema, "maxItems")) && n > k->valueint)
+            return false;
+        const cJSON *items = cJSON_GetObjectItemCaseSensitive(schema, "items"), *item;
+        cJSON_ArrayForEach(item, value) if (items && !conforms(items, item)) return false;
+    }
+    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "oneOf"))) {
+        int matches = 0;
+        const cJSON *option;
+        cJSON_ArrayForEach(option, k) matches += conforms(option, value);
+        if (matches != 1)
+            return false;
+    }
+    if (cJSON_IsObject(value)) {
+        const cJSON *properties = cJSON_GetObjectItemCaseSensitive(schema, "properties");
+        const cJSON *closed = cJSON_GetObjectItemCaseSensitive(schema, "additionalProperties");
+        const cJSON *member;
+        cJSON_ArrayForEach(member, value)
+        {
+            const cJSON *sub = cJSON_GetObjectItemCaseSensitive(properties, member->string);
+            if (!sub && cJSON_IsFalse(closed))
+                return false;
+            if (sub && !conforms(sub, member))
+                return false;
+        }
+    }
+    return true;
+}
+
+/* ---- the schema against the table ---- */
+
+static const cJSON *leaf_schema(const cJSON *schema, const char *dotted_path)
+{
+    const cJSON *node = schema;
+    const char *segment = dotted_path;
+    for (;;) {
+        const char *dot = strchr(segment, '.');
+        char name[128];
+        snprintf(name, sizeof name, "%.*s", dot ? (int)(dot - segment) : (int)strlen(segment),
+                 segment);
+        node = cJSON_GetObjectItemCaseSensitive(
+            cJSON_GetObjectItemCaseSensitive(node, "properties"), name);
+        if (!node || !dot)
+            return node;
+        segment = dot + 1;
+    }
+}
+
+static int count_leaves(const cJSON *schema)
+{
+    const cJSON *properties = cJSON_GetObjectItemCaseSensitive(schema, "properties");
+    if (!properties)
+        return 1;
+    int n = 0;
+    const cJSON *member;
+    cJSON_ArrayForEach(member, properties) n += count_leaves(member);
+    return n;
+}
+
+static const char *expected_type(enum sky_field_type type)
+{
+    switch (type) {
+    case SKY_FIELD_TYPE_NUMBER: return "number";
+    case SKY_FIELD_TYPE_INT: return "integer";
+    case SKY_FIELD_TYPE_INT_PAIR:
+    case SKY_FIELD_TYPE_INT_TRIPLE: return "array";
+    case SKY_FIELD_TYPE_ENUM:
+    case SKY_FIELD_TYPE_TIME: return "string";
+    case SKY_FIELD_TYPE_RGB: return NULL; /* oneOf a number and three */
+    }
+    return NULL;
+}
+
+static void test_every_field(const cJSON *schema)
+{
+    size_t count = 0;
+    const struct sky_field_desc *fields = sky_world_state_fields(&count);
+    CHECK(count > 50);
+    /* The table's leaves and "revision", nothing else. */
+    CHECK_INT(count_leaves(schema), (long long)count + 1);
+    for (size_t i = 0; i < count; i++) {
+        const struct sky_field_desc *f = &fields[i];
+        check_case_name = f->path;
+        const cJSON *leaf = leaf_schema(schema, f->path);
+        CHECK(leaf != NULL);
+        if (!leaf)
+            continue;
+        const cJSON *type = cJSON_GetObjectItemCaseSensitive(leaf, "type");
+        const char *want = expected_type(f->type);
+        if (want)
+            CHECK_STR(type ? type->valuestring : NULL, want);
+        else
+            CHECK(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(leaf, "oneOf")) == 2);
+        const cJSON *description = cJSON_GetObjectItemCaseSensitive(leaf, "description");
+        CHECK_STR(description ? description->valuestring : NULL, f->description);
+        CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(leaf, "readOnly")) == f->read_only);
+        CHECK(cJSON_GetObjectItemCaseSensitive(leaf, "default") != NULL);
+        const cJSON *unit = cJSON_GetObjectItemCaseSensitive(leaf, "x-unit");
+        const char *want_unit = sky_field_unit(f);
+        CHECK((unit == NULL) == (want_unit == NULL));
+        if (unit && want_unit)
+            CHECK_STR(unit->valuestring, want_unit);
+        if (f->type == SKY_FIELD_TYPE_NUMBER || f->type == SKY_FIELD_TYPE_INT) {
+            const cJSON *lo = cJSON_GetObjectItemCaseSensitive(leaf, "minimum");
+            const cJSON *hi = cJSON_GetObjectItemCaseSensitive(leaf, "maximum");
+            CHECK(lo && lo->valuedouble == f->min);
+            CHECK(hi && hi->valuedouble == f->max);
+        }
+        if (f->type == SKY_FIELD_TYPE_ENUM)
+            CHECK_INT(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(leaf, "enum")),
+                      f->enum_count);
+    }
+    check_case_name = "";
+}
+
+static void test_units(void)
+{
+    static const struct {
+        const char *path, *unit;
+    } cases[] = {
+        { "sun.elevation_deg", "deg" },
+        { "atmosphere.rayleigh.scattering_per_km", "1/km" },
+        { "atmosphere.bottom_radius_km", "km" },
+        { "weather.wind.speed_m_s", "m/s" },
+        { "location.altitude_m", "m" },
+        { "sun.illuminance_lux", "lx" },
+        { "night.airglow_luminance_cd_m2", "cd/m2" },
+        { "exposure.ev100", "EV" },
+        { "weather.transition.duration_s", "s" },
+        { "clock.utc", "UTC" },
+        { "clouds.albedo", NULL },
+        { "clouds.low.coverage", NULL },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        check_case_name = cases[i].path;
+        const struct sky_field_desc *f = sky_world_state_find_field(cases[i].path);
+        CHECK(f != NULL);
+        const char *unit = f ? sky_field_unit(f) : NULL;
+        if (cases[i].unit)
+            CHECK_STR(unit, cases[i].unit);
+        else
+            CHECK(unit == NULL);
+    }
+    check_case_name = "";
+}
+
+/* ---- the schema against the engine ---- */
+
+static void test_defaults_conform(const cJSON *schema)
+{
+    struct sky_world_state state;
+    sky_world_state_defaults(&state);
+    cJSON *json = sky_world_state_to_json(&state);
+    CHECK(json && conforms(schema, json));
+    /* The defaults in the schema are the default state's. */
+    size_t count = 0;
+    const struct sky_field_desc *fields = sky_world_state_fields(&count);
+    for (size_t i = 0; i < count && json; i++) {
+        check_case_name = fields[i].path;
+        const cJSON *value = json;
+        char path[128];
+        snprintf(path, sizeof path, "%s", fields[i].path);
+        for (char *segment = strtok(path, "."); segment && value; segment = strtok(NULL, "."))
+            value = cJSON_GetObjectItemCaseSensitive(value, segment);
+        const cJSON *leaf = leaf_schema(schema, fields[i].path);
+        CHECK(value && leaf &&
+              cJSON_Compare(cJSON_GetObjectItemCaseSensitive(leaf, "default"), value, true));
+    }
+    check_case_name = "";
+    /* Another state the engine accepted conforms too. */
+    struct sky_field_errors errors;
+    cJSON *patch = cJSON_Parse("{\"sun\":{\"elevation_deg\":-12},\"clouds\":{\"low\":"
+                               "{\"coverage\":0.6}},\"exposure\":{\"tonemap\":\"clamp\"}}");
+    CHECK(patch && sky_world_state_apply_json(&state, patch, &errors));
+    cJSON_Delete(patch);
+    cJSON *changed = sky_world_state_to_json(&state);
+    CHECK(changed && conforms(schema, changed));
+    cJSON_Delete(changed);
+    cJSON_Delete(json);
+}
+
+/* A patch the engine refuses, and the default state with the same change, which the schema
+ * must refuse. */
+static void check_both_refuse(const cJSON *schema, const char *patch_text)
+{
+    check_case_name = patch_text;
+    struct sky_world_state state;
+    sky_world_state_defaults(&state);
+    struct sky_field_errors errors;
+    cJSON *patch = cJSON_Parse(patch_text);
+    CHECK(patch != NULL);
+    CHECK(!sky_world_state_apply_json(&state, patch, &errors));
+    sky_world_state_defaults(&state);
+    cJSON *json = sky_world_state_to_json(&state);
+    /* Merge the patch into the state's JSON, replacing leaves. */
+    const cJSON *group;
+    cJSON_ArrayForEach(group, patch)
+    {
+        cJSON *target = cJSON_GetObjectItemCaseSensitive(json, group->string);
+        if (!cJSON_IsObject(group) || !target) {
+            cJSON_DeleteItemFromObjectCaseSensitive(json, group->string);
+            cJSON_AddItemToObject(json, group->string, cJSON_Duplicate(group, true));
+            continue;
+        }
+        const cJSON *leaf;
+        cJSON_ArrayForEach(leaf, group)
+        {
+            cJSON_DeleteItemFromObjectCaseSensitive(target, leaf->string);
+            cJSON_AddItemToObject(target, leaf->string, cJSON_Duplicate(leaf, true));
+        }
+    }
+    CHECK(json && !conforms(schema, json));
+    cJSON_Delete(json);
+    cJSON_Delete(patch);
+    check_case_name = "";
+}
+
+static void test_refusals_agree(const cJSON *schema)
+{
+    check_both_refuse(schema, "{\"sun\":{\"elevation_deg\":91}}");
+    check_both_refuse(schema, "{\"location\":{\"latitude_deg\":-90.5}}");
+    check_both_refuse(schema, "{\"exposure\":{\"tonemap\":\"filmic\"}}");
+    check_both_refuse(schema, "{\"clouds\":{\"low\":{\"coverage\":1.5}}}");
+    check_both_refuse(schema, "{\"clouds\":{\"quality\":{\"primary_steps\":\"many\"}}}");
+    check_both_refuse(schema, "{\"sun\":{\"brightness\":2}}");
+    check_both_refuse(schema, "{\"weather\":{\"cloudiness\":0.5}}");
+    check_both_refuse(schema, "{\"clock\":{\"utc\":\"yesterday\"}}");
+    check_both_refuse(schema, "{\"render\":{\"skyview_lut\":[192,108,3]}}");
+}
+
+int main(void)
+{
+    cJSON *schema = sky_world_state_json_schema();
+    CHECK(schema != NULL);
+    if (schema) {
+        const cJSON *dialect = cJSON_GetObjectItemCaseSensitive(schema, "$schema");
+        CHECK_STR(dialect ? dialect->valuestring : NULL,
+                  "https://json-schema.org/draft/2020-12/schema");
+        test_every_field(schema);
+        test_units();
+        test_defaults_conform(schema);
+        test_refusals_agree(schema);
+    }
+    cJSON_Delete(schema);
+    return check_summary();
+}
