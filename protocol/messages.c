@@ -533,16 +533,7 @@ size_t sky_msg_state_diff(const struct sky_world_state *before,
     size_t field_count, changed = 0;
     const struct sky_field_desc *fields = sky_world_state_fields(&field_count);
     for (size_t i = 0; i < field_count; i++) {
-        size_t size = sizeof(int);
-        switch (fields[i].type) {
-        case SKY_FIELD_TYPE_NUMBER:
-        case SKY_FIELD_TYPE_TIME: size = sizeof(double); break;
-        case SKY_FIELD_TYPE_RGB: size = 3 * sizeof(double); break;
-        case SKY_FIELD_TYPE_INT_PAIR: size = 2 * sizeof(int); break;
-        case SKY_FIELD_TYPE_INT_TRIPLE: size = 3 * sizeof(int); break;
-        case SKY_FIELD_TYPE_ENUM:
-        case SKY_FIELD_TYPE_INT: break;
-        }
+        size_t size = sky_field_size(&fields[i]);
         if (memcmp((const char *)before + fields[i].offset, (const char *)after + fields[i].offset,
                    size) == 0)
             continue;

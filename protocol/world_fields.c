@@ -30,25 +30,25 @@ static const char *const weather_map_source_names[] = {"procedural", "client"};
 #define COUNT_OF(array) ((int)(sizeof(array) / sizeof((array)[0])))
 #define OFFSET(member) offsetof(struct sky_world_state, member)
 #define NUMBER(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, false}
+    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
 #define RGB(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_RGB, OFFSET(member), lo, hi, NULL, 0, doc, false}
+    {path, SKY_FIELD_TYPE_RGB, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
 #define INT_PAIR(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT_PAIR, OFFSET(member), lo, hi, NULL, 0, doc, false}
+    {path, SKY_FIELD_TYPE_INT_PAIR, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
 #define INT_TRIPLE(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT_TRIPLE, OFFSET(member), lo, hi, NULL, 0, doc, false}
+    {path, SKY_FIELD_TYPE_INT_TRIPLE, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
 #define INT(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT, OFFSET(member), lo, hi, NULL, 0, doc, false}
+    {path, SKY_FIELD_TYPE_INT, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
 #define TIME(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc, false}
+    {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
 #define ENUM(path, member, names, doc) \
     {path, SKY_FIELD_TYPE_ENUM, OFFSET(member), 0, COUNT_OF(names) - 1, names, COUNT_OF(names), \
-     doc, false}
+     doc, false, 0}
 /* Read-only rows: kept by the simulation, restored from a saved state, refused in a `set`. */
 #define RO_NUMBER(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, true}
+    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, true, 0}
 #define RO_TIME(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc, true}
+    {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc, true, 0}
 
 /* The interpolated weather parameters of one end of a transition, under
  * "weather.transition.<end>." with the paths of the live fields they stand for. */
@@ -257,6 +257,16 @@ const struct sky_field_desc sky_world_field_table[] = {
 };
 
 const size_t sky_world_field_count = sizeof sky_world_field_table / sizeof sky_world_field_table[0];
+
+static const struct sky_schema world_schema = {
+    sky_world_field_table, sizeof sky_world_field_table / sizeof sky_world_field_table[0],
+    "revision", NULL, 0
+};
+
+const struct sky_schema *sky_world_schema(void)
+{
+    return &world_schema;
+}
 
 static void set_rgb(double channels[3], double r, double g, double b)
 {

@@ -16,19 +16,35 @@
 const struct sky_field_desc *sky_world_state_fields(size_t *count)
 {
     if (count)
-        *count = FIELD_COUNT;
-    return fields;
+        *count = sky_world_field_count;
+    return sky_world_field_table;
 }
 
 const struct sky_field_desc *sky_world_state_find_field(const char *dotted_path)
 {
     if (!dotted_path)
         return NULL;
-    for (size_t i = 0; i < FIELD_COUNT; i++) {
-        if (strcmp(fields[i].path, dotted_path) == 0)
-            return &fields[i];
+    for (size_t i = 0; i < sky_world_field_count; i++) {
+        if (strcmp(sky_world_field_table[i].path, dotted_path) == 0)
+            return &sky_world_field_table[i];
     }
     return NULL;
+}
+
+size_t sky_field_size(const struct sky_field_desc *field)
+{
+    switch (field->type) {
+    case SKY_FIELD_TYPE_NUMBER:
+    case SKY_FIELD_TYPE_TIME: return sizeof(double);
+    case SKY_FIELD_TYPE_RGB: return 3 * sizeof(double);
+    case SKY_FIELD_TYPE_INT_PAIR: return 2 * sizeof(int);
+    case SKY_FIELD_TYPE_INT_TRIPLE: return 3 * sizeof(int);
+    case SKY_FIELD_TYPE_STRING: return field->capacity;
+    case SKY_FIELD_TYPE_BOOL: return sizeof(bool);
+    case SKY_FIELD_TYPE_ENUM:
+    case SKY_FIELD_TYPE_INT: break;
+    }
+    return sizeof(int);
 }
 
 int schema_element_count(enum sky_field_type type)
@@ -43,6 +59,8 @@ int schema_element_count(enum sky_field_type type)
     case SKY_FIELD_TYPE_ENUM:
     case SKY_FIELD_TYPE_INT:
     case SKY_FIELD_TYPE_TIME:
+    case SKY_FIELD_TYPE_STRING:
+    case SKY_FIELD_TYPE_BOOL:
         break;
     }
     return 1;
@@ -64,18 +82,28 @@ static bool child_segment(const char *path, const char *prefix, const char **seg
 }
 
 /* A group is a dotted path with leaf fields below it ("atmosphere", "atmosphere.mie"). */
-bool schema_is_group(const char *dotted_path)
+bool schema_is_group(const struct sky_schema *schema, const char *dotted_path)
 {
     if (dotted_path[0] == '\0')
         return false;
     const char *segment;
     size_t length;
-    for (size_t i = 0; i < FIELD_COUNT; i++) {
-        if (child_segment(fields[i].path, dotted_path, &segment, &length))
+    for (size_t i = 0; i < schema->count; i++) {
+        if (child_segment(schema->fields[i].path, dotted_path, &segment, &length))
             return true;
     }
     return false;
 }
+
+const struct sky_field_desc *schema_find(const struct sky_schema *schema, const char *dotted_path)
+{
+    for (size_t i = 0; dotted_path && i < schema->count; i++) {
+        if (strcmp(schema->fields[i].path, dotted_path) == 0)
+            return &schema->fields[i];
+    }
+    return NULL;
+}
+
 
 /* ---- bounded text building -------------------------------------------------------------- */
 
@@ -166,20 +194,21 @@ void schema_list_enum_names(const struct sky_field_desc *field, char *text, size
 }
 
 /* Names directly below a group, e.g. "rayleigh, mie, ..." for "atmosphere". */
-void schema_list_children(const char *prefix, char *text, size_t capacity)
+void schema_list_children(const struct sky_schema *schema, const char *prefix, char *text,
+                          size_t capacity)
 {
     size_t used = 0;
     text[0] = '\0';
-    for (size_t i = 0; i < FIELD_COUNT; i++) {
+    for (size_t i = 0; i < schema->count; i++) {
         const char *segment;
         size_t length;
-        if (!child_segment(fields[i].path, prefix, &segment, &length))
+        if (!child_segment(schema->fields[i].path, prefix, &segment, &length))
             continue;
         bool seen = false;
         for (size_t j = 0; j < i && !seen; j++) {
             const char *earlier;
             size_t earlier_length;
-            seen = child_segment(fields[j].path, prefix, &earlier, &earlier_length) &&
+            seen = child_segment(schema->fields[j].path, prefix, &earlier, &earlier_length) &&
                    earlier_length == length && memcmp(earlier, segment, length) == 0;
         }
         if (seen)
@@ -187,6 +216,11 @@ void schema_list_children(const char *prefix, char *text, size_t capacity)
         if (used > 0)
             append_text(text, capacity, &used, ", ");
         schema_append_bytes(text, capacity, &used, segment, length);
+    }
+    for (size_t i = 0; prefix[0] == '\0' && i < schema->caller_member_count; i++) {
+        if (used > 0)
+            append_text(text, capacity, &used, ", ");
+        append_text(text, capacity, &used, schema->caller_members[i]);
     }
 }
 
@@ -289,9 +323,8 @@ void sky_field_errors_format(const struct sky_field_errors *errors, char *buf, s
     }
 }
 
-const void *schema_const_field_address(const struct sky_world_state *state,
-                                       const struct sky_field_desc *field)
+const void *schema_const_field_address(const void *base, const struct sky_field_desc *field)
 {
-    return (const char *)state + field->offset;
+    return (const char *)base + field->offset;
 }
 

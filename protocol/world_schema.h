@@ -19,22 +19,21 @@ struct cJSON;
 #define NUMBER_TEXT_CAPACITY 32
 #define TIME_TEXT_CAPACITY 40
 
-#define FIELD_COUNT sky_world_field_count
-#define fields sky_world_field_table
 
 bool schema_append_bytes(char *buffer, size_t capacity, size_t *used, const char *bytes,
                          size_t length);
 void schema_copy_text(char *buffer, size_t capacity, const char *text);
 int schema_element_count(enum sky_field_type type);
 void schema_format_number(double value, char *text, size_t capacity);
-bool schema_is_group(const char *dotted_path);
-void schema_list_children(const char *prefix, char *text, size_t capacity);
+bool schema_is_group(const struct sky_schema *schema, const char *dotted_path);
+const struct sky_field_desc *schema_find(const struct sky_schema *schema, const char *dotted_path);
+void schema_list_children(const struct sky_schema *schema, const char *prefix, char *text,
+                          size_t capacity);
 void schema_list_enum_names(const struct sky_field_desc *field, char *text, size_t capacity);
 void schema_pointer_append(char *pointer, size_t capacity, const char *segment);
 void schema_pointer_append_index(char *pointer, size_t capacity, int index);
 void schema_pointer_from_dotted(const char *dotted_path, char *pointer, size_t capacity);
-const void *schema_const_field_address(const struct sky_world_state *state,
-                                       const struct sky_field_desc *field);
+const void *schema_const_field_address(const void *base, const struct sky_field_desc *field);
 struct cJSON *schema_new_json_number(double value);
 
 #endif

@@ -17,7 +17,7 @@ static const struct {
 } unit_suffixes[] = {
     { "_per_km", "1/km" }, { "_cd_m2", "cd/m2" }, { "_m_s", "m/s" }, { "_lux", "lx" },
     { "_deg", "deg" },     { "_km", "km" },       { "_ev", "EV" },   { ".ev100", "EV" },
-    { "_s", "s" },         { "_m", "m" },
+    { "_ms", "ms" },       { "_s", "s" },         { "_m", "m" },
 };
 
 const char *sky_field_unit(const struct sky_field_desc *field)
@@ -147,6 +147,23 @@ static cJSON *type_schema(const struct sky_field_desc *field)
         }
         return schema;
     }
+    case SKY_FIELD_TYPE_STRING: {
+        cJSON *schema = cJSON_CreateObject();
+        if (!schema || !cJSON_AddStringToObject(schema, "type", "string") ||
+            !cJSON_AddNumberToObject(schema, "maxLength", (double)field->capacity - 1)) {
+            cJSON_Delete(schema);
+            return NULL;
+        }
+        return schema;
+    }
+    case SKY_FIELD_TYPE_BOOL: {
+        cJSON *schema = cJSON_CreateObject();
+        if (!schema || !cJSON_AddStringToObject(schema, "type", "boolean")) {
+            cJSON_Delete(schema);
+            return NULL;
+        }
+        return schema;
+    }
     case SKY_FIELD_TYPE_TIME: {
         cJSON *schema = cJSON_CreateObject();
         if (!schema || !cJSON_AddStringToObject(schema, "type", "string") ||
@@ -177,27 +194,42 @@ static bool add_leaf(cJSON *root, const cJSON *defaults, const struct sky_field_
            (!field->read_only || cJSON_AddTrueToObject(leaf, "readOnly"));
 }
 
+cJSON *sky_schema_json_schema(const struct sky_schema *schema, const cJSON *defaults,
+                             const char *title)
+{
+    cJSON *root = cJSON_CreateObject();
+    bool ok = root && cJSON_AddStringToObject(root, "$schema", JSON_SCHEMA_DIALECT) &&
+              cJSON_AddStringToObject(root, "title", title) &&
+              cJSON_AddStringToObject(root, "type", "object") &&
+              cJSON_AddObjectToObject(root, "properties") &&
+              cJSON_AddFalseToObject(root, "additionalProperties");
+    for (size_t i = 0; ok && i < schema->count; i++)
+        ok = add_leaf(root, defaults, &schema->fields[i]);
+    if (!ok) {
+        cJSON_Delete(root);
+        return NULL;
+    }
+    return root;
+}
+
 cJSON *sky_world_state_json_schema(void)
 {
     struct sky_world_state state;
     sky_world_state_defaults(&state);
     cJSON *defaults = sky_world_state_to_json(&state);
-    cJSON *root = cJSON_CreateObject();
-    bool ok = defaults && root && cJSON_AddStringToObject(root, "$schema", JSON_SCHEMA_DIALECT) &&
-              cJSON_AddStringToObject(root, "title", "skyd world state") &&
-              cJSON_AddStringToObject(root, "type", "object");
-    cJSON *properties = ok ? cJSON_AddObjectToObject(root, "properties") : NULL;
-    cJSON *revision = properties ? cJSON_AddObjectToObject(properties, "revision") : NULL;
-    ok = revision && cJSON_AddStringToObject(revision, "type", "integer") &&
-         cJSON_AddNumberToObject(revision, "minimum", 0) &&
-         cJSON_AddStringToObject(revision, "description",
-                                 "accepted changes so far; set by the daemon") &&
-         cJSON_AddTrueToObject(revision, "readOnly") &&
-         cJSON_AddFalseToObject(root, "additionalProperties");
-    for (size_t i = 0; ok && i < FIELD_COUNT; i++)
-        ok = add_leaf(root, defaults, &fields[i]);
+    cJSON *root = defaults ? sky_schema_json_schema(sky_world_schema(), defaults,
+                                                    "skyd world state")
+                           : NULL;
     cJSON_Delete(defaults);
-    if (!ok) {
+    cJSON *properties = cJSON_GetObjectItemCaseSensitive(root, "properties");
+    cJSON *revision = properties ? cJSON_CreateObject() : NULL;
+    bool ok = revision && cJSON_AddStringToObject(revision, "type", "integer") &&
+              cJSON_AddNumberToObject(revision, "minimum", 0) &&
+              cJSON_AddStringToObject(revision, "description",
+                                      "accepted changes so far; set by the daemon") &&
+              cJSON_AddTrueToObject(revision, "readOnly");
+    if (!ok || !cJSON_AddItemToObject(properties, "revision", revision)) {
+        cJSON_Delete(revision);
         cJSON_Delete(root);
         return NULL;
     }

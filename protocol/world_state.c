@@ -62,13 +62,14 @@ static void element_pointer(const char *pointer, int index, char *out, size_t ca
 /* ---- patch application ------------------------------------------------------------------ */
 
 struct patch_context {
-    struct sky_world_state *target; /* a scratch copy: written freely, discarded on error */
+    const struct sky_schema *schema;
+    void *target; /* a scratch copy: written freely, discarded on error */
     struct sky_field_errors *errors;
 };
 
-static void *field_address(struct sky_world_state *state, const struct sky_field_desc *field)
+static void *field_address(void *target, const struct sky_field_desc *field)
 {
-    return (char *)state + field->offset;
+    return (char *)target + field->offset;
 }
 
 static void apply_number(struct patch_context *context, const struct sky_field_desc *field,
@@ -230,6 +231,30 @@ static void apply_time(struct patch_context *context, const struct sky_field_des
         *(double *)field_address(context->target, field) = seconds;
 }
 
+static void apply_string(struct patch_context *context, const struct sky_field_desc *field,
+                         const cJSON *value, const char *pointer)
+{
+    if (!cJSON_IsString(value))
+        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected a string, got %s", sky_json_type_name(value));
+    else if (strlen(value->valuestring) >= field->capacity)
+        sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                              "longer than %zu characters", field->capacity - 1);
+    else
+        snprintf(field_address(context->target, field), field->capacity, "%s",
+                 value->valuestring);
+}
+
+static void apply_bool(struct patch_context *context, const struct sky_field_desc *field,
+                       const cJSON *value, const char *pointer)
+{
+    if (!cJSON_IsBool(value))
+        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
+                              "expected true or false, got %s", sky_json_type_name(value));
+    else
+        *(bool *)field_address(context->target, field) = cJSON_IsTrue(value);
+}
+
 static void apply_leaf(struct patch_context *context, const struct sky_field_desc *field,
                        const cJSON *value, const char *pointer)
 {
@@ -253,6 +278,12 @@ static void apply_leaf(struct patch_context *context, const struct sky_field_des
     case SKY_FIELD_TYPE_TIME:
         apply_time(context, field, value, pointer);
         break;
+    case SKY_FIELD_TYPE_STRING:
+        apply_string(context, field, value, pointer);
+        break;
+    case SKY_FIELD_TYPE_BOOL:
+        apply_bool(context, field, value, pointer);
+        break;
     }
 }
 
@@ -275,7 +306,7 @@ static void report_unknown_member(struct patch_context *context, const char *pre
                                   const char *pointer)
 {
     char children[REASON_CAPACITY];
-    schema_list_children(prefix, children, sizeof children);
+    schema_list_children(context->schema, prefix, children, sizeof children);
     sky_field_errors_addf(context->errors, SKY_FIELD_UNKNOWN, pointer,
                           "unknown field; expected one of: %s", children);
 }
@@ -291,7 +322,12 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
     schema_copy_text(pointer, sizeof pointer, parent_pointer);
     schema_pointer_append(pointer, sizeof pointer, name);
 
-    if (prefix[0] == '\0' && strcmp(name, "revision") == 0) {
+    const struct sky_schema *schema = context->schema;
+    for (size_t i = 0; prefix[0] == '\0' && i < schema->caller_member_count; i++)
+        if (strcmp(name, schema->caller_members[i]) == 0)
+            return;
+    const char *reserved = schema->read_only_member;
+    if (prefix[0] == '\0' && reserved && strcmp(name, reserved) == 0) {
         sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "read-only");
         return;
     }
@@ -300,10 +336,10 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
         report_unknown_member(context, prefix, pointer);
         return;
     }
-    const struct sky_field_desc *field = sky_world_state_find_field(dotted);
+    const struct sky_field_desc *field = schema_find(context->schema, dotted);
     if (field) {
         apply_leaf(context, field, member, pointer);
-    } else if (!schema_is_group(dotted)) {
+    } else if (!schema_is_group(context->schema, dotted)) {
         report_unknown_member(context, prefix, pointer);
     } else if (cJSON_IsObject(member)) {
         apply_object(context, member, dotted, pointer);
@@ -365,6 +401,12 @@ static void check_stored_field(const struct sky_world_state *state,
         }
         break;
     }
+    case SKY_FIELD_TYPE_STRING:
+        if (!memchr(address, '\0', field->capacity))
+            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "not terminated");
+        break;
+    case SKY_FIELD_TYPE_BOOL:
+        break;
     }
 }
 
@@ -394,8 +436,8 @@ static void check_consistency(const struct sky_world_state *state,
 
 static void validate_into(const struct sky_world_state *state, struct sky_field_errors *errors)
 {
-    for (size_t i = 0; i < FIELD_COUNT; i++)
-        check_stored_field(state, &fields[i], errors);
+    for (size_t i = 0; i < sky_world_field_count; i++)
+        check_stored_field(state, &sky_world_field_table[i], errors);
     check_consistency(state, errors);
 }
 
@@ -434,7 +476,7 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
     /* memcpy rather than assignment keeps padding bytes identical, so callers can memcmp. */
     struct sky_world_state candidate;
     memcpy(&candidate, state, sizeof candidate);
-    struct patch_context context = {&candidate, errors};
+    struct patch_context context = { sky_world_schema(), &candidate, errors };
     apply_object(&context, patch, "", "");
     if (errors->total == 0)
         validate_into(&candidate, errors);
@@ -444,3 +486,19 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
     return true;
 }
 
+
+bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
+                           const struct cJSON *object, const char *pointer_prefix,
+                           struct sky_field_errors *errors)
+{
+    int before = errors->total;
+    if (!cJSON_IsObject(object)) {
+        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer_prefix,
+                              "expected a JSON object, got %s",
+                              object ? sky_json_type_name(object) : "nothing");
+        return false;
+    }
+    struct patch_context context = { schema, target, errors };
+    apply_object(&context, object, "", pointer_prefix);
+    return errors->total == before;
+}

@@ -297,6 +297,8 @@ enum sky_field_type {
     SKY_FIELD_TYPE_INT,        /* int */
     SKY_FIELD_TYPE_TIME,       /* double seconds since 1970 UTC, ISO 8601 text in JSON;
                                   min and max bound the seconds */
+    SKY_FIELD_TYPE_STRING,     /* char[capacity], NUL-terminated (the service configuration) */
+    SKY_FIELD_TYPE_BOOL,       /* bool (the service configuration) */
 };
 
 struct sky_field_desc {
@@ -309,13 +311,41 @@ struct sky_field_desc {
     const char *description;       /* short, with the unit */
     bool read_only;                /* kept by the simulation: a client `set` is refused; a saved
                                       state restores it */
+    size_t capacity;               /* STRING only: the buffer's bytes */
 };
+
+/* A table of field rows over one struct: the world state's (sky_world_schema), the service
+ * configuration's (server/host/config.c). */
+struct sky_schema {
+    const struct sky_field_desc *fields;
+    size_t count;
+    const char *read_only_member; /* a top-level member a patch may not name ("revision") */
+    /* Top-level members the caller applies itself (no rows): skipped by the engine, listed
+     * among the expected names when a member is unknown. */
+    const char *const *caller_members;
+    size_t caller_member_count;
+};
+
+/* The world state's schema: the table of sky_world_state_fields. */
+const struct sky_schema *sky_world_schema(void);
+
+/* The schema engine: applies a JSON object to `target` (the struct the rows' offsets point
+ * into) member by member. Unknown members, wrong types and values out of range are added to
+ * `errors` (not cleared first), each under its JSON Pointer after `pointer_prefix`; nothing is
+ * checked across fields. Members are written as they pass: apply to a scratch copy and keep
+ * it only when no error was added. Returns whether this call added none. */
+bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
+                           const struct cJSON *object, const char *pointer_prefix,
+                           struct sky_field_errors *errors);
 
 /* The descriptor table, in serialization order; *count receives its length. */
 const struct sky_field_desc *sky_world_state_fields(size_t *count);
 
 /* The descriptor of a leaf field by dotted path, or NULL (also for group paths like "sun"). */
 const struct sky_field_desc *sky_world_state_find_field(const char *dotted_path);
+
+/* The bytes a field takes in its struct. */
+size_t sky_field_size(const struct sky_field_desc *field);
 
 /* The unit of a field ("km", "deg", "1/km", "lx", "cd/m2", "EV", "UTC", ...), read from its
  * name's suffix; NULL for a dimensionless one. */
@@ -325,5 +355,13 @@ const char *sky_field_unit(const struct sky_field_desc *field);
  * ranges, enum names, units ("x-unit"), defaults, descriptions, read-only fields; every object
  * closed to other members. NULL when memory is out. The caller deletes it. */
 struct cJSON *sky_world_state_json_schema(void);
+
+/* The rows of `schema` read from `base` as nested JSON ({"listen": {"port": 8080}}). */
+struct cJSON *sky_schema_to_json(const struct sky_schema *schema, const void *base);
+
+/* The JSON Schema of any table: `defaults` (from sky_schema_to_json) gives the defaults, NULL
+ * none. The caller adds what has no row (properties of its own) and deletes it. */
+struct cJSON *sky_schema_json_schema(const struct sky_schema *schema, const struct cJSON *defaults,
+                                     const char *title);
 
 #endif

@@ -48,6 +48,10 @@ static const char *expected_value_text(const struct sky_field_desc *field)
         return "an integer";
     case SKY_FIELD_TYPE_TIME:
         return "an ISO 8601 UTC time like 2026-06-21T12:00:00Z";
+    case SKY_FIELD_TYPE_STRING:
+        return "a string";
+    case SKY_FIELD_TYPE_BOOL:
+        return "true or false";
     case SKY_FIELD_TYPE_NUMBER:
     case SKY_FIELD_TYPE_ENUM:
         break;
@@ -138,9 +142,9 @@ bool sky_world_state_set_path(struct sky_world_state *state, const char *path,
     }
     char pointer[POINTER_CAPACITY];
     schema_pointer_from_dotted(path, pointer, sizeof pointer);
-    if (schema_is_group(path)) {
+    if (schema_is_group(sky_world_schema(), path)) {
         char children[REASON_CAPACITY];
-        schema_list_children(path, children, sizeof children);
+        schema_list_children(sky_world_schema(), path, children, sizeof children);
         sky_field_errors_addf(errors, SKY_FIELD_UNKNOWN, pointer,
                               "%s is a group, not a field; set one of: %s", path, children);
         return false;
@@ -207,10 +211,9 @@ static cJSON *number_array_to_json(const double *values, int count)
     return array;
 }
 
-static cJSON *field_to_json(const struct sky_world_state *state,
-                            const struct sky_field_desc *field)
+static cJSON *field_to_json(const void *base, const struct sky_field_desc *field)
 {
-    const void *address = schema_const_field_address(state, field);
+    const void *address = schema_const_field_address(base, field);
     switch (field->type) {
     case SKY_FIELD_TYPE_NUMBER:
         return schema_new_json_number(*(const double *)address);
@@ -232,6 +235,10 @@ static cJSON *field_to_json(const struct sky_world_state *state,
             return cJSON_CreateString(field->enum_names[value]);
         return schema_new_json_number(value); /* invalid state: keep the evidence */
     }
+    case SKY_FIELD_TYPE_STRING:
+        return cJSON_CreateString(address);
+    case SKY_FIELD_TYPE_BOOL:
+        return cJSON_CreateBool(*(const bool *)address);
     }
     return NULL;
 }
@@ -263,6 +270,20 @@ static bool add_at_path(cJSON *root, const char *dotted_path, cJSON *value)
     return cJSON_AddItemToObject(node, name, value);
 }
 
+cJSON *sky_schema_to_json(const struct sky_schema *schema, const void *base)
+{
+    cJSON *root = cJSON_CreateObject();
+    for (size_t i = 0; root && i < schema->count; i++) {
+        cJSON *value = field_to_json(base, &schema->fields[i]);
+        if (!value || !add_at_path(root, schema->fields[i].path, value)) {
+            cJSON_Delete(value);
+            cJSON_Delete(root);
+            return NULL;
+        }
+    }
+    return root;
+}
+
 cJSON *sky_world_state_to_json(const struct sky_world_state *state)
 {
     if (!state)
@@ -274,9 +295,9 @@ cJSON *sky_world_state_to_json(const struct sky_world_state *state)
         cJSON_Delete(root);
         return NULL;
     }
-    for (size_t i = 0; i < FIELD_COUNT; i++) {
-        cJSON *value = field_to_json(state, &fields[i]);
-        if (!value || !add_at_path(root, fields[i].path, value)) {
+    for (size_t i = 0; i < sky_world_field_count; i++) {
+        cJSON *value = field_to_json(state, &sky_world_field_table[i]);
+        if (!value || !add_at_path(root, sky_world_field_table[i].path, value)) {
             cJSON_Delete(value);
             cJSON_Delete(root);
             return NULL;

@@ -1,5 +1,5 @@
-/* skyd schema: the world state's JSON Schema (2020-12), generated from the field table that
- * validates every `set`, on stdout. */
+/* skyd schema [state|config]: the JSON Schema (2020-12) of the world state or of the
+ * configuration file, generated from the field tables that validate them, on stdout. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,19 +7,30 @@
 #include <cjson/cJSON.h>
 
 #include "commands.h"
+#include "config.h"
 #include "world_state.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out, "usage: skyd schema [state|config]\n"
+                 "Prints the JSON Schema (draft 2020-12) of the world state (the default) or of\n"
+                 "the configuration file: every field's type, range, enum names, unit (x-unit),\n"
+                 "default and description.\n");
+}
 
 int skyd_cmd_schema(int argc, char **argv)
 {
-    if (argc > 0) {
-        bool help = strcmp(argv[0], "--help") == 0 || strcmp(argv[0], "-h") == 0;
-        fprintf(help ? stdout : stderr,
-                "usage: skyd schema\n"
-                "Prints the world state's JSON Schema (draft 2020-12): every field's type, range,\n"
-                "enum names, unit (x-unit), default and description.\n");
-        return help ? SKYD_EXIT_OK : SKYD_EXIT_USAGE;
+    bool config = argc == 1 && strcmp(argv[0], "config") == 0;
+    bool state = argc == 0 || (argc == 1 && strcmp(argv[0], "state") == 0);
+    if (argc == 1 && (strcmp(argv[0], "--help") == 0 || strcmp(argv[0], "-h") == 0)) {
+        usage(stdout);
+        return SKYD_EXIT_OK;
     }
-    cJSON *schema = sky_world_state_json_schema();
+    if (!config && !state) {
+        usage(stderr);
+        return SKYD_EXIT_USAGE;
+    }
+    cJSON *schema = config ? skyd_config_json_schema() : sky_world_state_json_schema();
     char *text = schema ? cJSON_Print(schema) : NULL;
     cJSON_Delete(schema);
     if (!text) {

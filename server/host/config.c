@@ -14,48 +14,57 @@
 
 #define MAX_CONFIG_BYTES (1 << 20)
 
-enum config_type { CFG_STRING, CFG_INT, CFG_NUMBER, CFG_BOOL, CFG_ORIGINS };
+/* The configuration's fields, read by the world state's schema engine (protocol/): JSON
+ * Pointer "/listen/port" is row "listen.port". "allowed_origins" and "initial_state" have no
+ * row: the engine leaves them to apply_origins and apply_initial_state. */
+#define OFFSET(member) offsetof(struct skyd_config, member)
+#define CAPACITY(member) sizeof(((struct skyd_config *)0)->member)
+#define STRING(path, member, doc) \
+    { path, SKY_FIELD_TYPE_STRING, OFFSET(member), 0, 0, NULL, 0, doc, false, CAPACITY(member) }
+#define INT(path, member, lo, hi, doc) \
+    { path, SKY_FIELD_TYPE_INT, OFFSET(member), lo, hi, NULL, 0, doc, false, 0 }
+#define NUMBER(path, member, lo, hi, doc) \
+    { path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, false, 0 }
+#define BOOL(path, member, doc) \
+    { path, SKY_FIELD_TYPE_BOOL, OFFSET(member), 0, 1, NULL, 0, doc, false, 0 }
 
-struct config_field {
-    const char *pointer; /* JSON Pointer of the field */
-    enum config_type type;
-    size_t offset;
-    size_t capacity; /* strings: buffer size */
-    double min, max; /* numbers */
+static const struct sky_field_desc config_fields[] = {
+    STRING("listen.address", listen_address, "address to listen on"),
+    INT("listen.port", listen_port, 0, 65535, "port; 0 asks the kernel for a free one"),
+    STRING("listen.tls_certificate", tls_certificate, "PEM certificate for https/wss"),
+    STRING("listen.tls_private_key", tls_private_key, "PEM private key for https/wss"),
+    STRING("web_root", web_root, "folder of the web client's files"),
+    STRING("state_file", state_file, "where the world state is kept; empty: nowhere"),
+    STRING("render.device", render_device, "the Vulkan device; empty: a GPU, else lavapipe"),
+    INT("render.encoder_threads", encoder_threads, 1, 64, "PNG encoder threads"),
+    NUMBER("render.lut_budget_ms", lut_budget_ms, 0, 1000,
+           "GPU ms per frame for amortized LUT rebuilds; 0: at once"),
+    NUMBER("render.lut_budget_fraction", lut_budget_fraction, 0, 1,
+           "and at most this share of the rest of a frame"),
+    INT("render.lut_blend_frames", lut_blend_frames, 1, 240,
+        "frames over which rebuilt LUTs blend in"),
+    NUMBER("state_save_delay_s", state_save_delay_s, 0, 3600,
+           "retry delay of a state write the daemon owes itself, s"),
+    BOOL("render.validation", render_validation, "Vulkan validation layers"),
+    INT("limits.max_message_bytes", max_message_bytes, 256, 16 << 20,
+        "largest client message but set_weather_map"),
+    INT("limits.max_clients", max_clients, 1, 4096, "connections at once"),
+    INT("limits.max_width", max_width, 1, 16384, "widest view, pixels"),
+    INT("limits.max_height", max_height, 1, 16384, "tallest view, pixels"),
+    NUMBER("limits.max_fps", max_fps, 0.1, 240, "highest frame rate of a subscription"),
+    NUMBER("limits.control_messages_per_second", control_messages_per_second, 0.1, 10000,
+           "a controller's changes per second"),
+    INT("limits.max_upload_bytes", max_upload_bytes, 256, 64 << 20,
+        "largest set_weather_map message"),
+    STRING("controller_token", controller_token, "the token auth asks for; empty: nobody"),
 };
 
-#define FIELD_STRING(p, member) \
-    { p, CFG_STRING, offsetof(struct skyd_config, member), \
-      sizeof(((struct skyd_config *)0)->member), 0, 0 }
-#define FIELD_INT(p, member, lo, hi) { p, CFG_INT, offsetof(struct skyd_config, member), 0, lo, hi }
-#define FIELD_NUMBER(p, member, lo, hi) \
-    { p, CFG_NUMBER, offsetof(struct skyd_config, member), 0, lo, hi }
+static const char *const config_caller_members[] = { "allowed_origins", "initial_state" };
 
-static const struct config_field fields[] = {
-    FIELD_STRING("/listen/address", listen_address),
-    FIELD_INT("/listen/port", listen_port, 0, 65535),
-    FIELD_STRING("/listen/tls_certificate", tls_certificate),
-    FIELD_STRING("/listen/tls_private_key", tls_private_key),
-    FIELD_STRING("/web_root", web_root),
-    FIELD_STRING("/state_file", state_file),
-    FIELD_STRING("/render/device", render_device),
-    FIELD_INT("/render/encoder_threads", encoder_threads, 1, 64),
-    FIELD_NUMBER("/render/lut_budget_ms", lut_budget_ms, 0, 1000),
-    FIELD_NUMBER("/render/lut_budget_fraction", lut_budget_fraction, 0, 1),
-    FIELD_INT("/render/lut_blend_frames", lut_blend_frames, 1, 240),
-    FIELD_NUMBER("/state_save_delay_s", state_save_delay_s, 0, 3600),
-    { "/render/validation", CFG_BOOL, offsetof(struct skyd_config, render_validation), 0, 0, 0 },
-    FIELD_INT("/limits/max_message_bytes", max_message_bytes, 256, 16 << 20),
-    FIELD_INT("/limits/max_clients", max_clients, 1, 4096),
-    FIELD_INT("/limits/max_width", max_width, 1, 16384),
-    FIELD_INT("/limits/max_height", max_height, 1, 16384),
-    FIELD_NUMBER("/limits/max_fps", max_fps, 0.1, 240),
-    FIELD_NUMBER("/limits/control_messages_per_second", control_messages_per_second, 0.1, 10000),
-    FIELD_INT("/limits/max_upload_bytes", max_upload_bytes, 256, 64 << 20),
-    FIELD_STRING("/controller_token", controller_token),
-    { "/allowed_origins", CFG_ORIGINS, 0, 0, 0, 0 },
+static const struct sky_schema config_schema = {
+    config_fields, sizeof config_fields / sizeof config_fields[0], NULL, config_caller_members,
+    sizeof config_caller_members / sizeof config_caller_members[0],
 };
-#define FIELD_COUNT (sizeof fields / sizeof fields[0])
 
 void skyd_config_defaults(struct skyd_config *c)
 {
@@ -85,24 +94,6 @@ void skyd_config_defaults(struct skyd_config *c)
     snprintf(c->allowed_origins[1], sizeof c->allowed_origins[1], "http://localhost:8080");
 }
 
-static const struct config_field *find_field(const char *pointer)
-{
-    for (size_t i = 0; i < FIELD_COUNT; i++)
-        if (strcmp(fields[i].pointer, pointer) == 0)
-            return &fields[i];
-    return NULL;
-}
-
-/* True when some field lives below `pointer` (so it names an object of the schema). */
-static bool is_group(const char *pointer)
-{
-    size_t n = strlen(pointer);
-    for (size_t i = 0; i < FIELD_COUNT; i++)
-        if (strncmp(fields[i].pointer, pointer, n) == 0 && fields[i].pointer[n] == '/')
-            return true;
-    return false;
-}
-
 static void apply_origins(struct skyd_config *c, const cJSON *value, const char *pointer,
                           struct sky_field_errors *errors)
 {
@@ -129,52 +120,6 @@ static void apply_origins(struct skyd_config *c, const cJSON *value, const char 
             snprintf(c->allowed_origins[i], sizeof c->allowed_origins[i], "%s", item->valuestring);
     }
     c->origin_count = n;
-}
-
-static void apply_leaf(struct skyd_config *c, const struct config_field *f, const cJSON *value,
-                       const char *pointer, struct sky_field_errors *errors)
-{
-    char *base = (char *)c;
-    switch (f->type) {
-    case CFG_STRING:
-        if (!cJSON_IsString(value))
-            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a string");
-        else if (strlen(value->valuestring) >= f->capacity)
-            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                                  "longer than %zu characters", f->capacity - 1);
-        else
-            snprintf(base + f->offset, f->capacity, "%s", value->valuestring);
-        break;
-    case CFG_BOOL:
-        if (!cJSON_IsBool(value))
-            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected true or false");
-        else
-            *(bool *)(base + f->offset) = cJSON_IsTrue(value);
-        break;
-    case CFG_INT:
-    case CFG_NUMBER: {
-        if (!cJSON_IsNumber(value)) {
-            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected a number");
-            break;
-        }
-        double v = value->valuedouble;
-        if (!isfinite(v) || v < f->min || v > f->max) {
-            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                                  "must be in [%g, %g], got %g", f->min, f->max, v);
-        } else if (f->type == CFG_INT && v != floor(v)) {
-            sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer,
-                                  "must be a whole number, got %g", v);
-        } else if (f->type == CFG_INT) {
-            *(int *)(base + f->offset) = (int)v;
-        } else {
-            *(double *)(base + f->offset) = v;
-        }
-        break;
-    }
-    case CFG_ORIGINS:
-        apply_origins(c, value, pointer, errors);
-        break;
-    }
 }
 
 /* "initial_state": a world-state patch over the defaults; "clock.utc": "now" is replaced by
@@ -210,24 +155,16 @@ static void apply_initial_state(struct skyd_config *c, const cJSON *value,
     cJSON_Delete(patch);
 }
 
-static void apply_object(struct skyd_config *c, const cJSON *object, const char *prefix,
-                         struct sky_field_errors *errors)
+/* The rows through the engine, then the two members without rows. */
+static void apply_config(struct skyd_config *c, const cJSON *root, struct sky_field_errors *errors)
 {
-    for (const cJSON *member = object->child; member; member = member->next) {
-        char pointer[160];
-        snprintf(pointer, sizeof pointer, "%s/%s", prefix, member->string);
-        const struct config_field *f = find_field(pointer);
-        if (strcmp(pointer, "/initial_state") == 0)
-            apply_initial_state(c, member, errors);
-        else if (f)
-            apply_leaf(c, f, member, pointer, errors);
-        else if (is_group(pointer) && cJSON_IsObject(member))
-            apply_object(c, member, pointer, errors);
-        else if (is_group(pointer))
-            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer, "expected an object");
-        else
-            sky_field_errors_addf(errors, SKY_FIELD_UNKNOWN, pointer, "unknown field");
-    }
+    sky_schema_apply_json(&config_schema, c, root, "", errors);
+    const cJSON *origins = cJSON_GetObjectItemCaseSensitive(root, "allowed_origins");
+    if (origins)
+        apply_origins(c, origins, "/allowed_origins", errors);
+    const cJSON *initial = cJSON_GetObjectItemCaseSensitive(root, "initial_state");
+    if (initial)
+        apply_initial_state(c, initial, errors);
 }
 
 void skyd_config_limits(const struct skyd_config *c, struct sky_msg_limits *limits)
@@ -289,7 +226,7 @@ bool skyd_config_parse(const char *text, size_t length, const char *name,
         sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, "",
                               "the configuration must be a JSON object");
     else
-        apply_object(&candidate, root, "", errors);
+        apply_config(&candidate, root, errors);
     cJSON_Delete(root);
     free(copy);
     if (errors->total > 0) {
@@ -299,4 +236,40 @@ bool skyd_config_parse(const char *text, size_t length, const char *name,
     }
     *config = candidate;
     return true;
+}
+
+cJSON *skyd_config_json_schema(void)
+{
+    struct skyd_config defaults;
+    skyd_config_defaults(&defaults);
+    cJSON *values = sky_schema_to_json(&config_schema, &defaults);
+    cJSON *root = values ? sky_schema_json_schema(&config_schema, values, "skyd configuration")
+                         : NULL;
+    cJSON_Delete(values);
+    cJSON *properties = cJSON_GetObjectItemCaseSensitive(root, "properties");
+    /* The two members without rows. */
+    cJSON *origins = properties ? cJSON_AddObjectToObject(properties, "allowed_origins") : NULL;
+    cJSON *item = origins ? cJSON_CreateObject() : NULL;
+    cJSON *list = origins ? cJSON_AddArrayToObject(origins, "default") : NULL;
+    bool ok = item && list && cJSON_AddStringToObject(origins, "type", "array") &&
+              cJSON_AddItemToObject(origins, "items", item) &&
+              cJSON_AddStringToObject(item, "type", "string") &&
+              cJSON_AddNumberToObject(item, "maxLength", SKYD_CONFIG_STRING - 1) &&
+              cJSON_AddNumberToObject(origins, "maxItems", SKYD_CONFIG_MAX_ORIGINS) &&
+              cJSON_AddStringToObject(origins, "description",
+                                      "Origin headers a browser client may connect from");
+    if (!ok && item && !cJSON_GetObjectItemCaseSensitive(origins, "items"))
+        cJSON_Delete(item);
+    for (int i = 0; ok && i < defaults.origin_count; i++)
+        ok = cJSON_AddItemToArray(list, cJSON_CreateString(defaults.allowed_origins[i]));
+    cJSON *initial = ok ? cJSON_AddObjectToObject(properties, "initial_state") : NULL;
+    ok = initial && cJSON_AddStringToObject(initial, "type", "object") &&
+         cJSON_AddStringToObject(initial, "description",
+                                 "a world-state patch over the defaults (skyd schema); "
+                                 "clock.utc may be \"now\"");
+    if (!ok) {
+        cJSON_Delete(root);
+        return NULL;
+    }
+    return root;
 }

@@ -63,4 +63,8 @@ bool skyd_config_parse(const char *text, size_t length, const char *name,
                        struct skyd_config *config, struct sky_field_errors *errors, char *msg,
                        size_t msglen);
 
+/* The configuration's JSON Schema (draft 2020-12), from the same rows that read it. NULL when
+ * memory is out; the caller deletes it. */
+struct cJSON *skyd_config_json_schema(void);
+
 #endif

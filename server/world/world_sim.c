@@ -242,20 +242,6 @@ static bool patch_names(const cJSON *patch, const char *path)
     return node != NULL;
 }
 
-static size_t field_size(const struct sky_field_desc *field)
-{
-    switch (field->type) {
-    case SKY_FIELD_TYPE_NUMBER:
-    case SKY_FIELD_TYPE_TIME: return sizeof(double);
-    case SKY_FIELD_TYPE_RGB: return 3 * sizeof(double);
-    case SKY_FIELD_TYPE_INT_PAIR: return 2 * sizeof(int);
-    case SKY_FIELD_TYPE_INT_TRIPLE: return 3 * sizeof(int);
-    case SKY_FIELD_TYPE_ENUM:
-    case SKY_FIELD_TYPE_INT: break;
-    }
-    return sizeof(int);
-}
-
 static void pointer_of(const char *path, char *pointer, size_t capacity)
 {
     snprintf(pointer, capacity, "/%s", path);
@@ -274,7 +260,7 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
     for (size_t i = 0; i < count; i++) {
         const struct sky_field_desc *f = &fields[i];
         if (memcmp((const char *)before + f->offset, (const char *)after + f->offset,
-                   field_size(f)) == 0 || !patch_names(patch, f->path))
+                   sky_field_size(f)) == 0 || !patch_names(patch, f->path))
             continue;
         char pointer[128];
         pointer_of(f->path, pointer, sizeof pointer);

@@ -12,6 +12,7 @@
 #include <cjson/cJSON.h>
 
 #include "check.h"
+#include "config.h"
 #include "world_state.h"
 
 /* ---- a validator for the keywords the schema uses ---- */
@@ -40,6 +41,8 @@ static bool conforms_type(const cJSON *schema, const cJSON *value)
         return cJSON_IsString(value);
     if (strcmp(t, "number") == 0)
         return cJSON_IsNumber(value);
+    if (strcmp(t, "boolean") == 0)
+        return cJSON_IsBool(value);
     if (strcmp(t, "integer") == 0)
         return cJSON_IsNumber(value) && value->valuedouble == floor(value->valuedouble);
     return false;
@@ -138,6 +141,8 @@ static const char *expected_type(enum sky_field_type type)
     case SKY_FIELD_TYPE_ENUM:
     case SKY_FIELD_TYPE_TIME: return "string";
     case SKY_FIELD_TYPE_RGB: return NULL; /* oneOf a number and three */
+    case SKY_FIELD_TYPE_STRING: return "string";
+    case SKY_FIELD_TYPE_BOOL: return "boolean";
     }
     return NULL;
 }
@@ -299,8 +304,59 @@ static void test_refusals_agree(const cJSON *schema)
     check_both_refuse(schema, "{\"render\":{\"skyview_lut\":[192,108,3]}}");
 }
 
-int main(void)
+/* The configuration's schema, from config.c's rows: the shipped file conforms; files that
+ * skyd_config_parse refuses, it refuses too. */
+static void test_config_schema(const char *shipped_path)
 {
+    cJSON *schema = skyd_config_json_schema();
+    CHECK(schema != NULL);
+    if (!schema)
+        return;
+    const cJSON *port = leaf_schema(schema, "listen.port");
+    CHECK(port && cJSON_GetObjectItemCaseSensitive(port, "maximum")->valuedouble == 65535);
+    const cJSON *delay = leaf_schema(schema, "state_save_delay_s");
+    CHECK(delay &&
+          strcmp(cJSON_GetObjectItemCaseSensitive(delay, "x-unit")->valuestring, "s") == 0);
+    CHECK(leaf_schema(schema, "allowed_origins") && leaf_schema(schema, "initial_state"));
+
+    FILE *f = fopen(shipped_path, "rb");
+    char text[1 << 16];
+    size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    if (f)
+        fclose(f);
+    text[n] = '\0';
+    cJSON *shipped = cJSON_Parse(text);
+    CHECK(shipped && conforms(schema, shipped));
+    cJSON_Delete(shipped);
+
+    static const char *const refused[] = {
+        "{\"listen\":{\"port\":70000}}",      "{\"listen\":{\"portt\":1}}",
+        "{\"render\":{\"validation\":\"yes\"}}", "{\"limits\":{\"max_fps\":0}}",
+        "{\"allowed_origins\":\"*\"}",        "{\"allowed_origins\":[1]}",
+        "{\"bogus\":1}",                       "{\"listen\":7}",
+    };
+    for (size_t i = 0; i < sizeof refused / sizeof refused[0]; i++) {
+        check_case_name = refused[i];
+        struct skyd_config config;
+        struct sky_field_errors errors;
+        char msg[256];
+        CHECK(!skyd_config_parse(refused[i], strlen(refused[i]), "test", &config, &errors, msg,
+                                 sizeof msg));
+        cJSON *json = cJSON_Parse(refused[i]);
+        CHECK(json && !conforms(schema, json));
+        cJSON_Delete(json);
+    }
+    check_case_name = "";
+    cJSON_Delete(schema);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 2) {
+        fprintf(stderr, "usage: test_world_schema CONFIG_JSON\n");
+        return 2;
+    }
+    test_config_schema(argv[1]);
     cJSON *schema = sky_world_state_json_schema();
     CHECK(schema != NULL);
     if (schema) {

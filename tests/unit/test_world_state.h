@@ -49,6 +49,8 @@ static inline int field_elements(const struct sky_field_desc *field)
     case SKY_FIELD_TYPE_ENUM:
     case SKY_FIELD_TYPE_INT:
     case SKY_FIELD_TYPE_TIME:
+    case SKY_FIELD_TYPE_STRING: /* the configuration's types: none in the world state */
+    case SKY_FIELD_TYPE_BOOL:
         break;
     }
     return 1;
@@ -71,6 +73,9 @@ static inline double read_element(const struct sky_world_state *state, const cha
     case SKY_FIELD_TYPE_ENUM:
     case SKY_FIELD_TYPE_INT:
         return ((const int *)base)[index];
+    case SKY_FIELD_TYPE_STRING:
+    case SKY_FIELD_TYPE_BOOL:
+        break;
     }
     return NAN;
 }
