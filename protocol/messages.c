@@ -281,9 +281,15 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
         if (!cJSON_IsObject(found[0])) {
             parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/patch", "expected an object, got %s",
                         sky_json_type_name(found[0]));
-        } else if (sky_msg_validate_patch(found[0], "/patch", &p->error->fields) &&
-                   p->error->fields.total == 0) {
-            msg->set.patch = cJSON_DetachItemViaPointer(p->root, (cJSON *)found[0]);
+        } else {
+            struct sky_world_patch *patch = malloc(sizeof *patch);
+            if (!patch)
+                parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/patch", "out of memory");
+            else if (sky_world_patch_compile(found[0], "/patch", patch, &p->error->fields) &&
+                     p->error->fields.total == 0)
+                msg->set.patch = patch;
+            else
+                free(patch);
         }
         break;
     case SKY_MSG_SUBSCRIBE:
@@ -473,36 +479,11 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
 void sky_client_msg_free(struct sky_client_msg *msg)
 {
     if (msg && msg->type == SKY_MSG_SET) {
-        cJSON_Delete(msg->set.patch);
+        free(msg->set.patch);
         msg->set.patch = NULL;
     }
     if (msg && msg->type == SKY_MSG_SET_WEATHER_MAP)
         sky_weather_map_free(&msg->weather_map);
-}
-
-bool sky_msg_validate_patch(const cJSON *patch, const char *pointer_prefix,
-                            struct sky_field_errors *errors)
-{
-    struct sky_world_state scratch;
-    struct sky_field_errors found;
-    sky_world_state_defaults(&scratch);
-    sky_world_state_apply_json(&scratch, patch, &found);
-    int failures = found.total;
-    for (int i = 0; i < found.count; i++) {
-        const struct sky_field_error *item = &found.items[i];
-        if (item->code == SKY_FIELD_INCONSISTENT) {
-            failures--;
-            continue;
-        }
-        char pointer[SKY_MSG_POINTER_MAX];
-        snprintf(pointer, sizeof pointer, "%s%s", pointer_prefix ? pointer_prefix : "",
-                 item->pointer);
-        sky_field_errors_add(errors, item->code, pointer, item->reason);
-    }
-    /* Failures beyond the stored ones still count. */
-    for (int i = found.count; errors && i < found.total; i++)
-        errors->total++;
-    return failures == 0;
 }
 
 void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_world_state *state,

@@ -172,10 +172,10 @@ struct sky_client_msg {
             char token[SKY_MSG_TOKEN_MAX + 1];
         } auth;
         struct {
-            /* Owned; detached from the message. Validated against the schema alone: the
-             * caller applies it with sky_world_state_apply_json, which also checks cross-field
-             * consistency. Set it to NULL to take ownership. */
-            struct cJSON *patch;
+            /* Owned (malloc'd): the patch validated field by field as it was parsed; the
+             * caller applies it with sky_world_state_apply_patch, which checks the result
+             * across fields. Set it to NULL to take ownership. */
+            struct sky_world_patch *patch;
         } set;
         struct sky_msg_view view; /* subscribe, snapshot */
         struct {
@@ -212,12 +212,6 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
                                       struct sky_msg_parse_error *error);
 
 void sky_client_msg_free(struct sky_client_msg *msg);
-
-/* Validates a world-state patch against the schema only (types, ranges, unknown fields); the
- * cross-field consistency that depends on the live state is left to the apply. Errors are
- * appended to *errors with `pointer_prefix` ("/patch") before each pointer. */
-bool sky_msg_validate_patch(const struct cJSON *patch, const char *pointer_prefix,
-                            struct sky_field_errors *errors);
 
 /* The camera and exposure a view renders with: the state's, overridden by the view's. */
 void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_world_state *state,

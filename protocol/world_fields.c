@@ -258,6 +258,10 @@ const struct sky_field_desc sky_world_field_table[] = {
 
 const size_t sky_world_field_count = sizeof sky_world_field_table / sizeof sky_world_field_table[0];
 
+_Static_assert(sizeof sky_world_field_table / sizeof sky_world_field_table[0] <=
+                   SKY_WORLD_PATCH_MAX_FIELDS,
+               "a patch can name every field");
+
 static const struct sky_schema world_schema = {
     sky_world_field_table, sizeof sky_world_field_table / sizeof sky_world_field_table[0],
     "revision", NULL, 0

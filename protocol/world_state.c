@@ -65,6 +65,7 @@ struct patch_context {
     const struct sky_schema *schema;
     void *target; /* a scratch copy: written freely, discarded on error */
     struct sky_field_errors *errors;
+    bool *named;  /* per row: the patch names it (NULL: not recorded) */
 };
 
 static void *field_address(void *target, const struct sky_field_desc *field)
@@ -339,6 +340,8 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
     const struct sky_field_desc *field = schema_find(context->schema, dotted);
     if (field) {
         apply_leaf(context, field, member, pointer);
+        if (context->named)
+            context->named[field - schema->fields] = true;
     } else if (!schema_is_group(context->schema, dotted)) {
         report_unknown_member(context, prefix, pointer);
     } else if (cJSON_IsObject(member)) {
@@ -476,7 +479,7 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
     /* memcpy rather than assignment keeps padding bytes identical, so callers can memcmp. */
     struct sky_world_state candidate;
     memcpy(&candidate, state, sizeof candidate);
-    struct patch_context context = { sky_world_schema(), &candidate, errors };
+    struct patch_context context = { sky_world_schema(), &candidate, errors, NULL };
     apply_object(&context, patch, "", "");
     if (errors->total == 0)
         validate_into(&candidate, errors);
@@ -498,7 +501,59 @@ bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
                               object ? sky_json_type_name(object) : "nothing");
         return false;
     }
-    struct patch_context context = { schema, target, errors };
+    struct patch_context context = { schema, target, errors, NULL };
     apply_object(&context, object, "", pointer_prefix);
     return errors->total == before;
+}
+
+bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefix,
+                             struct sky_world_patch *out, struct sky_field_errors *errors)
+{
+    const struct sky_schema *schema = sky_world_schema();
+    int before = errors->total;
+    out->count = 0;
+    sky_world_state_defaults(&out->values);
+    if (!cJSON_IsObject(json)) {
+        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer_prefix,
+                              "expected a JSON object, got %s",
+                              json ? sky_json_type_name(json) : "nothing");
+        return false;
+    }
+    bool named[SKY_WORLD_PATCH_MAX_FIELDS] = { false };
+    struct patch_context context = { schema, &out->values, errors, named };
+    apply_object(&context, json, "", pointer_prefix);
+    for (size_t i = 0; i < schema->count; i++)
+        if (named[i])
+            out->fields[out->count++] = (unsigned short)i;
+    return errors->total == before;
+}
+
+bool sky_world_patch_names(const struct sky_world_patch *patch, const struct sky_field_desc *field)
+{
+    const struct sky_field_desc *rows = sky_world_field_table;
+    for (size_t i = 0; i < patch->count; i++)
+        if (&rows[patch->fields[i]] == field)
+            return true;
+    return false;
+}
+
+bool sky_world_state_apply_patch(struct sky_world_state *state, const struct sky_world_patch *patch,
+                                 struct sky_field_errors *errors)
+{
+    struct sky_field_errors scratch;
+    if (!errors)
+        errors = &scratch;
+    sky_field_errors_clear(errors);
+    struct sky_world_state candidate;
+    memcpy(&candidate, state, sizeof candidate);
+    for (size_t i = 0; i < patch->count; i++) {
+        const struct sky_field_desc *field = &sky_world_field_table[patch->fields[i]];
+        memcpy((char *)&candidate + field->offset, (const char *)&patch->values + field->offset,
+               sky_field_size(field));
+    }
+    validate_into(&candidate, errors);
+    if (errors->total != 0)
+        return false;
+    memcpy(state, &candidate, sizeof *state);
+    return true;
 }

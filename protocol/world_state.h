@@ -344,6 +344,28 @@ const struct sky_field_desc *sky_world_state_fields(size_t *count);
 /* The descriptor of a leaf field by dotted path, or NULL (also for group paths like "sun"). */
 const struct sky_field_desc *sky_world_state_find_field(const char *dotted_path);
 
+/* A client's world-state patch, validated once, when it is parsed: the fields it names (row
+ * indices of sky_world_state_fields, in table order) with their values converted and range-
+ * checked, held in `values` (the defaults elsewhere). Applying it later copies those fields;
+ * only the checks across fields, which need the live state, remain. */
+#define SKY_WORLD_PATCH_MAX_FIELDS 256
+struct sky_world_patch {
+    struct sky_world_state values;
+    size_t count;
+    unsigned short fields[SKY_WORLD_PATCH_MAX_FIELDS];
+};
+
+/* Reads a JSON patch into *out: unknown members, wrong types and values out of range are
+ * appended to `errors` under `pointer_prefix` ("/patch"). Returns whether none was. */
+bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefix,
+                             struct sky_world_patch *out, struct sky_field_errors *errors);
+/* Whether the patch names the field. */
+bool sky_world_patch_names(const struct sky_world_patch *patch, const struct sky_field_desc *field);
+/* Writes the patch's fields into *state and checks the result across fields (errors cleared
+ * first, pointers without a prefix); all or nothing. */
+bool sky_world_state_apply_patch(struct sky_world_state *state, const struct sky_world_patch *patch,
+                                 struct sky_field_errors *errors);
+
 /* The bytes a field takes in its struct. */
 size_t sky_field_size(const struct sky_field_desc *field);
 

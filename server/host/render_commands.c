@@ -82,7 +82,7 @@ static void handle_set(struct render_context *ctx, struct session *session,
     const struct sky_world_state *live = world_host_state(ctx->world);
     struct sky_world_state next = *live;
     struct sky_field_errors errors;
-    if (!sky_world_state_apply_json(&next, msg->set.patch, &errors)) {
+    if (!sky_world_state_apply_patch(&next, msg->set.patch, &errors)) {
         reply_field_errors(session, &msg->id, "/patch", &errors);
         return;
     }

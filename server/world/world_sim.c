@@ -225,23 +225,6 @@ static bool listed(const char *path, const char *const *list, size_t count)
     return false;
 }
 
-/* True when the patch holds a member at the dotted path. */
-static bool patch_names(const cJSON *patch, const char *path)
-{
-    const cJSON *node = patch;
-    char name[128];
-    while (node && *path) {
-        size_t length = strcspn(path, ".");
-        if (length >= sizeof name || !cJSON_IsObject(node))
-            return false;
-        memcpy(name, path, length);
-        name[length] = '\0';
-        node = cJSON_GetObjectItemCaseSensitive(node, name);
-        path += length + (path[length] == '.');
-    }
-    return node != NULL;
-}
-
 static void pointer_of(const char *path, char *pointer, size_t capacity)
 {
     snprintf(pointer, capacity, "/%s", path);
@@ -251,7 +234,8 @@ static void pointer_of(const char *path, char *pointer, size_t capacity)
 }
 
 bool world_sim_check_client_patch(const struct sky_world_state *before,
-                                  const struct sky_world_state *after, const cJSON *patch,
+                                  const struct sky_world_state *after,
+                                  const struct sky_world_patch *patch,
                                   struct sky_field_errors *errors)
 {
     size_t count;
@@ -260,7 +244,7 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
     for (size_t i = 0; i < count; i++) {
         const struct sky_field_desc *f = &fields[i];
         if (memcmp((const char *)before + f->offset, (const char *)after + f->offset,
-                   sky_field_size(f)) == 0 || !patch_names(patch, f->path))
+                   sky_field_size(f)) == 0 || !sky_world_patch_names(patch, f))
             continue;
         char pointer[128];
         pointer_of(f->path, pointer, sizeof pointer);

@@ -68,7 +68,8 @@ void world_sim_mix_weather(const struct sky_weather_params *from,
  * with its current value is allowed, so a state read with `get` can be sent back. Pointers
  * are relative to the patch. */
 bool world_sim_check_client_patch(const struct sky_world_state *before,
-                                  const struct sky_world_state *after, const struct cJSON *patch,
+                                  const struct sky_world_state *after,
+                                  const struct sky_world_patch *patch,
                                   struct sky_field_errors *errors);
 
 /* Follows an accepted client change (before -> after): a weather parameter set during a

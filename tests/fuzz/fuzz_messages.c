@@ -26,7 +26,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         struct sky_field_errors errors;
         sky_world_state_defaults(&state);
         struct sky_world_state before = state;
-        if (sky_world_state_apply_json(&state, msg.set.patch, &errors)) {
+        if (sky_world_state_apply_patch(&state, msg.set.patch, &errors)) {
             char changed[64][SKY_MSG_POINTER_MAX];
             size_t count = sky_msg_state_diff(&before, &state, changed, 64);
             (void)count;

@@ -88,7 +88,7 @@ static size_t build_server_examples(char **out, size_t max)
 
     struct sky_world_state after = state;
     parse(protocol_client_examples[3].text, &msg, &error);
-    sky_world_state_apply_json(&after, msg.set.patch, NULL);
+    sky_world_state_apply_patch(&after, msg.set.patch, NULL);
     sky_client_msg_free(&msg);
     after.revision = 6;
     char changed[8][SKY_MSG_POINTER_MAX];

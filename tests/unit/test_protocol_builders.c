@@ -54,7 +54,9 @@ void test_builders(void)
     CHECK_DOUBLE(copy.sun.elevation_deg, 45);
     struct sky_field_errors patch_errors;
     sky_field_errors_clear(&patch_errors);
-    CHECK(sky_msg_validate_patch(state_json, "/patch", &patch_errors));
+    struct sky_world_patch *patch = malloc(sizeof *patch);
+    CHECK(patch && sky_world_patch_compile(state_json, "/patch", patch, &patch_errors));
+    free(patch);
     cJSON_Delete(json);
     state.sun.elevation_deg = NAN;
     CHECK(sky_msg_build_state(&id, &state) == NULL);

@@ -153,12 +153,12 @@ void test_parsed_values(void)
     CHECK(get(json, "id") == NULL);
     cJSON_Delete(json);
 
-    check_case_name = "patch is detached and applies";
+    check_case_name = "patch is validated once and applies";
     CHECK_INT(parse(protocol_client_examples[3].text, &msg, &error), SKY_MSG_OK);
-    CHECK(cJSON_IsObject(msg.set.patch));
+    CHECK(msg.set.patch != NULL && msg.set.patch->count > 0);
     struct sky_world_state state;
     sky_world_state_defaults(&state);
-    CHECK(sky_world_state_apply_json(&state, msg.set.patch, NULL));
+    CHECK(sky_world_state_apply_patch(&state, msg.set.patch, NULL));
     CHECK_DOUBLE(state.sun.elevation_deg, 2);
     CHECK_DOUBLE(state.atmosphere.mie_g[2], 0.76);
     sky_client_msg_free(&msg);
@@ -169,7 +169,7 @@ void test_parsed_values(void)
     CHECK_INT(parse("{\"type\":\"set\",\"patch\":{\"atmosphere\":{\"bottom_radius_km\":7000}}}",
                     &msg, &error), SKY_MSG_OK);
     struct sky_field_errors apply_errors;
-    CHECK(!sky_world_state_apply_json(&state, msg.set.patch, &apply_errors));
+    CHECK(!sky_world_state_apply_patch(&state, msg.set.patch, &apply_errors));
     CHECK_INT(apply_errors.items[0].code, SKY_MSG_ERR_INCONSISTENT);
     json = parse_built(sky_msg_build_error(NULL, SKY_MSG_ERR_INCONSISTENT, "rejected",
                                            &apply_errors), "error");

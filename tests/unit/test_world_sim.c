@@ -384,11 +384,14 @@ static void test_autopilot_blend(void)
 static bool check_patch(const struct sky_world_state *live, const char *patch_text,
                         const char *expect_pointer)
 {
-    cJSON *patch = cJSON_Parse(patch_text);
+    cJSON *json = cJSON_Parse(patch_text);
+    static struct sky_world_patch patch_storage;
+    struct sky_world_patch *patch = &patch_storage;
     struct sky_world_state next = *live;
     struct sky_field_errors errors;
     sky_field_errors_clear(&errors);
-    bool applied = sky_world_state_apply_json(&next, patch, &errors);
+    bool applied = sky_world_patch_compile(json, "", patch, &errors) &&
+                   sky_world_state_apply_patch(&next, patch, &errors);
     CHECK(applied);
     sky_field_errors_clear(&errors);
     bool ok = applied && world_sim_check_client_patch(live, &next, patch, &errors);
@@ -403,7 +406,7 @@ static bool check_patch(const struct sky_world_state *live, const char *patch_te
         if (!ok)
             printf("  %s: refused: %s\n", patch_text, errors.items[0].reason);
     }
-    cJSON_Delete(patch);
+    cJSON_Delete(json);
     return ok;
 }
 
