@@ -249,17 +249,15 @@ cJSON *skyd_config_json_schema(void)
     cJSON *properties = cJSON_GetObjectItemCaseSensitive(root, "properties");
     /* The two members without rows. */
     cJSON *origins = properties ? cJSON_AddObjectToObject(properties, "allowed_origins") : NULL;
-    cJSON *item = origins ? cJSON_CreateObject() : NULL;
+    cJSON *item = origins ? cJSON_AddObjectToObject(origins, "items") : NULL;
     cJSON *list = origins ? cJSON_AddArrayToObject(origins, "default") : NULL;
     bool ok = item && list && cJSON_AddStringToObject(origins, "type", "array") &&
-              cJSON_AddItemToObject(origins, "items", item) &&
               cJSON_AddStringToObject(item, "type", "string") &&
-              cJSON_AddNumberToObject(item, "maxLength", SKYD_CONFIG_STRING - 1) &&
+              cJSON_AddNumberToObject(item, "maxLength",
+                                      (double)sizeof defaults.allowed_origins[0] - 1) &&
               cJSON_AddNumberToObject(origins, "maxItems", SKYD_CONFIG_MAX_ORIGINS) &&
               cJSON_AddStringToObject(origins, "description",
                                       "Origin headers a browser client may connect from");
-    if (!ok && item && !cJSON_GetObjectItemCaseSensitive(origins, "items"))
-        cJSON_Delete(item);
     for (int i = 0; ok && i < defaults.origin_count; i++)
         ok = cJSON_AddItemToArray(list, cJSON_CreateString(defaults.allowed_origins[i]));
     cJSON *initial = ok ? cJSON_AddObjectToObject(properties, "initial_state") : NULL;
