@@ -22,13 +22,7 @@ const struct sky_field_desc *sky_world_state_fields(size_t *count)
 
 const struct sky_field_desc *sky_world_state_find_field(const char *dotted_path)
 {
-    if (!dotted_path)
-        return NULL;
-    for (size_t i = 0; i < sky_world_field_count; i++) {
-        if (strcmp(sky_world_field_table[i].path, dotted_path) == 0)
-            return &sky_world_field_table[i];
-    }
-    return NULL;
+    return schema_find(sky_world_schema(), dotted_path);
 }
 
 size_t sky_field_size(const struct sky_field_desc *field)

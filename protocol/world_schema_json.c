@@ -81,100 +81,87 @@ static bool add_range(cJSON *schema, const struct sky_field_desc *field)
            cJSON_AddNumberToObject(schema, "maximum", field->max);
 }
 
-static cJSON *scalar_schema(const struct sky_field_desc *field, const char *type)
+/* {"type": type}, or NULL. */
+static cJSON *typed(const char *type)
 {
     cJSON *schema = cJSON_CreateObject();
-    if (!schema || !cJSON_AddStringToObject(schema, "type", type) || !add_range(schema, field)) {
+    if (schema && !cJSON_AddStringToObject(schema, "type", type)) {
         cJSON_Delete(schema);
         return NULL;
     }
     return schema;
 }
 
-/* {"type": "array", "items": {element}, "minItems": n, "maxItems": n}. */
-static cJSON *array_schema(cJSON *element, int count)
+/* `schema` when everything was added to it (ok), else nothing: it is deleted. */
+static cJSON *kept(cJSON *schema, bool ok)
 {
-    cJSON *schema = cJSON_CreateObject();
-    if (!schema || !element || !cJSON_AddStringToObject(schema, "type", "array") ||
-        !cJSON_AddItemToObject(schema, "items", element)) {
-        cJSON_Delete(element);
-        cJSON_Delete(schema);
-        return NULL;
-    }
-    element = NULL;
-    if (!cJSON_AddNumberToObject(schema, "minItems", count) ||
-        !cJSON_AddNumberToObject(schema, "maxItems", count)) {
+    if (!ok) {
         cJSON_Delete(schema);
         return NULL;
     }
     return schema;
+}
+
+static cJSON *scalar_schema(const struct sky_field_desc *field, const char *type)
+{
+    cJSON *schema = typed(type);
+    return kept(schema, schema && add_range(schema, field));
+}
+
+/* {"type": "array", "items": {element}, "minItems": n, "maxItems": n}; takes `element`. */
+static cJSON *array_schema(cJSON *element, int count)
+{
+    cJSON *schema = typed("array");
+    bool added = schema && element && cJSON_AddItemToObject(schema, "items", element);
+    if (!added)
+        cJSON_Delete(element);
+    return kept(schema, added && cJSON_AddNumberToObject(schema, "minItems", count) &&
+                            cJSON_AddNumberToObject(schema, "maxItems", count));
 }
 
 /* The type part of a leaf's schema. */
 static cJSON *type_schema(const struct sky_field_desc *field)
 {
+    cJSON *schema = NULL;
+    bool ok = false;
     switch (field->type) {
     case SKY_FIELD_TYPE_NUMBER: return scalar_schema(field, "number");
     case SKY_FIELD_TYPE_INT: return scalar_schema(field, "integer");
     case SKY_FIELD_TYPE_INT_PAIR: return array_schema(scalar_schema(field, "integer"), 2);
     case SKY_FIELD_TYPE_INT_TRIPLE: return array_schema(scalar_schema(field, "integer"), 3);
+    case SKY_FIELD_TYPE_BOOL: return typed("boolean");
     case SKY_FIELD_TYPE_RGB: {
         /* Three numbers, or one for all three. */
-        cJSON *schema = cJSON_CreateObject();
+        schema = cJSON_CreateObject();
         cJSON *any = schema ? cJSON_AddArrayToObject(schema, "oneOf") : NULL;
         cJSON *one = scalar_schema(field, "number");
         cJSON *three = array_schema(scalar_schema(field, "number"), 3);
-        bool ok = any && one && cJSON_AddItemToArray(any, one);
-        if (!ok)
+        bool one_added = any && one && cJSON_AddItemToArray(any, one);
+        bool three_added = one_added && three && cJSON_AddItemToArray(any, three);
+        if (!one_added)
             cJSON_Delete(one);
-        ok = ok && three && cJSON_AddItemToArray(any, three);
-        if (!ok) {
+        if (!three_added)
             cJSON_Delete(three);
-            cJSON_Delete(schema);
-            return NULL;
-        }
-        return schema;
+        return kept(schema, three_added);
     }
     case SKY_FIELD_TYPE_ENUM: {
-        cJSON *schema = cJSON_CreateObject();
+        schema = typed("string");
         cJSON *names = schema ? cJSON_AddArrayToObject(schema, "enum") : NULL;
-        bool ok = names && cJSON_AddStringToObject(schema, "type", "string");
+        ok = names != NULL;
         for (int i = 0; ok && i < field->enum_count; i++)
             ok = cJSON_AddItemToArray(names, cJSON_CreateString(field->enum_names[i]));
-        if (!ok) {
-            cJSON_Delete(schema);
-            return NULL;
-        }
-        return schema;
+        break;
     }
-    case SKY_FIELD_TYPE_STRING: {
-        cJSON *schema = cJSON_CreateObject();
-        if (!schema || !cJSON_AddStringToObject(schema, "type", "string") ||
-            !cJSON_AddNumberToObject(schema, "maxLength", (double)field->capacity - 1)) {
-            cJSON_Delete(schema);
-            return NULL;
-        }
-        return schema;
+    case SKY_FIELD_TYPE_STRING:
+        schema = typed("string");
+        ok = schema && cJSON_AddNumberToObject(schema, "maxLength", (double)field->capacity - 1);
+        break;
+    case SKY_FIELD_TYPE_TIME:
+        schema = typed("string");
+        ok = schema && cJSON_AddStringToObject(schema, "format", "date-time");
+        break;
     }
-    case SKY_FIELD_TYPE_BOOL: {
-        cJSON *schema = cJSON_CreateObject();
-        if (!schema || !cJSON_AddStringToObject(schema, "type", "boolean")) {
-            cJSON_Delete(schema);
-            return NULL;
-        }
-        return schema;
-    }
-    case SKY_FIELD_TYPE_TIME: {
-        cJSON *schema = cJSON_CreateObject();
-        if (!schema || !cJSON_AddStringToObject(schema, "type", "string") ||
-            !cJSON_AddStringToObject(schema, "format", "date-time")) {
-            cJSON_Delete(schema);
-            return NULL;
-        }
-        return schema;
-    }
-    }
-    return NULL;
+    return kept(schema, ok);
 }
 
 static bool add_leaf(cJSON *root, const cJSON *defaults, const struct sky_field_desc *field)

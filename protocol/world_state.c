@@ -460,6 +460,23 @@ bool sky_world_state_validate(const struct sky_world_state *state, struct sky_fi
 
 /* ---- public entry points ---------------------------------------------------------------- */
 
+/* A patch's members through `schema` into `target`, after checking that it is an object;
+ * `named` (optional) records the rows it names. Returns whether this call added no error. */
+static bool apply_root(const struct sky_schema *schema, void *target, const cJSON *json,
+                       const char *pointer_prefix, struct sky_field_errors *errors, bool *named)
+{
+    int before = errors->total;
+    if (!cJSON_IsObject(json)) {
+        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer_prefix,
+                              "expected a JSON object, got %s",
+                              json ? sky_json_type_name(json) : "nothing");
+        return false;
+    }
+    struct patch_context context = { schema, target, errors, named };
+    apply_object(&context, json, "", pointer_prefix);
+    return errors->total == before;
+}
+
 bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSON *patch,
                                 struct sky_field_errors *errors)
 {
@@ -471,17 +488,10 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
         sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "no state");
         return false;
     }
-    if (!cJSON_IsObject(patch)) {
-        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, "", "expected a JSON object, got %s",
-                              patch ? sky_json_type_name(patch) : "nothing");
-        return false;
-    }
     /* memcpy rather than assignment keeps padding bytes identical, so callers can memcmp. */
     struct sky_world_state candidate;
     memcpy(&candidate, state, sizeof candidate);
-    struct patch_context context = { sky_world_schema(), &candidate, errors, NULL };
-    apply_object(&context, patch, "", "");
-    if (errors->total == 0)
+    if (apply_root(sky_world_schema(), &candidate, patch, "", errors, NULL))
         validate_into(&candidate, errors);
     if (errors->total != 0)
         return false;
@@ -489,43 +499,25 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
     return true;
 }
 
-
 bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
                            const struct cJSON *object, const char *pointer_prefix,
                            struct sky_field_errors *errors)
 {
-    int before = errors->total;
-    if (!cJSON_IsObject(object)) {
-        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer_prefix,
-                              "expected a JSON object, got %s",
-                              object ? sky_json_type_name(object) : "nothing");
-        return false;
-    }
-    struct patch_context context = { schema, target, errors, NULL };
-    apply_object(&context, object, "", pointer_prefix);
-    return errors->total == before;
+    return apply_root(schema, target, object, pointer_prefix, errors, NULL);
 }
 
 bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefix,
                              struct sky_world_patch *out, struct sky_field_errors *errors)
 {
     const struct sky_schema *schema = sky_world_schema();
-    int before = errors->total;
     out->count = 0;
     sky_world_state_defaults(&out->values);
-    if (!cJSON_IsObject(json)) {
-        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer_prefix,
-                              "expected a JSON object, got %s",
-                              json ? sky_json_type_name(json) : "nothing");
-        return false;
-    }
     bool named[SKY_WORLD_PATCH_MAX_FIELDS] = { false };
-    struct patch_context context = { schema, &out->values, errors, named };
-    apply_object(&context, json, "", pointer_prefix);
+    bool ok = apply_root(schema, &out->values, json, pointer_prefix, errors, named);
     for (size_t i = 0; i < schema->count; i++)
         if (named[i])
             out->fields[out->count++] = (unsigned short)i;
-    return errors->total == before;
+    return ok;
 }
 
 bool sky_world_patch_names(const struct sky_world_patch *patch, const struct sky_field_desc *field)
