@@ -9,9 +9,10 @@
 #include <stdio.h>
 #include <string.h>
 
-static int check_passed, check_failed;
+/* Shared by every file of a test executable (defined in check.c). */
+extern int check_passed, check_failed;
 /* The table row being run: printed with every failure while it is not empty. */
-static const char *check_case_name = "";
+extern const char *check_case_name;
 
 /* Counts one check; on failure prints its place, leaving the line open for the details. */
 static inline bool check_record(bool ok, const char *file, int line)

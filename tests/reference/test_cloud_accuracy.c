@@ -187,16 +187,6 @@ static void print_table(const struct options *o, const struct slab_answer mc[NCA
     }
 }
 
-/* check_summary() over this file's checks and the harness's. */
-static int all_files_summary(void)
-{
-    int passed = 0, failed = 0;
-    slab_harness_counts(&passed, &failed);
-    check_passed += passed;
-    check_failed += failed;
-    return check_summary();
-}
-
 int main(int argc, char **argv)
 {
     double t_start = now_s();
@@ -226,7 +216,7 @@ int main(int argc, char **argv)
     struct vk_context *ctx = vk_context_create(&params);
     CHECK(ctx != NULL);
     if (!ctx)
-        return all_files_summary();
+        return check_summary();
     struct harness h;
     bool ok = slab_harness_create(ctx, &o, &h);
     static struct slab_answer mc[NCASE], model[NCASE], best_mc[NCASE], best_model[NCASE];
@@ -333,5 +323,5 @@ int main(int argc, char **argv)
     slab_harness_destroy(&h);
     vk_context_destroy(&ctx);
     CHECK(validation_messages == 0); /* counted through destruction */
-    return all_files_summary();
+    return check_summary();
 }

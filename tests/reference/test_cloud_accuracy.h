@@ -3,8 +3,7 @@
  *   test_cloud_accuracy.c          the comparison with the Monte Carlo, main
  *   test_cloud_accuracy_options.c  the command line
  *   test_cloud_accuracy_harness.c  the renderer's march on the device
- * check.h's counters are per translation unit: the harness hands over its own through
- * slab_harness_counts(), which main adds to its own before check_summary(). */
+ * All files count into check.h's one set of counters. */
 #ifndef SKYD_TEST_CLOUD_ACCURACY_H
 #define SKYD_TEST_CLOUD_ACCURACY_H
 
@@ -100,6 +99,5 @@ bool slab_harness_run(struct harness *h, const struct sky_world_state *state,
                       const struct options *o, const struct phase_set *ph,
                       const struct octave_set *os, struct slab_answer out[NCASE]);
 void slab_harness_destroy(struct harness *h);
-void slab_harness_counts(int *passed, int *failed);
 
 #endif

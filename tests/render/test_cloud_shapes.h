@@ -4,9 +4,7 @@
  *   test_cloud_shapes_outlines.c  fair cumulus from above and edge-on, smooth outlines
  *   test_cloud_shapes_storm.c     a storm cell's tower and rain shaft
  *   test_cloud_shapes_light.c     silver lining, sky ambient, the sun through clouds
- * check.h's counters are per translation unit: each file but test_cloud_shapes.c hands over
- * its own through its *_counts function, and run_tests() adds them to its own before
- * test_run_with_renderer() checks validation and prints check_summary(). */
+ * All files count into check.h's one set of counters. */
 #ifndef SKYD_TEST_CLOUD_SHAPES_H
 #define SKYD_TEST_CLOUD_SHAPES_H
 
@@ -64,21 +62,18 @@ int shapes_label(const struct sky_world_state *s, enum below_horizon below, doub
 void shapes_set_cell_map(const struct sky_world_state *s, double radius, double north,
                          uint8_t type, uint8_t rain);
 
-/* ---- the tests of each file and their counts ---- */
+/* ---- the tests of each file ---- */
 
 void test_from_above(const char *name, int seed, double sun_azimuth_deg, double altitude_km,
                      double fov_deg);
 void test_edge_on(void);
 void test_smooth_outlines(void);
-void test_cloud_shapes_outlines_counts(int *passed, int *failed);
 
 void test_storm_tower(void);
 void test_rain_shaft(void);
-void test_cloud_shapes_storm_counts(int *passed, int *failed);
 
 void test_silver_lining(void);
 void test_sky_ambient(void);
 void test_sun_through_clouds(void);
-void test_cloud_shapes_light_counts(int *passed, int *failed);
 
 #endif

@@ -195,9 +195,3 @@ void test_sun_through_clouds(void)
     CHECK_MSG(peak < 0.9 * clear_peak, "cirrus: disk peak %.4g of the clear sky's, want < 0.9",
               peak / clear_peak);
 }
-
-void test_cloud_shapes_light_counts(int *passed, int *failed)
-{
-    *passed = check_passed;
-    *failed = check_failed;
-}

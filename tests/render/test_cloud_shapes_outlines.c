@@ -157,9 +157,3 @@ void test_smooth_outlines(void)
     CHECK_MSG(along < 1.4 * across, "stair-stepped outlines: %.3f along the map's axes, %.3f "
               "across", along, across);
 }
-
-void test_cloud_shapes_outlines_counts(int *passed, int *failed)
-{
-    *passed = check_passed;
-    *failed = check_failed;
-}

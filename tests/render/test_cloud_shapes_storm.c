@@ -94,9 +94,3 @@ void test_rain_shaft(void)
     CHECK_MSG(change_beside < 0.01, "rain shaft: %.4f beside the cell", change_beside);
     CHECK(sky_renderer_set_weather_map(shapes_renderer, NULL, 0, 0) == 0);
 }
-
-void test_cloud_shapes_storm_counts(int *passed, int *failed)
-{
-    *passed = check_passed;
-    *failed = check_failed;
-}

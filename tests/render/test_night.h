@@ -4,9 +4,7 @@
  *   test_night_stars.c  star positions and photometry
  *   test_night_moon.c   the moon's disc: phases, luminance, below the horizon
  *   test_night.c        night lighting, adaptation, no NaN, review images; main
- * check.h's counters are per translation unit: each file but test_night.c hands over its own
- * through its *_counts function, and run_tests() adds them to its own before
- * test_run_with_renderer() checks validation and prints check_summary(). */
+ * All files count into check.h's one set of counters. */
 #ifndef SKYD_TEST_NIGHT_H
 #define SKYD_TEST_NIGHT_H
 
@@ -86,17 +84,15 @@ static inline double pixel_solid_angle(const struct camera *c, int x, int y)
     return side * side * z * z * z; /* a pinhole pixel's solid angle: A cos^3 / f^2 */
 }
 
-/* ---- the tests of each file and their counts ---- */
+/* ---- the tests of each file ---- */
 
 void test_star_positions(void);
 void test_star_photometry(void);
-void test_night_stars_counts(int *passed, int *failed);
 
 /* The moon scene of test_night_moon.c: the moon 12 deg up in the south, filling the view. */
 void night_test_moon_scene(struct sky_world_state *s, double sun_az, double sun_el);
 void test_moon_phases(void);
 void test_full_moon_luminance(void);
 void test_moon_hidden_below_horizon(void);
-void test_night_moon_counts(int *passed, int *failed);
 
 #endif

@@ -161,9 +161,3 @@ void test_star_photometry(void)
     CHECK(hot[2] > hot[0] && cool[0] > cool[2]);
     CHECK_NEAR(sky_rgb_to_luminance(hot), 1.0, 1e-9);
 }
-
-void test_night_stars_counts(int *passed, int *failed)
-{
-    *passed = check_passed;
-    *failed = check_failed;
-}

@@ -5,9 +5,7 @@
  *   test_protocol_parser.c    parser details and parsed values
  *   test_protocol_builders.c  the builders and the binary frame header
  *   test_protocol.c           PROTOCOL.md's examples, main
- * check.h's counters are per translation unit: each file but test_protocol.c hands over its own
- * through its *_counts function, and main adds them to its own before check_summary(). The
- * helpers are static inline so that their checks count, and name the case, in the caller's. */
+ * The helpers are static inline so that their checks name the caller's file and line. */
 #ifndef SKYD_TEST_PROTOCOL_H
 #define SKYD_TEST_PROTOCOL_H
 
@@ -119,17 +117,14 @@ struct protocol_client_example {
 extern const struct protocol_client_example protocol_client_examples[];
 extern const size_t protocol_client_example_count;
 
-/* ---- the tests of each file and their counts -------------------------------------------- */
+/* ---- the tests of each file ---------------------------------------------------------------- */
 
 void test_parse_table(void);
-void test_protocol_parse_counts(int *passed, int *failed);
 
 void test_offsets_and_limits(void);
 void test_parsed_values(void);
-void test_protocol_parser_counts(int *passed, int *failed);
 
 void test_builders(void);
 void test_frame_header(void);
-void test_protocol_builders_counts(int *passed, int *failed);
 
 #endif

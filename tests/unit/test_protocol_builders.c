@@ -358,9 +358,3 @@ void test_frame_header(void)
     CHECK(sky_frame_header_status_name(8) == NULL);
     check_case_name = "";
 }
-
-void test_protocol_builders_counts(int *passed, int *failed)
-{
-    *passed = check_passed;
-    *failed = check_failed;
-}

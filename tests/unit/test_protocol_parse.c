@@ -269,9 +269,3 @@ void test_parse_table(void)
     }
     check_case_name = "";
 }
-
-void test_protocol_parse_counts(int *passed, int *failed)
-{
-    *passed = check_passed;
-    *failed = check_failed;
-}

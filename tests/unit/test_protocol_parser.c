@@ -281,9 +281,3 @@ void test_parsed_values(void)
     CHECK(sky_msg_error_name(1000) == NULL);
     check_case_name = "";
 }
-
-void test_protocol_parser_counts(int *passed, int *failed)
-{
-    *passed = check_passed;
-    *failed = check_failed;
-}

@@ -4,10 +4,7 @@
  *   test_world_state.c          the schema, validation, errors, JSON; main
  *   test_world_state_cases.c    the table-driven patch and assignment cases
  *   test_world_state_presets.c  the real presets and broken ones in a temporary directory
- * check.h's counters are per translation unit: each file but test_world_state.c hands over
- * its own through its *_counts function, and main adds them to its own before
- * check_summary(). The helpers are static inline so that their checks count, and name the
- * case, in the caller's. */
+ * The helpers are static inline so that their checks name the caller's file and line. */
 #ifndef SKYD_TEST_WORLD_STATE_H
 #define SKYD_TEST_WORLD_STATE_H
 
@@ -110,13 +107,11 @@ static inline bool apply_patch_text(struct sky_world_state *state, const char *t
     return applied;
 }
 
-/* ---- the tests of each file and their counts -------------------------------------------- */
+/* ---- the tests of each file ---------------------------------------------------------------- */
 
 void test_state_cases(void);
-void test_world_state_cases_counts(int *passed, int *failed);
 
 void test_real_presets(const char *config_dir);
 void test_temp_presets(void);
-void test_world_state_presets_counts(int *passed, int *failed);
 
 #endif

@@ -243,9 +243,3 @@ void test_state_cases(void)
     for (size_t i = 0; i < sizeof assignment_cases / sizeof assignment_cases[0]; i++)
         run_state_case(&assignment_cases[i], sky_world_state_set_assignment);
 }
-
-void test_world_state_cases_counts(int *passed, int *failed)
-{
-    *passed = check_passed;
-    *failed = check_failed;
-}

@@ -219,9 +219,3 @@ void test_temp_presets(void)
     struct stat info;
     CHECK(stat(tree.root, &info) != 0);
 }
-
-void test_world_state_presets_counts(int *passed, int *failed)
-{
-    *passed = check_passed;
-    *failed = check_failed;
-}
