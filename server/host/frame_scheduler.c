@@ -1,6 +1,7 @@
 #include "frame_scheduler.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -351,10 +352,16 @@ static bool reserve_one(void **items, size_t *capacity, size_t count, size_t ite
     return true;
 }
 
-static struct frame_refusal refusal(enum sky_msg_error_code code, const char *message)
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+static struct frame_refusal refusal(enum sky_msg_error_code code, const char *format, ...)
 {
     struct frame_refusal r = { .code = code };
-    snprintf(r.message, sizeof r.message, "%s", message);
+    va_list args;
+    va_start(args, format);
+    vsnprintf(r.message, sizeof r.message, format, args);
+    va_end(args);
     return r;
 }
 
@@ -366,10 +373,8 @@ struct frame_refusal frame_scheduler_subscribe(struct frame_scheduler *fs, struc
         return refusal(SKY_MSG_ERR_INTERNAL, "out of memory");
     uint64_t next = fs->last_subscription_id + 1;
     if (!session_add_slot(session, next)) {
-        struct frame_refusal r = { .code = SKY_MSG_ERR_LIMIT_REACHED };
-        snprintf(r.message, sizeof r.message, "at most %d subscriptions per connection",
-                 SESSION_MAX_SUBSCRIPTIONS);
-        return r;
+        return refusal(SKY_MSG_ERR_LIMIT_REACHED, "at most %d subscriptions per connection",
+                       SESSION_MAX_SUBSCRIPTIONS);
     }
     fs->last_subscription_id = next;
     fs->subscriptions[fs->subscription_count++] = (struct subscription){
@@ -380,7 +385,7 @@ struct frame_refusal frame_scheduler_subscribe(struct frame_scheduler *fs, struc
         .next_due = monotonic_seconds(),
     };
     *id = next;
-    return refusal(SKY_MSG_OK, "");
+    return (struct frame_refusal){ .code = SKY_MSG_OK };
 }
 
 bool frame_scheduler_unsubscribe(struct frame_scheduler *fs, struct session *session, uint64_t id)
@@ -402,14 +407,12 @@ struct frame_refusal frame_scheduler_snapshot(struct frame_scheduler *fs, struct
                      sizeof *fs->snapshots))
         return refusal(SKY_MSG_ERR_INTERNAL, "out of memory");
     if (!session_snapshot_reserve(session)) {
-        struct frame_refusal r = { .code = SKY_MSG_ERR_LIMIT_REACHED };
-        snprintf(r.message, sizeof r.message,
-                 "at most %d snapshots may be pending per connection", SESSION_MAX_SNAPSHOTS);
-        return r;
+        return refusal(SKY_MSG_ERR_LIMIT_REACHED,
+                       "at most %d snapshots may be pending per connection", SESSION_MAX_SNAPSHOTS);
     }
     fs->snapshots[fs->snapshot_count++] =
         (struct pending_snapshot){ .session = session_ref(session), .id = *id, .view = *view };
-    return refusal(SKY_MSG_OK, "");
+    return (struct frame_refusal){ .code = SKY_MSG_OK };
 }
 
 void frame_scheduler_session_closed(struct frame_scheduler *fs, struct session *session)
