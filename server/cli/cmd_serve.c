@@ -238,25 +238,30 @@ int skyd_cmd_serve(int argc, char **argv)
                                               .state_file = config.state_file };
     initial_state(config.state_file, &config.initial_state, &loop_params.initial_state);
     struct session_hub *hub = session_hub_create(NULL, NULL);
+    struct service_metrics *metrics = service_metrics_create();
+    loop_params.metrics = metrics;
     struct failure_watch failure_watch = { .signals = &watch, .hub = hub };
     loop_params.hub = hub;
     loop_params.on_failure = on_render_failure;
     loop_params.failure_user = &failure_watch;
     char err[512];
-    struct render_loop *loop = hub ? render_loop_create(&loop_params, err, sizeof err) : NULL;
+    struct render_loop *loop =
+        hub && metrics ? render_loop_create(&loop_params, err, sizeof err) : NULL;
     if (!loop) {
-        fprintf(stderr, "skyd serve: %s\n", hub ? err : "out of memory");
+        fprintf(stderr, "skyd serve: %s\n", hub && metrics ? err : "out of memory");
         session_hub_destroy(&hub);
+        service_metrics_destroy(&metrics);
         return SKYD_EXIT_FAILURE;
     }
     struct ws_server_params server_params = {
-        .config = &config, .web_root = web_root, .hub = hub, .loop = loop
+        .config = &config, .web_root = web_root, .hub = hub, .loop = loop, .metrics = metrics
     };
     struct ws_server *server = ws_server_create(&server_params, err, sizeof err);
     if (!server) {
         fprintf(stderr, "skyd serve: %s\n", err);
         render_loop_destroy(&loop);
         session_hub_destroy(&hub);
+        service_metrics_destroy(&metrics);
         return SKYD_EXIT_FAILURE;
     }
     session_hub_set_wake(hub, ws_server_wake, server);
@@ -267,6 +272,7 @@ int skyd_cmd_serve(int argc, char **argv)
         render_loop_destroy(&loop);
         ws_server_destroy(&server);
         session_hub_destroy(&hub);
+        service_metrics_destroy(&metrics);
         return SKYD_EXIT_FAILURE;
     }
     printf("skyd: listening on %s\n", ws_server_url(server));
@@ -290,6 +296,7 @@ int skyd_cmd_serve(int argc, char **argv)
     pthread_join(watch.thread, NULL);
     ws_server_destroy(&server);
     session_hub_destroy(&hub);
+    service_metrics_destroy(&metrics);
     if (failure[0]) {
         fprintf(stderr, "skyd: stopped with the state saved: %s\n", failure);
         return SKYD_EXIT_FAILURE;

@@ -34,6 +34,7 @@ struct render_group {
 
 struct frame_scheduler {
     struct session_hub *hub;
+    struct service_metrics *metrics;
     int encoder_threads;
     struct encoder_pool *encoder;
     uint64_t last_subscription_id;
@@ -125,6 +126,7 @@ static void render_group(struct frame_scheduler *fs, struct world_host *world,
      * clouds asked for at once. */
     bool unwatched = fs->subscription_count == 0;
     struct sky_render_stats stats;
+    double started = monotonic_seconds();
     int rendered = pixels ? renderer_host_render(renderer, state, world_host_atmosphere(world),
                                                  &g->view, unwatched, pixels, bytes, &stats)
                           : -1;
@@ -141,6 +143,7 @@ static void render_group(struct frame_scheduler *fs, struct world_host *world,
         session_hub_wake(fs->hub);
         return;
     }
+    service_metrics_frame_rendered(fs->metrics, monotonic_seconds() - started);
     fs->last_stats = stats;
     fs->has_stats = true;
     uint64_t revision = world_host_frame_rendered(world, stats.atmosphere_settled);
@@ -181,8 +184,10 @@ static void schedule_view(struct frame_scheduler *fs, const size_t *members, siz
         states[k] = session_slot_state(s->session, s->id, now, fmax(2.0 * s->period_s, 0.25));
         encoding |= states[k] == SLOT_ENCODING;
         due |= states[k] == SLOT_READY && now >= s->next_due;
-        if (states[k] == SLOT_STALLED && now >= s->next_due)
+        if (states[k] == SLOT_STALLED && now >= s->next_due) {
             s->next_due = now + s->period_s; /* look again later; nothing is rendered */
+            service_metrics_frame_skipped(fs->metrics);
+        }
     }
     for (size_t k = 0; k < count; k++)
         fs->subscriptions[members[k]].waiting_for_encoder = encoding;
@@ -303,6 +308,7 @@ struct frame_scheduler *frame_scheduler_create(const struct frame_scheduler_para
     if (!fs)
         return NULL;
     fs->hub = params->hub;
+    fs->metrics = params->metrics;
     fs->encoder_threads = params->encoder_threads;
     fs->fps_window_start = monotonic_seconds();
     fs->encoder = encoder_pool_create(params->encoder_threads, params->hub, params->encoded,

@@ -11,6 +11,7 @@
 
 #include "messages.h"
 #include "renderer_host.h"
+#include "service_metrics.h"
 #include "session.h"
 #include "sky_renderer.h"
 #include "world_host.h"
@@ -22,6 +23,7 @@ struct frame_scheduler_params {
      * frame of that view). */
     void (*encoded)(void *user);
     void *user;
+    struct service_metrics *metrics; /* frames rendered and skipped, render times; may be NULL */
 };
 
 struct frame_scheduler;

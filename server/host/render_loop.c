@@ -39,6 +39,7 @@ struct render_loop {
     double last_trim_s;
     void (*on_failure)(void *user);
     void *failure_user;
+    struct service_metrics *metrics;
     char failure[384]; /* why the loop stopped on its own; "" while it runs (under lock) */
 };
 
@@ -163,10 +164,12 @@ static bool renderer_usable(struct render_loop *loop)
     case RENDERER_HOST_OK:
         return true;
     case RENDERER_HOST_REBUILT:
+        service_metrics_device_lost(loop->metrics);
         /* The LUTs were built at once for the atmosphere frames are asked to show. */
         world_host_renderer_rebuilt(ctx->world);
         return true;
     case RENDERER_HOST_FAILED:
+        service_metrics_device_lost(loop->metrics);
         break;
     }
     stop_on_failure(loop, why);
@@ -191,6 +194,19 @@ static void give_back_free_memory(struct render_loop *loop, double now, double n
     (void)now;
     (void)next_frame_at;
 #endif
+}
+
+/* The tick's heartbeat and gauges for /healthz and /metrics. */
+static void report_tick(struct render_loop *loop, double now)
+{
+    const struct sky_render_stats *last = frame_scheduler_last_stats(loop->ctx.frames);
+    struct service_metrics_tick tick = {
+        .at_s = now,
+        .state_revision = world_host_state(loop->ctx.world)->revision,
+        .subscriptions = frame_scheduler_subscription_count(loop->ctx.frames),
+        .lut_rebuild_progress = last ? last->lut_rebuild_progress : 1.0,
+    };
+    service_metrics_tick(loop->metrics, &tick);
 }
 
 static void *thread_main(void *arg)
@@ -238,6 +254,7 @@ static void *thread_main(void *arg)
             break;
         now = monotonic_seconds();
         frame_scheduler_tick(ctx->frames, now);
+        report_tick(loop, now);
         wake_at = fmin(wake_at, world_host_save_due(ctx->world, now, SIM_SAVE_PERIOD_S));
         give_back_free_memory(loop, monotonic_seconds(), wake_at);
     }
@@ -268,6 +285,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
 
     loop->on_failure = params->on_failure;
     loop->failure_user = params->failure_user;
+    loop->metrics = params->metrics;
     struct world_host_params world = {
         .state_file = params->state_file,
         .initial_state = params->initial_state,
@@ -278,7 +296,8 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     struct frame_scheduler_params frames = { .encoder_threads = params->config->encoder_threads,
                                              .hub = params->hub,
                                              .encoded = encoder_done,
-                                             .user = loop };
+                                             .user = loop,
+                                             .metrics = params->metrics };
     ctx->frames = ctx->world ? frame_scheduler_create(&frames) : NULL;
     if (!ctx->frames) {
         snprintf(err, errlen, "cannot start the encoder threads");
@@ -307,6 +326,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         render_loop_destroy(&loop);
         return NULL;
     }
+    report_tick(loop, monotonic_seconds());
     loop->started = pthread_create(&loop->thread, NULL, thread_main, loop) == 0;
     if (!loop->started) {
         snprintf(err, errlen, "cannot start the render thread");

@@ -10,6 +10,7 @@
 #include <libwebsockets.h>
 
 #include "frame_header.h"
+#include "http_api.h"
 #include "json_guard.h"
 #include "messages.h"
 #include "monotonic_clock.h"
@@ -32,8 +33,10 @@ struct connection {
 struct ws_server {
     struct lws_context *context;
     struct lws_vhost *vhost;
-    struct lws_protocols protocols[2];
+    struct lws_protocols protocols[3];
     struct lws_http_mount mount;
+    struct http_api *api;
+    struct service_metrics *metrics;
     const struct skyd_config *config;
     struct sky_msg_limits limits;
     struct session_hub *hub;
@@ -174,6 +177,7 @@ static void on_message(struct ws_server *srv, struct connection *c)
         enum sky_msg_error_code code = sky_msg_parse(c->rx ? c->rx : "", c->rx_length,
                                                      &srv->limits, &msg, &parse_error);
         json_guard_unlock();
+        service_metrics_message(srv->metrics, msg.type);
         if (!allowed) {
             snprintf(message, sizeof message, "more than %g messages per second; this one was "
                      "dropped", srv->limits.control_messages_per_second);
@@ -245,7 +249,28 @@ static void on_receive(struct ws_server *srv, struct lws *wsi, struct connection
         on_message(srv, c);
 }
 
-static int on_writeable(struct lws *wsi, struct connection *c)
+/* Every error a client hears passes here, whoever built it (the replies are cJSON's compact
+ * print, whose members keep the builder's order: type, id, code). */
+static void count_error(struct ws_server *srv, const char *text, size_t length)
+{
+    static const char error_type[] = "{\"type\":\"error\"";
+    static const char code_key[] = "\"code\":\"";
+    if (length < sizeof error_type || memcmp(text, error_type, sizeof error_type - 1) != 0)
+        return;
+    const char *code = strstr(text, code_key);
+    enum sky_msg_error_code value = SKY_MSG_ERR_INTERNAL;
+    if (code) {
+        code += sizeof code_key - 1;
+        for (int i = 1; sky_msg_error_name(i); i++) {
+            size_t n = strlen(sky_msg_error_name(i));
+            if (strncmp(code, sky_msg_error_name(i), n) == 0 && code[n] == '"')
+                value = (enum sky_msg_error_code)i;
+        }
+    }
+    service_metrics_error(srv->metrics, value);
+}
+
+static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connection *c)
 {
     if (!c->session)
         return -1;
@@ -256,6 +281,7 @@ static int on_writeable(struct lws *wsi, struct connection *c)
     case SESSION_OUTPUT_NONE:
         break;
     case SESSION_OUTPUT_TEXT:
+        count_error(srv, out.text, out.length);
         if (lws_write(wsi, (unsigned char *)out.text, out.length, LWS_WRITE_TEXT) <
             (int)out.length)
             rc = -1;
@@ -276,6 +302,8 @@ static int on_writeable(struct lws *wsi, struct connection *c)
         if (sky_frame_header_pack(&header, bytes) != SKY_FRAME_HEADER_OK ||
             lws_write(wsi, bytes, length, LWS_WRITE_BINARY) < (int)length)
             rc = -1;
+        else
+            service_metrics_frame_sent(srv->metrics);
         break;
     }
     case SESSION_OUTPUT_CLOSE:
@@ -311,17 +339,28 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
         on_receive(srv, wsi, c, in, len);
         return 0;
     case LWS_CALLBACK_SERVER_WRITEABLE:
-        return on_writeable(wsi, c);
+        return on_writeable(srv, wsi, c);
     case LWS_CALLBACK_CLOSED:
         on_closed(srv, c);
         return 0;
     case LWS_CALLBACK_EVENT_WAIT_CANCELLED:
-        if (srv)
+        if (srv) {
             session_hub_for_each(srv->hub, request_writable, NULL);
+            http_api_wake(srv->api);
+        }
         return 0;
     default:
         return lws_callback_http_dummy(wsi, reason, user, in, len);
     }
+}
+
+static int http_callback(struct lws *wsi, enum lws_callback_reasons reason, void *user,
+                         void *in, size_t len)
+{
+    struct ws_server *srv = lws_context_user(lws_get_context(wsi));
+    if (!srv || !srv->api)
+        return lws_callback_http_dummy(wsi, reason, user, in, len);
+    return http_api_callback(srv->api, wsi, reason, user, in, len);
 }
 
 static void log_line(int level, const char *line)
@@ -342,7 +381,16 @@ struct ws_server *ws_server_create(const struct ws_server_params *params, char *
     srv->config = cfg;
     srv->hub = params->hub;
     srv->loop = params->loop;
+    srv->metrics = params->metrics;
     skyd_config_limits(cfg, &srv->limits);
+    struct http_api_params api = { .config = cfg, .limits = &srv->limits, .hub = params->hub,
+                                   .loop = params->loop, .metrics = params->metrics };
+    srv->api = http_api_create(&api);
+    if (!srv->api) {
+        snprintf(err, errlen, "out of memory");
+        free(srv);
+        return NULL;
+    }
     snprintf(srv->web_root, sizeof srv->web_root, "%s", params->web_root);
 
     lws_set_log_level(LLL_ERR | LLL_WARN | LLL_USER, log_line);
@@ -351,6 +399,11 @@ struct ws_server *ws_server_create(const struct ws_server_params *params, char *
         .callback = callback,
         .per_session_data_size = sizeof(struct connection),
         .rx_buffer_size = 0,
+    };
+    srv->protocols[1] = (struct lws_protocols){
+        .name = HTTP_API_PROTOCOL,
+        .callback = http_callback,
+        .per_session_data_size = http_api_request_size(),
     };
     srv->mount = (struct lws_http_mount){
         .mountpoint = "/",
@@ -365,7 +418,7 @@ struct ws_server *ws_server_create(const struct ws_server_params *params, char *
     info.port = cfg->listen_port;
     info.iface = cfg->listen_address;
     info.protocols = srv->protocols;
-    info.mounts = &srv->mount;
+    info.mounts = http_api_mounts(srv->api, &srv->mount);
     info.user = srv;
     info.server_string = SERVER_NAME;
     info.options = LWS_SERVER_OPTION_HTTP_HEADERS_SECURITY_BEST_PRACTICES_ENFORCE;
@@ -401,6 +454,7 @@ void ws_server_destroy(struct ws_server **server)
     srv->loop = NULL;
     if (srv->context)
         lws_context_destroy(srv->context);
+    http_api_destroy(&srv->api);
     free(srv);
 }
 
@@ -442,6 +496,7 @@ void ws_server_close_all(struct ws_server *server, int code, const char *reason,
 
 void ws_server_detach_loop(struct ws_server *server)
 {
+    http_api_detach_loop(server->api);
     server->loop = NULL;
 }
 

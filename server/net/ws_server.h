@@ -1,5 +1,5 @@
-/* The libwebsockets side of the daemon: one thread that serves the web client's files over
- * HTTP and the protocol over WebSocket on the same port. It only moves bytes: it reassembles
+/* The libwebsockets side of the daemon: one thread that serves the web client's files and the
+ * HTTP API (http_api.h) over HTTP and the protocol over WebSocket on the same port. It only moves bytes: it reassembles
  * messages (bounded by max_message_bytes), checks Origin, the client limit and the message
  * rate, parses with protocol/, and hands each message to the render loop in order; it writes
  * what the sessions have queued when woken. */
@@ -12,6 +12,7 @@
 
 #include "config.h"
 #include "render_loop.h"
+#include "service_metrics.h"
 #include "session.h"
 
 struct ws_server_params {
@@ -19,6 +20,7 @@ struct ws_server_params {
     const char *web_root;             /* absolute path of the static files */
     struct session_hub *hub;
     struct render_loop *loop;
+    struct service_metrics *metrics; /* messages, errors and frames sent; /metrics, /healthz */
 };
 
 struct ws_server;

@@ -1,0 +1,46 @@
+/* The daemon's counters and gauges for operators: frames, messages, errors, device losses, the
+ * render thread's heartbeat. Written by the render thread, the encoder workers and the service
+ * thread, read by the service thread for GET /metrics (Prometheus text exposition 0.0.4) and
+ * GET /healthz. Every call is thread-safe. */
+#ifndef SKYD_SERVICE_METRICS_H
+#define SKYD_SERVICE_METRICS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "messages.h"
+
+struct service_metrics;
+
+struct service_metrics *service_metrics_create(void);
+void service_metrics_destroy(struct service_metrics **metrics);
+
+/* A view rendered (render_seconds: the render call's wall time, encoding not included). */
+void service_metrics_frame_rendered(struct service_metrics *m, double render_seconds);
+/* A frame written to a client (WebSocket or HTTP). */
+void service_metrics_frame_sent(struct service_metrics *m);
+/* A subscription's frame that was due but not rendered: its client had not taken the last one. */
+void service_metrics_frame_skipped(struct service_metrics *m);
+/* A client message by its type; SKY_MSG_NONE for one that could not be parsed. */
+void service_metrics_message(struct service_metrics *m, enum sky_msg_type type);
+/* An error answered to a client. */
+void service_metrics_error(struct service_metrics *m, enum sky_msg_error_code code);
+void service_metrics_device_lost(struct service_metrics *m);
+
+/* The render thread's view of the world, once per tick: also its heartbeat. */
+struct service_metrics_tick {
+    double at_s;                 /* CLOCK_MONOTONIC seconds */
+    uint64_t state_revision;
+    size_t subscriptions;
+    double lut_rebuild_progress; /* 0..1, 1 when no rebuild is under way */
+};
+void service_metrics_tick(struct service_metrics *m, const struct service_metrics_tick *tick);
+/* The last tick (at_s 0 before the first). */
+struct service_metrics_tick service_metrics_last_tick(struct service_metrics *m);
+
+/* The exposition text (malloc'd, NUL-terminated) with `clients` as the skyd_clients gauge;
+ * NULL when memory is out. */
+char *service_metrics_exposition(struct service_metrics *m, int clients);
+
+#endif

@@ -1,0 +1,517 @@
+#include "http_api.h"
+
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <cjson/cJSON.h>
+
+#include "json_guard.h"
+#include "monotonic_clock.h"
+#include "http_api_internal.h"
+#include "world_state.h"
+
+struct http_api *http_api_create(const struct http_api_params *params)
+{
+    struct http_api *api = calloc(1, sizeof *api);
+    if (!api)
+        return NULL;
+    api->config = params->config;
+    api->limits = params->limits;
+    api->hub = params->hub;
+    api->loop = params->loop;
+    api->metrics = params->metrics;
+    static const char *const points[] = { "/api", "/healthz", "/metrics" };
+    for (int i = 0; i < 3; i++) {
+        api->mounts[i] = (struct lws_http_mount){
+            .mountpoint = points[i],
+            .mountpoint_len = (unsigned char)strlen(points[i]),
+            .protocol = HTTP_API_PROTOCOL,
+            .origin_protocol = LWSMPRO_CALLBACK,
+        };
+    }
+    return api;
+}
+
+size_t http_api_request_size(void)
+{
+    return sizeof(struct http_request);
+}
+
+static void forget_pending(struct http_api *api, struct http_request *r)
+{
+    if (!r->pending)
+        return;
+    for (struct http_request **at = &api->pending; *at; at = &(*at)->next_pending) {
+        if (*at == r) {
+            *at = r->next_pending;
+            break;
+        }
+    }
+    r->pending = false;
+    r->next_pending = NULL;
+}
+
+/* Ends whatever the request holds: its session leaves the render loop's books. */
+static void release_request(struct http_api *api, struct http_request *r)
+{
+    forget_pending(api, r);
+    if (r->session) {
+        session_mark_closed(r->session);
+        if (api->loop)
+            render_loop_session_closed(api->loop, r->session);
+        session_unref(&r->session);
+    }
+    free(r->body);
+    free(r->response);
+    if (r->frame)
+        encoded_frame_unref(&r->frame);
+    struct lws *wsi = r->wsi;
+    memset(r, 0, sizeof *r);
+    r->wsi = wsi;
+}
+
+void http_api_destroy(struct http_api **api_ptr)
+{
+    struct http_api *api = *api_ptr;
+    *api_ptr = NULL;
+    if (!api)
+        return;
+    while (api->pending)
+        release_request(api, api->pending);
+    free(api);
+}
+
+const struct lws_http_mount *http_api_mounts(struct http_api *api,
+                                             const struct lws_http_mount *next)
+{
+    api->mounts[0].mount_next = &api->mounts[1];
+    api->mounts[1].mount_next = &api->mounts[2];
+    api->mounts[2].mount_next = next;
+    return &api->mounts[0];
+}
+
+/* ---- responses ---- */
+
+void respond(struct http_request *r, unsigned status, const char *content_type,
+                    const char *text, size_t length)
+{
+    free(r->response);
+    r->response = malloc(LWS_PRE + length + 1);
+    if (r->response) {
+        memcpy(r->response + LWS_PRE, text, length);
+        r->response_length = length;
+    } else {
+        r->response_length = 0;
+        status = HTTP_STATUS_INTERNAL_SERVER_ERROR;
+    }
+    r->status = status;
+    r->content_type = content_type;
+    r->ready = true;
+    lws_callback_on_writable(r->wsi);
+}
+
+static unsigned status_of_error(enum sky_msg_error_code code)
+{
+    switch (code) {
+    case SKY_MSG_ERR_MALFORMED_JSON:
+    case SKY_MSG_ERR_INVALID_ENCODING:
+    case SKY_MSG_ERR_UNSUPPORTED_PROTOCOL:
+        return HTTP_STATUS_BAD_REQUEST;
+    case SKY_MSG_ERR_MESSAGE_TOO_LARGE: return HTTP_STATUS_REQ_ENTITY_TOO_LARGE;
+    case SKY_MSG_ERR_AUTH_FAILED: return HTTP_STATUS_UNAUTHORIZED;
+    case SKY_MSG_ERR_FORBIDDEN: return HTTP_STATUS_FORBIDDEN;
+    case SKY_MSG_ERR_NOT_FOUND: return HTTP_STATUS_NOT_FOUND;
+    case SKY_MSG_ERR_RATE_LIMITED:
+    case SKY_MSG_ERR_LIMIT_REACHED:
+        return 429;
+    case SKY_MSG_ERR_INTERNAL: return HTTP_STATUS_INTERNAL_SERVER_ERROR;
+    default: return 422; /* the message was understood, its fields were not acceptable */
+    }
+}
+
+/* An error in the protocol's `error` shape, with `status`, or the status the code maps to
+ * when status is 0. */
+void respond_error(struct http_api *api, struct http_request *r, unsigned status,
+                          enum sky_msg_error_code code, const char *message,
+                          const struct sky_field_errors *fields)
+{
+    json_guard_lock();
+    char *text = sky_msg_build_error(NULL, code, message, fields);
+    json_guard_unlock();
+    service_metrics_error(api->metrics, code);
+    respond(r, status ? status : status_of_error(code), "application/json",
+            text ? text : "{}", text ? strlen(text) : 2);
+    free(text);
+}
+
+void respond_json(struct http_request *r, unsigned status, cJSON *json)
+{
+    char *text = json ? cJSON_PrintUnformatted(json) : NULL;
+    if (text)
+        respond(r, status, "application/json", text, strlen(text));
+    else
+        respond(r, HTTP_STATUS_INTERNAL_SERVER_ERROR, "application/json", "{}", 2);
+    free(text);
+}
+
+static int write_response(struct http_api *api, struct http_request *r)
+{
+    uint8_t headers[LWS_PRE + 1024];
+    uint8_t *start = headers + LWS_PRE, *p = start, *end = headers + sizeof headers - 1;
+    uint8_t *body = (uint8_t *)(r->response ? r->response + LWS_PRE : NULL);
+    size_t length = r->response_length;
+    if (r->frame) {
+        body = encoded_frame_message(r->frame) + SKY_FRAME_HEADER_SIZE;
+        length = encoded_frame_png_length(r->frame);
+    }
+    if (lws_add_http_common_headers(r->wsi, r->status, r->content_type, length, &p, end))
+        return -1;
+    if (lws_add_http_header_by_name(r->wsi, (const unsigned char *)"cache-control:",
+                                    (const unsigned char *)"no-store", 8, &p, end))
+        return -1;
+    if (r->status == HTTP_STATUS_UNAUTHORIZED &&
+        lws_add_http_header_by_name(r->wsi, (const unsigned char *)"www-authenticate:",
+                                    (const unsigned char *)"Bearer", 6, &p, end))
+        return -1;
+    if (r->status == HTTP_STATUS_METHOD_NOT_ALLOWED &&
+        lws_add_http_header_by_name(r->wsi, (const unsigned char *)"allow:",
+                                    (const unsigned char *)(r->endpoint == ENDPOINT_STATE
+                                                                ? "GET, PATCH" : "GET"),
+                                    r->endpoint == ENDPOINT_STATE ? 10 : 3, &p, end))
+        return -1;
+    if (lws_finalize_write_http_header(r->wsi, start, &p, end))
+        return -1;
+    if (length > 0 && lws_write(r->wsi, body, length, LWS_WRITE_HTTP_FINAL) < (int)length)
+        return -1;
+    if (r->frame)
+        service_metrics_frame_sent(api->metrics);
+    release_request(api, r);
+    return lws_http_transaction_completed(r->wsi) ? -1 : 0;
+}
+
+/* ---- replies from the render loop ---- */
+
+/* The session's reply, as the HTTP response; false while there is none yet. */
+static bool take_reply(struct http_api *api, struct http_request *r)
+{
+    for (;;) {
+        struct session_output out;
+        session_next_output(r->session, &out);
+        if (out.kind == SESSION_OUTPUT_NONE)
+            return false;
+        if (out.kind == SESSION_OUTPUT_FRAME) {
+            r->frame = encoded_frame_ref(out.frame);
+            r->status = HTTP_STATUS_OK;
+            r->content_type = "image/png";
+            r->ready = true;
+            session_output_release(&out);
+            return true;
+        }
+        if (out.kind == SESSION_OUTPUT_CLOSE) {
+            respond_error(api, r, 0, SKY_MSG_ERR_INTERNAL, out.close_reason, NULL);
+            session_output_release(&out);
+            return true;
+        }
+        json_guard_lock();
+        cJSON *reply = cJSON_ParseWithLength(out.text, out.length);
+        json_guard_unlock();
+        session_output_release(&out);
+        cJSON_DeleteItemFromObjectCaseSensitive(reply, "id");
+        const cJSON *type = cJSON_GetObjectItemCaseSensitive(reply, "type");
+        const char *kind = cJSON_IsString(type) ? type->valuestring : "";
+        if (strcmp(kind, "frame") == 0) { /* the image follows */
+            cJSON_Delete(reply);
+            continue;
+        }
+        if (strcmp(kind, "error") == 0) {
+            const cJSON *code = cJSON_GetObjectItemCaseSensitive(reply, "code");
+            enum sky_msg_error_code value = SKY_MSG_ERR_INTERNAL;
+            for (int i = 1; cJSON_IsString(code) && sky_msg_error_name(i); i++)
+                if (strcmp(sky_msg_error_name(i), code->valuestring) == 0)
+                    value = (enum sky_msg_error_code)i;
+            service_metrics_error(api->metrics, value);
+            respond_json(r, status_of_error(value), reply);
+        } else if (strcmp(kind, "ack") == 0) {
+            cJSON *answer = cJSON_CreateObject();
+            cJSON_AddItemToObject(answer, "revision",
+                                  cJSON_DetachItemFromObject(reply, "revision"));
+            respond_json(r, HTTP_STATUS_OK, answer);
+            cJSON_Delete(answer);
+        } else {
+            cJSON_DeleteItemFromObjectCaseSensitive(reply, "type");
+            respond_json(r, HTTP_STATUS_OK, reply);
+        }
+        cJSON_Delete(reply);
+        return true;
+    }
+}
+
+void http_api_wake(struct http_api *api)
+{
+    for (struct http_request *r = api->pending; r; r = r->next_pending)
+        if (session_has_output(r->session))
+            lws_callback_on_writable(r->wsi);
+}
+
+void http_api_detach_loop(struct http_api *api)
+{
+    for (struct http_request *r = api->pending; r; r = r->next_pending) {
+        if (r->session) {
+            session_mark_closed(r->session);
+            session_unref(&r->session);
+        }
+    }
+    api->loop = NULL;
+    while (api->pending) {
+        struct http_request *r = api->pending;
+        forget_pending(api, r);
+        respond_error(api, r, HTTP_STATUS_SERVICE_UNAVAILABLE, SKY_MSG_ERR_INTERNAL,
+                      "skyd is shutting down", NULL);
+    }
+}
+
+/* Hands a parsed message to the render loop from the request's own session. */
+static void submit(struct http_api *api, struct http_request *r, struct sky_client_msg *msg,
+                   enum sky_msg_role role)
+{
+    service_metrics_message(api->metrics, msg->type);
+    r->session = session_create();
+    if (!r->session || !api->loop) {
+        sky_client_msg_free(msg);
+        respond_error(api, r, api->loop ? 0 : HTTP_STATUS_SERVICE_UNAVAILABLE,
+                      SKY_MSG_ERR_INTERNAL, api->loop ? "out of memory" : "skyd is shutting down",
+                      NULL);
+        return;
+    }
+    session_set_transport(r->session, r->wsi);
+    session_set_role(r->session, role);
+    /* lws allows a request 5 s before its response starts; a snapshot of a new view can take
+     * longer on a CPU (its clouds are built first). */
+    lws_set_timeout(r->wsi, PENDING_TIMEOUT_HTTP_CONTENT, REPLY_TIMEOUT_S);
+    r->pending = true;
+    r->next_pending = api->pending;
+    api->pending = r;
+    render_loop_submit_message(api->loop, r->session, msg);
+}
+
+/* Parses `json` as a protocol message and submits it; a refusal is the response. */
+void submit_json(struct http_api *api, struct http_request *r, cJSON *json,
+                        enum sky_msg_role role)
+{
+    /* A snapshot's image is announced to its id; the response drops it again. */
+    cJSON_AddStringToObject(json, "id", HTTP_MESSAGE_ID);
+    char *text = json ? cJSON_PrintUnformatted(json) : NULL;
+    if (!text) {
+        respond_error(api, r, 0, SKY_MSG_ERR_INTERNAL, "out of memory", NULL);
+        return;
+    }
+    struct sky_client_msg msg;
+    struct sky_msg_parse_error error;
+    json_guard_lock();
+    enum sky_msg_error_code code = sky_msg_parse(text, strlen(text), api->limits, &msg, &error);
+    json_guard_unlock();
+    free(text);
+    if (code != SKY_MSG_OK) {
+        service_metrics_message(api->metrics, msg.type);
+        respond_error(api, r, 0, code, error.message, &error.fields);
+        return;
+    }
+    submit(api, r, &msg, role);
+}
+
+/* ---- requests ---- */
+
+static bool take_rate_token(struct http_api *api, struct lws *wsi)
+{
+    char address[64] = "";
+    lws_get_peer_simple(wsi, address, sizeof address);
+    double now = monotonic_seconds(), rate = api->limits->control_messages_per_second;
+    struct rate_peer *peer = NULL, *oldest = &api->peers[0];
+    for (int i = 0; i < RATE_PEERS && !peer; i++) {
+        if (strcmp(api->peers[i].address, address) == 0 && api->peers[i].used_at > 0)
+            peer = &api->peers[i];
+        else if (api->peers[i].used_at < oldest->used_at)
+            oldest = &api->peers[i];
+    }
+    if (!peer) {
+        peer = oldest;
+        *peer = (struct rate_peer){ .tokens = rate, .refilled_at = now };
+        snprintf(peer->address, sizeof peer->address, "%s", address);
+    }
+    peer->used_at = now;
+    peer->tokens += (now - peer->refilled_at) * rate;
+    if (peer->tokens > rate)
+        peer->tokens = rate; /* burst: one second's worth, as on a WebSocket */
+    peer->refilled_at = now;
+    if (peer->tokens < 1.0)
+        return false;
+    peer->tokens -= 1.0;
+    return true;
+}
+
+static bool bearer_token_valid(struct http_api *api, struct lws *wsi)
+{
+    const char *expected = api->config->controller_token;
+    char header[256] = "";
+    int length = lws_hdr_total_length(wsi, WSI_TOKEN_HTTP_AUTHORIZATION);
+    if (!expected[0] || length <= 7 || length >= (int)sizeof header ||
+        lws_hdr_copy(wsi, header, sizeof header, WSI_TOKEN_HTTP_AUTHORIZATION) < 0 ||
+        strncasecmp(header, "Bearer ", 7) != 0)
+        return false;
+    const char *given = header + 7;
+    size_t a = strlen(given), b = strlen(expected);
+    unsigned char diff = (unsigned char)(a != b);
+    for (size_t i = 0; i < b; i++)
+        diff |= (unsigned char)(expected[i] ^ (i < a ? given[i] : 0));
+    return diff == 0;
+}
+
+static enum endpoint endpoint_of(const char *path)
+{
+    static const struct {
+        const char *path;
+        enum endpoint endpoint;
+    } routes[] = {
+        { "/healthz", ENDPOINT_HEALTH },   { "/metrics", ENDPOINT_METRICS },
+        { "/api/state", ENDPOINT_STATE },  { "/api/snapshot", ENDPOINT_SNAPSHOT },
+        { "/api/schema", ENDPOINT_SCHEMA },
+    };
+    for (size_t i = 0; i < sizeof routes / sizeof routes[0]; i++)
+        if (strcmp(path, routes[i].path) == 0)
+            return routes[i].endpoint;
+    return ENDPOINT_NONE;
+}
+
+static bool body_follows(struct lws *wsi)
+{
+    char length[32] = "";
+    if (lws_hdr_total_length(wsi, WSI_TOKEN_HTTP_CONTENT_LENGTH) <= 0 ||
+        lws_hdr_copy(wsi, length, sizeof length, WSI_TOKEN_HTTP_CONTENT_LENGTH) < 0)
+        return false;
+    return strtoull(length, NULL, 10) > 0;
+}
+
+/* The request line is in: route it, or wait for a PATCH's body. */
+static int on_request(struct http_api *api, struct http_request *r, struct lws *wsi)
+{
+    release_request(api, r);
+    r->wsi = wsi;
+    static const enum lws_token_indexes methods[] = { WSI_TOKEN_GET_URI, WSI_TOKEN_PATCH_URI,
+                                                      WSI_TOKEN_POST_URI, WSI_TOKEN_PUT_URI,
+                                                      WSI_TOKEN_DELETE_URI, WSI_TOKEN_OPTIONS_URI,
+                                                      WSI_TOKEN_HEAD_URI };
+    char path[256] = "";
+    size_t method = 0;
+    while (method < sizeof methods / sizeof methods[0] &&
+           lws_hdr_total_length(wsi, methods[method]) <= 0)
+        method++;
+    if (method < sizeof methods / sizeof methods[0])
+        lws_hdr_copy(wsi, path, sizeof path, methods[method]);
+    bool get = method == 0;
+    r->patch = method == 1;
+    r->endpoint = endpoint_of(path);
+    if (r->endpoint == ENDPOINT_NONE) {
+        respond_error(api, r, HTTP_STATUS_NOT_FOUND, SKY_MSG_ERR_NOT_FOUND,
+                      "no such endpoint: see PROTOCOL.md, \"HTTP API\"", NULL);
+        return 0;
+    }
+    if ((!get && !r->patch) || (r->patch && r->endpoint != ENDPOINT_STATE)) {
+        char message[320];
+        snprintf(message, sizeof message, "%s allows only %s", path,
+                 r->endpoint == ENDPOINT_STATE ? "GET and PATCH" : "GET");
+        respond_error(api, r, HTTP_STATUS_METHOD_NOT_ALLOWED, SKY_MSG_ERR_BAD_VALUE, message,
+                      NULL);
+        return 0;
+    }
+    bool limited = r->endpoint != ENDPOINT_HEALTH && r->endpoint != ENDPOINT_METRICS;
+    if (limited && !take_rate_token(api, wsi)) {
+        char message[96];
+        snprintf(message, sizeof message, "more than %g requests per second from this address",
+                 api->limits->control_messages_per_second);
+        respond_error(api, r, 0, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
+        return 0;
+    }
+    if (r->patch && !bearer_token_valid(api, wsi)) {
+        respond_error(api, r, 0, SKY_MSG_ERR_AUTH_FAILED,
+                      api->config->controller_token[0]
+                          ? "PATCH needs the header Authorization: Bearer <controller token>"
+                          : "this server has no controller token: nobody can control it",
+                      NULL);
+        return 0;
+    }
+    switch (r->endpoint) {
+    case ENDPOINT_HEALTH: answer_health(api, r); break;
+    case ENDPOINT_METRICS: answer_metrics(api, r); break;
+    case ENDPOINT_SCHEMA: answer_schema(api, r); break;
+    case ENDPOINT_SNAPSHOT: answer_snapshot(api, r); break;
+    case ENDPOINT_STATE:
+        if (!r->patch) {
+            json_guard_lock();
+            cJSON *get_state = cJSON_CreateObject();
+            cJSON_AddStringToObject(get_state, "type", "get_state");
+            json_guard_unlock();
+            submit_json(api, r, get_state, SKY_ROLE_VIEWER);
+            cJSON_Delete(get_state);
+        } else if (!body_follows(wsi)) {
+            answer_patch(api, r); /* no body: refused as not JSON */
+        }
+        break;
+    case ENDPOINT_NONE: break;
+    }
+    return 0;
+}
+
+static void on_body(struct http_api *api, struct http_request *r, const void *in, size_t len)
+{
+    if (r->ready || r->body_too_large)
+        return;
+    if (r->body_length + len > api->limits->max_message_bytes) {
+        r->body_too_large = true;
+        return;
+    }
+    if (r->body_length + len + 1 > r->body_capacity) {
+        size_t capacity = (r->body_length + len + 1) * 2;
+        if (capacity > api->limits->max_message_bytes + 1)
+            capacity = api->limits->max_message_bytes + 1;
+        char *grown = realloc(r->body, capacity);
+        if (!grown) {
+            r->body_too_large = true;
+            return;
+        }
+        r->body = grown;
+        r->body_capacity = capacity;
+    }
+    memcpy(r->body + r->body_length, in, len);
+    r->body_length += len;
+    r->body[r->body_length] = '\0';
+}
+
+int http_api_callback(struct http_api *api, struct lws *wsi, enum lws_callback_reasons reason,
+                      void *user, void *in, size_t len)
+{
+    struct http_request *r = user;
+    switch (reason) {
+    case LWS_CALLBACK_HTTP:
+        return on_request(api, r, wsi);
+    case LWS_CALLBACK_HTTP_BODY:
+        on_body(api, r, in, len);
+        return 0;
+    case LWS_CALLBACK_HTTP_BODY_COMPLETION:
+        if (!r->ready && !r->session)
+            answer_patch(api, r);
+        return 0;
+    case LWS_CALLBACK_HTTP_WRITEABLE:
+        if (!r->ready && r->session && !take_reply(api, r))
+            return 0;
+        return r->ready ? write_response(api, r) : 0;
+    case LWS_CALLBACK_CLOSED_HTTP:
+    case LWS_CALLBACK_HTTP_DROP_PROTOCOL:
+        release_request(api, r);
+        return 0;
+    default:
+        return lws_callback_http_dummy(wsi, reason, user, in, len);
+    }
+}
