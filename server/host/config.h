@@ -38,6 +38,7 @@ struct skyd_config {
     double control_messages_per_second; /* 20 */
     int max_upload_bytes;          /* 2 MiB: a controller's set_weather_map */
     char controller_token[128];    /* "" = nobody can control */
+    bool read_only;                /* nobody may control: auth is always refused */
     int origin_count;
     char allowed_origins[SKYD_CONFIG_MAX_ORIGINS][128];
     /* The world state the daemon starts from when no state file can be restored: the
