@@ -64,6 +64,7 @@ if "$skyd" schema config >"$out/schema-config.json" 2>"$out/stderr.txt" &&
 import json, sys
 p = json.load(open(sys.argv[1]))["properties"]
 assert p["read_only"]["type"] == "boolean" and p["read_only"]["default"] is False, p["read_only"]
+assert "token" in p["controller_token"]["description"], p["controller_token"]
 ' "$out/schema-config.json"; then pass; else fail "schema config lacks read_only: $(cat "$out/stderr.txt")"; fi
 
 # skyd schema: one JSON Schema document (2020-12) with the world state's fields.
