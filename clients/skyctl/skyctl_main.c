@@ -1,17 +1,24 @@
 /* skyctl: command-line client of skyd (protocol/PROTOCOL.md). */
 #include "skyctl.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 static const char usage_text[] =
-    "usage: skyctl [--url URL] [--token TOKEN] [--timeout S] COMMAND [ARGS]\n"
+    "usage: skyctl [--url URL] [--token TOKEN | --token-file FILE] [--timeout S] COMMAND\n"
+    "              [ARGS]\n"
     "\n"
     "Talks to a running skyd (`skyd serve`) over its WebSocket protocol.\n"
     "  --url URL      ws://HOST:PORT/ ($SKYD_URL, else ws://127.0.0.1:8080/)\n"
-    "  --token TOKEN  the controller token, needed by set and preset ($SKYD_TOKEN)\n"
+    "  --token TOKEN  the controller token, needed by set, preset and weather-map\n"
+    "                 ($SKYD_TOKEN when not given)\n"
+    "  --token-file FILE\n"
+    "                 a file whose first line is the token, read when neither --token\n"
+    "                 nor $SKYD_TOKEN gives one: e.g. var/skyd-state.json.token, the\n"
+    "                 token `skyd serve` made and keeps beside its state file\n"
     "  --timeout S    seconds to wait for the connection and each reply (default 30)\n"
     "\n"
     "commands:\n"
@@ -50,6 +57,7 @@ static const char usage_text[] =
     "  skyctl --token \"$T\" preset mars\n"
     "  skyctl --token \"$T\" preset --kind weather --transition-s 600 storm\n"
     "  skyctl --token \"$T\" weather-map front.png\n"
+    "  skyctl --token-file var/skyd-state.json.token set clouds.low.coverage=0.4\n"
     "  skyctl snapshot --out west.png --width 1280 --height 720 --set camera.yaw_deg=270\n"
     "  skyctl snapshot --out env.png --width 2048 --height 1024 --set projection=equirectangular\n"
     "         --set format=png16\n"
@@ -66,6 +74,29 @@ int skyctl_usage_error(const char *command, const char *format, ...)
     va_end(args);
     fprintf(stderr, "\n(skyctl --help shows the usage)\n");
     return SKYCTL_USAGE;
+}
+
+/* The first line of path, blanks and line end trimmed, into token. */
+static int read_token_file(const char *path, char *token, size_t tokenlen)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return skyctl_usage_error(NULL, "--token-file %s: %s", path, strerror(errno));
+    char line[1024];
+    bool read = fgets(line, sizeof line, f) != NULL;
+    fclose(f);
+    const char *start = line + strspn(line, " \t");
+    size_t length = read ? strcspn(start, "\r\n") : 0;
+    while (length > 0 && (start[length - 1] == ' ' || start[length - 1] == '\t'))
+        length--;
+    if (length == 0)
+        return skyctl_usage_error(NULL, "--token-file %s: no token on its first line", path);
+    if (length >= tokenlen)
+        return skyctl_usage_error(NULL, "--token-file %s: the token is longer than %zu bytes",
+                                  path, tokenlen - 1);
+    memcpy(token, start, length);
+    token[length] = '\0';
+    return SKYCTL_OK;
 }
 
 struct command {
@@ -88,6 +119,7 @@ int main(int argc, char **argv)
     };
     if (options.token && !options.token[0])
         options.token = NULL;
+    const char *token_file = NULL;
     int i = 1;
     for (; i < argc && argv[i][0] == '-'; i++) {
         const char *arg = argv[i];
@@ -102,6 +134,8 @@ int main(int argc, char **argv)
             options.url = value;
         } else if (strcmp(arg, "--token") == 0) {
             options.token = value;
+        } else if (strcmp(arg, "--token-file") == 0) {
+            token_file = value;
         } else if (strcmp(arg, "--timeout") == 0) {
             double seconds;
             if (!skyctl_parse_number(value, 0.001, 86400, &seconds))
@@ -113,6 +147,13 @@ int main(int argc, char **argv)
     }
     if (i >= argc)
         return skyctl_usage_error(NULL, "no command");
+    static char file_token[300]; /* the protocol takes tokens of up to 256 bytes */
+    if (token_file && !options.token) {
+        int rc = read_token_file(token_file, file_token, sizeof file_token);
+        if (rc != SKYCTL_OK)
+            return rc;
+        options.token = file_token;
+    }
     for (size_t c = 0; c < sizeof commands / sizeof commands[0]; c++) {
         if (strcmp(argv[i], commands[c].name) == 0)
             return commands[c].run(&options, argc - i, argv + i);

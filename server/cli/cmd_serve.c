@@ -18,6 +18,7 @@
 #include "cli_args.h"
 #include "commands.h"
 #include "config.h"
+#include "control_token.h"
 #include "render_loop.h"
 #include "session.h"
 #include "state_store.h"
@@ -39,8 +40,11 @@ static void usage(FILE *out)
             "usage: skyd serve [--config FILE] [--port N] [--state-file PATH] [--web-root DIR]\n"
             "                  [--config-dir DIR] [--device NAME] [--validation]\n"
             "Serves the web client over HTTP and the protocol (protocol/PROTOCOL.md) over\n"
-            "WebSocket on one port; prints \"skyd: listening on URL\" when ready. SIGTERM or\n"
-            "SIGINT closes every client (1001), saves the world state and exits 0. A lost\n"
+            "WebSocket on one port; prints \"skyd: listening on URL\" when ready. Unless the\n"
+            "config sets controller_token or read_only, the next line is \"skyd: control at\n"
+            "URL#token=TOKEN\": a token made at the first start, kept in <state_file>.token\n"
+            "(mode 0600; replaced when group or others may read it). SIGTERM or SIGINT\n"
+            "closes every client (1001), saves the world state and exits 0. A lost\n"
             "Vulkan device is reported and the renderer rebuilt; when that fails (or the\n"
             "device is lost 3 times in a minute) every client is closed (1011), the state is\n"
             "saved and skyd exits 1.\n"
@@ -207,6 +211,13 @@ int skyd_cmd_serve(int argc, char **argv)
     struct skyd_config config;
     if (!load_config(&options, &config))
         return SKYD_EXIT_USAGE;
+    char token_note[1536];
+    enum control_token_source token = control_token_settle(&config, token_note,
+                                                           sizeof token_note);
+    if (token_note[0])
+        fprintf(stderr, "skyd: %s\n", token_note);
+    if (token == CONTROL_TOKEN_FAILED)
+        return SKYD_EXIT_FAILURE;
 
     char web_root[PATH_MAX];
     if (!realpath(config.web_root, web_root)) {
@@ -276,6 +287,8 @@ int skyd_cmd_serve(int argc, char **argv)
         return SKYD_EXIT_FAILURE;
     }
     printf("skyd: listening on %s\n", ws_server_url(server));
+    if (control_token_shown(token))
+        printf("skyd: control at %s#token=%s\n", ws_server_url(server), config.controller_token);
     fflush(stdout);
 
     ws_server_run(server, &watch.stop);

@@ -56,7 +56,9 @@ static const struct sky_field_desc config_fields[] = {
            "a controller's changes per second"),
     INT("limits.max_upload_bytes", max_upload_bytes, 256, 64 << 20,
         "largest set_weather_map message"),
-    STRING("controller_token", controller_token, "the token auth asks for; empty: nobody"),
+    STRING("controller_token", controller_token,
+           "the token auth asks for; empty: skyd serve makes one, kept in <state_file>.token"),
+    BOOL("read_only", read_only, "nobody may control the server: no token, auth is refused"),
 };
 
 static const char *const config_caller_members[] = { "allowed_origins", "initial_state" };

@@ -208,8 +208,11 @@ static void handle_auth(struct render_context *ctx, struct session *session,
 {
     const char *token = ctx->config->controller_token;
     if (!token[0]) {
-        reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED,
-                    "this server has no controller token: nobody can control it");
+        reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "%s",
+                    ctx->config->read_only
+                        ? "this server is read-only (read_only in its configuration): "
+                          "nobody can control it"
+                        : "this server has no controller token: nobody can control it");
         return;
     }
     if (!tokens_equal(msg->auth.token, token)) {

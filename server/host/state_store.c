@@ -56,7 +56,6 @@ static bool parse_state(const char *text, size_t length, struct sky_world_state 
     return ok;
 }
 
-/* A daemon killed while writing leaves "<file>.tmp<pid>" beside the state file or its map. */
 /* Splits `copy` (a writable copy of a path) in place into its directory, returned, and its
  * last component. */
 static const char *split_path(char *copy, const char **base)
@@ -71,7 +70,7 @@ static const char *split_path(char *copy, const char **base)
     return slash == copy ? "/" : copy;
 }
 
-static void remove_stale_temporaries(const char *path)
+void state_store_remove_temporaries(const char *path)
 {
     char *copy = strdup(path);
     if (!copy)
@@ -101,8 +100,8 @@ enum state_load_result state_store_load(const char *path, struct sky_world_state
 {
     char stem[4096];
     state_store_weather_map_path(path, stem, sizeof stem);
-    remove_stale_temporaries(path);
-    remove_stale_temporaries(stem);
+    state_store_remove_temporaries(path);
+    state_store_remove_temporaries(stem);
     if (access(path, F_OK) != 0) {
         snprintf(msg, msglen, "no state file at %s: starting from the defaults", path);
         return STATE_LOAD_ABSENT;
@@ -185,9 +184,8 @@ static int write_all(int fd, const void *bytes, size_t length)
     return 0;
 }
 
-/* Writes path through a temporary file beside it: fsync, rename, fsync of the directory. */
-static int write_atomically(const char *path, const void *data, size_t length, char *err,
-                            size_t errlen)
+int state_store_write_file(const char *path, const void *data, size_t length, mode_t mode,
+                           char *err, size_t errlen)
 {
     size_t n = strlen(path) + 32;
     char *tmp = malloc(n);
@@ -200,7 +198,9 @@ static int write_atomically(const char *path, const void *data, size_t length, c
     int fd = -1;
     if (make_parents(path) != 0) {
         snprintf(err, errlen, "cannot create the directory of %s: %s", path, strerror(errno));
-    } else if ((fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644)) < 0) {
+    } else if (unlink(tmp) != 0 && errno != ENOENT) { /* one left there keeps its own mode */
+        snprintf(err, errlen, "cannot remove %s: %s", tmp, strerror(errno));
+    } else if ((fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL, mode)) < 0) {
         snprintf(err, errlen, "cannot create %s: %s", tmp, strerror(errno));
     } else if (write_all(fd, data, length) != 0 || fsync(fd) != 0) {
         snprintf(err, errlen, "cannot write %s: %s", tmp, strerror(errno));
@@ -235,7 +235,7 @@ int state_store_save(const char *path, const struct sky_world_state *state, char
         return -1;
     }
     memcpy(line + length, "\n", 2); /* newline and terminator */
-    int rc = write_atomically(path, line, length + 1, err, errlen);
+    int rc = state_store_write_file(path, line, length + 1, 0644, err, errlen);
     free(line);
     return rc;
 }
@@ -271,7 +271,7 @@ int state_store_save_weather_map(const char *state_path, const struct sky_weathe
         snprintf(err, errlen, "cannot encode the weather map as PNG");
         return -1;
     }
-    int rc = write_atomically(path, png, length, err, errlen);
+    int rc = state_store_write_file(path, png, length, 0644, err, errlen);
     free(png);
     return rc;
 }

@@ -5,6 +5,7 @@
 #define SKYD_STATE_STORE_H
 
 #include <stddef.h>
+#include <sys/types.h>
 
 #include "weather_map.h"
 #include "world_state.h"
@@ -23,6 +24,15 @@ enum state_load_result state_store_load(const char *path, struct sky_world_state
 /* Creates missing parent directories. Returns 0, or -1 with a message. */
 int state_store_save(const char *path, const struct sky_world_state *state, char *err,
                      size_t errlen);
+
+/* Writes length bytes to path as the state is written: a temporary "<path>.tmp<pid>" made
+ * with `mode` (less the umask), fsync, rename, fsync of the directory. Creates missing parent
+ * directories. Returns 0, or -1 with a message. */
+int state_store_write_file(const char *path, const void *data, size_t length, mode_t mode,
+                           char *err, size_t errlen);
+
+/* Removes the "<path>.tmp<pid>" a daemon killed while writing path left beside it. */
+void state_store_remove_temporaries(const char *path);
 
 /* The client weather map lives beside the state file, as a PNG: "var/skyd-state.json" keeps
  * it in "var/skyd-state.weather-map.png". */

@@ -59,6 +59,13 @@ if awk -v a="$t1" -v b="$t2" 'BEGIN { exit !(b < a) }'; then pass; else fail "--
 expect_error "unknown command" 2 'unknown command "bogus"' "$skyd" bogus
 expect_error "schema with an argument" 2 'usage: skyd schema' "$skyd" schema extra
 expect_ok "schema config" "\\{" "$skyd" schema config
+if "$skyd" schema config >"$out/schema-config.json" 2>"$out/stderr.txt" &&
+   LD_PRELOAD= /usr/bin/python3 -c '
+import json, sys
+p = json.load(open(sys.argv[1]))["properties"]
+assert p["read_only"]["type"] == "boolean" and p["read_only"]["default"] is False, p["read_only"]
+assert "token" in p["controller_token"]["description"], p["controller_token"]
+' "$out/schema-config.json"; then pass; else fail "schema config lacks read_only: $(cat "$out/stderr.txt")"; fi
 
 # skyd schema: one JSON Schema document (2020-12) with the world state's fields.
 if "$skyd" schema >"$out/schema.json" 2>"$out/stderr.txt" &&

@@ -58,6 +58,13 @@ expect "preset without name" 2 '' "give either NAME or --list" skyctl preset
 expect "bad --timeout" 2 '' "--timeout needs" skyctl --timeout -1 stats
 expect "connection refused" 3 '' "cannot connect to ws://127.0.0.1:1/" \
   skyctl --url ws://127.0.0.1:1/ stats
+expect "help names --token-file" 0 '.*--token-file FILE .*neither --token +nor \$SKYD_TOKEN.*' "" \
+  skyctl --help
+expect "--token-file missing" 2 '' "--token-file $out/none.txt: No such file" \
+  skyctl --token-file "$out/none.txt" stats
+printf ' \r\nsecond line\n' >"$out/empty-token.txt"
+expect "--token-file without a token" 2 '' "no token on its first line" \
+  skyctl --token-file "$out/empty-token.txt" stats
 
 # --- the daemon, on a free port
 cat >"$out/skyd.json" <<EOF
@@ -230,6 +237,25 @@ wait $watcher; rc=$?
 if [ $rc -eq 0 ] && grep -q '^frame' "$out/watch-int.txt"; then pass; else
   fail "watch interrupted: exit $rc, output '$(head -c 400 "$out/watch-int.txt")'"
 fi
+
+# Where the token comes from: --token, else $SKYD_TOKEN, else --token-file's first line.
+printf '  %s \r\nsecond line\n' "$token" >"$out/token.txt"
+printf 'wrong\n' >"$out/wrong-token.txt"
+env_token() { local value=$1; shift; SKYD_TOKEN=$value skyctl "$@"; }
+expect "token from SKYD_TOKEN" 0 'revision [0-9]+' "" env_token "$token" set sun.elevation_deg=21
+expect "token from --token-file, trimmed" 0 'revision [0-9]+' "" \
+  skyctl --token-file "$out/token.txt" set sun.elevation_deg=22
+expect "--token-file with an empty SKYD_TOKEN" 0 'revision [0-9]+' "" \
+  env_token "" --token-file "$out/token.txt" set sun.elevation_deg=23
+expect "--token before SKYD_TOKEN" 0 'revision [0-9]+' "" \
+  env_token wrong --token "$token" set sun.elevation_deg=24
+expect "SKYD_TOKEN before --token-file" 1 '' "auth: wrong token [auth_failed]" \
+  env_token wrong --token-file "$out/token.txt" set sun.elevation_deg=25
+expect "--token before --token-file" 1 '' "auth: wrong token [auth_failed]" \
+  skyctl --token wrong --token-file "$out/token.txt" set sun.elevation_deg=25
+expect "a wrong token in --token-file" 1 '' "auth: wrong token [auth_failed]" \
+  skyctl --token-file "$out/wrong-token.txt" set sun.elevation_deg=25
+expect "the refused sets changed nothing" 0 '24' "" c get sun.elevation_deg
 
 # The daemon goes away: connection failures are status 3.
 kill -TERM $daemon

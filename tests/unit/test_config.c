@@ -58,6 +58,13 @@ int main(int argc, char **argv)
     CHECK(c.listen_port == 0 && strcmp(c.render_device, "cpu") == 0);
     CHECK(c.origin_count == 1 && strcmp(c.allowed_origins[0], "http://example.test") == 0);
     CHECK(c.max_fps == defaults.max_fps); /* untouched fields keep their defaults */
+    CHECK(!c.read_only && c.controller_token[0] == '\0');
+
+    /* read_only, and the token left as given (control_token.c decides what they mean). */
+    const char *read_only = write_temp("read_only.json",
+                                       "{\"read_only\":true,\"controller_token\":\"t\"}");
+    CHECK(skyd_config_load(read_only, &c, &errors, msg, sizeof msg));
+    CHECK(c.read_only && strcmp(c.controller_token, "t") == 0);
 
     const struct bad_case cases[] = {
         { "{\"bogus\":1}", "/bogus", SKY_FIELD_UNKNOWN },
@@ -67,6 +74,7 @@ int main(int argc, char **argv)
         { "{\"listen\":{\"port\":80.5}}", "/listen/port", SKY_FIELD_BAD_VALUE },
         { "{\"listen\":7}", "/listen", SKY_FIELD_WRONG_TYPE },
         { "{\"render\":{\"validation\":\"yes\"}}", "/render/validation", SKY_FIELD_WRONG_TYPE },
+        { "{\"read_only\":1}", "/read_only", SKY_FIELD_WRONG_TYPE },
         { "{\"limits\":{\"max_fps\":0}}", "/limits/max_fps", SKY_FIELD_OUT_OF_RANGE },
         { "{\"limits\":{\"max_clients\":-1}}", "/limits/max_clients", SKY_FIELD_OUT_OF_RANGE },
         { "{\"allowed_origins\":\"*\"}", "/allowed_origins", SKY_FIELD_WRONG_TYPE },
@@ -107,6 +115,7 @@ int main(int argc, char **argv)
     CHECK(strstr(msg, "cannot open") != NULL);
 
     unlink(write_temp("partial.json", ""));
+    unlink(write_temp("read_only.json", ""));
     unlink(write_temp("bad.json", ""));
     unlink(write_temp("many.json", ""));
     unlink(write_temp("broken.json", ""));
