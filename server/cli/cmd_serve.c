@@ -1,6 +1,7 @@
 /* skyd serve: the daemon. Wires the threads together: the render loop (Vulkan, world state,
  * ticks), the PNG encoder workers it owns, the libwebsockets service thread (this one), and
- * a signal thread that turns SIGTERM/SIGINT into an orderly stop. */
+ * a signal thread that turns SIGTERM/SIGINT into an orderly stop and SIGHUP into a reload
+ * (serve_reload.h), and the service manager's notifications (service_notify.h). */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include <errno.h>
 #include <limits.h>
@@ -19,7 +20,11 @@
 #include "commands.h"
 #include "config.h"
 #include "control_token.h"
+#include "log.h"
 #include "render_loop.h"
+#include "serve_reload.h"
+#include "service_metrics.h"
+#include "service_notify.h"
 #include "session.h"
 #include "state_store.h"
 #include "ws_server.h"
@@ -31,6 +36,7 @@ struct serve_options {
     const char *web_root;
     const char *config_dir;
     const char *device;
+    const char *log_level;
     bool validation;
 };
 
@@ -38,7 +44,8 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: skyd serve [--config FILE] [--port N] [--state-file PATH] [--web-root DIR]\n"
-            "                  [--config-dir DIR] [--device NAME] [--validation]\n"
+            "                  [--config-dir DIR] [--device NAME] [--log-level LEVEL]\n"
+            "                  [--validation]\n"
             "Serves the web client over HTTP and the protocol (protocol/PROTOCOL.md) over\n"
             "WebSocket on one port; prints \"skyd: listening on URL\" when ready. Unless the\n"
             "config sets controller_token or read_only, the next line is \"skyd: control at\n"
@@ -47,13 +54,17 @@ static void usage(FILE *out)
             "closes every client (1001), saves the world state and exits 0. A lost\n"
             "Vulkan device is reported and the renderer rebuilt; when that fails (or the\n"
             "device is lost 3 times in a minute) every client is closed (1011), the state is\n"
-            "saved and skyd exits 1.\n"
+            "saved and skyd exits 1. SIGHUP reloads the limits, the token, read_only, the\n"
+            "origins and the presets without dropping anyone, and logs what changed. With\n"
+            "NOTIFY_SOCKET set (systemd, config/skyd.service) it reports READY=1, RELOADING=1,\n"
+            "STOPPING=1 and pings the watchdog while it is healthy.\n"
             "  --config FILE      configuration (config/skyd.json when run from the source tree)\n"
             "  --port N           listen port, 0 for any free one (overrides the config)\n"
             "  --state-file PATH  where the world state persists (overrides the config)\n"
             "  --web-root DIR     static files to serve (overrides the config)\n"
             "  --config-dir DIR   presets folder ($SKYD_CONFIG_DIR, else the source config/)\n"
             "  --device NAME      Vulkan device ($SKYD_DEVICE; else the config's render.device)\n"
+            "  --log-level LEVEL  error, warning, info (default: connections, reloads) or debug\n"
             "  --validation       Khronos validation layer on\n");
 }
 
@@ -80,6 +91,8 @@ static int parse_options(int argc, char **argv, struct serve_options *o)
             target = &o->config_dir;
         } else if (strcmp(arg, "--device") == 0) {
             target = &o->device;
+        } else if (strcmp(arg, "--log-level") == 0) {
+            target = &o->log_level;
         } else {
             fprintf(stderr, "skyd serve: unknown option \"%s\"\n", arg);
             usage(stderr);
@@ -88,12 +101,20 @@ static int parse_options(int argc, char **argv, struct serve_options *o)
         if (!(*target = cli_take_value(argc, argv, &i)))
             return -1;
     }
+    enum skyd_log_level level = SKYD_LOG_INFO;
+    if (o->log_level && !skyd_log_parse_level(o->log_level, &level)) {
+        fprintf(stderr, "skyd serve: --log-level: expected error, warning, info or debug, got "
+                        "\"%s\"\n", o->log_level);
+        return -1;
+    }
+    skyd_log_set_level(level);
     return 0;
 }
 
 /* Config, then command line. Returns false after printing why. */
-static bool load_config(const struct serve_options *o, struct skyd_config *config)
+static bool load_config(const void *options, struct skyd_config *config)
 {
+    const struct serve_options *o = options;
     skyd_config_defaults(config);
     if (o->config_path) {
         struct sky_field_errors errors;
@@ -132,15 +153,15 @@ static void initial_state(const char *state_file, const struct sky_world_state *
     char msg[1024];
     switch (state_store_load(state_file, state, msg, sizeof msg)) {
     case STATE_LOAD_RESTORED:
-        fprintf(stderr, "skyd: restored the world state (revision %llu) from %s\n",
+        skyd_log(SKYD_LOG_INFO, "restored the world state (revision %llu) from %s",
                 (unsigned long long)state->revision, state_file);
         break;
     case STATE_LOAD_ABSENT:
-        fprintf(stderr, "skyd: %s\n", msg);
+        skyd_log(SKYD_LOG_INFO, "%s", msg);
         break;
     case STATE_LOAD_CORRUPT:
     case STATE_LOAD_FAILED:
-        fprintf(stderr, "skyd: error: %s\n", msg);
+        skyd_log(SKYD_LOG_ERROR, "%s", msg);
         break;
     }
 }
@@ -152,6 +173,7 @@ struct signal_watch {
     volatile sig_atomic_t stop;
     volatile sig_atomic_t done;
     struct ws_server *server;
+    struct serve_reload *reload; /* SIGHUP */
 };
 
 /* The render loop cannot go on (render_loop_params.on_failure, on the render thread): the
@@ -173,11 +195,14 @@ static void *signal_thread(void *arg)
 {
     struct signal_watch *w = arg;
     int signal_number = 0;
-    if (sigwait(&w->set, &signal_number) != 0)
-        return NULL;
-    if (w->done)
-        return NULL;
-    fprintf(stderr, "skyd: %s: shutting down\n", strsignal(signal_number));
+    for (;;) {
+        if (sigwait(&w->set, &signal_number) != 0 || w->done)
+            return NULL;
+        if (signal_number != SIGHUP)
+            break;
+        serve_reload_run(w->reload);
+    }
+    skyd_log(SKYD_LOG_INFO, "%s: shutting down", strsignal(signal_number));
     w->stop = 1;
     /* Keeps waking the service loop so that it notices and its close deadline is checked. */
     while (!w->done) {
@@ -201,6 +226,60 @@ static void return_large_blocks_when_freed(void)
 #endif
 }
 
+/* Everything a serving daemon holds, torn down in one place. */
+struct serve_parts {
+    struct signal_watch watch;
+    bool watch_started;
+    struct failure_watch failure_watch;
+    struct session_hub *hub;
+    struct service_metrics *metrics;
+    struct live_settings *settings;
+    struct render_loop *loop;
+    struct ws_server *server;
+    struct service_notify *notify;
+    struct serve_reload reload;
+};
+
+/* The watchdog's question: the render thread ticks and rendering works. */
+static bool serve_healthy(void *user, char *why, size_t len)
+{
+    struct serve_parts *parts = user;
+    const char *failure = render_loop_failure(parts->loop);
+    struct service_metrics_tick tick = service_metrics_last_tick(parts->metrics);
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    double age = (double)now.tv_sec + (double)now.tv_nsec * 1e-9 - tick.at_s;
+    if (failure)
+        snprintf(why, len, "rendering stopped: %s", failure);
+    else if (age > 5.0)
+        snprintf(why, len, "the render thread has not ticked for %.1f s", age);
+    return !failure && age <= 5.0;
+}
+
+static void serve_teardown(struct serve_parts *parts)
+{
+    if (parts->hub)
+        session_hub_set_wake(parts->hub, NULL, NULL);
+    render_loop_destroy(&parts->loop);
+    if (parts->watch_started) {
+        parts->watch.done = 1;
+        pthread_kill(parts->watch.thread, SIGTERM); /* in case no signal came */
+        pthread_join(parts->watch.thread, NULL);
+    }
+    service_notify_destroy(&parts->notify);
+    ws_server_destroy(&parts->server);
+    session_hub_destroy(&parts->hub);
+    live_settings_destroy(&parts->settings);
+    service_metrics_destroy(&parts->metrics);
+}
+
+static int serve_fail(struct serve_parts *parts, const char *why)
+{
+    fprintf(stderr, "skyd serve: %s\n", why);
+    serve_teardown(parts);
+    return SKYD_EXIT_FAILURE;
+}
+
 int skyd_cmd_serve(int argc, char **argv)
 {
     return_large_blocks_when_freed();
@@ -215,13 +294,13 @@ int skyd_cmd_serve(int argc, char **argv)
     enum control_token_source token = control_token_settle(&config, token_note,
                                                            sizeof token_note);
     if (token_note[0])
-        fprintf(stderr, "skyd: %s\n", token_note);
+        skyd_log(SKYD_LOG_INFO, "%s", token_note);
     if (token == CONTROL_TOKEN_FAILED)
         return SKYD_EXIT_FAILURE;
 
     char web_root[PATH_MAX];
     if (!realpath(config.web_root, web_root)) {
-        fprintf(stderr, "skyd: web root %s: %s (HTTP requests will get 404)\n", config.web_root,
+        skyd_log(SKYD_LOG_INFO, "web root %s: %s (HTTP requests will get 404)", config.web_root,
                 strerror(errno));
         snprintf(web_root, sizeof web_root, "%s", config.web_root);
     }
@@ -235,11 +314,12 @@ int skyd_cmd_serve(int argc, char **argv)
     bool validation = options.validation || config.render_validation ||
                       (validation_env && strcmp(validation_env, "1") == 0);
 
-    struct signal_watch watch = { 0 };
-    sigemptyset(&watch.set);
-    sigaddset(&watch.set, SIGTERM);
-    sigaddset(&watch.set, SIGINT);
-    pthread_sigmask(SIG_BLOCK, &watch.set, NULL);
+    struct serve_parts parts = { .watch.reload = &parts.reload };
+    sigemptyset(&parts.watch.set);
+    sigaddset(&parts.watch.set, SIGTERM);
+    sigaddset(&parts.watch.set, SIGINT);
+    sigaddset(&parts.watch.set, SIGHUP);
+    pthread_sigmask(SIG_BLOCK, &parts.watch.set, NULL);
     signal(SIGPIPE, SIG_IGN);
 
     struct render_loop_params loop_params = { .config = &config,
@@ -248,72 +328,64 @@ int skyd_cmd_serve(int argc, char **argv)
                                               .config_dir = config_dir,
                                               .state_file = config.state_file };
     initial_state(config.state_file, &config.initial_state, &loop_params.initial_state);
-    struct session_hub *hub = session_hub_create(NULL, NULL);
-    struct service_metrics *metrics = service_metrics_create();
-    loop_params.metrics = metrics;
-    struct failure_watch failure_watch = { .signals = &watch, .hub = hub };
-    loop_params.hub = hub;
+    parts.hub = session_hub_create(NULL, NULL);
+    parts.metrics = service_metrics_create();
+    parts.settings = live_settings_create(&config);
+    if (!parts.hub || !parts.metrics || !parts.settings)
+        return serve_fail(&parts, "out of memory");
+    loop_params.metrics = parts.metrics;
+    loop_params.settings = parts.settings;
+    parts.failure_watch = (struct failure_watch){ .signals = &parts.watch, .hub = parts.hub };
+    loop_params.hub = parts.hub;
     loop_params.on_failure = on_render_failure;
-    loop_params.failure_user = &failure_watch;
+    loop_params.failure_user = &parts.failure_watch;
     char err[512];
-    struct render_loop *loop =
-        hub && metrics ? render_loop_create(&loop_params, err, sizeof err) : NULL;
-    if (!loop) {
-        fprintf(stderr, "skyd serve: %s\n", hub && metrics ? err : "out of memory");
-        session_hub_destroy(&hub);
-        service_metrics_destroy(&metrics);
-        return SKYD_EXIT_FAILURE;
-    }
-    struct ws_server_params server_params = {
-        .config = &config, .web_root = web_root, .hub = hub, .loop = loop, .metrics = metrics
-    };
-    struct ws_server *server = ws_server_create(&server_params, err, sizeof err);
-    if (!server) {
-        fprintf(stderr, "skyd serve: %s\n", err);
-        render_loop_destroy(&loop);
-        session_hub_destroy(&hub);
-        service_metrics_destroy(&metrics);
-        return SKYD_EXIT_FAILURE;
-    }
-    session_hub_set_wake(hub, ws_server_wake, server);
-    watch.server = server;
-    if (pthread_create(&watch.thread, NULL, signal_thread, &watch) != 0) {
-        fprintf(stderr, "skyd serve: cannot start the signal thread\n");
-        session_hub_set_wake(hub, NULL, NULL);
-        render_loop_destroy(&loop);
-        ws_server_destroy(&server);
-        session_hub_destroy(&hub);
-        service_metrics_destroy(&metrics);
-        return SKYD_EXIT_FAILURE;
-    }
-    printf("skyd: listening on %s\n", ws_server_url(server));
+    if (!(parts.loop = render_loop_create(&loop_params, err, sizeof err)))
+        return serve_fail(&parts, err);
+    struct ws_server_params server_params = { .config = &config, .web_root = web_root,
+                                              .hub = parts.hub, .loop = parts.loop,
+                                              .metrics = parts.metrics,
+                                              .settings = parts.settings };
+    if (!(parts.server = ws_server_create(&server_params, err, sizeof err)))
+        return serve_fail(&parts, err);
+    session_hub_set_wake(parts.hub, ws_server_wake, parts.server);
+    parts.watch.server = parts.server;
+    if (!(parts.notify = service_notify_create(serve_healthy, &parts)))
+        return serve_fail(&parts, "cannot start the watchdog thread");
+    parts.reload = (struct serve_reload){ .load = load_config, .options = &options,
+                                          .running = config, .token_source = token,
+                                          .settings = parts.settings, .notify = parts.notify,
+                                          .config_dir = config_dir,
+                                          .url = ws_server_url(parts.server) };
+    serve_reload_init(&parts.reload);
+    if (pthread_create(&parts.watch.thread, NULL, signal_thread, &parts.watch) != 0)
+        return serve_fail(&parts, "cannot start the signal thread");
+    parts.watch_started = true;
+    printf("skyd: listening on %s\n", ws_server_url(parts.server));
     if (control_token_shown(token))
-        printf("skyd: control at %s#token=%s\n", ws_server_url(server), config.controller_token);
+        printf("skyd: control at %s#token=%s\n", ws_server_url(parts.server),
+               config.controller_token);
     fflush(stdout);
+    service_notify_ready(parts.notify, ws_server_url(parts.server));
 
-    ws_server_run(server, &watch.stop);
+    ws_server_run(parts.server, &parts.watch.stop);
+    service_notify_stopping(parts.notify);
     char failure[512] = "";
-    const char *why = render_loop_failure(loop);
+    const char *why = render_loop_failure(parts.loop);
     if (why)
         snprintf(failure, sizeof failure, "%s", why);
     if (failure[0]) /* the replies saying why go out first */
-        ws_server_close_all(server, SESSION_CLOSE_INTERNAL_ERROR, "rendering device lost", true,
-                            2.0);
+        ws_server_close_all(parts.server, SESSION_CLOSE_INTERNAL_ERROR, "rendering device lost",
+                            true, 2.0);
     else
-        ws_server_close_all(server, SESSION_CLOSE_GOING_AWAY, "skyd shutting down", false, 2.0);
-    ws_server_detach_loop(server);
-    render_loop_destroy(&loop); /* saves the state */
-    session_hub_set_wake(hub, NULL, NULL);
-    watch.done = 1;
-    pthread_kill(watch.thread, SIGTERM); /* in case no signal came (the service loop failed) */
-    pthread_join(watch.thread, NULL);
-    ws_server_destroy(&server);
-    session_hub_destroy(&hub);
-    service_metrics_destroy(&metrics);
+        ws_server_close_all(parts.server, SESSION_CLOSE_GOING_AWAY, "skyd shutting down", false,
+                            2.0);
+    ws_server_detach_loop(parts.server);
+    serve_teardown(&parts); /* the render loop saves the state */
     if (failure[0]) {
-        fprintf(stderr, "skyd: stopped with the state saved: %s\n", failure);
+        skyd_log(SKYD_LOG_INFO, "stopped with the state saved: %s", failure);
         return SKYD_EXIT_FAILURE;
     }
-    fprintf(stderr, "skyd: stopped\n");
+    skyd_log(SKYD_LOG_INFO, "stopped");
     return SKYD_EXIT_OK;
 }

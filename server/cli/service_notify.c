@@ -9,6 +9,8 @@
 
 #include <systemd/sd-daemon.h>
 
+#include "log.h"
+
 struct service_notify {
     bool active;
     bool (*healthy)(void *user, char *why, size_t len);
@@ -35,7 +37,7 @@ static void *watchdog_main(void *arg)
         if (healthy)
             sd_notify(0, "WATCHDOG=1");
         else if (was_healthy)
-            fprintf(stderr, "skyd: error: not pinging the watchdog: %s\n", why);
+            skyd_log(SKYD_LOG_ERROR, "not pinging the watchdog: %s", why);
         was_healthy = healthy;
         struct timespec deadline;
         clock_gettime(CLOCK_MONOTONIC, &deadline);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "encoder_pool.h"
+#include "log.h"
 #include "monotonic_clock.h"
 #include "png_write.h"
 #include "world_render.h"
@@ -137,7 +138,7 @@ static void render_group(struct frame_scheduler *fs, struct world_host *world,
             renderer_host_describe_failure(renderer, what, message, sizeof message);
         else
             snprintf(message, sizeof message, "%s failed: out of memory for its pixels", what);
-        fprintf(stderr, "skyd: %s\n", message);
+        skyd_log(SKYD_LOG_ERROR, "%s", message);
         free(pixels);
         fail_targets(g->targets, g->count, message);
         session_hub_wake(fs->hub);

@@ -194,28 +194,22 @@ static void handle_list_presets(struct render_context *ctx, struct session *sess
           sky_msg_build_presets(&msg->id, msg->preset.kind, list, (size_t)count));
 }
 
-static bool tokens_equal(const char *given, const char *expected)
-{
-    size_t a = strlen(given), b = strlen(expected);
-    unsigned char diff = (unsigned char)(a != b);
-    for (size_t i = 0; i < b; i++)
-        diff |= (unsigned char)(expected[i] ^ (i < a ? given[i] : 0));
-    return diff == 0;
-}
-
 static void handle_auth(struct render_context *ctx, struct session *session,
                         const struct sky_client_msg *msg)
 {
-    const char *token = ctx->config->controller_token;
-    if (!token[0]) {
+    switch (live_settings_check_token(ctx->settings, msg->auth.token)) {
+    case LIVE_TOKEN_MATCHES:
+        break;
+    case LIVE_TOKEN_READ_ONLY:
         reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "%s",
-                    ctx->config->read_only
-                        ? "this server is read-only (read_only in its configuration): "
-                          "nobody can control it"
-                        : "this server has no controller token: nobody can control it");
+                    "this server is read-only (read_only in its configuration): "
+                    "nobody can control it");
         return;
-    }
-    if (!tokens_equal(msg->auth.token, token)) {
+    case LIVE_TOKEN_NONE:
+        reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "%s",
+                    "this server has no controller token: nobody can control it");
+        return;
+    case LIVE_TOKEN_WRONG:
         reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "wrong token");
         return;
     }

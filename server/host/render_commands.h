@@ -12,6 +12,7 @@
 #include "config.h"
 #include "messages.h"
 #include "frame_scheduler.h"
+#include "live_settings.h"
 #include "renderer_host.h"
 #include "session.h"
 #include "world_host.h"
@@ -23,6 +24,7 @@
 struct render_context {
     const struct skyd_config *config;
     const char *config_dir;
+    struct live_settings *settings; /* token and read-only mode, as the last reload left them */
     struct session_hub *hub;
     struct world_host *world;
     struct frame_scheduler *frames;

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "log.h"
 #include "render_commands.h"
 #include "monotonic_clock.h"
 
@@ -142,7 +143,7 @@ static void run_command(struct render_loop *loop, struct command *c)
  * stop serving; the thread then saves the state and ends. */
 static void stop_on_failure(struct render_loop *loop, const char *why)
 {
-    fprintf(stderr, "skyd: error: %s; saving the state and stopping\n", why);
+    skyd_log(SKYD_LOG_ERROR, "%s; saving the state and stopping", why);
     char message[448];
     snprintf(message, sizeof message, "the daemon is stopping: %s", why);
     frame_scheduler_fail_snapshots(loop->ctx.frames, message);
@@ -275,6 +276,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     struct render_context *ctx = &loop->ctx;
     ctx->config = params->config;
     ctx->config_dir = params->config_dir;
+    ctx->settings = params->settings;
     ctx->hub = params->hub;
     pthread_mutex_init(&loop->lock, NULL);
     pthread_condattr_t attr;
@@ -333,7 +335,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         render_loop_destroy(&loop);
         return NULL;
     }
-    fprintf(stderr, "skyd: rendering on %s\n", renderer_host_device_name(ctx->renderer));
+    skyd_log(SKYD_LOG_INFO, "rendering on %s", renderer_host_device_name(ctx->renderer));
     return loop;
 }
 

@@ -12,6 +12,7 @@
 
 #include "config.h"
 #include "messages.h"
+#include "live_settings.h"
 #include "service_metrics.h"
 #include "session.h"
 #include "world_state.h"
@@ -27,6 +28,8 @@ struct render_loop_params {
     /* Counters for operators (frames, device losses) and the heartbeat of every tick, with
      * the revision, subscriptions and LUT progress; may be NULL. */
     struct service_metrics *metrics;
+    /* The controller token and read-only mode auth checks against (a reload changes them). */
+    struct live_settings *settings;
     /* Called once, from the render thread, when rendering cannot go on: the device was lost
      * and no renderer could be made again, or it was lost too often (renderer_host.h). The
      * state is saved and the loop takes no more commands; the owner should stop serving and

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "log.h"
 #include "monotonic_clock.h"
 #include "probe_query.h"
 #include "world_render.h"
@@ -262,7 +263,7 @@ int renderer_host_prepare(struct renderer_host *h, const struct sky_world_state 
         return -1;
     }
     if (update_clouds(h, state) != 0 && !renderer_host_lost(h))
-        fprintf(stderr, "skyd: the cloud noise could not be generated\n");
+        skyd_log(SKYD_LOG_ERROR, "the cloud noise could not be generated");
     return 0;
 }
 
@@ -305,7 +306,7 @@ enum renderer_host_check renderer_host_check(struct renderer_host *h,
         return RENDERER_HOST_OK;
     double start = monotonic_seconds();
     int recent = count_recent_losses(h, start);
-    fprintf(stderr, "skyd: error: the Vulkan device was lost (%s)%s\n", detail,
+    skyd_log(SKYD_LOG_ERROR, "the Vulkan device was lost (%s)%s", detail,
             recent < RENDERER_HOST_MAX_LOSSES ? "; rebuilding the renderer" : "");
     sky_renderer_destroy(&h->renderer);
     if (recent >= RENDERER_HOST_MAX_LOSSES) {
@@ -320,7 +321,7 @@ enum renderer_host_check renderer_host_check(struct renderer_host *h,
                  "rebuilt: %s", why);
         return RENDERER_HOST_FAILED;
     }
-    fprintf(stderr, "skyd: renderer rebuilt on %s in %.0f ms; frames resume at revision %llu\n",
+    skyd_log(SKYD_LOG_INFO, "renderer rebuilt on %s in %.0f ms; frames resume at revision %llu",
             sky_renderer_device_name(h->renderer), (monotonic_seconds() - start) * 1e3,
             (unsigned long long)state->revision);
     return RENDERER_HOST_REBUILT;

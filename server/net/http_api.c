@@ -18,7 +18,7 @@ struct http_api *http_api_create(const struct http_api_params *params)
     struct http_api *api = calloc(1, sizeof *api);
     if (!api)
         return NULL;
-    api->config = params->config;
+    api->settings = params->settings;
     api->limits = params->limits;
     api->hub = params->hub;
     api->loop = params->loop;
@@ -352,21 +352,16 @@ static bool take_rate_token(struct http_api *api, struct lws *wsi)
     return true;
 }
 
-static bool bearer_token_valid(struct http_api *api, struct lws *wsi)
+/* The bearer token's check; the Authorization header's value is never logged or echoed. */
+static enum live_token_check check_bearer_token(struct http_api *api, struct lws *wsi)
 {
-    const char *expected = api->config->controller_token;
     char header[256] = "";
     int length = lws_hdr_total_length(wsi, WSI_TOKEN_HTTP_AUTHORIZATION);
-    if (!expected[0] || length <= 7 || length >= (int)sizeof header ||
+    if (length <= 7 || length >= (int)sizeof header ||
         lws_hdr_copy(wsi, header, sizeof header, WSI_TOKEN_HTTP_AUTHORIZATION) < 0 ||
         strncasecmp(header, "Bearer ", 7) != 0)
-        return false;
-    const char *given = header + 7;
-    size_t a = strlen(given), b = strlen(expected);
-    unsigned char diff = (unsigned char)(a != b);
-    for (size_t i = 0; i < b; i++)
-        diff |= (unsigned char)(expected[i] ^ (i < a ? given[i] : 0));
-    return diff == 0;
+        header[7] = '\0'; /* no bearer token: checked as an empty one */
+    return live_settings_check_token(api->settings, header + 7);
 }
 
 static enum endpoint endpoint_of(const char *path)
@@ -434,11 +429,15 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
         respond_error(api, r, 0, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
         return 0;
     }
-    if (r->patch && !bearer_token_valid(api, wsi)) {
+    enum live_token_check token = r->patch ? check_bearer_token(api, wsi) : LIVE_TOKEN_MATCHES;
+    if (token != LIVE_TOKEN_MATCHES) {
         respond_error(api, r, 0, SKY_MSG_ERR_AUTH_FAILED,
-                      api->config->controller_token[0]
-                          ? "PATCH needs the header Authorization: Bearer <controller token>"
-                          : "this server has no controller token: nobody can control it",
+                      token == LIVE_TOKEN_READ_ONLY
+                          ? "this server is read-only (read_only in its configuration): nobody "
+                            "can control it"
+                      : token == LIVE_TOKEN_NONE
+                          ? "this server has no controller token: nobody can control it"
+                          : "PATCH needs the header Authorization: Bearer <controller token>",
                       NULL);
         return 0;
     }

@@ -13,15 +13,15 @@
 
 #include <libwebsockets.h>
 
-#include "config.h"
+#include "live_settings.h"
 #include "messages.h"
 #include "render_loop.h"
 #include "service_metrics.h"
 #include "session.h"
 
 struct http_api_params {
-    const struct skyd_config *config; /* controller token */
-    const struct sky_msg_limits *limits;
+    struct live_settings *settings;   /* the controller token and read-only mode */
+    const struct sky_msg_limits *limits; /* kept current by the caller */
     struct session_hub *hub;          /* the WebSocket clients, for skyd_clients */
     struct render_loop *loop;
     struct service_metrics *metrics;

@@ -56,7 +56,7 @@ struct rate_peer {
 };
 
 struct http_api {
-    const struct skyd_config *config;
+    struct live_settings *settings;
     const struct sky_msg_limits *limits;
     struct session_hub *hub;
     struct render_loop *loop;

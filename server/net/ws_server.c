@@ -12,6 +12,7 @@
 #include "frame_header.h"
 #include "http_api.h"
 #include "json_guard.h"
+#include "log.h"
 #include "messages.h"
 #include "monotonic_clock.h"
 
@@ -20,6 +21,8 @@
 /* Per-connection data, owned by the service thread (lws allocates it zeroed). */
 struct connection {
     struct session *session;
+    unsigned long long number;  /* for the log: "connection 12" */
+    char peer[64];
     bool rejected;              /* over max_clients: gets an error and a close, nothing else */
     char *rx;                   /* the message being received */
     size_t rx_capacity;         /* bytes rx holds, terminator included */
@@ -37,11 +40,13 @@ struct ws_server {
     struct lws_http_mount mount;
     struct http_api *api;
     struct service_metrics *metrics;
+    struct live_settings *settings;
     const struct skyd_config *config;
     struct sky_msg_limits limits;
     struct session_hub *hub;
     struct render_loop *loop;
     char url[128];
+    unsigned long long connections; /* opened so far */
     char own_origins[2][96];
     char web_root[4096];
 };
@@ -51,10 +56,7 @@ static bool origin_allowed(const struct ws_server *srv, const char *origin)
     for (int i = 0; i < 2; i++)
         if (strcasecmp(origin, srv->own_origins[i]) == 0)
             return true;
-    for (int i = 0; i < srv->config->origin_count; i++)
-        if (strcasecmp(origin, srv->config->allowed_origins[i]) == 0)
-            return true;
-    return false;
+    return live_settings_origin_allowed(srv->settings, origin);
 }
 
 /* Browsers always send Origin; other clients need not, and are let in. */
@@ -67,7 +69,10 @@ static int confirm_upgrade(struct ws_server *srv, struct lws *wsi)
     if (length >= (int)sizeof origin || lws_hdr_copy(wsi, origin, sizeof origin,
                                                      WSI_TOKEN_ORIGIN) < 0 ||
         !origin_allowed(srv, origin)) {
-        lwsl_user("refused a WebSocket from origin %s\n", origin);
+        char peer[64] = "";
+        lws_get_peer_simple(wsi, peer, sizeof peer);
+        skyd_log(SKYD_LOG_WARNING, "refused a WebSocket from %s: origin %s is not allowed", peer,
+                 origin);
         /* Written whole: lws's own status helpers say HTTP/1.0 at this stage, which strict
          * WebSocket clients refuse to read. */
         static const char response[] = "HTTP/1.1 403 Forbidden\r\n"
@@ -94,6 +99,15 @@ static void queue_and_wake(struct lws *wsi, struct session *session, char *text)
 
 static int on_established(struct ws_server *srv, struct lws *wsi, struct connection *c)
 {
+    c->number = ++srv->connections;
+    lws_get_peer_simple(wsi, c->peer, sizeof c->peer);
+    if (strncmp(c->peer, "::ffff:", 7) == 0 && strchr(c->peer, '.')) /* IPv4 on a v6 socket */
+        memmove(c->peer, c->peer + 7, strlen(c->peer + 7) + 1);
+    char origin[128] = "";
+    if (lws_hdr_total_length(wsi, WSI_TOKEN_ORIGIN) < (int)sizeof origin)
+        lws_hdr_copy(wsi, origin, sizeof origin, WSI_TOKEN_ORIGIN);
+    skyd_log(SKYD_LOG_INFO, "connection %llu from %s%s%s", c->number, c->peer,
+             origin[0] ? ", origin " : "", origin);
     c->session = session_create();
     if (!c->session)
         return -1;
@@ -105,6 +119,7 @@ static int on_established(struct ws_server *srv, struct lws *wsi, struct connect
         char message[96];
         snprintf(message, sizeof message, "too many clients: at most %d",
                  srv->limits.max_clients);
+        skyd_log(SKYD_LOG_WARNING, "connection %llu refused: %s", c->number, message);
         queue_and_wake(wsi, c->session,
                        sky_msg_build_error(NULL, SKY_MSG_ERR_LIMIT_REACHED, message, NULL));
         session_request_close(c->session, SESSION_CLOSE_POLICY, "too many clients", true);
@@ -123,6 +138,8 @@ static int on_established(struct ws_server *srv, struct lws *wsi, struct connect
 
 static void on_closed(struct ws_server *srv, struct connection *c)
 {
+    if (c->number)
+        skyd_log(SKYD_LOG_INFO, "connection %llu from %s closed", c->number, c->peer);
     if (c->session) {
         session_mark_closed(c->session);
         if (!c->rejected) {
@@ -330,6 +347,8 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
 {
     struct ws_server *srv = lws_context_user(lws_get_context(wsi));
     struct connection *c = user;
+    if (srv && (reason == LWS_CALLBACK_ESTABLISHED || reason == LWS_CALLBACK_RECEIVE))
+        live_settings_limits(srv->settings, &srv->limits); /* as the last reload left them */
     switch (reason) {
     case LWS_CALLBACK_HTTP_CONFIRM_UPGRADE:
         return confirm_upgrade(srv, wsi);
@@ -360,13 +379,15 @@ static int http_callback(struct lws *wsi, enum lws_callback_reasons reason, void
     struct ws_server *srv = lws_context_user(lws_get_context(wsi));
     if (!srv || !srv->api)
         return lws_callback_http_dummy(wsi, reason, user, in, len);
+    if (reason == LWS_CALLBACK_HTTP || reason == LWS_CALLBACK_HTTP_BODY)
+        live_settings_limits(srv->settings, &srv->limits);
     return http_api_callback(srv->api, wsi, reason, user, in, len);
 }
 
 static void log_line(int level, const char *line)
 {
-    (void)level;
-    fprintf(stderr, "skyd: lws: %s", line);
+    skyd_log(level & LLL_ERR ? SKYD_LOG_ERROR : level & LLL_WARN ? SKYD_LOG_WARNING : SKYD_LOG_INFO,
+             "lws: %s", line);
 }
 
 struct ws_server *ws_server_create(const struct ws_server_params *params, char *err,
@@ -382,9 +403,11 @@ struct ws_server *ws_server_create(const struct ws_server_params *params, char *
     srv->hub = params->hub;
     srv->loop = params->loop;
     srv->metrics = params->metrics;
-    skyd_config_limits(cfg, &srv->limits);
-    struct http_api_params api = { .config = cfg, .limits = &srv->limits, .hub = params->hub,
-                                   .loop = params->loop, .metrics = params->metrics };
+    srv->settings = params->settings;
+    live_settings_limits(params->settings, &srv->limits);
+    struct http_api_params api = { .settings = params->settings, .limits = &srv->limits,
+                                   .hub = params->hub, .loop = params->loop,
+                                   .metrics = params->metrics };
     srv->api = http_api_create(&api);
     if (!srv->api) {
         snprintf(err, errlen, "out of memory");

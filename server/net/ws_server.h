@@ -11,6 +11,7 @@
 #include <stddef.h>
 
 #include "config.h"
+#include "live_settings.h"
 #include "render_loop.h"
 #include "service_metrics.h"
 #include "session.h"
@@ -21,6 +22,7 @@ struct ws_server_params {
     struct session_hub *hub;
     struct render_loop *loop;
     struct service_metrics *metrics; /* messages, errors and frames sent; /metrics, /healthz */
+    struct live_settings *settings;   /* limits, origins, token: what a reload may change */
 };
 
 struct ws_server;
