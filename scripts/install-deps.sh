@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libvulkan-dev vulkan-tools mesa-vulkan-drivers vulkan-validationlayers
   glslang-tools
-  libwebsockets-dev libcjson-dev libpng-dev libsystemd-dev
+  libwebsockets-dev libcjson-dev libpng-dev libsystemd-dev systemd
   python3 python3-websockets
   clang libclang-rt-dev
   chromium chromium-driver

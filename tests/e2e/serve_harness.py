@@ -142,8 +142,9 @@ def daemon_environment():
 
 
 class Daemon:
-    def __init__(self, skyd, scratch, name, config, env=None):
+    def __init__(self, skyd, scratch, name, config, env=None, args=None):
         self.skyd = skyd
+        self.args = list(args or [])  # after `serve --config FILE`
         self.scratch = scratch
         self.name = name
         self.config = config
@@ -163,7 +164,8 @@ class Daemon:
         log = open(self.log_path, "ab")
         env = daemon_environment()
         env.update(self.env)
-        self.proc = subprocess.Popen([self.skyd, "serve", "--config", self.config_path],
+        self.proc = subprocess.Popen([self.skyd, "serve", "--config", self.config_path,
+                                      *self.args],
                                      stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                      stderr=log, cwd=self.scratch, env=env)
         log.close()
