@@ -17,9 +17,11 @@ enum skyctl_exit {
 };
 
 struct skyctl_options {
-    const char *url;   /* ws://HOST:PORT/ */
-    const char *token; /* NULL: stay a viewer */
-    int timeout_ms;    /* connecting, and each reply */
+    const char *url;     /* ws://HOST:PORT/ or wss://HOST:PORT/ */
+    const char *token;   /* NULL: stay a viewer */
+    int timeout_ms;      /* connecting, and each reply */
+    const char *ca_file; /* wss: the PEM certificates to trust instead of the system's */
+    bool insecure;       /* wss: accept any server certificate */
 };
 
 /* One connection: hello read, auth done when a token was given. */

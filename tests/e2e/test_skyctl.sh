@@ -72,22 +72,29 @@ cat >"$out/skyd.json" <<EOF
  "state_file": "$out/state.json", "controller_token": "$token",
  "render": {"device": "", "validation": false}}
 EOF
-LD_PRELOAD="$preload" "$skyd" serve --config "$out/skyd.json" >"$out/skyd.stdout.txt" \
-  2>"$out/skyd.log" &
-daemon=$!
+# start_daemon NAME: runs skyd serve with $out/NAME.json in the background; sets daemon and
+# port, or fails the whole test.
+start_daemon() {
+  local name=$1
+  LD_PRELOAD="$preload" "$skyd" serve --config "$out/$name.json" >"$out/$name.stdout.txt" \
+    2>"$out/$name.log" &
+  daemon=$!
+  port=
+  for _ in $(seq 1 600); do
+    port=$(sed -nE 's|^skyd: listening on https?://127\.0\.0\.1:([0-9]+)/$|\1|p' \
+      "$out/$name.stdout.txt")
+    [ -n "$port" ] && break
+    kill -0 $daemon 2>/dev/null || break
+    sleep 0.1
+  done
+  if [ -z "$port" ]; then
+    echo "FAIL: skyd ($name) did not start: $(tail -c 600 "$out/$name.log")"
+    kill $daemon 2>/dev/null
+    exit 1
+  fi
+}
 trap 'kill $daemon 2>/dev/null' EXIT
-port=
-for _ in $(seq 1 600); do
-  port=$(sed -nE 's|^skyd: listening on http://127\.0\.0\.1:([0-9]+)/$|\1|p' "$out/skyd.stdout.txt")
-  [ -n "$port" ] && break
-  kill -0 $daemon 2>/dev/null || break
-  sleep 0.1
-done
-if [ -z "$port" ]; then
-  echo "FAIL: skyd did not start: $(tail -c 600 "$out/skyd.log")"
-  kill $daemon 2>/dev/null
-  exit 1
-fi
+start_daemon skyd
 export SKYD_URL="ws://127.0.0.1:$port/"
 c() { skyctl "$@"; }
 t() { skyctl --token "$token" "$@"; }
@@ -262,6 +269,60 @@ kill -TERM $daemon
 wait $daemon; rc=$?
 [ $rc -eq 0 ] && pass || fail "skyd exit status $rc after SIGTERM"
 expect "daemon gone" 3 '' "cannot connect" c get
+
+# --- wss://: a daemon serving TLS with a self-signed certificate made here
+expect "help names --ca-file and --insecure" 0 '.*--ca-file FILE wss: trust.*--insecure +wss: accept any.*' "" \
+  skyctl --help
+tls_cert() { # tls_cert NAME: $out/NAME-cert.pem and $out/NAME-key.pem for 127.0.0.1
+  openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=127.0.0.1 \
+    -addext subjectAltName=IP:127.0.0.1 -keyout "$out/$1-key.pem" -out "$out/$1-cert.pem" \
+    >"$out/openssl.txt" 2>&1 || { echo "FAIL: openssl: $(cat "$out/openssl.txt")"; exit 1; }
+}
+tls_cert tls
+tls_cert other
+cat >"$out/skyd-tls.json" <<EOF
+{"listen": {"address": "127.0.0.1", "port": 0, "tls_certificate": "$out/tls-cert.pem",
+            "tls_private_key": "$out/tls-key.pem"},
+ "web_root": "$out", "state_file": "$out/state-tls.json", "controller_token": "$token",
+ "render": {"device": "", "validation": false}}
+EOF
+rm -f "$out"/state-tls.json*
+start_daemon skyd-tls
+grep -qx "skyd: listening on https://127.0.0.1:$port/" "$out/skyd-tls.stdout.txt" && pass ||
+  fail "the TLS daemon does not say https: $(cat "$out/skyd-tls.stdout.txt")"
+wss="wss://127.0.0.1:$port/"
+s() { skyctl --url "$wss" --ca-file "$out/tls-cert.pem" "$@"; }
+not_accepted="the server's certificate was not accepted: self-signed certificate"
+expect "wss with --ca-file: get" 0 '0' "" s get revision
+expect "wss with --ca-file: set" 0 'revision 1' "" s --token "$token" set sun.elevation_deg=12
+expect "wss with --ca-file: the set took" 0 '12' "" s get sun.elevation_deg
+expect "wss with --ca-file: snapshot" 0 "$out/tls.png: 64x36 PNG, [0-9]+ bytes, state revision 1, frame [0-9]+" "" \
+  s snapshot --out "$out/tls.png" --width 64 --height 36
+expect "wss untrusted" 3 '' "$not_accepted" skyctl --url "$wss" get revision
+expect "wss untrusted names the options" 3 '' "--ca-file FILE trusts a PEM certificate" \
+  skyctl --url "$wss" get revision
+expect "wss trusting another certificate" 3 '' "$not_accepted" \
+  skyctl --url "$wss" --ca-file "$out/other-cert.pem" get revision
+expect "wss to a host the certificate does not name" 3 '' \
+  "the server's certificate was not accepted: hostname mismatch" \
+  skyctl --url "wss://localhost:$port/" --ca-file "$out/tls-cert.pem" get revision
+expect "wss --insecure works, with a warning" 0 '12' "warning: --insecure: the server's certificate is not checked" \
+  skyctl --url "$wss" --insecure get sun.elevation_deg
+expect "wss --insecure, another host name" 0 '1' "warning: --insecure" \
+  skyctl --url "wss://localhost:$port/" --insecure get revision
+expect "--ca-file missing" 2 '' "--ca-file $out/none.pem: No such file" \
+  skyctl --url "$wss" --ca-file "$out/none.pem" get revision
+expect "--ca-file without a certificate" 2 '' "no PEM certificate in it" \
+  skyctl --url "$wss" --ca-file "$out/token.txt" get revision
+expect "ws:// to the TLS port" 3 '' "cannot connect to ws://127.0.0.1:$port/" \
+  skyctl --url "ws://127.0.0.1:$port/" get revision
+expect "wss to a closed port" 3 '' "cannot connect to wss://127.0.0.1:1/" \
+  skyctl --url wss://127.0.0.1:1/ --ca-file "$out/tls-cert.pem" get revision
+expect "bad URL scheme" 3 '' "expected ws://host:port/path or wss://host:port/path" \
+  skyctl --url https://127.0.0.1:1/ get revision
+kill -TERM $daemon
+wait $daemon; rc=$?
+[ $rc -eq 0 ] && pass || fail "TLS skyd exit status $rc after SIGTERM"
 
 echo "skyctl: $passed passed, $failed failed"
 [ $failed -eq 0 ]
