@@ -44,6 +44,39 @@ expect() {
 
 num='-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?'
 
+# png_check FILE...: each file is a whole PNG (signature, chunk CRCs, IDAT inflating to the
+# rows its header announces); prints WIDTHxHEIGHTxBITS for each, or fails.
+png_check() {
+  python3 - "$@" <<'PY'
+import struct, sys, zlib
+for path in sys.argv[1:]:
+    data = open(path, 'rb').read()
+    if data[:8] != b'\x89PNG\r\n\x1a\n':
+        sys.exit(path + ': no PNG signature')
+    pos, idat, ihdr = 8, b'', None
+    while pos + 12 <= len(data):
+        length, kind = struct.unpack('>I4s', data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        (crc,) = struct.unpack('>I', data[pos + 8 + length:pos + 12 + length])
+        if zlib.crc32(kind + body) != crc:
+            sys.exit(path + ': bad CRC in ' + kind.decode('latin-1'))
+        if kind == b'IHDR':
+            ihdr = struct.unpack('>IIBBBBB', body)
+        elif kind == b'IDAT':
+            idat += body
+        pos += 12 + length
+        if kind == b'IEND':
+            break
+    else:
+        sys.exit(path + ': no IEND')
+    width, height, depth, color, _, _, interlace = ihdr
+    channels = {0: 1, 2: 3, 4: 2, 6: 4}[color]
+    if interlace or len(zlib.decompress(idat)) != height * (1 + width * channels * depth // 8):
+        sys.exit(path + ': pixel data does not fit the header')
+    print('%dx%dx%d' % (width, height, depth))
+PY
+}
+
 # --- without a daemon: usage and connection failures
 expect "help" 0 '.*exit status:.*3  cannot connect.*examples:.*skyctl watch --count 10.*' "" \
   skyctl --help
@@ -264,6 +297,46 @@ expect "a wrong token in --token-file" 1 '' "auth: wrong token [auth_failed]" \
   skyctl --token-file "$out/wrong-token.txt" set sun.elevation_deg=25
 expect "the refused sets changed nothing" 0 '24' "" c get sun.elevation_deg
 
+# watch --out saves every frame as a PNG named by its frame number and state revision; a set
+# during the watch shows in the later names. --count counts frames, not the event lines.
+rm -rf "$out/frames"
+c watch --out "$out/frames/live" --count 8 --width 64 --height 36 --fps 5 \
+  >"$out/watch-out.txt" 2>"$out/watch-out-err.txt" &
+watcher=$!
+for _ in $(seq 1 300); do
+  [ "$(grep -c '^frame' "$out/watch-out.txt")" -ge 2 ] && break
+  kill -0 $watcher 2>/dev/null || break
+  sleep 0.1
+done
+t set sun.elevation_deg=30 >/dev/null
+wait $watcher; rc=$?
+saved=$(find "$out/frames/live" -name '*.png' | wc -l)
+if [ $rc -eq 0 ] && [ "$saved" -eq 8 ] && [ "$(grep -c '^frame' "$out/watch-out.txt")" -eq 8 ] &&
+   [ ! -s "$out/watch-out-err.txt" ]; then pass
+else
+  fail "watch --out: exit $rc, $saved files, output '$(cat "$out/watch-out.txt" "$out/watch-out-err.txt")'"
+fi
+# Each frame line ends with its file's path; numbers grow, and so does the revision.
+if grep '^frame' "$out/watch-out.txt" | awk -v dir="$out/frames/live" '
+    { name = sprintf("%s/frame_%06d_rev_%06d.png", dir, $2, $4)
+      if ($NF != name || (NR > 1 && ($2 <= frame || $4 < revision))) exit 1
+      if (NR == 1) first = $4
+      frame = $2; revision = $4 }
+    END { exit !(NR == 8 && revision > first) }'; then pass
+else fail "watch --out: names or numbers wrong: $(cat "$out/watch-out.txt")"; fi
+grep -q '^event state_changed revision [0-9]* /sun/elevation_deg$' "$out/watch-out.txt" && pass ||
+  fail "watch --out did not print the set's event: $(cat "$out/watch-out.txt")"
+sizes=$(png_check "$out"/frames/live/*.png | sort -u | tr '\n' ' ')
+[ "$sizes" = "64x36x8 " ] && pass || fail "watch --out files are not all 64x36 8-bit PNGs: $sizes"
+expect "watch --out png16" 0 "subscribed [0-9]+ frame [0-9]+ revision [0-9]+ time $num s 32x16 [0-9]+ bytes $out/frames/16/frame_[0-9]{6}_rev_[0-9]{6}\\.png" "" \
+  c watch --out "$out/frames/16" --count 1 --width 32 --height 16 --set format=png16
+[ "$(png_check "$out"/frames/16/*.png)" = 32x16x16 ] && pass ||
+  fail "watch --out png16 did not save a 16-bit PNG"
+expect "watch --out under a file" 2 '' "cannot create $out/token.txt" \
+  c watch --out "$out/token.txt/frames" --count 1
+expect "watch --out with --no-frames" 2 '' "does not go with --no-frames" \
+  c watch --out "$out/frames" --no-frames --count 1
+
 # The daemon goes away: connection failures are status 3.
 kill -TERM $daemon
 wait $daemon; rc=$?
@@ -298,6 +371,10 @@ expect "wss with --ca-file: set" 0 'revision 1' "" s --token "$token" set sun.el
 expect "wss with --ca-file: the set took" 0 '12' "" s get sun.elevation_deg
 expect "wss with --ca-file: snapshot" 0 "$out/tls.png: 64x36 PNG, [0-9]+ bytes, state revision 1, frame [0-9]+" "" \
   s snapshot --out "$out/tls.png" --width 64 --height 36
+expect "wss watch --out" 0 "subscribed [0-9]+ (frame [0-9]+ revision 1 time $num s 48x24 [0-9]+ bytes $out/frames/tls/frame_[0-9]{6}_rev_000001\\.png ?){2}" "" \
+  s watch --out "$out/frames/tls" --count 2 --width 48 --height 24 --fps 5
+[ "$(png_check "$out"/frames/tls/*.png | tr '\n' ' ')" = "48x24x8 48x24x8 " ] && pass ||
+  fail "wss watch --out did not save two 48x24 PNGs"
 expect "wss untrusted" 3 '' "$not_accepted" skyctl --url "$wss" get revision
 expect "wss untrusted names the options" 3 '' "--ca-file FILE trusts a PEM certificate" \
   skyctl --url "$wss" get revision
