@@ -9,7 +9,7 @@
 
 static const char usage_text[] =
     "usage: skyctl [--url URL] [--token TOKEN | --token-file FILE] [--timeout S]\n"
-    "              [--ca-file FILE] [--insecure] COMMAND [ARGS]\n"
+    "              [--ca-file FILE] [--insecure] [--json] COMMAND [ARGS]\n"
     "\n"
     "Talks to a running skyd (`skyd serve`) over its WebSocket protocol.\n"
     "  --url URL      ws://HOST:PORT/, or wss://HOST:PORT/ through TLS to a skyd whose config\n"
@@ -26,6 +26,15 @@ static const char usage_text[] =
     "                 must still name the URL's host)\n"
     "  --insecure     wss: accept any server certificate (self-signed, expired, another\n"
     "                 host's), with a warning on stderr\n"
+    "  --json         print one JSON object per line on stdout instead of text:\n"
+    "                 get: {\"path\", \"value\", \"revision\"} ({\"state\", \"revision\"}\n"
+    "                 without PATH); set, preset, weather-map, probe, stats: the server's\n"
+    "                 reply less its id ({\"type\": \"ack\", \"revision\"}, ...); snapshot\n"
+    "                 and each frame of watch: {\"type\": \"frame\", \"frame_number\",\n"
+    "                 \"revision\", \"simulation_time_s\", \"width\", \"height\", \"format\",\n"
+    "                 \"bytes\", \"path\" (when saved)}; watch's subscribed and event\n"
+    "                 messages as the server sent them. Errors stay text on stderr, with\n"
+    "                 the same exit status\n"
     "\n"
     "commands:\n"
     "  get [PATH]                       the world state as JSON (itself a valid patch), one\n"
@@ -75,6 +84,7 @@ static const char usage_text[] =
     "         --set format=png16\n"
     "  skyctl watch --count 10\n"
     "  skyctl watch --count 100 --fps 1 --out frames\n"
+    "  skyctl --json watch --no-frames\n"
     "  skyctl probe transmittance altitude_km=0 mu=0.5\n"
     "  skyctl stats\n"
     "  skyctl --url wss://sky.example:8443/ --ca-file skyd-cert.pem get clock.utc\n";
@@ -159,6 +169,10 @@ int main(int argc, char **argv)
         }
         if (strcmp(arg, "--insecure") == 0) {
             options.insecure = true;
+            continue;
+        }
+        if (strcmp(arg, "--json") == 0) {
+            options.json = true;
             continue;
         }
         if (i + 1 >= argc)

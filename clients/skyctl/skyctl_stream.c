@@ -29,6 +29,7 @@ struct view_args {
     const char *out;
     double count;
     bool frames;
+    bool json; /* --json */
 };
 
 static int parse_view_args(const char *command, int argc, char **argv, struct view_args *a,
@@ -122,6 +123,35 @@ static int make_directory(const char *dir)
     return SKYCTL_OK;
 }
 
+static const char *format_name(enum sky_frame_format format)
+{
+    switch (format) {
+    case SKY_FRAME_FORMAT_PNG:
+        return "png";
+    case SKY_FRAME_FORMAT_PNG16:
+        return "png16";
+    }
+    return "unknown";
+}
+
+/* --json line of a frame: its header, and the path it was saved to. */
+static void print_frame_json(const struct sky_frame_header *h, const char *path)
+{
+    cJSON *out = cJSON_CreateObject();
+    cJSON_AddStringToObject(out, "type", "frame");
+    cJSON_AddNumberToObject(out, "frame_number", (double)h->frame_number);
+    cJSON_AddNumberToObject(out, "revision", (double)h->state_revision);
+    cJSON_AddNumberToObject(out, "simulation_time_s", h->simulation_time_s);
+    cJSON_AddNumberToObject(out, "width", h->width);
+    cJSON_AddNumberToObject(out, "height", h->height);
+    cJSON_AddStringToObject(out, "format", format_name(h->format));
+    cJSON_AddNumberToObject(out, "bytes", h->payload_length);
+    if (path)
+        cJSON_AddStringToObject(out, "path", path);
+    skyctl_print_json_line(out);
+    cJSON_Delete(out);
+}
+
 /* A frame file's extension; png16 frames are PNG files too, with 16 bits a channel. */
 static const char *format_extension(enum sky_frame_format format)
 {
@@ -205,8 +235,11 @@ static int take_snapshot(struct skyctl_session *session, const struct view_args 
         rc = receive_binary(session, "snapshot", frame_number, &binary, &header);
         if (rc)
             return rc;
-        bool ok = write_file("snapshot", a->out, binary.data + SKY_FRAME_HEADER_SIZE, header.payload_length);
-        if (ok)
+        bool ok = write_file("snapshot", a->out, binary.data + SKY_FRAME_HEADER_SIZE,
+                             header.payload_length);
+        if (ok && a->json)
+            print_frame_json(&header, a->out);
+        else if (ok)
             printf("%s: %ux%u %s, %u bytes, state revision %llu, frame %llu\n", a->out,
                    header.width, header.height,
                    header.format == SKY_FRAME_FORMAT_PNG16 ? "PNG16" : "PNG",
@@ -220,7 +253,7 @@ static int take_snapshot(struct skyctl_session *session, const struct view_args 
 
 int skyctl_snapshot(const struct skyctl_options *options, int argc, char **argv)
 {
-    struct view_args a = { .frames = true };
+    struct view_args a = { .frames = true, .json = options->json };
     int rc = parse_view_args("snapshot", argc, argv, &a, 640, 360);
     if (rc == SKYCTL_OK && !a.out)
         rc = skyctl_usage_error("snapshot", "needs --out FILE.png");
@@ -234,7 +267,7 @@ int skyctl_snapshot(const struct skyctl_options *options, int argc, char **argv)
 }
 
 /* Saves the frame under dir when dir is set (path gets its name), then prints its line. */
-static int show_frame(const char *dir, const struct sky_frame_header *h,
+static int show_frame(const char *dir, bool json, const struct sky_frame_header *h,
                       const unsigned char *payload)
 {
     char path[4200] = "";
@@ -244,6 +277,10 @@ static int show_frame(const char *dir, const struct sky_frame_header *h,
                  format_extension(h->format));
         if (!write_file("watch", path, payload, h->payload_length))
             return SKYCTL_USAGE;
+    }
+    if (json) {
+        print_frame_json(h, dir ? path : NULL);
+        return SKYCTL_OK;
     }
     printf("frame %llu revision %llu time %.3f s %ux%u %u bytes%s%s\n",
            (unsigned long long)h->frame_number, (unsigned long long)h->state_revision,
@@ -269,6 +306,8 @@ static int watch_loop(struct skyctl_session *session, const struct view_args *a)
         }
         cJSON *json = msg.kind == SKY_CLIENT_TEXT ? cJSON_Parse((const char *)msg.data) : NULL;
         sky_client_message_free(&msg);
+        if (!json)
+            json = cJSON_CreateObject(); /* the server only sends JSON text */
         const cJSON *type = cJSON_GetObjectItemCaseSensitive(json, "type");
         if (cJSON_IsString(type) && strcmp(type->valuestring, "frame") == 0) {
             struct sky_client_message binary;
@@ -277,11 +316,15 @@ static int watch_loop(struct skyctl_session *session, const struct view_args *a)
             cJSON_Delete(json);
             if (rc)
                 return rc;
-            rc = show_frame(a->out, &h, binary.data + SKY_FRAME_HEADER_SIZE);
+            rc = show_frame(a->out, a->json, &h, binary.data + SKY_FRAME_HEADER_SIZE);
             sky_client_message_free(&binary);
             if (rc)
                 return rc;
             counted++;
+        } else if (a->json) { /* events and anything else, as the server sent them */
+            skyctl_print_json_line(json);
+            cJSON_Delete(json);
+            counted += !a->frames;
         } else if (cJSON_IsString(type) && strcmp(type->valuestring, "event") == 0) {
             const cJSON *event = cJSON_GetObjectItemCaseSensitive(json, "event");
             printf("event %s revision %.0f", cJSON_IsString(event) ? event->valuestring : "?",
@@ -295,8 +338,8 @@ static int watch_loop(struct skyctl_session *session, const struct view_args *a)
             cJSON_Delete(json);
             counted += !a->frames;
         } else {
-            char *text = json ? cJSON_PrintUnformatted(json) : NULL;
-            printf("message %s\n", text ? text : "(not JSON)");
+            char *text = cJSON_PrintUnformatted(json);
+            printf("message %s\n", text ? text : "?");
             free(text);
             cJSON_Delete(json);
             counted += !a->frames;
@@ -308,7 +351,7 @@ static int watch_loop(struct skyctl_session *session, const struct view_args *a)
 
 int skyctl_watch(const struct skyctl_options *options, int argc, char **argv)
 {
-    struct view_args a = { .frames = true };
+    struct view_args a = { .frames = true, .json = options->json };
     int rc = parse_view_args("watch", argc, argv, &a, 320, 180);
     if (rc == SKYCTL_OK && a.out && !a.frames)
         rc = skyctl_usage_error("watch", "--out saves frames: it does not go with --no-frames");
@@ -327,7 +370,9 @@ int skyctl_watch(const struct skyctl_options *options, int argc, char **argv)
             cJSON *reply = NULL;
             rc = skyctl_request(&session, "watch", msg, &reply);
             cJSON_Delete(msg);
-            if (rc == SKYCTL_OK)
+            if (rc == SKYCTL_OK && a.json)
+                skyctl_print_reply_json(reply);
+            else if (rc == SKYCTL_OK)
                 printf("subscribed %.0f\n", number_at(reply, "subscription"));
             cJSON_Delete(reply);
         }

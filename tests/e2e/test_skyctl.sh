@@ -77,6 +77,31 @@ for path in sys.argv[1:]:
 PY
 }
 
+# expect_json NAME STATUS CHECK CMD...: exit status; stdout only lines that are each one JSON
+# object; CHECK, a Python expression over `lines` (the parsed objects), holds; stderr empty
+# when STATUS is 0.
+expect_json() {
+  local name=$1 status=$2 check=$3 rc; shift 3
+  "$@" >"$out/json.txt" 2>"$out/json-err.txt"; rc=$?
+  if [ $rc -ne "$status" ]; then
+    fail "$name: exit $rc, expected $status; stderr '$(cat "$out/json-err.txt")'"
+  elif [ "$status" -eq 0 ] && [ -s "$out/json-err.txt" ]; then
+    fail "$name: unexpected stderr '$(cat "$out/json-err.txt")'"
+  elif ! python3 - "$out/json.txt" "$check" >"$out/json-check.txt" 2>&1 <<'PY'
+import json, os, sys
+lines = [json.loads(line) for line in open(sys.argv[1])]
+if not all(isinstance(line, dict) for line in lines):
+    sys.exit('a line is not an object')
+if not eval(sys.argv[2]):
+    sys.exit('fails: ' + sys.argv[2])
+PY
+  then
+    fail "$name: $(tail -n 1 "$out/json-check.txt"); stdout '$(cat "$out/json.txt")'"
+  else
+    pass
+  fi
+}
+
 # --- without a daemon: usage and connection failures
 expect "help" 0 '.*exit status:.*3  cannot connect.*examples:.*skyctl watch --count 10.*' "" \
   skyctl --help
@@ -337,6 +362,55 @@ expect "watch --out under a file" 2 '' "cannot create $out/token.txt" \
 expect "watch --out with --no-frames" 2 '' "does not go with --no-frames" \
   c watch --out "$out/frames" --no-frames --count 1
 
+# --json: one JSON object per line on stdout and nothing else; errors stay text on stderr
+# with the same exit statuses.
+cj() { skyctl --json "$@"; }
+expect "help names --json" 0 '.*--json +print one JSON object per line.*Errors stay text on stderr.*' "" \
+  skyctl --help
+expect_json "json get" 0 \
+  "len(lines) == 1 and lines[0]['path'] == 'sun.elevation_deg' and lines[0]['value'] == 30 and type(lines[0]['revision']) is int" \
+  cj get sun.elevation_deg
+revision=$(python3 -c 'import json, sys; print(json.load(sys.stdin)["revision"])' <"$out/json.txt")
+expect_json "json get revision" 0 "lines == [{'path': 'revision', 'value': $revision, 'revision': $revision}]" \
+  cj get revision
+expect_json "json get group" 0 "len(lines) == 1 and lines[0]['value']['time_scale'] == 0" \
+  cj get clock
+expect_json "json get all" 0 "len(lines) == 1 and set(lines[0]) == {'state', 'revision'} and 'clock' in lines[0]['state']" \
+  cj get
+expect_json "json set" 0 "lines == [{'type': 'ack', 'revision': $((revision + 1))}]" \
+  cj --token "$token" set sun.elevation_deg=31
+expect_json "json preset list" 0 "len(lines) == 1 and lines[0]['kind'] == 'weather' and 'storm' in lines[0]['names']" \
+  cj preset --list --kind weather
+expect_json "json preset" 0 "len(lines) == 1 and lines[0]['type'] == 'ack'" cj --token "$token" preset earth
+expect_json "json probe" 0 "len(lines) == 1 and lines[0]['type'] == 'probe_result' and len(lines[0]['transmittance']) == 3" \
+  cj probe transmittance altitude_km=0 mu=1
+expect_json "json stats" 0 "len(lines) == 1 and lines[0]['type'] == 'stats' and lines[0]['clients'] == 1" cj stats
+expect_json "json snapshot" 0 \
+  "len(lines) == 1 and lines[0]['type'] == 'frame' and lines[0]['path'] == '$out/json.png' and (lines[0]['width'], lines[0]['height'], lines[0]['format']) == (32, 16, 'png') and lines[0]['bytes'] == os.path.getsize('$out/json.png')" \
+  cj snapshot --out "$out/json.png" --width 32 --height 16
+# watch: the subscription, a line per frame with its file, and the event of a set meanwhile.
+rm -rf "$out/frames/json"
+cj watch --out "$out/frames/json" --count 4 --width 32 --height 16 --fps 5 >"$out/json-watch.txt" &
+watcher=$!
+for _ in $(seq 1 300); do
+  grep -q '"type":"frame"' "$out/json-watch.txt" && break
+  kill -0 $watcher 2>/dev/null || break
+  sleep 0.1
+done
+t set sun.elevation_deg=32 >/dev/null
+wait $watcher; rc=$?
+[ $rc -eq 0 ] && pass || fail "json watch: exit $rc"
+expect_json "json watch lines" 0 "[l['type'] for l in lines if l['type'] != 'event'] == ['subscribed'] + ['frame'] * 4 and \
+all(set(l) == {'type', 'frame_number', 'revision', 'simulation_time_s', 'width', 'height', 'format', 'bytes', 'path'} and os.path.getsize(l['path']) == l['bytes'] for l in lines if l['type'] == 'frame') and \
+[l['changed'] for l in lines if l['type'] == 'event'] == [['/sun/elevation_deg']]" \
+  cat "$out/json-watch.txt"
+expect_json "json: an error is text on stderr only" 2 "lines == []" cj get sun.bogus
+grep -qx "skyctl get: the world state has no field sun.bogus" "$out/json-err.txt" && pass ||
+  fail "json error on stderr: $(cat "$out/json-err.txt")"
+expect_json "json: a server error" 1 "lines == []" cj set sun.elevation_deg=10
+expect_json "json: no connection" 3 "lines == []" cj --url ws://127.0.0.1:1/ get
+expect_json "json: unknown watch argument" 2 "lines == []" cj watch --bogus
+
 # The daemon goes away: connection failures are status 3.
 kill -TERM $daemon
 wait $daemon; rc=$?
@@ -375,6 +449,8 @@ expect "wss watch --out" 0 "subscribed [0-9]+ (frame [0-9]+ revision 1 time $num
   s watch --out "$out/frames/tls" --count 2 --width 48 --height 24 --fps 5
 [ "$(png_check "$out"/frames/tls/*.png | tr '\n' ' ')" = "48x24x8 48x24x8 " ] && pass ||
   fail "wss watch --out did not save two 48x24 PNGs"
+expect_json "wss json get" 0 "lines == [{'path': 'sun.elevation_deg', 'value': 12, 'revision': 1}]" \
+  s --json get sun.elevation_deg
 expect "wss untrusted" 3 '' "$not_accepted" skyctl --url "$wss" get revision
 expect "wss untrusted names the options" 3 '' "--ca-file FILE trusts a PEM certificate" \
   skyctl --url "$wss" get revision
