@@ -8,7 +8,7 @@ packages=(
   libvulkan-dev vulkan-tools mesa-vulkan-drivers vulkan-validationlayers
   glslang-tools
   libwebsockets-dev libcjson-dev libpng-dev libsystemd-dev systemd
-  python3 python3-websockets
+  python3 python3-websockets openssl
   clang libclang-rt-dev
   chromium chromium-driver
 )

@@ -38,6 +38,8 @@ struct sky_client {
     lws_sorted_usec_list_t wake;
     enum conn_state state;
     bool want_close, paused;
+    bool tls;                  /* wss:// */
+    bool certificate_rejected; /* the TLS handshake failed on the server's certificate */
     int close_code;
     char close_reason[124];
     char error[256];
@@ -178,6 +180,25 @@ static int on_writeable(struct sky_client *c, struct lws *wsi)
     return 0;
 }
 
+/* OpenSSL's reason for rejecting a certificate, which lws only logs ("SSL error: REASON
+ * (preverify_ok=0;...)"); its connection error then says "error:00000001:lib(0)". The
+ * context is serviced in the calling thread, so the log line arrives in it. */
+static _Thread_local char tls_failure[128];
+
+static void log_line(int level, const char *line)
+{
+    const char *reason = strstr(line, "SSL error: ");
+    if (!reason) {
+        lwsl_emit_stderr(level, line);
+        return;
+    }
+    reason += strlen("SSL error: ");
+    size_t n = strcspn(reason, "(\r\n");
+    while (n > 0 && reason[n - 1] == ' ')
+        n--;
+    snprintf(tls_failure, sizeof tls_failure, "%.*s", (int)n, reason);
+}
+
 /* The HTTP status of a refused handshake, when lws still holds the response headers. */
 static void describe_refusal(struct sky_client *c, struct lws *wsi, const char *why)
 {
@@ -199,12 +220,24 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
         return 0;
 
     switch (reason) {
+    case LWS_CALLBACK_OPENSSL_PERFORM_SERVER_CERT_VERIFICATION:
+        /* Called only for what lws did not accept itself (the LCCSCF_ALLOW_* flags); len is
+         * OpenSSL's preverify_ok. Returning 0 keeps its verdict. */
+        if (len == 0)
+            c->certificate_rejected = true;
+        break;
     case LWS_CALLBACK_CLIENT_CONNECTION_ERROR: {
         char why[128];
         snprintf(why, sizeof why, "%.*s", in ? (int)len : 0, in ? (const char *)in : "");
         if (!why[0] || !in)
             snprintf(why, sizeof why, "unknown error");
-        describe_refusal(c, wsi, why);
+        if (c->certificate_rejected)
+            set_error(c, "the server's certificate was not accepted: %s",
+                      tls_failure[0] ? tls_failure : why);
+        else if (c->tls && strstr(why, "SSL"))
+            set_error(c, "the TLS handshake failed, is it a TLS port? (%s)", why);
+        else
+            describe_refusal(c, wsi, why);
         c->state = CONN_CLOSED;
         c->wsi = NULL;
         break;
@@ -260,7 +293,7 @@ static const struct lws_protocols protocols[] = {
 
 static void quiet_lws(void)
 {
-    lws_set_log_level(LLL_ERR, NULL);
+    lws_set_log_level(LLL_ERR, log_line);
 }
 
 static void client_free(struct sky_client *c)
@@ -284,12 +317,16 @@ static void client_free(struct sky_client *c)
     free(c);
 }
 
-/* Splits "ws://host:port/path" (port 80 when absent); parsed holds the pieces. */
+/* Splits "ws://host:port/path" or "wss://..." (port 80 or 443 when absent); parsed holds the
+ * pieces. */
 static bool parse_url(const char *url, char *parsed, size_t size, const char **address,
-                      int *port, char *path, size_t path_size)
+                      int *port, char *path, size_t path_size, bool *tls)
 {
     const char *prot = NULL, *rest = NULL;
-    if (!url || strncmp(url, "ws://", 5) != 0 || strlen(url) >= size)
+    if (!url || strlen(url) >= size)
+        return false;
+    *tls = strncmp(url, "wss://", 6) == 0;
+    if (!*tls && strncmp(url, "ws://", 5) != 0)
         return false;
     snprintf(parsed, size, "%s", url);
     if (lws_parse_uri(parsed, &prot, address, port, &rest) != 0 || !(*address)[0] ||
@@ -303,16 +340,28 @@ static bool parse_url(const char *url, char *parsed, size_t size, const char **a
 struct sky_client *sky_client_connect(const char *url, const char *origin, int timeout_ms,
                                       char *err, size_t errlen)
 {
+    return sky_client_connect_tls(url, origin, NULL, timeout_ms, err, errlen);
+}
+
+struct sky_client *sky_client_connect_tls(const char *url, const char *origin,
+                                          struct sky_client_tls *tls, int timeout_ms, char *err,
+                                          size_t errlen)
+{
     static pthread_once_t once = PTHREAD_ONCE_INIT;
     pthread_once(&once, quiet_lws);
     if (err && errlen)
         err[0] = 0;
+    if (tls)
+        tls->certificate_rejected = 0;
+    tls_failure[0] = '\0';
 
     char parsed[512], path[512], host[300];
     const char *address = NULL;
     int port = 0;
-    if (!parse_url(url, parsed, sizeof parsed, &address, &port, path, sizeof path)) {
-        snprintf(err, errlen, "bad URL '%s': expected ws://host:port/path", url ? url : "");
+    bool use_tls = false;
+    if (!parse_url(url, parsed, sizeof parsed, &address, &port, path, sizeof path, &use_tls)) {
+        snprintf(err, errlen, "bad URL '%s': expected ws://host:port/path or wss://host:port/path",
+                 url ? url : "");
         return NULL;
     }
     snprintf(host, sizeof host, "%s:%d", address, port);
@@ -332,6 +381,11 @@ struct sky_client *sky_client_connect(const char *url, const char *origin, int t
     info.options = LWS_SERVER_OPTION_JUST_USE_RAW_ORIGIN; /* send origin as given */
     info.fd_limit_per_thread = 4; /* the socket and the cancel pipe, with a spare */
     info.pt_serv_buf_size = RX_CHUNK;
+    if (use_tls) {
+        info.options |= LWS_SERVER_OPTION_DO_SSL_GLOBAL_INIT;
+        info.client_ssl_ca_filepath = tls ? tls->ca_file : NULL;
+    }
+    c->tls = use_tls;
     c->context = lws_create_context(&info);
     if (!c->context) {
         snprintf(err, errlen, "lws_create_context failed");
@@ -350,6 +404,12 @@ struct sky_client *sky_client_connect(const char *url, const char *origin, int t
     ci.ietf_version_or_minus_one = -1;
     ci.local_protocol_name = protocols[0].name;
     ci.pwsi = &c->wsi;
+    if (use_tls) {
+        ci.ssl_connection = LCCSCF_USE_SSL;
+        if (tls && tls->insecure)
+            ci.ssl_connection |= LCCSCF_ALLOW_SELFSIGNED | LCCSCF_SKIP_SERVER_CERT_HOSTNAME_CHECK |
+                                 LCCSCF_ALLOW_EXPIRED | LCCSCF_ALLOW_INSECURE;
+    }
     if (!lws_client_connect_via_info(&ci) && c->state != CONN_CLOSED) {
         set_error(c, "connection to %s failed", host);
         c->state = CONN_CLOSED;
@@ -358,6 +418,8 @@ struct sky_client *sky_client_connect(const char *url, const char *origin, int t
     while (c->state == CONN_CONNECTING && now_us() < deadline)
         service_once(c, deadline);
     if (c->state != CONN_OPEN) {
+        if (tls)
+            tls->certificate_rejected = c->certificate_rejected;
         if (c->state == CONN_CONNECTING)
             snprintf(err, errlen, "%s: no WebSocket handshake within %d ms", url, timeout_ms);
         else

@@ -1,4 +1,4 @@
-/* A small blocking WebSocket client for skyd (ws:// only).
+/* A small blocking WebSocket client for skyd (ws:// and wss://).
  *
  * Each client owns one libwebsockets context that is serviced only inside the calls below, so a
  * client whose owner stops calling them stops reading: the kernel buffers fill up and the
@@ -32,13 +32,30 @@ struct sky_client_message {
 
 void sky_client_message_free(struct sky_client_message *msg);
 
-/* Connects to url ("ws://host:port/path") and completes the WebSocket handshake. origin is
+/* Connects to url ("ws://host:port/path", or "wss://host:port/path" through TLS with the
+ * server's certificate checked against the system's trusted certificates and the host name)
+ * and completes the WebSocket handshake. The port defaults to 80 (ws) or 443 (wss). origin is
  * sent as the Origin header verbatim ("http://example.test"); NULL sends none. Returns NULL and
  * writes a one-line reason to err on failure (bad URL, refused connection, refused handshake,
- * timeout). A refused handshake names the HTTP status only when libwebsockets could parse it
- * (it reads "HTTP/1.1 NNN" status lines, not "HTTP/1.0 NNN"). */
+ * rejected certificate, timeout). A refused handshake names the HTTP status only when
+ * libwebsockets could parse it (it reads "HTTP/1.1 NNN" status lines, not "HTTP/1.0 NNN"). */
 struct sky_client *sky_client_connect(const char *url, const char *origin, int timeout_ms,
                                       char *err, size_t errlen);
+
+/* How a wss:// connection checks the server's certificate. */
+struct sky_client_tls {
+    const char *ca_file; /* PEM certificates trusted instead of the system's; NULL: the system's */
+    int insecure;        /* nonzero: accept self-signed, expired and other hosts' certificates */
+    /* Set by sky_client_connect_tls: nonzero when it failed because the server's certificate
+     * was not accepted (err then says why). */
+    int certificate_rejected;
+};
+
+/* sky_client_connect with TLS settings; tls NULL is sky_client_connect. tls is only read for
+ * wss:// URLs. */
+struct sky_client *sky_client_connect_tls(const char *url, const char *origin,
+                                          struct sky_client_tls *tls, int timeout_ms, char *err,
+                                          size_t errlen);
 
 /* Queues one message and services the connection until it has been handed to the kernel.
  * On timeout (1) the message stays queued and goes out during later calls. */

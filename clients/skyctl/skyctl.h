@@ -17,9 +17,12 @@ enum skyctl_exit {
 };
 
 struct skyctl_options {
-    const char *url;   /* ws://HOST:PORT/ */
-    const char *token; /* NULL: stay a viewer */
-    int timeout_ms;    /* connecting, and each reply */
+    const char *url;     /* ws://HOST:PORT/ or wss://HOST:PORT/ */
+    const char *token;   /* NULL: stay a viewer */
+    int timeout_ms;      /* connecting, and each reply */
+    const char *ca_file; /* wss: the PEM certificates to trust instead of the system's */
+    bool insecure;       /* wss: accept any server certificate */
+    bool json;           /* --json: one JSON object per line on stdout instead of text */
 };
 
 /* One connection: hello read, auth done when a token was given. */
@@ -55,6 +58,12 @@ const struct cJSON *skyctl_lookup(const struct cJSON *root, const char *path);
 
 /* Prints a JSON value: strings bare, everything else as (indented) JSON. */
 void skyctl_print_value(const struct cJSON *value);
+
+/* --json output: value as one line of compact JSON, flushed. */
+void skyctl_print_json_line(const struct cJSON *value);
+
+/* --json output of a server reply: the message less its id. */
+void skyctl_print_reply_json(struct cJSON *reply);
 
 /* The commands; argv[0] is the command's name. */
 int skyctl_get(const struct skyctl_options *options, int argc, char **argv);

@@ -35,6 +35,19 @@ static long revision_of(const cJSON *reply)
     return cJSON_IsNumber(revision) ? (long)revision->valuedouble : -1;
 }
 
+/* --json output of get: {"path": P, "value": V, "revision": R}, or {"state": S, "revision": R}
+ * without a path. */
+static void print_get_json(const char *path, const cJSON *value, long revision)
+{
+    cJSON *out = cJSON_CreateObject();
+    if (path)
+        cJSON_AddStringToObject(out, "path", path);
+    cJSON_AddItemToObject(out, path ? "value" : "state", cJSON_Duplicate(value, true));
+    cJSON_AddNumberToObject(out, "revision", (double)revision);
+    skyctl_print_json_line(out);
+    cJSON_Delete(out);
+}
+
 int skyctl_get(const struct skyctl_options *options, int argc, char **argv)
 {
     if (argc > 2)
@@ -44,8 +57,14 @@ int skyctl_get(const struct skyctl_options *options, int argc, char **argv)
     int rc = one_request(options, "get", message("get_state"), &reply);
     if (rc)
         return rc;
+    long revision = revision_of(reply);
     if (path && strcmp(path, "revision") == 0) {
-        printf("%ld\n", revision_of(reply));
+        cJSON *value = cJSON_CreateNumber((double)revision);
+        if (options->json)
+            print_get_json(path, value, revision);
+        else
+            printf("%ld\n", revision);
+        cJSON_Delete(value);
         cJSON_Delete(reply);
         return SKYCTL_OK;
     }
@@ -56,9 +75,21 @@ int skyctl_get(const struct skyctl_options *options, int argc, char **argv)
         cJSON_Delete(reply);
         return SKYCTL_USAGE;
     }
-    skyctl_print_value(value);
+    if (options->json)
+        print_get_json(path, value, revision);
+    else
+        skyctl_print_value(value);
     cJSON_Delete(reply);
     return SKYCTL_OK;
+}
+
+/* The reply to set, preset and weather-map: its revision, or with --json the whole ack. */
+static void print_ack(const struct skyctl_options *options, cJSON *reply)
+{
+    if (options->json)
+        skyctl_print_reply_json(reply);
+    else
+        printf("revision %ld\n", revision_of(reply));
 }
 
 int skyctl_set(const struct skyctl_options *options, int argc, char **argv)
@@ -77,7 +108,7 @@ int skyctl_set(const struct skyctl_options *options, int argc, char **argv)
     cJSON *reply = NULL;
     int rc = one_request(options, "set", msg, &reply);
     if (rc == SKYCTL_OK)
-        printf("revision %ld\n", revision_of(reply));
+        print_ack(options, reply);
     cJSON_Delete(reply);
     return rc;
 }
@@ -117,14 +148,16 @@ int skyctl_preset(const struct skyctl_options *options, int argc, char **argv)
     }
     cJSON *reply = NULL;
     int rc = one_request(options, list ? "preset --list" : "preset", msg, &reply);
-    if (rc == SKYCTL_OK && list) {
+    if (rc == SKYCTL_OK && options->json && list) {
+        skyctl_print_reply_json(reply);
+    } else if (rc == SKYCTL_OK && list) {
         const cJSON *entry;
         cJSON_ArrayForEach(entry, cJSON_GetObjectItemCaseSensitive(reply, "names")) {
             if (cJSON_IsString(entry))
                 printf("%s\n", entry->valuestring);
         }
     } else if (rc == SKYCTL_OK) {
-        printf("revision %ld\n", revision_of(reply));
+        print_ack(options, reply);
     }
     cJSON_Delete(reply);
     return rc;
@@ -174,7 +207,7 @@ int skyctl_weather_map(const struct skyctl_options *options, int argc, char **ar
     cJSON *reply = NULL;
     int rc = one_request(options, "weather-map", msg, &reply);
     if (rc == SKYCTL_OK)
-        printf("revision %ld\n", revision_of(reply));
+        print_ack(options, reply);
     cJSON_Delete(reply);
     return rc;
 }
@@ -196,7 +229,9 @@ int skyctl_probe(const struct skyctl_options *options, int argc, char **argv)
     }
     cJSON *reply = NULL;
     int rc = one_request(options, "probe", msg, &reply);
-    if (rc == SKYCTL_OK) {
+    if (rc == SKYCTL_OK && options->json) {
+        skyctl_print_reply_json(reply);
+    } else if (rc == SKYCTL_OK) {
         cJSON_DeleteItemFromObjectCaseSensitive(reply, "type");
         cJSON_DeleteItemFromObjectCaseSensitive(reply, "id");
         skyctl_print_value(reply);
@@ -212,7 +247,9 @@ int skyctl_stats(const struct skyctl_options *options, int argc, char **argv)
         return skyctl_usage_error("stats", "takes no arguments");
     cJSON *reply = NULL;
     int rc = one_request(options, "stats", message("stats"), &reply);
-    if (rc == SKYCTL_OK) {
+    if (rc == SKYCTL_OK && options->json) {
+        skyctl_print_reply_json(reply);
+    } else if (rc == SKYCTL_OK) {
         cJSON_DeleteItemFromObjectCaseSensitive(reply, "type");
         cJSON_DeleteItemFromObjectCaseSensitive(reply, "id");
         skyctl_print_value(reply);

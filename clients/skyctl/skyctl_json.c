@@ -100,3 +100,17 @@ void skyctl_print_value(const cJSON *value)
     printf("%s\n", text ? text : "null");
     free(text);
 }
+
+void skyctl_print_json_line(const cJSON *value)
+{
+    char *text = cJSON_PrintUnformatted(value);
+    printf("%s\n", text ? text : "null");
+    free(text);
+    fflush(stdout);
+}
+
+void skyctl_print_reply_json(cJSON *reply)
+{
+    cJSON_DeleteItemFromObjectCaseSensitive(reply, "id");
+    skyctl_print_json_line(reply);
+}

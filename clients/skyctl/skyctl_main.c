@@ -8,11 +8,12 @@
 #include <string.h>
 
 static const char usage_text[] =
-    "usage: skyctl [--url URL] [--token TOKEN | --token-file FILE] [--timeout S] COMMAND\n"
-    "              [ARGS]\n"
+    "usage: skyctl [--url URL] [--token TOKEN | --token-file FILE] [--timeout S]\n"
+    "              [--ca-file FILE] [--insecure] [--json] COMMAND [ARGS]\n"
     "\n"
     "Talks to a running skyd (`skyd serve`) over its WebSocket protocol.\n"
-    "  --url URL      ws://HOST:PORT/ ($SKYD_URL, else ws://127.0.0.1:8080/)\n"
+    "  --url URL      ws://HOST:PORT/, or wss://HOST:PORT/ through TLS to a skyd whose config\n"
+    "                 sets listen.tls_certificate ($SKYD_URL, else ws://127.0.0.1:8080/)\n"
     "  --token TOKEN  the controller token, needed by set, preset and weather-map\n"
     "                 ($SKYD_TOKEN when not given)\n"
     "  --token-file FILE\n"
@@ -20,6 +21,20 @@ static const char usage_text[] =
     "                 nor $SKYD_TOKEN gives one: e.g. var/skyd-state.json.token, the\n"
     "                 token `skyd serve` made and keeps beside its state file\n"
     "  --timeout S    seconds to wait for the connection and each reply (default 30)\n"
+    "  --ca-file FILE wss: trust the PEM certificates in FILE instead of the system's, e.g.\n"
+    "                 the daemon's own self-signed listen.tls_certificate (the certificate\n"
+    "                 must still name the URL's host)\n"
+    "  --insecure     wss: accept any server certificate (self-signed, expired, another\n"
+    "                 host's), with a warning on stderr\n"
+    "  --json         print one JSON object per line on stdout instead of text:\n"
+    "                 get: {\"path\", \"value\", \"revision\"} ({\"state\", \"revision\"}\n"
+    "                 without PATH); set, preset, weather-map, probe, stats: the server's\n"
+    "                 reply less its id ({\"type\": \"ack\", \"revision\"}, ...); snapshot\n"
+    "                 and each frame of watch: {\"type\": \"frame\", \"frame_number\",\n"
+    "                 \"revision\", \"simulation_time_s\", \"width\", \"height\", \"format\",\n"
+    "                 \"bytes\", \"path\" (when saved)}; watch's subscribed and event\n"
+    "                 messages as the server sent them. Errors stay text on stderr, with\n"
+    "                 the same exit status\n"
     "\n"
     "commands:\n"
     "  get [PATH]                       the world state as JSON (itself a valid patch), one\n"
@@ -34,9 +49,13 @@ static const char usage_text[] =
     "                                   new revision (weather.map_source=procedural undoes)\n"
     "  snapshot --out FILE.png [--width W] [--height H] [--set VIEW_PATH=VALUE]...\n"
     "                                   render one frame (default 640x360) into a PNG\n"
-    "  watch [--count N] [--no-frames] [--width W] [--height H] [--fps F]\n"
+    "  watch [--count N] [--no-frames] [--out DIR] [--width W] [--height H] [--fps F]\n"
     "        [--set VIEW_PATH=VALUE]... print a line per frame and per state event until\n"
-    "                                   interrupted or N lines (frames 320x180 by default)\n"
+    "                                   interrupted or N frames (with --no-frames: N lines;\n"
+    "                                   frames 320x180 by default); --out saves each frame\n"
+    "                                   as DIR/frame_NNNNNN_rev_RRRRRR.png (frame number,\n"
+    "                                   state revision; DIR is created) and ends its line\n"
+    "                                   with that path\n"
     "  probe QUANTITY [NAME=VALUE]...   transmittance altitude_km mu | luminance\n"
     "                                   altitude_km view_zenith_deg view_azimuth_deg\n"
     "                                   sun_zenith_deg | illuminance sun_zenith_deg\n"
@@ -46,8 +65,10 @@ static const char usage_text[] =
     "  0  done\n"
     "  1  the server refused the request; stderr names each offending field\n"
     "     (\"skyctl: set: /patch/location/latitude_deg: must be in [-90, 90] ... [out_of_range]\")\n"
-    "  2  bad command line (or get of a field that does not exist)\n"
-    "  3  cannot connect, connection lost, or no reply within --timeout\n"
+    "  2  bad command line (or get of a field that does not exist), or a local file\n"
+    "     that cannot be read or written (--out, --token-file, --ca-file, weather-map)\n"
+    "  3  cannot connect (wss: the server's certificate was not accepted, and stderr\n"
+    "     says so), connection lost, or no reply within --timeout\n"
     "\n"
     "examples:\n"
     "  skyctl get sun.elevation_deg\n"
@@ -62,8 +83,11 @@ static const char usage_text[] =
     "  skyctl snapshot --out env.png --width 2048 --height 1024 --set projection=equirectangular\n"
     "         --set format=png16\n"
     "  skyctl watch --count 10\n"
+    "  skyctl watch --count 100 --fps 1 --out frames\n"
+    "  skyctl --json watch --no-frames\n"
     "  skyctl probe transmittance altitude_km=0 mu=0.5\n"
-    "  skyctl stats\n";
+    "  skyctl stats\n"
+    "  skyctl --url wss://sky.example:8443/ --ca-file skyd-cert.pem get clock.utc\n";
 
 int skyctl_usage_error(const char *command, const char *format, ...)
 {
@@ -99,6 +123,22 @@ static int read_token_file(const char *path, char *token, size_t tokenlen)
     return SKYCTL_OK;
 }
 
+/* Catches a wrong --ca-file here: libwebsockets only logs that it could not load one, and
+ * the connection then fails as if the certificate were untrusted. */
+static int check_ca_file(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return skyctl_usage_error(NULL, "--ca-file %s: %s", path, strerror(errno));
+    static char text[1 << 20];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    if (!strstr(text, "-----BEGIN CERTIFICATE-----"))
+        return skyctl_usage_error(NULL, "--ca-file %s: no PEM certificate in it", path);
+    return SKYCTL_OK;
+}
+
 struct command {
     const char *name;
     int (*run)(const struct skyctl_options *, int, char **);
@@ -127,6 +167,14 @@ int main(int argc, char **argv)
             fputs(usage_text, stdout);
             return SKYCTL_OK;
         }
+        if (strcmp(arg, "--insecure") == 0) {
+            options.insecure = true;
+            continue;
+        }
+        if (strcmp(arg, "--json") == 0) {
+            options.json = true;
+            continue;
+        }
         if (i + 1 >= argc)
             return skyctl_usage_error(NULL, "%s needs a value", arg);
         const char *value = argv[++i];
@@ -136,6 +184,11 @@ int main(int argc, char **argv)
             options.token = value;
         } else if (strcmp(arg, "--token-file") == 0) {
             token_file = value;
+        } else if (strcmp(arg, "--ca-file") == 0) {
+            int rc = check_ca_file(value);
+            if (rc != SKYCTL_OK)
+                return rc;
+            options.ca_file = value;
         } else if (strcmp(arg, "--timeout") == 0) {
             double seconds;
             if (!skyctl_parse_number(value, 0.001, 86400, &seconds))

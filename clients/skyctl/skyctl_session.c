@@ -87,9 +87,18 @@ int skyctl_connect(const struct skyctl_options *options, struct skyctl_session *
     session->next_id = 1;
     session->timeout_ms = options->timeout_ms;
     char err[320];
-    session->client = sky_client_connect(options->url, NULL, options->timeout_ms, err, sizeof err);
+    struct sky_client_tls tls = { .ca_file = options->ca_file, .insecure = options->insecure };
+    bool wss = strncmp(options->url, "wss://", 6) == 0;
+    if (wss && options->insecure)
+        fprintf(stderr, "skyctl: warning: --insecure: the server's certificate is not checked; "
+                        "anyone on the way can read and change this connection\n");
+    session->client = sky_client_connect_tls(options->url, NULL, &tls, options->timeout_ms, err,
+                                             sizeof err);
     if (!session->client) {
         fprintf(stderr, "skyctl: cannot connect to %s: %s\n", options->url, err);
+        if (tls.certificate_rejected)
+            fputs("skyctl: --ca-file FILE trusts a PEM certificate (e.g. the server's own), "
+                  "--insecure skips the certificate check\n", stderr);
         return SKYCTL_CONNECTION;
     }
     cJSON *hello = NULL;

@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "frame_header.h"
 #include "sky_client.h"
@@ -20,12 +22,14 @@ static void on_signal(int signo)
     interrupted = 1;
 }
 
-/* Options shared by snapshot and watch: the view object and, for snapshot, --out. */
+/* Options shared by snapshot and watch: the view object, --out (snapshot: the file, watch:
+ * the directory), and watch's --count and --no-frames. */
 struct view_args {
     cJSON *view;
     const char *out;
     double count;
     bool frames;
+    bool json; /* --json */
 };
 
 static int parse_view_args(const char *command, int argc, char **argv, struct view_args *a,
@@ -67,18 +71,96 @@ static int parse_view_args(const char *command, int argc, char **argv, struct vi
     return SKYCTL_OK;
 }
 
-static bool write_file(const char *path, const unsigned char *data, size_t len)
+static bool write_file(const char *what, const char *path, const unsigned char *data,
+                       size_t len)
 {
     FILE *f = fopen(path, "wb");
     if (!f) {
-        fprintf(stderr, "skyctl snapshot: cannot write %s: %s\n", path, strerror(errno));
+        fprintf(stderr, "skyctl %s: cannot write %s: %s\n", what, path, strerror(errno));
         return false;
     }
     bool ok = fwrite(data, 1, len, f) == len;
     ok = (fclose(f) == 0) && ok;
     if (!ok)
-        fprintf(stderr, "skyctl snapshot: cannot write %s: %s\n", path, strerror(errno));
+        fprintf(stderr, "skyctl %s: cannot write %s: %s\n", what, path, strerror(errno));
     return ok;
+}
+
+/* mkdir -p dir, and a check that files can be made in it. */
+static int make_directory(const char *dir)
+{
+    char path[4096];
+    if (!dir[0])
+        return skyctl_usage_error("watch", "--out needs a directory");
+    if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
+        return skyctl_usage_error("watch", "--out %s: path too long", dir);
+    for (char *p = path + 1;; p++) {
+        bool end = *p == '\0';
+        if (*p != '/' && !end)
+            continue;
+        *p = '\0';
+        if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+            fprintf(stderr, "skyctl watch: --out %s: cannot create %s: %s\n", dir, path,
+                    strerror(errno));
+            return SKYCTL_USAGE;
+        }
+        if (end)
+            break;
+        *p = '/';
+    }
+    struct stat st;
+    const char *why = NULL;
+    if (stat(dir, &st) != 0)
+        why = strerror(errno);
+    else if (!S_ISDIR(st.st_mode))
+        why = "not a directory";
+    else if (access(dir, W_OK | X_OK) != 0)
+        why = strerror(errno);
+    if (why) {
+        fprintf(stderr, "skyctl watch: --out %s: %s\n", dir, why);
+        return SKYCTL_USAGE;
+    }
+    return SKYCTL_OK;
+}
+
+static const char *format_name(enum sky_frame_format format)
+{
+    switch (format) {
+    case SKY_FRAME_FORMAT_PNG:
+        return "png";
+    case SKY_FRAME_FORMAT_PNG16:
+        return "png16";
+    }
+    return "unknown";
+}
+
+/* --json line of a frame: its header, and the path it was saved to. */
+static void print_frame_json(const struct sky_frame_header *h, const char *path)
+{
+    cJSON *out = cJSON_CreateObject();
+    cJSON_AddStringToObject(out, "type", "frame");
+    cJSON_AddNumberToObject(out, "frame_number", (double)h->frame_number);
+    cJSON_AddNumberToObject(out, "revision", (double)h->state_revision);
+    cJSON_AddNumberToObject(out, "simulation_time_s", h->simulation_time_s);
+    cJSON_AddNumberToObject(out, "width", h->width);
+    cJSON_AddNumberToObject(out, "height", h->height);
+    cJSON_AddStringToObject(out, "format", format_name(h->format));
+    cJSON_AddNumberToObject(out, "bytes", h->payload_length);
+    if (path)
+        cJSON_AddStringToObject(out, "path", path);
+    skyctl_print_json_line(out);
+    cJSON_Delete(out);
+}
+
+/* A frame file's extension; png16 frames are PNG files too, with 16 bits a channel. */
+static const char *format_extension(enum sky_frame_format format)
+{
+    switch (format) {
+    case SKY_FRAME_FORMAT_PNG:
+    case SKY_FRAME_FORMAT_PNG16:
+        return "png";
+    }
+    return "bin";
 }
 
 static int lost(struct skyctl_session *session, const char *what, int rc)
@@ -153,8 +235,11 @@ static int take_snapshot(struct skyctl_session *session, const struct view_args 
         rc = receive_binary(session, "snapshot", frame_number, &binary, &header);
         if (rc)
             return rc;
-        bool ok = write_file(a->out, binary.data + SKY_FRAME_HEADER_SIZE, header.payload_length);
-        if (ok)
+        bool ok = write_file("snapshot", a->out, binary.data + SKY_FRAME_HEADER_SIZE,
+                             header.payload_length);
+        if (ok && a->json)
+            print_frame_json(&header, a->out);
+        else if (ok)
             printf("%s: %ux%u %s, %u bytes, state revision %llu, frame %llu\n", a->out,
                    header.width, header.height,
                    header.format == SKY_FRAME_FORMAT_PNG16 ? "PNG16" : "PNG",
@@ -168,7 +253,7 @@ static int take_snapshot(struct skyctl_session *session, const struct view_args 
 
 int skyctl_snapshot(const struct skyctl_options *options, int argc, char **argv)
 {
-    struct view_args a = { .frames = true };
+    struct view_args a = { .frames = true, .json = options->json };
     int rc = parse_view_args("snapshot", argc, argv, &a, 640, 360);
     if (rc == SKYCTL_OK && !a.out)
         rc = skyctl_usage_error("snapshot", "needs --out FILE.png");
@@ -181,11 +266,34 @@ int skyctl_snapshot(const struct skyctl_options *options, int argc, char **argv)
     return rc;
 }
 
-/* Prints one line per frame and per event until --count lines or a signal. */
+/* Saves the frame under dir when dir is set (path gets its name), then prints its line. */
+static int show_frame(const char *dir, bool json, const struct sky_frame_header *h,
+                      const unsigned char *payload)
+{
+    char path[4200] = "";
+    if (dir) {
+        snprintf(path, sizeof path, "%s/frame_%06llu_rev_%06llu.%s", dir,
+                 (unsigned long long)h->frame_number, (unsigned long long)h->state_revision,
+                 format_extension(h->format));
+        if (!write_file("watch", path, payload, h->payload_length))
+            return SKYCTL_USAGE;
+    }
+    if (json) {
+        print_frame_json(h, dir ? path : NULL);
+        return SKYCTL_OK;
+    }
+    printf("frame %llu revision %llu time %.3f s %ux%u %u bytes%s%s\n",
+           (unsigned long long)h->frame_number, (unsigned long long)h->state_revision,
+           h->simulation_time_s, h->width, h->height, h->payload_length, dir ? " " : "", path);
+    return SKYCTL_OK;
+}
+
+/* Prints one line per frame and per event until a signal or --count frames (with
+ * --no-frames: --count lines). */
 static int watch_loop(struct skyctl_session *session, const struct view_args *a)
 {
-    double printed = 0;
-    while (!interrupted && (a->count == 0 || printed < a->count)) {
+    double counted = 0;
+    while (!interrupted && (a->count == 0 || counted < a->count)) {
         struct sky_client_message msg;
         int rc = sky_client_recv(session->client, &msg, 250);
         if (rc == 1)
@@ -198,6 +306,8 @@ static int watch_loop(struct skyctl_session *session, const struct view_args *a)
         }
         cJSON *json = msg.kind == SKY_CLIENT_TEXT ? cJSON_Parse((const char *)msg.data) : NULL;
         sky_client_message_free(&msg);
+        if (!json)
+            json = cJSON_CreateObject(); /* the server only sends JSON text */
         const cJSON *type = cJSON_GetObjectItemCaseSensitive(json, "type");
         if (cJSON_IsString(type) && strcmp(type->valuestring, "frame") == 0) {
             struct sky_client_message binary;
@@ -206,10 +316,15 @@ static int watch_loop(struct skyctl_session *session, const struct view_args *a)
             cJSON_Delete(json);
             if (rc)
                 return rc;
-            printf("frame %llu revision %llu time %.3f s %ux%u %u bytes\n",
-                   (unsigned long long)h.frame_number, (unsigned long long)h.state_revision,
-                   h.simulation_time_s, h.width, h.height, h.payload_length);
+            rc = show_frame(a->out, a->json, &h, binary.data + SKY_FRAME_HEADER_SIZE);
             sky_client_message_free(&binary);
+            if (rc)
+                return rc;
+            counted++;
+        } else if (a->json) { /* events and anything else, as the server sent them */
+            skyctl_print_json_line(json);
+            cJSON_Delete(json);
+            counted += !a->frames;
         } else if (cJSON_IsString(type) && strcmp(type->valuestring, "event") == 0) {
             const cJSON *event = cJSON_GetObjectItemCaseSensitive(json, "event");
             printf("event %s revision %.0f", cJSON_IsString(event) ? event->valuestring : "?",
@@ -221,22 +336,27 @@ static int watch_loop(struct skyctl_session *session, const struct view_args *a)
             }
             printf("\n");
             cJSON_Delete(json);
+            counted += !a->frames;
         } else {
-            char *text = json ? cJSON_PrintUnformatted(json) : NULL;
-            printf("message %s\n", text ? text : "(not JSON)");
+            char *text = cJSON_PrintUnformatted(json);
+            printf("message %s\n", text ? text : "?");
             free(text);
             cJSON_Delete(json);
+            counted += !a->frames;
         }
         fflush(stdout);
-        printed++;
     }
     return SKYCTL_OK;
 }
 
 int skyctl_watch(const struct skyctl_options *options, int argc, char **argv)
 {
-    struct view_args a = { .frames = true };
+    struct view_args a = { .frames = true, .json = options->json };
     int rc = parse_view_args("watch", argc, argv, &a, 320, 180);
+    if (rc == SKYCTL_OK && a.out && !a.frames)
+        rc = skyctl_usage_error("watch", "--out saves frames: it does not go with --no-frames");
+    if (rc == SKYCTL_OK && a.out)
+        rc = make_directory(a.out);
     struct skyctl_session session;
     if (rc == SKYCTL_OK && (rc = skyctl_connect(options, &session)) == SKYCTL_OK) {
         struct sigaction action = { .sa_handler = on_signal };
@@ -250,7 +370,9 @@ int skyctl_watch(const struct skyctl_options *options, int argc, char **argv)
             cJSON *reply = NULL;
             rc = skyctl_request(&session, "watch", msg, &reply);
             cJSON_Delete(msg);
-            if (rc == SKYCTL_OK)
+            if (rc == SKYCTL_OK && a.json)
+                skyctl_print_reply_json(reply);
+            else if (rc == SKYCTL_OK)
                 printf("subscribed %.0f\n", number_at(reply, "subscription"));
             cJSON_Delete(reply);
         }

@@ -44,6 +44,64 @@ expect() {
 
 num='-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?'
 
+# png_check FILE...: each file is a whole PNG (signature, chunk CRCs, IDAT inflating to the
+# rows its header announces); prints WIDTHxHEIGHTxBITS for each, or fails.
+png_check() {
+  python3 - "$@" <<'PY'
+import struct, sys, zlib
+for path in sys.argv[1:]:
+    data = open(path, 'rb').read()
+    if data[:8] != b'\x89PNG\r\n\x1a\n':
+        sys.exit(path + ': no PNG signature')
+    pos, idat, ihdr = 8, b'', None
+    while pos + 12 <= len(data):
+        length, kind = struct.unpack('>I4s', data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        (crc,) = struct.unpack('>I', data[pos + 8 + length:pos + 12 + length])
+        if zlib.crc32(kind + body) != crc:
+            sys.exit(path + ': bad CRC in ' + kind.decode('latin-1'))
+        if kind == b'IHDR':
+            ihdr = struct.unpack('>IIBBBBB', body)
+        elif kind == b'IDAT':
+            idat += body
+        pos += 12 + length
+        if kind == b'IEND':
+            break
+    else:
+        sys.exit(path + ': no IEND')
+    width, height, depth, color, _, _, interlace = ihdr
+    channels = {0: 1, 2: 3, 4: 2, 6: 4}[color]
+    if interlace or len(zlib.decompress(idat)) != height * (1 + width * channels * depth // 8):
+        sys.exit(path + ': pixel data does not fit the header')
+    print('%dx%dx%d' % (width, height, depth))
+PY
+}
+
+# expect_json NAME STATUS CHECK CMD...: exit status; stdout only lines that are each one JSON
+# object; CHECK, a Python expression over `lines` (the parsed objects), holds; stderr empty
+# when STATUS is 0.
+expect_json() {
+  local name=$1 status=$2 check=$3 rc; shift 3
+  "$@" >"$out/json.txt" 2>"$out/json-err.txt"; rc=$?
+  if [ $rc -ne "$status" ]; then
+    fail "$name: exit $rc, expected $status; stderr '$(cat "$out/json-err.txt")'"
+  elif [ "$status" -eq 0 ] && [ -s "$out/json-err.txt" ]; then
+    fail "$name: unexpected stderr '$(cat "$out/json-err.txt")'"
+  elif ! python3 - "$out/json.txt" "$check" >"$out/json-check.txt" 2>&1 <<'PY'
+import json, os, sys
+lines = [json.loads(line) for line in open(sys.argv[1])]
+if not all(isinstance(line, dict) for line in lines):
+    sys.exit('a line is not an object')
+if not eval(sys.argv[2]):
+    sys.exit('fails: ' + sys.argv[2])
+PY
+  then
+    fail "$name: $(tail -n 1 "$out/json-check.txt"); stdout '$(cat "$out/json.txt")'"
+  else
+    pass
+  fi
+}
+
 # --- without a daemon: usage and connection failures
 expect "help" 0 '.*exit status:.*3  cannot connect.*examples:.*skyctl watch --count 10.*' "" \
   skyctl --help
@@ -72,22 +130,29 @@ cat >"$out/skyd.json" <<EOF
  "state_file": "$out/state.json", "controller_token": "$token",
  "render": {"device": "", "validation": false}}
 EOF
-LD_PRELOAD="$preload" "$skyd" serve --config "$out/skyd.json" >"$out/skyd.stdout.txt" \
-  2>"$out/skyd.log" &
-daemon=$!
+# start_daemon NAME: runs skyd serve with $out/NAME.json in the background; sets daemon and
+# port, or fails the whole test.
+start_daemon() {
+  local name=$1
+  LD_PRELOAD="$preload" "$skyd" serve --config "$out/$name.json" >"$out/$name.stdout.txt" \
+    2>"$out/$name.log" &
+  daemon=$!
+  port=
+  for _ in $(seq 1 600); do
+    port=$(sed -nE 's|^skyd: listening on https?://127\.0\.0\.1:([0-9]+)/$|\1|p' \
+      "$out/$name.stdout.txt")
+    [ -n "$port" ] && break
+    kill -0 $daemon 2>/dev/null || break
+    sleep 0.1
+  done
+  if [ -z "$port" ]; then
+    echo "FAIL: skyd ($name) did not start: $(tail -c 600 "$out/$name.log")"
+    kill $daemon 2>/dev/null
+    exit 1
+  fi
+}
 trap 'kill $daemon 2>/dev/null' EXIT
-port=
-for _ in $(seq 1 600); do
-  port=$(sed -nE 's|^skyd: listening on http://127\.0\.0\.1:([0-9]+)/$|\1|p' "$out/skyd.stdout.txt")
-  [ -n "$port" ] && break
-  kill -0 $daemon 2>/dev/null || break
-  sleep 0.1
-done
-if [ -z "$port" ]; then
-  echo "FAIL: skyd did not start: $(tail -c 600 "$out/skyd.log")"
-  kill $daemon 2>/dev/null
-  exit 1
-fi
+start_daemon skyd
 export SKYD_URL="ws://127.0.0.1:$port/"
 c() { skyctl "$@"; }
 t() { skyctl --token "$token" "$@"; }
@@ -257,11 +322,160 @@ expect "a wrong token in --token-file" 1 '' "auth: wrong token [auth_failed]" \
   skyctl --token-file "$out/wrong-token.txt" set sun.elevation_deg=25
 expect "the refused sets changed nothing" 0 '24' "" c get sun.elevation_deg
 
+# watch --out saves every frame as a PNG named by its frame number and state revision; a set
+# during the watch shows in the later names. --count counts frames, not the event lines.
+rm -rf "$out/frames"
+c watch --out "$out/frames/live" --count 8 --width 64 --height 36 --fps 5 \
+  >"$out/watch-out.txt" 2>"$out/watch-out-err.txt" &
+watcher=$!
+for _ in $(seq 1 300); do
+  [ "$(grep -c '^frame' "$out/watch-out.txt")" -ge 2 ] && break
+  kill -0 $watcher 2>/dev/null || break
+  sleep 0.1
+done
+t set sun.elevation_deg=30 >/dev/null
+wait $watcher; rc=$?
+saved=$(find "$out/frames/live" -name '*.png' | wc -l)
+if [ $rc -eq 0 ] && [ "$saved" -eq 8 ] && [ "$(grep -c '^frame' "$out/watch-out.txt")" -eq 8 ] &&
+   [ ! -s "$out/watch-out-err.txt" ]; then pass
+else
+  fail "watch --out: exit $rc, $saved files, output '$(cat "$out/watch-out.txt" "$out/watch-out-err.txt")'"
+fi
+# Each frame line ends with its file's path; numbers grow, and so does the revision.
+if grep '^frame' "$out/watch-out.txt" | awk -v dir="$out/frames/live" '
+    { name = sprintf("%s/frame_%06d_rev_%06d.png", dir, $2, $4)
+      if ($NF != name || (NR > 1 && ($2 <= frame || $4 < revision))) exit 1
+      if (NR == 1) first = $4
+      frame = $2; revision = $4 }
+    END { exit !(NR == 8 && revision > first) }'; then pass
+else fail "watch --out: names or numbers wrong: $(cat "$out/watch-out.txt")"; fi
+grep -q '^event state_changed revision [0-9]* /sun/elevation_deg$' "$out/watch-out.txt" && pass ||
+  fail "watch --out did not print the set's event: $(cat "$out/watch-out.txt")"
+sizes=$(png_check "$out"/frames/live/*.png | sort -u | tr '\n' ' ')
+[ "$sizes" = "64x36x8 " ] && pass || fail "watch --out files are not all 64x36 8-bit PNGs: $sizes"
+expect "watch --out png16" 0 "subscribed [0-9]+ frame [0-9]+ revision [0-9]+ time $num s 32x16 [0-9]+ bytes $out/frames/16/frame_[0-9]{6}_rev_[0-9]{6}\\.png" "" \
+  c watch --out "$out/frames/16" --count 1 --width 32 --height 16 --set format=png16
+[ "$(png_check "$out"/frames/16/*.png)" = 32x16x16 ] && pass ||
+  fail "watch --out png16 did not save a 16-bit PNG"
+expect "watch --out under a file" 2 '' "cannot create $out/token.txt" \
+  c watch --out "$out/token.txt/frames" --count 1
+expect "watch --out with --no-frames" 2 '' "does not go with --no-frames" \
+  c watch --out "$out/frames" --no-frames --count 1
+
+# --json: one JSON object per line on stdout and nothing else; errors stay text on stderr
+# with the same exit statuses.
+cj() { skyctl --json "$@"; }
+expect "help names --json" 0 '.*--json +print one JSON object per line.*Errors stay text on stderr.*' "" \
+  skyctl --help
+expect_json "json get" 0 \
+  "len(lines) == 1 and lines[0]['path'] == 'sun.elevation_deg' and lines[0]['value'] == 30 and type(lines[0]['revision']) is int" \
+  cj get sun.elevation_deg
+revision=$(python3 -c 'import json, sys; print(json.load(sys.stdin)["revision"])' <"$out/json.txt")
+expect_json "json get revision" 0 "lines == [{'path': 'revision', 'value': $revision, 'revision': $revision}]" \
+  cj get revision
+expect_json "json get group" 0 "len(lines) == 1 and lines[0]['value']['time_scale'] == 0" \
+  cj get clock
+expect_json "json get all" 0 "len(lines) == 1 and set(lines[0]) == {'state', 'revision'} and 'clock' in lines[0]['state']" \
+  cj get
+expect_json "json set" 0 "lines == [{'type': 'ack', 'revision': $((revision + 1))}]" \
+  cj --token "$token" set sun.elevation_deg=31
+expect_json "json preset list" 0 "len(lines) == 1 and lines[0]['kind'] == 'weather' and 'storm' in lines[0]['names']" \
+  cj preset --list --kind weather
+expect_json "json preset" 0 "len(lines) == 1 and lines[0]['type'] == 'ack'" cj --token "$token" preset earth
+expect_json "json probe" 0 "len(lines) == 1 and lines[0]['type'] == 'probe_result' and len(lines[0]['transmittance']) == 3" \
+  cj probe transmittance altitude_km=0 mu=1
+expect_json "json stats" 0 "len(lines) == 1 and lines[0]['type'] == 'stats' and lines[0]['clients'] == 1" cj stats
+expect_json "json snapshot" 0 \
+  "len(lines) == 1 and lines[0]['type'] == 'frame' and lines[0]['path'] == '$out/json.png' and (lines[0]['width'], lines[0]['height'], lines[0]['format']) == (32, 16, 'png') and lines[0]['bytes'] == os.path.getsize('$out/json.png')" \
+  cj snapshot --out "$out/json.png" --width 32 --height 16
+# watch: the subscription, a line per frame with its file, and the event of a set meanwhile.
+rm -rf "$out/frames/json"
+cj watch --out "$out/frames/json" --count 4 --width 32 --height 16 --fps 5 >"$out/json-watch.txt" &
+watcher=$!
+for _ in $(seq 1 300); do
+  grep -q '"type":"frame"' "$out/json-watch.txt" && break
+  kill -0 $watcher 2>/dev/null || break
+  sleep 0.1
+done
+t set sun.elevation_deg=32 >/dev/null
+wait $watcher; rc=$?
+[ $rc -eq 0 ] && pass || fail "json watch: exit $rc"
+expect_json "json watch lines" 0 "[l['type'] for l in lines if l['type'] != 'event'] == ['subscribed'] + ['frame'] * 4 and \
+all(set(l) == {'type', 'frame_number', 'revision', 'simulation_time_s', 'width', 'height', 'format', 'bytes', 'path'} and os.path.getsize(l['path']) == l['bytes'] for l in lines if l['type'] == 'frame') and \
+[l['changed'] for l in lines if l['type'] == 'event'] == [['/sun/elevation_deg']]" \
+  cat "$out/json-watch.txt"
+expect_json "json: an error is text on stderr only" 2 "lines == []" cj get sun.bogus
+grep -qx "skyctl get: the world state has no field sun.bogus" "$out/json-err.txt" && pass ||
+  fail "json error on stderr: $(cat "$out/json-err.txt")"
+expect_json "json: a server error" 1 "lines == []" cj set sun.elevation_deg=10
+expect_json "json: no connection" 3 "lines == []" cj --url ws://127.0.0.1:1/ get
+expect_json "json: unknown watch argument" 2 "lines == []" cj watch --bogus
+
 # The daemon goes away: connection failures are status 3.
 kill -TERM $daemon
 wait $daemon; rc=$?
 [ $rc -eq 0 ] && pass || fail "skyd exit status $rc after SIGTERM"
 expect "daemon gone" 3 '' "cannot connect" c get
+
+# --- wss://: a daemon serving TLS with a self-signed certificate made here
+expect "help names --ca-file and --insecure" 0 '.*--ca-file FILE wss: trust.*--insecure +wss: accept any.*' "" \
+  skyctl --help
+tls_cert() { # tls_cert NAME: $out/NAME-cert.pem and $out/NAME-key.pem for 127.0.0.1
+  openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=127.0.0.1 \
+    -addext subjectAltName=IP:127.0.0.1 -keyout "$out/$1-key.pem" -out "$out/$1-cert.pem" \
+    >"$out/openssl.txt" 2>&1 || { echo "FAIL: openssl: $(cat "$out/openssl.txt")"; exit 1; }
+}
+tls_cert tls
+tls_cert other
+cat >"$out/skyd-tls.json" <<EOF
+{"listen": {"address": "127.0.0.1", "port": 0, "tls_certificate": "$out/tls-cert.pem",
+            "tls_private_key": "$out/tls-key.pem"},
+ "web_root": "$out", "state_file": "$out/state-tls.json", "controller_token": "$token",
+ "render": {"device": "", "validation": false}}
+EOF
+rm -f "$out"/state-tls.json*
+start_daemon skyd-tls
+grep -qx "skyd: listening on https://127.0.0.1:$port/" "$out/skyd-tls.stdout.txt" && pass ||
+  fail "the TLS daemon does not say https: $(cat "$out/skyd-tls.stdout.txt")"
+wss="wss://127.0.0.1:$port/"
+s() { skyctl --url "$wss" --ca-file "$out/tls-cert.pem" "$@"; }
+not_accepted="the server's certificate was not accepted: self-signed certificate"
+expect "wss with --ca-file: get" 0 '0' "" s get revision
+expect "wss with --ca-file: set" 0 'revision 1' "" s --token "$token" set sun.elevation_deg=12
+expect "wss with --ca-file: the set took" 0 '12' "" s get sun.elevation_deg
+expect "wss with --ca-file: snapshot" 0 "$out/tls.png: 64x36 PNG, [0-9]+ bytes, state revision 1, frame [0-9]+" "" \
+  s snapshot --out "$out/tls.png" --width 64 --height 36
+expect "wss watch --out" 0 "subscribed [0-9]+ (frame [0-9]+ revision 1 time $num s 48x24 [0-9]+ bytes $out/frames/tls/frame_[0-9]{6}_rev_000001\\.png ?){2}" "" \
+  s watch --out "$out/frames/tls" --count 2 --width 48 --height 24 --fps 5
+[ "$(png_check "$out"/frames/tls/*.png | tr '\n' ' ')" = "48x24x8 48x24x8 " ] && pass ||
+  fail "wss watch --out did not save two 48x24 PNGs"
+expect_json "wss json get" 0 "lines == [{'path': 'sun.elevation_deg', 'value': 12, 'revision': 1}]" \
+  s --json get sun.elevation_deg
+expect "wss untrusted" 3 '' "$not_accepted" skyctl --url "$wss" get revision
+expect "wss untrusted names the options" 3 '' "--ca-file FILE trusts a PEM certificate" \
+  skyctl --url "$wss" get revision
+expect "wss trusting another certificate" 3 '' "$not_accepted" \
+  skyctl --url "$wss" --ca-file "$out/other-cert.pem" get revision
+expect "wss to a host the certificate does not name" 3 '' \
+  "the server's certificate was not accepted: hostname mismatch" \
+  skyctl --url "wss://localhost:$port/" --ca-file "$out/tls-cert.pem" get revision
+expect "wss --insecure works, with a warning" 0 '12' "warning: --insecure: the server's certificate is not checked" \
+  skyctl --url "$wss" --insecure get sun.elevation_deg
+expect "wss --insecure, another host name" 0 '1' "warning: --insecure" \
+  skyctl --url "wss://localhost:$port/" --insecure get revision
+expect "--ca-file missing" 2 '' "--ca-file $out/none.pem: No such file" \
+  skyctl --url "$wss" --ca-file "$out/none.pem" get revision
+expect "--ca-file without a certificate" 2 '' "no PEM certificate in it" \
+  skyctl --url "$wss" --ca-file "$out/token.txt" get revision
+expect "ws:// to the TLS port" 3 '' "cannot connect to ws://127.0.0.1:$port/" \
+  skyctl --url "ws://127.0.0.1:$port/" get revision
+expect "wss to a closed port" 3 '' "cannot connect to wss://127.0.0.1:1/" \
+  skyctl --url wss://127.0.0.1:1/ --ca-file "$out/tls-cert.pem" get revision
+expect "bad URL scheme" 3 '' "expected ws://host:port/path or wss://host:port/path" \
+  skyctl --url https://127.0.0.1:1/ get revision
+kill -TERM $daemon
+wait $daemon; rc=$?
+[ $rc -eq 0 ] && pass || fail "TLS skyd exit status $rc after SIGTERM"
 
 echo "skyctl: $passed passed, $failed failed"
 [ $failed -eq 0 ]
