@@ -35,6 +35,7 @@ size_t sky_field_size(const struct sky_field_desc *field)
     case SKY_FIELD_TYPE_INT_TRIPLE: return 3 * sizeof(int);
     case SKY_FIELD_TYPE_STRING: return field->capacity;
     case SKY_FIELD_TYPE_BOOL: return sizeof(bool);
+    case SKY_FIELD_TYPE_INT64: return sizeof(int64_t);
     case SKY_FIELD_TYPE_ENUM:
     case SKY_FIELD_TYPE_INT: break;
     }
@@ -55,6 +56,7 @@ int schema_element_count(enum sky_field_type type)
     case SKY_FIELD_TYPE_TIME:
     case SKY_FIELD_TYPE_STRING:
     case SKY_FIELD_TYPE_BOOL:
+    case SKY_FIELD_TYPE_INT64:
         break;
     }
     return 1;
@@ -181,7 +183,9 @@ void schema_list_enum_names(const struct sky_field_desc *field, char *text, size
     size_t used = 0;
     text[0] = '\0';
     for (int i = 0; i < field->enum_count; i++) {
-        if (i > 0)
+        if (!field->enum_names[i])
+            continue;
+        if (used > 0)
             append_text(text, capacity, &used, ", ");
         append_text(text, capacity, &used, field->enum_names[i]);
     }

@@ -26,24 +26,34 @@ static bool check_number(struct sky_field_errors *errors, const struct sky_field
                               "must be a finite number, got %s", got);
         return false;
     }
+    char min[NUMBER_TEXT_CAPACITY], max[NUMBER_TEXT_CAPACITY];
+    schema_format_number(field->min, min, sizeof min);
+    schema_format_number(field->max, max, sizeof max);
+    if (field->exclusive_min && value <= field->min) {
+        if (value > field->max)
+            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                                  "must be in (%s, %s], got %s", min, max, got);
+        else
+            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                                  "must be greater than %s, got %s", min, got);
+        return false;
+    }
     if (value < field->min || value > field->max) {
-        char min[NUMBER_TEXT_CAPACITY], max[NUMBER_TEXT_CAPACITY];
-        schema_format_number(field->min, min, sizeof min);
-        schema_format_number(field->max, max, sizeof max);
         sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "must be in [%s, %s], got %s", min, max, got);
+                              "must be in %s%s, %s], got %s", field->exclusive_min ? "(" : "[",
+                              min, max, got);
         return false;
     }
     return true;
 }
 
-/* The range check comes first, so an integral value is known to fit an int. */
+/* The range check comes first, so an integral value is known to fit the field's integer. */
 static bool check_integer(struct sky_field_errors *errors, const struct sky_field_desc *field,
                           double value, const char *pointer)
 {
     if (!check_number(errors, field, value, pointer))
         return false;
-    if (value != (double)(int)value) {
+    if (value != floor(value)) {
         char got[NUMBER_TEXT_CAPACITY];
         schema_format_number(value, got, sizeof got);
         sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "must be an integer, got %s",
@@ -65,7 +75,7 @@ struct patch_context {
     const struct sky_schema *schema;
     void *target; /* a scratch copy: written freely, discarded on error */
     struct sky_field_errors *errors;
-    bool *named;  /* per row: the patch names it (NULL: not recorded) */
+    bool *named;  /* per row: the object names it */
 };
 
 static void *field_address(void *target, const struct sky_field_desc *field)
@@ -162,7 +172,7 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
 static int find_enum_value(const struct sky_field_desc *field, const char *name)
 {
     for (int i = 0; i < field->enum_count; i++) {
-        if (strcmp(field->enum_names[i], name) == 0)
+        if (field->enum_names[i] && strcmp(field->enum_names[i], name) == 0)
             return i;
     }
     return -1;
@@ -195,8 +205,12 @@ static void apply_int(struct patch_context *context, const struct sky_field_desc
                               "expected an integer, got %s", sky_json_type_name(value));
         return;
     }
-    if (check_integer(context->errors, field, value->valuedouble, pointer))
-        *(int *)field_address(context->target, field) = (int)value->valuedouble;
+    if (check_integer(context->errors, field, value->valuedouble, pointer)) {
+        if (field->type == SKY_FIELD_TYPE_INT64)
+            *(int64_t *)field_address(context->target, field) = (int64_t)value->valuedouble;
+        else
+            *(int *)field_address(context->target, field) = (int)value->valuedouble;
+    }
 }
 
 static bool check_time(struct sky_field_errors *errors, const struct sky_field_desc *field,
@@ -235,10 +249,15 @@ static void apply_time(struct patch_context *context, const struct sky_field_des
 static void apply_string(struct patch_context *context, const struct sky_field_desc *field,
                          const cJSON *value, const char *pointer)
 {
+    size_t length = cJSON_IsString(value) ? strlen(value->valuestring) : 0;
     if (!cJSON_IsString(value))
         sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
                               "expected a string, got %s", sky_json_type_name(value));
-    else if (strlen(value->valuestring) >= field->capacity)
+    else if (field->min > 0 && (length < field->min || length >= field->capacity))
+        sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                              "must be %.0f to %zu bytes long, got %zu", field->min,
+                              field->capacity - 1, length);
+    else if (length >= field->capacity)
         sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
                               "longer than %zu characters", field->capacity - 1);
     else
@@ -274,6 +293,7 @@ static void apply_leaf(struct patch_context *context, const struct sky_field_des
         apply_enum(context, field, value, pointer);
         break;
     case SKY_FIELD_TYPE_INT:
+    case SKY_FIELD_TYPE_INT64:
         apply_int(context, field, value, pointer);
         break;
     case SKY_FIELD_TYPE_TIME:
@@ -315,8 +335,16 @@ static void report_unknown_member(struct patch_context *context, const char *pre
 static void apply_object(struct patch_context *context, const cJSON *object, const char *prefix,
                          const char *pointer);
 
-static void apply_member(struct patch_context *context, const cJSON *member, const char *prefix,
-                         const char *parent_pointer)
+static bool given_before(const cJSON *object, const cJSON *member)
+{
+    for (const cJSON *earlier = object->child; earlier && earlier != member; earlier = earlier->next)
+        if (earlier->string && member->string && strcmp(earlier->string, member->string) == 0)
+            return true;
+    return false;
+}
+
+static void apply_member(struct patch_context *context, const cJSON *object, const cJSON *member,
+                         const char *prefix, const char *parent_pointer)
 {
     const char *name = member->string ? member->string : "";
     char pointer[POINTER_CAPACITY];
@@ -324,6 +352,10 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
     schema_pointer_append(pointer, sizeof pointer, name);
 
     const struct sky_schema *schema = context->schema;
+    if (schema->unique_members && given_before(object, member)) {
+        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "duplicate field");
+        return;
+    }
     for (size_t i = 0; prefix[0] == '\0' && i < schema->caller_member_count; i++)
         if (strcmp(name, schema->caller_members[i]) == 0)
             return;
@@ -340,7 +372,7 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
     const struct sky_field_desc *field = schema_find(context->schema, dotted);
     if (field) {
         apply_leaf(context, field, member, pointer);
-        if (context->named)
+        if (field - schema->fields < SKY_SCHEMA_MAX_ROWS)
             context->named[field - schema->fields] = true;
     } else if (!schema_is_group(context->schema, dotted)) {
         report_unknown_member(context, prefix, pointer);
@@ -357,7 +389,7 @@ static void apply_object(struct patch_context *context, const cJSON *object, con
                          const char *pointer)
 {
     for (const cJSON *member = object->child; member; member = member->next)
-        apply_member(context, member, prefix, pointer);
+        apply_member(context, object, member, prefix, pointer);
 }
 
 /* ---- whole-state validation ------------------------------------------------------------- */
@@ -391,12 +423,15 @@ static void check_stored_field(const struct sky_world_state *state,
     case SKY_FIELD_TYPE_INT:
         check_number(errors, field, *(const int *)address, pointer);
         break;
+    case SKY_FIELD_TYPE_INT64:
+        check_number(errors, field, (double)*(const int64_t *)address, pointer);
+        break;
     case SKY_FIELD_TYPE_TIME:
         check_time(errors, field, *(const double *)address, pointer);
         break;
     case SKY_FIELD_TYPE_ENUM: {
         int value = *(const int *)address;
-        if (value < 0 || value >= field->enum_count) {
+        if (value < 0 || value >= field->enum_count || !field->enum_names[value]) {
             char names[REASON_CAPACITY];
             schema_list_enum_names(field, names, sizeof names);
             sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
@@ -460,6 +495,19 @@ bool sky_world_state_validate(const struct sky_world_state *state, struct sky_fi
 
 /* ---- public entry points ---------------------------------------------------------------- */
 
+static void report_missing(const struct sky_schema *schema, const bool *named,
+                           const char *pointer_prefix, struct sky_field_errors *errors)
+{
+    for (size_t i = 0; i < schema->count; i++) {
+        if (!schema->fields[i].required || named[i])
+            continue;
+        char pointer[POINTER_CAPACITY], relative[POINTER_CAPACITY];
+        schema_pointer_from_dotted(schema->fields[i].path, relative, sizeof relative);
+        snprintf(pointer, sizeof pointer, "%s%s", pointer_prefix, relative);
+        sky_field_errors_add(errors, SKY_FIELD_MISSING, pointer, "required");
+    }
+}
+
 /* A patch's members through `schema` into `target`, after checking that it is an object;
  * `named` (optional) records the rows it names. Returns whether this call added no error. */
 static bool apply_root(const struct sky_schema *schema, void *target, const cJSON *json,
@@ -472,8 +520,14 @@ static bool apply_root(const struct sky_schema *schema, void *target, const cJSO
                               json ? sky_json_type_name(json) : "nothing");
         return false;
     }
+    bool scratch[SKY_SCHEMA_MAX_ROWS];
+    if (!named)
+        named = scratch;
+    size_t rows = schema->count < SKY_SCHEMA_MAX_ROWS ? schema->count : SKY_SCHEMA_MAX_ROWS;
+    memset(named, 0, rows * sizeof *named);
     struct patch_context context = { schema, target, errors, named };
     apply_object(&context, json, "", pointer_prefix);
+    report_missing(schema, named, pointer_prefix, errors);
     return errors->total == before;
 }
 
@@ -501,9 +555,9 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
 
 bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
                            const struct cJSON *object, const char *pointer_prefix,
-                           struct sky_field_errors *errors)
+                           struct sky_field_errors *errors, bool *named)
 {
-    return apply_root(schema, target, object, pointer_prefix, errors, NULL);
+    return apply_root(schema, target, object, pointer_prefix, errors, named);
 }
 
 bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefix,
@@ -512,7 +566,7 @@ bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefi
     const struct sky_schema *schema = sky_world_schema();
     out->count = 0;
     sky_world_state_defaults(&out->values);
-    bool named[SKY_WORLD_PATCH_MAX_FIELDS] = { false };
+    bool named[SKY_SCHEMA_MAX_ROWS];
     bool ok = apply_root(schema, &out->values, json, pointer_prefix, errors, named);
     for (size_t i = 0; i < schema->count; i++)
         if (named[i])

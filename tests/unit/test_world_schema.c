@@ -135,7 +135,8 @@ static const char *expected_type(enum sky_field_type type)
 {
     switch (type) {
     case SKY_FIELD_TYPE_NUMBER: return "number";
-    case SKY_FIELD_TYPE_INT: return "integer";
+    case SKY_FIELD_TYPE_INT:
+    case SKY_FIELD_TYPE_INT64: return "integer";
     case SKY_FIELD_TYPE_INT_PAIR:
     case SKY_FIELD_TYPE_INT_TRIPLE: return "array";
     case SKY_FIELD_TYPE_ENUM:
