@@ -33,7 +33,7 @@ struct cJSON;
 #define SKY_MSG_MAX_SAFE_INTEGER 9007199254740991LL /* 2^53 - 1 */
 
 /* Stable error codes. The wire carries the names (sky_msg_error_name); the numbers are stable
- * too. 1..5 equal enum sky_field_error_code, so sky_field_error.code holds either. */
+ * too. 1..6 equal enum sky_field_error_code, so sky_field_error.code holds either. */
 enum sky_msg_error_code {
     SKY_MSG_OK = 0,
     SKY_MSG_ERR_UNKNOWN_FIELD = 1,       /* "unknown_field" */
@@ -188,8 +188,13 @@ struct sky_client_msg {
             bool has_transition;  /* apply_preset of a weather preset: "transition_s" given */
             double transition_s;  /* simulated seconds, [0, SKY_MSG_MAX_TRANSITION_S] */
         } preset;
-        /* Owned, decoded and validated; sky_client_msg_free frees it. */
-        struct sky_weather_map weather_map;
+        struct {
+            /* Owned, decoded and validated; sky_client_msg_free frees it. */
+            struct sky_weather_map weather_map;
+            /* The members as given: the map's format and, 0 when absent, its size. */
+            enum sky_weather_map_format weather_map_format;
+            int weather_map_width, weather_map_height;
+        };
     };
 };
 
