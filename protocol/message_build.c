@@ -91,11 +91,11 @@ static void begin(struct builder *b, const char *type, const struct sky_msg_id *
 
 /* cJSON prints numbers with 15 digits when they compare equal within an epsilon, which loses
  * integers above 2^50 and the last bits of doubles: write each as the shortest exact text. */
-static bool write_numbers_exactly(cJSON *parent)
+bool sky_json_exact_numbers(cJSON *parent)
 {
     for (cJSON *item = parent ? parent->child : NULL; item; item = item->next) {
         if (!cJSON_IsNumber(item)) {
-            if (!write_numbers_exactly(item))
+            if (!sky_json_exact_numbers(item))
                 return false;
             continue;
         }
@@ -120,7 +120,7 @@ static bool write_numbers_exactly(cJSON *parent)
 
 static char *finish(struct builder *b)
 {
-    char *text = b->ok && write_numbers_exactly(b->root) ? cJSON_PrintUnformatted(b->root) : NULL;
+    char *text = b->ok && sky_json_exact_numbers(b->root) ? cJSON_PrintUnformatted(b->root) : NULL;
     cJSON_Delete(b->root);
     return text;
 }

@@ -218,6 +218,13 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
 
 void sky_client_msg_free(struct sky_client_msg *msg);
 
+/* The client messages' JSON Schema (draft 2020-12), generated from the rows that parse them:
+ * a oneOf over the message types keyed by "type", views sized by `limits`, a set's patch as
+ * the world state's schema (sky_world_state_json_schema). What rows cannot say is left to the
+ * server: hello's protocol version other than 1, and a view's 2:1 equirectangular aspect. NULL
+ * when memory is out; the caller deletes it. */
+struct cJSON *sky_msg_json_schema(const struct sky_msg_limits *limits);
+
 /* The camera and exposure a view renders with: the state's, overridden by the view's. */
 void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_world_state *state,
                           struct sky_camera_state *camera, struct sky_exposure_state *exposure);
@@ -233,6 +240,12 @@ size_t sky_msg_state_diff(const struct sky_world_state *before,
  * is invalid (a non-finite number, an integer above 2^53 - 1, an unknown enum value, a name
  * that breaks its pattern) or memory runs out. `id` may be NULL or SKY_MSG_ID_NONE: the
  * member is then left out. Free the text with free(). */
+
+/* Replaces every number in a tree by raw text that reads back as the same double (cJSON's own
+ * printing rounds to 15 digits: 2^53 - 1 would print as 9.00719925474099e+15). The tree is for
+ * printing afterwards: its numbers are no longer cJSON numbers. false when a number is not
+ * finite or memory is out. */
+bool sky_json_exact_numbers(struct cJSON *json);
 
 /* The capabilities this module can describe: every client message type and "png". */
 const char *const *sky_msg_default_capabilities(size_t *count);
