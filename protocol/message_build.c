@@ -167,6 +167,15 @@ char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_st
     return finish(&b);
 }
 
+char *sky_msg_build_schema(const struct sky_msg_id *id, const struct sky_msg_limits *limits)
+{
+    struct builder b;
+    begin(&b, "schema", id);
+    put(&b, b.root, "state", sky_world_state_json_schema());
+    put(&b, b.root, "messages", limits ? sky_msg_json_schema(limits) : NULL);
+    return finish(&b);
+}
+
 char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky_msg_role role)
 {
     struct builder b;

@@ -171,6 +171,7 @@ static const struct msg_schema message_schemas[] = {
     [SKY_MSG_STATS] = {&envelope_schema, NULL, NULL, 0},
     [SKY_MSG_SET_WEATHER_MAP] = {&weather_map_schema, "format", weather_map_variants,
                                  COUNT_OF(weather_map_variants)},
+    [SKY_MSG_DESCRIBE] = {&envelope_schema, NULL, NULL, 0},
 };
 
 const struct msg_schema *msg_schema_of(enum sky_msg_type type)

@@ -3,7 +3,8 @@
  * constant; a type whose discriminator picks a variant table (probe's quantity,
  * set_weather_map's format) is itself a oneOf over its variants. The members the rows leave to
  * code (the id, a set's patch, the view object, a preset's name, the weather map's data) are
- * written here; the patch is the world state's own schema. */
+ * written here; the patch is the world state's own schema. Built without cJSON's parser, which
+ * is not thread-safe (server/base/json_guard.h), so any thread may call it. */
 #include "message_parser.h"
 #include "message_names.h"
 
@@ -13,30 +14,6 @@
 #include <string.h>
 
 #define JSON_SCHEMA_DIALECT "https://json-schema.org/draft/2020-12/schema"
-
-/* The members that have no row: their schemas, and whether a message must give them. */
-static const struct {
-    const char *name;
-    const char *schema; /* JSON text */
-    bool required;
-} caller_members[] = {
-    {"type", NULL, true}, /* the message's own constant */
-    {"id", "{\"$ref\":\"#/$defs/id\"}", false},
-    {"patch", "{\"$ref\":\"#/$defs/patch\"}", true},
-    {"view", "{\"$ref\":\"#/$defs/view\"}", true},
-    {"name", "{\"type\":\"string\",\"pattern\":\"^[a-z0-9_-]{1,64}$\","
-             "\"description\":\"the preset's name, as list_presets gives it\"}", true},
-    {"data", "{\"type\":\"string\",\"contentEncoding\":\"base64\",\"description\":"
-             "\"the texels (rgba8) or the PNG file, base64 with padding, no line breaks\"}", true},
-};
-
-static const char *const id_schema =
-    "{\"description\":\"echoed in the reply\",\"oneOf\":["
-    "{\"type\":\"string\",\"minLength\":1,\"maxLength\":64},"
-    "{\"type\":\"integer\",\"minimum\":-9007199254740991,\"maximum\":9007199254740991}]}";
-
-_Static_assert(SKY_MSG_ID_MAX == 64 && SKY_MSG_MAX_SAFE_INTEGER == 9007199254740991LL,
-               "the id's schema above");
 
 /* Adds item to an object, or to an array when name is NULL; takes it, deleting it on failure. */
 static bool attach(cJSON *parent, const char *name, cJSON *item)
@@ -48,6 +25,99 @@ static bool attach(cJSON *parent, const char *name, cJSON *item)
         cJSON_Delete(item);
     return added;
 }
+
+/* {"name": text} added to `object` (which may be NULL: then nothing). */
+static cJSON *with_string(cJSON *object, const char *name, const char *text)
+{
+    if (object && !cJSON_AddStringToObject(object, name, text)) {
+        cJSON_Delete(object);
+        return NULL;
+    }
+    return object;
+}
+
+static cJSON *with_number(cJSON *object, const char *name, double value)
+{
+    if (object && !cJSON_AddNumberToObject(object, name, value)) {
+        cJSON_Delete(object);
+        return NULL;
+    }
+    return object;
+}
+
+/* {"name": item}, taking item. */
+static cJSON *with_item(cJSON *object, const char *name, cJSON *item)
+{
+    if (!attach(object, name, item)) {
+        cJSON_Delete(object);
+        return NULL;
+    }
+    return object;
+}
+
+static cJSON *typed(const char *type)
+{
+    return with_string(cJSON_CreateObject(), "type", type);
+}
+
+static cJSON *reference(const char *def)
+{
+    char ref[64];
+    snprintf(ref, sizeof ref, "#/$defs/%s", def);
+    return with_string(cJSON_CreateObject(), "$ref", ref);
+}
+
+static cJSON *constant(const char *text)
+{
+    return with_string(cJSON_CreateObject(), "const", text);
+}
+
+/* A string of 1 to SKY_MSG_ID_MAX bytes, or an integer of magnitude at most 2^53 - 1. */
+static cJSON *id_schema(void)
+{
+    cJSON *text = with_number(with_number(typed("string"), "minLength", 1), "maxLength",
+                              SKY_MSG_ID_MAX);
+    cJSON *number = with_number(with_number(typed("integer"), "minimum",
+                                            -(double)SKY_MSG_MAX_SAFE_INTEGER),
+                                "maximum", (double)SKY_MSG_MAX_SAFE_INTEGER);
+    cJSON *options = cJSON_CreateArray();
+    bool ok = attach(options, NULL, text);
+    ok = attach(ok ? options : NULL, NULL, number) && ok;
+    if (!ok) {
+        cJSON_Delete(options);
+        options = NULL;
+    }
+    return with_item(with_string(cJSON_CreateObject(), "description", "echoed in the reply"),
+                     "oneOf", options);
+}
+
+static cJSON *preset_name_schema(void)
+{
+    return with_string(with_string(typed("string"), "pattern", "^[a-z0-9_-]{1,64}$"),
+                       "description", "the preset's name, as list_presets gives it");
+}
+
+static cJSON *map_data_schema(void)
+{
+    return with_string(with_string(typed("string"), "contentEncoding", "base64"), "description",
+                       "the texels (rgba8) or the PNG file, base64 with padding, no line breaks");
+}
+
+/* The members that have no row: a schema of their own, a reference to a $defs entry, or
+ * neither (the message's "type" constant); and whether a message must give them. */
+static const struct {
+    const char *name;
+    cJSON *(*schema)(void);
+    const char *def;
+    bool required;
+} caller_members[] = {
+    {"type", NULL, NULL, true},
+    {"id", NULL, "id", false},
+    {"patch", NULL, "patch", true},
+    {"view", NULL, "view", true},
+    {"name", preset_name_schema, NULL, true},
+    {"data", map_data_schema, NULL, true},
+};
 
 /* A table's schema as a subschema: no "$schema" of its own. */
 static cJSON *subschema(const struct sky_schema *schema, const cJSON *defaults, const char *title)
@@ -65,16 +135,6 @@ static bool add_required(cJSON *object, const char *name)
     return attach(required, NULL, cJSON_CreateString(name));
 }
 
-static cJSON *constant(const char *text)
-{
-    cJSON *schema = cJSON_CreateObject();
-    if (schema && !cJSON_AddStringToObject(schema, "const", text)) {
-        cJSON_Delete(schema);
-        return NULL;
-    }
-    return schema;
-}
-
 /* One table of one message type: its rows, "type" as a constant, its caller members. */
 static cJSON *message_schema(const char *type, const struct sky_schema *schema, const char *title)
 {
@@ -86,7 +146,8 @@ static cJSON *message_schema(const char *type, const struct sky_schema *schema, 
         for (size_t j = 0; ok && j < sizeof caller_members / sizeof caller_members[0]; j++) {
             if (strcmp(caller_members[j].name, name) != 0)
                 continue;
-            cJSON *member = caller_members[j].schema ? cJSON_Parse(caller_members[j].schema)
+            cJSON *member = caller_members[j].schema ? caller_members[j].schema()
+                            : caller_members[j].def  ? reference(caller_members[j].def)
                                                      : constant(type);
             ok = attach(properties, name, member) &&
                  (!caller_members[j].required || add_required(root, name));
@@ -117,7 +178,7 @@ static cJSON *variants_schema(const char *type, const struct msg_schema *kind)
         cJSON *option = message_schema(type, &kind->variants[i], title);
         cJSON *member = cJSON_GetObjectItemCaseSensitive(
             cJSON_GetObjectItemCaseSensitive(option, "properties"), kind->discriminator);
-        ok = member && attach(options, NULL, option) &&
+        ok = attach(options, NULL, option) && member &&
              cJSON_AddStringToObject(member, "const", row->enum_names[i]);
     }
     if (!ok) {
@@ -157,9 +218,10 @@ static cJSON *patch_schema(void)
 /* transition_s only with kind "weather". */
 static bool add_weather_only_transition(cJSON *apply_preset)
 {
+    cJSON *kind = with_item(cJSON_CreateObject(), "kind", constant("weather"));
+    cJSON *rule = with_item(cJSON_CreateObject(), "properties", kind);
     return attach(apply_preset, "dependentSchemas",
-                  cJSON_Parse("{\"transition_s\":{\"properties\":{\"kind\":{\"const\":"
-                              "\"weather\"}}}}"));
+                  with_item(cJSON_CreateObject(), "transition_s", rule));
 }
 
 cJSON *sky_msg_json_schema(const struct sky_msg_limits *limits)
@@ -171,20 +233,14 @@ cJSON *sky_msg_json_schema(const struct sky_msg_limits *limits)
               cJSON_AddStringToObject(root, "title", "skyd client messages");
     ok = attach(ok ? root : NULL, "oneOf", options) && ok;
     ok = attach(ok ? root : NULL, "$defs", defs) && ok;
-    ok = ok && attach(defs, "id", cJSON_Parse(id_schema)) &&
+    ok = ok && attach(defs, "id", id_schema()) &&
          attach(defs, "view", view_schema(limits)) && attach(defs, "patch", patch_schema());
     for (int type = SKY_MSG_HELLO; ok && msg_schema_of((enum sky_msg_type)type); type++) {
         const char *name = sky_msg_type_name((enum sky_msg_type)type);
         const struct msg_schema *kind = msg_schema_of((enum sky_msg_type)type);
         cJSON *def = kind->discriminator ? variants_schema(name, kind)
                                          : message_schema(name, kind->schema, name);
-        char ref[64];
-        snprintf(ref, sizeof ref, "#/$defs/%s", name);
-        cJSON *option = cJSON_CreateObject();
-        if (option && !cJSON_AddStringToObject(option, "$ref", ref)) {
-            cJSON_Delete(option);
-            option = NULL;
-        }
+        cJSON *option = reference(name);
         ok = attach(defs, name, def) &&
              (type != SKY_MSG_APPLY_PRESET || add_weather_only_transition(def));
         ok = attach(ok ? options : NULL, NULL, option) && ok;

@@ -53,12 +53,13 @@ static const char *const type_names[] = {
     [SKY_MSG_SNAPSHOT] = "snapshot",   [SKY_MSG_PROBE] = "probe",
     [SKY_MSG_LIST_PRESETS] = "list_presets", [SKY_MSG_APPLY_PRESET] = "apply_preset",
     [SKY_MSG_STATS] = "stats",         [SKY_MSG_SET_WEATHER_MAP] = "set_weather_map",
+    [SKY_MSG_DESCRIBE] = "describe",
 };
 
 static const char *const capabilities[] = {
     "hello", "auth",  "get_state",    "set",          "subscribe", "unsubscribe",
     "snapshot", "probe", "list_presets", "apply_preset", "stats",     "set_weather_map",
-    "png", "png16", "equirectangular",
+    "describe", "png", "png16", "equirectangular",
 };
 
 const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {[SKY_ROLE_VIEWER] = "viewer",
@@ -276,6 +277,7 @@ static void check_members(struct parser *p, struct sky_client_msg *msg)
     case SKY_MSG_PROBE:
     case SKY_MSG_LIST_PRESETS:
     case SKY_MSG_STATS:
+    case SKY_MSG_DESCRIBE:
         break;
     }
 }

@@ -74,6 +74,7 @@ enum sky_msg_type {
     SKY_MSG_APPLY_PRESET,
     SKY_MSG_STATS,
     SKY_MSG_SET_WEATHER_MAP,
+    SKY_MSG_DESCRIBE,
 };
 
 /* "hello", "set", ...; NULL for SKY_MSG_NONE or out-of-range values. */
@@ -255,6 +256,10 @@ char *sky_msg_build_hello(const char *server_version, enum sky_msg_role role,
                           const struct sky_msg_limits *limits);
 
 char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_state *state);
+
+/* The reply to describe: "schema" with the world state's JSON Schema (sky_world_state_json_schema)
+ * as "state" and the client messages' (sky_msg_json_schema, for `limits`) as "messages". */
+char *sky_msg_build_schema(const struct sky_msg_id *id, const struct sky_msg_limits *limits);
 
 /* role: SKY_ROLE_NONE leaves it out; the reply to a successful auth carries the new role. */
 char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky_msg_role role);

@@ -290,6 +290,14 @@ static void handle_stats(struct render_context *ctx, struct session *session,
     reply(session, &msg->id, sky_msg_build_stats(&msg->id, &stats));
 }
 
+static void handle_describe(struct render_context *ctx, struct session *session,
+                            const struct sky_client_msg *msg)
+{
+    struct sky_msg_limits limits;
+    skyd_config_limits(ctx->config, &limits);
+    reply(session, &msg->id, sky_msg_build_schema(&msg->id, &limits));
+}
+
 void render_commands_handle(struct render_context *ctx, struct session *session,
                             const struct sky_client_msg *msg)
 {
@@ -316,6 +324,7 @@ void render_commands_handle(struct render_context *ctx, struct session *session,
     case SKY_MSG_APPLY_PRESET: handle_apply_preset(ctx, session, msg); break;
     case SKY_MSG_STATS: handle_stats(ctx, session, msg); break;
     case SKY_MSG_SET_WEATHER_MAP: handle_set_weather_map(ctx, session, msg); break;
+    case SKY_MSG_DESCRIBE: handle_describe(ctx, session, msg); break;
     }
 }
 

@@ -40,6 +40,7 @@ const struct protocol_client_example protocol_client_examples[] = {
     {"{\"type\":\"set_weather_map\",\"id\":16,\"format\":\"rgba8\",\"width\":2,\"height\":1,"
      "\"data\":\"/wCgAIBAoCg=\"}",
      SKY_MSG_SET_WEATHER_MAP},
+    {"{\"type\":\"describe\",\"id\":18}", SKY_MSG_DESCRIBE},
     {"{\"type\":\"snapshot\",\"id\":17,\"view\":{\"width\":1024,\"height\":512,"
      "\"projection\":\"equirectangular\",\"format\":\"png16\"}}",
      SKY_MSG_SNAPSHOT},

@@ -172,6 +172,22 @@ void test_builders(void)
     CHECK(sky_msg_build_state_changed(8, not_pointers, 1) == NULL);
     CHECK(sky_msg_build_state_changed(8, NULL, 1) == NULL);
 
+    check_case_name = "schema";
+    struct sky_msg_limits narrow;
+    sky_msg_limits_default(&narrow);
+    narrow.max_width = 800;
+    char *schema = sky_msg_build_schema(&id, &narrow);
+    CHECK(schema && strstr(schema, "9007199254740991") != NULL); /* printed exactly */
+    json = parse_built(schema, "schema");
+    CHECK_STR(string_at(json, "id"), "abc");
+    CHECK_STR(string_at(get(json, "state"), "title"), "skyd world state");
+    CHECK_STR(string_at(get(json, "messages"), "title"), "skyd client messages");
+    const cJSON *width = get(get(get(get(get(json, "messages"), "$defs"), "view"), "properties"),
+                             "width");
+    CHECK_DOUBLE(number_at(width, "maximum"), 800);
+    cJSON_Delete(json);
+    CHECK(sky_msg_build_schema(&id, NULL) == NULL);
+
     check_case_name = "presets";
     const char *names[] = {"earth", "mars"};
     json = parse_built(sky_msg_build_presets(&id, SKY_PRESET_ATMOSPHERE, names, 2), "presets");
