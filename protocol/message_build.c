@@ -278,16 +278,36 @@ char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription,
     return finish(&b);
 }
 
-char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count)
+/* The state's field at a JSON Pointer ("/sun/elevation_deg"), or NULL. Field names have no
+ * '~' or '/', so no segment needs unescaping. */
+static const struct sky_field_desc *field_at(const char *pointer)
+{
+    char dotted[SKY_MSG_POINTER_MAX];
+    if (pointer[0] != '/' || strlen(pointer) >= sizeof dotted)
+        return NULL;
+    for (size_t i = 0; pointer[i]; i++)
+        dotted[i] = pointer[i + 1] == '/' ? '.' : pointer[i + 1];
+    return sky_world_state_find_field(dotted);
+}
+
+char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count,
+                                  const struct sky_world_state *state, const char *by)
 {
     struct builder b;
     begin(&b, "event", NULL);
+    if (!state || !by || !by[0])
+        b.ok = false;
     put_string(&b, b.root, "event", "state_changed");
     put_count(&b, b.root, "revision", revision);
+    put_string(&b, b.root, "by", by);
     cJSON *list = put(&b, b.root, "changed", cJSON_CreateArray());
-    for (size_t i = 0; i < count; i++) {
+    cJSON *values = put(&b, b.root, "values", cJSON_CreateObject());
+    for (size_t i = 0; i < count && b.ok; i++) {
         const char *pointer = pointers ? pointers[i] : NULL;
         put_string(&b, list, NULL, pointer && (!pointer[0] || pointer[0] == '/') ? pointer : NULL);
+        const struct sky_field_desc *field = pointer ? field_at(pointer) : NULL;
+        if (field && !cJSON_GetObjectItemCaseSensitive(values, pointer))
+            put(&b, values, pointer, sky_field_to_json(field, state));
     }
     return finish(&b);
 }

@@ -282,7 +282,12 @@ char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscriptio
 char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription,
                           uint64_t frame_number);
 
-char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count);
+/* `pointers` name the changed fields (JSON Pointers into the state, "/sun/elevation_deg"); the
+ * event's "values" holds each one's new value read from `state`, written as get_state writes
+ * it. A pointer that is no field of the state ("/weather/map") is listed in "changed" only.
+ * `by` names who changed it (a client's hello name, or its role). */
+char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count,
+                                  const struct sky_world_state *state, const char *by);
 
 char *sky_msg_build_presets(const struct sky_msg_id *id, enum sky_preset_kind kind,
                             const char *const *names, size_t count);

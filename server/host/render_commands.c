@@ -60,12 +60,23 @@ static void reply_field_errors(struct session *session, const struct sky_msg_id 
     reply(session, id, sky_msg_build_error(id, code, message, &prefixed));
 }
 
+/* Who a state_changed names: the sender's hello name, else its role (only a controller
+ * changes the state). */
+static void changer(struct session *session, char *name, size_t capacity)
+{
+    session_client_name(session, name, capacity);
+    if (!name[0])
+        snprintf(name, capacity, "controller");
+}
+
 /* Commits `next` through the world host and tells the sender and every client. */
 static bool commit_state(struct render_context *ctx, struct session *session,
                          const struct sky_msg_id *id, struct sky_world_state *next)
 {
     struct world_commit commit;
-    if (!world_host_commit(ctx->world, ctx->renderer, next, NULL, &commit)) {
+    char by[SKY_MSG_CLIENT_MAX + 1];
+    changer(session, by, sizeof by);
+    if (!world_host_commit(ctx->world, ctx->renderer, next, NULL, by, &commit)) {
         reply_error(session, id, SKY_MSG_ERR_INTERNAL, "%s", commit.error);
         return false;
     }
@@ -168,7 +179,9 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
                                    const struct sky_client_msg *msg)
 {
     struct world_commit commit;
-    if (!world_host_set_weather_map(ctx->world, ctx->renderer, &msg->weather_map, &commit)) {
+    char by[SKY_MSG_CLIENT_MAX + 1];
+    changer(session, by, sizeof by);
+    if (!world_host_set_weather_map(ctx->world, ctx->renderer, &msg->weather_map, by, &commit)) {
         reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s", commit.error);
         return;
     }
@@ -309,6 +322,11 @@ void render_commands_handle(struct render_context *ctx, struct session *session,
     }
     switch (msg->type) {
     case SKY_MSG_HELLO:
+        if (msg->hello.has_client)
+            session_set_client_name(session, msg->hello.client);
+        reply(session, &msg->id, sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
+                                                   SKY_ROLE_NONE));
+        break;
     case SKY_MSG_NONE:
         reply(session, &msg->id, sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
                                                    SKY_ROLE_NONE));

@@ -141,6 +141,10 @@ async def t_set_and_event(d, ctl, viewer):
         check("event: state_changed", e.get("event") == "state_changed", short(e))
         check("event: changed pointers in schema order",
               e.get("changed") == ["/sun/azimuth_deg", "/sun/elevation_deg"], short(e))
+        check("event: the new values, keyed by pointer",
+              e.get("values") == {"/sun/azimuth_deg": 123, "/sun/elevation_deg": 7.5}, short(e))
+        check("event: by names the sender's hello client", e.get("by") == "test_serve.py",
+              short(e))
         check("event: no id", "id" not in e, short(e))
     e = await ctl.wait_event(lambda e: e.get("revision") == rev)
     check("event: reaches the controller too", e is not None, short(ctl.events))
