@@ -234,8 +234,8 @@ void msg_view_schema(const struct sky_msg_limits *limits, struct msg_view_schema
     memcpy(out->rows, view_rows, sizeof view_rows);
     for (size_t i = 0; i < MSG_VIEW_ROWS; i++) {
         struct sky_field_desc *row = &out->rows[i];
-        const struct sky_field_desc *twin = row->description ? NULL
-                                                             : sky_world_state_find_field(row->path);
+        const struct sky_field_desc *twin =
+            row->description ? NULL : sky_world_state_find_field(row->path);
         if (twin) {
             row->min = twin->min;
             row->max = twin->max;

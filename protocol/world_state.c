@@ -14,61 +14,6 @@
 
 static const double MAX_ATMOSPHERE_THICKNESS_KM = 1000.0;
 
-/* ---- value checks shared by patching and validation ------------------------------------- */
-
-static bool check_number(struct sky_field_errors *errors, const struct sky_field_desc *field,
-                         double value, const char *pointer)
-{
-    char got[NUMBER_TEXT_CAPACITY];
-    schema_format_number(value, got, sizeof got);
-    if (!isfinite(value)) {
-        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "must be a finite number, got %s", got);
-        return false;
-    }
-    char min[NUMBER_TEXT_CAPACITY], max[NUMBER_TEXT_CAPACITY];
-    schema_format_number(field->min, min, sizeof min);
-    schema_format_number(field->max, max, sizeof max);
-    if (field->exclusive_min && value <= field->min) {
-        if (value > field->max)
-            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                                  "must be in (%s, %s], got %s", min, max, got);
-        else
-            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                                  "must be greater than %s, got %s", min, got);
-        return false;
-    }
-    if (value < field->min || value > field->max) {
-        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "must be in %s%s, %s], got %s", field->exclusive_min ? "(" : "[",
-                              min, max, got);
-        return false;
-    }
-    return true;
-}
-
-/* The range check comes first, so an integral value is known to fit the field's integer. */
-static bool check_integer(struct sky_field_errors *errors, const struct sky_field_desc *field,
-                          double value, const char *pointer)
-{
-    if (!check_number(errors, field, value, pointer))
-        return false;
-    if (value != floor(value)) {
-        char got[NUMBER_TEXT_CAPACITY];
-        schema_format_number(value, got, sizeof got);
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "must be an integer, got %s",
-                              got);
-        return false;
-    }
-    return true;
-}
-
-static void element_pointer(const char *pointer, int index, char *out, size_t capacity)
-{
-    schema_copy_text(out, capacity, pointer);
-    schema_pointer_append_index(out, capacity, index);
-}
-
 /* ---- patch application ------------------------------------------------------------------ */
 
 struct patch_context {
@@ -91,7 +36,7 @@ static void apply_number(struct patch_context *context, const struct sky_field_d
                               "expected a number, got %s", sky_json_type_name(value));
         return;
     }
-    if (check_number(context->errors, field, value->valuedouble, pointer))
+    if (schema_check_number(context->errors, field, value->valuedouble, pointer))
         *(double *)field_address(context->target, field) = value->valuedouble;
 }
 
@@ -116,11 +61,12 @@ static void apply_rgb_array(struct patch_context *context, const struct sky_fiel
     int index = 0;
     for (const cJSON *element = value->child; element; element = element->next, index++) {
         char item_pointer[POINTER_CAPACITY];
-        element_pointer(pointer, index, item_pointer, sizeof item_pointer);
+        schema_element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
             sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
                                   "expected a number, got %s", sky_json_type_name(element));
-        } else if (check_number(context->errors, field, element->valuedouble, item_pointer)) {
+        } else if (schema_check_number(context->errors, field, element->valuedouble,
+                                       item_pointer)) {
             channels[index] = element->valuedouble;
         }
     }
@@ -132,7 +78,7 @@ static void apply_rgb(struct patch_context *context, const struct sky_field_desc
     if (cJSON_IsArray(value)) {
         apply_rgb_array(context, field, value, pointer);
     } else if (cJSON_IsNumber(value)) {
-        if (check_number(context->errors, field, value->valuedouble, pointer)) {
+        if (schema_check_number(context->errors, field, value->valuedouble, pointer)) {
             double *channels = field_address(context->target, field);
             channels[0] = channels[1] = channels[2] = value->valuedouble;
         }
@@ -159,11 +105,12 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
     int index = 0;
     for (const cJSON *element = value->child; element; element = element->next, index++) {
         char item_pointer[POINTER_CAPACITY];
-        element_pointer(pointer, index, item_pointer, sizeof item_pointer);
+        schema_element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
             sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
                                   "expected an integer, got %s", sky_json_type_name(element));
-        } else if (check_integer(context->errors, field, element->valuedouble, item_pointer)) {
+        } else if (schema_check_integer(context->errors, field, element->valuedouble,
+                                        item_pointer)) {
             elements[index] = (int)element->valuedouble;
         }
     }
@@ -205,26 +152,12 @@ static void apply_int(struct patch_context *context, const struct sky_field_desc
                               "expected an integer, got %s", sky_json_type_name(value));
         return;
     }
-    if (check_integer(context->errors, field, value->valuedouble, pointer)) {
+    if (schema_check_integer(context->errors, field, value->valuedouble, pointer)) {
         if (field->type == SKY_FIELD_TYPE_INT64)
             *(int64_t *)field_address(context->target, field) = (int64_t)value->valuedouble;
         else
             *(int *)field_address(context->target, field) = (int)value->valuedouble;
     }
-}
-
-static bool check_time(struct sky_field_errors *errors, const struct sky_field_desc *field,
-                       double seconds, const char *pointer)
-{
-    if (isfinite(seconds) && seconds >= field->min && seconds <= field->max)
-        return true;
-    char got[TIME_TEXT_CAPACITY], min[TIME_TEXT_CAPACITY], max[TIME_TEXT_CAPACITY];
-    sky_time_format_iso8601(seconds, got, sizeof got);
-    sky_time_format_iso8601(field->min, min, sizeof min);
-    sky_time_format_iso8601(field->max, max, sizeof max);
-    sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "must be in [%s, %s], got %s",
-                          min, max, got);
-    return false;
 }
 
 static void apply_time(struct patch_context *context, const struct sky_field_desc *field,
@@ -242,7 +175,7 @@ static void apply_time(struct patch_context *context, const struct sky_field_des
         sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "%s", why);
         return;
     }
-    if (check_time(context->errors, field, seconds, pointer))
+    if (schema_check_time(context->errors, field, seconds, pointer))
         *(double *)field_address(context->target, field) = seconds;
 }
 
@@ -337,7 +270,7 @@ static void apply_object(struct patch_context *context, const cJSON *object, con
 
 static bool given_before(const cJSON *object, const cJSON *member)
 {
-    for (const cJSON *earlier = object->child; earlier && earlier != member; earlier = earlier->next)
+    for (const cJSON *earlier = object->child; earlier != member; earlier = earlier->next)
         if (earlier->string && member->string && strcmp(earlier->string, member->string) == 0)
             return true;
     return false;
@@ -405,29 +338,29 @@ static void check_stored_field(const struct sky_world_state *state,
 
     switch (field->type) {
     case SKY_FIELD_TYPE_NUMBER:
-        check_number(errors, field, *(const double *)address, pointer);
+        schema_check_number(errors, field, *(const double *)address, pointer);
         break;
     case SKY_FIELD_TYPE_RGB:
         for (int i = 0; i < count; i++) {
-            element_pointer(pointer, i, item_pointer, sizeof item_pointer);
-            check_number(errors, field, ((const double *)address)[i], item_pointer);
+            schema_element_pointer(pointer, i, item_pointer, sizeof item_pointer);
+            schema_check_number(errors, field, ((const double *)address)[i], item_pointer);
         }
         break;
     case SKY_FIELD_TYPE_INT_PAIR:
     case SKY_FIELD_TYPE_INT_TRIPLE:
         for (int i = 0; i < count; i++) {
-            element_pointer(pointer, i, item_pointer, sizeof item_pointer);
-            check_number(errors, field, ((const int *)address)[i], item_pointer);
+            schema_element_pointer(pointer, i, item_pointer, sizeof item_pointer);
+            schema_check_number(errors, field, ((const int *)address)[i], item_pointer);
         }
         break;
     case SKY_FIELD_TYPE_INT:
-        check_number(errors, field, *(const int *)address, pointer);
+        schema_check_number(errors, field, *(const int *)address, pointer);
         break;
     case SKY_FIELD_TYPE_INT64:
-        check_number(errors, field, (double)*(const int64_t *)address, pointer);
+        schema_check_number(errors, field, (double)*(const int64_t *)address, pointer);
         break;
     case SKY_FIELD_TYPE_TIME:
-        check_time(errors, field, *(const double *)address, pointer);
+        schema_check_time(errors, field, *(const double *)address, pointer);
         break;
     case SKY_FIELD_TYPE_ENUM: {
         int value = *(const int *)address;

@@ -136,7 +136,11 @@ bool schema_conforms(const cJSON *root, const cJSON *schema, const cJSON *value)
         if ((k = keyword(schema, "maxItems")) && n > k->valueint)
             return false;
         const cJSON *items = keyword(schema, "items"), *item;
-        cJSON_ArrayForEach(item, value) if (items && !schema_conforms(root, items, item)) return false;
+        cJSON_ArrayForEach(item, value)
+        {
+            if (items && !schema_conforms(root, items, item))
+                return false;
+        }
     }
     if ((k = keyword(schema, "oneOf"))) {
         int matches = 0;

@@ -114,7 +114,8 @@ static const char *const refused[] = {
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"format\":\"jpeg\"}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"camera\":{\"fov_deg\":0.5}}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"camera\":{\"zoom\":2}}}",
-    "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"exposure\":{\"tonemap\":\"aces\"}}}",
+    "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"exposure\":"
+    "{\"tonemap\":\"aces\"}}}",
     "{\"type\":\"unsubscribe\",\"subscription\":0}",
     "{\"type\":\"unsubscribe\"}",
     "{\"type\":\"probe\",\"quantity\":\"transmittance\",\"altitude_km\":0}",
