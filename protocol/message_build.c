@@ -91,11 +91,11 @@ static void begin(struct builder *b, const char *type, const struct sky_msg_id *
 
 /* cJSON prints numbers with 15 digits when they compare equal within an epsilon, which loses
  * integers above 2^50 and the last bits of doubles: write each as the shortest exact text. */
-static bool write_numbers_exactly(cJSON *parent)
+bool sky_json_exact_numbers(cJSON *parent)
 {
     for (cJSON *item = parent ? parent->child : NULL; item; item = item->next) {
         if (!cJSON_IsNumber(item)) {
-            if (!write_numbers_exactly(item))
+            if (!sky_json_exact_numbers(item))
                 return false;
             continue;
         }
@@ -120,7 +120,7 @@ static bool write_numbers_exactly(cJSON *parent)
 
 static char *finish(struct builder *b)
 {
-    char *text = b->ok && write_numbers_exactly(b->root) ? cJSON_PrintUnformatted(b->root) : NULL;
+    char *text = b->ok && sky_json_exact_numbers(b->root) ? cJSON_PrintUnformatted(b->root) : NULL;
     cJSON_Delete(b->root);
     return text;
 }
@@ -164,6 +164,15 @@ char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_st
     cJSON_DeleteItemFromObjectCaseSensitive(json, "revision");
     put_count(&b, b.root, "revision", state ? state->revision : 0);
     put(&b, b.root, "state", json);
+    return finish(&b);
+}
+
+char *sky_msg_build_schema(const struct sky_msg_id *id, const struct sky_msg_limits *limits)
+{
+    struct builder b;
+    begin(&b, "schema", id);
+    put(&b, b.root, "state", sky_world_state_json_schema());
+    put(&b, b.root, "messages", limits ? sky_msg_json_schema(limits) : NULL);
     return finish(&b);
 }
 
@@ -269,16 +278,36 @@ char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription,
     return finish(&b);
 }
 
-char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count)
+/* The state's field at a JSON Pointer ("/sun/elevation_deg"), or NULL. Field names have no
+ * '~' or '/', so no segment needs unescaping. */
+static const struct sky_field_desc *field_at(const char *pointer)
+{
+    char dotted[SKY_MSG_POINTER_MAX];
+    if (pointer[0] != '/' || strlen(pointer) >= sizeof dotted)
+        return NULL;
+    for (size_t i = 0; pointer[i]; i++)
+        dotted[i] = pointer[i + 1] == '/' ? '.' : pointer[i + 1];
+    return sky_world_state_find_field(dotted);
+}
+
+char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count,
+                                  const struct sky_world_state *state, const char *by)
 {
     struct builder b;
     begin(&b, "event", NULL);
+    if (!state || !by || !by[0])
+        b.ok = false;
     put_string(&b, b.root, "event", "state_changed");
     put_count(&b, b.root, "revision", revision);
+    put_string(&b, b.root, "by", by);
     cJSON *list = put(&b, b.root, "changed", cJSON_CreateArray());
-    for (size_t i = 0; i < count; i++) {
+    cJSON *values = put(&b, b.root, "values", cJSON_CreateObject());
+    for (size_t i = 0; i < count && b.ok; i++) {
         const char *pointer = pointers ? pointers[i] : NULL;
         put_string(&b, list, NULL, pointer && (!pointer[0] || pointer[0] == '/') ? pointer : NULL);
+        const struct sky_field_desc *field = pointer ? field_at(pointer) : NULL;
+        if (field && !cJSON_GetObjectItemCaseSensitive(values, pointer))
+            put(&b, values, pointer, sky_field_to_json(field, state));
     }
     return finish(&b);
 }

@@ -1,7 +1,7 @@
-/* The message parser's shared parts, internal to protocol/: its state, the readers that check
- * one member each and record failures by JSON Pointer (message_reader.c), and the parsers of
- * the nested objects (message_view.c). messages.c parses the envelope and each type's fields
- * with them. */
+/* The message parser's shared parts, internal to protocol/: its state, the readers of the
+ * envelope's members that record failures by JSON Pointer (message_reader.c), each message
+ * type's rows on the schema engine (message_fields.c), and the parsers of the nested objects
+ * (message_view.c). messages.c parses the envelope and runs each type's rows with them. */
 #ifndef SKYD_MESSAGE_PARSER_H
 #define SKYD_MESSAGE_PARSER_H
 
@@ -21,7 +21,6 @@
 
 #define COUNT_OF(array) (sizeof(array) / sizeof((array)[0]))
 #define REASON_MAX sizeof(((struct sky_field_error *)NULL)->reason)
-#define MAX_MEMBERS 8
 
 struct parser {
     const struct sky_msg_limits *limits;
@@ -40,13 +39,7 @@ PRINTF_LIKE(4, 5)
 void parser_fail(struct parser *p, enum sky_msg_error_code code, const char *pointer,
                  const char *format, ...);
 
-void parser_collect(struct parser *p, const cJSON *object, const char *pointer,
-                    const char *const *names, size_t count, const cJSON **found);
-
 bool parser_require(struct parser *p, const cJSON *item, const char *pointer);
-
-bool parser_read_number(struct parser *p, const cJSON *item, const char *pointer, double min,
-                        double max, double *out);
 
 bool parser_read_integer(struct parser *p, const cJSON *item, const char *pointer, int64_t min,
                          int64_t max, int64_t *out);
@@ -54,15 +47,44 @@ bool parser_read_integer(struct parser *p, const cJSON *item, const char *pointe
 bool parser_read_string(struct parser *p, const cJSON *item, const char *pointer, size_t min,
                         size_t max, char *out);
 
-int parser_read_enum(struct parser *p, const cJSON *item, const char *pointer,
-                     const char *const *names, size_t count);
+/* One client message type's rows (message_fields.c): its members over struct sky_client_msg
+ * with "type", "id" and what messages.c reads itself as caller members. A discriminator (an
+ * enum member: probe's "quantity", set_weather_map's "format") picks a variant table when its
+ * value is one of its names: the members that value needs are required there, and those it
+ * does not take unknown. */
+struct msg_schema {
+    const struct sky_schema *schema;   /* any discriminator value */
+    const char *discriminator;         /* NULL: none */
+    const struct sky_schema *variants; /* indexed by the discriminator's value */
+    size_t variant_count;
+};
 
-void parser_read_schema_number(struct parser *p, const cJSON *item, const char *pointer,
-                               const char *schema_path, bool *has, double *out);
+/* NULL for SKY_MSG_NONE and values out of range. */
+const struct msg_schema *msg_schema_of(enum sky_msg_type type);
+/* The table for this message: the variant its discriminator names, else the general one. */
+const struct sky_schema *msg_schema_variant(const struct msg_schema *kind, const cJSON *message);
 
+/* The view object's rows, in order. */
+enum msg_view_row {
+    MSG_VIEW_ALTITUDE, MSG_VIEW_YAW, MSG_VIEW_PITCH, MSG_VIEW_FOV, MSG_VIEW_WIDTH,
+    MSG_VIEW_HEIGHT, MSG_VIEW_FPS, MSG_VIEW_EXPOSURE_MODE, MSG_VIEW_EV100, MSG_VIEW_COMPENSATION,
+    MSG_VIEW_FORMAT, MSG_VIEW_PROJECTION, MSG_VIEW_ROWS
+};
+
+struct msg_view_schema {
+    struct sky_field_desc rows[MSG_VIEW_ROWS];
+    struct sky_schema schema;
+};
+
+/* The view object's schema over struct sky_msg_view: sizes and frame rate up to the limits,
+ * camera and exposure members with the world state's ranges, names and descriptions. */
+void msg_view_schema(const struct sky_msg_limits *limits, struct msg_view_schema *out);
+
+/* The view object at `pointer` (present), defaults filled in. */
 void msg_parse_view(struct parser *p, const cJSON *object, const char *pointer,
                     struct sky_msg_view *view);
 
-void msg_parse_weather_map(struct parser *p, const cJSON **found, struct sky_weather_map *map);
+/* After the rows of set_weather_map: "data" (base64) decoded into msg->weather_map. */
+void msg_parse_weather_map(struct parser *p, struct sky_client_msg *msg);
 
 #endif

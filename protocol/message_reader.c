@@ -1,11 +1,11 @@
-/* The message parser's readers: each checks one member (presence, type, range, enum name,
- * length) and records a failure under its JSON Pointer. */
+/* The message parser's readers of what has no row (the envelope's id, and the members
+ * messages.c reads itself): each checks one member (presence, type, range, length) and records
+ * a failure under its JSON Pointer. */
 #include "message_parser.h"
 #include "message_names.h"
 
 #include <cjson/cJSON.h>
 
-#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -59,30 +59,6 @@ void parser_fail(struct parser *p, enum sky_msg_error_code code, const char *poi
     va_end(args);
 }
 
-/* Splits an object's members by name into found[] (index into names); reports unknown and
- * duplicate members. */
-void parser_collect(struct parser *p, const cJSON *object, const char *pointer,
-                    const char *const *names, size_t count, const cJSON **found)
-{
-    for (size_t i = 0; i < count; i++)
-        found[i] = NULL;
-    for (const cJSON *member = object->child; member; member = member->next) {
-        char member_pointer[SKY_MSG_POINTER_MAX];
-        msg_child_pointer(member_pointer, pointer, member->string);
-        int index = msg_find_name(names, count, member->string);
-        if (index < 0) {
-            char expected[REASON_MAX];
-            msg_join_names(names, count, expected, sizeof expected);
-            parser_fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, member_pointer,
-                        "unknown field; expected one of: %s", expected);
-        } else if (found[index]) {
-            parser_fail(p, SKY_MSG_ERR_BAD_VALUE, member_pointer, "duplicate field");
-        } else {
-            found[index] = member;
-        }
-    }
-}
-
 bool parser_require(struct parser *p, const cJSON *item, const char *pointer)
 {
     if (item)
@@ -91,8 +67,8 @@ bool parser_require(struct parser *p, const cJSON *item, const char *pointer)
     return false;
 }
 
-bool parser_read_number(struct parser *p, const cJSON *item, const char *pointer, double min,
-                        double max, double *out)
+static bool parser_read_number(struct parser *p, const cJSON *item, const char *pointer,
+                               double min, double max, double *out)
 {
     if (!cJSON_IsNumber(item)) {
         parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a number, got %s",
@@ -139,31 +115,4 @@ bool parser_read_string(struct parser *p, const cJSON *item, const char *pointer
     }
     memcpy(out, item->valuestring, length + 1);
     return true;
-}
-
-int parser_read_enum(struct parser *p, const cJSON *item, const char *pointer,
-                     const char *const *names, size_t count)
-{
-    char expected[REASON_MAX];
-    msg_join_names(names, count, expected, sizeof expected);
-    if (!cJSON_IsString(item)) {
-        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected one of: %s, got %s", expected,
-                    sky_json_type_name(item));
-        return -1;
-    }
-    int index = msg_find_name(names, count, item->valuestring);
-    if (index < 0)
-        parser_fail(p, SKY_MSG_ERR_BAD_VALUE, pointer, "expected one of: %s, got \"%.64s\"",
-                    expected, item->valuestring);
-    return index;
-}
-
-/* A camera or exposure number, optional, with the world-state schema's range. */
-void parser_read_schema_number(struct parser *p, const cJSON *item, const char *pointer,
-                               const char *schema_path, bool *has, double *out)
-{
-    const struct sky_field_desc *field = sky_world_state_find_field(schema_path);
-    double min = field ? field->min : -DBL_MAX, max = field ? field->max : DBL_MAX;
-    if (item)
-        *has = parser_read_number(p, item, pointer, min, max, out);
 }

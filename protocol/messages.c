@@ -17,6 +17,7 @@ _Static_assert((int)SKY_MSG_ERR_WRONG_TYPE == (int)SKY_FIELD_WRONG_TYPE, "shared
 _Static_assert((int)SKY_MSG_ERR_OUT_OF_RANGE == (int)SKY_FIELD_OUT_OF_RANGE, "shared code");
 _Static_assert((int)SKY_MSG_ERR_BAD_VALUE == (int)SKY_FIELD_BAD_VALUE, "shared code");
 _Static_assert((int)SKY_MSG_ERR_INCONSISTENT == (int)SKY_FIELD_INCONSISTENT, "shared code");
+_Static_assert((int)SKY_MSG_ERR_MISSING_FIELD == (int)SKY_FIELD_MISSING, "shared code");
 _Static_assert(SKY_MSG_POINTER_MAX == sizeof(((struct sky_field_error *)NULL)->pointer),
                "pointer capacity");
 
@@ -52,12 +53,13 @@ static const char *const type_names[] = {
     [SKY_MSG_SNAPSHOT] = "snapshot",   [SKY_MSG_PROBE] = "probe",
     [SKY_MSG_LIST_PRESETS] = "list_presets", [SKY_MSG_APPLY_PRESET] = "apply_preset",
     [SKY_MSG_STATS] = "stats",         [SKY_MSG_SET_WEATHER_MAP] = "set_weather_map",
+    [SKY_MSG_DESCRIBE] = "describe",
 };
 
 static const char *const capabilities[] = {
     "hello", "auth",  "get_state",    "set",          "subscribe", "unsubscribe",
     "snapshot", "probe", "list_presets", "apply_preset", "stats",     "set_weather_map",
-    "png", "png16", "equirectangular",
+    "describe", "png", "png16", "equirectangular",
 };
 
 const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {[SKY_ROLE_VIEWER] = "viewer",
@@ -69,33 +71,6 @@ const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES] = {[SKY_FRAME_FORMA
 const char *const sky_msg_projection_names[SKY_MSG_PROJECTION_NAMES] = {
     [SKY_VIEW_PROJECTION_PERSPECTIVE] = "perspective",
     [SKY_VIEW_PROJECTION_EQUIRECTANGULAR] = "equirectangular"};
-
-/* Fields of each client message after "type" and "id". */
-static const char *const hello_fields[] = {"client", "protocol"};
-static const char *const auth_fields[] = {"token"};
-static const char *const set_fields[] = {"patch"};
-static const char *const view_message_fields[] = {"view"};
-static const char *const unsubscribe_fields[] = {"subscription"};
-static const char *const probe_fields[] = {"quantity",         "altitude_km",    "mu",
-                                           "view_zenith_deg", "view_azimuth_deg",
-                                           "sun_zenith_deg"};
-static const char *const list_presets_fields[] = {"kind"};
-static const char *const apply_preset_fields[] = {"kind", "name", "transition_s"};
-static const char *const weather_map_fields[] = {"format", "data", "width", "height"};
-
-
-/* Probe parameters, in probe_fields order after "quantity". */
-static const struct {
-    double min, max;
-    size_t offset;
-    unsigned used_by; /* bit per enum sky_probe_quantity */
-} probe_params[] = {
-    {0, 1e5, offsetof(struct sky_msg_probe, altitude_km), 1u << 0 | 1u << 1},
-    {-1, 1, offsetof(struct sky_msg_probe, mu), 1u << 0},
-    {0, 180, offsetof(struct sky_msg_probe, view_zenith_deg), 1u << 1},
-    {-360, 360, offsetof(struct sky_msg_probe, view_azimuth_deg), 1u << 1},
-    {0, 180, offsetof(struct sky_msg_probe, sun_zenith_deg), 1u << 1 | 1u << 2},
-};
 
 /* ---- small helpers ---------------------------------------------------------------------- */
 
@@ -227,65 +202,46 @@ static void parse_id(struct parser *p, const cJSON *item, struct sky_msg_id *id)
     }
 }
 
-static void parse_probe(struct parser *p, const cJSON **found, struct sky_msg_probe *probe)
+/* [a-z0-9_-]{1,64}: a pattern, which rows do not have. */
+static void parse_preset_name(struct parser *p, struct sky_client_msg *msg)
 {
-    int quantity = -1;
-    if (parser_require(p, found[0], "/quantity"))
-        quantity = parser_read_enum(p, found[0], "/quantity", sky_msg_quantity_names,
-                                    COUNT_OF(sky_msg_quantity_names));
-    if (quantity >= 0)
-        probe->quantity = (enum sky_probe_quantity)quantity;
-    for (size_t i = 0; i < COUNT_OF(probe_params); i++) {
-        char at[SKY_MSG_POINTER_MAX];
-        msg_child_pointer(at, "", probe_fields[i + 1]);
-        const cJSON *item = found[i + 1];
-        double *value = (double *)((char *)probe + probe_params[i].offset);
-        bool used = quantity >= 0 && (probe_params[i].used_by & (1u << quantity));
-        if (quantity >= 0 && !used && item)
-            parser_fail(p, SKY_MSG_ERR_UNKNOWN_FIELD, at, "not a parameter of %s",
-                        sky_msg_quantity_names[quantity]);
-        else if (quantity >= 0 && used && !item)
-            parser_fail(p, SKY_MSG_ERR_MISSING_FIELD, at, "required for %s",
-                        sky_msg_quantity_names[quantity]);
-        else if (item && !parser_read_number(p, item, at, probe_params[i].min, probe_params[i].max,
-                                             value))
-            *value = 0;
-    }
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(p->root, "name");
+    if (!parser_require(p, item, "/name"))
+        return;
+    if (!cJSON_IsString(item))
+        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/name", "expected a string, got %s",
+                    sky_json_type_name(item));
+    else if (!sky_msg_preset_name_is_valid(item->valuestring))
+        parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
+    else
+        memcpy(msg->preset.name, item->valuestring, strlen(item->valuestring) + 1);
 }
 
-static void parse_fields(struct parser *p, const cJSON **found, struct sky_client_msg *msg)
+/* What the rows cannot say about each type, once they ran. */
+static void check_members(struct parser *p, struct sky_client_msg *msg)
 {
-    int64_t number;
-    int index = -1;
+    const cJSON *item;
+    int kind;
     switch (msg->type) {
     case SKY_MSG_HELLO:
-        if (found[0])
-            msg->hello.has_client =
-                parser_read_string(p, found[0], "/client", 0, SKY_MSG_CLIENT_MAX,
-                                   msg->hello.client);
-        if (found[1] && parser_read_integer(p, found[1], "/protocol", 1, INT32_MAX, &number)) {
-            if (number != SKY_PROTOCOL_VERSION)
-                parser_fail(p, SKY_MSG_ERR_UNSUPPORTED_PROTOCOL, "/protocol",
-                            "this server speaks protocol %d, got %d", SKY_PROTOCOL_VERSION,
-                            (int)number);
-            msg->hello.protocol = (int)number;
-        }
-        break;
-    case SKY_MSG_AUTH:
-        if (parser_require(p, found[0], "/token"))
-            parser_read_string(p, found[0], "/token", 1, SKY_MSG_TOKEN_MAX, msg->auth.token);
+        msg->hello.has_client = cJSON_GetObjectItemCaseSensitive(p->root, "client") != NULL;
+        if (msg->hello.protocol != 0 && msg->hello.protocol != SKY_PROTOCOL_VERSION)
+            parser_fail(p, SKY_MSG_ERR_UNSUPPORTED_PROTOCOL, "/protocol",
+                        "this server speaks protocol %d, got %d", SKY_PROTOCOL_VERSION,
+                        msg->hello.protocol);
         break;
     case SKY_MSG_SET:
-        if (!parser_require(p, found[0], "/patch"))
+        item = cJSON_GetObjectItemCaseSensitive(p->root, "patch");
+        if (!parser_require(p, item, "/patch"))
             break;
-        if (!cJSON_IsObject(found[0])) {
+        if (!cJSON_IsObject(item)) {
             parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/patch", "expected an object, got %s",
-                        sky_json_type_name(found[0]));
+                        sky_json_type_name(item));
         } else {
             struct sky_world_patch *patch = malloc(sizeof *patch);
             if (!patch)
                 parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/patch", "out of memory");
-            else if (sky_world_patch_compile(found[0], "/patch", patch, &p->error->fields) &&
+            else if (sky_world_patch_compile(item, "/patch", patch, &p->error->fields) &&
                      p->error->fields.total == 0)
                 msg->set.patch = patch;
             else
@@ -294,69 +250,36 @@ static void parse_fields(struct parser *p, const cJSON **found, struct sky_clien
         break;
     case SKY_MSG_SUBSCRIBE:
     case SKY_MSG_SNAPSHOT:
-        if (parser_require(p, found[0], "/view"))
-            msg_parse_view(p, found[0], "/view", &msg->view);
+        item = cJSON_GetObjectItemCaseSensitive(p->root, "view");
+        if (parser_require(p, item, "/view"))
+            msg_parse_view(p, item, "/view", &msg->view);
         break;
-    case SKY_MSG_UNSUBSCRIBE:
-        if (parser_require(p, found[0], "/subscription") &&
-            parser_read_integer(p, found[0], "/subscription", 1, SKY_MSG_MAX_SAFE_INTEGER, &number))
-            msg->unsubscribe.subscription = (uint64_t)number;
-        break;
-    case SKY_MSG_PROBE:
-        parse_probe(p, found, &msg->probe);
-        break;
-    case SKY_MSG_LIST_PRESETS:
     case SKY_MSG_APPLY_PRESET:
-        if (parser_require(p, found[0], "/kind") &&
-            (index = parser_read_enum(p, found[0], "/kind", sky_msg_preset_kind_names,
-                                      COUNT_OF(sky_msg_preset_kind_names))) >= 0)
-            msg->preset.kind = (enum sky_preset_kind)index;
-        if (msg->type == SKY_MSG_LIST_PRESETS || !parser_require(p, found[1], "/name"))
-            break;
-        if (!cJSON_IsString(found[1]))
-            parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/name", "expected a string, got %s",
-                        sky_json_type_name(found[1]));
-        else if (!sky_msg_preset_name_is_valid(found[1]->valuestring))
-            parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
-        else
-            memcpy(msg->preset.name, found[1]->valuestring, strlen(found[1]->valuestring) + 1);
-        if (found[2] && index >= 0 && msg->preset.kind != SKY_PRESET_WEATHER)
+        parse_preset_name(p, msg);
+        item = cJSON_GetObjectItemCaseSensitive(p->root, "kind");
+        kind = cJSON_IsString(item) ? msg_find_name(sky_msg_preset_kind_names,
+                                                    COUNT_OF(sky_msg_preset_kind_names),
+                                                    item->valuestring)
+                                    : -1;
+        msg->preset.has_transition =
+            cJSON_GetObjectItemCaseSensitive(p->root, "transition_s") != NULL;
+        if (msg->preset.has_transition && kind >= 0 && kind != SKY_PRESET_WEATHER)
             parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/transition_s",
                         "only weather presets have a transition");
-        else if (found[2])
-            msg->preset.has_transition =
-                parser_read_number(p, found[2], "/transition_s", 0, SKY_MSG_MAX_TRANSITION_S,
-                                   &msg->preset.transition_s);
         break;
     case SKY_MSG_SET_WEATHER_MAP:
-        msg_parse_weather_map(p, found, &msg->weather_map);
+        msg_parse_weather_map(p, msg);
         break;
     case SKY_MSG_NONE:
+    case SKY_MSG_AUTH:
     case SKY_MSG_GET_STATE:
+    case SKY_MSG_UNSUBSCRIBE:
+    case SKY_MSG_PROBE:
+    case SKY_MSG_LIST_PRESETS:
     case SKY_MSG_STATS:
+    case SKY_MSG_DESCRIBE:
         break;
     }
-}
-
-static void fields_of(enum sky_msg_type type, const char *const **names, size_t *count)
-{
-#define FIELDS(table) (*names = table, *count = COUNT_OF(table))
-    switch (type) {
-    case SKY_MSG_HELLO: FIELDS(hello_fields); break;
-    case SKY_MSG_AUTH: FIELDS(auth_fields); break;
-    case SKY_MSG_SET: FIELDS(set_fields); break;
-    case SKY_MSG_SUBSCRIBE:
-    case SKY_MSG_SNAPSHOT: FIELDS(view_message_fields); break;
-    case SKY_MSG_UNSUBSCRIBE: FIELDS(unsubscribe_fields); break;
-    case SKY_MSG_PROBE: FIELDS(probe_fields); break;
-    case SKY_MSG_LIST_PRESETS: FIELDS(list_presets_fields); break;
-    case SKY_MSG_APPLY_PRESET: FIELDS(apply_preset_fields); break;
-    case SKY_MSG_SET_WEATHER_MAP: FIELDS(weather_map_fields); break;
-    case SKY_MSG_NONE:
-    case SKY_MSG_GET_STATE:
-    case SKY_MSG_STATS: *names = NULL, *count = 0; break;
-    }
-#undef FIELDS
 }
 
 static void parse_object(struct parser *p, struct sky_client_msg *msg)
@@ -386,16 +309,18 @@ static void parse_object(struct parser *p, struct sky_client_msg *msg)
                     p->length, p->limits->max_message_bytes);
         return;
     }
-
-    const char *names[2 + MAX_MEMBERS] = {"type", "id"};
-    const char *const *specific = NULL;
-    size_t count = 0;
-    fields_of(msg->type, &specific, &count);
-    for (size_t i = 0; i < count; i++)
-        names[2 + i] = specific[i];
-    const cJSON *found[2 + MAX_MEMBERS];
-    parser_collect(p, p->root, "", names, 2 + count, found);
-    parse_fields(p, found + 2, msg);
+    const struct msg_schema *kind = msg_schema_of(msg->type);
+    const struct sky_schema *schema = msg_schema_variant(kind, p->root);
+    struct sky_field_errors *errors = &p->error->fields;
+    int before = errors->count;
+    sky_schema_apply_json(schema, msg, p->root, "", errors, NULL);
+    /* A variant's required member is required by the discriminator's value: say which. */
+    const cJSON *discriminator = cJSON_GetObjectItemCaseSensitive(p->root, kind->discriminator);
+    for (int i = before; schema != kind->schema && i < errors->count; i++)
+        if (errors->items[i].code == SKY_MSG_ERR_MISSING_FIELD)
+            snprintf(errors->items[i].reason, sizeof errors->items[i].reason, "required for %s",
+                     discriminator->valuestring);
+    check_members(p, msg);
 }
 
 size_t sky_msg_upload_limit(const struct sky_msg_limits *limits)

@@ -33,7 +33,7 @@ struct cJSON;
 #define SKY_MSG_MAX_SAFE_INTEGER 9007199254740991LL /* 2^53 - 1 */
 
 /* Stable error codes. The wire carries the names (sky_msg_error_name); the numbers are stable
- * too. 1..5 equal enum sky_field_error_code, so sky_field_error.code holds either. */
+ * too. 1..6 equal enum sky_field_error_code, so sky_field_error.code holds either. */
 enum sky_msg_error_code {
     SKY_MSG_OK = 0,
     SKY_MSG_ERR_UNKNOWN_FIELD = 1,       /* "unknown_field" */
@@ -74,6 +74,7 @@ enum sky_msg_type {
     SKY_MSG_APPLY_PRESET,
     SKY_MSG_STATS,
     SKY_MSG_SET_WEATHER_MAP,
+    SKY_MSG_DESCRIBE,
 };
 
 /* "hello", "set", ...; NULL for SKY_MSG_NONE or out-of-range values. */
@@ -188,8 +189,13 @@ struct sky_client_msg {
             bool has_transition;  /* apply_preset of a weather preset: "transition_s" given */
             double transition_s;  /* simulated seconds, [0, SKY_MSG_MAX_TRANSITION_S] */
         } preset;
-        /* Owned, decoded and validated; sky_client_msg_free frees it. */
-        struct sky_weather_map weather_map;
+        struct {
+            /* Owned, decoded and validated; sky_client_msg_free frees it. */
+            struct sky_weather_map weather_map;
+            /* The members as given: the map's format and, 0 when absent, its size. */
+            enum sky_weather_map_format weather_map_format;
+            int weather_map_width, weather_map_height;
+        };
     };
 };
 
@@ -213,6 +219,13 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
 
 void sky_client_msg_free(struct sky_client_msg *msg);
 
+/* The client messages' JSON Schema (draft 2020-12), generated from the rows that parse them:
+ * a oneOf over the message types keyed by "type", views sized by `limits`, a set's patch as
+ * the world state's schema (sky_world_state_json_schema). What rows cannot say is left to the
+ * server: hello's protocol version other than 1, and a view's 2:1 equirectangular aspect. NULL
+ * when memory is out; the caller deletes it. */
+struct cJSON *sky_msg_json_schema(const struct sky_msg_limits *limits);
+
 /* The camera and exposure a view renders with: the state's, overridden by the view's. */
 void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_world_state *state,
                           struct sky_camera_state *camera, struct sky_exposure_state *exposure);
@@ -229,6 +242,12 @@ size_t sky_msg_state_diff(const struct sky_world_state *before,
  * that breaks its pattern) or memory runs out. `id` may be NULL or SKY_MSG_ID_NONE: the
  * member is then left out. Free the text with free(). */
 
+/* Replaces every number in a tree by raw text that reads back as the same double (cJSON's own
+ * printing rounds to 15 digits: 2^53 - 1 would print as 9.00719925474099e+15). The tree is for
+ * printing afterwards: its numbers are no longer cJSON numbers. false when a number is not
+ * finite or memory is out. */
+bool sky_json_exact_numbers(struct cJSON *json);
+
 /* The capabilities this module can describe: every client message type and "png". */
 const char *const *sky_msg_default_capabilities(size_t *count);
 
@@ -237,6 +256,10 @@ char *sky_msg_build_hello(const char *server_version, enum sky_msg_role role,
                           const struct sky_msg_limits *limits);
 
 char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_state *state);
+
+/* The reply to describe: "schema" with the world state's JSON Schema (sky_world_state_json_schema)
+ * as "state" and the client messages' (sky_msg_json_schema, for `limits`) as "messages". */
+char *sky_msg_build_schema(const struct sky_msg_id *id, const struct sky_msg_limits *limits);
 
 /* role: SKY_ROLE_NONE leaves it out; the reply to a successful auth carries the new role. */
 char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky_msg_role role);
@@ -259,7 +282,12 @@ char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscriptio
 char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription,
                           uint64_t frame_number);
 
-char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count);
+/* `pointers` name the changed fields (JSON Pointers into the state, "/sun/elevation_deg"); the
+ * event's "values" holds each one's new value read from `state`, written as get_state writes
+ * it. A pointer that is no field of the state ("/weather/map") is listed in "changed" only.
+ * `by` names who changed it (a client's hello name, or its role). */
+char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count,
+                                  const struct sky_world_state *state, const char *by);
 
 char *sky_msg_build_presets(const struct sky_msg_id *id, enum sky_preset_kind kind,
                             const char *const *names, size_t count);

@@ -29,26 +29,30 @@ static const char *const weather_map_source_names[] = {"procedural", "client"};
 
 #define COUNT_OF(array) ((int)(sizeof(array) / sizeof((array)[0])))
 #define OFFSET(member) offsetof(struct sky_world_state, member)
+/* One row; the members a macro leaves out are zero (not required, inclusive ranges). */
+#define ROW(path_, type_, member, lo, hi, names, count, doc, ro) \
+    {.path = path_, .type = type_, .offset = OFFSET(member), .min = lo, .max = hi, \
+     .enum_names = names, .enum_count = count, .description = doc, .read_only = ro}
 #define NUMBER(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
+    ROW(path, SKY_FIELD_TYPE_NUMBER, member, lo, hi, NULL, 0, doc, false)
 #define RGB(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_RGB, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
+    ROW(path, SKY_FIELD_TYPE_RGB, member, lo, hi, NULL, 0, doc, false)
 #define INT_PAIR(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT_PAIR, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
+    ROW(path, SKY_FIELD_TYPE_INT_PAIR, member, lo, hi, NULL, 0, doc, false)
 #define INT_TRIPLE(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT_TRIPLE, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
+    ROW(path, SKY_FIELD_TYPE_INT_TRIPLE, member, lo, hi, NULL, 0, doc, false)
 #define INT(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_INT, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
+    ROW(path, SKY_FIELD_TYPE_INT, member, lo, hi, NULL, 0, doc, false)
 #define TIME(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc, false, 0}
+    ROW(path, SKY_FIELD_TYPE_TIME, member, lo, hi, NULL, 0, doc, false)
 #define ENUM(path, member, names, doc) \
-    {path, SKY_FIELD_TYPE_ENUM, OFFSET(member), 0, COUNT_OF(names) - 1, names, COUNT_OF(names), \
-     doc, false, 0}
+    ROW(path, SKY_FIELD_TYPE_ENUM, member, 0, COUNT_OF(names) - 1, names, COUNT_OF(names), doc, \
+        false)
 /* Read-only rows: kept by the simulation, restored from a saved state, refused in a `set`. */
 #define RO_NUMBER(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, true, 0}
+    ROW(path, SKY_FIELD_TYPE_NUMBER, member, lo, hi, NULL, 0, doc, true)
 #define RO_TIME(path, member, lo, hi, doc) \
-    {path, SKY_FIELD_TYPE_TIME, OFFSET(member), lo, hi, NULL, 0, doc, true, 0}
+    ROW(path, SKY_FIELD_TYPE_TIME, member, lo, hi, NULL, 0, doc, true)
 
 /* The interpolated weather parameters of one end of a transition, under
  * "weather.transition.<end>." with the paths of the live fields they stand for. */
@@ -263,8 +267,9 @@ _Static_assert(sizeof sky_world_field_table / sizeof sky_world_field_table[0] <=
                "a patch can name every field");
 
 static const struct sky_schema world_schema = {
-    sky_world_field_table, sizeof sky_world_field_table / sizeof sky_world_field_table[0],
-    "revision", NULL, 0
+    .fields = sky_world_field_table,
+    .count = sizeof sky_world_field_table / sizeof sky_world_field_table[0],
+    .read_only_member = "revision",
 };
 
 const struct sky_schema *sky_world_schema(void)

@@ -1,7 +1,9 @@
 /* The world-state schema engine's shared parts: one descriptor row per leaf field (the table
- * of world_fields.c) looked up by dotted path, the field-error list, and the bounded text and
- * JSON Pointer building that patching, validation and serialization share. */
+ * of world_fields.c) looked up by dotted path, the field-error list, the bounded text and
+ * JSON Pointer building that patching, validation and serialization share, and the checks of
+ * one value against its row. */
 #include "world_schema.h"
+#include "utc_time.h"
 
 #include <cjson/cJSON.h>
 
@@ -35,6 +37,7 @@ size_t sky_field_size(const struct sky_field_desc *field)
     case SKY_FIELD_TYPE_INT_TRIPLE: return 3 * sizeof(int);
     case SKY_FIELD_TYPE_STRING: return field->capacity;
     case SKY_FIELD_TYPE_BOOL: return sizeof(bool);
+    case SKY_FIELD_TYPE_INT64: return sizeof(int64_t);
     case SKY_FIELD_TYPE_ENUM:
     case SKY_FIELD_TYPE_INT: break;
     }
@@ -55,6 +58,7 @@ int schema_element_count(enum sky_field_type type)
     case SKY_FIELD_TYPE_TIME:
     case SKY_FIELD_TYPE_STRING:
     case SKY_FIELD_TYPE_BOOL:
+    case SKY_FIELD_TYPE_INT64:
         break;
     }
     return 1;
@@ -181,7 +185,9 @@ void schema_list_enum_names(const struct sky_field_desc *field, char *text, size
     size_t used = 0;
     text[0] = '\0';
     for (int i = 0; i < field->enum_count; i++) {
-        if (i > 0)
+        if (!field->enum_names[i])
+            continue;
+        if (used > 0)
             append_text(text, capacity, &used, ", ");
         append_text(text, capacity, &used, field->enum_names[i]);
     }
@@ -244,6 +250,75 @@ cJSON *schema_new_json_number(double value)
     if (number)
         number->valuedouble = value;
     return number;
+}
+
+/* ---- value checks shared by patching and validation (world_state.c) --------------------- */
+
+bool schema_check_number(struct sky_field_errors *errors, const struct sky_field_desc *field,
+                         double value, const char *pointer)
+{
+    char got[NUMBER_TEXT_CAPACITY];
+    schema_format_number(value, got, sizeof got);
+    if (!isfinite(value)) {
+        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                              "must be a finite number, got %s", got);
+        return false;
+    }
+    char min[NUMBER_TEXT_CAPACITY], max[NUMBER_TEXT_CAPACITY];
+    schema_format_number(field->min, min, sizeof min);
+    schema_format_number(field->max, max, sizeof max);
+    if (field->exclusive_min && value <= field->min) {
+        if (value > field->max)
+            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                                  "must be in (%s, %s], got %s", min, max, got);
+        else
+            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                                  "must be greater than %s, got %s", min, got);
+        return false;
+    }
+    if (value < field->min || value > field->max) {
+        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                              "must be in %s%s, %s], got %s", field->exclusive_min ? "(" : "[",
+                              min, max, got);
+        return false;
+    }
+    return true;
+}
+
+/* The range check comes first, so an integral value is known to fit the field's integer. */
+bool schema_check_integer(struct sky_field_errors *errors, const struct sky_field_desc *field,
+                          double value, const char *pointer)
+{
+    if (!schema_check_number(errors, field, value, pointer))
+        return false;
+    if (value != floor(value)) {
+        char got[NUMBER_TEXT_CAPACITY];
+        schema_format_number(value, got, sizeof got);
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "must be an integer, got %s",
+                              got);
+        return false;
+    }
+    return true;
+}
+
+void schema_element_pointer(const char *pointer, int index, char *out, size_t capacity)
+{
+    schema_copy_text(out, capacity, pointer);
+    schema_pointer_append_index(out, capacity, index);
+}
+
+bool schema_check_time(struct sky_field_errors *errors, const struct sky_field_desc *field,
+                       double seconds, const char *pointer)
+{
+    if (isfinite(seconds) && seconds >= field->min && seconds <= field->max)
+        return true;
+    char got[TIME_TEXT_CAPACITY], min[TIME_TEXT_CAPACITY], max[TIME_TEXT_CAPACITY];
+    sky_time_format_iso8601(seconds, got, sizeof got);
+    sky_time_format_iso8601(field->min, min, sizeof min);
+    sky_time_format_iso8601(field->max, max, sizeof max);
+    sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "must be in [%s, %s], got %s",
+                          min, max, got);
+    return false;
 }
 
 /* ---- error collection ------------------------------------------------------------------- */

@@ -34,6 +34,16 @@ void schema_pointer_append(char *pointer, size_t capacity, const char *segment);
 void schema_pointer_append_index(char *pointer, size_t capacity, int index);
 void schema_pointer_from_dotted(const char *dotted_path, char *pointer, size_t capacity);
 const void *schema_const_field_address(const void *base, const struct sky_field_desc *field);
+/* A value against a row's range (and for INT rows, being whole; for TIME rows, as a time):
+ * false with the failure added under `pointer`. */
+bool schema_check_number(struct sky_field_errors *errors, const struct sky_field_desc *field,
+                         double value, const char *pointer);
+bool schema_check_integer(struct sky_field_errors *errors, const struct sky_field_desc *field,
+                          double value, const char *pointer);
+bool schema_check_time(struct sky_field_errors *errors, const struct sky_field_desc *field,
+                       double seconds, const char *pointer);
+/* `pointer` with "/index" appended. */
+void schema_element_pointer(const char *pointer, int index, char *out, size_t capacity);
 struct cJSON *schema_new_json_number(double value);
 
 #endif

@@ -77,7 +77,8 @@ static const cJSON *value_at(const cJSON *state, const char *dotted_path)
 
 static bool add_range(cJSON *schema, const struct sky_field_desc *field)
 {
-    return cJSON_AddNumberToObject(schema, "minimum", field->min) &&
+    return cJSON_AddNumberToObject(schema, field->exclusive_min ? "exclusiveMinimum" : "minimum",
+                                   field->min) &&
            cJSON_AddNumberToObject(schema, "maximum", field->max);
 }
 
@@ -126,7 +127,8 @@ static cJSON *type_schema(const struct sky_field_desc *field)
     bool ok = false;
     switch (field->type) {
     case SKY_FIELD_TYPE_NUMBER: return scalar_schema(field, "number");
-    case SKY_FIELD_TYPE_INT: return scalar_schema(field, "integer");
+    case SKY_FIELD_TYPE_INT:
+    case SKY_FIELD_TYPE_INT64: return scalar_schema(field, "integer");
     case SKY_FIELD_TYPE_INT_PAIR: return array_schema(scalar_schema(field, "integer"), 2);
     case SKY_FIELD_TYPE_INT_TRIPLE: return array_schema(scalar_schema(field, "integer"), 3);
     case SKY_FIELD_TYPE_BOOL: return typed("boolean");
@@ -149,12 +151,14 @@ static cJSON *type_schema(const struct sky_field_desc *field)
         cJSON *names = schema ? cJSON_AddArrayToObject(schema, "enum") : NULL;
         ok = names != NULL;
         for (int i = 0; ok && i < field->enum_count; i++)
-            ok = cJSON_AddItemToArray(names, cJSON_CreateString(field->enum_names[i]));
+            ok = !field->enum_names[i] ||
+                 cJSON_AddItemToArray(names, cJSON_CreateString(field->enum_names[i]));
         break;
     }
     case SKY_FIELD_TYPE_STRING:
         schema = typed("string");
-        ok = schema && cJSON_AddNumberToObject(schema, "maxLength", (double)field->capacity - 1);
+        ok = schema && cJSON_AddNumberToObject(schema, "maxLength", (double)field->capacity - 1) &&
+             (field->min <= 0 || cJSON_AddNumberToObject(schema, "minLength", field->min));
         break;
     case SKY_FIELD_TYPE_TIME:
         schema = typed("string");
@@ -162,6 +166,23 @@ static cJSON *type_schema(const struct sky_field_desc *field)
         break;
     }
     return kept(schema, ok);
+}
+
+/* Lists a required leaf in its object's "required". */
+static bool add_required(cJSON *root, const struct sky_field_desc *field, const char *name)
+{
+    cJSON *object = root;
+    const char *segment = field->path;
+    for (const char *dot; (dot = strchr(segment, '.')) != NULL; segment = dot + 1) {
+        char group[DOTTED_PATH_CAPACITY];
+        snprintf(group, sizeof group, "%.*s", (int)(dot - segment), segment);
+        object = cJSON_GetObjectItemCaseSensitive(
+            cJSON_GetObjectItemCaseSensitive(object, "properties"), group);
+    }
+    cJSON *required = cJSON_GetObjectItemCaseSensitive(object, "required");
+    if (!required)
+        required = cJSON_AddArrayToObject(object, "required");
+    return required && cJSON_AddItemToArray(required, cJSON_CreateString(name));
 }
 
 static bool add_leaf(cJSON *root, const cJSON *defaults, const struct sky_field_desc *field)
@@ -173,6 +194,8 @@ static bool add_leaf(cJSON *root, const cJSON *defaults, const struct sky_field_
         cJSON_Delete(leaf);
         return false;
     }
+    if (field->required && !add_required(root, field, name))
+        return false;
     const char *unit = sky_field_unit(field);
     const cJSON *value = value_at(defaults, field->path);
     return cJSON_AddStringToObject(leaf, "description", field->description) &&

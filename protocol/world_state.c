@@ -14,58 +14,13 @@
 
 static const double MAX_ATMOSPHERE_THICKNESS_KM = 1000.0;
 
-/* ---- value checks shared by patching and validation ------------------------------------- */
-
-static bool check_number(struct sky_field_errors *errors, const struct sky_field_desc *field,
-                         double value, const char *pointer)
-{
-    char got[NUMBER_TEXT_CAPACITY];
-    schema_format_number(value, got, sizeof got);
-    if (!isfinite(value)) {
-        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "must be a finite number, got %s", got);
-        return false;
-    }
-    if (value < field->min || value > field->max) {
-        char min[NUMBER_TEXT_CAPACITY], max[NUMBER_TEXT_CAPACITY];
-        schema_format_number(field->min, min, sizeof min);
-        schema_format_number(field->max, max, sizeof max);
-        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "must be in [%s, %s], got %s", min, max, got);
-        return false;
-    }
-    return true;
-}
-
-/* The range check comes first, so an integral value is known to fit an int. */
-static bool check_integer(struct sky_field_errors *errors, const struct sky_field_desc *field,
-                          double value, const char *pointer)
-{
-    if (!check_number(errors, field, value, pointer))
-        return false;
-    if (value != (double)(int)value) {
-        char got[NUMBER_TEXT_CAPACITY];
-        schema_format_number(value, got, sizeof got);
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "must be an integer, got %s",
-                              got);
-        return false;
-    }
-    return true;
-}
-
-static void element_pointer(const char *pointer, int index, char *out, size_t capacity)
-{
-    schema_copy_text(out, capacity, pointer);
-    schema_pointer_append_index(out, capacity, index);
-}
-
 /* ---- patch application ------------------------------------------------------------------ */
 
 struct patch_context {
     const struct sky_schema *schema;
     void *target; /* a scratch copy: written freely, discarded on error */
     struct sky_field_errors *errors;
-    bool *named;  /* per row: the patch names it (NULL: not recorded) */
+    bool *named;  /* per row: the object names it */
 };
 
 static void *field_address(void *target, const struct sky_field_desc *field)
@@ -81,7 +36,7 @@ static void apply_number(struct patch_context *context, const struct sky_field_d
                               "expected a number, got %s", sky_json_type_name(value));
         return;
     }
-    if (check_number(context->errors, field, value->valuedouble, pointer))
+    if (schema_check_number(context->errors, field, value->valuedouble, pointer))
         *(double *)field_address(context->target, field) = value->valuedouble;
 }
 
@@ -106,11 +61,12 @@ static void apply_rgb_array(struct patch_context *context, const struct sky_fiel
     int index = 0;
     for (const cJSON *element = value->child; element; element = element->next, index++) {
         char item_pointer[POINTER_CAPACITY];
-        element_pointer(pointer, index, item_pointer, sizeof item_pointer);
+        schema_element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
             sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
                                   "expected a number, got %s", sky_json_type_name(element));
-        } else if (check_number(context->errors, field, element->valuedouble, item_pointer)) {
+        } else if (schema_check_number(context->errors, field, element->valuedouble,
+                                       item_pointer)) {
             channels[index] = element->valuedouble;
         }
     }
@@ -122,7 +78,7 @@ static void apply_rgb(struct patch_context *context, const struct sky_field_desc
     if (cJSON_IsArray(value)) {
         apply_rgb_array(context, field, value, pointer);
     } else if (cJSON_IsNumber(value)) {
-        if (check_number(context->errors, field, value->valuedouble, pointer)) {
+        if (schema_check_number(context->errors, field, value->valuedouble, pointer)) {
             double *channels = field_address(context->target, field);
             channels[0] = channels[1] = channels[2] = value->valuedouble;
         }
@@ -149,11 +105,12 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
     int index = 0;
     for (const cJSON *element = value->child; element; element = element->next, index++) {
         char item_pointer[POINTER_CAPACITY];
-        element_pointer(pointer, index, item_pointer, sizeof item_pointer);
+        schema_element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
             sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
                                   "expected an integer, got %s", sky_json_type_name(element));
-        } else if (check_integer(context->errors, field, element->valuedouble, item_pointer)) {
+        } else if (schema_check_integer(context->errors, field, element->valuedouble,
+                                        item_pointer)) {
             elements[index] = (int)element->valuedouble;
         }
     }
@@ -162,7 +119,7 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
 static int find_enum_value(const struct sky_field_desc *field, const char *name)
 {
     for (int i = 0; i < field->enum_count; i++) {
-        if (strcmp(field->enum_names[i], name) == 0)
+        if (field->enum_names[i] && strcmp(field->enum_names[i], name) == 0)
             return i;
     }
     return -1;
@@ -195,22 +152,12 @@ static void apply_int(struct patch_context *context, const struct sky_field_desc
                               "expected an integer, got %s", sky_json_type_name(value));
         return;
     }
-    if (check_integer(context->errors, field, value->valuedouble, pointer))
-        *(int *)field_address(context->target, field) = (int)value->valuedouble;
-}
-
-static bool check_time(struct sky_field_errors *errors, const struct sky_field_desc *field,
-                       double seconds, const char *pointer)
-{
-    if (isfinite(seconds) && seconds >= field->min && seconds <= field->max)
-        return true;
-    char got[TIME_TEXT_CAPACITY], min[TIME_TEXT_CAPACITY], max[TIME_TEXT_CAPACITY];
-    sky_time_format_iso8601(seconds, got, sizeof got);
-    sky_time_format_iso8601(field->min, min, sizeof min);
-    sky_time_format_iso8601(field->max, max, sizeof max);
-    sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "must be in [%s, %s], got %s",
-                          min, max, got);
-    return false;
+    if (schema_check_integer(context->errors, field, value->valuedouble, pointer)) {
+        if (field->type == SKY_FIELD_TYPE_INT64)
+            *(int64_t *)field_address(context->target, field) = (int64_t)value->valuedouble;
+        else
+            *(int *)field_address(context->target, field) = (int)value->valuedouble;
+    }
 }
 
 static void apply_time(struct patch_context *context, const struct sky_field_desc *field,
@@ -228,17 +175,22 @@ static void apply_time(struct patch_context *context, const struct sky_field_des
         sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "%s", why);
         return;
     }
-    if (check_time(context->errors, field, seconds, pointer))
+    if (schema_check_time(context->errors, field, seconds, pointer))
         *(double *)field_address(context->target, field) = seconds;
 }
 
 static void apply_string(struct patch_context *context, const struct sky_field_desc *field,
                          const cJSON *value, const char *pointer)
 {
+    size_t length = cJSON_IsString(value) ? strlen(value->valuestring) : 0;
     if (!cJSON_IsString(value))
         sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
                               "expected a string, got %s", sky_json_type_name(value));
-    else if (strlen(value->valuestring) >= field->capacity)
+    else if (field->min > 0 && (length < field->min || length >= field->capacity))
+        sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
+                              "must be %.0f to %zu bytes long, got %zu", field->min,
+                              field->capacity - 1, length);
+    else if (length >= field->capacity)
         sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
                               "longer than %zu characters", field->capacity - 1);
     else
@@ -274,6 +226,7 @@ static void apply_leaf(struct patch_context *context, const struct sky_field_des
         apply_enum(context, field, value, pointer);
         break;
     case SKY_FIELD_TYPE_INT:
+    case SKY_FIELD_TYPE_INT64:
         apply_int(context, field, value, pointer);
         break;
     case SKY_FIELD_TYPE_TIME:
@@ -315,8 +268,16 @@ static void report_unknown_member(struct patch_context *context, const char *pre
 static void apply_object(struct patch_context *context, const cJSON *object, const char *prefix,
                          const char *pointer);
 
-static void apply_member(struct patch_context *context, const cJSON *member, const char *prefix,
-                         const char *parent_pointer)
+static bool given_before(const cJSON *object, const cJSON *member)
+{
+    for (const cJSON *earlier = object->child; earlier != member; earlier = earlier->next)
+        if (earlier->string && member->string && strcmp(earlier->string, member->string) == 0)
+            return true;
+    return false;
+}
+
+static void apply_member(struct patch_context *context, const cJSON *object, const cJSON *member,
+                         const char *prefix, const char *parent_pointer)
 {
     const char *name = member->string ? member->string : "";
     char pointer[POINTER_CAPACITY];
@@ -324,6 +285,10 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
     schema_pointer_append(pointer, sizeof pointer, name);
 
     const struct sky_schema *schema = context->schema;
+    if (schema->unique_members && given_before(object, member)) {
+        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "duplicate field");
+        return;
+    }
     for (size_t i = 0; prefix[0] == '\0' && i < schema->caller_member_count; i++)
         if (strcmp(name, schema->caller_members[i]) == 0)
             return;
@@ -340,7 +305,7 @@ static void apply_member(struct patch_context *context, const cJSON *member, con
     const struct sky_field_desc *field = schema_find(context->schema, dotted);
     if (field) {
         apply_leaf(context, field, member, pointer);
-        if (context->named)
+        if (field - schema->fields < SKY_SCHEMA_MAX_ROWS)
             context->named[field - schema->fields] = true;
     } else if (!schema_is_group(context->schema, dotted)) {
         report_unknown_member(context, prefix, pointer);
@@ -357,7 +322,7 @@ static void apply_object(struct patch_context *context, const cJSON *object, con
                          const char *pointer)
 {
     for (const cJSON *member = object->child; member; member = member->next)
-        apply_member(context, member, prefix, pointer);
+        apply_member(context, object, member, prefix, pointer);
 }
 
 /* ---- whole-state validation ------------------------------------------------------------- */
@@ -373,30 +338,33 @@ static void check_stored_field(const struct sky_world_state *state,
 
     switch (field->type) {
     case SKY_FIELD_TYPE_NUMBER:
-        check_number(errors, field, *(const double *)address, pointer);
+        schema_check_number(errors, field, *(const double *)address, pointer);
         break;
     case SKY_FIELD_TYPE_RGB:
         for (int i = 0; i < count; i++) {
-            element_pointer(pointer, i, item_pointer, sizeof item_pointer);
-            check_number(errors, field, ((const double *)address)[i], item_pointer);
+            schema_element_pointer(pointer, i, item_pointer, sizeof item_pointer);
+            schema_check_number(errors, field, ((const double *)address)[i], item_pointer);
         }
         break;
     case SKY_FIELD_TYPE_INT_PAIR:
     case SKY_FIELD_TYPE_INT_TRIPLE:
         for (int i = 0; i < count; i++) {
-            element_pointer(pointer, i, item_pointer, sizeof item_pointer);
-            check_number(errors, field, ((const int *)address)[i], item_pointer);
+            schema_element_pointer(pointer, i, item_pointer, sizeof item_pointer);
+            schema_check_number(errors, field, ((const int *)address)[i], item_pointer);
         }
         break;
     case SKY_FIELD_TYPE_INT:
-        check_number(errors, field, *(const int *)address, pointer);
+        schema_check_number(errors, field, *(const int *)address, pointer);
+        break;
+    case SKY_FIELD_TYPE_INT64:
+        schema_check_number(errors, field, (double)*(const int64_t *)address, pointer);
         break;
     case SKY_FIELD_TYPE_TIME:
-        check_time(errors, field, *(const double *)address, pointer);
+        schema_check_time(errors, field, *(const double *)address, pointer);
         break;
     case SKY_FIELD_TYPE_ENUM: {
         int value = *(const int *)address;
-        if (value < 0 || value >= field->enum_count) {
+        if (value < 0 || value >= field->enum_count || !field->enum_names[value]) {
             char names[REASON_CAPACITY];
             schema_list_enum_names(field, names, sizeof names);
             sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
@@ -460,6 +428,19 @@ bool sky_world_state_validate(const struct sky_world_state *state, struct sky_fi
 
 /* ---- public entry points ---------------------------------------------------------------- */
 
+static void report_missing(const struct sky_schema *schema, const bool *named,
+                           const char *pointer_prefix, struct sky_field_errors *errors)
+{
+    for (size_t i = 0; i < schema->count; i++) {
+        if (!schema->fields[i].required || named[i])
+            continue;
+        char pointer[POINTER_CAPACITY], relative[POINTER_CAPACITY];
+        schema_pointer_from_dotted(schema->fields[i].path, relative, sizeof relative);
+        snprintf(pointer, sizeof pointer, "%s%s", pointer_prefix, relative);
+        sky_field_errors_add(errors, SKY_FIELD_MISSING, pointer, "required");
+    }
+}
+
 /* A patch's members through `schema` into `target`, after checking that it is an object;
  * `named` (optional) records the rows it names. Returns whether this call added no error. */
 static bool apply_root(const struct sky_schema *schema, void *target, const cJSON *json,
@@ -472,8 +453,14 @@ static bool apply_root(const struct sky_schema *schema, void *target, const cJSO
                               json ? sky_json_type_name(json) : "nothing");
         return false;
     }
+    bool scratch[SKY_SCHEMA_MAX_ROWS];
+    if (!named)
+        named = scratch;
+    size_t rows = schema->count < SKY_SCHEMA_MAX_ROWS ? schema->count : SKY_SCHEMA_MAX_ROWS;
+    memset(named, 0, rows * sizeof *named);
     struct patch_context context = { schema, target, errors, named };
     apply_object(&context, json, "", pointer_prefix);
+    report_missing(schema, named, pointer_prefix, errors);
     return errors->total == before;
 }
 
@@ -501,9 +488,9 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
 
 bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
                            const struct cJSON *object, const char *pointer_prefix,
-                           struct sky_field_errors *errors)
+                           struct sky_field_errors *errors, bool *named)
 {
-    return apply_root(schema, target, object, pointer_prefix, errors, NULL);
+    return apply_root(schema, target, object, pointer_prefix, errors, named);
 }
 
 bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefix,
@@ -512,7 +499,7 @@ bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefi
     const struct sky_schema *schema = sky_world_schema();
     out->count = 0;
     sky_world_state_defaults(&out->values);
-    bool named[SKY_WORLD_PATCH_MAX_FIELDS] = { false };
+    bool named[SKY_SCHEMA_MAX_ROWS];
     bool ok = apply_root(schema, &out->values, json, pointer_prefix, errors, named);
     for (size_t i = 0; i < schema->count; i++)
         if (named[i])

@@ -221,6 +221,7 @@ enum sky_field_error_code {
     SKY_FIELD_OUT_OF_RANGE = 3, /* number outside [min, max] or not finite */
     SKY_FIELD_BAD_VALUE = 4,    /* unparsable value text, unknown enum name, wrong array length */
     SKY_FIELD_INCONSISTENT = 5, /* fields valid alone but not together (top radius <= bottom) */
+    SKY_FIELD_MISSING = 6,      /* a required member is absent */
 };
 
 #define SKY_MAX_FIELD_ERRORS 32
@@ -299,19 +300,24 @@ enum sky_field_type {
                                   min and max bound the seconds */
     SKY_FIELD_TYPE_STRING,     /* char[capacity], NUL-terminated (the service configuration) */
     SKY_FIELD_TYPE_BOOL,       /* bool (the service configuration) */
+    SKY_FIELD_TYPE_INT64,      /* int64_t, within +-(2^53 - 1) (ids and counts in messages) */
 };
 
 struct sky_field_desc {
     const char *path;              /* dotted, "atmosphere.mie.g" */
     enum sky_field_type type;
-    size_t offset;                 /* into struct sky_world_state */
-    double min, max;               /* inclusive; for a number and for each array element */
-    const char *const *enum_names; /* ENUM only: names indexed by value */
+    size_t offset;                 /* into the struct the table describes */
+    double min, max;               /* inclusive; for a number and for each array element;
+                                      STRING: min is the shortest length in bytes */
+    const char *const *enum_names; /* ENUM only: names indexed by value; a NULL name is no
+                                      value (a value 0 that means "none") */
     int enum_count;
     const char *description;       /* short, with the unit */
     bool read_only;                /* kept by the simulation: a client `set` is refused; a saved
                                       state restores it */
     size_t capacity;               /* STRING only: the buffer's bytes */
+    bool required;                 /* an absent member is SKY_FIELD_MISSING */
+    bool exclusive_min;            /* min itself is out of range: the value must exceed it */
 };
 
 /* A table of field rows over one struct: the world state's (sky_world_schema), the service
@@ -324,19 +330,25 @@ struct sky_schema {
      * among the expected names when a member is unknown. */
     const char *const *caller_members;
     size_t caller_member_count;
+    bool unique_members;          /* a member given twice is SKY_FIELD_BAD_VALUE (messages) */
 };
+
+/* The most rows a table may have. */
+#define SKY_SCHEMA_MAX_ROWS 256
 
 /* The world state's schema: the table of sky_world_state_fields. */
 const struct sky_schema *sky_world_schema(void);
 
 /* The schema engine: applies a JSON object to `target` (the struct the rows' offsets point
- * into) member by member. Unknown members, wrong types and values out of range are added to
- * `errors` (not cleared first), each under its JSON Pointer after `pointer_prefix`; nothing is
- * checked across fields. Members are written as they pass: apply to a scratch copy and keep
- * it only when no error was added. Returns whether this call added none. */
+ * into) member by member. Unknown members, wrong types, values out of range and absent
+ * required members are added to `errors` (not cleared first), each under its JSON Pointer
+ * after `pointer_prefix`; nothing is checked across fields. Members are written as they pass:
+ * apply to a scratch copy and keep it only when no error was added. `named` (NULL, or one
+ * flag per row, cleared here) receives the rows the object names, valid or not. Returns
+ * whether this call added no error. */
 bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
                            const struct cJSON *object, const char *pointer_prefix,
-                           struct sky_field_errors *errors);
+                           struct sky_field_errors *errors, bool *named);
 
 /* The descriptor table, in serialization order; *count receives its length. */
 const struct sky_field_desc *sky_world_state_fields(size_t *count);
@@ -365,6 +377,10 @@ bool sky_world_patch_names(const struct sky_world_patch *patch, const struct sky
  * first, pointers without a prefix); all or nothing. */
 bool sky_world_state_apply_patch(struct sky_world_state *state, const struct sky_world_patch *patch,
                                  struct sky_field_errors *errors);
+
+/* A field's value read from `base` (the struct its table describes) as JSON, the same as
+ * sky_world_state_to_json and sky_schema_to_json write it; NULL when memory is out. */
+struct cJSON *sky_field_to_json(const struct sky_field_desc *field, const void *base);
 
 /* The bytes a field takes in its struct. */
 size_t sky_field_size(const struct sky_field_desc *field);

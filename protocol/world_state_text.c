@@ -45,6 +45,7 @@ static const char *expected_value_text(const struct sky_field_desc *field)
     case SKY_FIELD_TYPE_INT_TRIPLE:
         return "a JSON array like [32,32,32]";
     case SKY_FIELD_TYPE_INT:
+    case SKY_FIELD_TYPE_INT64:
         return "an integer";
     case SKY_FIELD_TYPE_TIME:
         return "an ISO 8601 UTC time like 2026-06-21T12:00:00Z";
@@ -211,7 +212,7 @@ static cJSON *number_array_to_json(const double *values, int count)
     return array;
 }
 
-static cJSON *field_to_json(const void *base, const struct sky_field_desc *field)
+cJSON *sky_field_to_json(const struct sky_field_desc *field, const void *base)
 {
     const void *address = schema_const_field_address(base, field);
     switch (field->type) {
@@ -224,6 +225,8 @@ static cJSON *field_to_json(const void *base, const struct sky_field_desc *field
         return cJSON_CreateIntArray(address, schema_element_count(field->type));
     case SKY_FIELD_TYPE_INT:
         return cJSON_CreateNumber(*(const int *)address);
+    case SKY_FIELD_TYPE_INT64:
+        return schema_new_json_number((double)*(const int64_t *)address);
     case SKY_FIELD_TYPE_TIME: {
         char text[TIME_TEXT_CAPACITY];
         sky_time_format_iso8601(*(const double *)address, text, sizeof text);
@@ -231,7 +234,7 @@ static cJSON *field_to_json(const void *base, const struct sky_field_desc *field
     }
     case SKY_FIELD_TYPE_ENUM: {
         int value = *(const int *)address;
-        if (value >= 0 && value < field->enum_count)
+        if (value >= 0 && value < field->enum_count && field->enum_names[value])
             return cJSON_CreateString(field->enum_names[value]);
         return schema_new_json_number(value); /* invalid state: keep the evidence */
     }
@@ -274,7 +277,7 @@ cJSON *sky_schema_to_json(const struct sky_schema *schema, const void *base)
 {
     cJSON *root = cJSON_CreateObject();
     for (size_t i = 0; root && i < schema->count; i++) {
-        cJSON *value = field_to_json(base, &schema->fields[i]);
+        cJSON *value = sky_field_to_json(&schema->fields[i], base);
         if (!value || !add_at_path(root, schema->fields[i].path, value)) {
             cJSON_Delete(value);
             cJSON_Delete(root);
@@ -296,7 +299,7 @@ cJSON *sky_world_state_to_json(const struct sky_world_state *state)
         return NULL;
     }
     for (size_t i = 0; i < sky_world_field_count; i++) {
-        cJSON *value = field_to_json(state, &sky_world_field_table[i]);
+        cJSON *value = sky_field_to_json(&sky_world_field_table[i], state);
         if (!value || !add_at_path(root, sky_world_field_table[i].path, value)) {
             cJSON_Delete(value);
             cJSON_Delete(root);

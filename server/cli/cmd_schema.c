@@ -1,5 +1,6 @@
-/* skyd schema [state|config]: the JSON Schema (2020-12) of the world state or of the
- * configuration file, generated from the field tables that validate them, on stdout. */
+/* skyd schema [state|config|messages]: the JSON Schema (2020-12) of the world state, of the
+ * configuration file or of the client messages, generated from the field tables that validate
+ * them, on stdout. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,30 +9,36 @@
 
 #include "commands.h"
 #include "config.h"
+#include "messages.h"
 #include "world_state.h"
 
 static void usage(FILE *out)
 {
-    fprintf(out, "usage: skyd schema [state|config]\n"
-                 "Prints the JSON Schema (draft 2020-12) of the world state (the default) or of\n"
-                 "the configuration file: every field's type, range, enum names, unit (x-unit),\n"
-                 "default and description.\n");
+    fprintf(out, "usage: skyd schema [state|config|messages]\n"
+                 "Prints the JSON Schema (draft 2020-12) of the world state (the default), of\n"
+                 "the configuration file or of the client messages (with the default limits):\n"
+                 "every field's type, range, enum names, unit (x-unit), default and description.\n");
 }
 
 int skyd_cmd_schema(int argc, char **argv)
 {
     bool config = argc == 1 && strcmp(argv[0], "config") == 0;
+    bool messages = argc == 1 && strcmp(argv[0], "messages") == 0;
     bool state = argc == 0 || (argc == 1 && strcmp(argv[0], "state") == 0);
     if (argc == 1 && (strcmp(argv[0], "--help") == 0 || strcmp(argv[0], "-h") == 0)) {
         usage(stdout);
         return SKYD_EXIT_OK;
     }
-    if (!config && !state) {
+    if (!config && !state && !messages) {
         usage(stderr);
         return SKYD_EXIT_USAGE;
     }
-    cJSON *schema = config ? skyd_config_json_schema() : sky_world_state_json_schema();
-    char *text = schema ? cJSON_Print(schema) : NULL;
+    struct sky_msg_limits limits;
+    sky_msg_limits_default(&limits);
+    cJSON *schema = config     ? skyd_config_json_schema()
+                    : messages ? sky_msg_json_schema(&limits)
+                               : sky_world_state_json_schema();
+    char *text = schema && sky_json_exact_numbers(schema) ? cJSON_Print(schema) : NULL;
     cJSON_Delete(schema);
     if (!text) {
         fprintf(stderr, "skyd schema: out of memory\n");

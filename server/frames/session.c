@@ -35,6 +35,7 @@ struct session {
     void *transport;
     pthread_mutex_t lock;
     enum sky_msg_role role;
+    char client_name[SKY_MSG_CLIENT_MAX + 1];
     bool closed;
     /* close request */
     int close_code;
@@ -123,6 +124,20 @@ void session_set_role(struct session *s, enum sky_msg_role role)
 {
     pthread_mutex_lock(&s->lock);
     s->role = role;
+    pthread_mutex_unlock(&s->lock);
+}
+
+void session_client_name(struct session *s, char *out, size_t capacity)
+{
+    pthread_mutex_lock(&s->lock);
+    snprintf(out, capacity, "%s", s->client_name);
+    pthread_mutex_unlock(&s->lock);
+}
+
+void session_set_client_name(struct session *s, const char *name)
+{
+    pthread_mutex_lock(&s->lock);
+    snprintf(s->client_name, sizeof s->client_name, "%s", name);
     pthread_mutex_unlock(&s->lock);
 }
 

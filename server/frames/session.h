@@ -48,6 +48,11 @@ void *session_transport(const struct session *session);
 enum sky_msg_role session_role(struct session *session);
 void session_set_role(struct session *session, enum sky_msg_role role);
 
+/* The name the client gave in its hello ("" until it gives one), copied into out (at least
+ * SKY_MSG_CLIENT_MAX + 1 bytes); set by the render thread, read anywhere. */
+void session_client_name(struct session *session, char *out, size_t capacity);
+void session_set_client_name(struct session *session, const char *name);
+
 /* Queues a text message (copied). Returns false when the queue is over its bound: the session
  * is then marked to close as not reading. A closed session drops it and returns true. */
 bool session_push_text(struct session *session, const char *text);

@@ -19,14 +19,18 @@
  * row: the engine leaves them to apply_origins and apply_initial_state. */
 #define OFFSET(member) offsetof(struct skyd_config, member)
 #define CAPACITY(member) sizeof(((struct skyd_config *)0)->member)
-#define STRING(path, member, doc) \
-    { path, SKY_FIELD_TYPE_STRING, OFFSET(member), 0, 0, NULL, 0, doc, false, CAPACITY(member) }
-#define INT(path, member, lo, hi, doc) \
-    { path, SKY_FIELD_TYPE_INT, OFFSET(member), lo, hi, NULL, 0, doc, false, 0 }
-#define NUMBER(path, member, lo, hi, doc) \
-    { path, SKY_FIELD_TYPE_NUMBER, OFFSET(member), lo, hi, NULL, 0, doc, false, 0 }
-#define BOOL(path, member, doc) \
-    { path, SKY_FIELD_TYPE_BOOL, OFFSET(member), 0, 1, NULL, 0, doc, false, 0 }
+#define STRING(path_, member, doc)                                                              \
+    { .path = path_, .type = SKY_FIELD_TYPE_STRING, .offset = OFFSET(member),                  \
+      .description = doc, .capacity = CAPACITY(member) }
+#define INT(path_, member, lo, hi, doc)                                                         \
+    { .path = path_, .type = SKY_FIELD_TYPE_INT, .offset = OFFSET(member), .min = lo, .max = hi, \
+      .description = doc }
+#define NUMBER(path_, member, lo, hi, doc)                                                      \
+    { .path = path_, .type = SKY_FIELD_TYPE_NUMBER, .offset = OFFSET(member), .min = lo,       \
+      .max = hi, .description = doc }
+#define BOOL(path_, member, doc)                                                                \
+    { .path = path_, .type = SKY_FIELD_TYPE_BOOL, .offset = OFFSET(member), .max = 1,          \
+      .description = doc }
 
 static const struct sky_field_desc config_fields[] = {
     STRING("listen.address", listen_address, "address to listen on"),
@@ -64,8 +68,10 @@ static const struct sky_field_desc config_fields[] = {
 static const char *const config_caller_members[] = { "allowed_origins", "initial_state" };
 
 static const struct sky_schema config_schema = {
-    config_fields, sizeof config_fields / sizeof config_fields[0], NULL, config_caller_members,
-    sizeof config_caller_members / sizeof config_caller_members[0],
+    .fields = config_fields,
+    .count = sizeof config_fields / sizeof config_fields[0],
+    .caller_members = config_caller_members,
+    .caller_member_count = sizeof config_caller_members / sizeof config_caller_members[0],
 };
 
 void skyd_config_defaults(struct skyd_config *c)
@@ -160,7 +166,7 @@ static void apply_initial_state(struct skyd_config *c, const cJSON *value,
 /* The rows through the engine, then the two members without rows. */
 static void apply_config(struct skyd_config *c, const cJSON *root, struct sky_field_errors *errors)
 {
-    sky_schema_apply_json(&config_schema, c, root, "", errors);
+    sky_schema_apply_json(&config_schema, c, root, "", errors, NULL);
     const cJSON *origins = cJSON_GetObjectItemCaseSensitive(root, "allowed_origins");
     if (origins)
         apply_origins(c, origins, "/allowed_origins", errors);

@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "json_guard.h"
+#include "log.h"
 #include "presets.h"
 #include "world_sim.h"
 
@@ -27,6 +28,23 @@ static void reply(struct session *session, const struct sky_msg_id *id, char *te
     free(text);
 }
 
+/* The message being handled, for the log of refusals. Only the render thread handles
+ * messages, one at a time. */
+static const struct sky_client_msg *handling;
+
+/* An auth failure or a refused change is logged once, with who sent it; never the token. */
+static void log_refusal(struct session *session, const char *message)
+{
+    if (!handling || (handling->type != SKY_MSG_AUTH &&
+                      !protocol_message_needs_controller(handling->type)))
+        return;
+    char name[SKY_MSG_CLIENT_MAX + 1];
+    session_client_name(session, name, sizeof name);
+    skyd_log(SKYD_LOG_WARNING, "%s %s from %s%s%s: %s", sky_msg_type_name(handling->type),
+             handling->type == SKY_MSG_AUTH ? "failed" : "refused", name[0] ? "client \"" : "a ",
+             name[0] ? name : "client without a name", name[0] ? "\"" : "", message);
+}
+
 #if defined(__GNUC__)
 __attribute__((format(printf, 4, 5)))
 #endif
@@ -38,6 +56,7 @@ static void reply_error(struct session *session, const struct sky_msg_id *id,
     va_start(args, format);
     vsnprintf(message, sizeof message, format, args);
     va_end(args);
+    log_refusal(session, message);
     reply(session, id, sky_msg_build_error(id, code, message, NULL));
 }
 
@@ -57,7 +76,17 @@ static void reply_field_errors(struct session *session, const struct sky_msg_id 
                  prefixed.items[0].reason);
     else
         snprintf(message, sizeof message, "the patch was rejected");
+    log_refusal(session, message);
     reply(session, id, sky_msg_build_error(id, code, message, &prefixed));
+}
+
+/* Who a state_changed names: the sender's hello name, else its role (only a controller
+ * changes the state). */
+static void changer(struct session *session, char *name, size_t capacity)
+{
+    session_client_name(session, name, capacity);
+    if (!name[0])
+        snprintf(name, capacity, "controller");
 }
 
 /* Commits `next` through the world host and tells the sender and every client. */
@@ -65,7 +94,9 @@ static bool commit_state(struct render_context *ctx, struct session *session,
                          const struct sky_msg_id *id, struct sky_world_state *next)
 {
     struct world_commit commit;
-    if (!world_host_commit(ctx->world, ctx->renderer, next, NULL, &commit)) {
+    char by[SKY_MSG_CLIENT_MAX + 1];
+    changer(session, by, sizeof by);
+    if (!world_host_commit(ctx->world, ctx->renderer, next, NULL, by, &commit)) {
         reply_error(session, id, SKY_MSG_ERR_INTERNAL, "%s", commit.error);
         return false;
     }
@@ -168,7 +199,9 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
                                    const struct sky_client_msg *msg)
 {
     struct world_commit commit;
-    if (!world_host_set_weather_map(ctx->world, ctx->renderer, &msg->weather_map, &commit)) {
+    char by[SKY_MSG_CLIENT_MAX + 1];
+    changer(session, by, sizeof by);
+    if (!world_host_set_weather_map(ctx->world, ctx->renderer, &msg->weather_map, by, &commit)) {
         reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s", commit.error);
         return;
     }
@@ -287,8 +320,16 @@ static void handle_stats(struct render_context *ctx, struct session *session,
     reply(session, &msg->id, sky_msg_build_stats(&msg->id, &stats));
 }
 
-void render_commands_handle(struct render_context *ctx, struct session *session,
+static void handle_describe(struct render_context *ctx, struct session *session,
                             const struct sky_client_msg *msg)
+{
+    struct sky_msg_limits limits;
+    live_settings_limits(ctx->settings, &limits);
+    reply(session, &msg->id, sky_msg_build_schema(&msg->id, &limits));
+}
+
+static void dispatch(struct render_context *ctx, struct session *session,
+                     const struct sky_client_msg *msg)
 {
     if (protocol_message_needs_controller(msg->type) &&
         session_role(session) != SKY_ROLE_CONTROLLER) {
@@ -298,6 +339,11 @@ void render_commands_handle(struct render_context *ctx, struct session *session,
     }
     switch (msg->type) {
     case SKY_MSG_HELLO:
+        if (msg->hello.has_client)
+            session_set_client_name(session, msg->hello.client);
+        reply(session, &msg->id, sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
+                                                   SKY_ROLE_NONE));
+        break;
     case SKY_MSG_NONE:
         reply(session, &msg->id, sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
                                                    SKY_ROLE_NONE));
@@ -313,7 +359,16 @@ void render_commands_handle(struct render_context *ctx, struct session *session,
     case SKY_MSG_APPLY_PRESET: handle_apply_preset(ctx, session, msg); break;
     case SKY_MSG_STATS: handle_stats(ctx, session, msg); break;
     case SKY_MSG_SET_WEATHER_MAP: handle_set_weather_map(ctx, session, msg); break;
+    case SKY_MSG_DESCRIBE: handle_describe(ctx, session, msg); break;
     }
+}
+
+void render_commands_handle(struct render_context *ctx, struct session *session,
+                            const struct sky_client_msg *msg)
+{
+    handling = msg;
+    dispatch(ctx, session, msg);
+    handling = NULL;
 }
 
 void render_commands_session_closed(struct render_context *ctx, struct session *session)

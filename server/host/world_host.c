@@ -101,7 +101,7 @@ static void unpersist(struct world_host *h)
 }
 
 bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
-                       struct sky_world_state *next, const char *also_changed,
+                       struct sky_world_state *next, const char *also_changed, const char *by,
                        struct world_commit *out)
 {
     enum { MAX_CHANGED = 192 };
@@ -136,7 +136,7 @@ bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
     const char *pointers[MAX_CHANGED];
     for (size_t i = 0; i < count; i++)
         pointers[i] = changed[i];
-    out->event = sky_msg_build_state_changed(h->state.revision, pointers, count);
+    out->event = sky_msg_build_state_changed(h->state.revision, pointers, count, &h->state, by);
     return true;
 }
 
@@ -153,7 +153,8 @@ bool world_host_client_map_missing(const struct world_host *h,
 }
 
 bool world_host_set_weather_map(struct world_host *h, struct renderer_host *renderer,
-                                 const struct sky_weather_map *map, struct world_commit *out)
+                                 const struct sky_weather_map *map, const char *by,
+                                 struct world_commit *out)
 {
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
@@ -184,7 +185,7 @@ bool world_host_set_weather_map(struct world_host *h, struct renderer_host *rend
     }
     struct sky_world_state next = h->state;
     next.weather.map_source = SKY_WEATHER_MAP_CLIENT;
-    if (!world_host_commit(h, renderer, &next, "/weather/map", out)) {
+    if (!world_host_commit(h, renderer, &next, "/weather/map", by, out)) {
         /* The state was not saved: the old map goes back on disk and to the renderer. */
         if (h->state_file[0])
             state_store_save_weather_map(h->state_file, &h->client_map, err, sizeof err);

@@ -44,10 +44,11 @@ struct world_commit {
 /* Makes `next` (validated) the live state: settled, diffed, and when anything differs (or
  * `also_changed`, a pointer outside the schema, names something else that did) written to the
  * state file before anything acknowledges it, handed to the renderer, given the next revision
- * and announced. false with out->error and nothing changed when the disk or the renderer
- * refuses it; a renderer whose device is lost need not take it (its rebuild takes the state). */
+ * and announced: the event carries the changed fields' new values and `by`, who changed them.
+ * false with out->error and nothing changed when the disk or the renderer refuses it; a
+ * renderer whose device is lost need not take it (its rebuild takes the state). */
 bool world_host_commit(struct world_host *host, struct renderer_host *renderer,
-                       struct sky_world_state *next, const char *also_changed,
+                       struct sky_world_state *next, const char *also_changed, const char *by,
                        struct world_commit *out);
 
 /* Whether `next` samples the client weather map when there is none (errors filled). */
@@ -59,7 +60,8 @@ bool world_host_client_map_missing(const struct world_host *host,
  * (weather.map_source "client") in one revision whose event names "/weather/map". false with
  * out->error and the disk, the renderer and the state as they were when a step fails. */
 bool world_host_set_weather_map(struct world_host *host, struct renderer_host *renderer,
-                                const struct sky_weather_map *map, struct world_commit *out);
+                                const struct sky_weather_map *map, const char *by,
+                                struct world_commit *out);
 
 /* At start-up: the client weather map saved beside the state, if any, to the renderer. A state
  * that selects it without a usable map falls back to the procedural one (said on stderr). */

@@ -9,6 +9,7 @@
 #include <cjson/cJSON.h>
 
 #include "json_guard.h"
+#include "log.h"
 #include "monotonic_clock.h"
 #include "http_api_internal.h"
 #include "world_state.h"
@@ -316,6 +317,12 @@ void submit_json(struct http_api *api, struct http_request *r, cJSON *json,
     free(text);
     if (code != SKY_MSG_OK) {
         service_metrics_message(api->metrics, msg.type);
+        if (protocol_message_needs_controller(msg.type)) {
+            char peer[64] = "";
+            lws_get_peer_simple(r->wsi, peer, sizeof peer);
+            skyd_log(SKYD_LOG_WARNING, "PATCH /api/state from %s refused: %s", peer,
+                     error.message);
+        }
         respond_error(api, r, 0, code, error.message, &error.fields);
         return;
     }
@@ -431,6 +438,10 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
     }
     enum live_token_check token = r->patch ? check_bearer_token(api, wsi) : LIVE_TOKEN_MATCHES;
     if (token != LIVE_TOKEN_MATCHES) {
+        char peer[64] = "";
+        lws_get_peer_simple(wsi, peer, sizeof peer);
+        skyd_log(SKYD_LOG_WARNING, "PATCH /api/state from %s: auth failed (%s)", peer,
+                 token == LIVE_TOKEN_WRONG ? "wrong or missing bearer token" : "nobody controls");
         respond_error(api, r, 0, SKY_MSG_ERR_AUTH_FAILED,
                       token == LIVE_TOKEN_READ_ONLY
                           ? "this server is read-only (read_only in its configuration): nobody "

@@ -203,6 +203,9 @@ static void on_message(struct ws_server *srv, struct connection *c)
             render_loop_submit_message(srv->loop, c->session, &msg);
         } else {
             error = sky_msg_build_parse_error(&msg, &parse_error);
+            if (msg.type == SKY_MSG_AUTH || protocol_message_needs_controller(msg.type))
+                skyd_log(SKYD_LOG_WARNING, "%s refused from connection %llu (%s): %s",
+                         sky_msg_type_name(msg.type), c->number, c->peer, parse_error.message);
         }
     }
     sky_client_msg_free(&msg);

@@ -41,7 +41,8 @@ READY_TIMEOUT = 60.0      # the "listening" line
 EXIT_TIMEOUT = 20.0       # exit after SIGTERM
 
 CAPABILITIES = ["hello", "auth", "get_state", "set", "subscribe", "unsubscribe", "snapshot",
-                "probe", "list_presets", "apply_preset", "stats", "set_weather_map", "png"]
+                "probe", "list_presets", "apply_preset", "stats", "set_weather_map", "describe",
+                "png"]
 
 HEADER = struct.Struct("<4sHHQQdIIII")
 assert HEADER.size == 48

@@ -1,10 +1,12 @@
-"""test_serve.py's checks of the control protocol on the main daemon: hello and auth, set
-round trips and the events they make, every class of bad input (each followed by a get_state
-showing the world state and revision unchanged on the same connection), and what a viewer may
-not do."""
+"""test_serve.py's checks of the control protocol on the main daemon: hello and auth, describe,
+set round trips and the events they make, every class of bad input (each followed by a
+get_state showing the world state and revision unchanged on the same connection), and what a
+viewer may not do."""
 
-from serve_harness import (CAPABILITIES, TOKEN, Client, approx_equal, bad_input, check,
-                           check_error, check_unchanged, json_diff, short, stable)
+import json
+
+from serve_harness import (CAPABILITIES, REPLY_TIMEOUT, TOKEN, Client, approx_equal, bad_input,
+                           check, check_error, check_unchanged, json_diff, short, stable)
 
 
 async def t_hello(d, ctl):
@@ -45,6 +47,63 @@ async def t_hello(d, ctl):
     check_error("get_state: 65-byte id", r, "out_of_range", pointer="/id")
 
 
+def schema_leaves(schema, prefix=""):
+    """Dotted paths of the leaves of an object schema."""
+    out = set()
+    for name, sub in schema.get("properties", {}).items():
+        path = prefix + name
+        out |= schema_leaves(sub, path + ".") if "properties" in sub else {path}
+    return out
+
+
+def value_leaves(value, prefix=""):
+    out = set()
+    for name, sub in value.items():
+        path = prefix + name
+        out |= value_leaves(sub, path + ".") if isinstance(sub, dict) else {path}
+    return out
+
+
+async def t_describe(d, viewer):
+    """A viewer's describe: the schemas of the state (every field get_state shows) and of the
+    messages (every message type, sized by this daemon's limits), in order with its other
+    replies."""
+    await viewer.ws.send(json.dumps({"type": "describe", "id": "d1"}))
+    await viewer.ws.send(json.dumps({"type": "get_state", "id": "d2"}))
+    replies = []
+    while len(replies) < 2:
+        m = await viewer.raw(REPLY_TIMEOUT)
+        if isinstance(m, dict) and m.get("type") != "event":
+            replies.append(m)
+    r, s = replies
+    check("describe: replies in order", r.get("id") == "d1" and s.get("id") == "d2",
+          f"{r.get('id')!r}, {s.get('id')!r}")
+    check("describe: a viewer gets schema", r.get("type") == "schema", short(r)[:200])
+    state, messages = r.get("state") or {}, r.get("messages") or {}
+    for name, schema in (("state", state), ("messages", messages)):
+        check(f"describe: {name} is a 2020-12 JSON Schema",
+              schema.get("$schema") == "https://json-schema.org/draft/2020-12/schema",
+              short(schema)[:200])
+    shown = value_leaves(s.get("state") or {})
+    described = schema_leaves(state)
+    check("describe: every field of get_state's state is in the state schema",
+          shown and shown <= described, f"missing {sorted(shown - described)[:5]}")
+    defs = messages.get("$defs", {})
+    types = [c for c in CAPABILITIES if c not in ("png", "png16", "equirectangular")]
+    check("describe: every message type has a schema", all(t in defs for t in types),
+          f"missing {[t for t in types if t not in defs]}")
+    check("describe: oneOf over the message types",
+          len(messages.get("oneOf", [])) == len(types), short(messages.get("oneOf")))
+    view = defs.get("view", {}).get("properties", {})
+    limits = d.config["limits"]
+    check("describe: the view's maxima are this daemon's limits",
+          view.get("width", {}).get("maximum") == limits["max_width"]
+          and view.get("height", {}).get("maximum") == limits["max_height"]
+          and view.get("fps", {}).get("maximum") == limits["max_fps"], short(view)[:300])
+    r = await viewer.request({"type": "describe", "id": "d3", "extra": 1})
+    check_error("describe with an unknown member", r, "unknown_field", pointer="/extra", id_="d3")
+
+
 async def t_set_and_event(d, ctl, viewer):
     s0 = await ctl.get_state()
     st = s0.get("state", {})
@@ -82,6 +141,10 @@ async def t_set_and_event(d, ctl, viewer):
         check("event: state_changed", e.get("event") == "state_changed", short(e))
         check("event: changed pointers in schema order",
               e.get("changed") == ["/sun/azimuth_deg", "/sun/elevation_deg"], short(e))
+        check("event: the new values, keyed by pointer",
+              e.get("values") == {"/sun/azimuth_deg": 123, "/sun/elevation_deg": 7.5}, short(e))
+        check("event: by names the sender's hello client", e.get("by") == "test_serve.py",
+              short(e))
         check("event: no id", "id" not in e, short(e))
     e = await ctl.wait_event(lambda e: e.get("revision") == rev)
     check("event: reaches the controller too", e is not None, short(ctl.events))

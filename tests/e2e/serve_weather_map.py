@@ -109,6 +109,8 @@ async def t_weather_map(d, ctl, viewer):
     changed = event.get("changed", []) if event else []
     check("weather map: event names /weather/map and /weather/map_source",
           "/weather/map" in changed and "/weather/map_source" in changed, short(event))
+    check("weather map: the event's values have map_source, not the map",
+          (event or {}).get("values") == {"/weather/map_source": "client"}, short(event))
     state = (await ctl.get_state()).get("state", {})
     check("weather map: map_source client", state.get("weather", {}).get("map_source")
           == "client", short(state.get("weather")))

@@ -38,7 +38,8 @@ from serve_connections import (INDEX_HTML, SECRET, t_http, t_not_reading,  # noq
 from serve_envmap import t_envmap  # noqa: E402
 from serve_lifecycle import (t_bad_config, t_max_clients, t_rate_limit,  # noqa: E402
                              t_sigterm_restart)
-from serve_protocol import t_bad_inputs, t_hello, t_roles, t_set_and_event  # noqa: E402
+from serve_protocol import (t_bad_inputs, t_describe, t_hello, t_roles,  # noqa: E402
+                            t_set_and_event)
 from serve_requests import (t_frames, t_presets, t_probe, t_snapshot,  # noqa: E402
                             t_stats, t_subscription_limit, t_unsubscribe)
 from serve_weather_map import t_weather_map  # noqa: E402
@@ -70,6 +71,7 @@ async def main_checks(d, repo_config_dir):
     both = (ctl, viewer)
     defaults = await ctl.get_state()
     await section("hello/auth", t_hello(d, ctl), both)
+    await section("describe", t_describe(d, viewer), both)
     await section("set/event", t_set_and_event(d, ctl, viewer), both)
     await section("bad inputs", t_bad_inputs(d), both)
     await section("roles", t_roles(d), both)

@@ -11,13 +11,15 @@ control raises the state revision and changes the image (with the sun and moon s
 server's ephemeris, whose sun sliders turn read-only), the simulated clock runs live in the page,
 an invalid latitude shows the server's error next to the latitude field, a weather preset
 applied over a transition shows its progress to the end, the layout fits a narrow window, the page
-reconnects by itself when the daemon restarts, and the browser logged no errors (CSP
+reconnects by itself when the daemon restarts, another client's change reaches the page's
+controls through the event's values without a get_state, and the browser logged no errors (CSP
 violations included). Screenshots go to OUTPUT_DIR.
 
 Exit status 0 when every check passed, 1 otherwise (also when chromium or chromedriver is
 missing: scripts/install-deps.sh installs them).
 """
 
+import asyncio
 import base64
 import json
 import os
@@ -30,7 +32,7 @@ import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import serve_harness  # noqa: E402
-from serve_harness import TOKEN, Daemon, check, info, make_config  # noqa: E402
+from serve_harness import TOKEN, Client, Daemon, check, info, make_config  # noqa: E402
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMEDRIVER = "/usr/bin/chromedriver"
@@ -337,6 +339,7 @@ def run_checks(wd, daemon, out):
           wd.text(slot))
 
     check_transition(wd, out)
+    check_event_values(wd, daemon)
 
     # Narrow window: one column, nothing wider than the viewport.
     wd.set_window(420, 900)
@@ -384,6 +387,54 @@ def check_transition(wd, out_dir):
           wd.text('[data-error-for="preset:weather"]') == "",
           wd.text('[data-error-for="preset:weather"]'))
     wd.screenshot(os.path.join(out_dir, "web-storm.png"))
+
+
+# Runs in the page: records the type of every message the page sends from now on.
+RECORD_SENT_JS = """
+window.sentTypes = [];
+const send = WebSocket.prototype.send;
+WebSocket.prototype.send = function (data) {
+  try { window.sentTypes.push(JSON.parse(data).type); } catch (e) { window.sentTypes.push('?'); }
+  return send.call(this, data);
+};
+"""
+
+
+async def set_from_another_client(url, patch):
+    """A second controller sets `patch`; returns the ack."""
+    other = await Client.connect(url, "other")
+    try:
+        await other.request({"type": "hello", "client": "test_web.py"})
+        await other.auth()
+        return await other.request({"type": "set", "patch": patch})
+    finally:
+        await other.close()
+
+
+def check_event_values(wd, daemon):
+    """With the clock stopped (no polling while the simulation runs), another client's change
+    reaches the page through the event's values alone: the control shows it, the revision
+    follows, and the page sends no get_state."""
+    revision = number(wd.text("#revision")) or 0
+    wd.js("const s = document.getElementById('time-scale'); s.value = '0';"
+          "s.dispatchEvent(new Event('change'));")
+    check("the clock stops", wait_for("revision after time_scale 0",
+                                      lambda: (number(wd.text("#revision")) or 0) > revision),
+          wd.text("#revision"))
+    time.sleep(1.5)  # a get_state of the last poll, if any, is answered
+    wd.js(RECORD_SENT_JS)
+    ack = asyncio.run(set_from_another_client(daemon.url(), {"weather": {"humidity": 0.37}}))
+    check("another client's set is acknowledged", ack.get("type") == "ack", json.dumps(ack))
+    shown = wait_for("humidity from the event", lambda: wd.js(
+        "return document.getElementById('humidity').value;") == "0.37")
+    check("another client's change shows in the page's control", shown,
+          wd.js("return document.getElementById('humidity').value;"))
+    check("the page's revision follows the event",
+          wait_for("revision", lambda: number(wd.text("#revision")) == ack.get("revision")),
+          f"{wd.text('#revision')} vs {ack.get('revision')}")
+    time.sleep(1.5)  # long enough for a poll or a delayed refresh to have been sent
+    sent = wd.js("return window.sentTypes;") or []
+    check("no get_state after the event", "get_state" not in sent, json.dumps(sent))
 
 
 def check_console(wd, name, allow=None):

@@ -40,6 +40,7 @@ const struct protocol_client_example protocol_client_examples[] = {
     {"{\"type\":\"set_weather_map\",\"id\":16,\"format\":\"rgba8\",\"width\":2,\"height\":1,"
      "\"data\":\"/wCgAIBAoCg=\"}",
      SKY_MSG_SET_WEATHER_MAP},
+    {"{\"type\":\"describe\",\"id\":18}", SKY_MSG_DESCRIBE},
     {"{\"type\":\"snapshot\",\"id\":17,\"view\":{\"width\":1024,\"height\":512,"
      "\"projection\":\"equirectangular\",\"format\":\"png16\"}}",
      SKY_MSG_SNAPSHOT},
@@ -96,7 +97,8 @@ static size_t build_server_examples(char **out, size_t max)
     const char *pointers[8];
     for (size_t i = 0; i < changed_count && i < 8; i++)
         pointers[i] = changed[i];
-    ADD(sky_msg_build_state_changed(after.revision, pointers, changed_count));
+    ADD(sky_msg_build_state_changed(after.revision, pointers, changed_count, &after,
+                                    "sky-web 0.1"));
 
     const char *presets[] = {"earth", "mars"};
     ADD(sky_msg_build_presets(&id11, SKY_PRESET_ATMOSPHERE, presets, 2));

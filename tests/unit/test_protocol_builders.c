@@ -162,15 +162,48 @@ void test_builders(void)
     CHECK_STR(changed[0], "/sun/elevation_deg");
     CHECK_STR(changed[1], "/camera/fov_deg");
     CHECK_INT(sky_msg_state_diff(&before, &before, changed, 2), 0);
-    const char *pointers[] = {changed[0], changed[1]};
-    json = parse_built(sky_msg_build_state_changed(8, pointers, 2), "event");
+    const char *pointers[] = {changed[0], changed[1], "/render/skyview_lut", "/weather/map",
+                              "/clock/utc", "/exposure/mode"};
+    after.exposure.mode = SKY_EXPOSURE_MANUAL;
+    json = parse_built(sky_msg_build_state_changed(8, pointers, 6, &after, "app 2"), "event");
     CHECK_STR(string_at(json, "event"), "state_changed");
     CHECK_DOUBLE(number_at(json, "revision"), 8);
+    CHECK_STR(string_at(json, "by"), "app 2");
     CHECK_STR(cJSON_GetArrayItem(get(json, "changed"), 1)->valuestring, "/camera/fov_deg");
+    CHECK_INT(cJSON_GetArraySize(get(json, "changed")), 6);
+    /* Each value as get_state writes it; the map has none. */
+    const cJSON *values = get(json, "values");
+    CHECK_INT(cJSON_GetArraySize(values), 5);
+    CHECK_DOUBLE(number_at(values, "/sun/elevation_deg"), 10);
+    CHECK_DOUBLE(number_at(values, "/camera/fov_deg"), 30);
+    CHECK_DOUBLE(cJSON_GetArrayItem(get(values, "/render/skyview_lut"), 1)->valuedouble, 200);
+    CHECK(get(values, "/weather/map") == NULL);
+    CHECK_STR(string_at(values, "/exposure/mode"), "manual");
+    cJSON *whole = sky_world_state_to_json(&after);
+    CHECK(cJSON_Compare(get(values, "/clock/utc"), get(get(whole, "clock"), "utc"), true));
+    cJSON_Delete(whole);
     cJSON_Delete(json);
     const char *not_pointers[] = {"sun.elevation_deg"};
-    CHECK(sky_msg_build_state_changed(8, not_pointers, 1) == NULL);
-    CHECK(sky_msg_build_state_changed(8, NULL, 1) == NULL);
+    CHECK(sky_msg_build_state_changed(8, not_pointers, 1, &after, "x") == NULL);
+    CHECK(sky_msg_build_state_changed(8, NULL, 1, &after, "x") == NULL);
+    CHECK(sky_msg_build_state_changed(8, pointers, 2, NULL, "x") == NULL);
+    CHECK(sky_msg_build_state_changed(8, pointers, 2, &after, "") == NULL);
+
+    check_case_name = "schema";
+    struct sky_msg_limits narrow;
+    sky_msg_limits_default(&narrow);
+    narrow.max_width = 800;
+    char *schema = sky_msg_build_schema(&id, &narrow);
+    CHECK(schema && strstr(schema, "9007199254740991") != NULL); /* printed exactly */
+    json = parse_built(schema, "schema");
+    CHECK_STR(string_at(json, "id"), "abc");
+    CHECK_STR(string_at(get(json, "state"), "title"), "skyd world state");
+    CHECK_STR(string_at(get(json, "messages"), "title"), "skyd client messages");
+    const cJSON *width = get(get(get(get(get(json, "messages"), "$defs"), "view"), "properties"),
+                             "width");
+    CHECK_DOUBLE(number_at(width, "maximum"), 800);
+    cJSON_Delete(json);
+    CHECK(sky_msg_build_schema(&id, NULL) == NULL);
 
     check_case_name = "presets";
     const char *names[] = {"earth", "mars"};

@@ -1,9 +1,9 @@
 /* The world state's JSON Schema (protocol/world_schema_json.c) against the field table it is
  * generated from and against the schema engine that validates every `set`: every field is
  * there with its type, range, unit, default and description, nothing else is; the default
- * state conforms to it (checked by a small validator of the keywords the schema uses, written
- * here independently of the generator); and out-of-range values, unknown members and bad enum
- * names that the engine refuses, the schema refuses too. */
+ * state conforms to it (checked by schema_validator.c, written independently of the
+ * generator); and out-of-range values, unknown members and bad enum names that the engine
+ * refuses, the schema refuses too. The client messages' schema: test_message_schema.c. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,92 +13,13 @@
 
 #include "check.h"
 #include "config.h"
+#include "schema_validator.h"
+#include "test_message_schema.h"
 #include "world_state.h"
-
-/* ---- a validator for the keywords the schema uses ---- */
-
-static bool is_date_time(const char *s)
-{
-    int y, mo, d, h, mi;
-    double sec;
-    char z;
-    return sscanf(s, "%4d-%2d-%2dT%2d:%2d:%lf%c", &y, &mo, &d, &h, &mi, &sec, &z) == 7 && z == 'Z';
-}
-
-static bool conforms(const cJSON *schema, const cJSON *value);
-
-static bool conforms_type(const cJSON *schema, const cJSON *value)
-{
-    const cJSON *type = cJSON_GetObjectItemCaseSensitive(schema, "type");
-    if (!type)
-        return true;
-    const char *t = type->valuestring;
-    if (strcmp(t, "object") == 0)
-        return cJSON_IsObject(value);
-    if (strcmp(t, "array") == 0)
-        return cJSON_IsArray(value);
-    if (strcmp(t, "string") == 0)
-        return cJSON_IsString(value);
-    if (strcmp(t, "number") == 0)
-        return cJSON_IsNumber(value);
-    if (strcmp(t, "boolean") == 0)
-        return cJSON_IsBool(value);
-    if (strcmp(t, "integer") == 0)
-        return cJSON_IsNumber(value) && value->valuedouble == floor(value->valuedouble);
-    return false;
-}
 
 static bool conforms(const cJSON *schema, const cJSON *value)
 {
-    if (!conforms_type(schema, value))
-        return false;
-    const cJSON *k;
-    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "minimum")) && cJSON_IsNumber(value) &&
-        value->valuedouble < k->valuedouble)
-        return false;
-    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "maximum")) && cJSON_IsNumber(value) &&
-        value->valuedouble > k->valuedouble)
-        return false;
-    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "enum"))) {
-        bool found = false;
-        const cJSON *name;
-        cJSON_ArrayForEach(name, k) found |= cJSON_Compare(name, value, true);
-        if (!found)
-            return false;
-    }
-    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "format")) &&
-        strcmp(k->valuestring, "date-time") == 0 && !is_date_time(value->valuestring))
-        return false;
-    if (cJSON_IsArray(value)) {
-        int n = cJSON_GetArraySize(value);
-        if ((k = cJSON_GetObjectItemCaseSensitive(schema, "minItems")) && n < k->valueint)
-            return false;
-        if ((k = cJSON_GetObjectItemCaseSensitive(schema, "maxItems")) && n > k->valueint)
-            return false;
-        const cJSON *items = cJSON_GetObjectItemCaseSensitive(schema, "items"), *item;
-        cJSON_ArrayForEach(item, value) if (items && !conforms(items, item)) return false;
-    }
-    if ((k = cJSON_GetObjectItemCaseSensitive(schema, "oneOf"))) {
-        int matches = 0;
-        const cJSON *option;
-        cJSON_ArrayForEach(option, k) matches += conforms(option, value);
-        if (matches != 1)
-            return false;
-    }
-    if (cJSON_IsObject(value)) {
-        const cJSON *properties = cJSON_GetObjectItemCaseSensitive(schema, "properties");
-        const cJSON *closed = cJSON_GetObjectItemCaseSensitive(schema, "additionalProperties");
-        const cJSON *member;
-        cJSON_ArrayForEach(member, value)
-        {
-            const cJSON *sub = cJSON_GetObjectItemCaseSensitive(properties, member->string);
-            if (!sub && cJSON_IsFalse(closed))
-                return false;
-            if (sub && !conforms(sub, member))
-                return false;
-        }
-    }
-    return true;
+    return schema_conforms(schema, schema, value);
 }
 
 /* ---- the schema against the table ---- */
@@ -135,7 +56,8 @@ static const char *expected_type(enum sky_field_type type)
 {
     switch (type) {
     case SKY_FIELD_TYPE_NUMBER: return "number";
-    case SKY_FIELD_TYPE_INT: return "integer";
+    case SKY_FIELD_TYPE_INT:
+    case SKY_FIELD_TYPE_INT64: return "integer";
     case SKY_FIELD_TYPE_INT_PAIR:
     case SKY_FIELD_TYPE_INT_TRIPLE: return "array";
     case SKY_FIELD_TYPE_ENUM:
@@ -352,11 +274,12 @@ static void test_config_schema(const char *shipped_path)
 
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_world_schema CONFIG_JSON\n");
+    if (argc != 3) {
+        fprintf(stderr, "usage: test_world_schema CONFIG_JSON PROTOCOL_MD\n");
         return 2;
     }
     test_config_schema(argv[1]);
+    test_message_schema(argv[2]);
     cJSON *schema = sky_world_state_json_schema();
     CHECK(schema != NULL);
     if (schema) {

@@ -46,8 +46,9 @@ static inline int field_elements(const struct sky_field_desc *field)
     case SKY_FIELD_TYPE_ENUM:
     case SKY_FIELD_TYPE_INT:
     case SKY_FIELD_TYPE_TIME:
-    case SKY_FIELD_TYPE_STRING: /* the configuration's types: none in the world state */
-    case SKY_FIELD_TYPE_BOOL:
+    case SKY_FIELD_TYPE_STRING: /* the configuration's and messages' types: none in the */
+    case SKY_FIELD_TYPE_BOOL:   /* world state */
+    case SKY_FIELD_TYPE_INT64:
         break;
     }
     return 1;
@@ -72,6 +73,7 @@ static inline double read_element(const struct sky_world_state *state, const cha
         return ((const int *)base)[index];
     case SKY_FIELD_TYPE_STRING:
     case SKY_FIELD_TYPE_BOOL:
+    case SKY_FIELD_TYPE_INT64:
         break;
     }
     return NAN;

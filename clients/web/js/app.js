@@ -15,14 +15,15 @@ const $ = (id) => document.getElementById(id);
 const show = (id, text) => { $(id).textContent = text; };
 const TOKEN_KEY = "skyd-controller-token";
 const RESUBSCRIBE_MS = 250;
-const STATE_REFRESH_MS = 250;
 
 const scheme = location.protocol === "https:" ? "wss:" : "ws:";
 let subscription = null;    // the number of the subscription frames are drawn from
 let frameSubscription = null; // the subscription the last `frame` message announced
 let resubscribeTimer = null;
-let stateTimer = null;
 let stateRevision = 0;
+// The world state as get_state gave it at connect (and while the simulation runs), kept
+// current by the values of every state_changed event.
+let state = null;
 
 const connection = new Connection(`${scheme}//${location.host}/`, {
   onStatus: (text) => show("connection", text),
@@ -72,7 +73,7 @@ function handleMessage(msg) {
   case "event":
     if (msg.event === "state_changed") {
       noteRevision(msg.revision);
-      scheduleStateRefresh();
+      applyEvent(msg);
     }
     break;
   case "error":
@@ -87,15 +88,37 @@ async function refreshState() {
   const reply = await request({ type: "get_state" });
   if (reply.type !== "state") return;
   noteRevision(reply.revision);
-  world.update(reply.state);
-  time.update(reply.state);
-  view.update(reply.state);
-  sim.update(reply.state);
+  state = reply.state;
+  world.update(state);
+  time.update(state);
+  view.update(state);
+  sim.update(state);
 }
 
-function scheduleStateRefresh() {
-  if (stateTimer !== null) return;
-  stateTimer = setTimeout(() => { stateTimer = null; refreshState(); }, STATE_REFRESH_MS);
+// Writes a value at a JSON Pointer ("/sun/elevation_deg") of the local state.
+function putAt(pointer, value) {
+  const parts = pointer.split("/").slice(1).map((p) => p.replace(/~1/g, "/").replace(/~0/g, "~"));
+  let node = state;
+  for (const part of parts.slice(0, -1)) {
+    if (node[part] === null || typeof node[part] !== "object") node[part] = {};
+    node = node[part];
+  }
+  node[parts[parts.length - 1]] = value;
+}
+
+// A state_changed event's values go into the local state and on to the controls. The clock
+// and a transition's progress in the local copy are as old as the last get_state (the
+// simulation moves them without events), so the time and the simulation's view take the
+// state only when the event changed them.
+function applyEvent(msg) {
+  if (state === null || !msg.values) return; // the get_state at connect is on its way
+  for (const [pointer, value] of Object.entries(msg.values)) putAt(pointer, value);
+  const changed = Object.keys(msg.values);
+  const touches = (...prefixes) => changed.some((p) => prefixes.some((q) => p.startsWith(q)));
+  world.update(state);
+  view.update(state);
+  if (touches("/clock/utc")) time.update(state);
+  if (touches("/clock/", "/weather/transition/")) sim.update(state);
 }
 
 // Subscribes with the current view; the old subscription ends once the new one is running,
@@ -135,6 +158,7 @@ async function authenticate(token) {
 async function start() {
   subscription = null;
   frameSubscription = null;
+  state = null;
   await request({ type: "hello", client: "skyd-web 0.1", protocol: 1 });
   const token = sessionStorage.getItem(TOKEN_KEY);
   if (token) await authenticate(token);
