@@ -290,6 +290,21 @@ static const struct sky_field_desc *field_at(const char *pointer)
     return sky_world_state_find_field(dotted);
 }
 
+/* "changed" and "values" of an event. */
+static void put_changes(struct builder *b, const char *const *pointers, size_t count,
+                        const struct sky_world_state *state)
+{
+    cJSON *list = put(b, b->root, "changed", cJSON_CreateArray());
+    cJSON *values = put(b, b->root, "values", cJSON_CreateObject());
+    for (size_t i = 0; i < count && b->ok; i++) {
+        const char *pointer = pointers ? pointers[i] : NULL;
+        put_string(b, list, NULL, pointer && (!pointer[0] || pointer[0] == '/') ? pointer : NULL);
+        const struct sky_field_desc *field = pointer ? field_at(pointer) : NULL;
+        if (field && !cJSON_GetObjectItemCaseSensitive(values, pointer))
+            put(b, values, pointer, sky_field_to_json(field, state));
+    }
+}
+
 char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count,
                                   const struct sky_world_state *state, const char *by)
 {
@@ -300,15 +315,21 @@ char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers
     put_string(&b, b.root, "event", "state_changed");
     put_count(&b, b.root, "revision", revision);
     put_string(&b, b.root, "by", by);
-    cJSON *list = put(&b, b.root, "changed", cJSON_CreateArray());
-    cJSON *values = put(&b, b.root, "values", cJSON_CreateObject());
-    for (size_t i = 0; i < count && b.ok; i++) {
-        const char *pointer = pointers ? pointers[i] : NULL;
-        put_string(&b, list, NULL, pointer && (!pointer[0] || pointer[0] == '/') ? pointer : NULL);
-        const struct sky_field_desc *field = pointer ? field_at(pointer) : NULL;
-        if (field && !cJSON_GetObjectItemCaseSensitive(values, pointer))
-            put(&b, values, pointer, sky_field_to_json(field, state));
-    }
+    put_changes(&b, pointers, count, state);
+    return finish(&b);
+}
+
+char *sky_msg_build_simulation_event(uint64_t revision, const char *const *pointers,
+                                     size_t count, const struct sky_world_state *state)
+{
+    struct builder b;
+    begin(&b, "event", NULL);
+    if (!state)
+        b.ok = false;
+    put_string(&b, b.root, "event", "simulation");
+    put_count(&b, b.root, "revision", revision);
+    put_number(&b, b.root, "simulation_time_s", state ? state->clock.utc_unix_s : 0);
+    put_changes(&b, pointers, count, state);
     return finish(&b);
 }
 

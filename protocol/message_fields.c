@@ -34,6 +34,10 @@ static const struct sky_field_desc hello_rows[] = {
      .description = "the client's name and version; other clients' events name it in \"by\""},
     {.path = "protocol", .type = SKY_FIELD_TYPE_INT, .offset = MSG(hello.protocol), .min = 1,
      .max = INT_MAX, .description = "the protocol version the client speaks; this server speaks 1"},
+    {.path = "simulation_events", .type = SKY_FIELD_TYPE_BOOL,
+     .offset = MSG(hello.simulation_events),
+     .description = "also send `simulation` events: at most once a second, the fields the "
+                    "simulation moved (clock, sun, moon, transitions) with their values"},
 };
 
 static const struct sky_field_desc auth_rows[] = {

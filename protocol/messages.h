@@ -168,6 +168,7 @@ struct sky_client_msg {
             bool has_client;
             char client[SKY_MSG_CLIENT_MAX + 1];
             int protocol; /* 0 when absent */
+            bool simulation_events; /* wants `simulation` events (false when absent) */
         } hello;
         struct {
             char token[SKY_MSG_TOKEN_MAX + 1];
@@ -288,6 +289,13 @@ char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription,
  * `by` names who changed it (a client's hello name, or its role). */
 char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count,
                                   const struct sky_world_state *state, const char *by);
+
+/* The fields the simulation itself moved since the last such event (the clock, the sun and
+ * moon from the ephemeris, a transition's progress), as "changed" and "values" are in
+ * state_changed, with the revision they belong to and the simulated time. Sent only to
+ * clients whose hello asked for simulation_events. */
+char *sky_msg_build_simulation_event(uint64_t revision, const char *const *pointers,
+                                     size_t count, const struct sky_world_state *state);
 
 char *sky_msg_build_presets(const struct sky_msg_id *id, enum sky_preset_kind kind,
                             const char *const *names, size_t count);

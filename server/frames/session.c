@@ -36,6 +36,7 @@ struct session {
     pthread_mutex_t lock;
     enum sky_msg_role role;
     char client_name[SKY_MSG_CLIENT_MAX + 1];
+    bool simulation_events;
     bool closed;
     /* close request */
     int close_code;
@@ -138,6 +139,21 @@ void session_set_client_name(struct session *s, const char *name)
 {
     pthread_mutex_lock(&s->lock);
     snprintf(s->client_name, sizeof s->client_name, "%s", name);
+    pthread_mutex_unlock(&s->lock);
+}
+
+bool session_wants_simulation_events(struct session *s)
+{
+    pthread_mutex_lock(&s->lock);
+    bool wanted = s->simulation_events;
+    pthread_mutex_unlock(&s->lock);
+    return wanted;
+}
+
+void session_set_simulation_events(struct session *s, bool wanted)
+{
+    pthread_mutex_lock(&s->lock);
+    s->simulation_events = wanted;
     pthread_mutex_unlock(&s->lock);
 }
 

@@ -52,6 +52,9 @@ void session_set_role(struct session *session, enum sky_msg_role role);
  * SKY_MSG_CLIENT_MAX + 1 bytes); set by the render thread, read anywhere. */
 void session_client_name(struct session *session, char *out, size_t capacity);
 void session_set_client_name(struct session *session, const char *name);
+/* Whether its hello asked for simulation events. */
+bool session_wants_simulation_events(struct session *session);
+void session_set_simulation_events(struct session *session, bool wanted);
 
 /* Queues a text message (copied). Returns false when the queue is over its bound: the session
  * is then marked to close as not reading. A closed session drops it and returns true. */

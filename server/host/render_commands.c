@@ -341,6 +341,7 @@ static void dispatch(struct render_context *ctx, struct session *session,
     case SKY_MSG_HELLO:
         if (msg->hello.has_client)
             session_set_client_name(session, msg->hello.client);
+        session_set_simulation_events(session, msg->hello.simulation_events);
         reply(session, &msg->id, sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
                                                    SKY_ROLE_NONE));
         break;

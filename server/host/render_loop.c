@@ -18,6 +18,8 @@
 static const double SIM_SAVE_PERIOD_S = 30.0;
 /* Free memory is given back to the system at most this often (give_back_free_memory). */
 static const double TRIM_PERIOD_S = 10.0;
+/* Clients that asked hear of the simulation's own changes this often at most. */
+static const double SIMULATION_EVENT_PERIOD_S = 1.0;
 
 enum command_kind { COMMAND_MESSAGE, COMMAND_REPLY, COMMAND_SESSION_CLOSED };
 
@@ -197,6 +199,25 @@ static void give_back_free_memory(struct render_loop *loop, double now, double n
 #endif
 }
 
+static void push_if_wanted(struct session *session, void *text)
+{
+    if (session_wants_simulation_events(session))
+        session_push_text(session, text);
+}
+
+/* What the simulation moved, to the clients that asked (hello's simulation_events), at most
+ * once per SIMULATION_EVENT_PERIOD_S: they need not poll get_state while the clock runs. */
+static void announce_simulation(struct render_loop *loop)
+{
+    char *event = world_host_simulation_event(loop->ctx.world, monotonic_seconds(),
+                                              SIMULATION_EVENT_PERIOD_S);
+    if (!event)
+        return;
+    session_hub_for_each(loop->ctx.hub, push_if_wanted, event);
+    session_hub_wake(loop->ctx.hub);
+    free(event);
+}
+
 /* The tick's heartbeat and gauges for /healthz and /metrics. */
 static void report_tick(struct render_loop *loop, double now)
 {
@@ -237,6 +258,7 @@ static void *thread_main(void *arg)
         world_host_advance(ctx->world, ctx->renderer, monotonic_seconds(),
                            frame_scheduler_subscription_count(ctx->frames) > 0,
                            !last || last->atmosphere_settled);
+        announce_simulation(loop);
 
         /* The tick: every queued command in arrival order, then the frames that are due. */
         bool replied = commands != NULL;

@@ -24,6 +24,9 @@ struct world_host {
     double last_change_s;      /* when that write was last due */
     bool sim_dirty;            /* the simulation changed the state since the last write */
     double last_save_s, last_tick_s;
+    /* The state as clients last heard of it (events), and when a simulation event went. */
+    struct sky_world_state announced;
+    double announced_at_s;
 };
 
 struct world_host *world_host_create(const struct world_host_params *params)
@@ -39,6 +42,8 @@ struct world_host *world_host_create(const struct world_host_params *params)
     h->settled_revision = h->state.revision;
     h->save_delay_s = params->save_delay_s;
     h->last_tick_s = h->last_save_s = params->now_s;
+    h->announced = h->state;
+    h->announced_at_s = params->now_s;
     return h;
 }
 
@@ -131,6 +136,7 @@ bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
     if (memcmp(&before, &after, sizeof before) != 0)
         h->atmosphere_pending = true;
     h->state = *next;
+    h->announced = h->state; /* this commit's event tells everything up to here */
     h->atmosphere = after; /* a client's change is shown at once, not paced like the sim's */
     out->revision = h->state.revision;
     const char *pointers[MAX_CHANGED];
@@ -242,6 +248,28 @@ void world_host_advance(struct world_host *h, struct renderer_host *renderer, do
     } else if (frames_settled) {
         h->atmosphere = fresh;
     }
+}
+
+char *world_host_simulation_event(struct world_host *h, double now_s, double period_s)
+{
+    if (now_s - h->announced_at_s < period_s)
+        return NULL;
+    enum { MAX_CHANGED = 192 };
+    static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
+    size_t count = sky_msg_state_diff(&h->announced, &h->state, changed, MAX_CHANGED);
+    if (count == 0)
+        return NULL;
+    if (count > MAX_CHANGED)
+        count = MAX_CHANGED;
+    const char *pointers[MAX_CHANGED];
+    for (size_t i = 0; i < count; i++)
+        pointers[i] = changed[i];
+    char *event = sky_msg_build_simulation_event(h->state.revision, pointers, count, &h->state);
+    if (event) {
+        h->announced = h->state;
+        h->announced_at_s = now_s;
+    }
+    return event;
 }
 
 void world_host_settle_unwatched(struct world_host *h, struct renderer_host *renderer,

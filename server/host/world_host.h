@@ -71,6 +71,10 @@ void world_host_restore_weather_map(struct world_host *host, struct renderer_hos
  * stays (it counts accepted changes). A haze change is handed to frames once the previous one
  * has settled (frames_settled: the last frame's atmosphere_settled), so a humidity that changes
  * every tick cannot keep restarting the amortized rebuild; unwatched, it is rebuilt at once. */
+/* A `simulation` event (malloc'd) when at least period_s passed since the last one and the
+ * simulation moved fields since clients last heard of the state; NULL otherwise. */
+char *world_host_simulation_event(struct world_host *host, double now_s, double period_s);
+
 void world_host_advance(struct world_host *host, struct renderer_host *renderer, double now_s,
                         bool watched, bool frames_settled);
 

@@ -36,6 +36,14 @@ struct http_api *http_api_create(const struct http_api_params *params)
     return api;
 }
 
+void net_peer_address(struct lws *wsi, char *out, size_t size)
+{
+    out[0] = '\0';
+    lws_get_peer_simple(wsi, out, size);
+    if (strncmp(out, "::ffff:", 7) == 0 && strchr(out, '.')) /* IPv4 on an IPv6 socket */
+        memmove(out, out + 7, strlen(out + 7) + 1);
+}
+
 size_t http_api_request_size(void)
 {
     return sizeof(struct http_request);
@@ -319,7 +327,7 @@ void submit_json(struct http_api *api, struct http_request *r, cJSON *json,
         service_metrics_message(api->metrics, msg.type);
         if (protocol_message_needs_controller(msg.type)) {
             char peer[64] = "";
-            lws_get_peer_simple(r->wsi, peer, sizeof peer);
+            net_peer_address(r->wsi, peer, sizeof peer);
             skyd_log(SKYD_LOG_WARNING, "PATCH /api/state from %s refused: %s", peer,
                      error.message);
         }
@@ -334,7 +342,7 @@ void submit_json(struct http_api *api, struct http_request *r, cJSON *json,
 static bool take_rate_token(struct http_api *api, struct lws *wsi)
 {
     char address[64] = "";
-    lws_get_peer_simple(wsi, address, sizeof address);
+    net_peer_address(wsi, address, sizeof address);
     double now = monotonic_seconds(), rate = api->limits->control_messages_per_second;
     struct rate_peer *peer = NULL, *oldest = &api->peers[0];
     for (int i = 0; i < RATE_PEERS && !peer; i++) {
@@ -439,7 +447,7 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
     enum live_token_check token = r->patch ? check_bearer_token(api, wsi) : LIVE_TOKEN_MATCHES;
     if (token != LIVE_TOKEN_MATCHES) {
         char peer[64] = "";
-        lws_get_peer_simple(wsi, peer, sizeof peer);
+        net_peer_address(wsi, peer, sizeof peer);
         skyd_log(SKYD_LOG_WARNING, "PATCH /api/state from %s: auth failed (%s)", peer,
                  token == LIVE_TOKEN_WRONG ? "wrong or missing bearer token" : "nobody controls");
         respond_error(api, r, 0, SKY_MSG_ERR_AUTH_FAILED,

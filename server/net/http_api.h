@@ -47,6 +47,9 @@ size_t http_api_request_size(void);
 int http_api_callback(struct http_api *api, struct lws *wsi, enum lws_callback_reasons reason,
                       void *user, void *in, size_t len);
 
+/* The peer's address for logs and rate limits ("127.0.0.1", not "::ffff:127.0.0.1"). */
+void net_peer_address(struct lws *wsi, char *out, size_t size);
+
 /* Some session gained output: requests whose reply is ready are scheduled for writing. */
 void http_api_wake(struct http_api *api);
 

@@ -70,7 +70,7 @@ static int confirm_upgrade(struct ws_server *srv, struct lws *wsi)
                                                      WSI_TOKEN_ORIGIN) < 0 ||
         !origin_allowed(srv, origin)) {
         char peer[64] = "";
-        lws_get_peer_simple(wsi, peer, sizeof peer);
+        net_peer_address(wsi, peer, sizeof peer);
         skyd_log(SKYD_LOG_WARNING, "refused a WebSocket from %s: origin %s is not allowed", peer,
                  origin);
         /* Written whole: lws's own status helpers say HTTP/1.0 at this stage, which strict
@@ -100,9 +100,7 @@ static void queue_and_wake(struct lws *wsi, struct session *session, char *text)
 static int on_established(struct ws_server *srv, struct lws *wsi, struct connection *c)
 {
     c->number = ++srv->connections;
-    lws_get_peer_simple(wsi, c->peer, sizeof c->peer);
-    if (strncmp(c->peer, "::ffff:", 7) == 0 && strchr(c->peer, '.')) /* IPv4 on a v6 socket */
-        memmove(c->peer, c->peer + 7, strlen(c->peer + 7) + 1);
+    net_peer_address(wsi, c->peer, sizeof c->peer);
     char origin[128] = "";
     if (lws_hdr_total_length(wsi, WSI_TOKEN_ORIGIN) < (int)sizeof origin)
         lws_hdr_copy(wsi, origin, sizeof origin, WSI_TOKEN_ORIGIN);

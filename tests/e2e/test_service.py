@@ -11,6 +11,8 @@ Usage: /usr/bin/python3 tests/e2e/test_service.py PATH_TO_SKYD SCRATCH_DIR UNIT_
   that wait for a restart) and no token; the client keeps its connection and role; new
   connections see the new limits, token and origins, over WebSocket and HTTP. A configuration
   that does not load changes nothing; read_only then refuses every auth.
+- Simulation events: a client whose hello asks hears the running clock about once a second;
+  others hear nothing.
 - Logging: each connection is logged (opened and closed), an auth failure and a refused change
   are logged, tokens never are; --log-level warning hides the connections; a bad level exits 2.
 - config/skyd.service passes `systemd-analyze verify` (with the paths of this build).
@@ -245,6 +247,50 @@ async def check_reload(skyd, scratch):
     check("log: no token in the log", TOKEN not in log and NEW_TOKEN not in log)
 
 
+async def check_simulation_events(skyd, scratch):
+    """A client whose hello asks for simulation events hears the running clock and the sun
+    once a second, without a revision; a client that did not ask hears nothing."""
+    config = make_config(scratch, os.path.join(scratch, "sim-state.json"))
+    config["initial_state"] = {"clock": {"utc": "2026-06-21T18:00:00Z", "time_scale": 60,
+                                         "sky_bodies": "ephemeris"}}
+    for stale in (config["state_file"],):
+        if os.path.exists(stale):
+            os.remove(stale)
+    daemon = Daemon(skyd, scratch, "simulation", config)
+    daemon.start()
+    try:
+        wants = await Client.connect(daemon.url(), "wants")
+        await wants.request({"type": "hello", "id": 1, "client": "sim", "simulation_events": True})
+        plain = await Client.connect(daemon.url(), "plain")
+        await plain.request({"type": "hello", "id": 1, "client": "plain"})
+        start = (await wants.get_state())
+        await asyncio.gather(wants.pump(3.2), plain.pump(3.2))
+        sims = [e for e in wants.events if e.get("event") == "simulation"]
+        check("simulation events: about one a second", 2 <= len(sims) <= 4, str(len(sims)))
+        check("simulation events: none to a client that did not ask",
+              not [e for e in plain.events if e.get("event") == "simulation"],
+              short(plain.events))
+        if sims:
+            last = sims[-1]
+            values = last.get("values", {})
+            check("simulation events: the clock, the sun, their values",
+                  {"/clock/utc", "/sun/elevation_deg"} <= set(last.get("changed", [])) and
+                  set(last.get("changed", [])) == set(values), short(last))
+            check("simulation events: the revision stays",
+                  all(e.get("revision") == start["revision"] for e in sims), short(sims))
+            times = [e.get("simulation_time_s", 0) for e in sims]
+            check("simulation events: simulated time runs at 60x",
+                  all(40 < b - a < 100 for a, b in zip(times, times[1:])), str(times))
+            now = await wants.get_state()
+            check("simulation events: their values are the state's",
+                  abs(now["state"]["sun"]["elevation_deg"] - values.get("/sun/elevation_deg", 1e9))
+                  < 1.0, f"{now['state']['sun']['elevation_deg']} vs {short(values)}")
+        await wants.close()
+        await plain.close()
+    finally:
+        daemon.terminate()
+
+
 async def check_log_level(skyd, scratch):
     bad = subprocess.run([skyd, "serve", "--log-level", "loud"], capture_output=True, text=True,
                          timeout=30)
@@ -290,6 +336,7 @@ async def run(skyd, scratch):
     check_unit(skyd)
     await check_notify(skyd, scratch)
     await check_reload(skyd, scratch)
+    await check_simulation_events(skyd, scratch)
     await check_log_level(skyd, scratch)
 
 

@@ -11,6 +11,9 @@
 
 const struct protocol_client_example protocol_client_examples[] = {
     {"{\"type\":\"hello\",\"id\":1,\"client\":\"sky-web 0.1\",\"protocol\":1}", SKY_MSG_HELLO},
+    {"{\"type\":\"hello\",\"id\":2,\"client\":\"sky-web 0.1\",\"protocol\":1,"
+     "\"simulation_events\":true}",
+     SKY_MSG_HELLO},
     {"{\"type\":\"auth\",\"id\":2,\"token\":\"s3cret-token\"}", SKY_MSG_AUTH},
     {"{\"type\":\"get_state\",\"id\":3}", SKY_MSG_GET_STATE},
     {"{\"type\":\"set\",\"id\":4,\"patch\":{\"sun\":{\"elevation_deg\":2,\"azimuth_deg\":250},"
@@ -81,14 +84,14 @@ static size_t build_server_examples(char **out, size_t max)
     sky_client_msg_free(&msg);
     ADD(sky_msg_build_error(&id4, SKY_MSG_ERR_FORBIDDEN, "set needs the controller role", NULL));
 
-    parse(protocol_client_examples[4].text, &msg, &error);
+    parse(protocol_client_examples[5].text, &msg, &error);
     ADD(sky_msg_build_subscribed(&msg.id, 1, &msg.view));
     sky_client_msg_free(&msg);
     ADD(sky_msg_build_frame(NULL, 1, 42));
     ADD(sky_msg_build_frame(&id7, 0, 43));
 
     struct sky_world_state after = state;
-    parse(protocol_client_examples[3].text, &msg, &error);
+    parse(protocol_client_examples[4].text, &msg, &error);
     sky_world_state_apply_patch(&after, msg.set.patch, NULL);
     sky_client_msg_free(&msg);
     after.revision = 6;
@@ -99,6 +102,14 @@ static size_t build_server_examples(char **out, size_t max)
         pointers[i] = changed[i];
     ADD(sky_msg_build_state_changed(after.revision, pointers, changed_count, &after,
                                     "sky-web 0.1"));
+    struct sky_world_state moved = after;
+    moved.clock.utc_unix_s = 1782066600.25;
+    moved.sun.elevation_deg = 11.42;
+    moved.sun.azimuth_deg = 295.1;
+    changed_count = sky_msg_state_diff(&after, &moved, changed, 8);
+    for (size_t i = 0; i < changed_count && i < 8; i++)
+        pointers[i] = changed[i];
+    ADD(sky_msg_build_simulation_event(moved.revision, pointers, changed_count, &moved));
 
     const char *presets[] = {"earth", "mars"};
     ADD(sky_msg_build_presets(&id11, SKY_PRESET_ATMOSPHERE, presets, 2));

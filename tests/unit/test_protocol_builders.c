@@ -119,7 +119,7 @@ void test_builders(void)
     check_case_name = "subscribed round trip";
     struct sky_client_msg msg, again;
     struct sky_msg_parse_error error;
-    CHECK_INT(parse(protocol_client_examples[4].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[5].text, &msg, &error), SKY_MSG_OK);
     json = parse_built(sky_msg_build_subscribed(&msg.id, 3, &msg.view), "subscribed");
     CHECK_STR(string_at(json, "id"), "main-view");
     CHECK_DOUBLE(number_at(json, "subscription"), 3);

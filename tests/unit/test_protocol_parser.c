@@ -112,9 +112,15 @@ void test_parsed_values(void)
     CHECK_INT(msg.hello.protocol, 1);
     CHECK_INT(msg.id.kind, SKY_MSG_ID_INTEGER);
     CHECK_INT(msg.id.number, 1);
+    CHECK(!msg.hello.simulation_events);
+    CHECK_INT(parse(protocol_client_examples[1].text, &msg, &error), SKY_MSG_OK);
+    CHECK(msg.hello.simulation_events);
+    CHECK_INT(parse("{\"type\":\"hello\",\"simulation_events\":1}", &msg, &error),
+              SKY_MSG_ERR_WRONG_TYPE);
+    CHECK_STR(error.fields.items[0].pointer, "/simulation_events");
 
     check_case_name = "auth values";
-    CHECK_INT(parse(protocol_client_examples[1].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[2].text, &msg, &error), SKY_MSG_OK);
     CHECK_STR(msg.auth.token, "s3cret-token");
 
     check_case_name = "id kinds";
@@ -154,7 +160,7 @@ void test_parsed_values(void)
     cJSON_Delete(json);
 
     check_case_name = "patch is validated once and applies";
-    CHECK_INT(parse(protocol_client_examples[3].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[4].text, &msg, &error), SKY_MSG_OK);
     CHECK(msg.set.patch != NULL && msg.set.patch->count > 0);
     struct sky_world_state state;
     sky_world_state_defaults(&state);
@@ -179,7 +185,7 @@ void test_parsed_values(void)
     sky_client_msg_free(&msg);
 
     check_case_name = "view defaults";
-    CHECK_INT(parse(protocol_client_examples[6].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[7].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.view.width, 640);
     CHECK_INT(msg.view.height, 360);
     CHECK_DOUBLE(msg.view.fps, 10);
@@ -190,7 +196,7 @@ void test_parsed_values(void)
     CHECK(!msg.view.has_exposure_mode && !msg.view.has_ev100 && !msg.view.has_compensation_ev);
     struct sky_msg_limits slow = test_limits();
     slow.max_fps = 4;
-    const char *snapshot = protocol_client_examples[6].text;
+    const char *snapshot = protocol_client_examples[7].text;
     CHECK_INT(parse_with(snapshot, strlen(snapshot), &slow, &msg, &error), SKY_MSG_OK);
     CHECK_DOUBLE(msg.view.fps, 4);
 
@@ -202,7 +208,7 @@ void test_parsed_values(void)
     CHECK_INT(msg.view.width, 2 * msg.view.height);
 
     check_case_name = "view given";
-    CHECK_INT(parse(protocol_client_examples[4].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[5].text, &msg, &error), SKY_MSG_OK);
     CHECK(msg.view.has_yaw_deg && msg.view.has_fov_deg && !msg.view.has_pitch_deg);
     CHECK_DOUBLE(msg.view.yaw_deg, 200);
     CHECK_DOUBLE(msg.view.fov_deg, 60);
@@ -226,26 +232,26 @@ void test_parsed_values(void)
     CHECK_INT(exposure.tonemap, state.exposure.tonemap);
 
     check_case_name = "probe values";
-    CHECK_INT(parse(protocol_client_examples[8].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[9].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.probe.quantity, SKY_PROBE_LUMINANCE);
     CHECK_DOUBLE(msg.probe.view_zenith_deg, 45);
     CHECK_DOUBLE(msg.probe.view_azimuth_deg, 90);
     CHECK_DOUBLE(msg.probe.sun_zenith_deg, 30);
-    CHECK_INT(parse(protocol_client_examples[7].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[8].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.probe.quantity, SKY_PROBE_TRANSMITTANCE);
     CHECK_DOUBLE(msg.probe.mu, 0.5);
 
     check_case_name = "preset values";
-    CHECK_INT(parse(protocol_client_examples[11].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[12].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.preset.kind, SKY_PRESET_ATMOSPHERE);
     CHECK_STR(msg.preset.name, "mars");
     CHECK(!msg.preset.has_transition);
-    CHECK_INT(parse(protocol_client_examples[13].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[14].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.preset.kind, SKY_PRESET_WEATHER);
     CHECK_STR(msg.preset.name, "storm");
     CHECK(msg.preset.has_transition);
     CHECK_DOUBLE(msg.preset.transition_s, 1200);
-    CHECK_INT(parse(protocol_client_examples[5].text, &msg, &error), SKY_MSG_OK);
+    CHECK_INT(parse(protocol_client_examples[6].text, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.unsubscribe.subscription, 1);
 
     check_case_name = "roles";

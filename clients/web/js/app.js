@@ -21,8 +21,9 @@ let subscription = null;    // the number of the subscription frames are drawn f
 let frameSubscription = null; // the subscription the last `frame` message announced
 let resubscribeTimer = null;
 let stateRevision = 0;
-// The world state as get_state gave it at connect (and while the simulation runs), kept
-// current by the values of every state_changed event.
+// The world state as get_state gave it at connect, kept current by the values of every
+// state_changed event and of the simulation events (the clock, the sun and moon, transitions)
+// the hello asks for: no get_state after that.
 let state = null;
 
 const connection = new Connection(`${scheme}//${location.host}/`, {
@@ -71,7 +72,7 @@ function handleMessage(msg) {
     frameSubscription = msg.subscription === undefined ? null : msg.subscription;
     break;
   case "event":
-    if (msg.event === "state_changed") {
+    if (msg.event === "state_changed" || msg.event === "simulation") {
       noteRevision(msg.revision);
       applyEvent(msg);
     }
@@ -106,10 +107,10 @@ function putAt(pointer, value) {
   node[parts[parts.length - 1]] = value;
 }
 
-// A state_changed event's values go into the local state and on to the controls. The clock
-// and a transition's progress in the local copy are as old as the last get_state (the
-// simulation moves them without events), so the time and the simulation's view take the
-// state only when the event changed them.
+// An event's values (a client's state_changed, or the simulation's own once a second) go into
+// the local state and on to the controls; the time and the simulation's view take the state
+// only when the event changed them, so that a drag of the time slider is not undone between
+// clock events.
 function applyEvent(msg) {
   if (state === null || !msg.values) return; // the get_state at connect is on its way
   for (const [pointer, value] of Object.entries(msg.values)) putAt(pointer, value);
@@ -159,7 +160,7 @@ async function start() {
   subscription = null;
   frameSubscription = null;
   state = null;
-  await request({ type: "hello", client: "skyd-web 0.1", protocol: 1 });
+  await request({ type: "hello", client: "skyd-web 0.1", protocol: 1, simulation_events: true });
   const token = sessionStorage.getItem(TOKEN_KEY);
   if (token) await authenticate(token);
   await resubscribe();
@@ -185,5 +186,4 @@ setInterval(async () => {
     stats.update(reply);
     if (frames.count === 0) time.tick(reply.simulation_time_s, null);
   }
-  if (sim.running()) refreshState();
 }, 1000);
