@@ -443,11 +443,8 @@ size_t sky_msg_state_diff(const struct sky_world_state *before,
         if (memcmp((const char *)before + fields[i].offset, (const char *)after + fields[i].offset,
                    size) == 0)
             continue;
-        if (changed < max) {
-            snprintf(pointers[changed], SKY_MSG_POINTER_MAX, "/%s", fields[i].path);
-            for (char *c = pointers[changed]; *c; c++)
-                *c = *c == '.' ? '/' : *c;
-        }
+        if (changed < max)
+            sky_field_pointer(&fields[i], pointers[changed], SKY_MSG_POINTER_MAX);
         changed++;
     }
     return changed;

@@ -172,6 +172,11 @@ void schema_pointer_from_dotted(const char *dotted_path, char *pointer, size_t c
     }
 }
 
+void sky_field_pointer(const struct sky_field_desc *field, char *pointer, size_t capacity)
+{
+    schema_pointer_from_dotted(field->path, pointer, capacity);
+}
+
 /* Shortest text that reads back as the same double. */
 void schema_format_number(double value, char *text, size_t capacity)
 {

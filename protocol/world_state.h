@@ -382,6 +382,10 @@ bool sky_world_state_apply_patch(struct sky_world_state *state, const struct sky
  * sky_world_state_to_json and sky_schema_to_json write it; NULL when memory is out. */
 struct cJSON *sky_field_to_json(const struct sky_field_desc *field, const void *base);
 
+/* The field's JSON Pointer ("/atmosphere/mie/g" for "atmosphere.mie.g"), truncated to
+ * capacity. */
+void sky_field_pointer(const struct sky_field_desc *field, char *pointer, size_t capacity);
+
 /* The bytes a field takes in its struct. */
 size_t sky_field_size(const struct sky_field_desc *field);
 

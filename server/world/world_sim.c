@@ -225,14 +225,6 @@ static bool listed(const char *path, const char *const *list, size_t count)
     return false;
 }
 
-static void pointer_of(const char *path, char *pointer, size_t capacity)
-{
-    snprintf(pointer, capacity, "/%s", path);
-    for (char *c = pointer; *c; c++)
-        if (*c == '.')
-            *c = '/';
-}
-
 bool world_sim_check_client_patch(const struct sky_world_state *before,
                                   const struct sky_world_state *after,
                                   const struct sky_world_patch *patch,
@@ -247,7 +239,7 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
                    sky_field_size(f)) == 0 || !sky_world_patch_names(patch, f))
             continue;
         char pointer[128];
-        pointer_of(f->path, pointer, sizeof pointer);
+        sky_field_pointer(f, pointer, sizeof pointer);
         if (f->read_only) {
             sky_field_errors_add(errors, SKY_FIELD_BAD_VALUE, pointer,
                                  "read-only: kept by the simulation (apply_preset with "
