@@ -12,6 +12,7 @@
 #include "messages.h"
 #include "schema_validator.h"
 #include "test_message_schema.h"
+#include "text_file.h"
 
 static bool parses(const char *text)
 {
@@ -32,25 +33,10 @@ static bool conforms_text(const cJSON *schema, const char *text)
     return ok;
 }
 
-static char *read_text(const char *path)
-{
-    FILE *file = fopen(path, "rb");
-    if (!file)
-        return NULL;
-    fseek(file, 0, SEEK_END);
-    long size = ftell(file);
-    fseek(file, 0, SEEK_SET);
-    char *text = size >= 0 ? malloc((size_t)size + 1) : NULL;
-    if (text)
-        text[fread(text, 1, (size_t)size, file)] = '\0';
-    fclose(file);
-    return text;
-}
-
 /* Every "```json client" block of PROTOCOL.md. */
 static void test_documented_examples(const cJSON *schema, const char *protocol_md)
 {
-    char *doc = read_text(protocol_md);
+    char *doc = text_file_read(protocol_md, 1 << 22, &(size_t){0});
     check_case_name = protocol_md;
     CHECK(doc != NULL);
     const char *fence = "```json client\n";

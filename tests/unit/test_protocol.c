@@ -6,6 +6,7 @@
  * example in it is checked against the tables below, so the document cannot drift.
  */
 #include "test_protocol.h"
+#include "text_file.h"
 
 /* ---- the documented examples (also in protocol/PROTOCOL.md, in this order) -------------- */
 
@@ -156,23 +157,6 @@ static bool same_json(const cJSON *a, const cJSON *b)
     return cJSON_Compare(a, b, true);
 }
 
-static char *read_file(const char *path)
-{
-    FILE *file = fopen(path, "rb");
-    if (!file)
-        return NULL;
-    fseek(file, 0, SEEK_END);
-    long size = ftell(file);
-    fseek(file, 0, SEEK_SET);
-    char *text = size >= 0 ? malloc((size_t)size + 1) : NULL;
-    if (text) {
-        size_t got = fread(text, 1, (size_t)size, file);
-        text[got] = '\0';
-    }
-    fclose(file);
-    return text;
-}
-
 /* Finds the blocks fenced by "```json <role>" lines; returns how many, storing up to max. */
 static size_t doc_blocks(const char *doc, const char *role, char **out, size_t max)
 {
@@ -208,7 +192,7 @@ static void test_documented_examples(const char *doc_path)
         sky_client_msg_free(&msg);
     }
 
-    char *doc = read_file(doc_path);
+    char *doc = text_file_read(doc_path, 1 << 22, &(size_t){0});
     check_case_name = doc_path;
     CHECK(doc != NULL);
     if (!doc)
