@@ -61,6 +61,7 @@ static void forget_pending(struct http_api *api, struct http_request *r)
     }
     r->pending = false;
     r->next_pending = NULL;
+    api->pending_count--;
 }
 
 /* Ends whatever the request holds: its session leaves the render loop's books. */
@@ -287,6 +288,14 @@ static void submit(struct http_api *api, struct http_request *r, struct sky_clie
                    enum sky_msg_role role)
 {
     service_metrics_message(api->metrics, msg->type);
+    if (api->pending_count >= api->limits->max_clients) {
+        sky_client_msg_free(msg);
+        char message[128];
+        snprintf(message, sizeof message, "too many HTTP requests waiting for a reply: at most %d "
+                 "(max_clients)", api->limits->max_clients);
+        respond_error(api, r, 0, SKY_MSG_ERR_LIMIT_REACHED, message, NULL);
+        return;
+    }
     r->session = session_create();
     if (!r->session || !api->loop) {
         sky_client_msg_free(msg);
@@ -303,6 +312,7 @@ static void submit(struct http_api *api, struct http_request *r, struct sky_clie
     r->pending = true;
     r->next_pending = api->pending;
     api->pending = r;
+    api->pending_count++;
     render_loop_submit_message(api->loop, r->session, msg);
 }
 

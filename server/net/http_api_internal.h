@@ -62,6 +62,7 @@ struct http_api {
     struct render_loop *loop;
     struct service_metrics *metrics;
     struct http_request *pending;
+    int pending_count;               /* bounded by max_clients */
     struct rate_peer peers[RATE_PEERS];
     struct lws_http_mount mounts[3];
 };
