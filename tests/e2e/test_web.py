@@ -96,12 +96,15 @@ class WebDriver:
             raise RuntimeError(f"WebDriver {method} {path}: {e.code} "
                                f"{e.read().decode(errors='replace')[:400]}") from None
 
-    def start(self, width, height):
+    def start(self, width, height, prefs=None):
         args = ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
                 "--no-first-run", "--disable-extensions", f"--window-size={width},{height}"]
+        options = {"binary": CHROMIUM, "args": args}
+        if prefs:
+            options["prefs"] = prefs
         caps = {"capabilities": {"alwaysMatch": {
             "browserName": "chrome",
-            "goog:chromeOptions": {"binary": CHROMIUM, "args": args},
+            "goog:chromeOptions": options,
             "goog:loggingPrefs": {"browser": "ALL"},
         }}}
         value = self.call("POST", "/session", caps)
@@ -248,7 +251,8 @@ def run_checks(wd, daemon, out):
           wait_for("pass legend", lambda: wd.js(
               "return document.querySelectorAll('#pass-legend li').length;") > 0), "")
 
-    # A viewer's set is refused next to the control (forbidden), before becoming controller.
+    # A viewer's set is refused next to the control (forbidden), before becoming controller:
+    # the page disables the control for a viewer, and a script's change still reaches the server.
     wd.js("const s = document.getElementById('humidity'); s.value = '0.9';"
           "s.dispatchEvent(new Event('change'));")
     forbidden = wait_for("forbidden", lambda: "forbidden" in (wd.text(

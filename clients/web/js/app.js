@@ -1,15 +1,21 @@
 // The skyd web client: wires the connection to the live view, the world-state controls, the
 // camera/exposure view, presets, statistics and the session's role.
 
+import { ClockButtons } from "./clock_buttons.js";
 import { Connection } from "./connection.js";
 import { clearErrors, showError, showReplyError } from "./field_errors.js";
 import { FrameView } from "./frame_view.js";
+import { applyRole } from "./locks.js";
+import { PanoramaView } from "./panorama_view.js";
 import { Presets } from "./presets.js";
+import { ProbePanel } from "./probe_panel.js";
+import { SnapshotPanel } from "./snapshot_panel.js";
 import { StatsPanel } from "./stats_panel.js";
 import { TimeControls } from "./time_controls.js";
 import { ViewControls } from "./view_controls.js";
 import { WorldControls } from "./world_controls.js";
 import { WorldSimView } from "./world_sim_view.js";
+import { WeatherMapPanel } from "./weather_map_panel.js";
 
 const $ = (id) => document.getElementById(id);
 const show = (id, text) => { $(id).textContent = text; };
@@ -55,6 +61,18 @@ const view = new ViewControls($("view"), () => scheduleResubscribe());
 const presets = new Presets(request);
 const stats = new StatsPanel();
 const sim = new WorldSimView();
+const clock = new ClockButtons(sendSet);
+const probe = new ProbePanel($("view"), request, () => view.shown);
+new PanoramaView($("panorama"), () => view.view(), () => view.shown);
+new SnapshotPanel(() => view.view(), () => state && state.clock && state.clock.utc);
+new WeatherMapPanel(request, noteRevision);
+
+// Controls that need the controller role are disabled until an auth makes this session one.
+function setRole(role) {
+  show("role", role);
+  applyRole(role);
+}
+setRole("viewer");
 
 function noteRevision(revision) {
   if (typeof revision === "number" && revision >= stateRevision) {
@@ -66,7 +84,7 @@ function noteRevision(revision) {
 function handleMessage(msg) {
   switch (msg.type) {
   case "hello":
-    show("role", msg.role);
+    setRole(msg.role);
     break;
   case "frame":
     frameSubscription = msg.subscription === undefined ? null : msg.subscription;
@@ -94,6 +112,8 @@ async function refreshState() {
   time.update(state);
   view.update(state);
   sim.update(state);
+  clock.update(state);
+  probe.update(state);
 }
 
 // Writes a value at a JSON Pointer ("/sun/elevation_deg") of the local state.
@@ -118,6 +138,8 @@ function applyEvent(msg) {
   const touches = (...prefixes) => changed.some((p) => prefixes.some((q) => p.startsWith(q)));
   world.update(state);
   view.update(state);
+  clock.update(state);
+  probe.update(state);
   if (touches("/clock/utc")) time.update(state);
   if (touches("/clock/", "/weather/transition/")) sim.update(state);
 }
@@ -146,7 +168,7 @@ function scheduleResubscribe() {
 async function authenticate(token) {
   const reply = await request({ type: "auth", token });
   if (reply.type === "ack") {
-    show("role", reply.role);
+    setRole(reply.role);
     sessionStorage.setItem(TOKEN_KEY, token);
     clearErrors(["token"]);
   } else {

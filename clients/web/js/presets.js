@@ -3,6 +3,7 @@
 // The weather kind takes an optional transition time.
 
 import { clearErrors, showError, showReplyError } from "./field_errors.js";
+import { setLock } from "./locks.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -21,14 +22,14 @@ export class Presets {
       const key = `preset:${kind}`;
       if (reply.type !== "presets" || !Array.isArray(reply.names)) {
         select.replaceChildren();
-        select.disabled = true;
+        setLock(select, "no-presets", true);
         if (reply.type === "error") showError(key, `${reply.message || reply.code} (${reply.code})`);
         continue;
       }
       const current = select.value;
       select.replaceChildren(...reply.names.map((name) => new Option(name, name)));
       if (reply.names.includes(current)) select.value = current;
-      select.disabled = reply.names.length === 0;
+      setLock(select, "no-presets", reply.names.length === 0);
       clearErrors([key]);
     }
   }

@@ -2,6 +2,8 @@
 // for the state while it runs): the sun and moon in ephemeris mode, whose sliders are then
 // read-only, and a weather transition's progress (weather.transition.*, read-only).
 
+import { setLock } from "./locks.js";
+
 const $ = (id) => document.getElementById(id);
 const SUN_SLIDERS = ["sun-elevation", "sun-azimuth"];
 
@@ -16,7 +18,7 @@ export class WorldSimView {
   update(state) {
     this.state = state;
     const ephemeris = state.clock && state.clock.sky_bodies === "ephemeris";
-    for (const id of SUN_SLIDERS) $(id).disabled = ephemeris;
+    for (const id of SUN_SLIDERS) setLock($(id), "ephemeris", ephemeris);
     this.note.textContent = ephemeris
       ? "The server places the sun and moon for the clock and location."
       : "Set the sun by hand; the clock does not move it.";
