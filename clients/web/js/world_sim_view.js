@@ -1,6 +1,6 @@
-// What the daemon's world simulation moves on its own (no event tells of it, so the page asks
-// for the state while it runs): the sun and moon in ephemeris mode, whose sliders are then
-// read-only, and a weather transition's progress (weather.transition.*, read-only).
+// What the daemon's world simulation moves on its own (the page hears of it through the
+// simulation events its hello asks for): the sun and moon in ephemeris mode, whose sliders are
+// then read-only, and a weather transition's progress (weather.transition.*, read-only).
 
 import { setLock } from "./locks.js";
 
