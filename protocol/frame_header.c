@@ -59,7 +59,8 @@ static uint64_t get_u64(const uint8_t *p)
 
 static int format_is_known(uint32_t format)
 {
-    return format == SKY_FRAME_FORMAT_PNG || format == SKY_FRAME_FORMAT_PNG16;
+    return format == SKY_FRAME_FORMAT_PNG || format == SKY_FRAME_FORMAT_PNG16 ||
+           format == SKY_FRAME_FORMAT_JPEG;
 }
 
 enum sky_frame_header_status sky_frame_header_pack(const struct sky_frame_header *header,

@@ -1,10 +1,10 @@
 /* Binary frame header, version 1: the first 48 bytes of every binary WebSocket message the
- * server sends, followed by payload_length bytes of image data (PNG in version 1).
+ * server sends, followed by payload_length bytes of image data (a PNG or a JPEG file).
  *
  *   offset size  field
  *    0      4    magic "SKYF"
  *    4      2    header_version, u16 = 1
- *    6      2    format, u16 (1 = PNG)
+ *    6      2    format, u16 (1 = PNG, 2 = PNG16, 3 = JPEG)
  *    8      8    frame_number, u64
  *   16      8    state_revision, u64
  *   24      8    simulation_time_s, IEEE 754 binary64
@@ -28,6 +28,7 @@
 enum sky_frame_format {
     SKY_FRAME_FORMAT_PNG = 1,   /* 8-bit sRGB RGBA, exposed and tonemapped */
     SKY_FRAME_FORMAT_PNG16 = 2, /* 16-bit linear-light RGB before the tonemap (server/frames/png_write.h) */
+    SKY_FRAME_FORMAT_JPEG = 3,  /* baseline JPEG of the same pixels as PNG, 4:2:0 */
 };
 
 struct sky_frame_header {

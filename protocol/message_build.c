@@ -258,6 +258,10 @@ char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscriptio
     if (v->has_compensation_ev)
         put_number(&b, exposure, "compensation_ev", v->compensation_ev);
     put_string(&b, view, "format", name_of(sky_msg_format_names, COUNT_OF(sky_msg_format_names), (int)v->format));
+    if (v->format == SKY_FRAME_FORMAT_JPEG)
+        put_count(&b, view, "quality", (uint64_t)v->quality);
+    if (v->max_kbps > 0)
+        put_number(&b, view, "max_kbps", v->max_kbps);
     put_string(&b, view, "projection", name_of(sky_msg_projection_names,
                                                COUNT_OF(sky_msg_projection_names),
                                                (int)v->projection));
@@ -374,7 +378,8 @@ char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stat
     struct builder b;
     begin(&b, "stats", id);
     if (!stats || !(stats->fps >= 0) || stats->clients < 0 || stats->pass_count > SKY_MSG_MAX_PASSES ||
-        (stats->pass_count > 0 && !stats->passes) || !(stats->lut_rebuild_progress >= 0) ||
+        (stats->pass_count > 0 && !stats->passes) ||
+        (stats->subscription_count > 0 && !stats->subscriptions) || !(stats->lut_rebuild_progress >= 0) ||
         !(stats->lut_rebuild_progress <= 1) || !isfinite(stats->simulation_time_s)) {
         b.ok = false;
         return finish(&b);
@@ -392,5 +397,21 @@ char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stat
     }
     put_number(&b, b.root, "lut_rebuild_progress", stats->lut_rebuild_progress);
     put_number(&b, b.root, "simulation_time_s", stats->simulation_time_s);
+    cJSON *subscriptions = put(&b, b.root, "subscriptions", cJSON_CreateArray());
+    for (size_t i = 0; i < stats->subscription_count && b.ok; i++) {
+        const struct sky_msg_subscription_stats *s = &stats->subscriptions[i];
+        if (s->subscription == 0 || !(s->fps > 0) || s->quality < 0 || !(s->max_kbps >= 0)) {
+            b.ok = false;
+            break;
+        }
+        cJSON *item = put(&b, subscriptions, NULL, cJSON_CreateObject());
+        put_count(&b, item, "subscription", s->subscription);
+        put_count(&b, item, "bytes_sent", s->bytes_sent);
+        put_number(&b, item, "fps", s->fps);
+        if (s->quality > 0)
+            put_count(&b, item, "quality", (uint64_t)s->quality);
+        if (s->max_kbps > 0)
+            put_number(&b, item, "max_kbps", s->max_kbps);
+    }
     return finish(&b);
 }

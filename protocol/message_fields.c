@@ -226,7 +226,17 @@ static const struct sky_field_desc view_rows[MSG_VIEW_ROWS] = {
                                    compensation_ev),
     [MSG_VIEW_FORMAT] = {.path = "format", .type = SKY_FIELD_TYPE_ENUM, .offset = VIEW(format),
                          NAMES(sky_msg_format_names),
-                         .description = "png: 8-bit sRGB, exposed; png16: 16-bit linear light"},
+                         .description = "png: 8-bit sRGB, exposed; png16: 16-bit linear light; "
+                                        "jpeg: the 8-bit frame as a JPEG"},
+    [MSG_VIEW_QUALITY] = {.path = "quality", .type = SKY_FIELD_TYPE_INT, .offset = VIEW(quality),
+                          .min = 1, .max = 100,
+                          .description = "JPEG quality, only with format jpeg; absent: 85"},
+    [MSG_VIEW_MAX_KBPS] = {.path = "max_kbps", .type = SKY_FIELD_TYPE_NUMBER,
+                           .offset = VIEW(max_kbps), .exclusive_min = true,
+                           .max = SKY_MSG_MAX_KBPS,
+                           .description = "a subscription's bound on the frames' bandwidth, "
+                                          "kilobits per second: the server lowers the frame rate "
+                                          "(and a JPEG's quality, down to 50) to keep within it"},
     [MSG_VIEW_PROJECTION] = {.path = "projection", .type = SKY_FIELD_TYPE_ENUM,
                              .offset = VIEW(projection), NAMES(sky_msg_projection_names),
                              .description = "perspective: the camera's; equirectangular: the "

@@ -9,7 +9,7 @@
 #define SKY_MSG_ROLE_NAMES 3        /* enum sky_msg_role; [0] none */
 #define SKY_MSG_QUANTITY_NAMES 3    /* enum sky_probe_quantity */
 #define SKY_MSG_PRESET_KIND_NAMES 2 /* enum sky_preset_kind */
-#define SKY_MSG_FORMAT_NAMES 3      /* enum sky_frame_format; [0] none */
+#define SKY_MSG_FORMAT_NAMES 4      /* enum sky_frame_format; [0] none */
 #define SKY_MSG_PROJECTION_NAMES 2  /* enum sky_view_projection */
 
 extern const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES];

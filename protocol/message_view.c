@@ -26,6 +26,13 @@ void msg_parse_view(struct parser *p, const cJSON *object, const char *pointer,
     view->has_exposure_mode = named[MSG_VIEW_EXPOSURE_MODE];
     view->has_ev100 = named[MSG_VIEW_EV100];
     view->has_compensation_ev = named[MSG_VIEW_COMPENSATION];
+    if (view->format == SKY_FRAME_FORMAT_JPEG && !named[MSG_VIEW_QUALITY])
+        view->quality = SKY_MSG_JPEG_QUALITY_DEFAULT;
+    if (view->format != SKY_FRAME_FORMAT_JPEG && named[MSG_VIEW_QUALITY]) {
+        char at[SKY_MSG_POINTER_MAX];
+        msg_child_pointer(at, pointer, "quality");
+        parser_fail(p, SKY_MSG_ERR_INCONSISTENT, at, "quality is for format jpeg only");
+    }
     /* A panorama covers 360 x 180 degrees with square pixels. */
     if (view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR && view->width &&
         view->height && view->width != 2 * view->height) {

@@ -59,7 +59,7 @@ static const char *const type_names[] = {
 static const char *const capabilities[] = {
     "hello", "auth",  "get_state",    "set",          "subscribe", "unsubscribe",
     "snapshot", "probe", "list_presets", "apply_preset", "stats",     "set_weather_map",
-    "describe", "png", "png16", "equirectangular",
+    "describe", "png", "png16", "jpeg", "equirectangular",
 };
 
 const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {[SKY_ROLE_VIEWER] = "viewer",
@@ -67,7 +67,8 @@ const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {[SKY_ROLE_VIEWER] = 
 const char *const sky_msg_quantity_names[SKY_MSG_QUANTITY_NAMES] = {"transmittance", "luminance", "illuminance"};
 const char *const sky_msg_preset_kind_names[SKY_MSG_PRESET_KIND_NAMES] = {"atmosphere", "weather"};
 const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES] = {[SKY_FRAME_FORMAT_PNG] = "png",
-                                                                [SKY_FRAME_FORMAT_PNG16] = "png16"};
+                                                                [SKY_FRAME_FORMAT_PNG16] = "png16",
+                                                                [SKY_FRAME_FORMAT_JPEG] = "jpeg"};
 const char *const sky_msg_projection_names[SKY_MSG_PROJECTION_NAMES] = {
     [SKY_VIEW_PROJECTION_PERSPECTIVE] = "perspective",
     [SKY_VIEW_PROJECTION_EQUIRECTANGULAR] = "equirectangular"};

@@ -27,6 +27,8 @@ struct cJSON;
 #define SKY_MSG_TOKEN_MAX 256      /* bytes of an auth token */
 #define SKY_MSG_PRESET_NAME_MAX 64 /* [a-z0-9_-]{1,64} */
 #define SKY_MSG_POINTER_MAX 128    /* a JSON Pointer, as in struct sky_field_error */
+#define SKY_MSG_JPEG_QUALITY_DEFAULT 85
+#define SKY_MSG_MAX_KBPS 1e6
 #define SKY_MSG_MAX_PASSES 32      /* entries in a stats message's "passes" */
 #define SKY_MSG_MAX_PRESETS 256    /* names in a presets message */
 /* Integers on the wire stay exactly representable in an IEEE double (JavaScript's limit). */
@@ -149,6 +151,8 @@ struct sky_msg_view {
     uint32_t width, height;
     double fps;                     /* default min(10, max_fps) already applied */
     enum sky_frame_format format;
+    int quality;     /* JPEG quality 1..100 (SKY_MSG_JPEG_QUALITY_DEFAULT when absent); 0 else */
+    double max_kbps; /* a subscription's bandwidth bound, kilobits per second; 0: none */
     enum sky_view_projection projection;
 };
 
@@ -223,7 +227,8 @@ void sky_client_msg_free(struct sky_client_msg *msg);
 /* The client messages' JSON Schema (draft 2020-12), generated from the rows that parse them:
  * a oneOf over the message types keyed by "type", views sized by `limits`, a set's patch as
  * the world state's schema (sky_world_state_json_schema). What rows cannot say is left to the
- * server: hello's protocol version other than 1, and a view's 2:1 equirectangular aspect. NULL
+ * server: hello's protocol version other than 1, a view's 2:1 equirectangular aspect and its
+ * quality with a format other than jpeg. NULL
  * when memory is out; the caller deletes it. */
 struct cJSON *sky_msg_json_schema(const struct sky_msg_limits *limits);
 
@@ -314,6 +319,16 @@ struct sky_msg_pass_time {
     double ms;        /* >= 0 */
 };
 
+/* One of the asking connection's subscriptions: what its frames cost and the rate and JPEG
+ * quality they are made at now (lowered under max_kbps). */
+struct sky_msg_subscription_stats {
+    uint64_t subscription;  /* >= 1 */
+    uint64_t bytes_sent;    /* binary messages, headers included */
+    double fps;             /* > 0: the effective rate */
+    int quality;            /* the effective JPEG quality; 0 for other formats */
+    double max_kbps;        /* 0: none */
+};
+
 struct sky_msg_stats {
     double fps;                          /* >= 0 */
     int clients;                         /* >= 0 */
@@ -321,6 +336,8 @@ struct sky_msg_stats {
     size_t pass_count;                   /* <= SKY_MSG_MAX_PASSES */
     double lut_rebuild_progress;         /* [0, 1]; 1 when no rebuild is under way */
     double simulation_time_s;            /* the simulated clock, seconds since 1970 UTC */
+    const struct sky_msg_subscription_stats *subscriptions;
+    size_t subscription_count;
 };
 
 char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stats *stats);

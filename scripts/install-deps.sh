@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libvulkan-dev vulkan-tools mesa-vulkan-drivers vulkan-validationlayers
   glslang-tools
-  libwebsockets-dev libcjson-dev libpng-dev libsystemd-dev systemd
+  libwebsockets-dev libcjson-dev libpng-dev libturbojpeg0-dev libsystemd-dev systemd
   python3 python3-websockets openssl
   clang libclang-rt-dev
   chromium chromium-driver

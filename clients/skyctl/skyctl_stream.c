@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -130,6 +131,8 @@ static const char *format_name(enum sky_frame_format format)
         return "png";
     case SKY_FRAME_FORMAT_PNG16:
         return "png16";
+    case SKY_FRAME_FORMAT_JPEG:
+        return "jpeg";
     }
     return "unknown";
 }
@@ -159,6 +162,8 @@ static const char *format_extension(enum sky_frame_format format)
     case SKY_FRAME_FORMAT_PNG:
     case SKY_FRAME_FORMAT_PNG16:
         return "png";
+    case SKY_FRAME_FORMAT_JPEG:
+        return "jpg";
     }
     return "bin";
 }
@@ -242,7 +247,9 @@ static int take_snapshot(struct skyctl_session *session, const struct view_args 
         else if (ok)
             printf("%s: %ux%u %s, %u bytes, state revision %llu, frame %llu\n", a->out,
                    header.width, header.height,
-                   header.format == SKY_FRAME_FORMAT_PNG16 ? "PNG16" : "PNG",
+                   header.format == SKY_FRAME_FORMAT_PNG16  ? "PNG16"
+                   : header.format == SKY_FRAME_FORMAT_JPEG ? "JPEG"
+                                                            : "PNG",
                    header.payload_length,
                    (unsigned long long)header.state_revision,
                    (unsigned long long)header.frame_number);
@@ -251,12 +258,22 @@ static int take_snapshot(struct skyctl_session *session, const struct view_args 
     }
 }
 
+static bool ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcasecmp(s + n - m, suffix) == 0;
+}
+
 int skyctl_snapshot(const struct skyctl_options *options, int argc, char **argv)
 {
     struct view_args a = { .frames = true, .json = options->json };
     int rc = parse_view_args("snapshot", argc, argv, &a, 640, 360);
     if (rc == SKYCTL_OK && !a.out)
         rc = skyctl_usage_error("snapshot", "needs --out FILE.png");
+    /* The file's extension picks JPEG unless --set format= says otherwise. */
+    if (rc == SKYCTL_OK && (ends_with(a.out, ".jpg") || ends_with(a.out, ".jpeg")) &&
+        !cJSON_GetObjectItemCaseSensitive(a.view, "format"))
+        cJSON_AddStringToObject(a.view, "format", "jpeg");
     struct skyctl_session session;
     if (rc == SKYCTL_OK && (rc = skyctl_connect(options, &session)) == SKYCTL_OK) {
         rc = take_snapshot(&session, &a);

@@ -4,10 +4,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "cli_args.h"
 #include "commands.h"
 #include "messages.h"
+#include "jpeg_write.h"
 #include "png_write.h"
 #include "presets.h"
 #include "state_store.h"
@@ -32,7 +34,7 @@ struct lapse_args {
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: skyd render --width W --height H --out FILE.png [options]\n"
+            "usage: skyd render --width W --height H --out FILE.png|FILE.jpg [options]\n"
             "  --preset NAME          apply config/atmosphere/NAME.json (earth, mars, ...)\n"
             "  --set PATH=VALUE       set a world-state field, e.g. sun.elevation_deg=5\n"
             "  --sun-azimuth DEG      shorthand for --set sun.azimuth_deg=DEG\n"
@@ -44,6 +46,8 @@ static void usage(FILE *out)
             "                         2:1, camera.yaw_deg at the centre (an environment map)\n"
             "  --format NAME          png (8-bit sRGB, default) or png16 (16-bit linear light;\n"
             "                         tEXt \"" PNG_LINEAR16_FULL_SCALE_KEY "\" = L of 65535)\n"
+            "                         or jpeg (8-bit sRGB; the default for --out *.jpg, *.jpeg)\n"
+            "  --quality N            JPEG quality 1..100 (default 85), with jpeg only\n"
             "  --weather-map FILE     a client weather map (PNG: r low coverage, g high coverage,\n"
             "                         b cloud type, a precipitation; sets weather.map_source)\n"
             "  --frames N             a time-lapse of N frames; --out then holds one %%d or %%0Nd\n"
@@ -154,10 +158,20 @@ static bool load_weather_map(const char *path, struct sky_weather_map *map)
     return false;
 }
 
-/* An 8-bit frame, or a 16-bit linear one when rgb16 (its buffer) is given. */
-static int write_frame(const char *path, const void *pixels, uint16_t *rgb16, uint32_t width,
-                       uint32_t height, double exposure, char *err, size_t errlen)
+static bool has_suffix(const char *s, const char *suffix)
 {
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcasecmp(s + n - m, suffix) == 0;
+}
+
+/* An 8-bit PNG, a JPEG when quality is 1..100, or a 16-bit linear PNG when rgb16 (its buffer)
+ * is given. */
+static int write_frame(const char *path, const void *pixels, uint16_t *rgb16, int quality,
+                       uint32_t width, uint32_t height, double exposure, char *err,
+                       size_t errlen)
+{
+    if (quality > 0)
+        return jpeg_write_rgba8_file(path, pixels, width, height, quality, err, errlen);
     if (!rgb16)
         return png_write_rgba8_file(path, pixels, width, height, err, errlen);
     double full_scale = png_linear16_full_scale(exposure);
@@ -180,6 +194,8 @@ int skyd_cmd_render(int argc, char **argv)
     unsigned width = 0, height = 0;
     const char *out_path = NULL, *weather_map_path = NULL;
     bool stats_json = false, linear16 = false;
+    const char *format = NULL;
+    unsigned quality = 0;
     enum sky_render_projection projection = SKY_RENDER_PROJECTION_PERSPECTIVE;
     struct lapse_args lapse = { .frames = 1, .step_s = 60.0 };
     for (int i = 0; i < argc; i++) {
@@ -216,12 +232,18 @@ int skyd_cmd_render(int argc, char **argv)
         } else if (strcmp(opt, "--format") == 0) {
             if (!(value = cli_take_value(argc, argv, &i)))
                 return SKYD_EXIT_USAGE;
-            if (strcmp(value, "png") != 0 && strcmp(value, "png16") != 0) {
-                fprintf(stderr, "skyd render: --format: expected png or png16, got \"%s\"\n",
-                        value);
+            if (strcmp(value, "png") != 0 && strcmp(value, "png16") != 0 &&
+                strcmp(value, "jpeg") != 0) {
+                fprintf(stderr, "skyd render: --format: expected png, png16 or jpeg, got "
+                                "\"%s\"\n", value);
                 return SKYD_EXIT_USAGE;
             }
+            format = value;
             linear16 = strcmp(value, "png16") == 0;
+        } else if (strcmp(opt, "--quality") == 0) {
+            if (!(value = cli_take_value(argc, argv, &i)) ||
+                !cli_parse_uint(opt, value, JPEG_QUALITY_MIN, JPEG_QUALITY_MAX, &quality))
+                return SKYD_EXIT_USAGE;
         } else if (strcmp(opt, "--weather-map") == 0) {
             if (!(weather_map_path = cli_take_value(argc, argv, &i)))
                 return SKYD_EXIT_USAGE;
@@ -251,6 +273,16 @@ int skyd_cmd_render(int argc, char **argv)
         return SKYD_EXIT_USAGE;
     }
 
+    if (!format && (has_suffix(out_path, ".jpg") || has_suffix(out_path, ".jpeg")))
+        format = "jpeg";
+    bool jpeg = format && strcmp(format, "jpeg") == 0;
+    if (quality && !jpeg) {
+        fprintf(stderr, "skyd render: --quality is for JPEG: give --format jpeg or --out "
+                        "FILE.jpg\n");
+        return SKYD_EXIT_USAGE;
+    }
+    if (jpeg && !quality)
+        quality = JPEG_QUALITY_DEFAULT;
     if (projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR && width != 2 * height) {
         fprintf(stderr, "skyd render: an equirectangular image is 2:1: --width must be twice "
                         "--height (%u), got %u\n", height, width);
@@ -315,8 +347,8 @@ int skyd_cmd_render(int argc, char **argv)
                                  &stats) != 0) {
             fprintf(stderr, "skyd render: rendering failed\n");
             status = SKYD_EXIT_FAILURE;
-        } else if (write_frame(path, pixels, rgb16, width, height, stats.exposure, err,
-                               sizeof err) != 0) {
+        } else if (write_frame(path, pixels, rgb16, (int)quality, width, height,
+                               stats.exposure, err, sizeof err) != 0) {
             fprintf(stderr, "skyd render: %s\n", err);
             status = SKYD_EXIT_FAILURE;
         } else {

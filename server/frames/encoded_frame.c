@@ -11,26 +11,26 @@
 struct encoded_frame {
     atomic_int refs;
     struct encoded_frame_meta meta;
-    size_t png_length;
-    uint8_t *buffer; /* LWS_PRE + SKY_FRAME_HEADER_SIZE + png_length */
+    size_t payload_length;
+    uint8_t *buffer; /* LWS_PRE + SKY_FRAME_HEADER_SIZE + payload_length */
 };
 
 struct encoded_frame *encoded_frame_create(const struct encoded_frame_meta *meta,
-                                           const uint8_t *png, size_t png_length)
+                                           const uint8_t *payload, size_t payload_length)
 {
     struct encoded_frame *f = calloc(1, sizeof *f);
     if (!f)
         return NULL;
-    f->buffer = malloc(LWS_PRE + SKY_FRAME_HEADER_SIZE + png_length);
+    f->buffer = malloc(LWS_PRE + SKY_FRAME_HEADER_SIZE + payload_length);
     if (!f->buffer) {
         free(f);
         return NULL;
     }
     atomic_init(&f->refs, 1);
     f->meta = *meta;
-    f->png_length = png_length;
+    f->payload_length = payload_length;
     memset(f->buffer, 0, LWS_PRE + SKY_FRAME_HEADER_SIZE);
-    memcpy(f->buffer + LWS_PRE + SKY_FRAME_HEADER_SIZE, png, png_length);
+    memcpy(f->buffer + LWS_PRE + SKY_FRAME_HEADER_SIZE, payload, payload_length);
     return f;
 }
 
@@ -55,9 +55,9 @@ const struct encoded_frame_meta *encoded_frame_meta(const struct encoded_frame *
     return &frame->meta;
 }
 
-size_t encoded_frame_png_length(const struct encoded_frame *frame)
+size_t encoded_frame_payload_length(const struct encoded_frame *frame)
 {
-    return frame->png_length;
+    return frame->payload_length;
 }
 
 uint8_t *encoded_frame_message(struct encoded_frame *frame)
@@ -67,5 +67,5 @@ uint8_t *encoded_frame_message(struct encoded_frame *frame)
 
 size_t encoded_frame_message_length(const struct encoded_frame *frame)
 {
-    return SKY_FRAME_HEADER_SIZE + frame->png_length;
+    return SKY_FRAME_HEADER_SIZE + frame->payload_length;
 }

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include "jpeg_write.h"
 #include "png_write.h"
 
 struct queued_job {
@@ -47,8 +48,8 @@ static void deliver(struct encode_job *job, struct encoded_frame *frame)
 
 static void run_job(struct encode_job *job)
 {
-    uint8_t *png = NULL;
-    size_t png_length = 0;
+    uint8_t *encoded_bytes = NULL;
+    size_t length = 0;
     struct encoded_frame *frame = NULL;
     uint32_t width = job->meta.width, height = job->meta.height;
     int encoded = -1;
@@ -56,16 +57,19 @@ static void run_job(struct encode_job *job)
         uint16_t *rgb = malloc((size_t)width * height * 3 * sizeof *rgb);
         if (rgb) {
             png_linear16_quantize(job->pixels, (size_t)width * height, job->full_scale_cd_m2, rgb);
-            encoded = png_encode_linear16(rgb, width, height, job->full_scale_cd_m2, &png,
-                                          &png_length);
+            encoded = png_encode_linear16(rgb, width, height, job->full_scale_cd_m2,
+                                          &encoded_bytes, &length);
         }
         free(rgb);
+    } else if (job->meta.format == SKY_FRAME_FORMAT_JPEG) {
+        encoded = jpeg_encode_rgba8(job->pixels, width, height, job->quality, &encoded_bytes,
+                                    &length);
     } else {
-        encoded = png_encode_rgba8(job->pixels, width, height, &png, &png_length);
+        encoded = png_encode_rgba8(job->pixels, width, height, &encoded_bytes, &length);
     }
     if (encoded == 0)
-        frame = encoded_frame_create(&job->meta, png, png_length);
-    free(png);
+        frame = encoded_frame_create(&job->meta, encoded_bytes, length);
+    free(encoded_bytes);
     deliver(job, frame);
     encoded_frame_unref(&frame);
 }

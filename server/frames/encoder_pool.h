@@ -1,4 +1,4 @@
-/* PNG encoder workers: turn rendered frames into encoded frames off the render thread
+/* PNG and JPEG encoder workers: turn rendered frames into encoded frames off the render thread
  * and hand each to the sessions that asked for it (subscription slots and snapshots). */
 #ifndef SKYD_ENCODER_POOL_H
 #define SKYD_ENCODER_POOL_H
@@ -17,11 +17,12 @@ struct encode_target {
 };
 
 struct encode_job {
-    /* width x height texels owned by the job: RGBA8 (4 bytes) for meta.format PNG, the
+    /* width x height texels owned by the job: RGBA8 (4 bytes) for meta.format PNG and JPEG, the
      * renderer's LINEAR RGBA floats (16 bytes) for PNG16 */
     void *pixels;
     struct encoded_frame_meta meta;
     double full_scale_cd_m2; /* PNG16: the luminance of the largest sample */
+    int quality;             /* JPEG: 1..100 */
     struct encode_target *targets; /* owned by the job */
     size_t target_count;
 };

@@ -23,6 +23,7 @@ struct frame_slot {
     uint64_t subscription;
     struct encoded_frame *pending; /* latest unsent frame, or NULL */
     double pending_since;          /* CLOCK_MONOTONIC seconds since the slot has been full */
+    struct slot_traffic traffic;
 };
 
 struct snapshot_item {
@@ -285,6 +286,11 @@ void session_slot_deliver(struct session *s, uint64_t subscription, struct encod
             slot->encoding--;
         bool newer = !slot->pending || (frame && encoded_frame_meta(frame)->render_sequence >
                                                      encoded_frame_meta(slot->pending)->render_sequence);
+        if (frame) {
+            slot->traffic.frames_delivered++;
+            slot->traffic.last_frame_bytes = encoded_frame_message_length(frame);
+            slot->traffic.last_quality = encoded_frame_meta(frame)->quality;
+        }
         if (frame && newer) {
             if (!slot->pending)
                 slot->pending_since = monotonic_seconds(); /* kept by replacements: stall detection */
@@ -293,6 +299,16 @@ void session_slot_deliver(struct session *s, uint64_t subscription, struct encod
         }
     }
     pthread_mutex_unlock(&s->lock);
+}
+
+bool session_slot_traffic(struct session *s, uint64_t subscription, struct slot_traffic *out)
+{
+    pthread_mutex_lock(&s->lock);
+    struct frame_slot *slot = find_slot(s, subscription);
+    if (slot)
+        *out = slot->traffic;
+    pthread_mutex_unlock(&s->lock);
+    return slot != NULL;
 }
 
 bool session_snapshot_reserve(struct session *s)
@@ -407,6 +423,7 @@ void session_next_output(struct session *s, struct session_output *out)
             s->next_slot = (s->next_slot + k + 1) % SESSION_MAX_SUBSCRIPTIONS;
             struct encoded_frame *frame = slot->pending;
             slot->pending = NULL;
+            slot->traffic.bytes_sent += encoded_frame_message_length(frame);
             start_frame(s, NULL, slot->subscription, frame, out);
             break;
         }

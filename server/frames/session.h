@@ -88,6 +88,18 @@ bool session_slot_begin_encode(struct session *session, uint64_t subscription);
 void session_slot_deliver(struct session *session, uint64_t subscription,
                           struct encoded_frame *frame);
 
+/* What a subscription's frames cost: the bytes of its frames handed to the transport, and the
+ * size and JPEG quality of the newest frame its slot received (frames_delivered counts them). */
+struct slot_traffic {
+    uint64_t bytes_sent;
+    uint64_t frames_delivered;
+    size_t last_frame_bytes;
+    int last_quality;
+};
+/* false when there is no such subscription. */
+bool session_slot_traffic(struct session *session, uint64_t subscription,
+                          struct slot_traffic *out);
+
 /* Snapshots: reserve a place before rendering (false when SESSION_MAX_SNAPSHOTS are pending);
  * deliver the frame (or NULL after a failure, which frees the place). */
 bool session_snapshot_reserve(struct session *session);

@@ -18,6 +18,10 @@ struct subscription {
     struct sky_msg_view view;
     double period_s, next_due; /* CLOCK_MONOTONIC seconds */
     bool waiting_for_encoder;
+    /* Under view.max_kbps: the JPEG quality frames are encoded at now, and how many frames the
+     * slot had received when the rate and quality were last adjusted. */
+    int quality;
+    uint64_t frames_seen;
 };
 
 struct pending_snapshot {
@@ -26,9 +30,16 @@ struct pending_snapshot {
     struct sky_msg_view view;
 };
 
-/* Views that are due this tick, one entry per distinct render view. */
+/* How a rendered view becomes a frame. */
+struct encoding {
+    enum sky_frame_format format;
+    int quality;
+};
+
+/* Views that are due this tick, one entry per distinct render view and encoding. */
 struct render_group {
     struct sky_render_view view;
+    struct encoding encoding;
     struct encode_target *targets;
     size_t count, capacity;
 };
@@ -67,10 +78,13 @@ static void resolve_render_view(const struct sky_world_state *state,
 
 /* world_to_render_view zero-fills the struct first, so equal views compare equal bytewise. */
 static struct render_group *group_for(struct render_group **groups, size_t *count,
-                                      const struct sky_render_view *view)
+                                      const struct sky_render_view *view,
+                                      struct encoding encoding)
 {
     for (size_t i = 0; i < *count; i++)
-        if (memcmp(&(*groups)[i].view, view, sizeof *view) == 0)
+        if (memcmp(&(*groups)[i].view, view, sizeof *view) == 0 &&
+            (*groups)[i].encoding.format == encoding.format &&
+            (*groups)[i].encoding.quality == encoding.quality)
             return &(*groups)[i];
     struct render_group *grown = realloc(*groups, sizeof *grown * (*count + 1));
     if (!grown)
@@ -79,6 +93,7 @@ static struct render_group *group_for(struct render_group **groups, size_t *coun
     struct render_group *g = &grown[(*count)++];
     memset(g, 0, sizeof *g);
     g->view = *view;
+    g->encoding = encoding;
     return g;
 }
 
@@ -152,16 +167,61 @@ static void render_group(struct frame_scheduler *fs, struct world_host *world,
     struct encode_job job = {
         .pixels = pixels,
         .full_scale_cd_m2 = linear ? png_linear16_full_scale(stats.exposure) : 0.0,
+        .quality = g->encoding.quality,
         .meta = { .render_sequence = ++fs->render_sequence,
                   .state_revision = revision,
                   .simulation_time_s = state->clock.utc_unix_s,
                   .width = g->view.width,
                   .height = g->view.height,
-                  .format = linear ? SKY_FRAME_FORMAT_PNG16 : SKY_FRAME_FORMAT_PNG },
+                  .format = g->encoding.format,
+                  .quality = g->encoding.quality },
         .targets = g->targets,
         .target_count = g->count,
     };
     encoder_pool_submit(fs->encoder, &job);
+}
+
+static struct encoding encoding_of(const struct sky_msg_view *view, int quality)
+{
+    return (struct encoding){ .format = view->format,
+                              .quality = view->format == SKY_FRAME_FORMAT_JPEG ? quality : 0 };
+}
+
+static struct encoding subscription_encoding(const struct subscription *s)
+{
+    return encoding_of(&s->view, s->quality);
+}
+
+/* Keeps a subscription with max_kbps within its bound, from the size of its newest frame:
+ * a JPEG's quality drops in steps of 5 (not below 50) while the requested rate would exceed
+ * the bound, and climbs back while it would use under half of it; the period then stretches
+ * so that frames of that size fit. Sizes are looked at once per new frame. */
+#define BANDWIDTH_QUALITY_FLOOR 50
+#define BANDWIDTH_QUALITY_STEP 5
+static void fit_bandwidth(struct subscription *s)
+{
+    struct slot_traffic traffic;
+    if (s->view.max_kbps <= 0 || !session_slot_traffic(s->session, s->id, &traffic) ||
+        traffic.frames_delivered == s->frames_seen || traffic.last_frame_bytes == 0)
+        return;
+    s->frames_seen = traffic.frames_delivered;
+    double budget_bytes_s = s->view.max_kbps * 1000.0 / 8.0;
+    double wanted_bytes_s = (double)traffic.last_frame_bytes * s->view.fps;
+    bool jpeg = s->view.format == SKY_FRAME_FORMAT_JPEG;
+    /* Only a frame of the current quality says what that quality costs. */
+    if (jpeg && traffic.last_quality == s->quality) {
+        int floor = s->view.quality < BANDWIDTH_QUALITY_FLOOR ? s->view.quality
+                                                              : BANDWIDTH_QUALITY_FLOOR;
+        if (wanted_bytes_s > budget_bytes_s && s->quality > floor)
+            s->quality = s->quality - BANDWIDTH_QUALITY_STEP > floor
+                             ? s->quality - BANDWIDTH_QUALITY_STEP : floor;
+        else if (wanted_bytes_s < 0.5 * budget_bytes_s && s->quality < s->view.quality)
+            s->quality = s->quality + BANDWIDTH_QUALITY_STEP < s->view.quality
+                             ? s->quality + BANDWIDTH_QUALITY_STEP : s->view.quality;
+    }
+    double period = fmax(1.0 / s->view.fps, (double)traffic.last_frame_bytes / budget_bytes_s);
+    s->next_due += period - s->period_s;
+    s->period_s = period;
 }
 
 /* Next due time after a frame: keeps the rate, without a burst after falling behind. */
@@ -175,15 +235,15 @@ static double advance_due(double due, double period, double now)
  * has a frame in the encoder; it then serves every subscription within half a period of due.
  */
 static void schedule_view(struct frame_scheduler *fs, const size_t *members, size_t count,
-                          const struct sky_render_view *view, struct render_group **groups,
-                          size_t *group_count, double now)
+                          const struct sky_render_view *view, struct encoding encoding,
+                          struct render_group **groups, size_t *group_count, double now)
 {
     enum slot_state states[count];
-    bool encoding = false, due = false;
+    bool in_encoder = false, due = false;
     for (size_t k = 0; k < count; k++) {
         struct subscription *s = &fs->subscriptions[members[k]];
         states[k] = session_slot_state(s->session, s->id, now, fmax(2.0 * s->period_s, 0.25));
-        encoding |= states[k] == SLOT_ENCODING;
+        in_encoder |= states[k] == SLOT_ENCODING;
         due |= states[k] == SLOT_READY && now >= s->next_due;
         if (states[k] == SLOT_STALLED && now >= s->next_due) {
             s->next_due = now + s->period_s; /* look again later; nothing is rendered */
@@ -191,10 +251,10 @@ static void schedule_view(struct frame_scheduler *fs, const size_t *members, siz
         }
     }
     for (size_t k = 0; k < count; k++)
-        fs->subscriptions[members[k]].waiting_for_encoder = encoding;
-    if (encoding || !due)
+        fs->subscriptions[members[k]].waiting_for_encoder = in_encoder;
+    if (in_encoder || !due)
         return;
-    struct render_group *g = group_for(groups, group_count, view);
+    struct render_group *g = group_for(groups, group_count, view, encoding);
     for (size_t k = 0; k < count && g; k++) {
         struct subscription *s = &fs->subscriptions[members[k]];
         if (states[k] != SLOT_READY || now < s->next_due - 0.5 * s->period_s ||
@@ -224,7 +284,8 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct world_host 
         struct pending_snapshot *p = &fs->snapshots[i];
         struct sky_render_view view;
         resolve_render_view(state, &p->view, &view);
-        struct render_group *g = group_for(&groups, &group_count, &view);
+        struct render_group *g =
+            group_for(&groups, &group_count, &view, encoding_of(&p->view, p->view.quality));
         if (!g || !group_add(g, p->session, 0, &p->id))
             session_snapshot_deliver(p->session, &p->id, NULL);
         session_unref(&p->session);
@@ -239,14 +300,19 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct world_host 
         encoder_full = true; /* out of memory: try again at the next tick */
     for (size_t i = 0; i < n; i++)
         fs->subscriptions[i].waiting_for_encoder = encoder_full;
-    for (size_t i = 0; i < n && !encoder_full; i++)
+    for (size_t i = 0; i < n && !encoder_full; i++) {
         resolve_render_view(state, &fs->subscriptions[i].view, &views[i]);
+        fit_bandwidth(&fs->subscriptions[i]);
+    }
     for (size_t i = 0; i < n && !encoder_full; i++) {
         if (grouped[i])
             continue;
         size_t count = 0;
+        struct encoding encoding = subscription_encoding(&fs->subscriptions[i]);
         for (size_t j = i; j < n; j++) {
-            if (!grouped[j] && memcmp(&views[i], &views[j], sizeof views[i]) == 0) {
+            struct encoding other = subscription_encoding(&fs->subscriptions[j]);
+            if (!grouped[j] && memcmp(&views[i], &views[j], sizeof views[i]) == 0 &&
+                other.format == encoding.format && other.quality == encoding.quality) {
                 grouped[j] = true;
                 members[count++] = j;
             }
@@ -255,7 +321,7 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct world_host 
          * camera moves (reprojection handles that); snapshots share key 0. */
         views[i].history_key = fs->subscriptions[members[0]].id;
         views[i].live = true; /* a new subscriber's clouds converge live, nobody waits */
-        schedule_view(fs, members, count, &views[i], &groups, &group_count, now);
+        schedule_view(fs, members, count, &views[i], encoding, &groups, &group_count, now);
     }
     free(views);
     free(members);
@@ -299,6 +365,26 @@ const struct sky_render_stats *frame_scheduler_last_stats(const struct frame_sch
 size_t frame_scheduler_subscription_count(const struct frame_scheduler *fs)
 {
     return fs->subscription_count;
+}
+
+size_t frame_scheduler_session_stats(const struct frame_scheduler *fs, struct session *session,
+                                     struct sky_msg_subscription_stats *out, size_t capacity)
+{
+    size_t count = 0;
+    for (size_t i = 0; i < fs->subscription_count && count < capacity; i++) {
+        const struct subscription *s = &fs->subscriptions[i];
+        struct slot_traffic traffic = { 0 };
+        if (s->session != session || !session_slot_traffic(s->session, s->id, &traffic))
+            continue;
+        out[count++] = (struct sky_msg_subscription_stats){
+            .subscription = s->id,
+            .bytes_sent = traffic.bytes_sent,
+            .fps = 1.0 / s->period_s,
+            .quality = subscription_encoding(s).quality,
+            .max_kbps = s->view.max_kbps,
+        };
+    }
+    return count;
 }
 
 /* ---- subscriptions and snapshots ---- */
@@ -390,6 +476,7 @@ struct frame_refusal frame_scheduler_subscribe(struct frame_scheduler *fs, struc
         .view = *view,
         .period_s = 1.0 / view->fps,
         .next_due = monotonic_seconds(),
+        .quality = view->quality,
     };
     *id = next;
     return (struct frame_refusal){ .code = SKY_MSG_OK };

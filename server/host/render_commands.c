@@ -310,13 +310,18 @@ static void handle_stats(struct render_context *ctx, struct session *session,
             passes[pass_count++] = (struct sky_msg_pass_time){ last->pass_names[i],
                                                                last->pass_ms[i] };
     }
+    struct sky_msg_subscription_stats subscriptions[SESSION_MAX_SUBSCRIPTIONS];
+    size_t subscription_count = frame_scheduler_session_stats(ctx->frames, session, subscriptions,
+                                                              SESSION_MAX_SUBSCRIPTIONS);
     struct sky_msg_stats stats = { .fps = frame_scheduler_fps(ctx->frames),
                                    .clients = session_hub_count(ctx->hub),
                                    .passes = passes,
                                    .pass_count = pass_count,
                                    .lut_rebuild_progress = last ? last->lut_rebuild_progress : 1.0,
                                    .simulation_time_s =
-                                       world_host_state(ctx->world)->clock.utc_unix_s };
+                                       world_host_state(ctx->world)->clock.utc_unix_s,
+                                   .subscriptions = subscriptions,
+                                   .subscription_count = subscription_count };
     reply(session, &msg->id, sky_msg_build_stats(&msg->id, &stats));
 }
 

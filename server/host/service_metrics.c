@@ -16,7 +16,7 @@ static const double frame_buckets_s[] = { 0.001, 0.0025, 0.005, 0.01, 0.025, 0.0
 #define BUCKET_COUNT (sizeof frame_buckets_s / sizeof frame_buckets_s[0])
 
 struct counts {
-    uint64_t frames_rendered, frames_sent, frames_skipped, device_losses;
+    uint64_t frames_rendered, frames_sent, frames_skipped, device_losses, bytes_sent;
     uint64_t messages[MAX_KINDS];
     uint64_t errors[MAX_KINDS];
     uint64_t frame_bucket[BUCKET_COUNT]; /* per bucket, not cumulative */
@@ -75,9 +75,12 @@ void service_metrics_frame_rendered(struct service_metrics *m, double render_sec
     });
 }
 
-void service_metrics_frame_sent(struct service_metrics *m)
+void service_metrics_frame_sent(struct service_metrics *m, size_t bytes)
 {
-    LOCKED(m, m->c.frames_sent++);
+    LOCKED(m, {
+        m->c.frames_sent++;
+        m->c.bytes_sent += bytes;
+    });
 }
 
 void service_metrics_frame_skipped(struct service_metrics *m)
@@ -183,6 +186,8 @@ char *service_metrics_exposition(struct service_metrics *m, int clients)
     counter(&t, "skyd_frames_rendered_total", "Views rendered (one render serves every "
             "subscriber of the view).", copy.frames_rendered);
     counter(&t, "skyd_frames_sent_total", "Frames written to clients.", copy.frames_sent);
+    counter(&t, "skyd_bytes_sent_total", "Bytes of frames written to clients (WebSocket "
+            "messages with their 48-byte header, HTTP bodies).", copy.bytes_sent);
     counter(&t, "skyd_frames_skipped_total", "Subscription frames that were due but not "
             "rendered because the client had not taken the previous one.", copy.frames_skipped);
     family(&t, "skyd_messages_total", "counter", "Client messages received, by type "

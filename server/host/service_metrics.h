@@ -18,8 +18,8 @@ void service_metrics_destroy(struct service_metrics **metrics);
 
 /* A view rendered (render_seconds: the render call's wall time, encoding not included). */
 void service_metrics_frame_rendered(struct service_metrics *m, double render_seconds);
-/* A frame written to a client (WebSocket or HTTP). */
-void service_metrics_frame_sent(struct service_metrics *m);
+/* A frame of `bytes` (its binary message or HTTP body) written to a client (WebSocket or HTTP). */
+void service_metrics_frame_sent(struct service_metrics *m, size_t bytes);
 /* A subscription's frame that was due but not rendered: its client had not taken the last one. */
 void service_metrics_frame_skipped(struct service_metrics *m);
 /* A client message by its type; SKY_MSG_NONE for one that could not be parsed. */

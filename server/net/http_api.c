@@ -175,7 +175,7 @@ static int write_response(struct http_api *api, struct http_request *r)
     size_t length = r->response_length;
     if (r->frame) {
         body = encoded_frame_message(r->frame) + SKY_FRAME_HEADER_SIZE;
-        length = encoded_frame_png_length(r->frame);
+        length = encoded_frame_payload_length(r->frame);
     }
     if (lws_add_http_common_headers(r->wsi, r->status, r->content_type, length, &p, end))
         return -1;
@@ -197,7 +197,7 @@ static int write_response(struct http_api *api, struct http_request *r)
     if (length > 0 && lws_write(r->wsi, body, length, LWS_WRITE_HTTP_FINAL) < (int)length)
         return -1;
     if (r->frame)
-        service_metrics_frame_sent(api->metrics);
+        service_metrics_frame_sent(api->metrics, length);
     release_request(api, r);
     return lws_http_transaction_completed(r->wsi) ? -1 : 0;
 }
@@ -215,7 +215,9 @@ static bool take_reply(struct http_api *api, struct http_request *r)
         if (out.kind == SESSION_OUTPUT_FRAME) {
             r->frame = encoded_frame_ref(out.frame);
             r->status = HTTP_STATUS_OK;
-            r->content_type = "image/png";
+            r->content_type = encoded_frame_meta(out.frame)->format == SKY_FRAME_FORMAT_JPEG
+                                  ? "image/jpeg"
+                                  : "image/png";
             r->ready = true;
             session_output_release(&out);
             return true;

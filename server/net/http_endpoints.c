@@ -74,7 +74,8 @@ static const struct {
     const char *name, *group, *member;
 } snapshot_params[] = {
     { "width", NULL, "width" },           { "height", NULL, "height" },
-    { "format", NULL, "format" },         { "projection", NULL, "projection" },
+    { "format", NULL, "format" },         { "quality", NULL, "quality" },
+    { "projection", NULL, "projection" },
     { "yaw_deg", "camera", "yaw_deg" },   { "pitch_deg", "camera", "pitch_deg" },
     { "fov_deg", "camera", "fov_deg" },   { "altitude_km", "camera", "altitude_km" },
     { "exposure_mode", "exposure", "mode" }, { "ev100", "exposure", "ev100" },
@@ -101,7 +102,7 @@ void answer_snapshot(struct http_api *api, struct http_request *r)
             i++;
         if (i == SNAPSHOT_PARAM_COUNT) {
             snprintf(problem, sizeof problem, "unknown query parameter '%.64s'; expected: width, "
-                     "height, format, projection, yaw_deg, pitch_deg, fov_deg, altitude_km, "
+                     "height, format, quality, projection, yaw_deg, pitch_deg, fov_deg, altitude_km, "
                      "exposure_mode, ev100, compensation_ev", fragment);
             break;
         }

@@ -313,7 +313,7 @@ static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connectio
             .simulation_time_s = meta->simulation_time_s,
             .width = meta->width,
             .height = meta->height,
-            .payload_length = (uint32_t)encoded_frame_png_length(out.frame),
+            .payload_length = (uint32_t)encoded_frame_payload_length(out.frame),
         };
         uint8_t *bytes = encoded_frame_message(out.frame);
         size_t length = encoded_frame_message_length(out.frame);
@@ -321,7 +321,7 @@ static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connectio
             lws_write(wsi, bytes, length, LWS_WRITE_BINARY) < (int)length)
             rc = -1;
         else
-            service_metrics_frame_sent(srv->metrics);
+            service_metrics_frame_sent(srv->metrics, length);
         break;
     }
     case SESSION_OUTPUT_CLOSE:

@@ -238,8 +238,32 @@ expect_error "panorama not 2:1" 2 'width must be twice --height (32), got 48' \
   "$skyd" render --width 48 --height 32 --projection equirectangular --out "$out/x.png"
 expect_error "unknown projection" 2 'expected perspective or equirectangular, got "fisheye"' \
   "$skyd" render --width 64 --height 32 --projection fisheye --out "$out/x.png"
-expect_error "unknown format" 2 'expected png or png16, got "exr"' \
+expect_error "unknown format" 2 'expected png, png16 or jpeg, got "exr"' \
   "$skyd" render --width 64 --height 32 --format exr --out "$out/x.png"
+
+# JPEG: by --format or by the file's extension; --quality only with JPEG.
+# jpeg_info FILE: "SOI EOI WIDTHxHEIGHT" from the markers and the baseline SOF0 segment.
+jpeg_info() {
+  local soi eoi sof
+  soi=$(od -An -tx1 -N2 "$1" | tr -d ' ')
+  eoi=$(tail -c 2 "$1" | od -An -tx1 | tr -d ' ')
+  sof=$(LC_ALL=C grep -obUaP '\xff\xc0' "$1" | head -1 | cut -d: -f1)
+  [ -n "$sof" ] || { echo "$soi $eoi none"; return; }
+  od -An -tu1 -j$((sof + 5)) -N4 "$1" | awk -v s="$soi $eoi" '{ print s, $3*256+$4 "x" $1*256+$2 }'
+}
+expect_ok "render a JPEG" "$out/sky\.jpeg" \
+  "$skyd" render --width 96 --height 54 --format jpeg --quality 60 --out "$out/sky.jpeg" --validation
+info=$(jpeg_info "$out/sky.jpeg")
+[ "$info" = "ffd8 ffd9 96x54" ] && pass || fail "render --format jpeg: $info"
+expect_ok "render a JPEG by its extension" "$out/ext\.jpg" \
+  "$skyd" render --width 64 --height 36 --out "$out/ext.jpg"
+info=$(jpeg_info "$out/ext.jpg")
+[ "$info" = "ffd8 ffd9 64x36" ] && pass || fail "render --out x.jpg: $info"
+expect_error "quality with png" 2 '--quality is for JPEG' \
+  "$skyd" render --width 64 --height 32 --quality 50 --out "$out/x.png"
+expect_error "quality out of range" 2 '--quality' \
+  "$skyd" render --width 64 --height 32 --format jpeg --quality 101 --out "$out/x.jpg"
+[ ! -e "$out/x.jpg" ] && pass || fail "a refused render wrote a file"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -16,6 +16,7 @@ import asyncio
 import json
 import os
 import re
+import struct
 import subprocess
 import sys
 import time
@@ -145,6 +146,7 @@ async def check_health_and_metrics(port, ws, viewer):
           "version=0.0.4" in r.header("content-type"), f"{r.status} {r.header('content-type')}")
     wanted = {"skyd_frames_rendered_total": "counter", "skyd_frames_sent_total": "counter",
               "skyd_frames_skipped_total": "counter", "skyd_messages_total": "counter",
+              "skyd_bytes_sent_total": "counter",
               "skyd_errors_total": "counter", "skyd_device_losses_total": "counter",
               "skyd_clients": "gauge", "skyd_subscriptions": "gauge",
               "skyd_state_revision": "gauge", "skyd_lut_rebuild_progress": "gauge",
@@ -163,6 +165,7 @@ async def check_health_and_metrics(port, ws, viewer):
     unknown = metric(before, "skyd_errors_total", 'code="unknown_field"') or 0
     rendered = metric(before, "skyd_frames_rendered_total") or 0
     sent = metric(before, "skyd_frames_sent_total") or 0
+    bytes_sent = metric(before, "skyd_bytes_sent_total") or 0
     for _ in range(3):
         await ws.get_state()
     bad = await ws.request({"type": "get_state", "id": 5, "bogus": 1})
@@ -180,6 +183,10 @@ async def check_health_and_metrics(port, ws, viewer):
     check("/metrics: frames rendered and sent grow",
           metric(after, "skyd_frames_rendered_total") > rendered and
           metric(after, "skyd_frames_sent_total") > sent)
+    check("/metrics: bytes sent grow by at least a header per frame",
+          metric(after, "skyd_bytes_sent_total") >=
+          bytes_sent + 48 * (metric(after, "skyd_frames_sent_total") - sent),
+          f"{bytes_sent} -> {metric(after, 'skyd_bytes_sent_total')}")
     check("/metrics: skyd_subscriptions 1", metric(after, "skyd_subscriptions") == 1,
           str(metric(after, "skyd_subscriptions")))
     check("/metrics: skyd_state_revision is the state's",
@@ -276,6 +283,16 @@ async def check_snapshot(port):
             images[name] = r.body
         except Exception as e:  # noqa: BLE001 - a decoding failure is the check failing
             check(f"snapshot {name}: decodes", False, repr(e))
+    r = await call(port, "GET", "/api/snapshot?width=96&height=54&format=jpeg&quality=60")
+    body = r.body or b""
+    check("snapshot jpeg: 200 image/jpeg", r.status == 200 and
+          r.header("content-type") == "image/jpeg", f"{r.status} {body[:200]!r}")
+    check("snapshot jpeg: SOI and EOI markers", body[:2] == b"\xff\xd8" and body[-2:] == b"\xff\xd9",
+          body[:4].hex())
+    # The baseline SOF0 segment carries the height and width.
+    sof = body.find(b"\xff\xc0")
+    check("snapshot jpeg: 96x54", sof > 0 and struct.unpack_from(">HH", body, sof + 5) == (54, 96),
+          str(sof))
     r = await call(port, "GET", "/api/snapshot?width=96&height=54&yaw_deg=270&pitch_deg=20")
     check("snapshot: the camera parameters change the image",
           r.status == 200 and r.body != images.get("perspective"))
@@ -283,6 +300,10 @@ async def check_snapshot(port):
            ("missing height", "width=64", 422, "missing_field", "/view/height"),
            ("not a number", "width=wide&height=64", 422, "wrong_type", "/view/width"),
            ("unknown format", "width=64&height=64&format=gif", 422, "bad_value", "/view/format"),
+           ("quality with png", "width=64&height=64&quality=50", 422, "inconsistent",
+            "/view/quality"),
+           ("quality 0", "width=64&height=64&format=jpeg&quality=0", 422, "out_of_range",
+            "/view/quality"),
            ("unknown parameter", "width=64&height=64&zoom=2", 422, "unknown_field", None),
            ("twice", "width=64&width=65&height=64", 422, "unknown_field", None)]
     for name, query, status, code, pointer in bad:

@@ -17,9 +17,9 @@ SKYD_TEST_VERBOSE=1 also prints the checks that pass. Standard library + websock
 (Linux: the slow-reader check reads /proc/net/tcp to see when the daemon is backpressured).
 The daemon's stderr goes to SCRATCH_DIR/<name>.log.
 
-The checks live in serve_protocol.py, serve_requests.py, serve_envmap.py, serve_world.py,
-serve_connections.py, serve_weather_map.py and serve_lifecycle.py; this file runs them in
-order, each group as a section, on the main daemon and then on the limits daemon.
+The checks live in serve_protocol.py, serve_requests.py, serve_jpeg.py, serve_envmap.py,
+serve_world.py, serve_connections.py, serve_weather_map.py and serve_lifecycle.py; this file
+runs them in order, each group as a section, on the main daemon and then on the limits daemon.
 """
 
 import asyncio
@@ -36,6 +36,7 @@ from serve_harness import *  # noqa: E402,F401,F403
 from serve_connections import (INDEX_HTML, SECRET, t_http, t_not_reading,  # noqa: E402
                                t_origin, t_slow_reader)
 from serve_envmap import t_envmap  # noqa: E402
+from serve_jpeg import t_bandwidth, t_jpeg  # noqa: E402
 from serve_lifecycle import (t_bad_config, t_max_clients, t_rate_limit,  # noqa: E402
                              t_sigterm_restart)
 from serve_protocol import (t_bad_inputs, t_describe, t_hello, t_roles,  # noqa: E402
@@ -82,6 +83,8 @@ async def main_checks(d, repo_config_dir):
         check("frames: ran to completion", False,
               traceback.format_exception_only(type(e), e)[-1].strip())
     await section("snapshot", t_snapshot(d, viewer), both)
+    await section("jpeg", t_jpeg(d, viewer), both)
+    await section("bandwidth", t_bandwidth(d), both)
     if sub is not None and not viewer.ws.closed:
         await section("unsubscribe", t_unsubscribe(viewer, sub), both)
     await section("subscription limit", t_subscription_limit(d), both)

@@ -217,7 +217,7 @@ fi
 expect "probe missing parameter" 1 '' "probe: /sun_zenith_deg: required for illuminance [missing_field]" \
   c probe illuminance
 expect "probe unknown quantity" 1 '' "/quantity" c probe colour
-expect "stats" 0 "\{ +\"fps\": +$num, +\"clients\": +1, +\"passes\": .*\"lut_rebuild_progress\": +$num, +\"simulation_time_s\": +1782064800 +\}" "" \
+expect "stats" 0 "\{ +\"fps\": +$num, +\"clients\": +1, +\"passes\": .*\"lut_rebuild_progress\": +$num, +\"simulation_time_s\": +1782064800, +\"subscriptions\": +\[ *\] +\}" "" \
   c stats
 
 expect "snapshot toward the sun" 0 "$out/south.png: 160x90 PNG, [0-9]+ bytes, state revision 3, frame [0-9]+" "" \
@@ -235,12 +235,22 @@ expect "environment map snapshot" 0 "$out/env16.png: 64x32 PNG16, [0-9]+ bytes, 
   --set format=png16
 if [ "$(od -An -tu1 -j24 -N2 "$out/env16.png" | tr -s ' ')" = " 16 2" ]; then pass
 else fail "environment map snapshot is not 16-bit RGB"; fi
+expect "jpeg snapshot by extension" 0 "$out/south.jpg: 160x90 JPEG, [0-9]+ bytes, state revision 3, frame [0-9]+" "" \
+  c snapshot --out "$out/south.jpg" --width 160 --height 90 --set quality=70
+if [ "$(head -c 2 "$out/south.jpg" | od -An -tx1 | tr -d ' ')" = ffd8 ] &&
+   [ "$(tail -c 2 "$out/south.jpg" | od -An -tx1 | tr -d ' ')" = ffd9 ]; then pass
+else fail "snapshot --out x.jpg is not a JPEG"; fi
+expect "jpeg snapshot quality with png" 1 '' "snapshot: /view/quality: quality is for format jpeg only [inconsistent]" \
+  c snapshot --out "$out/q.png" --set quality=70
 expect "snapshot too wide names the field" 1 '' "snapshot: /view/width: must be in [1, 3840], got 99999 [out_of_range]" \
   c snapshot --out "$out/wide.png" --width 99999
 [ ! -e "$out/wide.png" ] && pass || fail "a refused snapshot wrote a file"
 
 expect "watch frames" 0 "subscribed [0-9]+( frame [0-9]+ revision 3 time 1782064800\.000 s 160x90 [0-9]+ bytes){3}" "" \
   c watch --count 3 --width 160 --height 90 --fps 5
+mkdir -p "$out/jpeg-frames"
+expect "watch jpeg frames into a directory" 0 "subscribed [0-9]+( frame [0-9]+ revision 3 time 1782064800\.000 s 80x45 [0-9]+ bytes $out/jpeg-frames/frame_[0-9]+_rev_0+3\.jpg){2}" "" \
+  c watch --count 2 --width 80 --height 45 --fps 5 --set format=jpeg --out "$out/jpeg-frames"
 
 # Weather presets: a transition over simulated time. The clock is paused, so the transition's
 # progress follows only the clock.utc sets below (smoothstep: 0.5 at half time).

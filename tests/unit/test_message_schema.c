@@ -73,6 +73,10 @@ static const char *const accepted[] = {
     "CAYAAAAfFcSJAAAADUlEQVR4nGMQUDBwAAABRQChUYYmTwAAAABJRU5ErkJggg==\"}",
     "{\"type\":\"apply_preset\",\"kind\":\"weather\",\"name\":\"storm\",\"transition_s\":0}",
     "{\"type\":\"set\",\"patch\":{\"atmosphere\":{\"ground_albedo\":0.2}}}",
+    "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"format\":\"jpeg\","
+    "\"quality\":100,\"max_kbps\":1000000}}",
+    "{\"type\":\"snapshot\",\"view\":{\"width\":1,\"height\":1,\"format\":\"jpeg\","
+    "\"quality\":1,\"max_kbps\":0.5}}",
 };
 
 /* Messages both refuse: each breaks one rule that a row, or the schema's own members, says. */
@@ -97,7 +101,13 @@ static const char *const refused[] = {
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"fps\":0}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"fps\":61}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":1.5,\"height\":1}}",
-    "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"format\":\"jpeg\"}}",
+    "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"format\":\"gif\"}}",
+    "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"format\":\"jpeg\","
+    "\"quality\":0}}",
+    "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"format\":\"jpeg\","
+    "\"quality\":101}}",
+    "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"max_kbps\":0}}",
+    "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"max_kbps\":-5}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"camera\":{\"fov_deg\":0.5}}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"camera\":{\"zoom\":2}}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"exposure\":"

@@ -48,6 +48,9 @@ const struct protocol_client_example protocol_client_examples[] = {
     {"{\"type\":\"snapshot\",\"id\":17,\"view\":{\"width\":1024,\"height\":512,"
      "\"projection\":\"equirectangular\",\"format\":\"png16\"}}",
      SKY_MSG_SNAPSHOT},
+    {"{\"type\":\"subscribe\",\"id\":\"phone\",\"view\":{\"width\":1280,\"height\":720,"
+     "\"fps\":30,\"format\":\"jpeg\",\"quality\":80,\"max_kbps\":2000}}",
+     SKY_MSG_SUBSCRIBE},
 };
 const size_t protocol_client_example_count = COUNT_OF(protocol_client_examples);
 
@@ -122,7 +125,9 @@ static size_t build_server_examples(char **out, size_t max)
     ADD(sky_msg_build_probe_result(&id10, &e));
     const struct sky_msg_pass_time passes[] = {
         {"skyview", 0.42}, {"aerial_perspective", 0.31}, {"composite", 1.9}, {"sun_disk", 0.05}};
-    struct sky_msg_stats stats = {29.8, 3, passes, COUNT_OF(passes), 1, 1782043200};
+    const struct sky_msg_subscription_stats subscriptions[] = {{1, 5242880, 12.5, 70, 2000}};
+    struct sky_msg_stats stats = {29.8, 3, passes, COUNT_OF(passes), 1, 1782043200,
+                                  subscriptions, COUNT_OF(subscriptions)};
     ADD(sky_msg_build_stats(&id13, &stats));
 #undef ADD
     return n;

@@ -132,6 +132,28 @@ void test_builders(void)
     free(request_text);
     cJSON_Delete(request);
     cJSON_Delete(json);
+    check_case_name = "subscribed round trip jpeg";
+    CHECK_INT(parse("{\"type\":\"subscribe\",\"view\":{\"width\":2,\"height\":2,"
+                    "\"format\":\"jpeg\",\"max_kbps\":250}}", &msg, &error), SKY_MSG_OK);
+    CHECK_INT(msg.view.format, SKY_FRAME_FORMAT_JPEG);
+    CHECK_INT(msg.view.quality, SKY_MSG_JPEG_QUALITY_DEFAULT);
+    CHECK_DOUBLE(msg.view.max_kbps, 250);
+    json = parse_built(sky_msg_build_subscribed(&msg.id, 4, &msg.view), "subscribed");
+    const cJSON *jpeg_view = get(json, "view");
+    CHECK_STR(string_at(jpeg_view, "format"), "jpeg");
+    CHECK_DOUBLE(number_at(jpeg_view, "quality"), SKY_MSG_JPEG_QUALITY_DEFAULT);
+    CHECK_DOUBLE(number_at(jpeg_view, "max_kbps"), 250);
+    cJSON_Delete(json);
+    CHECK_INT(parse("{\"type\":\"snapshot\",\"view\":{\"width\":2,\"height\":2}}", &msg,
+                    &error), SKY_MSG_OK);
+    CHECK_INT(msg.view.quality, 0);
+    CHECK_DOUBLE(msg.view.max_kbps, 0);
+    json = parse_built(sky_msg_build_subscribed(&msg.id, 4, &msg.view), "subscribed");
+    CHECK(get(get(json, "view"), "quality") == NULL);
+    CHECK(get(get(json, "view"), "max_kbps") == NULL);
+    cJSON_Delete(json);
+    CHECK_INT(parse(protocol_client_examples[5].text, &msg, &error), SKY_MSG_OK);
+
     CHECK(sky_msg_build_subscribed(&msg.id, 0, &msg.view) == NULL);
     msg.view.fov_deg = NAN;
     CHECK(sky_msg_build_subscribed(&msg.id, 1, &msg.view) == NULL);
@@ -246,8 +268,19 @@ void test_builders(void)
 
     check_case_name = "stats";
     struct sky_msg_pass_time passes[] = {{"skyview", 0.5}, {"composite", 1.25}};
-    struct sky_msg_stats stats = {30, 2, passes, 2, 0.5, 1782043200.25};
+    struct sky_msg_subscription_stats subs[] = {{2, 1000, 10, 0, 0}, {3, 4096, 2.5, 55, 80}};
+    struct sky_msg_stats stats = {30, 2, passes, 2, 0.5, 1782043200.25, subs, 2};
     json = parse_built(sky_msg_build_stats(NULL, &stats), "stats");
+    const cJSON *sub_items = get(json, "subscriptions");
+    CHECK_INT(cJSON_GetArraySize(sub_items), 2);
+    const cJSON *png_sub = cJSON_GetArrayItem(sub_items, 0);
+    const cJSON *jpeg_sub = cJSON_GetArrayItem(sub_items, 1);
+    CHECK_DOUBLE(number_at(png_sub, "bytes_sent"), 1000);
+    CHECK(get(png_sub, "quality") == NULL && get(png_sub, "max_kbps") == NULL);
+    CHECK_DOUBLE(number_at(jpeg_sub, "subscription"), 3);
+    CHECK_DOUBLE(number_at(jpeg_sub, "fps"), 2.5);
+    CHECK_DOUBLE(number_at(jpeg_sub, "quality"), 55);
+    CHECK_DOUBLE(number_at(jpeg_sub, "max_kbps"), 80);
     CHECK_DOUBLE(number_at(json, "simulation_time_s"), 1782043200.25);
     CHECK_DOUBLE(number_at(json, "fps"), 30);
     CHECK_DOUBLE(number_at(json, "clients"), 2);
@@ -268,6 +301,9 @@ void test_builders(void)
     passes[1].ms = -1;
     CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
     passes[1].ms = 1;
+    subs[1].fps = 0;
+    CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
+    subs[1].fps = 1;
     stats.fps = INFINITY;
     CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
     check_case_name = "";
@@ -341,7 +377,7 @@ void test_frame_header(void)
         {"version 2", 4, 2, sizeof message, SKY_FRAME_HEADER_BAD_VERSION},
         {"version 0x101", 5, 1, sizeof message, SKY_FRAME_HEADER_BAD_VERSION},
         {"format 0", 6, 0, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
-        {"format 3", 6, 3, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
+        {"format 4", 6, 4, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
         {"format 0x101", 7, 1, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
         {"payload short by one", -1, 0, sizeof message - 1, SKY_FRAME_HEADER_BAD_LENGTH},
         {"payload long by one", 40, 0xE7, sizeof message, SKY_FRAME_HEADER_BAD_LENGTH},
@@ -375,6 +411,12 @@ void test_frame_header(void)
     struct sky_frame_header read16;
     CHECK_INT(sky_frame_header_unpack(png16, sizeof png16, &read16), SKY_FRAME_HEADER_OK);
     CHECK_INT(read16.format, SKY_FRAME_FORMAT_PNG16);
+    check_case_name = "frame header format jpeg";
+    png16[6] = SKY_FRAME_FORMAT_JPEG;
+    CHECK_INT(sky_frame_header_unpack(png16, sizeof png16, &read16), SKY_FRAME_HEADER_OK);
+    CHECK_INT(read16.format, SKY_FRAME_FORMAT_JPEG);
+    png16[6] = 4;
+    CHECK_INT(sky_frame_header_unpack(png16, sizeof png16, &read16), SKY_FRAME_HEADER_BAD_FORMAT);
 
     check_case_name = "frame header pack rejections";
     CHECK_INT(sky_frame_header_unpack(NULL, 100, NULL), SKY_FRAME_HEADER_TOO_SHORT);

@@ -35,6 +35,16 @@ static const struct parse_case parse_cases[] = {
        "\"fps\":60,\"camera\":{\"altitude_km\":100000,\"yaw_deg\":-360,\"pitch_deg\":90,"
        "\"fov_deg\":170},\"exposure\":{\"mode\":\"auto\",\"ev100\":-10,\"compensation_ev\":10}}}",
        SKY_MSG_SNAPSHOT),
+    OK("view jpeg", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+       "\"format\":\"jpeg\"}}", SKY_MSG_SUBSCRIBE),
+    OK("view jpeg quality ends", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+       "\"format\":\"jpeg\",\"quality\":1,"
+       "\"max_kbps\":1000000}}", SKY_MSG_SUBSCRIBE),
+    OK("view jpeg quality 100", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+       "\"format\":\"jpeg\",\"quality\":100,"
+       "\"max_kbps\":0.001}}", SKY_MSG_SUBSCRIBE),
+    OK("view png max_kbps", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+       "\"format\":\"png\",\"max_kbps\":500}}", SKY_MSG_SUBSCRIBE),
     OK("view minimum", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"fps\":0.5,"
        "\"camera\":{},\"exposure\":{}}}", SKY_MSG_SUBSCRIBE),
     OK("probe at range ends", "{\"type\":\"probe\",\"quantity\":\"luminance\",\"altitude_km\":100000,"
@@ -140,8 +150,28 @@ static const struct parse_case parse_cases[] = {
         OUT_OF_RANGE, "/view/fps"),
     BAD("view fps bool", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"fps\":true}}",
         WRONG_TYPE, "/view/fps"),
-    BAD("view format jpeg", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
-        "\"format\":\"jpeg\"}}", BAD_VALUE, "/view/format"),
+    BAD("view format unknown", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"format\":\"gif\"}}", BAD_VALUE, "/view/format"),
+    BAD("view quality with png", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"format\":\"png\",\"quality\":80}}", INCONSISTENT, "/view/quality"),
+    BAD("view quality without format", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"quality\":80}}", INCONSISTENT, "/view/quality"),
+    BAD("view quality with png16", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"format\":\"png16\",\"quality\":80}}", INCONSISTENT, "/view/quality"),
+    BAD("view quality 0", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"format\":\"jpeg\",\"quality\":0}}", OUT_OF_RANGE, "/view/quality"),
+    BAD("view quality 101", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"format\":\"jpeg\",\"quality\":101}}", OUT_OF_RANGE, "/view/quality"),
+    BAD("view quality fraction", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"format\":\"jpeg\",\"quality\":80.5}}", BAD_VALUE, "/view/quality"),
+    BAD("view quality string", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"format\":\"jpeg\",\"quality\":\"80\"}}", WRONG_TYPE, "/view/quality"),
+    BAD("view max_kbps 0", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"max_kbps\":0}}", OUT_OF_RANGE, "/view/max_kbps"),
+    BAD("view max_kbps negative", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"format\":\"jpeg\",\"max_kbps\":-100}}", OUT_OF_RANGE, "/view/max_kbps"),
+    BAD("view max_kbps over 1e6", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
+        "\"max_kbps\":1000001}}", OUT_OF_RANGE, "/view/max_kbps"),
     BAD("view format number", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
         "\"format\":1}}", WRONG_TYPE, "/view/format"),
     BAD("view projection unknown", "{\"type\":\"subscribe\",\"view\":{\"width\":2,\"height\":1,"

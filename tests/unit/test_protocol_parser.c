@@ -201,7 +201,7 @@ void test_parsed_values(void)
     CHECK_DOUBLE(msg.view.fps, 4);
 
     check_case_name = "view environment map";
-    const char *environment_map = protocol_client_examples[protocol_client_example_count - 1].text;
+    const char *environment_map = protocol_client_examples[protocol_client_example_count - 2].text;
     CHECK_INT(parse(environment_map, &msg, &error), SKY_MSG_OK);
     CHECK_INT(msg.view.projection, SKY_VIEW_PROJECTION_EQUIRECTANGULAR);
     CHECK_INT(msg.view.format, SKY_FRAME_FORMAT_PNG16);

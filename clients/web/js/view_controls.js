@@ -31,7 +31,7 @@ export class ViewControls {
     this.bindSlider("camera-fov", (v) => ({ fov_deg: v }));
     $("camera-follow").addEventListener("click", () => { this.camera = null; this.onChange(); });
     for (const id of ["exposure-mode", "exposure-ev", "exposure-compensation", "view-size",
-                      "view-fps"]) {
+                      "view-fps", "view-format"]) {
       $(id).addEventListener("change", () => { this.showOutputs(); this.onChange(); });
       $(id).addEventListener("input", () => this.showOutputs());
     }
@@ -116,7 +116,8 @@ export class ViewControls {
   // The subscription's view object (protocol/PROTOCOL.md, "The view object").
   view() {
     const [width, height] = $("view-size").value.split("x").map(Number);
-    const view = { width, height, fps: Number($("view-fps").value) };
+    const view = { width, height, fps: Number($("view-fps").value),
+                   format: $("view-format").value };
     if (this.camera) {
       view.camera = { ...this.camera,
                       altitude_km: clamp(Math.round(this.camera.altitude_km * 1e4) / 1e4, 0,
