@@ -177,7 +177,29 @@ def png_header(data):
     return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big"), data[24]
 
 
+def jpeg_check(wd, downloads):
+    """The default download format, JPEG: a .jpg file with JPEG's start and end markers."""
+    before = set(os.listdir(downloads))
+    wd.js("document.getElementById('snapshot-projection').value = 'perspective';"
+          "document.getElementById('snapshot-format').value = 'jpeg';")
+    wd.click("#snapshot-save")
+
+    def saved():
+        new = [n for n in set(os.listdir(downloads)) - before if n.endswith(".jpg")]
+        return new[0] if new else None
+    name = wait_for("jpeg download", saved, timeout=30)
+    data = b""
+    if name:
+        time.sleep(0.2)
+        with open(os.path.join(downloads, name), "rb") as f:
+            data = f.read()
+    check("snapshot jpeg is downloaded as a JPEG file",
+          data[:2] == b"\xff\xd8" and data[-2:] == b"\xff\xd9" and len(data) > 1000,
+          f"{name}: {len(data)} bytes")
+
+
 def check_snapshots(wd, downloads, out):
+    jpeg_check(wd, downloads)
     cases = [("perspective", "png", (320, 180, 8)), ("perspective", "png16", (320, 180, 16)),
              ("equirectangular", "png", (360, 180, 8))]
     for projection, fmt, expected in cases:

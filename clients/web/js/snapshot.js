@@ -4,6 +4,7 @@
 export function snapshotUrl(view) {
   const q = new URLSearchParams({ width: view.width, height: view.height });
   if (view.format) q.set("format", view.format);
+  if (view.quality !== undefined) q.set("quality", view.quality);
   if (view.projection) q.set("projection", view.projection);
   for (const [key, value] of Object.entries(view.camera || {})) q.set(key, value);
   const e = view.exposure || {};

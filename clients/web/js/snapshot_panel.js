@@ -9,6 +9,7 @@ const $ = (id) => document.getElementById(id);
 
 // The formats the server encodes (the view object's `format`); a new one is one entry.
 export const SNAPSHOT_FORMATS = [
+  { format: "jpeg", label: "JPEG (quality 90)", suffix: "", extension: "jpg", quality: 90 },
   { format: "png", label: "PNG (8-bit sRGB, as shown)", suffix: "", extension: "png" },
   { format: "png16", label: "PNG (16-bit linear light)", suffix: "-linear16", extension: "png" },
 ];
@@ -44,7 +45,8 @@ export class SnapshotPanel {
     $("snapshot-status").textContent = "rendering…";
     let result;
     try {
-      result = await fetchSnapshot({ ...view, width, height, format: entry.format, projection });
+      result = await fetchSnapshot({ ...view, width, height, format: entry.format,
+                                     quality: entry.quality, projection });
     } finally {
       button.disabled = false;
     }
