@@ -374,7 +374,8 @@ size_t frame_scheduler_session_stats(const struct frame_scheduler *fs, struct se
     for (size_t i = 0; i < fs->subscription_count && count < capacity; i++) {
         const struct subscription *s = &fs->subscriptions[i];
         struct slot_traffic traffic = { 0 };
-        if (s->session != session || !session_slot_traffic(s->session, s->id, &traffic))
+        if ((session && s->session != session) ||
+            !session_slot_traffic(s->session, s->id, &traffic))
             continue;
         out[count++] = (struct sky_msg_subscription_stats){
             .subscription = s->id,

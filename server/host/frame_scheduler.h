@@ -57,8 +57,9 @@ void frame_scheduler_session_closed(struct frame_scheduler *scheduler, struct se
 void frame_scheduler_fail_snapshots(struct frame_scheduler *scheduler, const char *message);
 
 size_t frame_scheduler_subscription_count(const struct frame_scheduler *scheduler);
-/* The session's subscriptions (at most `capacity`, SESSION_MAX_SUBSCRIPTIONS is enough): bytes
- * sent, effective frame rate and JPEG quality. Returns how many were written. */
+/* The session's subscriptions (at most `capacity`, SESSION_MAX_SUBSCRIPTIONS is enough), or
+ * every session's when `session` is NULL: bytes sent, effective frame rate and JPEG quality.
+ * Returns how many were written. */
 size_t frame_scheduler_session_stats(const struct frame_scheduler *scheduler,
                                      struct session *session,
                                      struct sky_msg_subscription_stats *out, size_t capacity);

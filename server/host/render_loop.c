@@ -229,6 +229,10 @@ static void report_tick(struct render_loop *loop, double now)
         .lut_rebuild_progress = last ? last->lut_rebuild_progress : 1.0,
     };
     service_metrics_tick(loop->metrics, &tick);
+    static struct sky_msg_subscription_stats traffic[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
+    size_t count = frame_scheduler_session_stats(loop->ctx.frames, NULL, traffic,
+                                                 SERVICE_METRICS_MAX_SUBSCRIPTIONS);
+    service_metrics_subscriptions(loop->metrics, traffic, count);
 }
 
 static void *thread_main(void *arg)

@@ -28,6 +28,8 @@ struct counts {
 struct service_metrics {
     pthread_mutex_t lock;
     struct counts c;
+    size_t subscription_count;
+    struct sky_msg_subscription_stats subscriptions[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
 };
 
 struct service_metrics *service_metrics_create(void)
@@ -111,6 +113,17 @@ void service_metrics_tick(struct service_metrics *m, const struct service_metric
     LOCKED(m, m->c.tick = *tick);
 }
 
+void service_metrics_subscriptions(struct service_metrics *m,
+                                   const struct sky_msg_subscription_stats *stats, size_t count)
+{
+    if (count > SERVICE_METRICS_MAX_SUBSCRIPTIONS)
+        count = SERVICE_METRICS_MAX_SUBSCRIPTIONS;
+    LOCKED(m, {
+        memcpy(m->subscriptions, stats, sizeof *stats * count);
+        m->subscription_count = count;
+    });
+}
+
 struct service_metrics_tick service_metrics_last_tick(struct service_metrics *m)
 {
     struct service_metrics_tick tick = { 0 };
@@ -174,14 +187,22 @@ static void gauge(struct text *t, const char *name, const char *help, double val
 char *service_metrics_exposition(struct service_metrics *m, int clients)
 {
     struct counts copy;
+    struct sky_msg_subscription_stats *subscriptions =
+        malloc(sizeof *subscriptions * SERVICE_METRICS_MAX_SUBSCRIPTIONS);
+    if (!subscriptions)
+        return NULL;
     pthread_mutex_lock(&m->lock);
     copy = m->c;
+    size_t subscription_count = m->subscription_count;
+    memcpy(subscriptions, m->subscriptions, sizeof subscriptions[0] * subscription_count);
     pthread_mutex_unlock(&m->lock);
 
     struct text t = { .capacity = 4096 };
     t.bytes = malloc(t.capacity);
-    if (!t.bytes)
+    if (!t.bytes) {
+        free(subscriptions);
         return NULL;
+    }
     t.bytes[0] = '\0';
     counter(&t, "skyd_frames_rendered_total", "Views rendered (one render serves every "
             "subscriber of the view).", copy.frames_rendered);
@@ -213,6 +234,17 @@ char *service_metrics_exposition(struct service_metrics *m, int clients)
           (double)copy.tick.state_revision);
     gauge(&t, "skyd_lut_rebuild_progress", "Progress of the look-up-table rebuild under way, "
           "0 to 1 (1: none).", copy.tick.lut_rebuild_progress);
+    family(&t, "skyd_subscription_bytes_sent_total", "counter", "Bytes of frames sent to each "
+           "current subscription (its number), headers included.");
+    for (size_t i = 0; i < subscription_count; i++)
+        append(&t, "skyd_subscription_bytes_sent_total{subscription=\"%llu\"} %llu\n",
+               (unsigned long long)subscriptions[i].subscription,
+               (unsigned long long)subscriptions[i].bytes_sent);
+    family(&t, "skyd_subscription_fps", "gauge", "Each current subscription's effective frame "
+           "rate (lowered to keep within its max_kbps).");
+    for (size_t i = 0; i < subscription_count; i++)
+        append(&t, "skyd_subscription_fps{subscription=\"%llu\"} %.17g\n",
+               (unsigned long long)subscriptions[i].subscription, subscriptions[i].fps);
     family(&t, "skyd_frame_seconds", "histogram", "Wall time of each view's render, seconds.");
     uint64_t cumulative = 0;
     for (size_t i = 0; i < BUCKET_COUNT; i++) {
@@ -224,6 +256,7 @@ char *service_metrics_exposition(struct service_metrics *m, int clients)
            (unsigned long long)copy.frame_count);
     append(&t, "skyd_frame_seconds_sum %.17g\n", copy.frame_seconds_sum);
     append(&t, "skyd_frame_seconds_count %llu\n", (unsigned long long)copy.frame_count);
+    free(subscriptions);
     if (t.failed) {
         free(t.bytes);
         return NULL;

@@ -36,6 +36,12 @@ struct service_metrics_tick {
     double lut_rebuild_progress; /* 0..1, 1 when no rebuild is under way */
 };
 void service_metrics_tick(struct service_metrics *m, const struct service_metrics_tick *tick);
+/* Every subscription's traffic as of this tick (frame_scheduler_session_stats), for the
+ * per-subscription families; at most SERVICE_METRICS_MAX_SUBSCRIPTIONS are kept. */
+#define SERVICE_METRICS_MAX_SUBSCRIPTIONS 256
+void service_metrics_subscriptions(struct service_metrics *m,
+                                   const struct sky_msg_subscription_stats *stats, size_t count);
+
 /* The last tick (at_s 0 before the first). */
 struct service_metrics_tick service_metrics_last_tick(struct service_metrics *m);
 

@@ -150,7 +150,8 @@ async def check_health_and_metrics(port, ws, viewer):
               "skyd_errors_total": "counter", "skyd_device_losses_total": "counter",
               "skyd_clients": "gauge", "skyd_subscriptions": "gauge",
               "skyd_state_revision": "gauge", "skyd_lut_rebuild_progress": "gauge",
-              "skyd_frame_seconds": "histogram"}
+              "skyd_frame_seconds": "histogram",
+              "skyd_subscription_bytes_sent_total": "counter", "skyd_subscription_fps": "gauge"}
     for name, kind in wanted.items():
         check(f"/metrics: {name} is a {kind}", families.get(name, {}).get("type") == kind,
               str(families.get(name, {}).get("type")))
@@ -189,6 +190,13 @@ async def check_health_and_metrics(port, ws, viewer):
           f"{bytes_sent} -> {metric(after, 'skyd_bytes_sent_total')}")
     check("/metrics: skyd_subscriptions 1", metric(after, "skyd_subscriptions") == 1,
           str(metric(after, "skyd_subscriptions")))
+    label = f'subscription="{sub.get("subscription")}"'
+    check("/metrics: bytes sent to the subscription",
+          (metric(after, "skyd_subscription_bytes_sent_total", label) or 0) > 0,
+          str(after.get("skyd_subscription_bytes_sent_total")))
+    check("/metrics: the subscription's frame rate",
+          0 < (metric(after, "skyd_subscription_fps", label) or 0) <= 10,
+          str(after.get("skyd_subscription_fps")))
     check("/metrics: skyd_state_revision is the state's",
           metric(after, "skyd_state_revision") == state["revision"])
     progress = metric(after, "skyd_lut_rebuild_progress")
