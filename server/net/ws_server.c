@@ -325,6 +325,11 @@ static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connectio
         break;
     }
     case SESSION_OUTPUT_CLOSE:
+        /* Logged, since a client whose socket is full (one that does not read) may never get
+         * the close frame. */
+        skyd_log(out.close_code == SESSION_CLOSE_GOING_AWAY ? SKYD_LOG_INFO : SKYD_LOG_WARNING,
+                 "closing connection %llu (%s): %d %s", c->number, c->peer, out.close_code,
+                 out.close_reason);
         lws_close_reason(wsi, (enum lws_close_status)out.close_code,
                          (unsigned char *)out.close_reason, strlen(out.close_reason));
         rc = -1;

@@ -183,11 +183,17 @@ async def t_not_reading(d):
     reason = closes[0][2:].decode("utf-8", "replace") if closes else None
     info(f"not reading: {sent} requests sent, {len(data)} bytes / {len(frames)} messages "
          f"received, close {code} {reason!r}")
-    check("not reading: closed with 1008", code == 1008,
-          f"close frame {closes[:1]!r} after {len(frames)} messages")
-    if code != 1008:
+    # A client that does not read fills its socket: the close frame may not fit, and the
+    # daemon then resets the connection. Its log says why either way.
+    logged = re.search(r"closing connection \d+ \([^)]*\): 1008 client is not reading",
+                       d.log_text()) is not None
+    check("not reading: closed with 1008 (the frame, or the log when the socket was full)",
+          code == 1008 or (not closes and logged),
+          f"close frame {closes[:1]!r} after {len(frames)} messages, logged {logged}")
+    if code != 1008 and not logged:
         info(f"not reading: daemon log: {d.log_tail(2000)}")
-    check("not reading: close reason", reason == "client is not reading", repr(reason))
+    check("not reading: close reason", reason == "client is not reading" or
+          (not closes and logged), repr(reason))
     c = await Client.connect(d.url(), "after-not-reading")
     try:
         r = await c.request({"type": "stats", "id": "nr"})

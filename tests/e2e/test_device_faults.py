@@ -14,7 +14,8 @@ finds the failing one instead of assuming that count.
 
 1. A recovered loss (device_lost:after_frames=12), met while a subscriber streams, a
    controller sets the sun again and again and a viewer asks for snapshot after snapshot:
-   the log reports it and the rebuild, frames come again (and show the last revision), every
+   the log reports it and the rebuild, frames come again (and show the last revision),
+   /metrics counts the loss and /healthz is ok again, every
    set is acknowledged, every snapshot is answered (a frame, or an `internal` error saying the
    device was lost), and the revision, the state and the state file are the last
    acknowledged ones.
@@ -34,9 +35,12 @@ Bounded waits throughout; prints "N passed, M failed".
 import asyncio
 import json
 import os
+import re
 import shutil
 import sys
 import time
+import urllib.error
+import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from serve_harness import (HEADER, Client, Daemon, check, check_binary_frame,  # noqa: E402
@@ -59,6 +63,14 @@ def start(skyd, scratch, name, fault):
     d.start()
     info(f"{name}: SKYD_FAULT={fault}, listening after {time.monotonic() - t:.1f} s")
     return d
+
+
+def http_text(port, path):
+    try:
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}{path}", timeout=10) as r:
+            return r.read().decode()
+    except (OSError, urllib.error.URLError) as e:
+        return f"(no answer: {e})"
 
 
 def state_file(d):
@@ -154,6 +166,11 @@ async def recovered(skyd, scratch):
                                    15)
         check(f"{name}: frames come again after the rebuild", resumed,
               f"{sum(sub.frame_count.values()) - count_then} frames in 15 s")
+        metrics = http_text(d.port, "/metrics")
+        check(f"{name}: /metrics counts the loss",
+              re.search(r"^skyd_device_losses_total 1$", metrics, re.M) is not None,
+              "\n".join(line for line in metrics.splitlines() if "device_losses" in line))
+        check(f"{name}: /healthz is ok again", '"status":"ok"' in http_text(d.port, "/healthz"))
         stop.set()
         await asyncio.wait_for(asyncio.gather(*tasks), REBUILD_BOUND_S)
         check(f"{name}: every set is acknowledged", not errors and len(acked) >= 5,
