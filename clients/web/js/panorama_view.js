@@ -3,11 +3,11 @@
 // that a drag turns and the wheel zooms. "Load" takes a new one (after the sky has changed).
 
 import { clearErrors, showReplyError } from "./field_errors.js";
+import { bindLookDrag, clamp } from "./look_drag.js";
 import { fetchSnapshot } from "./snapshot.js";
 
 const $ = (id) => document.getElementById(id);
 const RAD = Math.PI / 180;
-const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
 
 export class PanoramaView {
   // viewOf(): the page's view object, whose altitude and exposure the panorama takes;
@@ -25,25 +25,7 @@ export class PanoramaView {
   }
 
   bindPointer() {
-    let last = null;
-    this.canvas.addEventListener("pointerdown", (e) => {
-      last = { x: e.clientX, y: e.clientY };
-      this.canvas.setPointerCapture(e.pointerId);
-    });
-    this.canvas.addEventListener("pointermove", (e) => {
-      if (!last) return;
-      const perPixel = this.look.fov_deg / Math.max(1, this.canvas.clientHeight);
-      this.turn({ yaw_deg: this.look.yaw_deg - (e.clientX - last.x) * perPixel,
-                  pitch_deg: clamp(this.look.pitch_deg + (e.clientY - last.y) * perPixel, -90, 90) });
-      last = { x: e.clientX, y: e.clientY };
-    });
-    const end = () => { last = null; };
-    this.canvas.addEventListener("pointerup", end);
-    this.canvas.addEventListener("pointercancel", end);
-    this.canvas.addEventListener("wheel", (e) => {
-      e.preventDefault();
-      this.turn({ fov_deg: clamp(this.look.fov_deg * Math.exp(e.deltaY * 0.001), 10, 150) });
-    }, { passive: false });
+    bindLookDrag(this.canvas, () => this.look, (change) => this.turn(change), [10, 150]);
   }
 
   turn(change) {

@@ -3,6 +3,8 @@
 // subscription's view object, not of the world state, so a viewer may change them too; every
 // change re-subscribes. Until the camera is touched the view follows the world's camera.
 
+import { bindLookDrag, clamp, wrapDegrees } from "./look_drag.js";
+
 const $ = (id) => document.getElementById(id);
 const ALTITUDE_MAX_KM = 100000;
 
@@ -16,8 +18,6 @@ export function sliderFromAltitude(km) {
 function formatAltitude(km) {
   return km < 1 ? `${Math.round(km * 1000)} m` : `${km < 100 ? km.toFixed(1) : Math.round(km)} km`;
 }
-const wrapDegrees = (d) => ((d % 360) + 360) % 360;
-const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
 
 export class ViewControls {
   constructor(canvas, onChange) {
@@ -47,28 +47,7 @@ export class ViewControls {
   }
 
   bindPointer() {
-    let last = null;
-    this.canvas.addEventListener("pointerdown", (e) => {
-      last = { x: e.clientX, y: e.clientY };
-      this.canvas.setPointerCapture(e.pointerId);
-    });
-    this.canvas.addEventListener("pointermove", (e) => {
-      if (!last) return;
-      // Degrees per CSS pixel from the vertical field of view and the image's height on screen.
-      const perPixel = this.shown.fov_deg / Math.max(1, this.canvas.clientHeight);
-      const dx = e.clientX - last.x;
-      const dy = e.clientY - last.y;
-      last = { x: e.clientX, y: e.clientY };
-      this.setCamera({ yaw_deg: wrapDegrees(this.shown.yaw_deg - dx * perPixel),
-                       pitch_deg: clamp(this.shown.pitch_deg + dy * perPixel, -90, 90) });
-    });
-    const end = () => { last = null; };
-    this.canvas.addEventListener("pointerup", end);
-    this.canvas.addEventListener("pointercancel", end);
-    this.canvas.addEventListener("wheel", (e) => {
-      e.preventDefault();
-      this.setCamera({ fov_deg: clamp(this.shown.fov_deg * Math.exp(e.deltaY * 0.001), 1, 170) });
-    }, { passive: false });
+    bindLookDrag(this.canvas, () => this.shown, (change) => this.setCamera(change), [1, 170]);
     this.canvas.addEventListener("keydown", (e) => {
       const step = { ArrowLeft: [-5, 0], ArrowRight: [5, 0], ArrowUp: [0, 5], ArrowDown: [0, -5] }[e.key];
       if (!step) return;
