@@ -82,6 +82,15 @@ const char *sky_msg_error_name(int code)
     return error_names[code];
 }
 
+enum sky_msg_error_code sky_msg_error_code_named(const char *name, size_t length)
+{
+    for (size_t i = 1; i < COUNT_OF(error_names); i++)
+        if (error_names[i] && strlen(error_names[i]) == length &&
+            memcmp(error_names[i], name, length) == 0)
+            return (enum sky_msg_error_code)i;
+    return SKY_MSG_OK;
+}
+
 const char *sky_msg_type_name(enum sky_msg_type type)
 {
     if ((int)type <= 0 || (size_t)type >= COUNT_OF(type_names))

@@ -61,6 +61,9 @@ enum sky_msg_error_code {
 
 /* The wire name of a code, or NULL for a value that is not a code. */
 const char *sky_msg_error_name(int code);
+/* The code whose wire name is the `length` bytes at `name` ("auth_failed"), or SKY_MSG_OK for
+ * none. The codes are not contiguous (12 is followed by 20). */
+enum sky_msg_error_code sky_msg_error_code_named(const char *name, size_t length);
 
 enum sky_msg_type {
     SKY_MSG_NONE = 0, /* parse failed before the type was known */

@@ -240,10 +240,12 @@ static bool take_reply(struct http_api *api, struct http_request *r)
         }
         if (strcmp(kind, "error") == 0) {
             const cJSON *code = cJSON_GetObjectItemCaseSensitive(reply, "code");
-            enum sky_msg_error_code value = SKY_MSG_ERR_INTERNAL;
-            for (int i = 1; cJSON_IsString(code) && sky_msg_error_name(i); i++)
-                if (strcmp(sky_msg_error_name(i), code->valuestring) == 0)
-                    value = (enum sky_msg_error_code)i;
+            enum sky_msg_error_code value =
+                cJSON_IsString(code)
+                    ? sky_msg_error_code_named(code->valuestring, strlen(code->valuestring))
+                    : SKY_MSG_OK;
+            if (value == SKY_MSG_OK)
+                value = SKY_MSG_ERR_INTERNAL;
             service_metrics_error(api->metrics, value);
             respond_json(r, status_of_error(value), reply);
         } else if (strcmp(kind, "ack") == 0) {

@@ -276,16 +276,12 @@ static void count_error(struct ws_server *srv, const char *text, size_t length)
     if (length < sizeof error_type || memcmp(text, error_type, sizeof error_type - 1) != 0)
         return;
     const char *code = strstr(text, code_key);
-    enum sky_msg_error_code value = SKY_MSG_ERR_INTERNAL;
-    if (code) {
-        code += sizeof code_key - 1;
-        for (int i = 1; sky_msg_error_name(i); i++) {
-            size_t n = strlen(sky_msg_error_name(i));
-            if (strncmp(code, sky_msg_error_name(i), n) == 0 && code[n] == '"')
-                value = (enum sky_msg_error_code)i;
-        }
-    }
-    service_metrics_error(srv->metrics, value);
+    const char *end = code ? strchr(code + sizeof code_key - 1, '"') : NULL;
+    enum sky_msg_error_code value =
+        end ? sky_msg_error_code_named(code + sizeof code_key - 1,
+                                       (size_t)(end - (code + sizeof code_key - 1)))
+            : SKY_MSG_OK;
+    service_metrics_error(srv->metrics, value); /* SKY_MSG_OK counts as internal */
 }
 
 static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connection *c)

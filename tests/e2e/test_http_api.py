@@ -171,6 +171,9 @@ async def check_health_and_metrics(port, ws, viewer):
         await ws.get_state()
     bad = await ws.request({"type": "get_state", "id": 5, "bogus": 1})
     check("bad message refused", bad.get("code") == "unknown_field", short(bad))
+    auth_failures = metric(before, "skyd_errors_total", 'code="auth_failed"') or 0
+    refused = await viewer.request({"type": "auth", "id": 8, "token": "not-the-token"})
+    check("a wrong token is refused", refused.get("code") == "auth_failed", short(refused))
     sub = await viewer.request({"type": "subscribe", "id": 6,
                                 "view": {"width": 64, "height": 36, "fps": 10}})
     check("subscribed", sub.get("type") == "subscribed", short(sub))
@@ -181,6 +184,9 @@ async def check_health_and_metrics(port, ws, viewer):
           f"{get_states} -> {metric(after, 'skyd_messages_total', get_state_label)}")
     check("/metrics: the unknown_field error counted",
           metric(after, "skyd_errors_total", 'code="unknown_field"') == unknown + 1)
+    check("/metrics: the auth_failed error counted under its own code (past the codes' gap)",
+          metric(after, "skyd_errors_total", 'code="auth_failed"') == auth_failures + 1,
+          str(metric(after, "skyd_errors_total", 'code="auth_failed"')))
     check("/metrics: frames rendered and sent grow",
           metric(after, "skyd_frames_rendered_total") > rendered and
           metric(after, "skyd_frames_sent_total") > sent)

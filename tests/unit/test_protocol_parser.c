@@ -280,8 +280,13 @@ void test_parsed_values(void)
         {SKY_MSG_ERR_LIMIT_REACHED, "limit_reached"}, {SKY_MSG_ERR_INTERNAL, "internal"},
         {SKY_FIELD_UNKNOWN, "unknown_field"}, {SKY_FIELD_INCONSISTENT, "inconsistent"},
     };
-    for (size_t i = 0; i < COUNT_OF(names); i++)
+    for (size_t i = 0; i < COUNT_OF(names); i++) {
         CHECK_STR(sky_msg_error_name(names[i].code), names[i].name);
+        CHECK_INT(sky_msg_error_code_named(names[i].name, strlen(names[i].name)), names[i].code);
+    }
+    CHECK_INT(sky_msg_error_code_named("auth_failedx", 11), SKY_MSG_ERR_AUTH_FAILED);
+    CHECK_INT(sky_msg_error_code_named("auth", 4), SKY_MSG_OK);
+    CHECK_INT(sky_msg_error_code_named("ok", 2), SKY_MSG_OK);
     CHECK(sky_msg_error_name(13) == NULL);
     CHECK(sky_msg_error_name(-1) == NULL);
     CHECK(sky_msg_error_name(1000) == NULL);
