@@ -22,6 +22,7 @@
 #include <sys/stat.h>
 
 #include "check.h"
+#include "world_schema.h"
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 
@@ -36,22 +37,7 @@ static inline void starting_state(struct sky_world_state *state)
 
 static inline int field_elements(const struct sky_field_desc *field)
 {
-    switch (field->type) {
-    case SKY_FIELD_TYPE_RGB:
-    case SKY_FIELD_TYPE_INT_TRIPLE:
-        return 3;
-    case SKY_FIELD_TYPE_INT_PAIR:
-        return 2;
-    case SKY_FIELD_TYPE_NUMBER:
-    case SKY_FIELD_TYPE_ENUM:
-    case SKY_FIELD_TYPE_INT:
-    case SKY_FIELD_TYPE_TIME:
-    case SKY_FIELD_TYPE_STRING: /* the configuration's and messages' types: none in the */
-    case SKY_FIELD_TYPE_BOOL:   /* world state */
-    case SKY_FIELD_TYPE_INT64:
-        break;
-    }
-    return 1;
+    return schema_element_count(field->type);
 }
 
 /* Reads element `index` of a leaf through the public descriptor table. */
