@@ -197,9 +197,17 @@ async def check_health_and_metrics(port, ws, viewer):
     check("/metrics: skyd_subscriptions 1", metric(after, "skyd_subscriptions") == 1,
           str(metric(after, "skyd_subscriptions")))
     label = f'subscription="{sub.get("subscription")}"'
+    # Per-subscription traffic is published at each render tick: the frame just received may
+    # be newer than the last tick, so look again for up to 3 s (the loop ticks at least 1 Hz).
+    traffic = after
+    for _ in range(30):
+        if (metric(traffic, "skyd_subscription_bytes_sent_total", label) or 0) > 0:
+            break
+        await asyncio.sleep(0.1)
+        traffic, _ = await scrape(port)
     check("/metrics: bytes sent to the subscription",
-          (metric(after, "skyd_subscription_bytes_sent_total", label) or 0) > 0,
-          str(after.get("skyd_subscription_bytes_sent_total")))
+          (metric(traffic, "skyd_subscription_bytes_sent_total", label) or 0) > 0,
+          str(traffic.get("skyd_subscription_bytes_sent_total")))
     check("/metrics: the subscription's frame rate",
           0 < (metric(after, "skyd_subscription_fps", label) or 0) <= 10,
           str(after.get("skyd_subscription_fps")))
