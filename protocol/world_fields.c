@@ -191,6 +191,9 @@ const struct sky_field_desc sky_world_field_table[] = {
            "phase eccentricity attenuation per multiple-scattering octave"),
     INT("clouds.multiscatter.octaves", clouds.multiscatter_octaves, 1, 8,
         "number of multiple-scattering octaves"),
+    NUMBER("clouds.multiscatter.powder", clouds.multiscatter_powder, 0, 64,
+           "how fast multiply scattered light builds up below a lit surface, per optical "
+           "depth (the powder darkening of sun-facing creases); 0: no build-up"),
     NUMBER("clouds.ambient_scale", clouds.ambient_scale, 0, 1,
            "scale of the sky's ambient light on the clouds, unitless"),
     INT("clouds.noise_seed", clouds.noise_seed, 0, SEED_MAX,
@@ -350,10 +353,11 @@ void sky_world_state_defaults(struct sky_world_state *state)
     /* A forward-dominated phase (mean cosine 0.53: silver linings on backlit edges) and the
      * octaves fitted to it against Monte Carlo (docs/ACCURACY.md, tests/reference/test_cloud_accuracy.c). */
     clouds->phase_w = 0.25;
-    clouds->multiscatter_a = 0.48;
+    clouds->multiscatter_a = 0.5;
     clouds->multiscatter_b = 0.5;
-    clouds->multiscatter_c = 0.3;
+    clouds->multiscatter_c = 0.05;
     clouds->multiscatter_octaves = 4;
+    clouds->multiscatter_powder = 8.0;
     clouds->ambient_scale = 1.0;
     clouds->noise_seed = 1;
     clouds->primary_steps = 64;

@@ -140,6 +140,7 @@ struct sky_cloud_state {
     double phase_g0, phase_g1, phase_w; /* dual-lobe Henyey-Greenstein (seed 000 eq. 14.17) */
     double multiscatter_a, multiscatter_b, multiscatter_c; /* octaves (seed 000 eq. 14.18) */
     int multiscatter_octaves;
+    double multiscatter_powder;       /* the octaves' build-up below a lit surface, 1/depth */
     double ambient_scale;             /* sky ambient on the clouds, 0..1 */
     int noise_seed;                   /* seeds the noise volumes */
     int primary_steps;                /* ray-march steps through a layer */

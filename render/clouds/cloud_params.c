@@ -89,4 +89,5 @@ void cloud_params_fill(const struct sky_render_clouds *c, double R, struct sky_c
     /* Base noise billows of about a kilometre (the size of a fair-weather cumulus), detail of
      * tens of metres, curl distortion over a few kilometres. */
     u->tiles = V4(tile_km(extent, 5.0), tile_km(extent, 0.8), tile_km(extent, 12.0), 0);
+    u->build_up = V4(c->multiscatter_powder, 0, 0, 0);
 }

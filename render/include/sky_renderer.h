@@ -232,6 +232,7 @@ struct sky_render_clouds {
     double phase_g0, phase_g1, phase_w; /* seed 000 eq. 14.17 */
     double multiscatter_a, multiscatter_b, multiscatter_c; /* seed 000 eq. 14.18; a <= b */
     int multiscatter_octaves;
+    double multiscatter_powder; /* build-up rate per optical depth below a lit surface; 0 none */
     double ambient_scale;
     uint32_t noise_seed;
     int primary_steps, light_steps;

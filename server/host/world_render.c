@@ -140,6 +140,7 @@ void world_to_render_clouds(const struct sky_world_state *state, struct sky_rend
     out->multiscatter_b = c->multiscatter_b;
     out->multiscatter_c = c->multiscatter_c;
     out->multiscatter_octaves = c->multiscatter_octaves;
+    out->multiscatter_powder = c->multiscatter_powder;
     out->ambient_scale = c->ambient_scale;
     out->noise_seed = (uint32_t)c->noise_seed;
     out->primary_steps = c->primary_steps;

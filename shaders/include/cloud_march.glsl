@@ -89,9 +89,22 @@ OctavePhases octave_phases(float cos_theta)
 const float MU0_FLOOR = 0.1;
 const float NORMAL_DEPTH = 0.9;
 
+// Multiply scattered light is not there yet at the lit surface: it builds up over the first
+// optical depths below it (Schneider 2015's "powder" darkening of sun-facing creases, seen where
+// a view ray grazes a lit surface and gathers its light from that shallow layer). The build-up
+// 1 - exp(-K depth) is scaled by (b^n + K) / K, so that an octave's source integrated over the
+// depth of a deck, int (1 - exp(-K x)) exp(-b^n x) dx = K / (b^n (b^n + K)), is what it was: the
+// light is moved deeper, not taken away. K (clouds.multiscatter.powder) was fitted with the
+// octaves to the Monte Carlo decks.
+float octave_build_up(float depth, float b)
+{
+    float k = cloud.build_up.x;
+    return k > 0.0 ? (1.0 - exp(-k * depth)) * (b + k) / k : 1.0;
+}
+
 // The light each octave scatters toward the viewer per unit of its own optical depth, per unit
 // illuminance: a^n p_n exp(-b^n tau) / b^n (seed 000 eq. 14.18), the diffuse octaves by the
-// incidence above.
+// incidence and the build-up above.
 void octave_sources(OctavePhases o, float tau, float tau_up, out float src[MAX_OCTAVES])
 {
     float mu0 = clamp(tau_up / max(tau, 1e-6), MU0_FLOOR, 1.0);
@@ -99,7 +112,7 @@ void octave_sources(OctavePhases o, float tau, float tau_up, out float src[MAX_O
     src[0] = o.weighted[0] * exp(-tau);
     float b = cloud.octaves.y;
     for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
-        src[n] = o.weighted[n] * mu0 * exp(-b * depth) / b;
+        src[n] = o.weighted[n] * mu0 * exp(-b * depth) / b * octave_build_up(depth, b);
         b *= cloud.octaves.y;
     }
 }

@@ -36,6 +36,8 @@ struct sky_cloud_uniforms {
     SKY_VEC4 shadow_sun;   /* xyz sun direction the shadow map was built for; w 1 when built */
     SKY_VEC4 tiles;        /* km per repeat of the base, detail and curl noise (x, y, z): whole
                               fractions of the weather extent, so the pattern tiles with it */
+    SKY_VEC4 build_up;     /* x the octaves' build-up rate K per optical depth below a lit
+                              surface (0: none), yzw 0 */
 };
 
 /* A slice of rows of an amortized cloud map (weather map, shadow map). */

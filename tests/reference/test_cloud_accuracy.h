@@ -45,7 +45,7 @@ struct list {
 };
 
 struct options {
-    struct list a, b, c, octaves, g0, g1, w;
+    struct list a, b, c, octaves, powder, g0, g1, w;
     double albedo;
     int primary_steps, light_steps;
     long photons;
@@ -70,6 +70,7 @@ struct phase_set {
 struct octave_set {
     double a, b, c;
     int octaves;
+    double powder; /* the build-up rate below a lit surface (clouds.multiscatter.powder) */
 };
 
 struct harness {

@@ -158,6 +158,7 @@ bool slab_harness_run(struct harness *h, const struct sky_world_state *state,
     rc.multiscatter_b = os->b;
     rc.multiscatter_c = os->c;
     rc.multiscatter_octaves = os->octaves;
+    rc.multiscatter_powder = os->powder;
     rc.primary_steps = o->primary_steps;
     rc.light_steps = o->light_steps;
     rc.use_client_map = false;

@@ -60,6 +60,7 @@ static const struct option_spec option_specs[] = {
     OPT("--b", OPT_LIST, b, 0, 1),
     OPT("--c", OPT_LIST, c, 0, 1),
     OPT("--octaves", OPT_LIST, octaves, 1, 8),
+    OPT("--powder", OPT_LIST, powder, 0, 64),
     OPT("--g0", OPT_LIST, g0, -0.99, 0.99),
     OPT("--g1", OPT_LIST, g1, -0.99, 0.99),
     OPT("--w", OPT_LIST, w, 0, 1),
@@ -111,6 +112,7 @@ bool slab_parse_options(int argc, char **argv, const struct sky_world_state *sta
     single(&o->b, c->multiscatter_b);
     single(&o->c, c->multiscatter_c);
     single(&o->octaves, c->multiscatter_octaves);
+    single(&o->powder, c->multiscatter_powder);
     single(&o->g0, c->phase_g0);
     single(&o->g1, c->phase_g1);
     single(&o->w, c->phase_w);

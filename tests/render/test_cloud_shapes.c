@@ -217,6 +217,7 @@ static void run_tests(void)
     test_storm_tower();
     test_rain_shaft();
     test_silver_lining();
+    test_powder();
     test_sky_ambient();
     test_smooth_outlines();
     test_sun_through_clouds();

@@ -73,6 +73,7 @@ void test_storm_tower(void);
 void test_rain_shaft(void);
 
 void test_silver_lining(void);
+void test_powder(void);
 void test_sky_ambient(void);
 void test_sun_through_clouds(void);
 
