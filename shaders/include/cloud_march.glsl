@@ -210,6 +210,20 @@ const float MARCH_LOD = 0.008; // longest primary step per km of distance
 // Steps (km) over which the detail erosion fades out: its features are 50-200 m.
 const vec2 DETAIL_FADE_KM = vec2(0.1, 0.3);
 const int EMPTY_RUN = 3;
+// Dense cloud (a storm's core holds 60 optical depths per km): a step that enters it over more
+// than ENTRY_TAU optical depths would put the visible surface wherever its jittered sample
+// fell, grain and bands of the step's length on every tower. The march backs up to the last
+// empty sample and comes in again in steps of 1 / REFINE of it, and inside takes steps of
+// STEP_TAU optical depths, between 1 and 2 / REFINE of the step (the thin fringe it comes
+// through first must not take a whole step again), for at most REFINED_SAMPLES samples and until
+// the view's transmittance has fallen to REFINED_T of what it was at the surface: deeper, the
+// surface's place no longer shows, and short steps through a whole cloud would spend the loop's
+// samples before the clouds behind it.
+const float ENTRY_TAU = 1.0;
+const float STEP_TAU = 0.5;
+const float REFINE = 8.0;
+const float REFINED_T = 0.05;
+const float REFINED_SAMPLES = 3.0 * REFINE;
 
 // low_layer: which layer's density the segment marches (a constant at every call).
 void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float jitter,
@@ -239,16 +253,20 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     float t_fine = t; // the last fine sample: the skip never backs up behind it
     int empty = EMPTY_RUN;
     bool skipped = false; // the last probe stepped over empty space
+    bool outside = true;  // the last fine sample was empty
+    bool refining = false; // coming in again in short steps (until the ray leaves the cloud)
+    float entry_t = 1.0;   // the view's transmittance where the ray came in
+    float refine_left = 0.0; // samples the refinement may still take
     float tau = 0.0;
     bool fresh_light = true;
-    for (float i = 0.0; i < 2.0 * steps && t < t1; i += 1.0) {
+    for (float i = 0.0; i < 2.0 * steps + 4.0 * REFINE && t < t1; i += 1.0) {
         if (res.transmittance < EARLY_EXIT_T)
             break;
         ds = clamp(MARCH_LOD * t, ds_near, ds_far);
         cloud_detail_weight = clamp((DETAIL_FADE_KM.y - ds) / (DETAIL_FADE_KM.y - DETAIL_FADE_KM.x),
                                     0.0, 1.0);
         vec3 p = o + t * d;
-        if (empty >= EMPTY_RUN) {
+        if (empty >= EMPTY_RUN && !refining) { // not while coming in again
             // Probing where the layer may hold cloud, big steps.
             if (!cloud_layer_occupied(p, low_layer)) {
                 t += SKIP_FACTOR * ds;
@@ -263,17 +281,39 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
             p = o + t * d;
         }
         float sigma_t = cloud_layer_extinction(p, true, low_layer);
+        float t_before = t_fine;
         t_fine = t;
         if (sigma_t <= 0.0) {
             empty++;
-            t += ds;
+            // Short steps while coming in; a ray that has left the cloud steps as before.
+            t += refining && outside ? ds / REFINE : ds;
+            refining = refining && outside;
+            outside = true;
             continue;
         }
+        if (outside && !refining && sigma_t * ds > ENTRY_TAU && t - ds >= t0) {
+            refining = true;
+            refine_left = REFINED_SAMPLES;
+            t = max(t_before, t - ds) + ds / REFINE;
+            t_fine = t;
+            continue;
+        }
+        bool entering = outside;
+        outside = false;
+        if (entering)
+            entry_t = res.transmittance;
+        refine_left -= 1.0;
+        refining = refining && refine_left > 0.0 && res.transmittance > REFINED_T * entry_t;
+        // This sample stands for [t, t + ds]: shorter in dense cloud once coming in again.
+        if (refining)
+            ds = clamp(STEP_TAU / sigma_t, ds / REFINE, 2.0 * ds / REFINE);
         empty = 0;
         float r = length(p);
         // The secondary march runs on every other sample; the one between reuses its optical
         // depth (samples are tens of metres apart, the march reaches kilometres).
-        if (fresh_light) {
+        // A sample that enters a cloud marches its own: the optical depth of the last one may
+        // be from deep inside another cloud further back along the ray.
+        if (fresh_light || entering) {
             // Each light march starts at its own offset (a golden-ratio sequence along the
             // ray): with the pixel's one jitter for all of them, one unlucky offset would
             // bias every light sample of the ray alike, and the octaves that see deep into
@@ -283,7 +323,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
             if (moon_on)
                 tau_moon = light_optical_depth(p, moon_dir, light_jitter, low_layer);
         }
-        fresh_light = !fresh_light;
+        fresh_light = !(fresh_light || entering);
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
         vec3 ambient = mix(amb.bottom, amb.top, h);
         float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];

@@ -37,7 +37,7 @@ const double slab_mu0s[NMU0] = { 1.0, 0.5, 0.2 };
 
 /* Bounds over the table (run without lists). The relative errors divide by max(reference,
  * floor): 1 % of the incident flux, so that the thickest decks' T of a few 1e-4 counts in
- * absolute terms. The defaults reach mean |error| R 14.4 %, T 14.5 %, worst 35 % and 30 %,
+ * absolute terms. The defaults reach mean |error| R 14.2 %, T 13.9 %, worst 35 % and 28 %,
  * R + T <= 0.94 (docs/ACCURACY.md); the worst-case bound leaves a few points for changes of
  * the march that move single cases. The octaves before (light fading along the sun's ray only,
  * seen through the view's full extinction) fail them: R 24 %, T 45 %, worst T 100 %. */

@@ -215,6 +215,7 @@ static void run_tests(void)
     test_from_above("nadir_seed3", 3, 250.0, 40.0, 40.0);
     test_edge_on();
     test_storm_tower();
+    test_storm_steps();
     test_rain_shaft();
     test_silver_lining();
     test_powder();

@@ -74,6 +74,7 @@ void test_rain_shaft(void);
 
 void test_silver_lining(void);
 void test_powder(void);
+void test_storm_steps(void);
 void test_sky_ambient(void);
 void test_sun_through_clouds(void);
 
