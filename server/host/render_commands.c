@@ -89,6 +89,21 @@ static void changer(struct session *session, char *name, size_t capacity)
         snprintf(name, capacity, "controller");
 }
 
+/* A refused commit: a shared world that moved on is caught up and the change made again
+ * (render_commands_handle); anything else is the sender's error. */
+static void commit_refused(struct render_context *ctx, struct session *session,
+                           const struct sky_msg_id *id, const struct world_commit *commit)
+{
+    if (commit->status == WORLD_COMMIT_CONFLICT) {
+        ctx->conflict_revision = commit->current;
+        return;
+    }
+    reply_error(session, id,
+                commit->status == WORLD_COMMIT_UNAVAILABLE ? SKY_MSG_ERR_UNAVAILABLE
+                                                            : SKY_MSG_ERR_INTERNAL,
+                "%s", commit->error);
+}
+
 /* Commits `next` through the world host and tells the sender and every client. */
 static bool commit_state(struct render_context *ctx, struct session *session,
                          const struct sky_msg_id *id, struct sky_world_state *next)
@@ -97,7 +112,7 @@ static bool commit_state(struct render_context *ctx, struct session *session,
     char by[SKY_MSG_CLIENT_MAX + 1];
     changer(session, by, sizeof by);
     if (!world_host_commit(ctx->world, ctx->renderer, next, NULL, by, &commit)) {
-        reply_error(session, id, SKY_MSG_ERR_INTERNAL, "%s", commit.error);
+        commit_refused(ctx, session, id, &commit);
         return false;
     }
     reply(session, id, sky_msg_build_ack(id, commit.revision, SKY_ROLE_NONE));
@@ -202,7 +217,7 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
     char by[SKY_MSG_CLIENT_MAX + 1];
     changer(session, by, sizeof by);
     if (!world_host_set_weather_map(ctx->world, ctx->renderer, &msg->weather_map, by, &commit)) {
-        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s", commit.error);
+        commit_refused(ctx, session, &msg->id, &commit);
         return;
     }
     reply(session, &msg->id, sky_msg_build_ack(&msg->id, commit.revision, SKY_ROLE_NONE));
@@ -372,8 +387,28 @@ static void dispatch(struct render_context *ctx, struct session *session,
 void render_commands_handle(struct render_context *ctx, struct session *session,
                             const struct sky_client_msg *msg)
 {
+    /* A change to a shared world that another node changed first is made again over the
+     * state with that node's change, validated again: the world's changes keep one order. */
+    enum { ATTEMPTS = 8 };
+    static const double CATCH_UP_S = 1.0;
     handling = msg;
-    dispatch(ctx, session, msg);
+    for (int attempt = 1;; attempt++) {
+        ctx->conflict_revision = 0;
+        dispatch(ctx, session, msg);
+        if (ctx->conflict_revision == 0 || !ctx->cluster)
+            break;
+        uint64_t wanted = ctx->conflict_revision;
+        if (!cluster_sync_catch_up(ctx->cluster, ctx->world, ctx->renderer, ctx->hub, wanted,
+                                   CATCH_UP_S) ||
+            attempt == ATTEMPTS) {
+            reply_error(session, &msg->id, SKY_MSG_ERR_UNAVAILABLE,
+                        "the shared world is at revision %llu and this node could not catch up "
+                        "with it (%d attempts); the change is not applied",
+                        (unsigned long long)wanted, attempt);
+            break;
+        }
+    }
+    ctx->conflict_revision = 0;
     handling = NULL;
 }
 

@@ -263,6 +263,8 @@ static void *thread_main(void *arg)
                            frame_scheduler_subscription_count(ctx->frames) > 0,
                            !last || last->atmosphere_settled);
         announce_simulation(loop);
+        if (ctx->cluster) /* the shared world's changes from other nodes, in order */
+            cluster_sync_apply(ctx->cluster, ctx->world, ctx->renderer, ctx->hub);
 
         /* The tick: every queued command in arrival order, then the frames that are due. */
         bool replied = commands != NULL;
@@ -319,6 +321,8 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         .initial_state = params->initial_state,
         .save_delay_s = params->config->state_save_delay_s,
         .now_s = monotonic_seconds(),
+        .cluster = params->cluster,
+        .client_map = params->cluster_map,
     };
     ctx->world = world_host_create(&world);
     struct frame_scheduler_params frames = { .encoder_threads = params->config->encoder_threads,
@@ -349,6 +353,12 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         return NULL;
     }
     world_host_restore_weather_map(ctx->world, ctx->renderer);
+    if (params->cluster &&
+        !(ctx->cluster = cluster_sync_create(params->cluster, params->cluster_start,
+                                             encoder_done, loop, err, errlen))) {
+        render_loop_destroy(&loop);
+        return NULL;
+    }
     if (renderer_host_prepare(ctx->renderer, world_host_state(ctx->world),
                               world_host_atmosphere(ctx->world), err, errlen) != 0) {
         render_loop_destroy(&loop);
@@ -386,6 +396,7 @@ void render_loop_destroy(struct render_loop **loop_ptr)
     pthread_mutex_unlock(&loop->lock);
     if (joinable)
         pthread_join(loop->thread, NULL);
+    cluster_sync_destroy(&loop->ctx.cluster);
     frame_scheduler_destroy(&loop->ctx.frames);
     while (loop->head) {
         struct command *c = loop->head;
