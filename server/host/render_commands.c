@@ -8,6 +8,7 @@
 
 #include "json_guard.h"
 #include "log.h"
+#include "monotonic_clock.h"
 #include "presets.h"
 #include "world_sim.h"
 
@@ -388,9 +389,11 @@ void render_commands_handle(struct render_context *ctx, struct session *session,
                             const struct sky_client_msg *msg)
 {
     /* A change to a shared world that another node changed first is made again over the
-     * state with that node's change, validated again: the world's changes keep one order. */
-    enum { ATTEMPTS = 8 };
-    static const double CATCH_UP_S = 1.0;
+     * state with that node's change, validated again: the world's changes keep one order.
+     * Each retry follows another node's progress; a node that keeps losing the race (a
+     * flood of changes elsewhere) gives up after RETRY_S. */
+    static const double CATCH_UP_S = 1.0, RETRY_S = 3.0;
+    double started = monotonic_seconds();
     handling = msg;
     for (int attempt = 1;; attempt++) {
         ctx->conflict_revision = 0;
@@ -400,7 +403,7 @@ void render_commands_handle(struct render_context *ctx, struct session *session,
         uint64_t wanted = ctx->conflict_revision;
         if (!cluster_sync_catch_up(ctx->cluster, ctx->world, ctx->renderer, ctx->hub, wanted,
                                    CATCH_UP_S) ||
-            attempt == ATTEMPTS) {
+            monotonic_seconds() - started > RETRY_S) {
             reply_error(session, &msg->id, SKY_MSG_ERR_UNAVAILABLE,
                         "the shared world is at revision %llu and this node could not catch up "
                         "with it (%d attempts); the change is not applied",
