@@ -9,7 +9,10 @@
 #include "cluster_redis.h"
 #include "cluster_url.h"
 
-static const double CONNECT_TIMEOUT_S = 1.0;
+/* At start a slow Redis is waited for; later a connection is made again on the render thread,
+ * when a change comes, so an unreachable host may hold up frames only this long, and at most
+ * once per back-off (RETRY_MAX_S). */
+static const double START_CONNECT_TIMEOUT_S = 2.0, CONNECT_TIMEOUT_S = 0.25;
 static const double COMMAND_TIMEOUT_S = 2.0;
 static const double RETRY_MIN_S = 0.1, RETRY_MAX_S = 2.0;
 
@@ -32,7 +35,7 @@ static double now_seconds(void)
 }
 
 /* A connection, made again when it was lost and the back-off allows. */
-static bool connected(struct cluster_store *s, char *why, size_t whylen)
+static bool connected(struct cluster_store *s, double timeout_s, char *why, size_t whylen)
 {
     if (s->redis)
         return true;
@@ -41,7 +44,7 @@ static bool connected(struct cluster_store *s, char *why, size_t whylen)
         snprintf(why, whylen, "%.300s (trying again in %.1f s)", s->last_error, s->retry_at - now);
         return false;
     }
-    s->redis = cluster_redis_connect(&s->address, CONNECT_TIMEOUT_S, COMMAND_TIMEOUT_S,
+    s->redis = cluster_redis_connect(&s->address, timeout_s, COMMAND_TIMEOUT_S,
                                      s->last_error, sizeof s->last_error);
     if (s->redis) {
         s->retry_delay = RETRY_MIN_S;
@@ -84,7 +87,7 @@ struct cluster_store *cluster_store_create(const struct cluster_store_params *p,
     snprintf(s->name, sizeof s->name, "%s world \"%s\"", p->url, p->world);
     cluster_keys_make(p->world, &s->keys);
     s->retry_delay = RETRY_MIN_S;
-    if (!connected(s, why, sizeof why)) {
+    if (!connected(s, START_CONNECT_TIMEOUT_S, why, sizeof why)) {
         snprintf(err, errlen, "cannot reach the cluster's Redis at %s: %s", s->url, why);
         free(s);
         return NULL;
@@ -111,7 +114,7 @@ struct cluster_entry *cluster_store_open(struct cluster_store *s, uint64_t initi
                                          const char *initial_state, char *err, size_t errlen)
 {
     char why[320];
-    if (!connected(s, why, sizeof why)) {
+    if (!connected(s, CONNECT_TIMEOUT_S, why, sizeof why)) {
         snprintf(err, errlen, "cannot reach the cluster %s: %s", s->name, why);
         return NULL;
     }
@@ -152,7 +155,7 @@ enum cluster_commit_result cluster_store_commit(struct cluster_store *s, uint64_
     *current = expected;
     id[0] = '\0';
     char why[400];
-    if (!connected(s, why, sizeof why)) {
+    if (!connected(s, CONNECT_TIMEOUT_S, why, sizeof why)) {
         snprintf(err, errlen, "the cluster %s is unavailable: %s", s->name, why);
         return CLUSTER_UNAVAILABLE;
     }

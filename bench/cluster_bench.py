@@ -1,0 +1,148 @@
+#!/usr/bin/python3
+"""Cluster benchmark (docs/SCALING.md; not a test): real redis-server, haproxy and skyd nodes
+on free loopback ports, started and stopped here.
+
+  scale:    distinct views per second delivered through haproxy by 1, 2 and 3 nodes (every
+            client watches its own camera, so every frame is a render).
+  overhead: the frame rate of one node in cluster mode against one with the embedded default
+            (the state file), measured in the same run, interleaved round by round, with only
+            the measured node rendering.
+
+Usage: /usr/bin/python3 bench/cluster_bench.py --skyd build/skyd [--mode scale|overhead|both]
+       [--seconds 6] [--clients 12] [--rounds 4] [--nodes 1,2,3]
+"""
+
+import argparse
+import asyncio
+import os
+import shutil
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "tests", "e2e"))
+from cluster_harness import Haproxy, Redis, free_port, start_node  # noqa: E402
+from serve_harness import FIRST_FRAME_TIMEOUT, Client, Daemon, make_config  # noqa: E402
+
+VIEW = {"width": 128, "height": 72, "fps": 60, "format": "jpeg",
+        "exposure": {"mode": "manual", "ev100": 12}}
+STATE = {"clock": {"time_scale": 0}, "weather": {"autopilot": "off"},
+         "clouds": {"low": {"coverage": 0.4}}}
+
+
+async def watch(url, clients, seconds, warm_s=3.0):
+    """Each client subscribes its own view; returns frames per second over `seconds`."""
+    conns = []
+    for i in range(clients):
+        c = await Client.connect(url, f"bench-{i}")
+        view = dict(VIEW, camera={"yaw_deg": (360.0 * i / clients) % 360, "pitch_deg": 10,
+                                  "fov_deg": 70})
+        r = await c.request({"type": "subscribe", "id": f"s{i}", "view": view},
+                            FIRST_FRAME_TIMEOUT)
+        if r.get("type") != "subscribed":
+            raise RuntimeError(f"subscribe refused: {r}")
+        conns.append(c)
+    await asyncio.gather(*(c.pump(warm_s) for c in conns))
+    before = sum(sum(c.frame_count.values()) for c in conns)
+    t0 = time.monotonic()
+    await asyncio.gather(*(c.pump(seconds) for c in conns))
+    elapsed = time.monotonic() - t0
+    after = sum(sum(c.frame_count.values()) for c in conns)
+    for c in conns:
+        await c.close()
+    return (after - before) / elapsed
+
+
+def stop_all(lb, nodes, redis):
+    if lb:
+        lb.stop()
+    for n in nodes:
+        n.terminate()
+    if redis:
+        redis.stop()
+
+
+async def scale(skyd, scratch, node_counts, clients, seconds):
+    results = {}
+    for count in node_counts:
+        run_dir = os.path.join(scratch, f"scale{count}")
+        os.makedirs(run_dir, exist_ok=True)
+        redis, nodes, lb = Redis(run_dir, free_port()), [], None
+        try:
+            redis.start()
+            ports = [free_port() for _ in range(3)]
+            for i in range(count):
+                nodes.append(start_node(skyd, run_dir, f"node{i + 1}", redis.port, "bench",
+                                        ports[i], STATE))
+            lb = Haproxy(run_dir, free_port(), ports)
+            lb.start()
+            await asyncio.sleep(1.5)  # health checks mark the nodes up
+            results[count] = await watch(lb.url(), clients, seconds)
+            print(f"scale: {count} node(s), {clients} distinct views: "
+                  f"{results[count]:.1f} views/s", flush=True)
+        finally:
+            stop_all(lb, nodes, redis)
+    base = results.get(node_counts[0])
+    for count, rate in results.items():
+        print(f"scale: {count} node(s): {rate:.1f} views/s, x{rate / base:.2f} of "
+              f"{node_counts[0]} node(s)")
+    return results
+
+
+async def overhead(skyd, scratch, clients, seconds, rounds):
+    redis, nodes = Redis(scratch, free_port()), []
+    try:
+        redis.start()
+        embedded_config = make_config(scratch, os.path.join(scratch, "embedded-state.json"))
+        embedded_config["initial_state"] = STATE
+        embedded = Daemon(skyd, scratch, "embedded", embedded_config)
+        embedded.start()
+        nodes.append(embedded)
+        cluster = start_node(skyd, scratch, "cluster", redis.port, "overhead", 0, STATE)
+        nodes.append(cluster)
+        rates = {"embedded": [], "cluster": []}
+        for r in range(rounds):
+            order = [("embedded", embedded), ("cluster", cluster)]
+            if r % 2:
+                order.reverse()
+            for name, node in order:
+                rate = await watch(node.url(), clients, seconds, warm_s=2.0)
+                rates[name].append(rate)
+                print(f"overhead: round {r + 1} {name}: {rate:.1f} frames/s", flush=True)
+        e, c = sum(rates["embedded"]), sum(rates["cluster"])
+        print(f"overhead: embedded {e / rounds:.1f} frames/s, cluster {c / rounds:.1f} "
+              f"frames/s: cluster/embedded = {c / e:.3f} over {rounds} interleaved rounds")
+        return c / e
+    finally:
+        stop_all(None, nodes, redis)
+
+
+async def main():
+    p = argparse.ArgumentParser(description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--skyd", required=True)
+    p.add_argument("--mode", choices=("scale", "overhead", "both"), default="both")
+    p.add_argument("--seconds", type=float, default=6.0)
+    p.add_argument("--clients", type=int, default=12)
+    p.add_argument("--rounds", type=int, default=4)
+    p.add_argument("--nodes", default="1,2,3")
+    a = p.parse_args()
+    scratch = tempfile.mkdtemp(prefix="skyd-cluster-bench-")
+    try:
+        print(f"machine: {os.cpu_count()} CPUs, load {os.getloadavg()[0]:.2f}", flush=True)
+        if a.mode in ("scale", "both"):
+            counts = [int(n) for n in a.nodes.split(",")]
+            if max(counts) > 3:
+                raise SystemExit("config/haproxy.cfg names three nodes")
+            await scale(os.path.abspath(a.skyd), scratch, counts, a.clients, a.seconds)
+        if a.mode in ("overhead", "both"):
+            await overhead(os.path.abspath(a.skyd), scratch, a.clients // 3 or 1, a.seconds,
+                           a.rounds)
+        print(f"load after: {os.getloadavg()[0]:.2f}")
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    asyncio.run(main())
