@@ -31,8 +31,16 @@ STATE = {"clock": {"time_scale": 0}, "weather": {"autopilot": "off"},
          "clouds": {"low": {"coverage": 0.4}}}
 
 
-async def watch(url, clients, seconds, warm_s=3.0):
-    """Each client subscribes its own view; returns frames per second over `seconds`."""
+def cpu_seconds(pid):
+    """User + system CPU time of a process (all its threads), from /proc."""
+    with open(f"/proc/{pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+async def watch(url, clients, seconds, warm_s=3.0, pid=None):
+    """Each client subscribes its own view; returns frames per second over `seconds` (and,
+    with pid, the node's CPU ms per frame over the same window)."""
     conns = []
     for i in range(clients):
         c = await Client.connect(url, f"bench-{i}")
@@ -45,13 +53,36 @@ async def watch(url, clients, seconds, warm_s=3.0):
         conns.append(c)
     await asyncio.gather(*(c.pump(warm_s) for c in conns))
     before = sum(sum(c.frame_count.values()) for c in conns)
+    cpu0 = cpu_seconds(pid) if pid else 0.0
     t0 = time.monotonic()
     await asyncio.gather(*(c.pump(seconds) for c in conns))
     elapsed = time.monotonic() - t0
+    cpu = cpu_seconds(pid) - cpu0 if pid else 0.0
     after = sum(sum(c.frame_count.values()) for c in conns)
     for c in conns:
         await c.close()
-    return (after - before) / elapsed
+    frames = after - before
+    if pid:
+        return frames / elapsed, 1000.0 * cpu / max(frames, 1)
+    return frames / elapsed
+
+
+async def change_latency(url, count=40):
+    """Median and 90th percentile time from a `set` to its ack, ms (the ack waits for the
+    state file's fsync, or for Redis's append-only file's)."""
+    c = await Client.connect(url, "bench-ctl")
+    await c.auth()
+    times = []
+    for i in range(count):
+        t0 = time.monotonic()
+        r = await c.request({"type": "set", "id": f"c{i}",
+                             "patch": {"weather": {"humidity": 0.3 + 0.001 * (i % 200)}}})
+        if r.get("type") != "ack":
+            raise RuntimeError(f"set refused: {r}")
+        times.append((time.monotonic() - t0) * 1000)
+    await c.close()
+    times.sort()
+    return times[len(times) // 2], times[int(len(times) * 0.9)]
 
 
 def stop_all(lb, nodes, redis):
@@ -101,18 +132,34 @@ async def overhead(skyd, scratch, clients, seconds, rounds):
         nodes.append(embedded)
         cluster = start_node(skyd, scratch, "cluster", redis.port, "overhead", 0, STATE)
         nodes.append(cluster)
+        for name, node in (("embedded", embedded), ("cluster", cluster)):
+            median, p90 = await change_latency(node.url())
+            print(f"overhead: {name}: set to ack median {median:.2f} ms, 90th percentile "
+                  f"{p90:.2f} ms", flush=True)
         rates = {"embedded": [], "cluster": []}
+        cpu = {"embedded": [], "cluster": []}
         for r in range(rounds):
             order = [("embedded", embedded), ("cluster", cluster)]
             if r % 2:
                 order.reverse()
             for name, node in order:
-                rate = await watch(node.url(), clients, seconds, warm_s=2.0)
+                rate, ms = await watch(node.url(), clients, seconds, warm_s=2.0,
+                                       pid=node.proc.pid)
                 rates[name].append(rate)
-                print(f"overhead: round {r + 1} {name}: {rate:.1f} frames/s", flush=True)
+                cpu[name].append(ms)
+                print(f"overhead: round {r + 1} {name}: {rate:.1f} frames/s, {ms:.2f} CPU ms "
+                      f"per frame", flush=True)
         e, c = sum(rates["embedded"]), sum(rates["cluster"])
+        paired = sorted(cr / er for cr, er in zip(rates["cluster"], rates["embedded"]))
+        median = paired[len(paired) // 2] if len(paired) % 2 else \
+            (paired[len(paired) // 2 - 1] + paired[len(paired) // 2]) / 2
         print(f"overhead: embedded {e / rounds:.1f} frames/s, cluster {c / rounds:.1f} "
-              f"frames/s: cluster/embedded = {c / e:.3f} over {rounds} interleaved rounds")
+              f"frames/s: cluster/embedded = {c / e:.3f} (sums), median of per-round ratios "
+              f"{median:.3f}, over {rounds} interleaved rounds")
+        ce, cc = sum(cpu["embedded"]) / rounds, sum(cpu["cluster"]) / rounds
+        print(f"overhead: CPU per frame embedded {ce:.2f} ms, cluster {cc:.2f} ms: "
+              f"cluster/embedded = {cc / ce:.3f} (frame rate ratio at full load "
+              f"{ce / cc:.3f})")
         return c / e
     finally:
         stop_all(None, nodes, redis)
