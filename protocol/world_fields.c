@@ -97,6 +97,12 @@ const struct sky_field_desc sky_world_field_table[] = {
            "simulated seconds per real second: 0 pauses, 1 is real time, more is a time-lapse"),
     ENUM("clock.sky_bodies", clock.sky_bodies, bodies_names,
          "ephemeris: sun and moon follow the clock and location; manual: sun.* and moon.* angles"),
+    RO_TIME("clock.epoch.wall", clock.epoch.wall_unix_s, 0, UTC_MAX_S,
+            "read-only: the real UTC instant (wall clock) at which the simulated clock read "
+            "clock.epoch.utc; clock.utc = epoch.utc + (now - epoch.wall) x time_scale. "
+            "1970-01-01T00:00:00Z: not anchored yet"),
+    RO_TIME("clock.epoch.utc", clock.epoch.utc_unix_s, UTC_MIN_S, UTC_MAX_S,
+            "read-only: the simulated time at clock.epoch.wall, ISO 8601 UTC"),
     NUMBER("location.latitude_deg", location.latitude_deg, -90, 90,
            "latitude of the site, north positive, degrees"),
     NUMBER("location.longitude_deg", location.longitude_deg, -180, 180,
@@ -214,6 +220,13 @@ const struct sky_field_desc sky_world_field_table[] = {
            "weather map displacement by the wind so far, east, km"),
     NUMBER("weather.offset_north_km", weather.offset_north_km, -1e6, 1e6,
            "weather map displacement by the wind so far, north, km"),
+    RO_TIME("weather.anchor.utc", weather.anchor.utc_unix_s, UTC_MIN_S, UTC_MAX_S,
+            "read-only: simulated time of the last change to the wind, the weather driving it, "
+            "the offsets or the clock; the offsets are the anchor's plus the wind since"),
+    RO_NUMBER("weather.anchor.offset_east_km", weather.anchor.offset_east_km, -1e6, 1e6,
+              "read-only: weather.offset_east_km at weather.anchor.utc, km"),
+    RO_NUMBER("weather.anchor.offset_north_km", weather.anchor.offset_north_km, -1e6, 1e6,
+              "read-only: weather.offset_north_km at weather.anchor.utc, km"),
     INT("weather.seed", weather.seed, 0, SEED_MAX, "seed of the procedural weather map"),
     NUMBER("weather.map_extent_km", weather.map_extent_km, 4, 400,
            "side of the square weather map centred on the camera, km"),
@@ -299,6 +312,8 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->clock.utc_unix_s = 1782043200.0; /* 2026-06-21T12:00:00Z */
     state->clock.time_scale = 1.0;
     state->clock.sky_bodies = SKY_BODIES_MANUAL;
+    state->clock.epoch.wall_unix_s = 0.0; /* anchored by the first world host that runs it */
+    state->clock.epoch.utc_unix_s = state->clock.utc_unix_s;
     state->location.latitude_deg = 45.0;
     state->location.longitude_deg = 6.0;
     state->location.altitude_m = 200.0;
@@ -366,6 +381,9 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->weather.wind.direction_deg = 270.0;
     state->weather.offset_east_km = 0.0;
     state->weather.offset_north_km = 0.0;
+    state->weather.anchor.utc_unix_s = state->clock.utc_unix_s;
+    state->weather.anchor.offset_east_km = 0.0;
+    state->weather.anchor.offset_north_km = 0.0;
     state->weather.seed = 1;
     state->weather.map_extent_km = 60.0;
     state->weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;

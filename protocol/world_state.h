@@ -99,10 +99,21 @@ struct sky_exposure_state {
     enum sky_switch night_adaptation; /* auto exposure leaves dark scenes dark, as eyes see them */
 };
 
+/* The clock's epoch: the simulated time utc_unix_s read at the real (wall-clock, CLOCK_REALTIME)
+ * instant wall_unix_s. The simulated time at wall instant w is
+ * utc_unix_s + (w - wall_unix_s) x time_scale, so every node that holds the state reads the same
+ * clock. Read-only for clients; moved when a change sets clock.utc or clock.time_scale. Both
+ * are whole milliseconds, what their ISO 8601 text keeps. wall_unix_s 0: not anchored yet. */
+struct sky_clock_epoch {
+    double wall_unix_s;               /* "clock.epoch.wall" */
+    double utc_unix_s;                /* "clock.epoch.utc" */
+};
+
 struct sky_clock_state {
     double utc_unix_s;                /* "clock.utc": ISO 8601 text in JSON */
     double time_scale;                /* simulated seconds per real second; 0 pauses */
     enum sky_bodies_mode sky_bodies;  /* ephemeris: sun and moon follow clock and location */
+    struct sky_clock_epoch epoch;
 };
 
 struct sky_location_state {
@@ -172,11 +183,22 @@ struct sky_wind_state {
     double direction_deg;             /* where the wind blows from, north through east */
 };
 
+/* Where the wind's integral starts: weather.offset_* at simulated time utc_unix_s (whole
+ * milliseconds). The offsets at a later time are these plus the wind integrated from here
+ * (world_sim.h). Read-only for clients; moved by a change to the wind, the weather that drives
+ * it, the offsets or the clock. */
+struct sky_wind_anchor {
+    double utc_unix_s;                /* "weather.anchor.utc" */
+    double offset_east_km;
+    double offset_north_km;
+};
+
 struct sky_weather_state {
     double humidity;                  /* 0..1; haze and fog grow with it */
     struct sky_wind_state wind;
     double offset_east_km;            /* weather map advected by the wind so far */
     double offset_north_km;
+    struct sky_wind_anchor anchor;
     int seed;                         /* of the procedural weather map */
     double map_extent_km;             /* side of the square weather map around the camera */
     enum sky_weather_map_source map_source;

@@ -336,6 +336,7 @@ int skyd_cmd_render(int argc, char **argv)
     struct sky_render_stats stats;
     int status = SKYD_EXIT_OK;
     char err[512], path[1200];
+    world_sim_anchor_wind(&common.state); /* the lapse's wind runs from the state as given */
     for (unsigned frame = 0; frame < lapse.frames && status == SKYD_EXIT_OK; frame++) {
         if (frame > 0)
             world_sim_advance(&common.state, lapse.step_s);

@@ -5,6 +5,8 @@
 #include <string.h>
 
 #include "log.h"
+#include "wall_clock.h"
+#include "world_sim.h"
 #include "world_codec.h"
 
 bool serve_cluster_open(struct serve_cluster *c, const struct skyd_config *config,
@@ -19,7 +21,11 @@ bool serve_cluster_open(struct serve_cluster *c, const struct skyd_config *confi
         snprintf(err, errlen, "/cluster/redis: %s", why);
         return false;
     }
-    char *initial = world_codec_state_text(&config->initial_state);
+    /* A world made by this node gets its epoch now, so that every node that reads it later
+     * computes the same simulated instant (a node anchoring it at its own start would not). */
+    struct sky_world_state anchored = config->initial_state;
+    world_sim_anchor(&anchored, wall_clock_seconds());
+    char *initial = world_codec_state_text(&anchored);
     if (!initial) {
         snprintf(err, errlen, "out of memory");
         serve_cluster_close(c);

@@ -13,6 +13,7 @@
 #include "log.h"
 #include "render_commands.h"
 #include "monotonic_clock.h"
+#include "wall_clock.h"
 
 /* While only the simulation changes the state, it is written at most this often. */
 static const double SIM_SAVE_PERIOD_S = 30.0;
@@ -259,7 +260,7 @@ static void *thread_main(void *arg)
         pthread_mutex_unlock(&loop->lock);
 
         const struct sky_render_stats *last = frame_scheduler_last_stats(ctx->frames);
-        world_host_advance(ctx->world, ctx->renderer, monotonic_seconds(),
+        world_host_advance(ctx->world, ctx->renderer, wall_clock_seconds(),
                            frame_scheduler_subscription_count(ctx->frames) > 0,
                            !last || last->atmosphere_settled);
         announce_simulation(loop);
@@ -321,6 +322,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         .initial_state = params->initial_state,
         .save_delay_s = params->config->state_save_delay_s,
         .now_s = monotonic_seconds(),
+        .wall_s = wall_clock_seconds(),
         .cluster = params->cluster,
         .client_map = params->cluster_map,
     };

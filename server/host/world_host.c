@@ -8,8 +8,10 @@
 #include "config.h"
 #include "messages.h"
 #include "monotonic_clock.h"
+#include "wall_clock.h"
 #include "state_store.h"
 #include "world_codec.h"
+#include "wind_drift.h"
 #include "world_render.h"
 #include "world_sim.h"
 
@@ -24,7 +26,9 @@ struct world_host {
     bool dirty;                /* a write the daemon owes itself (retried after save_delay_s) */
     double last_change_s;      /* when that write was last due */
     bool sim_dirty;            /* the simulation changed the state since the last write */
-    double last_save_s, last_tick_s;
+    double last_save_s;
+    double wall_s;             /* the wall instant the state was last brought to */
+    struct wind_drift *drift;  /* the wind's running sum for the live state */
     /* The state as clients last heard of it (events), and when a simulation event went. */
     struct sky_world_state announced;
     double announced_at_s;
@@ -40,12 +44,22 @@ struct world_host *world_host_create(const struct world_host_params *params)
         return NULL;
     snprintf(h->state_file, sizeof h->state_file, "%s",
              params->state_file ? params->state_file : "");
+    h->drift = wind_drift_create();
+    if (!h->drift) {
+        free(h);
+        return NULL;
+    }
     h->state = params->initial_state;
-    world_sim_settle(&h->state); /* sun and moon at the restored clock */
+    h->wall_s = params->wall_s;
+    if (!world_sim_anchored(&h->state)) {
+        world_sim_anchor(&h->state, h->wall_s);
+        h->sim_dirty = true; /* written, so that a restart or another node reads this epoch */
+    }
+    world_sim_run_to(&h->state, h->wall_s, h->drift); /* the clock its epoch gives now */
     world_to_render_atmosphere(&h->state, &h->atmosphere);
     h->settled_revision = h->state.revision;
     h->save_delay_s = params->save_delay_s;
-    h->last_tick_s = h->last_save_s = params->now_s;
+    h->last_save_s = params->now_s;
     h->announced = h->state;
     h->announced_at_s = params->now_s;
     h->cluster = params->cluster;
@@ -63,6 +77,7 @@ void world_host_destroy(struct world_host **host)
     if (!h)
         return;
     sky_weather_map_free(&h->client_map);
+    wind_drift_destroy(&h->drift);
     free(h);
     *host = NULL;
 }
@@ -195,7 +210,7 @@ bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
     static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
-    world_sim_settle(next);
+    world_sim_commit(&h->state, next, h->wall_s, h->drift);
     size_t count = sky_msg_state_diff(&h->state, next, changed, MAX_CHANGED - 1);
     if (count > MAX_CHANGED - 1)
         count = MAX_CHANGED - 1;
@@ -272,7 +287,10 @@ bool world_host_apply_entry(struct world_host *h, struct renderer_host *renderer
                 "lost changes)\n", (unsigned long long)h->state.revision,
                 (unsigned long long)e->revision);
     next.revision = e->revision;
-    world_sim_settle(&next);
+    /* The entry's state holds its epoch and anchors: brought to this node's wall instant, it
+     * is the instant every node computes. The wind's running sum was the old state's. */
+    wind_drift_forget(h->drift);
+    world_sim_run_to(&next, wall_clock_seconds(), h->drift);
     bool map_changed = e->map && adopt_map(h, renderer, e);
     size_t count = 0;
     if (e->snapshot) {
@@ -396,14 +414,13 @@ void world_host_restore_weather_map(struct world_host *h, struct renderer_host *
     }
 }
 
-void world_host_advance(struct world_host *h, struct renderer_host *renderer, double now_s,
+void world_host_advance(struct world_host *h, struct renderer_host *renderer, double wall_s,
                         bool watched, bool frames_settled)
 {
-    double real_dt = now_s - h->last_tick_s;
-    h->last_tick_s = now_s;
+    h->wall_s = wall_s;
     struct sky_world_state before;
     memcpy(&before, &h->state, sizeof before);
-    world_sim_advance(&h->state, world_sim_scaled_dt(&h->state, real_dt));
+    world_sim_run_to(&h->state, wall_s, h->drift);
     if (memcmp(&before, &h->state, sizeof before) != 0)
         h->sim_dirty = true;
     struct sky_render_atmosphere fresh;

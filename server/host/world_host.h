@@ -19,7 +19,8 @@ struct world_host_params {
     const char *state_file;      /* "" or NULL: no persistence */
     struct sky_world_state initial_state;
     double save_delay_s;         /* a failed write is tried again after this */
-    double now_s;                /* CLOCK_MONOTONIC seconds: the simulation's first tick */
+    double now_s;                /* CLOCK_MONOTONIC seconds at start (save schedule) */
+    double wall_s;               /* CLOCK_REALTIME seconds at start: the clock is brought there */
     /* A shared world (server/cluster/): changes are committed to Redis instead of the state
      * file (then ""), and the world's client weather map at start is `client_map`. NULL: the
      * state file. Borrowed: it outlives the host. */
@@ -29,6 +30,9 @@ struct world_host_params {
 
 struct world_host;
 
+/* The initial state is brought to wall_s by its epoch (a stored state resumes at the time its
+ * epoch gives now, not at the time it was saved); a state without an epoch is anchored at
+ * wall_s with the clock it holds, and written. */
 struct world_host *world_host_create(const struct world_host_params *params);
 void world_host_destroy(struct world_host **host);
 
@@ -57,7 +61,8 @@ struct world_commit {
     char error[512];   /* why it failed */
 };
 
-/* Makes `next` (validated) the live state: settled, diffed, and when anything differs (or
+/* Makes `next` (validated) the live state: re-anchored where its clock or wind changed and
+ * brought to the wall instant of the last tick (world_sim_commit), diffed, and when anything differs (or
  * `also_changed`, a pointer outside the schema, names something else that did) written to the
  * state file before anything acknowledges it, handed to the renderer, given the next revision
  * and announced: the event carries the changed fields' new values and `by`, who changed them.
@@ -91,15 +96,16 @@ bool world_host_set_weather_map(struct world_host *host, struct renderer_host *r
  * that selects it without a usable map falls back to the procedural one (said on stderr). */
 void world_host_restore_weather_map(struct world_host *host, struct renderer_host *renderer);
 
-/* Advances the world by the real time since the last tick times clock.time_scale; the revision
- * stays (it counts accepted changes). A haze change is handed to frames once the previous one
+/* Brings the world to wall instant wall_s (CLOCK_REALTIME seconds) by its epoch
+ * (world_sim_run_to); the revision stays (it counts accepted changes). Commits until the next
+ * call are anchored at wall_s. A haze change is handed to frames once the previous one
  * has settled (frames_settled: the last frame's atmosphere_settled), so a humidity that changes
  * every tick cannot keep restarting the amortized rebuild; unwatched, it is rebuilt at once. */
 /* A `simulation` event (malloc'd) when at least period_s passed since the last one and the
  * simulation moved fields since clients last heard of the state; NULL otherwise. */
 char *world_host_simulation_event(struct world_host *host, double now_s, double period_s);
 
-void world_host_advance(struct world_host *host, struct renderer_host *renderer, double now_s,
+void world_host_advance(struct world_host *host, struct renderer_host *renderer, double wall_s,
                         bool watched, bool frames_settled);
 
 /* Unwatched, a pending atmosphere change is rebuilt at once, so that a snapshot, or the first

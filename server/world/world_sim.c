@@ -8,9 +8,9 @@
 #include <string.h>
 
 #include "ephemeris.h"
+#include "utc_time.h"
 #include "weather_autopilot.h"
-
-static const double DEG_TO_RAD = 3.14159265358979323846 / 180.0;
+#include "wind_drift.h"
 
 /* clock.utc's range in the schema: 1900-01-01 to 2100-12-31T23:59:59Z. */
 #define UTC_MIN_S -2208988800.0
@@ -44,17 +44,39 @@ static double wrap_degrees(double deg)
     return d >= 360.0 ? 0.0 : d;
 }
 
-double world_sim_scaled_dt(const struct sky_world_state *state, double real_dt_s)
+/* What a time's ISO 8601 text in the state's JSON keeps of it: whole milliseconds. A time
+ * the state anchors on is stored so, so that a node reading the JSON gets the same double. */
+static double time_kept(double unix_s)
 {
-    if (!(real_dt_s > 0.0))
-        return 0.0;
-    return real_dt_s * state->clock.time_scale;
+    char text[48], err[96];
+    double kept;
+    sky_time_format_iso8601(unix_s, text, sizeof text);
+    return sky_time_parse_iso8601(text, &kept, err, sizeof err) ? kept : unix_s;
+}
+
+/* Time fraction of the transition at unix_s, in [0, 1]. */
+static double transition_fraction(const struct sky_transition_state *t, double unix_s)
+{
+    return clamp((unix_s - t->start_unix_s) / t->duration_s, 0.0, 1.0);
+}
+
+/* Whether the transition blends the weather at unix_s (a time before its start counts: it
+ * shows its start values there). */
+static bool blending_at(const struct sky_transition_state *t, double unix_s)
+{
+    return t->duration_s > 0.0 && transition_fraction(t, unix_s) < 1.0;
+}
+
+/* Whether the state's own weather parameters are still a blend: the transition had not ended
+ * by the state's clock. */
+static bool state_mid_blend(const struct sky_transition_state *t)
+{
+    return t->duration_s > 0.0 && t->progress < 1.0;
 }
 
 bool world_sim_transition_active(const struct sky_world_state *state)
 {
-    const struct sky_transition_state *t = &state->weather.transition;
-    return t->duration_s > 0.0 && t->progress < 1.0;
+    return blending_at(&state->weather.transition, state->clock.utc_unix_s);
 }
 
 void world_sim_mix_weather(const struct sky_weather_params *from,
@@ -79,12 +101,6 @@ void world_sim_mix_weather(const struct sky_weather_params *from,
     *out = mixed;
 }
 
-/* Time fraction of the transition at unix_s, in [0, 1]. */
-static double transition_fraction(const struct sky_transition_state *t, double unix_s)
-{
-    return clamp((unix_s - t->start_unix_s) / t->duration_s, 0.0, 1.0);
-}
-
 void world_sim_weather_at(const struct sky_world_state *state, double unix_s,
                           struct sky_weather_params *out)
 {
@@ -96,32 +112,14 @@ void world_sim_weather_at(const struct sky_world_state *state, double unix_s,
                                  state->location.longitude_deg, &target);
     else
         target = t->to;
-    if (world_sim_transition_active(state))
+    if (blending_at(t, unix_s))
         world_sim_mix_weather(&t->from, &target, transition_fraction(t, unix_s), out);
     else if (autopilot)
         *out = target;
+    else if (state_mid_blend(t))
+        *out = t->to; /* it ends between the state's clock and unix_s */
     else
         sky_weather_params_get(state, out);
-}
-
-static double wrap_offset(double km)
-{
-    if (km > WORLD_SIM_OFFSET_LIMIT_KM || km < -WORLD_SIM_OFFSET_LIMIT_KM)
-        km -= 2.0 * WORLD_SIM_OFFSET_LIMIT_KM * floor((km + WORLD_SIM_OFFSET_LIMIT_KM) /
-                                                      (2.0 * WORLD_SIM_OFFSET_LIMIT_KM));
-    return km;
-}
-
-/* Moves the weather map downwind: the wind blows from direction_deg, so the map moves toward
- * direction_deg + 180. */
-static void advect(struct sky_world_state *state, double speed_m_s, double from_deg, double dt_s)
-{
-    double to_rad = (from_deg + 180.0) * DEG_TO_RAD;
-    double distance_km = speed_m_s * dt_s / 1000.0;
-    state->weather.offset_east_km = wrap_offset(state->weather.offset_east_km +
-                                                distance_km * sin(to_rad));
-    state->weather.offset_north_km = wrap_offset(state->weather.offset_north_km +
-                                                 distance_km * cos(to_rad));
 }
 
 static void update_sky_bodies(struct sky_world_state *state)
@@ -143,44 +141,111 @@ static void update_sky_bodies(struct sky_world_state *state)
 static void update_weather(struct sky_world_state *state)
 {
     struct sky_transition_state *t = &state->weather.transition;
-    bool transition = world_sim_transition_active(state);
-    if (!transition && state->weather.autopilot != SKY_SWITCH_ON)
-        return;
+    double now_s = state->clock.utc_unix_s;
+    bool autopilot = state->weather.autopilot == SKY_SWITCH_ON;
+    if (!autopilot && !state_mid_blend(t) && !blending_at(t, now_s))
+        return; /* the parameters are the state's own */
     struct sky_weather_params now;
-    world_sim_weather_at(state, state->clock.utc_unix_s, &now);
-    if (transition) {
-        t->progress = transition_fraction(t, state->clock.utc_unix_s);
-        if (t->progress >= 1.0) {
-            t->progress = 1.0;
-            if (state->weather.autopilot != SKY_SWITCH_ON)
-                now = t->to; /* the end values, exactly */
-        }
-    }
+    world_sim_weather_at(state, now_s, &now); /* before progress moves: it reads it */
+    if (t->duration_s > 0.0)
+        t->progress = transition_fraction(t, now_s);
     sky_weather_params_put(state, &now);
+}
+
+bool world_sim_anchored(const struct sky_world_state *state)
+{
+    return state->clock.epoch.wall_unix_s != 0.0;
+}
+
+double world_sim_clock_at(const struct sky_world_state *state, double wall_s)
+{
+    const struct sky_clock_state *c = &state->clock;
+    if (!world_sim_anchored(state))
+        return c->utc_unix_s;
+    return clamp(c->epoch.utc_unix_s + (wall_s - c->epoch.wall_unix_s) * c->time_scale,
+                 UTC_MIN_S, UTC_MAX_S);
+}
+
+void world_sim_anchor_wind(struct sky_world_state *state)
+{
+    struct sky_wind_anchor *a = &state->weather.anchor;
+    a->utc_unix_s = time_kept(state->clock.utc_unix_s);
+    a->offset_east_km = state->weather.offset_east_km;
+    a->offset_north_km = state->weather.offset_north_km;
+}
+
+void world_sim_anchor(struct sky_world_state *state, double wall_s)
+{
+    struct sky_clock_state *c = &state->clock;
+    /* clock.utc is the reading at wall_s; the epoch's wall instant is kept to the millisecond
+     * and its reading follows the clock's pace to it. */
+    double wall = time_kept(wall_s);
+    c->epoch.wall_unix_s = wall;
+    c->epoch.utc_unix_s =
+        time_kept(clamp(c->utc_unix_s + (wall - wall_s) * c->time_scale, UTC_MIN_S, UTC_MAX_S));
+    c->utc_unix_s = world_sim_clock_at(state, wall_s);
+    world_sim_anchor_wind(state);
+}
+
+bool world_sim_clock_changed(const struct sky_world_state *before,
+                             const struct sky_world_state *after)
+{
+    return !world_sim_anchored(after) || before->clock.utc_unix_s != after->clock.utc_unix_s ||
+           before->clock.time_scale != after->clock.time_scale;
+}
+
+bool world_sim_wind_changed(const struct sky_world_state *before,
+                            const struct sky_world_state *after)
+{
+    const struct sky_weather_state *b = &before->weather, *a = &after->weather;
+    struct sky_weather_params pb, pa;
+    sky_weather_params_get(before, &pb);
+    sky_weather_params_get(after, &pa);
+    return before->clock.utc_unix_s != after->clock.utc_unix_s ||
+           b->offset_east_km != a->offset_east_km || b->offset_north_km != a->offset_north_km ||
+           memcmp(&pb, &pa, sizeof pb) != 0 ||
+           memcmp(&b->transition, &a->transition, sizeof b->transition) != 0 ||
+           b->autopilot != a->autopilot || b->autopilot_seed != a->autopilot_seed ||
+           before->location.longitude_deg != after->location.longitude_deg;
+}
+
+void world_sim_commit(const struct sky_world_state *before, struct sky_world_state *after,
+                      double wall_s, struct wind_drift *drift)
+{
+    if (world_sim_clock_changed(before, after)) {
+        world_sim_anchor(after, wall_s);
+        wind_drift_forget(drift);
+    } else if (world_sim_wind_changed(before, after)) {
+        world_sim_anchor_wind(after);
+        wind_drift_forget(drift);
+    }
+    world_sim_run_to(after, wall_s, drift);
+}
+
+void world_sim_set_time(struct sky_world_state *state, double utc_s, struct wind_drift *drift)
+{
+    double t = clamp(utc_s, UTC_MIN_S, UTC_MAX_S);
+    /* The offsets first: the wind's integral reads the weather of the state as it was. */
+    wind_drift_offsets(drift, state, t, &state->weather.offset_east_km,
+                       &state->weather.offset_north_km);
+    state->clock.utc_unix_s = t;
+    world_sim_settle(state);
+}
+
+void world_sim_run_to(struct sky_world_state *state, double wall_s, struct wind_drift *drift)
+{
+    world_sim_set_time(state, world_sim_clock_at(state, wall_s), drift);
 }
 
 void world_sim_advance(struct sky_world_state *state, double sim_dt_s)
 {
-    double remaining = sim_dt_s > 0.0 ? sim_dt_s : 0.0;
-    while (remaining > 0.0 && state->clock.utc_unix_s < UTC_MAX_S) {
-        double step = remaining < WORLD_SIM_MAX_SUBSTEP_S ? remaining : WORLD_SIM_MAX_SUBSTEP_S;
-        double start = state->clock.utc_unix_s;
-        step = fmin(step, UTC_MAX_S - start);
-        /* Midpoint rule: second-order in the step for a wind that changes with time. */
-        struct sky_weather_params mid;
-        world_sim_weather_at(state, start + 0.5 * step, &mid);
-        advect(state, mid.wind_speed_m_s, mid.wind_direction_deg, step);
-        state->clock.utc_unix_s = start + step;
-        remaining -= step;
-    }
-    state->clock.utc_unix_s = clamp(state->clock.utc_unix_s, UTC_MIN_S, UTC_MAX_S);
-    update_weather(state);
-    update_sky_bodies(state);
+    world_sim_set_time(state, state->clock.utc_unix_s + (sim_dt_s > 0.0 ? sim_dt_s : 0.0), NULL);
 }
 
 void world_sim_settle(struct sky_world_state *state)
 {
-    world_sim_advance(state, 0.0);
+    update_weather(state);
+    update_sky_bodies(state);
 }
 
 void world_sim_start_transition(struct sky_world_state *state,
@@ -189,7 +254,7 @@ void world_sim_start_transition(struct sky_world_state *state,
     struct sky_transition_state *t = &state->weather.transition;
     sky_weather_params_get(state, &t->from);
     t->to = *target;
-    t->start_unix_s = state->clock.utc_unix_s;
+    t->start_unix_s = time_kept(state->clock.utc_unix_s);
     if (duration_s > 0.0) {
         t->duration_s = duration_s;
         t->progress = 0.0;
@@ -275,8 +340,15 @@ void world_sim_client_changed(const struct sky_world_state *before,
                                  after->location.longitude_deg, &end);
         world_sim_start_transition(after, &end, WORLD_SIM_AUTOPILOT_BLEND_S);
     } else if (was_on && !is_on && world_sim_transition_active(after)) {
-        /* Switched off mid-blend: the weather stays where it is. */
+        /* Switched off mid-blend: the weather stays where it is, and the blend ends now. */
         sky_weather_params_get(after, &t->to);
+        t->duration_s = fmax(after->clock.utc_unix_s - t->start_unix_s, 0.0);
+        t->progress = 1.0;
+    } else if (!state_mid_blend(&before->weather.transition) &&
+               before->weather.transition.duration_s > 0.0 &&
+               world_sim_transition_active(after)) {
+        /* The clock set back into a transition that had ended: the weather stays. */
+        t->duration_s = 0.0;
         t->progress = 1.0;
     } else if (world_sim_transition_active(after)) {
         struct sky_weather_params old_values, new_values;
@@ -289,5 +361,7 @@ void world_sim_client_changed(const struct sky_world_state *before,
                 from[i] = to[i] = n[i]; /* a value set during a transition holds */
         }
     }
+    if (world_sim_wind_changed(before, after))
+        world_sim_anchor_wind(after);
     world_sim_settle(after);
 }

@@ -1,7 +1,9 @@
-/* The world simulation: what happens to the world state as simulated time passes.
+/* The world simulation: the world state as a function of time.
  *
- * - The clock (clock.utc) advances by simulated seconds; the daemon passes real elapsed time
- *   times clock.time_scale.
+ * - The clock is an epoch (clock.epoch: the simulated time at a wall-clock instant) and the
+ *   time scale: the simulated time at wall instant w is epoch.utc + (w - epoch.wall) x
+ *   time_scale (world_sim_clock_at), so every node holding the state reads the same clock,
+ *   however often it ticks and whenever it started. A time scale of 0 pauses it.
  * - With clock.sky_bodies "ephemeris", sun.* and moon.* azimuth and elevation follow the
  *   clock and location: apparent (refracted, 1010 mbar, 10 C) topocentric positions.
  * - A weather transition (weather.transition.*) moves the 14 weather parameters
@@ -10,11 +12,15 @@
  * - The weather autopilot (weather.autopilot on) drives the same parameters from
  *   weather_autopilot_sample(); a transition under way blends into it.
  * - The wind advects the weather map: weather.offset_* grow downwind by speed x time
- *   (direction_deg is where the wind blows from).
+ *   (direction_deg is where the wind blows from). The offsets at simulated time t are those of
+ *   weather.anchor plus the wind integrated from the anchor's time to t over cells bounded by
+ *   the multiples of WORLD_SIM_MAX_SUBSTEP_S of simulated time (midpoint rule in each), summed
+ *   in order (wind_drift.h).
  *
- * Everything is a function of the state and the simulated time, so any split of a time span
- * into steps gives the same state (the wind offset to the accuracy of its midpoint
- * integration over sub-steps of at most WORLD_SIM_MAX_SUBSTEP_S). Pure: no I/O, no globals.
+ * Everything is a function of the state as last changed by a client (its anchors) and the
+ * simulated time, bit for bit: any split of a time span into ticks, and a state read back from
+ * its JSON at any later moment, give the same state at the same instant. Pure: no I/O, no
+ * globals; the wall-clock time is an argument.
  */
 #ifndef SKYD_WORLD_SIM_H
 #define SKYD_WORLD_SIM_H
@@ -24,6 +30,7 @@
 #include "world_state.h"
 
 struct cJSON;
+struct wind_drift;
 
 #define WORLD_SIM_MAX_SUBSTEP_S 60.0
 /* When the autopilot is switched on (or reseeded), the weather blends into it over this. */
@@ -31,27 +38,65 @@ struct cJSON;
 /* weather.offset_* wrap within +-this (the field's range). */
 #define WORLD_SIM_OFFSET_LIMIT_KM 1e6
 
-/* Simulated seconds for real_dt_s real seconds at the state's time scale. */
-double world_sim_scaled_dt(const struct sky_world_state *state, double real_dt_s);
+/* Whether the clock has an epoch (clock.epoch.wall is not 0). */
+bool world_sim_anchored(const struct sky_world_state *state);
 
-/* Advances the state by sim_dt_s >= 0 simulated seconds, then updates everything the
- * simulation drives at the new time. The clock stops at the end of clock.utc's range. Does
- * not touch the revision. */
+/* The simulated time at wall instant wall_s (CLOCK_REALTIME, unix seconds) by the state's
+ * epoch, within clock.utc's range; clock.utc itself when the clock is not anchored. */
+double world_sim_clock_at(const struct sky_world_state *state, double wall_s);
+
+/* The state as it is becomes the anchor of everything at wall instant wall_s: the clock's
+ * epoch (wall_s and clock.utc, both to the millisecond, the clock keeping its pace) and the
+ * wind's anchor. clock.utc becomes the epoch's reading at wall_s. */
+void world_sim_anchor(struct sky_world_state *state, double wall_s);
+
+/* The wind's anchor only: weather.anchor becomes clock.utc (to the millisecond) and the
+ * offsets as they are. */
+void world_sim_anchor_wind(struct sky_world_state *state);
+
+/* Whether a change from before to after needs new anchors: the clock's (clock.utc or
+ * time_scale changed, or no epoch yet) and the wind's (the clock, the offsets, the weather
+ * parameters, the transition, the autopilot, or the longitude it samples changed). */
+bool world_sim_clock_changed(const struct sky_world_state *before,
+                             const struct sky_world_state *after);
+bool world_sim_wind_changed(const struct sky_world_state *before,
+                            const struct sky_world_state *after);
+
+/* After a committed change (before: the live state, after: the change, at wall instant
+ * wall_s): new anchors where world_sim_*_changed says so, then the state brought to wall_s.
+ * A state not yet anchored is anchored. */
+void world_sim_commit(const struct sky_world_state *before, struct sky_world_state *after,
+                      double wall_s, struct wind_drift *drift);
+
+/* Brings the state to simulated time utc_s (clamped to clock.utc's range): clock.utc, the
+ * offsets from the wind's anchor, and everything the simulation drives. drift (may be NULL)
+ * remembers the wind's running sum between calls. Does not touch the revision or anchors. */
+void world_sim_set_time(struct sky_world_state *state, double utc_s, struct wind_drift *drift);
+
+/* world_sim_set_time at world_sim_clock_at(state, wall_s): the state at a wall instant. */
+void world_sim_run_to(struct sky_world_state *state, double wall_s, struct wind_drift *drift);
+
+/* world_sim_set_time at clock.utc + sim_dt_s (sim_dt_s < 0 counts as 0), without a drift:
+ * for offline time-lapses. */
 void world_sim_advance(struct sky_world_state *state, double sim_dt_s);
 
-/* world_sim_advance(state, 0): the driven fields brought in line with the state as it is. */
+/* The driven fields (transition progress, driven weather, sun and moon) brought in line with
+ * the state's clock as it is; the offsets are left alone. */
 void world_sim_settle(struct sky_world_state *state);
 
-/* True when a transition is under way. */
+/* True when a transition is under way at the state's clock: its time fraction is below 1. */
 bool world_sim_transition_active(const struct sky_world_state *state);
 
 /* The weather parameters the simulation gives at simulated time unix_s: the transition's
- * or the autopilot's, or the state's own when neither drives them. */
+ * or the autopilot's, or the state's own when neither drives them (the transition's end values
+ * when it ends after the state's clock). Depends only on what a client last changed, not on
+ * how far the state has run, so any later state of the same anchor gives the same answer. */
 void world_sim_weather_at(const struct sky_world_state *state, double unix_s,
                           struct sky_weather_params *out);
 
 /* Starts a transition from the state's weather to target's over duration_s simulated
- * seconds. duration_s 0 applies target's weather at once. Other fields are not touched. */
+ * seconds, from clock.utc to the millisecond. duration_s 0 applies target's weather at once.
+ * Other fields are not touched. */
 void world_sim_start_transition(struct sky_world_state *state,
                                 const struct sky_weather_params *target, double duration_s);
 
@@ -74,7 +119,10 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
 
 /* Follows an accepted client change (before -> after): a weather parameter set during a
  * transition holds its new value for the rest of it; the autopilot switched on or reseeded
- * blends in over WORLD_SIM_AUTOPILOT_BLEND_S; then the driven fields are settled. */
+ * blends in over WORLD_SIM_AUTOPILOT_BLEND_S; switched off, the weather stays and a blend
+ * under way ends there; a clock set back into a finished transition does not replay it. Then
+ * the wind is re-anchored when world_sim_wind_changed says so, and the driven fields are
+ * settled. */
 void world_sim_client_changed(const struct sky_world_state *before,
                               struct sky_world_state *after);
 

@@ -6,6 +6,7 @@
 #include "ephemeris.h"
 #include "presets.h"
 #include "weather_autopilot.h"
+#include "wind_drift.h"
 #include "world_render.h"
 #include "world_sim.h"
 #include "world_state.h"
@@ -53,24 +54,62 @@ static char *state_text(const struct sky_world_state *state)
 
 static void test_clock(void)
 {
-    struct sky_world_state s;
+    struct sky_world_state s, before;
     sky_world_state_defaults(&s);
     double t0 = s.clock.utc_unix_s;
-    CHECK_NEAR(world_sim_scaled_dt(&s, 2.0), 2.0, 0);
+    /* Not anchored: the clock reads what it holds, whatever the wall clock says. */
+    CHECK(!world_sim_anchored(&s));
+    CHECK_NEAR(world_sim_clock_at(&s, 1.8e9), t0, 0);
+    /* Anchored at a wall instant, it runs at time_scale from there. */
+    double wall0 = 1795000000.25;
     s.clock.time_scale = 600;
-    CHECK_NEAR(world_sim_scaled_dt(&s, 0.5), 300.0, 0);
-    world_sim_advance(&s, world_sim_scaled_dt(&s, 0.5));
-    CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 1e-6);
-    s.clock.time_scale = 0; /* paused */
-    world_sim_advance(&s, world_sim_scaled_dt(&s, 10.0));
-    CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 1e-6);
-    CHECK_NEAR(world_sim_scaled_dt(&s, -1.0), 0.0, 0);
+    world_sim_anchor(&s, wall0);
+    CHECK(world_sim_anchored(&s));
+    CHECK_NEAR(s.clock.epoch.wall_unix_s, wall0, 0);
+    CHECK_NEAR(s.clock.epoch.utc_unix_s, t0, 0);
+    world_sim_run_to(&s, wall0 + 0.5, NULL);
+    CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 0);
+    /* Paused (time scale 0 from the wall instant of the change): it stands still. */
+    before = s;
+    s.clock.time_scale = 0;
+    world_sim_commit(&before, &s, wall0 + 0.5, NULL);
+    world_sim_run_to(&s, wall0 + 10.5, NULL);
+    CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 0);
+    CHECK_NEAR(world_sim_clock_at(&s, wall0 + 1e6), t0 + 300.0, 0);
+    /* Resumed at 2x: from where it stood, not from where it would have been. */
+    before = s;
+    s.clock.time_scale = 2;
+    world_sim_commit(&before, &s, wall0 + 20.5, NULL);
+    CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 0);
+    CHECK_NEAR(world_sim_clock_at(&s, wall0 + 30.5), t0 + 320.0, 0);
+    /* A wall instant between milliseconds: the epoch keeps whole ones and the clock its pace
+     * (the reading at the change moves by less than a millisecond of the scale). */
+    world_sim_run_to(&s, wall0 + 40.5004, NULL);
+    before = s;
+    s.clock.time_scale = 1000;
+    world_sim_commit(&before, &s, wall0 + 40.5004, NULL);
+    CHECK_NEAR(s.clock.epoch.wall_unix_s, wall0 + 40.5, 1e-6);
+    CHECK_NEAR(s.clock.utc_unix_s, t0 + 340.0008, 0.5e-3);
+    /* A clock a client sets reads that value at the change. */
+    before = s;
+    s.clock.utc_unix_s = utc("2030-01-01T00:00:00Z");
+    world_sim_commit(&before, &s, wall0 + 50.25, NULL);
+    CHECK_NEAR(s.clock.utc_unix_s, utc("2030-01-01T00:00:00Z"), 0);
+    CHECK_NEAR(world_sim_clock_at(&s, wall0 + 51.25), utc("2030-01-01T00:16:40Z"), 0);
     /* The clock stops at the end of its range and the state stays valid. */
+    before = s;
     s.clock.utc_unix_s = utc("2100-12-31T23:00:00Z");
-    world_sim_advance(&s, 86400.0);
-    CHECK_NEAR(s.clock.utc_unix_s, utc("2100-12-31T23:59:59Z"), 1e-6);
+    world_sim_commit(&before, &s, wall0 + 60.0, NULL);
+    world_sim_run_to(&s, wall0 + 86400.0, NULL);
+    CHECK_NEAR(s.clock.utc_unix_s, utc("2100-12-31T23:59:59Z"), 0);
     CHECK(sky_world_state_validate(&s, NULL));
     CHECK(s.revision == 0);
+    /* world_sim_advance moves the clock by simulated seconds (offline time-lapses). */
+    sky_world_state_defaults(&s);
+    world_sim_advance(&s, 300.0);
+    CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 0);
+    world_sim_advance(&s, -5.0);
+    CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 0);
 }
 
 static void test_ephemeris_mode(void)
@@ -87,6 +126,7 @@ static void test_ephemeris_mode(void)
     s.location.longitude_deg = 2.35;
     s.location.altitude_m = 35;
     s.clock.utc_unix_s = utc("2026-03-20T06:00:00Z");
+    world_sim_anchor_wind(&s);
     struct sky_site site = { 48.85, 2.35, 35, SKY_SITE_PRESSURE_MBAR, SKY_SITE_TEMPERATURE_C };
     double min_elevation = 90, max_elevation = -90;
     for (int hour = 0; hour < 24; hour++) {
@@ -114,15 +154,20 @@ static void test_ephemeris_mode(void)
 
 static void test_wind(void)
 {
-    struct sky_world_state s;
+    struct sky_world_state s, before;
     sky_world_state_defaults(&s);
     s.weather.wind.speed_m_s = 10;
     s.weather.wind.direction_deg = 270; /* a westerly blows toward the east */
+    world_sim_anchor_wind(&s);
     world_sim_advance(&s, 600);
     CHECK_NEAR(s.weather.offset_east_km, 6.0, 1e-9);
     CHECK_NEAR(s.weather.offset_north_km, 0.0, 1e-9);
-    s.weather.wind.direction_deg = 0; /* a northerly blows south */
+    before = s;
+    s.weather.wind.direction_deg = 0; /* a northerly blows south: a client's change */
     s.weather.wind.speed_m_s = 5;
+    world_sim_client_changed(&before, &s); /* re-anchors the wind where it is */
+    CHECK_NEAR(s.weather.anchor.offset_east_km, 6.0, 1e-9);
+    CHECK_NEAR(s.weather.anchor.utc_unix_s, s.clock.utc_unix_s, 0);
     world_sim_advance(&s, 3600);
     CHECK_NEAR(s.weather.offset_north_km, -18.0, 1e-9);
     CHECK_NEAR(s.weather.offset_east_km, 6.0, 1e-9);
@@ -131,12 +176,19 @@ static void test_wind(void)
         world_sim_advance(&s, 0.036);
     CHECK_NEAR(s.weather.offset_north_km, -18.18, 1e-6);
     /* Far travel wraps inside the field's range. */
+    before = s;
     s.weather.offset_east_km = 999999.0;
     s.weather.wind.direction_deg = 270;
     s.weather.wind.speed_m_s = 100;
+    world_sim_client_changed(&before, &s);
     world_sim_advance(&s, 100);
     CHECK_NEAR(s.weather.offset_east_km, -999991.0, 1e-3);
     CHECK(sky_world_state_validate(&s, NULL));
+    /* A change that does not touch the wind leaves its anchor. */
+    before = s;
+    s.camera.fov_deg = 50;
+    world_sim_client_changed(&before, &s);
+    CHECK(memcmp(&s.weather.anchor, &before.weather.anchor, sizeof s.weather.anchor) == 0);
 }
 
 static void params_of(const struct sky_world_state *s, double out[14])
@@ -263,8 +315,12 @@ static void run_autopilot(int seed, double span_s, int steps, struct sky_world_s
     out->weather.autopilot = SKY_SWITCH_ON;
     out->weather.autopilot_seed = seed;
     out->clock.sky_bodies = SKY_BODIES_EPHEMERIS;
-    for (int i = 0; i < steps; i++)
-        world_sim_advance(out, span_s / steps);
+    world_sim_anchor_wind(out);
+    struct wind_drift *drift = wind_drift_create();
+    double t0 = out->clock.utc_unix_s;
+    for (int i = 1; i <= steps; i++)
+        world_sim_set_time(out, t0 + span_s * i / steps, drift);
+    wind_drift_destroy(&drift);
 }
 
 static void test_determinism(void)
@@ -276,20 +332,19 @@ static void test_determinism(void)
     CHECK(strcmp(ta, tb) == 0); /* same seed, same steps: identical */
     free(tb);
     run_autopilot(7, 600, 1, &c);
-    /* Step sizes: the weather is a function of time; the clock and wind offsets agree to
-     * rounding. */
-    CHECK_NEAR(c.clock.utc_unix_s, a.clock.utc_unix_s, 1e-5);
-    CHECK_NEAR(c.weather.offset_east_km, a.weather.offset_east_km, 1e-6);
-    CHECK_NEAR(c.weather.offset_north_km, a.weather.offset_north_km, 1e-6);
-    CHECK_NEAR(c.clouds.low.coverage, a.clouds.low.coverage, 1e-9);
-    CHECK_NEAR(c.weather.wind.direction_deg, a.weather.wind.direction_deg, 1e-7);
-    CHECK_NEAR(c.sun.elevation_deg, a.sun.elevation_deg, 1e-6);
-    /* A day in 1 s steps against 24 one-hour steps: the wind integration stays close. */
+    /* Step sizes: the weather and the wind offsets are functions of time, bit for bit. */
+    char *tc = state_text(&c);
+    CHECK(strcmp(ta, tc) == 0);
+    free(tc);
+    CHECK(c.clock.utc_unix_s == a.clock.utc_unix_s);
+    CHECK(c.weather.offset_east_km == a.weather.offset_east_km);
+    CHECK(c.weather.offset_north_km == a.weather.offset_north_km);
+    /* A day in 1 s steps against 24 one-hour steps: the same. */
     run_autopilot(11, 86400, 86400, &c);
     run_autopilot(11, 86400, 24, &d);
-    CHECK_NEAR(c.weather.offset_east_km, d.weather.offset_east_km, 0.05);
-    CHECK_NEAR(c.weather.offset_north_km, d.weather.offset_north_km, 0.05);
-    CHECK_NEAR(c.weather.humidity, d.weather.humidity, 1e-9);
+    CHECK(c.weather.offset_east_km == d.weather.offset_east_km);
+    CHECK(c.weather.offset_north_km == d.weather.offset_north_km);
+    CHECK(c.weather.humidity == d.weather.humidity);
     CHECK(fabs(c.weather.offset_east_km) + fabs(c.weather.offset_north_km) > 50);
     /* Another seed, another weather. */
     run_autopilot(8, 600, 600, &b);

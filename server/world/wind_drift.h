@@ -1,0 +1,33 @@
+/* The weather map's drift: weather.offset_* at a simulated time, as a pure function of the
+ * state's wind anchor (weather.anchor) and of the weather the simulation gives
+ * (world_sim_weather_at). From the anchor's time, the simulated time is cut at every multiple
+ * of WORLD_SIM_MAX_SUBSTEP_S; each whole cell adds the wind at its midpoint times its length,
+ * in order, wrapping within +-WORLD_SIM_OFFSET_LIMIT_KM, and the last, partial cell is added on
+ * top. The cells do not depend on the times asked for, so any sequence of questions gets
+ * bit-identical answers.
+ *
+ * A wind_drift only remembers the running sum at the last cell boundary reached, so a clock
+ * that moves forward costs the cells it crosses rather than every cell since the anchor. It
+ * holds no state of the world: forget it, or not, the answers are the same. */
+#ifndef SKYD_WIND_DRIFT_H
+#define SKYD_WIND_DRIFT_H
+
+#include "world_state.h"
+
+struct wind_drift;
+
+struct wind_drift *wind_drift_create(void);
+void wind_drift_destroy(struct wind_drift **drift);
+
+/* Drops the running sum (the state was replaced, or its wind re-anchored). */
+void wind_drift_forget(struct wind_drift *drift);
+
+/* weather.offset_east_km and offset_north_km of `state` at simulated time utc_s. Before the
+ * anchor's time the cells are summed backwards from the anchor. drift may be NULL. */
+void wind_drift_offsets(struct wind_drift *drift, const struct sky_world_state *state,
+                        double utc_s, double *east_km, double *north_km);
+
+/* How many cells the last call summed (for tests of the running sum). */
+long wind_drift_cells_summed(const struct wind_drift *drift);
+
+#endif
