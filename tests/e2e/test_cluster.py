@@ -13,7 +13,8 @@ Usage: /usr/bin/python3 tests/e2e/test_cluster.py PATH_TO_SKYD SCRATCH_DIR
    revision, the revisions have no gap, and both nodes tell the same order of events and end
    in the same state.
 4. The same view on both nodes, with the clock paused, gives the same image (within a
-   converged render's noise).
+   converged render's noise); with the clock running, the nodes' simulated clocks (from the
+   epoch in the shared state) differ by under 50 ms.
 5. Redis killed with -9: a change is refused with `unavailable` naming the cluster, frames go
    on; restarted on its append-only file it holds every acknowledged change; the nodes
    reconnect, a change through each reaches the other.
@@ -211,6 +212,45 @@ async def same_view(n1, n2):
           diff is not None and diff < 2.0, f"{diff}")
 
 
+async def simulated_offset(client, samples=8):
+    """The node's simulated time minus the wall time, s, from the `stats` reply with the
+    shortest round trip (its simulation_time_s is the clock at the tick that answered, a
+    wall instant between sending and receiving)."""
+    best = None
+    for i in range(samples):
+        t0 = time.time()
+        r = await client.request({"type": "stats", "id": f"clock{i}"})
+        t1 = time.time()
+        if r.get("type") != "stats":
+            raise RuntimeError(f"stats answered with {short(r)}")
+        rtt = t1 - t0
+        if best is None or rtt < best[0]:
+            best = (rtt, r["simulation_time_s"] - (t0 + t1) / 2)
+        await asyncio.sleep(0.05)
+    return best
+
+
+async def clock_running(n1, n2):
+    """The clock running: both nodes compute the same simulated instant from the epoch in
+    the shared state, although they started at different times."""
+    ctl = await controller(n1.url(), "ctl-clock")
+    viewer = await connect(n2.url(), "viewer-clock")
+    r = await ctl.request({"type": "set", "id": "run", "patch": {"clock": {"time_scale": 1}}})
+    check("clock: set running", r.get("type") == "ack", short(r))
+    await wait_revision(viewer, r.get("revision", 0), 5.0)
+    await asyncio.sleep(1.0)
+    (rtt1, off1), (rtt2, off2) = await simulated_offset(ctl), await simulated_offset(viewer)
+    info(f"clock: simulated minus wall time {off1:.4f} s on node 1 (rtt {rtt1 * 1000:.1f} ms), "
+         f"{off2:.4f} s on node 2 (rtt {rtt2 * 1000:.1f} ms)")
+    check("clock running: the two nodes' simulated clocks differ by under 50 ms",
+          abs(off1 - off2) < 0.050, f"{(off1 - off2) * 1000:.1f} ms")
+    r = await ctl.request({"type": "set", "id": "pause", "patch": {"clock": {"time_scale": 0}}})
+    check("clock: paused again", r.get("type") == "ack", short(r))
+    await wait_revision(viewer, r.get("revision", 0), 5.0)
+    await ctl.close()
+    await viewer.close()
+
+
 async def redis_faults(n1, n2, redis):
     ctl1 = await controller(n1.url(), "ctl-f1")
     ctl2 = await controller(n2.url(), "ctl-f2")
@@ -340,6 +380,7 @@ async def run(skyd, scratch):
         await propagation(n1, n2)
         await concurrent(n1, n2)
         await same_view(n1, n2)
+        await clock_running(n1, n2)
         await redis_faults(n1, n2, redis)
         await killed_node(n1, n2, lb)
         nodes.append(await late_joiner(skyd, scratch, redis, n2, ports[2]))
