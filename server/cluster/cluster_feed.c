@@ -100,7 +100,7 @@ static bool queue_snapshot(struct cluster_feed *f, redisContext *c)
 /* One XREAD from last_id: queues what came, in order. false: the connection failed. */
 static bool read_once(struct cluster_feed *f, redisContext *c, int block_ms)
 {
-    redisReply *r = redisCommand(c, "XREAD COUNT 256 BLOCK %d STREAMS %s %s", block_ms,
+    redisReply *r = redisCommand(c, "XREAD COUNT 64 BLOCK %d STREAMS %s %s", block_ms,
                                  f->keys.stream, f->last_id);
     if (!r || r->type == REDIS_REPLY_ERROR) {
         char why[320];

@@ -228,7 +228,11 @@ static void report_tick(struct render_loop *loop, double now)
         .state_revision = world_host_state(loop->ctx.world)->revision,
         .subscriptions = frame_scheduler_subscription_count(loop->ctx.frames),
         .lut_rebuild_progress = last ? last->lut_rebuild_progress : 1.0,
+        .cluster_connected = -1,
     };
+    if (loop->ctx.cluster)
+        tick.cluster_connected = cluster_sync_connected(loop->ctx.cluster,
+                                                        &tick.cluster_connections);
     service_metrics_tick(loop->metrics, &tick);
     static struct sky_msg_subscription_stats traffic[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
     size_t count = frame_scheduler_session_stats(loop->ctx.frames, NULL, traffic,

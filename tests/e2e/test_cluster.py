@@ -31,6 +31,7 @@ import os
 import signal
 import sys
 import time
+import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cluster_harness import (Haproxy, Redis, free_port, resp, run_bad_config,  # noqa: E402
@@ -251,6 +252,15 @@ async def clock_running(n1, n2):
     await viewer.close()
 
 
+def metric(node, name):
+    """A sample's value from the node's /metrics, or None."""
+    with urllib.request.urlopen(f"http://127.0.0.1:{node.port}/metrics", timeout=5) as r:
+        for line in r.read().decode().splitlines():
+            if line.startswith(name + " "):
+                return float(line.split()[1])
+    return None
+
+
 async def redis_faults(n1, n2, redis):
     ctl1 = await controller(n1.url(), "ctl-f1")
     ctl2 = await controller(n2.url(), "ctl-f2")
@@ -276,6 +286,8 @@ async def redis_faults(n1, n2, redis):
     after = viewer.frame_count.get(sub.get("subscription"), 0)
     check("faults: frames go on while Redis is away", after - before >= 5,
           f"{after - before} frames in 1.5 s")
+    check("faults: /metrics says the stream reader is not connected",
+          metric(n1, "skyd_cluster_connected") == 0, str(metric(n1, "skyd_cluster_connected")))
     s = await viewer.get_state()
     check("faults: the node keeps the last state", s["revision"] == acked
           and s["state"]["weather"]["humidity"] == 0.31, f"{s['revision']}")
@@ -303,6 +315,11 @@ async def redis_faults(n1, n2, redis):
         r = await ctl1.request({"type": "set", "id": "f3",
                                 "patch": {"weather": {"humidity": 0.34}}})
         check("faults: node 1 takes changes again", r.get("type") == "ack", short(r))
+        check("faults: /metrics counts the reconnection",
+              metric(n1, "skyd_cluster_connected") == 1
+              and metric(n1, "skyd_cluster_connections_total") == 2,
+              f"{metric(n1, 'skyd_cluster_connected')}, "
+              f"{metric(n1, 'skyd_cluster_connections_total')}")
     for c in (ctl1, ctl2, viewer):
         await c.close()
 
