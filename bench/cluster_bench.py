@@ -2,8 +2,9 @@
 """Cluster benchmark (docs/SCALING.md; not a test): real redis-server, haproxy and skyd nodes
 on free loopback ports, started and stopped here.
 
-  scale:    distinct views per second delivered through haproxy by 1, 2 and 3 nodes (every
-            client watches its own camera, so every frame is a render).
+  scale:    distinct views per second delivered by 1, 2 and 3 nodes of one world (every
+            client watches its own camera, so every frame is a render), interleaved round
+            by round, with the nodes' CPU time per view; and once through haproxy.
   overhead: the frame rate of one node in cluster mode against one with the embedded default
             (the state file), measured in the same run, interleaved round by round, with only
             the measured node rendering.
@@ -94,30 +95,69 @@ def stop_all(lb, nodes, redis):
         redis.stop()
 
 
-async def scale(skyd, scratch, node_counts, clients, seconds):
-    results = {}
-    for count in node_counts:
-        run_dir = os.path.join(scratch, f"scale{count}")
-        os.makedirs(run_dir, exist_ok=True)
-        redis, nodes, lb = Redis(run_dir, free_port()), [], None
-        try:
-            redis.start()
-            ports = [free_port() for _ in range(3)]
-            for i in range(count):
-                nodes.append(start_node(skyd, run_dir, f"node{i + 1}", redis.port, "bench",
-                                        ports[i], STATE))
-            lb = Haproxy(run_dir, free_port(), ports)
-            lb.start()
-            await asyncio.sleep(1.5)  # health checks mark the nodes up
-            results[count] = await watch(lb.url(), clients, seconds)
-            print(f"scale: {count} node(s), {clients} distinct views: "
-                  f"{results[count]:.1f} views/s", flush=True)
-        finally:
-            stop_all(lb, nodes, redis)
-    base = results.get(node_counts[0])
-    for count, rate in results.items():
-        print(f"scale: {count} node(s): {rate:.1f} views/s, x{rate / base:.2f} of "
-              f"{node_counts[0]} node(s)")
+async def watch_spread(nodes, clients, seconds, warm_s=2.0):
+    """Clients spread over `nodes` one after another (as haproxy's leastconn spreads fresh
+    connections), each watching its own view: views per second, and the nodes' CPU ms per
+    view, over `seconds`."""
+    conns = []
+    for i in range(clients):
+        node = nodes[i % len(nodes)]
+        c = await Client.connect(node.url(), f"bench-{i}")
+        view = dict(VIEW, camera={"yaw_deg": (360.0 * i / clients) % 360, "pitch_deg": 10,
+                                  "fov_deg": 70})
+        r = await c.request({"type": "subscribe", "id": f"s{i}", "view": view},
+                            FIRST_FRAME_TIMEOUT)
+        if r.get("type") != "subscribed":
+            raise RuntimeError(f"subscribe refused: {r}")
+        conns.append(c)
+    await asyncio.gather(*(c.pump(warm_s) for c in conns))
+    before = sum(sum(c.frame_count.values()) for c in conns)
+    cpu0 = sum(cpu_seconds(n.proc.pid) for n in nodes)
+    t0 = time.monotonic()
+    await asyncio.gather(*(c.pump(seconds) for c in conns))
+    elapsed = time.monotonic() - t0
+    cpu = sum(cpu_seconds(n.proc.pid) for n in nodes) - cpu0
+    frames = sum(sum(c.frame_count.values()) for c in conns) - before
+    for c in conns:
+        await c.close()
+    return frames / elapsed, 1000.0 * cpu / max(frames, 1)
+
+
+async def scale(skyd, scratch, node_counts, clients, seconds, rounds):
+    """Three nodes of one world run throughout; each round measures every node count, in an
+    order that alternates, so that the machine's other load falls on all of them alike."""
+    redis, nodes, lb = Redis(scratch, free_port()), [], None
+    results = {n: [] for n in node_counts}
+    try:
+        redis.start()
+        ports = [free_port() for _ in range(3)]
+        for i in range(max(node_counts)):
+            nodes.append(start_node(skyd, scratch, f"node{i + 1}", redis.port, "bench",
+                                    ports[i], STATE))
+        # The same views through haproxy once, so that the figure includes the balancer.
+        lb = Haproxy(scratch, free_port(), ports)
+        lb.start()
+        await asyncio.sleep(1.5)
+        through_lb = await watch(lb.url(), clients, seconds)
+        print(f"scale: {len(nodes)} node(s) through haproxy: {through_lb:.1f} views/s",
+              flush=True)
+        for r in range(rounds):
+            order = node_counts if r % 2 == 0 else list(reversed(node_counts))
+            for n in order:
+                rate, ms = await watch_spread(nodes[:n], clients, seconds)
+                results[n].append((rate, ms))
+                print(f"scale: round {r + 1}, {n} node(s): {rate:.1f} views/s, "
+                      f"{ms:.2f} CPU ms per view", flush=True)
+    finally:
+        stop_all(lb, nodes, redis)
+    base = None
+    for n in node_counts:
+        rates = sorted(x[0] for x in results[n])
+        cpus = sorted(x[1] for x in results[n])
+        median, cpu = rates[len(rates) // 2], cpus[len(cpus) // 2]
+        base = base or median
+        print(f"scale: {n} node(s): median {median:.1f} views/s (x{median / base:.2f}), "
+              f"{cpu:.2f} CPU ms per view, over {rounds} interleaved rounds")
     return results
 
 
@@ -182,7 +222,8 @@ async def main():
             counts = [int(n) for n in a.nodes.split(",")]
             if max(counts) > 3:
                 raise SystemExit("config/haproxy.cfg names three nodes")
-            await scale(os.path.abspath(a.skyd), scratch, counts, a.clients, a.seconds)
+            await scale(os.path.abspath(a.skyd), scratch, counts, a.clients, a.seconds,
+                        a.rounds)
         if a.mode in ("overhead", "both"):
             await overhead(os.path.abspath(a.skyd), scratch, a.clients // 3 or 1, a.seconds,
                            a.rounds)
