@@ -172,19 +172,25 @@ static void *feed_main(void *arg)
 {
     struct cluster_feed *f = arg;
     double retry = RETRY_MIN_S;
+    unsigned failures = 0; /* connection attempts failed in a row: the first is logged */
     while (!stopping(f)) {
         char why[320];
         redisContext *c = cluster_redis_connect(&f->address, CONNECT_TIMEOUT_S,
                                                 COMMAND_TIMEOUT_S, why, sizeof why);
         if (c && catch_up(f, c)) {
+            if (failures > 0)
+                fprintf(stderr, "skyd: cluster world \"%s\": reconnected to Redis after %u "
+                        "failed attempt%s; reading from %s\n", f->world, failures,
+                        failures == 1 ? "" : "s", f->last_id);
+            failures = 0;
             set_connected(f, true);
             retry = RETRY_MIN_S;
             while (!stopping(f) && read_once(f, c, BLOCK_MS)) {
             }
             set_connected(f, false);
-        } else if (!c) {
-            fprintf(stderr, "skyd: cluster world \"%s\": cannot reach Redis: %s (again in "
-                    "%.2f s)\n", f->world, why, retry);
+        } else if (!c && failures++ == 0) {
+            fprintf(stderr, "skyd: cluster world \"%s\": cannot reach Redis: %s (trying again "
+                    "with back-off up to %.0f s)\n", f->world, why, RETRY_MAX_S);
         }
         if (c)
             redisFree(c);
