@@ -36,6 +36,20 @@ def resp(port, *args, timeout=2.0):
         return _read_reply(f)
 
 
+def resp_pipeline(port, commands, timeout=10.0):
+    """Many Redis commands on one connection, sent at once; returns their replies."""
+    out = b""
+    for args in commands:
+        out += b"*%d\r\n" % len(args)
+        for a in args:
+            a = a if isinstance(a, bytes) else str(a).encode()
+            out += b"$%d\r\n%s\r\n" % (len(a), a)
+    with socket.create_connection(("127.0.0.1", port), timeout=timeout) as s:
+        s.sendall(out)
+        f = s.makefile("rb")
+        return [_read_reply(f) for _ in commands]
+
+
 def _read_reply(f):
     line = f.readline()
     if not line:

@@ -22,11 +22,14 @@ Usage: /usr/bin/python3 tests/e2e/test_cluster.py PATH_TO_SKYD SCRATCH_DIR
    with -9: that client reconnects through haproxy and finds the same state and revision.
 7. A third node joins late and starts from the current state; a change through it reaches
    the others.
+8. That node, stopped while the world moves on by more changes than the stream keeps, takes
+   the snapshot when it runs again.
 
 Prints "N passed, M failed".
 """
 
 import asyncio
+import json
 import os
 import signal
 import sys
@@ -34,8 +37,8 @@ import time
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cluster_harness import (Haproxy, Redis, free_port, resp, run_bad_config,  # noqa: E402
-                             start_node)
+from cluster_harness import (Haproxy, Redis, free_port, resp, resp_pipeline,  # noqa: E402
+                             run_bad_config, start_node)
 from serve_harness import (FIRST_FRAME_TIMEOUT, HEADER, Client, check, decode_png, info,  # noqa: E402
                            json_diff, run_daemon_test, short, stable)
 
@@ -380,6 +383,49 @@ async def late_joiner(skyd, scratch, redis, n2, port3):
     return n3
 
 
+async def trimmed_stream(node, redis, extra=1100):
+    """A node stopped (SIGSTOP) while the world moves on by more changes than the stream keeps
+    (about 1000): once it runs again it finds its place trimmed away and takes the snapshot.
+    The changes are written straight into Redis as a node's script writes them."""
+    viewer = await connect(node.url(), "viewer-trim")
+    before = await viewer.get_state()
+    keys = {k: f"skyd:{{{WORLD}}}:{k}" for k in ("rev", "state", "stream")}
+    state = json.loads(resp(redis.port, "GET", keys["state"]))
+    revision = int(resp(redis.port, "GET", keys["rev"]))
+    node.proc.send_signal(signal.SIGSTOP)
+    try:
+        commands = []
+        for i in range(extra):
+            revision += 1
+            state["revision"] = revision
+            state["weather"]["humidity"] = round(0.2 + 0.0005 * (i % 1000), 4)
+            text = json.dumps(state)
+            commands.append(["XADD", keys["stream"], "MAXLEN", "~", "1000", "*", "rev",
+                             revision, "state", text, "by", "ctl-direct", "changed",
+                             "/weather/humidity"])
+            commands.append(["SET", keys["state"], text])
+            commands.append(["SET", keys["rev"], revision])
+        replies = resp_pipeline(redis.port, commands)
+        check("trimmed stream: changes written while the node is stopped",
+              all(r is not None for r in replies), "")
+        oldest = resp(redis.port, "XRANGE", keys["stream"], "-", "+", "COUNT", "1")
+        check("trimmed stream: the stream no longer holds the node's place",
+              oldest and int(oldest[0][1][1]) > before["revision"] + 1, short(oldest))
+    finally:
+        node.proc.send_signal(signal.SIGCONT)
+    e = await wait_revision(viewer, revision, 10.0)
+    s = await viewer.get_state()
+    check("trimmed stream: the node catches up from the snapshot",
+          s["revision"] == revision
+          and s["state"]["weather"]["humidity"] == state["weather"]["humidity"],
+          f"revision {s['revision']} of {revision}")
+    check("trimmed stream: its clients hear of it", e is not None
+          and "/weather/humidity" in e.get("changed", []), short(e))
+    check("trimmed stream: the node said so", "catching up from the snapshot" in
+          node.log_text(), node.log_tail())
+    await viewer.close()
+
+
 async def run(skyd, scratch):
     await bad_configs(skyd, scratch)
     redis = Redis(scratch, free_port())
@@ -401,6 +447,7 @@ async def run(skyd, scratch):
         await redis_faults(n1, n2, redis)
         await killed_node(n1, n2, lb)
         nodes.append(await late_joiner(skyd, scratch, redis, n2, ports[2]))
+        await trimmed_stream(nodes[-1], redis)
     finally:
         if lb:
             lb.stop()
