@@ -26,12 +26,11 @@ struct cluster_feed {
     bool started;
 
     pthread_mutex_t lock;
-    pthread_cond_t changed; /* an entry queued, or stopping */
+    pthread_cond_t changed; /* stopping: cuts the back-off short */
     bool stopping;
     bool connected;
     unsigned connections;
     struct cluster_entry *head, *tail;
-    uint64_t queued_revision;  /* the newest revision queued */
 
     /* The feed thread's own: where it reads from. */
     char last_id[CLUSTER_ID_MAX];
@@ -57,8 +56,6 @@ static void queue(struct cluster_feed *f, struct cluster_entry *e)
     else
         f->head = e;
     f->tail = e;
-    f->queued_revision = e->revision;
-    pthread_cond_broadcast(&f->changed);
     pthread_mutex_unlock(&f->lock);
 }
 
@@ -224,7 +221,7 @@ struct cluster_feed *cluster_feed_create(const struct cluster_feed_params *p, ch
     snprintf(f->world, sizeof f->world, "%s", p->world);
     cluster_keys_make(p->world, &f->keys);
     snprintf(f->last_id, sizeof f->last_id, "%s", p->last_id && p->last_id[0] ? p->last_id : "0-0");
-    f->last_revision = f->queued_revision = p->last_revision;
+    f->last_revision = p->last_revision;
     f->wake = p->wake;
     f->user = p->user;
     pthread_mutex_init(&f->lock, NULL);
@@ -267,18 +264,6 @@ struct cluster_entry *cluster_feed_take(struct cluster_feed *f)
     f->head = f->tail = NULL;
     pthread_mutex_unlock(&f->lock);
     return list;
-}
-
-bool cluster_feed_wait(struct cluster_feed *f, uint64_t revision, double timeout_s)
-{
-    struct timespec until = monotonic_deadline(timeout_s);
-    pthread_mutex_lock(&f->lock);
-    while (f->queued_revision < revision && !f->stopping &&
-           pthread_cond_timedwait(&f->changed, &f->lock, &until) == 0) {
-    }
-    bool arrived = f->queued_revision >= revision;
-    pthread_mutex_unlock(&f->lock);
-    return arrived;
 }
 
 bool cluster_feed_connected(struct cluster_feed *f, unsigned *connections)

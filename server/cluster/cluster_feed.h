@@ -32,9 +32,6 @@ void cluster_feed_destroy(struct cluster_feed **feed);
 /* Every entry queued since the last call, oldest first (free with cluster_entry_free_list). */
 struct cluster_entry *cluster_feed_take(struct cluster_feed *feed);
 
-/* Waits at most timeout_s until an entry of at least `revision` was queued. */
-bool cluster_feed_wait(struct cluster_feed *feed, uint64_t revision, double timeout_s);
-
 /* Whether the thread is connected to Redis now, and how many times it connected. */
 bool cluster_feed_connected(struct cluster_feed *feed, unsigned *connections);
 

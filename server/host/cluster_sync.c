@@ -62,15 +62,6 @@ void cluster_sync_apply(struct cluster_sync *s, struct world_host *world,
         session_hub_wake(hub);
 }
 
-bool cluster_sync_catch_up(struct cluster_sync *s, struct world_host *world,
-                           struct renderer_host *renderer, struct session_hub *hub,
-                           uint64_t revision, double timeout_s)
-{
-    bool arrived = cluster_feed_wait(s->feed, revision, timeout_s);
-    cluster_sync_apply(s, world, renderer, hub);
-    return arrived && world_host_state(world)->revision >= revision;
-}
-
 bool cluster_sync_connected(struct cluster_sync *s, unsigned *connections)
 {
     return cluster_feed_connected(s->feed, connections);

@@ -1,7 +1,6 @@
 /* A shared world on the render thread's side: the feed (server/cluster/) reads the world's
- * stream on its own thread; at each tick, and when a commit found the world moved on, the
- * render thread applies what it queued, in revision order, through the world host, and tells
- * this node's clients. Only the render thread calls these (create and destroy excepted). */
+ * stream on its own thread; at each tick the render thread applies what it queued, in
+ * revision order, through the world host, and tells this node's clients. Only the render thread calls these (create and destroy excepted). */
 #ifndef SKYD_CLUSTER_SYNC_H
 #define SKYD_CLUSTER_SYNC_H
 
@@ -28,12 +27,6 @@ void cluster_sync_destroy(struct cluster_sync **sync);
 /* Applies every queued entry; their events go to every client of the hub. */
 void cluster_sync_apply(struct cluster_sync *sync, struct world_host *world,
                         struct renderer_host *renderer, struct session_hub *hub);
-
-/* After a conflict: waits at most timeout_s for the stream to reach `revision`, then applies
- * it. false: it did not come (Redis is unreachable). */
-bool cluster_sync_catch_up(struct cluster_sync *sync, struct world_host *world,
-                           struct renderer_host *renderer, struct session_hub *hub,
-                           uint64_t revision, double timeout_s);
 
 /* Whether the feed is connected now, and how often it connected since start. */
 bool cluster_sync_connected(struct cluster_sync *sync, unsigned *connections);

@@ -8,7 +8,6 @@
 
 #include "json_guard.h"
 #include "log.h"
-#include "monotonic_clock.h"
 #include "presets.h"
 #include "world_sim.h"
 
@@ -385,34 +384,31 @@ static void dispatch(struct render_context *ctx, struct session *session,
     }
 }
 
-void render_commands_handle(struct render_context *ctx, struct session *session,
-                            const struct sky_client_msg *msg)
+bool render_commands_handle(struct render_context *ctx, struct session *session,
+                            const struct sky_client_msg *msg, double waited_s)
 {
     /* A change to a shared world that another node changed first is made again over the
-     * state with that node's change, validated again: the world's changes keep one order.
-     * Each retry follows another node's progress; a node that keeps losing the race (a
-     * flood of changes elsewhere) gives up after RETRY_S. */
-    static const double CATCH_UP_S = 1.0, RETRY_S = 3.0;
-    double started = monotonic_seconds();
+     * state with that node's change, validated again, at the next tick: the world's changes
+     * keep one order and frames go on meanwhile. Each retry follows another node's progress;
+     * a node that keeps losing the race (a flood of changes elsewhere) gives up after
+     * RETRY_S. */
+    static const double RETRY_S = 10.0;
     handling = msg;
-    for (int attempt = 1;; attempt++) {
-        ctx->conflict_revision = 0;
-        dispatch(ctx, session, msg);
-        if (ctx->conflict_revision == 0 || !ctx->cluster)
-            break;
-        uint64_t wanted = ctx->conflict_revision;
-        if (!cluster_sync_catch_up(ctx->cluster, ctx->world, ctx->renderer, ctx->hub, wanted,
-                                   CATCH_UP_S) ||
-            monotonic_seconds() - started > RETRY_S) {
-            reply_error(session, &msg->id, SKY_MSG_ERR_UNAVAILABLE,
-                        "the shared world is at revision %llu and this node could not catch up "
-                        "with it (%d attempts); the change is not applied",
-                        (unsigned long long)wanted, attempt);
-            break;
-        }
-    }
     ctx->conflict_revision = 0;
+    dispatch(ctx, session, msg);
+    uint64_t wanted = ctx->conflict_revision;
+    ctx->conflict_revision = 0;
+    bool done = true;
+    if (wanted != 0 && waited_s < RETRY_S) {
+        done = false;
+    } else if (wanted != 0) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_UNAVAILABLE,
+                    "the shared world is at revision %llu and this node could not catch up "
+                    "with it within %.0f s; the change is not applied",
+                    (unsigned long long)wanted, RETRY_S);
+    }
     handling = NULL;
+    return done;
 }
 
 void render_commands_session_closed(struct render_context *ctx, struct session *session)

@@ -36,8 +36,11 @@ struct render_context {
     uint64_t conflict_revision;
 };
 
-void render_commands_handle(struct render_context *ctx, struct session *session,
-                            const struct sky_client_msg *msg);
+/* false: a change to a shared world found it moved on; the caller tries the message again
+ * at the next tick, after the world's stream is applied, and says how long it has been
+ * trying (waited_s). Past a limit the sender gets `unavailable` instead. */
+bool render_commands_handle(struct render_context *ctx, struct session *session,
+                            const struct sky_client_msg *msg, double waited_s);
 void render_commands_session_closed(struct render_context *ctx, struct session *session);
 
 #endif

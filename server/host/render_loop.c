@@ -21,6 +21,9 @@ static const double SIM_SAVE_PERIOD_S = 30.0;
 static const double TRIM_PERIOD_S = 10.0;
 /* Clients that asked hear of the simulation's own changes this often at most. */
 static const double SIMULATION_EVENT_PERIOD_S = 1.0;
+/* How soon a change deferred for a shared world's stream is tried again (the feed's arrival
+ * wakes the loop sooner). */
+static const double DEFERRED_RETRY_S = 0.002;
 
 enum command_kind { COMMAND_MESSAGE, COMMAND_REPLY, COMMAND_SESSION_CLOSED };
 
@@ -30,6 +33,7 @@ struct command {
     struct session *session; /* a reference */
     struct sky_client_msg msg;
     char *reply;
+    double first_tried_s; /* a change to a shared world tried again: when it was first tried */
 };
 
 struct render_loop {
@@ -38,6 +42,9 @@ struct render_loop {
     pthread_mutex_t lock;
     pthread_cond_t wake;
     struct command *head, *tail;
+    /* The render thread's own: a change that found the shared world moved on, and every
+     * command after it, tried again at the next tick, after the world's stream is applied. */
+    struct command *deferred;
     bool notified, stopping;
     bool started; /* the thread runs (set before it starts; destroy joins it) */
     double last_trim_s;
@@ -125,12 +132,18 @@ static void encoder_done(void *user)
 
 /* ---- the thread ---- */
 
-static void run_command(struct render_loop *loop, struct command *c)
+/* false: the command is to be tried again at the next tick (it is kept). */
+static bool run_command(struct render_loop *loop, struct command *c)
 {
     switch (c->kind) {
-    case COMMAND_MESSAGE:
-        render_commands_handle(&loop->ctx, c->session, &c->msg);
+    case COMMAND_MESSAGE: {
+        double now = monotonic_seconds();
+        if (c->first_tried_s == 0)
+            c->first_tried_s = now;
+        if (!render_commands_handle(&loop->ctx, c->session, &c->msg, now - c->first_tried_s))
+            return false;
         break;
+    }
     case COMMAND_REPLY:
         session_push_text(c->session, c->reply);
         break;
@@ -139,6 +152,7 @@ static void run_command(struct render_loop *loop, struct command *c)
         break;
     }
     free_command(c);
+    return true;
 }
 
 /* Rendering cannot go on (the device was lost and no renderer could be made again): the
@@ -259,6 +273,14 @@ static void *thread_main(void *arg)
         }
         struct command *commands = loop->head;
         loop->head = loop->tail = NULL;
+        if (loop->deferred) { /* first, in their order */
+            struct command *last = loop->deferred;
+            while (last->next)
+                last = last->next;
+            last->next = commands;
+            commands = loop->deferred;
+            loop->deferred = NULL;
+        }
         loop->notified = false;
         bool stopping = loop->stopping;
         pthread_mutex_unlock(&loop->lock);
@@ -275,7 +297,10 @@ static void *thread_main(void *arg)
         bool replied = commands != NULL;
         while (commands) {
             struct command *next = commands->next;
-            run_command(loop, commands);
+            if (!run_command(loop, commands)) {
+                loop->deferred = commands;
+                break;
+            }
             commands = next;
         }
         if (replied)
@@ -290,6 +315,8 @@ static void *thread_main(void *arg)
         frame_scheduler_tick(ctx->frames, now);
         report_tick(loop, now);
         wake_at = fmin(wake_at, world_host_save_due(ctx->world, now, SIM_SAVE_PERIOD_S));
+        if (loop->deferred) /* soon again: the stream it waits for is on its way */
+            wake_at = fmin(wake_at, now + DEFERRED_RETRY_S);
         give_back_free_memory(loop, monotonic_seconds(), wake_at);
     }
     world_host_save(ctx->world, monotonic_seconds());
@@ -407,6 +434,11 @@ void render_loop_destroy(struct render_loop **loop_ptr)
     while (loop->head) {
         struct command *c = loop->head;
         loop->head = c->next;
+        free_command(c);
+    }
+    while (loop->deferred) {
+        struct command *c = loop->deferred;
+        loop->deferred = c->next;
         free_command(c);
     }
     world_host_destroy(&loop->ctx.world);
