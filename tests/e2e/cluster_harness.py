@@ -38,14 +38,14 @@ def resp(port, *args, timeout=2.0):
 
 def resp_pipeline(port, commands, timeout=10.0):
     """Many Redis commands on one connection, sent at once; returns their replies."""
-    out = b""
+    parts = []
     for args in commands:
-        out += b"*%d\r\n" % len(args)
+        parts.append(b"*%d\r\n" % len(args))
         for a in args:
             a = a if isinstance(a, bytes) else str(a).encode()
-            out += b"$%d\r\n%s\r\n" % (len(a), a)
+            parts.append(b"$%d\r\n%s\r\n" % (len(a), a))
     with socket.create_connection(("127.0.0.1", port), timeout=timeout) as s:
-        s.sendall(out)
+        s.sendall(b"".join(parts))
         f = s.makefile("rb")
         return [_read_reply(f) for _ in commands]
 
