@@ -34,12 +34,13 @@ import os
 import signal
 import sys
 import time
+import urllib.error
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cluster_harness import (Haproxy, Redis, free_port, resp, resp_pipeline,  # noqa: E402
                              run_bad_config, start_node)
-from serve_harness import (FIRST_FRAME_TIMEOUT, HEADER, Client, check, decode_png, info,  # noqa: E402
+from serve_harness import (FIRST_FRAME_TIMEOUT, HEADER, TOKEN, Client, check, decode_png, info,  # noqa: E402
                            json_diff, run_daemon_test, short, stable)
 
 WORLD = "e2e-world_1"
@@ -255,6 +256,19 @@ async def clock_running(n1, n2):
     await viewer.close()
 
 
+def http_patch_state(node, patch):
+    """PATCH /api/state as the controller: (HTTP status, decoded body)."""
+    req = urllib.request.Request(f"http://127.0.0.1:{node.port}/api/state",
+                                 data=json.dumps(patch).encode(), method="PATCH",
+                                 headers={"Authorization": f"Bearer {TOKEN}",
+                                          "Content-Type": "application/json"})
+    try:
+        with urllib.request.urlopen(req, timeout=10) as r:
+            return r.status, json.loads(r.read())
+    except urllib.error.HTTPError as e:
+        return e.code, json.loads(e.read() or b"{}")
+
+
 def metric(node, name):
     """A sample's value from the node's /metrics, or None."""
     with urllib.request.urlopen(f"http://127.0.0.1:{node.port}/metrics", timeout=5) as r:
@@ -289,6 +303,10 @@ async def redis_faults(n1, n2, redis):
     after = viewer.frame_count.get(sub.get("subscription"), 0)
     check("faults: frames go on while Redis is away", after - before >= 5,
           f"{after - before} frames in 1.5 s")
+    status, body = await asyncio.get_running_loop().run_in_executor(
+        None, http_patch_state, n2, {"weather": {"humidity": 0.35}})
+    check("faults: PATCH /api/state is refused with 503 unavailable",
+          status == 503 and body.get("code") == "unavailable", f"{status} {body}")
     check("faults: /metrics says the stream reader is not connected",
           metric(n1, "skyd_cluster_connected") == 0, str(metric(n1, "skyd_cluster_connected")))
     s = await viewer.get_state()
