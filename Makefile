@@ -9,7 +9,7 @@ CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=RelWithDebInfo
 
 FUZZ_SECONDS ?= 1800
 
-.PHONY: all deps configure build run test test-asan fuzz bench soak clean
+.PHONY: all deps configure build run cluster test test-asan fuzz bench soak clean
 
 all: build
 
@@ -24,6 +24,11 @@ build: configure
 
 run: build
 	@./scripts/run-default.sh $(BUILD)
+
+# Redis, three nodes sharing one world and haproxy in front, on loopback ports, in the
+# foreground (docs/SCALING.md); prints the one URL to open. SKYD_CLUSTER_PORT picks its port.
+cluster: build
+	@./scripts/cluster.sh $(BUILD)
 
 # Every suite: unit, reference, render (lavapipe with validation), command line; then a short
 # fuzzing run (about 60 s) of the protocol parser, weather maps and the configuration loader.

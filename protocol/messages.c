@@ -44,6 +44,7 @@ static const char *const error_names[] = {
     [SKY_MSG_ERR_NOT_FOUND] = "not_found",
     [SKY_MSG_ERR_LIMIT_REACHED] = "limit_reached",
     [SKY_MSG_ERR_INTERNAL] = "internal",
+    [SKY_MSG_ERR_UNAVAILABLE] = "unavailable",
 };
 
 static const char *const type_names[] = {

@@ -57,6 +57,7 @@ enum sky_msg_error_code {
     SKY_MSG_ERR_NOT_FOUND = 23,          /* "not_found": subscription or preset */
     SKY_MSG_ERR_LIMIT_REACHED = 24,      /* "limit_reached": too many clients, subscriptions */
     SKY_MSG_ERR_INTERNAL = 25,           /* "internal" */
+    SKY_MSG_ERR_UNAVAILABLE = 26,        /* "unavailable": a shared world's store is unreachable */
 };
 
 /* The wire name of a code, or NULL for a value that is not a code. */

@@ -9,6 +9,7 @@ packages=(
   glslang-tools
   libwebsockets-dev libcjson-dev libpng-dev libturbojpeg0-dev libsystemd-dev systemd
   python3 python3-websockets openssl
+  redis-server libhiredis-dev haproxy
   clang libclang-rt-dev
   chromium chromium-driver
 )

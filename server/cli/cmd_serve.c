@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "config.h"
 #include "control_token.h"
+#include "serve_cluster.h"
 #include "log.h"
 #include "render_loop.h"
 #include "serve_reload.h"
@@ -238,6 +239,7 @@ struct serve_parts {
     struct ws_server *server;
     struct service_notify *notify;
     struct serve_reload reload;
+    struct serve_cluster cluster; /* a shared world; its store outlives the loop */
 };
 
 /* The watchdog's question: the render thread ticks and rendering works. */
@@ -261,6 +263,7 @@ static void serve_teardown(struct serve_parts *parts)
     if (parts->hub)
         session_hub_set_wake(parts->hub, NULL, NULL);
     render_loop_destroy(&parts->loop);
+    serve_cluster_close(&parts->cluster);
     if (parts->watch_started) {
         parts->watch.done = 1;
         pthread_kill(parts->watch.thread, SIGTERM); /* in case no signal came */
@@ -327,7 +330,18 @@ int skyd_cmd_serve(int argc, char **argv)
                                               .validation = validation,
                                               .config_dir = config_dir,
                                               .state_file = config.state_file };
-    initial_state(config.state_file, &config.initial_state, &loop_params.initial_state);
+    char err[512];
+    if (config.cluster_redis[0]) {
+        if (!serve_cluster_open(&parts.cluster, &config, &loop_params.initial_state, err,
+                                sizeof err))
+            return serve_fail(&parts, err);
+        loop_params.state_file = ""; /* the shared world lives in Redis */
+        loop_params.cluster = parts.cluster.store;
+        loop_params.cluster_start = parts.cluster.start;
+        loop_params.cluster_map = &parts.cluster.map;
+    } else {
+        initial_state(config.state_file, &config.initial_state, &loop_params.initial_state);
+    }
     parts.hub = session_hub_create(NULL, NULL);
     parts.metrics = service_metrics_create();
     parts.settings = live_settings_create(&config);
@@ -339,7 +353,6 @@ int skyd_cmd_serve(int argc, char **argv)
     loop_params.hub = parts.hub;
     loop_params.on_failure = on_render_failure;
     loop_params.failure_user = &parts.failure_watch;
-    char err[512];
     if (!(parts.loop = render_loop_create(&loop_params, err, sizeof err)))
         return serve_fail(&parts, err);
     struct ws_server_params server_params = { .config = &config, .web_root = web_root,

@@ -10,6 +10,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "cluster_url.h"
 #include "utc_time.h"
 
 #define MAX_CONFIG_BYTES (1 << 20)
@@ -63,6 +64,10 @@ static const struct sky_field_desc config_fields[] = {
     STRING("controller_token", controller_token,
            "the token auth asks for; empty: skyd serve makes one, kept in <state_file>.token"),
     BOOL("read_only", read_only, "nobody may control the server: no token, auth is refused"),
+    STRING("cluster.redis", cluster_redis,
+           "redis://HOST:PORT[/DB] holding the shared world; empty: the state file"),
+    STRING("cluster.world", cluster_world,
+           "the shared world's name: 1 to 64 letters, digits, '-' or '_'"),
 };
 
 static const char *const config_caller_members[] = { "allowed_origins", "initial_state" };
@@ -163,6 +168,25 @@ static void apply_initial_state(struct skyd_config *c, const cJSON *value,
     cJSON_Delete(patch);
 }
 
+/* "cluster": both members or neither, each well formed (nothing connects here). */
+static void check_cluster(const struct skyd_config *c, struct sky_field_errors *errors)
+{
+    if (!c->cluster_redis[0] && !c->cluster_world[0])
+        return;
+    char why[320];
+    if (!c->cluster_redis[0])
+        sky_field_errors_addf(errors, SKY_FIELD_MISSING, "/cluster/redis",
+                              "a cluster needs its Redis: redis://HOST:PORT[/DB]");
+    else if (!cluster_url_parse(c->cluster_redis, &(struct cluster_address){ 0 }, why,
+                                sizeof why))
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "/cluster/redis", "%s", why);
+    if (!c->cluster_world[0])
+        sky_field_errors_addf(errors, SKY_FIELD_MISSING, "/cluster/world",
+                              "a cluster needs the name of the world its nodes share");
+    else if (!cluster_world_name_check(c->cluster_world, why, sizeof why))
+        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "/cluster/world", "%s", why);
+}
+
 /* The rows through the engine, then the two members without rows. */
 static void apply_config(struct skyd_config *c, const cJSON *root, struct sky_field_errors *errors)
 {
@@ -173,6 +197,7 @@ static void apply_config(struct skyd_config *c, const cJSON *root, struct sky_fi
     const cJSON *initial = cJSON_GetObjectItemCaseSensitive(root, "initial_state");
     if (initial)
         apply_initial_state(c, initial, errors);
+    check_cluster(c, errors);
 }
 
 void skyd_config_limits(const struct skyd_config *c, struct sky_msg_limits *limits)

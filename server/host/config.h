@@ -46,6 +46,10 @@ struct skyd_config {
      * defaults with the "initial_state" patch applied. Its "clock.utc" may be "now", the UTC
      * time at which the configuration is loaded. */
     struct sky_world_state initial_state;
+    /* A world shared by many nodes (docs/SCALING.md): both set, or both empty (the state
+     * file). The state file is then not used. */
+    char cluster_redis[SKYD_CONFIG_STRING]; /* "redis://HOST:PORT[/DB]" */
+    char cluster_world[72];                 /* [A-Za-z0-9_-]{1,64} */
 };
 
 void skyd_config_defaults(struct skyd_config *config);

@@ -89,6 +89,21 @@ static void changer(struct session *session, char *name, size_t capacity)
         snprintf(name, capacity, "controller");
 }
 
+/* A refused commit: a shared world that moved on is caught up and the change made again
+ * (render_commands_handle); anything else is the sender's error. */
+static void commit_refused(struct render_context *ctx, struct session *session,
+                           const struct sky_msg_id *id, const struct world_commit *commit)
+{
+    if (commit->status == WORLD_COMMIT_CONFLICT) {
+        ctx->conflict_revision = commit->current;
+        return;
+    }
+    reply_error(session, id,
+                commit->status == WORLD_COMMIT_UNAVAILABLE ? SKY_MSG_ERR_UNAVAILABLE
+                                                            : SKY_MSG_ERR_INTERNAL,
+                "%s", commit->error);
+}
+
 /* Commits `next` through the world host and tells the sender and every client. */
 static bool commit_state(struct render_context *ctx, struct session *session,
                          const struct sky_msg_id *id, struct sky_world_state *next)
@@ -97,7 +112,7 @@ static bool commit_state(struct render_context *ctx, struct session *session,
     char by[SKY_MSG_CLIENT_MAX + 1];
     changer(session, by, sizeof by);
     if (!world_host_commit(ctx->world, ctx->renderer, next, NULL, by, &commit)) {
-        reply_error(session, id, SKY_MSG_ERR_INTERNAL, "%s", commit.error);
+        commit_refused(ctx, session, id, &commit);
         return false;
     }
     reply(session, id, sky_msg_build_ack(id, commit.revision, SKY_ROLE_NONE));
@@ -202,7 +217,7 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
     char by[SKY_MSG_CLIENT_MAX + 1];
     changer(session, by, sizeof by);
     if (!world_host_set_weather_map(ctx->world, ctx->renderer, &msg->weather_map, by, &commit)) {
-        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s", commit.error);
+        commit_refused(ctx, session, &msg->id, &commit);
         return;
     }
     reply(session, &msg->id, sky_msg_build_ack(&msg->id, commit.revision, SKY_ROLE_NONE));
@@ -369,12 +384,31 @@ static void dispatch(struct render_context *ctx, struct session *session,
     }
 }
 
-void render_commands_handle(struct render_context *ctx, struct session *session,
-                            const struct sky_client_msg *msg)
+bool render_commands_handle(struct render_context *ctx, struct session *session,
+                            const struct sky_client_msg *msg, double waited_s)
 {
+    /* A change to a shared world that another node changed first is made again over the
+     * state with that node's change, validated again, at the next tick: the world's changes
+     * keep one order and frames go on meanwhile. Each retry follows another node's progress;
+     * a node that keeps losing the race (a flood of changes elsewhere) gives up after
+     * RETRY_S. */
+    static const double RETRY_S = 10.0;
     handling = msg;
+    ctx->conflict_revision = 0;
     dispatch(ctx, session, msg);
+    uint64_t wanted = ctx->conflict_revision;
+    ctx->conflict_revision = 0;
+    bool done = true;
+    if (wanted != 0 && waited_s < RETRY_S) {
+        done = false;
+    } else if (wanted != 0) {
+        reply_error(session, &msg->id, SKY_MSG_ERR_UNAVAILABLE,
+                    "the shared world is at revision %llu and this node could not catch up "
+                    "with it within %.0f s; the change is not applied",
+                    (unsigned long long)wanted, RETRY_S);
+    }
     handling = NULL;
+    return done;
 }
 
 void render_commands_session_closed(struct render_context *ctx, struct session *session)

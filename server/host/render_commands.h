@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "cluster_sync.h"
 #include "config.h"
 #include "messages.h"
 #include "frame_scheduler.h"
@@ -29,10 +30,17 @@ struct render_context {
     struct world_host *world;
     struct frame_scheduler *frames;
     struct renderer_host *renderer;
+    /* A shared world (NULL: the state file). A commit that finds the world moved on sets
+     * conflict_revision; the change is then made again over the caught-up state. */
+    struct cluster_sync *cluster;
+    uint64_t conflict_revision;
 };
 
-void render_commands_handle(struct render_context *ctx, struct session *session,
-                            const struct sky_client_msg *msg);
+/* false: a change to a shared world found it moved on; the caller tries the message again
+ * at the next tick, after the world's stream is applied, and says how long it has been
+ * trying (waited_s). Past a limit the sender gets `unavailable` instead. */
+bool render_commands_handle(struct render_context *ctx, struct session *session,
+                            const struct sky_client_msg *msg, double waited_s);
 void render_commands_session_closed(struct render_context *ctx, struct session *session);
 
 #endif

@@ -21,6 +21,9 @@ static const double SIM_SAVE_PERIOD_S = 30.0;
 static const double TRIM_PERIOD_S = 10.0;
 /* Clients that asked hear of the simulation's own changes this often at most. */
 static const double SIMULATION_EVENT_PERIOD_S = 1.0;
+/* How soon a change deferred for a shared world's stream is tried again (the feed's arrival
+ * wakes the loop sooner). */
+static const double DEFERRED_RETRY_S = 0.002;
 
 enum command_kind { COMMAND_MESSAGE, COMMAND_REPLY, COMMAND_SESSION_CLOSED };
 
@@ -30,6 +33,7 @@ struct command {
     struct session *session; /* a reference */
     struct sky_client_msg msg;
     char *reply;
+    double first_tried_s; /* a change to a shared world tried again: when it was first tried */
 };
 
 struct render_loop {
@@ -38,6 +42,9 @@ struct render_loop {
     pthread_mutex_t lock;
     pthread_cond_t wake;
     struct command *head, *tail;
+    /* The render thread's own: a change that found the shared world moved on, and every
+     * command after it, tried again at the next tick, after the world's stream is applied. */
+    struct command *deferred;
     bool notified, stopping;
     bool started; /* the thread runs (set before it starts; destroy joins it) */
     double last_trim_s;
@@ -125,12 +132,18 @@ static void encoder_done(void *user)
 
 /* ---- the thread ---- */
 
-static void run_command(struct render_loop *loop, struct command *c)
+/* false: the command is to be tried again at the next tick (it is kept). */
+static bool run_command(struct render_loop *loop, struct command *c)
 {
     switch (c->kind) {
-    case COMMAND_MESSAGE:
-        render_commands_handle(&loop->ctx, c->session, &c->msg);
+    case COMMAND_MESSAGE: {
+        double now = monotonic_seconds();
+        if (c->first_tried_s == 0)
+            c->first_tried_s = now;
+        if (!render_commands_handle(&loop->ctx, c->session, &c->msg, now - c->first_tried_s))
+            return false;
         break;
+    }
     case COMMAND_REPLY:
         session_push_text(c->session, c->reply);
         break;
@@ -139,6 +152,7 @@ static void run_command(struct render_loop *loop, struct command *c)
         break;
     }
     free_command(c);
+    return true;
 }
 
 /* Rendering cannot go on (the device was lost and no renderer could be made again): the
@@ -228,7 +242,11 @@ static void report_tick(struct render_loop *loop, double now)
         .state_revision = world_host_state(loop->ctx.world)->revision,
         .subscriptions = frame_scheduler_subscription_count(loop->ctx.frames),
         .lut_rebuild_progress = last ? last->lut_rebuild_progress : 1.0,
+        .cluster_connected = -1,
     };
+    if (loop->ctx.cluster)
+        tick.cluster_connected = cluster_sync_connected(loop->ctx.cluster,
+                                                        &tick.cluster_connections);
     service_metrics_tick(loop->metrics, &tick);
     static struct sky_msg_subscription_stats traffic[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
     size_t count = frame_scheduler_session_stats(loop->ctx.frames, NULL, traffic,
@@ -255,6 +273,14 @@ static void *thread_main(void *arg)
         }
         struct command *commands = loop->head;
         loop->head = loop->tail = NULL;
+        if (loop->deferred) { /* first, in their order */
+            struct command *last = loop->deferred;
+            while (last->next)
+                last = last->next;
+            last->next = commands;
+            commands = loop->deferred;
+            loop->deferred = NULL;
+        }
         loop->notified = false;
         bool stopping = loop->stopping;
         pthread_mutex_unlock(&loop->lock);
@@ -264,12 +290,17 @@ static void *thread_main(void *arg)
                            frame_scheduler_subscription_count(ctx->frames) > 0,
                            !last || last->atmosphere_settled);
         announce_simulation(loop);
+        if (ctx->cluster) /* the shared world's changes from other nodes, in order */
+            cluster_sync_apply(ctx->cluster, ctx->world, ctx->renderer, ctx->hub);
 
         /* The tick: every queued command in arrival order, then the frames that are due. */
         bool replied = commands != NULL;
         while (commands) {
             struct command *next = commands->next;
-            run_command(loop, commands);
+            if (!run_command(loop, commands)) {
+                loop->deferred = commands;
+                break;
+            }
             commands = next;
         }
         if (replied)
@@ -284,6 +315,8 @@ static void *thread_main(void *arg)
         frame_scheduler_tick(ctx->frames, now);
         report_tick(loop, now);
         wake_at = fmin(wake_at, world_host_save_due(ctx->world, now, SIM_SAVE_PERIOD_S));
+        if (loop->deferred) /* soon again: the stream it waits for is on its way */
+            wake_at = fmin(wake_at, now + DEFERRED_RETRY_S);
         give_back_free_memory(loop, monotonic_seconds(), wake_at);
     }
     world_host_save(ctx->world, monotonic_seconds());
@@ -321,6 +354,8 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         .save_delay_s = params->config->state_save_delay_s,
         .now_s = monotonic_seconds(),
         .wall_s = wall_clock_seconds(),
+        .cluster = params->cluster,
+        .client_map = params->cluster_map,
     };
     ctx->world = world_host_create(&world);
     struct frame_scheduler_params frames = { .encoder_threads = params->config->encoder_threads,
@@ -351,6 +386,12 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         return NULL;
     }
     world_host_restore_weather_map(ctx->world, ctx->renderer);
+    if (params->cluster &&
+        !(ctx->cluster = cluster_sync_create(params->cluster, params->cluster_start,
+                                             encoder_done, loop, err, errlen))) {
+        render_loop_destroy(&loop);
+        return NULL;
+    }
     if (renderer_host_prepare(ctx->renderer, world_host_state(ctx->world),
                               world_host_atmosphere(ctx->world), err, errlen) != 0) {
         render_loop_destroy(&loop);
@@ -388,10 +429,16 @@ void render_loop_destroy(struct render_loop **loop_ptr)
     pthread_mutex_unlock(&loop->lock);
     if (joinable)
         pthread_join(loop->thread, NULL);
+    cluster_sync_destroy(&loop->ctx.cluster);
     frame_scheduler_destroy(&loop->ctx.frames);
     while (loop->head) {
         struct command *c = loop->head;
         loop->head = c->next;
+        free_command(c);
+    }
+    while (loop->deferred) {
+        struct command *c = loop->deferred;
+        loop->deferred = c->next;
         free_command(c);
     }
     world_host_destroy(&loop->ctx.world);

@@ -10,6 +10,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "cluster_entry.h"
+#include "cluster_store.h"
 #include "config.h"
 #include "messages.h"
 #include "live_settings.h"
@@ -24,6 +26,12 @@ struct render_loop_params {
     const char *config_dir;           /* presets: <config_dir>/atmosphere/<name>.json */
     const char *state_file;           /* "" = no persistence */
     struct sky_world_state initial_state;
+    /* A shared world: its store (borrowed, used by the render thread only, outliving the
+     * loop), the snapshot initial_state was read from (its map, its stream id) and the map
+     * decoded from it. NULL: the state file. */
+    struct cluster_store *cluster;
+    const struct cluster_entry *cluster_start;
+    const struct sky_weather_map *cluster_map;
     struct session_hub *hub;
     /* Counters for operators (frames, device losses) and the heartbeat of every tick, with
      * the revision, subscriptions and LUT progress; may be NULL. */

@@ -234,6 +234,13 @@ char *service_metrics_exposition(struct service_metrics *m, int clients)
           (double)copy.tick.state_revision);
     gauge(&t, "skyd_lut_rebuild_progress", "Progress of the look-up-table rebuild under way, "
           "0 to 1 (1: none).", copy.tick.lut_rebuild_progress);
+    if (copy.tick.cluster_connected >= 0) { /* only in cluster mode (docs/SCALING.md) */
+        gauge(&t, "skyd_cluster_connected", "Whether the shared world's stream is read from "
+              "Redis now (1) or not (0).", copy.tick.cluster_connected);
+        counter(&t, "skyd_cluster_connections_total", "Connections of the stream reader to "
+                "Redis since start (more than 1: it reconnected).",
+                copy.tick.cluster_connections);
+    }
     family(&t, "skyd_subscription_bytes_sent_total", "counter", "Bytes of frames sent to each "
            "current subscription (its number), headers included.");
     for (size_t i = 0; i < subscription_count; i++)

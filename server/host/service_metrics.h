@@ -34,6 +34,10 @@ struct service_metrics_tick {
     uint64_t state_revision;
     size_t subscriptions;
     double lut_rebuild_progress; /* 0..1, 1 when no rebuild is under way */
+    /* A shared world's feed: -1 without one, else whether it is connected to Redis now, and
+     * how many times it connected since start. */
+    int cluster_connected;
+    unsigned cluster_connections;
 };
 void service_metrics_tick(struct service_metrics *m, const struct service_metrics_tick *tick);
 /* Every subscription's traffic as of this tick (frame_scheduler_session_stats), for the

@@ -19,9 +19,8 @@
 /* A 512 x 512 RGBA8 PNG of noise, stored uncompressed, with room to spare. */
 #define WEATHER_MAP_FILE_MAX_BYTES (4 << 20)
 
-/* Parses the file's text onto a copy of the defaults; false with a reason. */
-static bool parse_state(const char *text, size_t length, struct sky_world_state *out, char *msg,
-                        size_t msglen)
+bool state_store_parse(const char *text, size_t length, struct sky_world_state *out, char *msg,
+                       size_t msglen)
 {
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(text, length, &end, 0);
@@ -111,7 +110,7 @@ enum state_load_result state_store_load(const char *path, struct sky_world_state
     char *text = text_file_read(path, STATE_FILE_MAX_BYTES, &length);
     if (!text)
         text_file_describe_error(path, STATE_FILE_MAX_BYTES, reason, sizeof reason);
-    bool ok = text && parse_state(text, length, state, reason, sizeof reason);
+    bool ok = text && state_store_parse(text, length, state, reason, sizeof reason);
     free(text);
     if (ok)
         return STATE_LOAD_RESTORED;

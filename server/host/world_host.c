@@ -8,7 +8,9 @@
 #include "config.h"
 #include "messages.h"
 #include "monotonic_clock.h"
+#include "wall_clock.h"
 #include "state_store.h"
+#include "world_codec.h"
 #include "wind_drift.h"
 #include "world_render.h"
 #include "world_sim.h"
@@ -30,6 +32,9 @@ struct world_host {
     /* The state as clients last heard of it (events), and when a simulation event went. */
     struct sky_world_state announced;
     double announced_at_s;
+    /* A shared world: commits go to Redis; pending_map is the map set_weather_map commits. */
+    struct cluster_store *cluster;
+    const struct sky_weather_map *pending_map;
 };
 
 struct world_host *world_host_create(const struct world_host_params *params)
@@ -57,6 +62,12 @@ struct world_host *world_host_create(const struct world_host_params *params)
     h->last_save_s = params->now_s;
     h->announced = h->state;
     h->announced_at_s = params->now_s;
+    h->cluster = params->cluster;
+    if (h->cluster && params->client_map && params->client_map->rgba &&
+        !sky_weather_map_copy(params->client_map, &h->client_map)) {
+        free(h);
+        return NULL;
+    }
     return h;
 }
 
@@ -119,11 +130,83 @@ static void unpersist(struct world_host *h)
     }
 }
 
+enum { MAX_CHANGED = 192 };
+
+/* A shared world: the change goes to Redis, checked against the revision it was made from;
+ * with the changed pointers ('\n' between them) and the map being set, if any. */
+static bool commit_to_cluster(struct world_host *h, const struct sky_world_state *next,
+                              const char *const *pointers, size_t count, const char *by,
+                              struct world_commit *out)
+{
+    size_t joined_length = 1;
+    for (size_t i = 0; i < count; i++)
+        joined_length += strlen(pointers[i]) + 1;
+    char *joined = malloc(joined_length);
+    char *text = world_codec_state_text(next);
+    size_t map_length = 0;
+    unsigned char *map = h->pending_map ? world_codec_map_bytes(h->pending_map, &map_length)
+                                        : NULL;
+    if (!joined || !text || (h->pending_map && !map)) {
+        free(joined);
+        free(text);
+        free(map);
+        out->status = WORLD_COMMIT_FAILED;
+        snprintf(out->error, sizeof out->error, "out of memory; the state is unchanged");
+        return false;
+    }
+    joined[0] = '\0';
+    for (size_t i = 0; i < count; i++) {
+        strcat(joined, pointers[i]);
+        if (i + 1 < count)
+            strcat(joined, "\n");
+    }
+    char id[CLUSTER_ID_MAX], why[448];
+    enum cluster_commit_result result =
+        cluster_store_commit(h->cluster, h->state.revision, text, by ? by : "", joined, map,
+                             map_length, &out->current, id, why, sizeof why);
+    free(joined);
+    free(text);
+    free(map);
+    switch (result) {
+    case CLUSTER_COMMITTED:
+        return true;
+    case CLUSTER_CONFLICT:
+        out->status = WORLD_COMMIT_CONFLICT;
+        snprintf(out->error, sizeof out->error, "the shared world moved on to revision %llu",
+                 (unsigned long long)out->current);
+        return false;
+    case CLUSTER_UNAVAILABLE:
+        break;
+    }
+    out->status = WORLD_COMMIT_UNAVAILABLE;
+    snprintf(out->error, sizeof out->error, "%s; the change is not applied", why);
+    return false;
+}
+
+/* `next` (settled, with its revision) becomes the live state: the renderer takes it, frames
+ * show it, and the event names `pointers`. The renderer's refusal is returned in why. */
+static int install(struct world_host *h, struct renderer_host *renderer,
+                   struct sky_world_state *next, const char *const *pointers, size_t count,
+                   const char *by, char **event, char *why, size_t whylen)
+{
+    if (renderer_host_apply_change(renderer, &h->state, next, why, whylen) != 0)
+        return -1;
+    struct sky_render_atmosphere before, after;
+    world_to_render_atmosphere(&h->state, &before);
+    world_to_render_atmosphere(next, &after);
+    if (memcmp(&before, &after, sizeof before) != 0)
+        h->atmosphere_pending = true;
+    h->state = *next;
+    h->announced = h->state; /* this commit's event tells everything up to here */
+    h->atmosphere = after; /* a client's change is shown at once, not paced like the sim's */
+    *event = sky_msg_build_state_changed(h->state.revision, pointers, count, &h->state, by);
+    return 0;
+}
+
 bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
                        struct sky_world_state *next, const char *also_changed, const char *by,
                        struct world_commit *out)
 {
-    enum { MAX_CHANGED = 192 };
     static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
@@ -135,28 +218,106 @@ bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
         snprintf(changed[count++], SKY_MSG_POINTER_MAX, "%s", also_changed);
     if (count == 0)
         return true;
+    const char *pointers[MAX_CHANGED];
+    for (size_t i = 0; i < count; i++)
+        pointers[i] = changed[i];
     next->revision = h->state.revision + 1;
-    if (!persist(h, next, out->error, sizeof out->error))
-        return false;
     char why[448];
-    if (renderer_host_apply_change(renderer, &h->state, next, why, sizeof why) != 0) {
+    if (h->cluster) {
+        /* Redis has it before anything acknowledges it; it is the world's now, so a renderer
+         * that cannot take it is made again from the state (renderer_host.h). */
+        if (!commit_to_cluster(h, next, pointers, count, by, out))
+            return false;
+        if (install(h, renderer, next, pointers, count, by, &out->event, why, sizeof why) != 0) {
+            fprintf(stderr, "skyd: the renderer did not take revision %llu: %s\n",
+                    (unsigned long long)next->revision, why);
+            h->state = *next;
+        }
+        out->revision = h->state.revision;
+        return true;
+    }
+    if (!persist(h, next, out->error, sizeof out->error)) {
+        out->status = WORLD_COMMIT_FAILED;
+        return false;
+    }
+    if (install(h, renderer, next, pointers, count, by, &out->event, why, sizeof why) != 0) {
+        out->status = WORLD_COMMIT_FAILED;
         snprintf(out->error, sizeof out->error, "%s; the state is unchanged", why);
         unpersist(h);
         return false;
     }
-    struct sky_render_atmosphere before, after;
-    world_to_render_atmosphere(&h->state, &before);
-    world_to_render_atmosphere(next, &after);
-    if (memcmp(&before, &after, sizeof before) != 0)
-        h->atmosphere_pending = true;
-    h->state = *next;
-    h->announced = h->state; /* this commit's event tells everything up to here */
-    h->atmosphere = after; /* a client's change is shown at once, not paced like the sim's */
     out->revision = h->state.revision;
+    return true;
+}
+
+/* An entry's map to the renderer and the host; false when it is not a map. */
+static bool adopt_map(struct world_host *h, struct renderer_host *renderer,
+                      const struct cluster_entry *e)
+{
+    struct sky_weather_map map;
+    if (!world_codec_parse_map(e->map, e->map_length, &map)) {
+        fprintf(stderr, "skyd: cluster revision %llu carries a weather map that cannot be read\n",
+                (unsigned long long)e->revision);
+        return false;
+    }
+    if (renderer_host_set_weather_map(renderer, &map) != 0)
+        fprintf(stderr, "skyd: the renderer did not take the weather map of revision %llu\n",
+                (unsigned long long)e->revision);
+    sky_weather_map_free(&h->client_map);
+    h->client_map = map;
+    return true;
+}
+
+bool world_host_apply_entry(struct world_host *h, struct renderer_host *renderer,
+                            const struct cluster_entry *e, char **event)
+{
+    static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
+    *event = NULL;
+    if (e->revision <= h->state.revision && !(e->snapshot && e->revision < h->state.revision))
+        return true;
+    struct sky_world_state next;
+    char why[512];
+    if (!world_codec_parse_state(e->state, &next, why, sizeof why)) {
+        fprintf(stderr, "skyd: cluster revision %llu cannot be read: %s\n",
+                (unsigned long long)e->revision, why);
+        return false;
+    }
+    if (e->snapshot && e->revision < h->state.revision)
+        fprintf(stderr, "skyd: the shared world went back from revision %llu to %llu (Redis "
+                "lost changes)\n", (unsigned long long)h->state.revision,
+                (unsigned long long)e->revision);
+    next.revision = e->revision;
+    /* The entry's state holds its epoch and anchors: brought to this node's wall instant, it
+     * is the instant every node computes. The wind's running sum was the old state's. */
+    wind_drift_forget(h->drift);
+    world_sim_run_to(&next, wall_clock_seconds(), h->drift);
+    bool map_changed = e->map && adopt_map(h, renderer, e);
+    size_t count = 0;
+    if (e->snapshot) {
+        count = sky_msg_state_diff(&h->state, &next, changed, MAX_CHANGED - 1);
+        if (count > MAX_CHANGED - 1)
+            count = MAX_CHANGED - 1;
+        if (map_changed)
+            snprintf(changed[count++], SKY_MSG_POINTER_MAX, "/weather/map");
+    } else {
+        for (const char *p = e->changed; *p && count < MAX_CHANGED;) {
+            size_t length = strcspn(p, "\n");
+            if (length > 0 && length < SKY_MSG_POINTER_MAX) {
+                memcpy(changed[count], p, length);
+                changed[count++][length] = '\0';
+            }
+            p += length + (p[length] == '\n');
+        }
+    }
     const char *pointers[MAX_CHANGED];
     for (size_t i = 0; i < count; i++)
         pointers[i] = changed[i];
-    out->event = sky_msg_build_state_changed(h->state.revision, pointers, count, &h->state, by);
+    if (install(h, renderer, &next, pointers, count, e->snapshot ? "cluster" : e->by, event, why,
+                sizeof why) != 0) {
+        fprintf(stderr, "skyd: the renderer did not take revision %llu: %s\n",
+                (unsigned long long)e->revision, why);
+        h->state = next;
+    }
     return true;
 }
 
@@ -205,7 +366,10 @@ bool world_host_set_weather_map(struct world_host *h, struct renderer_host *rend
     }
     struct sky_world_state next = h->state;
     next.weather.map_source = SKY_WEATHER_MAP_CLIENT;
-    if (!world_host_commit(h, renderer, &next, "/weather/map", by, out)) {
+    h->pending_map = map;
+    bool committed = world_host_commit(h, renderer, &next, "/weather/map", by, out);
+    h->pending_map = NULL;
+    if (!committed) {
         /* The state was not saved: the old map goes back on disk and to the renderer. */
         if (h->state_file[0])
             state_store_save_weather_map(h->state_file, &h->client_map, err, sizeof err);
@@ -222,6 +386,14 @@ void world_host_restore_weather_map(struct world_host *h, struct renderer_host *
 {
     char msg[640];
     enum state_load_result result = STATE_LOAD_ABSENT;
+    if (h->cluster && h->client_map.rgba) {
+        if (renderer_host_set_weather_map(renderer, &h->client_map) == 0) {
+            fprintf(stderr, "skyd: the shared world's client weather map (%ux%u)\n",
+                    h->client_map.width, h->client_map.height);
+            return;
+        }
+        sky_weather_map_free(&h->client_map);
+    }
     if (h->state_file[0])
         result = state_store_load_weather_map(h->state_file, &h->client_map, msg, sizeof msg);
     if (result == STATE_LOAD_RESTORED && renderer_host_set_weather_map(renderer, &h->client_map) != 0) {

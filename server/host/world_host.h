@@ -8,6 +8,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "cluster_entry.h"
+#include "cluster_store.h"
 #include "renderer_host.h"
 #include "sky_renderer.h"
 #include "weather_map.h"
@@ -19,6 +21,11 @@ struct world_host_params {
     double save_delay_s;         /* a failed write is tried again after this */
     double now_s;                /* CLOCK_MONOTONIC seconds at start (save schedule) */
     double wall_s;               /* CLOCK_REALTIME seconds at start: the clock is brought there */
+    /* A shared world (server/cluster/): changes are committed to Redis instead of the state
+     * file (then ""), and the world's client weather map at start is `client_map`. NULL: the
+     * state file. Borrowed: it outlives the host. */
+    struct cluster_store *cluster;
+    const struct sky_weather_map *client_map;
 };
 
 struct world_host;
@@ -38,8 +45,17 @@ uint64_t world_host_settled_revision(const struct world_host *host);
 /* The client weather map a state may select (no texels: none), as it is on disk. */
 const struct sky_weather_map *world_host_client_map(const struct world_host *host);
 
+enum world_commit_status {
+    WORLD_COMMIT_DONE,        /* committed, or nothing changed */
+    WORLD_COMMIT_FAILED,      /* the disk or the renderer refused it */
+    WORLD_COMMIT_CONFLICT,    /* a shared world moved on first: apply its stream, then retry */
+    WORLD_COMMIT_UNAVAILABLE, /* a shared world's Redis cannot be reached */
+};
+
 /* What a commit did. */
 struct world_commit {
+    enum world_commit_status status;
+    uint64_t current;  /* CONFLICT: the shared world's revision */
     uint64_t revision; /* the live revision afterwards */
     char *event;       /* the state_changed event for every client (malloc'd); NULL: none */
     char error[512];   /* why it failed */
@@ -55,6 +71,14 @@ struct world_commit {
 bool world_host_commit(struct world_host *host, struct renderer_host *renderer,
                        struct sky_world_state *next, const char *also_changed, const char *by,
                        struct world_commit *out);
+
+/* A shared world's entry (a change another node committed, or a snapshot) made the live
+ * state, without a second validation: Redis took it from a node that validated it. Entries
+ * at or below the live revision (this node's own commits) are skipped. *event: the
+ * state_changed event for this node's clients (malloc'd), NULL when none. false when the
+ * entry cannot be read (said on stderr). */
+bool world_host_apply_entry(struct world_host *host, struct renderer_host *renderer,
+                            const struct cluster_entry *entry, char **event);
 
 /* Whether `next` samples the client weather map when there is none (errors filled). */
 bool world_host_client_map_missing(const struct world_host *host,

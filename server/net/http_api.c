@@ -138,6 +138,7 @@ static unsigned status_of_error(enum sky_msg_error_code code)
     case SKY_MSG_ERR_LIMIT_REACHED:
         return 429;
     case SKY_MSG_ERR_INTERNAL: return HTTP_STATUS_INTERNAL_SERVER_ERROR;
+    case SKY_MSG_ERR_UNAVAILABLE: return HTTP_STATUS_SERVICE_UNAVAILABLE;
     default: return 422; /* the message was understood, its fields were not acceptable */
     }
 }

@@ -66,7 +66,36 @@ int main(int argc, char **argv)
     CHECK(skyd_config_load(read_only, &c, &errors, msg, sizeof msg));
     CHECK(c.read_only && strcmp(c.controller_token, "t") == 0);
 
+    /* A shared world: both members, well formed; the state file is then not used. */
+    const char *cluster = write_temp("cluster.json",
+                                     "{\"cluster\":{\"redis\":\"redis://127.0.0.1:6380/2\","
+                                     "\"world\":\"class-7_b\"}}");
+    CHECK(skyd_config_load(cluster, &c, &errors, msg, sizeof msg));
+    CHECK(strcmp(c.cluster_redis, "redis://127.0.0.1:6380/2") == 0 &&
+          strcmp(c.cluster_world, "class-7_b") == 0);
+    CHECK(defaults.cluster_redis[0] == '\0' && defaults.cluster_world[0] == '\0');
+
     const struct bad_case cases[] = {
+        { "{\"cluster\":{\"redis\":\"redis://h:1\",\"world\":\"a b\"}}", "/cluster/world",
+          SKY_FIELD_BAD_VALUE },
+        { "{\"cluster\":{\"redis\":\"redis://h:1\",\"world\":\"x/../y\"}}", "/cluster/world",
+          SKY_FIELD_BAD_VALUE },
+        { "{\"cluster\":{\"redis\":\"redis://h:1\"}}", "/cluster/world", SKY_FIELD_MISSING },
+        { "{\"cluster\":{\"world\":\"w\"}}", "/cluster/redis", SKY_FIELD_MISSING },
+        { "{\"cluster\":{\"redis\":\"tcp://h:1\",\"world\":\"w\"}}", "/cluster/redis",
+          SKY_FIELD_BAD_VALUE },
+        { "{\"cluster\":{\"redis\":\"redis://h\",\"world\":\"w\"}}", "/cluster/redis",
+          SKY_FIELD_BAD_VALUE },
+        { "{\"cluster\":{\"redis\":\"redis://h:0\",\"world\":\"w\"}}", "/cluster/redis",
+          SKY_FIELD_BAD_VALUE },
+        { "{\"cluster\":{\"redis\":\"redis://h:6379/x\",\"world\":\"w\"}}",
+          "/cluster/redis", SKY_FIELD_BAD_VALUE },
+        { "{\"cluster\":{\"redis\":\"redis://u:p@h:6379\",\"world\":\"w\"}}",
+          "/cluster/redis", SKY_FIELD_BAD_VALUE },
+        { "{\"cluster\":{\"redis\":\"redis://h:1\",\"world\":\"w\",\"x\":1}}",
+          "/cluster/x", SKY_FIELD_UNKNOWN },
+        { "{\"cluster\":{\"redis\":6379,\"world\":\"w\"}}", "/cluster/redis",
+          SKY_FIELD_WRONG_TYPE },
         { "{\"bogus\":1}", "/bogus", SKY_FIELD_UNKNOWN },
         { "{\"listen\":{\"portt\":1}}", "/listen/portt", SKY_FIELD_UNKNOWN },
         { "{\"listen\":{\"port\":\"80\"}}", "/listen/port", SKY_FIELD_WRONG_TYPE },
@@ -115,6 +144,7 @@ int main(int argc, char **argv)
     CHECK(strstr(msg, "cannot open") != NULL);
 
     unlink(write_temp("partial.json", ""));
+    unlink(write_temp("cluster.json", ""));
     unlink(write_temp("read_only.json", ""));
     unlink(write_temp("bad.json", ""));
     unlink(write_temp("many.json", ""));

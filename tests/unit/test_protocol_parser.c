@@ -278,6 +278,7 @@ void test_parsed_values(void)
         {SKY_MSG_ERR_FORBIDDEN, "forbidden"}, {SKY_MSG_ERR_AUTH_FAILED, "auth_failed"},
         {SKY_MSG_ERR_RATE_LIMITED, "rate_limited"}, {SKY_MSG_ERR_NOT_FOUND, "not_found"},
         {SKY_MSG_ERR_LIMIT_REACHED, "limit_reached"}, {SKY_MSG_ERR_INTERNAL, "internal"},
+        {SKY_MSG_ERR_UNAVAILABLE, "unavailable"},
         {SKY_FIELD_UNKNOWN, "unknown_field"}, {SKY_FIELD_INCONSISTENT, "inconsistent"},
     };
     for (size_t i = 0; i < COUNT_OF(names); i++) {
