@@ -3,10 +3,10 @@
 // Converged multiple scattering, one order's scattering density (Bruneton & Neyret 2008,
 // eq. 4 with the ground's light already inside L_{n-1}): J_n(x, v) = sum over the Rayleigh and
 // Mie parts of sigma_i(x) * integral over the sphere of p_i(v . w) L_{n-1}(x, w) dw, stored
-// divided by sigma_s(x) so that it varies slowly with altitude. The sphere is sampled by
-// SKY_MS_DENSITY_DIRS directions (Gauss-Legendre in cos theta x uniform in azimuth); the
-// quadrature weights of each phase function are normalised to sum to one, so that the
-// sharp Mie lobe still conserves energy.
+// divided by sigma_s(x) so that it varies slowly with altitude. Rayleigh's integral takes a
+// Gauss-Legendre rule on each hemisphere, Mie's a rule stratified in its lobe around the view
+// direction (its sharp forward peak falls between the nodes of any fixed rule); the weights of
+// each are normalised to sum to one, so that a uniform radiance is scattered exactly.
 #include "sky_shared.h"
 #include "sky_layouts.h"
 
@@ -19,12 +19,13 @@ layout(push_constant) uniform OrderPush { sky_ms_push push; };
 #include "atmosphere.glsl"
 #include "ms_table.glsl"
 
-// 8-point Gauss-Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun table 25.4).
-const float GL_X[8] = float[8](-0.9602898565, -0.7966664774, -0.5255324099, -0.1834346425,
-                               0.1834346425, 0.5255324099, 0.7966664774, 0.9602898565);
-const float GL_W[8] = float[8](0.1012285363, 0.2223810345, 0.3137066459, 0.3626837834,
-                               0.3626837834, 0.3137066459, 0.2223810345, 0.1012285363);
-const int AZIMUTHS = SKY_MS_DENSITY_DIRS / 8;
+// 8-point Gauss-Legendre nodes and weights on [0, 1] (Abramowitz & Stegun table 25.4, mapped).
+const float GL_X[8] = float[8](0.0198550718, 0.1016667613, 0.2372337950, 0.4082826788,
+                               0.5917173212, 0.7627662050, 0.8983332387, 0.9801449282);
+const float GL_W[8] = float[8](0.0506142681, 0.1111905172, 0.1568533229, 0.1813418917,
+                               0.1813418917, 0.1568533229, 0.1111905172, 0.0506142681);
+const int AZIMUTHS = 8;
+const int MIE_RINGS = 8;
 
 void main()
 {
@@ -41,24 +42,50 @@ void main()
     ms_directions(mu, mu_s, nu, view, sun);
     r = clamp(r, bottom_radius() + 1e-3, top_radius() - 1e-3);
 
-    vec3 sum_r = vec3(0.0), sum_m = vec3(0.0);
+    // Rayleigh: each hemisphere apart (the horizon is where L jumps from sky to ground), 8
+    // Gauss-Legendre zeniths each, 8 azimuths.
+    vec3 sum_r = vec3(0.0);
     float weight_r = 0.0;
-    vec3 weight_m = vec3(0.0);
-    for (int j = 0; j < 8; j++) {
-        float cos_theta = GL_X[j];
-        float sin_theta = sqrt(max(0.0, 1.0 - cos_theta * cos_theta));
+    for (int half_index = 0; half_index < 2; half_index++) {
+        float side = half_index == 0 ? 1.0 : -1.0;
+        for (int j = 0; j < 8; j++) {
+            float cos_theta = side * GL_X[j];
+            float sin_theta = sqrt(max(0.0, 1.0 - cos_theta * cos_theta));
+            for (int i = 0; i < AZIMUTHS; i++) {
+                float phi = 2.0 * PI * (float(i) + 0.5) / float(AZIMUTHS);
+                vec3 w = vec3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
+                float dw = GL_W[j] * 2.0 * PI / float(AZIMUTHS); // solid angle of the node
+                float pr = rayleigh_phase(dot(view, w)) * dw;
+                sum_r += pr * ms_lookup(radiance_table, r, w.z, mu_s, dot(w, sun));
+                weight_r += pr;
+            }
+        }
+    }
+    // Mie: around the view direction, stratified in the Henyey-Greenstein lobe's cumulative
+    // distribution (its inverse, e.g. Pharr et al. PBRT 11.3.1), each node weighted by the
+    // Cornette-Shanks phase over the Henyey-Greenstein density.
+    float g = clamp(atmo.mie_g.y, -0.95, 0.95);
+    vec3 t1 = normalize(abs(view.z) < 0.9 ? cross(view, vec3(0.0, 0.0, 1.0))
+                                          : cross(view, vec3(1.0, 0.0, 0.0)));
+    vec3 t2 = cross(view, t1);
+    vec3 sum_m = vec3(0.0), weight_m = vec3(0.0);
+    for (int j = 0; j < MIE_RINGS; j++) {
+        float xi = (float(j) + 0.5) / float(MIE_RINGS);
+        float c;
+        if (abs(g) < 1e-3) {
+            c = 1.0 - 2.0 * xi;
+        } else {
+            float k = (1.0 - g * g) / (1.0 - g + 2.0 * g * xi);
+            c = clamp((1.0 + g * g - k * k) / (2.0 * g), -1.0, 1.0);
+        }
+        float s = sqrt(max(0.0, 1.0 - c * c));
+        float hg = (1.0 - g * g) / (4.0 * PI * pow(max(1e-6, 1.0 + g * g - 2.0 * g * c), 1.5));
+        vec3 ratio = mie_phase(c, atmo.mie_g.xyz) / hg;
         for (int i = 0; i < AZIMUTHS; i++) {
-            float phi = 2.0 * PI * (float(i) + 0.5) / float(AZIMUTHS);
-            vec3 w = vec3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
-            float dw = GL_W[j] * 2.0 * PI / float(AZIMUTHS); // solid angle of the node
-            vec3 L = ms_lookup(radiance_table, r, w.z, mu_s, dot(w, sun));
-            float c = dot(view, w);
-            float pr = rayleigh_phase(c) * dw;
-            vec3 pm = mie_phase(c, atmo.mie_g.xyz) * dw;
-            sum_r += pr * L;
-            sum_m += pm * L;
-            weight_r += pr;
-            weight_m += pm;
+            float phi = 2.0 * PI * (float(i) + 0.5 * float(j % 2) + 0.25) / float(AZIMUTHS);
+            vec3 w = c * view + s * (cos(phi) * t1 + sin(phi) * t2);
+            sum_m += ratio * ms_lookup(radiance_table, r, w.z, mu_s, dot(w, sun));
+            weight_m += ratio;
         }
     }
     MediumSample m = sample_medium(r - bottom_radius());

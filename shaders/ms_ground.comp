@@ -23,7 +23,7 @@ void main()
     int i = int(gl_GlobalInvocationID.x);
     if (i >= SKY_MS_GROUND)
         return;
-    float mu_s = float(i) / float(SKY_MS_GROUND - 1) * 2.0 - 1.0;
+    float mu_s = ms_ground_mu_s(i);
     vec3 sun = vec3(sqrt(max(0.0, 1.0 - mu_s * mu_s)), 0.0, mu_s);
     vec3 E = vec3(0.0);
     // Midpoint rule in cos theta over (0, 1], uniform in azimuth: cos theta dw = mu dmu dphi.

@@ -66,7 +66,7 @@ void main()
                          * (m.rayleigh_scattering * phase_r + m.mie_scattering * phase_m);
             } else {
                 vec3 up = p / rp;
-                source = m.scattering * ms_lookup(density_table, rp, dot(view, up), dot(sun, up), nu);
+                source = m.scattering * ms_lookup_log(density_table, rp, dot(view, up), dot(sun, up), nu);
             }
             vec3 step_t = exp(-m.extinction * dt);
             vec3 ext = max(m.extinction, vec3(1e-9));

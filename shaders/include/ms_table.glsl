@@ -120,10 +120,38 @@ vec3 ms_lookup(sampler3D table, float r, float mu, float mu_s, float nu)
     return mix(a, b, f);
 }
 
-// Ground irradiance table: SKY_MS_GROUND texels over mu_s in [-1, 1].
+// The same, geometric rather than linear in mu_s: where the sun sets the light falls off about
+// exponentially with its elevation, and a straight line between two texels overestimates it.
+vec3 ms_lookup_log(sampler3D table, float r, float mu, float mu_s, float nu)
+{
+    vec4 c = ms_coords(r, mu, mu_s, nu);
+    float t = c.w * (MS_NU - 1.0);
+    float i = min(floor(t), MS_NU - 2.0);
+    float f = t - i;
+    float s = clamp(c.x * MS_MU_S - 0.5, 0.0, MS_MU_S - 1.0);
+    float j = min(floor(s), MS_MU_S - 2.0);
+    float g = s - j;
+    float u0 = (j + 0.5) / MS_MU_S, u1 = (j + 1.5) / MS_MU_S;
+    vec3 a0 = textureLod(table, vec3((i + u0) / MS_NU, c.y, c.z), 0.0).rgb;
+    vec3 a1 = textureLod(table, vec3((i + u1) / MS_NU, c.y, c.z), 0.0).rgb;
+    vec3 b0 = textureLod(table, vec3((i + 1.0 + u0) / MS_NU, c.y, c.z), 0.0).rgb;
+    vec3 b1 = textureLod(table, vec3((i + 1.0 + u1) / MS_NU, c.y, c.z), 0.0).rgb;
+    const vec3 tiny = vec3(1e-30);
+    vec3 a = exp(mix(log(max(a0, tiny)), log(max(a1, tiny)), g));
+    vec3 b = exp(mix(log(max(b0, tiny)), log(max(b1, tiny)), g));
+    return mix(a, b, f);
+}
+
+// Ground irradiance table: SKY_MS_GROUND texels over mu_s, mapped as the 4D table's mu_s
+// (dense where twilight makes it fall steeply).
 float ms_ground_u(float mu_s)
 {
-    return unit_to_sub_uv(clamp(mu_s * 0.5 + 0.5, 0.0, 1.0), float(SKY_MS_GROUND));
+    return unit_to_sub_uv(clamp(ms_mu_s_to_unit(mu_s), 0.0, 1.0), float(SKY_MS_GROUND));
+}
+
+float ms_ground_mu_s(int texel)
+{
+    return ms_unit_to_mu_s(float(texel) / float(SKY_MS_GROUND - 1));
 }
 
 #endif

@@ -47,7 +47,7 @@
  * rays), SKY_MS_R slices; the ground irradiance over SKY_MS_GROUND cosines. No side a power of
  * two (lut_extent in sky_passes.c says why). */
 #define SKY_MS_NU 8
-#define SKY_MS_MU_S 15
+#define SKY_MS_MU_S 31
 #define SKY_MS_MU 38
 #define SKY_MS_R 10
 #define SKY_MS_GROUND 62
