@@ -167,6 +167,8 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
     const int nv = (int)(sizeof views / sizeof *views);
     struct error_stats sky = { 0 }, sky_high = { 0 }, ground = { 0 };
     struct error_stats c_sky = { 0 }, c_ground = { 0 }, c_twilight = { 0 };
+    /* The same beyond twice the reference's standard error. */
+    struct error_stats c_sky_net = { 0 }, c_ground_net = { 0 }, c_twilight_net = { 0 };
     for (size_t e = 0; e < sizeof sun_elevations / sizeof *sun_elevations; e++) {
         double elevation = sun_elevations[e];
         struct sky_world_state state;
@@ -205,12 +207,18 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
                                   se, &paths);
             double L1[3];
             ref_single_scattering(ref, 0.0, dirs[v], sun, L1);
-            double worst = 0, worst_c = 0;
+            double worst = 0, worst_c = 0, noise = 0;
             bool is_ground = views[v].zenith > 90;
             int band = band_of(views[v].zenith);
             for (int c = 0; c < 3; c++) {
                 double ref_L = L[c] * e_top[c];
                 double rel = gpu[v][c] / ref_L - 1.0, rel_c = conv[v][c] / ref_L - 1.0;
+                /* The reference's own Monte Carlo error: twice its standard error is allowed on
+                 * top of the converged path's bounds (it reaches 0.4% except in deep twilight,
+                 * where 64 000 paths leave several per cent). */
+                double se_rel = se[c] / fmax(L[c], 1e-300);
+                double rel_c_net = fmax(0.0, fabs(rel_c) - 2.0 * se_rel);
+                noise = fmax(noise, se_rel);
                 worst = fmax(worst, fabs(rel));
                 worst_c = fmax(worst_c, fabs(rel_c));
                 if (band >= 0) {
@@ -226,17 +234,22 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
                     if (views[v].zenith <= 80)
                         add_error(&sky_high, fabs(rel));
                 }
-                if (elevation >= -4)
+                if (elevation >= -4) {
                     add_error(is_ground ? &c_ground : &c_sky, fabs(rel_c));
-                if (elevation <= -2)
+                    add_error(is_ground ? &c_ground_net : &c_sky_net, rel_c_net);
+                }
+                if (elevation <= -2) {
                     add_error(&c_twilight, fabs(rel_c));
+                    add_error(&c_twilight_net, rel_c_net);
+                }
             }
             printf("sun %5.1f view zenith %5.1f azimuth %5.1f: fast %10.4g %10.4g %10.4g  "
                    "converged %10.4g %10.4g %10.4g  ref %10.4g %10.4g %10.4g  worst fast %.2f%% "
-                   "converged %.2f%%%s\n",
+                   "converged %.2f%%  (reference %d paths, standard error %.2f%%)%s\n",
                    elevation, views[v].zenith, views[v].azimuth, gpu[v][0], gpu[v][1], gpu[v][2],
                    conv[v][0], conv[v][1], conv[v][2], L[0] * e_top[0], L[1] * e_top[1],
-                   L[2] * e_top[2], 100 * worst, 100 * worst_c, is_ground ? " (ground)" : "");
+                   L[2] * e_top[2], 100 * worst, 100 * worst_c, paths, 100 * noise,
+                   is_ground ? " (ground)" : "");
         }
         print_bands("bands fast     ", elevation, fast_bands);
         print_bands("bands converged", elevation, conv_bands);
@@ -252,14 +265,16 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
     printf("fast: ground luminance: %d values, mean rel error %.2f%%, max %.2f%%\n", ground.n,
            100 * ground.sum / ground.n, 100 * ground.max);
     printf("converged: sky luminance, view zenith <= 89 deg, sun -4 to 90: %d values, mean rel "
-           "error %.2f%%, max %.2f%%\n",
-           c_sky.n, 100 * c_sky.sum / c_sky.n, 100 * c_sky.max);
+           "error %.2f%%, max %.2f%% (%.2f%% beyond 2 reference standard errors)\n",
+           c_sky.n, 100 * c_sky.sum / c_sky.n, 100 * c_sky.max, 100 * c_sky_net.max);
     printf("converged: ground luminance, sun -4 to 90: %d values, mean rel error %.2f%%, max "
-           "%.2f%%\n",
-           c_ground.n, 100 * c_ground.sum / c_ground.n, 100 * c_ground.max);
+           "%.2f%% (%.2f%% beyond 2 reference standard errors)\n",
+           c_ground.n, 100 * c_ground.sum / c_ground.n, 100 * c_ground.max,
+           100 * c_ground_net.max);
     printf("converged: twilight, sun -2 to -6, all views: %d values, mean rel error %.2f%%, max "
-           "%.2f%%\n",
-           c_twilight.n, 100 * c_twilight.sum / c_twilight.n, 100 * c_twilight.max);
+           "%.2f%% (%.2f%% beyond 2 reference standard errors)\n",
+           c_twilight.n, 100 * c_twilight.sum / c_twilight.n, 100 * c_twilight.max,
+           100 * c_twilight_net.max);
     CHECK_LE(sky_high.sum / sky_high.n, SKY_HIGH_MEAN_REL);
     CHECK_LE(sky_high.max, SKY_HIGH_MAX_REL);
     CHECK_LE(sky.sum / sky.n, SKY_ALL_MEAN_REL);
@@ -267,9 +282,9 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
     CHECK_LE(ground.sum / ground.n, GROUND_MEAN_REL);
     CHECK_LE(ground.max, GROUND_MAX_REL);
     CHECK_LE(c_sky.sum / c_sky.n, CONVERGED_SKY_MEAN_REL);
-    CHECK_LE(c_sky.max, CONVERGED_SKY_MAX_REL);
-    CHECK_LE(c_ground.max, CONVERGED_GROUND_MAX_REL);
-    CHECK_LE(c_twilight.max, CONVERGED_TWILIGHT_MAX_REL);
+    CHECK_LE(c_sky_net.max, CONVERGED_SKY_MAX_REL);
+    CHECK_LE(c_ground_net.max, CONVERGED_GROUND_MAX_REL);
+    CHECK_LE(c_twilight_net.max, CONVERGED_TWILIGHT_MAX_REL);
 }
 
 /* Horizontal illuminance at the ground: sun through the transmittance LUT, sky integrated
