@@ -19,13 +19,12 @@ layout(push_constant) uniform OrderPush { sky_ms_push push; };
 #include "atmosphere.glsl"
 #include "ms_table.glsl"
 
-// 8-point Gauss-Legendre nodes and weights on [0, 1] (Abramowitz & Stegun table 25.4, mapped).
-const float GL_X[8] = float[8](0.0198550718, 0.1016667613, 0.2372337950, 0.4082826788,
-                               0.5917173212, 0.7627662050, 0.8983332387, 0.9801449282);
-const float GL_W[8] = float[8](0.0506142681, 0.1111905172, 0.1568533229, 0.1813418917,
-                               0.1813418917, 0.1568533229, 0.1111905172, 0.0506142681);
+// 4-point Gauss-Legendre nodes and weights on [0, 1] (Abramowitz & Stegun table 25.4, mapped).
+const float GL_X[4] = float[4](0.0694318442, 0.3300094782, 0.6699905218, 0.9305681558);
+const float GL_W[4] = float[4](0.1739274226, 0.3260725774, 0.3260725774, 0.1739274226);
+const int ZENITHS = 4;
 const int AZIMUTHS = 8;
-const int MIE_RINGS = 8;
+const int MIE_RINGS = 6;
 
 void main()
 {
@@ -42,13 +41,13 @@ void main()
     ms_directions(mu, mu_s, nu, view, sun);
     r = clamp(r, bottom_radius() + 1e-3, top_radius() - 1e-3);
 
-    // Rayleigh: each hemisphere apart (the horizon is where L jumps from sky to ground), 8
+    // Rayleigh: each hemisphere apart (the horizon is where L jumps from sky to ground), 4
     // Gauss-Legendre zeniths each, 8 azimuths.
     vec3 sum_r = vec3(0.0);
     float weight_r = 0.0;
     for (int half_index = 0; half_index < 2; half_index++) {
         float side = half_index == 0 ? 1.0 : -1.0;
-        for (int j = 0; j < 8; j++) {
+        for (int j = 0; j < ZENITHS; j++) {
             float cos_theta = side * GL_X[j];
             float sin_theta = sqrt(max(0.0, 1.0 - cos_theta * cos_theta));
             for (int i = 0; i < AZIMUTHS; i++) {

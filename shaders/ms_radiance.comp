@@ -26,7 +26,7 @@ layout(push_constant) uniform OrderPush { sky_ms_push push; };
 #include "atmosphere.glsl"
 #include "ms_table.glsl"
 
-const float STEPS = 24.0;
+const float STEPS = 20.0;
 
 void main()
 {

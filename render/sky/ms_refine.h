@@ -23,7 +23,7 @@ struct gpu_buffer;
 struct ms_refine;
 
 #define MS_REFINE_FADE_S 0.5 /* the table fades in (and out) over this much wall time */
-#define MS_REFINE_ORDERS 6   /* orders computed; the rest of the series as a geometric tail */
+#define MS_REFINE_ORDERS 4   /* orders computed; the rest of the series as a geometric tail */
 
 struct ms_refine *ms_refine_create(struct vk_context *ctx);
 void ms_refine_destroy(struct vk_context *ctx, struct ms_refine **refine);

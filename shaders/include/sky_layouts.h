@@ -48,11 +48,10 @@
  * two (lut_extent in sky_passes.c says why). */
 #define SKY_MS_NU 8
 #define SKY_MS_MU_S 31
-#define SKY_MS_MU 38
-#define SKY_MS_R 10
+#define SKY_MS_MU 30
+#define SKY_MS_R 8
 #define SKY_MS_GROUND 62
 #define SKY_MS_MU_S_MIN (-0.2) /* the sun 11.5 deg below the horizon: darker is zero */
-#define SKY_MS_DENSITY_DIRS 64 /* 8 zeniths x 8 azimuths */
 #define SKY_MS_LOCAL 8
 
 /* ms_radiance.comp: one order's radiance; orders >= 2 add into the sum. */
