@@ -412,25 +412,6 @@ static void run_tests(void)
     struct ref_atmosphere ref;
     test_earth_atmosphere(&atm);
     to_reference(&atm, &ref);
-    if (getenv("MSDBG")) {
-        struct sky_world_state state;
-        sky_world_state_defaults(&state);
-        struct sky_render_view view;
-        world_to_render_view(&state, 1, 1, SKY_RENDER_OUTPUT_LINEAR, &view);
-        double d[1][3] = { { 0, 0, 1 } }, o[1][3];
-        sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_CONVERGED);
-        sky_renderer_probe_luminance(renderer, &atm, &view, (const double (*)[3])d, 1, false, o);
-        uint32_t size[3];
-        float *t = sky_renderer_read_lut(renderer, getenv("MSDBG"), size);
-        for (uint32_t z = 0; z < size[2]; z += 3)
-            for (uint32_t y = 0; y < size[1]; y += 7)
-                for (uint32_t x = 0; x < size[0]; x += 29) {
-                    float *q = t + 4 * ((z * size[1] + y) * size[0] + x);
-                    printf("%u %u %u: %g %g %g %g\n", x, y, z, q[0], q[1], q[2], q[3]);
-                }
-        free(t);
-        return;
-    }
     test_transmittance(&atm, &ref);
     test_luminance(&atm, &ref);
     test_illuminance(&atm, &ref);
