@@ -317,6 +317,8 @@ static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_
     /* The converged multiple scattering: its share of the frame's LUT budget while the
      * atmosphere stands still (none when amortization is off), all of it for a converged probe. */
     struct ms_refine *ms = sky_passes_ms_refine(r->passes);
+    if (*rebuilt && atmosphere_luts_settled(r->luts))
+        ms_refine_record_warm_up(ms, *cmd); /* once, with the first whole LUT build */
     double budget = atmosphere_luts_frame_budget(r->luts);
     bool converged = exact && want_view_luts && r->probe_ms == SKY_RENDER_PROBE_MS_CONVERGED;
     bool fast = exact && r->probe_ms == SKY_RENDER_PROBE_MS_FAST;

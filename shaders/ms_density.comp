@@ -10,7 +10,7 @@
 #include "sky_shared.h"
 #include "sky_layouts.h"
 
-layout(local_size_x = SKY_MS_LOCAL, local_size_y = SKY_MS_LOCAL) in;
+layout(local_size_x = SKY_MS_LOCAL) in;
 SKY_PARAMETER_BLOCK(SKY_MS_DENSITY_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
 layout(binding = SKY_MS_DENSITY_RADIANCE) uniform sampler3D radiance_table;
 layout(binding = SKY_MS_DENSITY_OUT, rgba32f) uniform writeonly image3D density_out;
@@ -30,11 +30,12 @@ void main()
 {
     atmo = atmo_block;
     ivec3 size = imageSize(density_out);
-    uint row = push.row_offset + gl_GlobalInvocationID.y;
-    ivec3 texel = ivec3(int(gl_GlobalInvocationID.x), int(row % uint(size.y)),
-                        int(row / uint(size.y)));
-    if (texel.x >= size.x || row >= push.row_end)
+    uint index = push.first + gl_GlobalInvocationID.x; // texels in row-major order
+    if (index >= push.end)
         return;
+    uint row = index / uint(size.x);
+    ivec3 texel = ivec3(int(index % uint(size.x)), int(row % uint(size.y)),
+                        int(row / uint(size.y)));
     float r, mu, mu_s, nu;
     ms_texel_params(texel, r, mu, mu_s, nu);
     vec3 view, sun;

@@ -7,12 +7,11 @@
 // ms_density.comp (stored over sigma_s) and the ground irradiance E_{n-1} of ms_ground.comp.
 // Orders >= 2 add into the sum the sky-view reads; the last order adds the rest of the series
 // as a geometric tail L_N q / (1 - q), q = L_N / L_{N-1} per texel and channel.
-// A dispatch covers rows (y, z) of the table from rows.row_offset, so that the work can be
-// spread over frames.
+// A dispatch covers a range of texels (row-major), so that the work can be spread over frames.
 #include "sky_shared.h"
 #include "sky_layouts.h"
 
-layout(local_size_x = SKY_MS_LOCAL, local_size_y = SKY_MS_LOCAL) in;
+layout(local_size_x = SKY_MS_LOCAL) in;
 SKY_PARAMETER_BLOCK(SKY_MS_RADIANCE_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
 layout(binding = SKY_MS_RADIANCE_TRANSMITTANCE) uniform sampler2D transmittance_lut;
 layout(binding = SKY_MS_RADIANCE_DENSITY) uniform sampler3D density_table;
@@ -32,11 +31,12 @@ void main()
 {
     atmo = atmo_block;
     ivec3 size = imageSize(radiance_out);
-    uint row = push.row_offset + gl_GlobalInvocationID.y;
-    ivec3 texel = ivec3(int(gl_GlobalInvocationID.x), int(row % uint(size.y)),
-                        int(row / uint(size.y)));
-    if (texel.x >= size.x || row >= push.row_end)
+    uint index = push.first + gl_GlobalInvocationID.x; // texels in row-major order
+    if (index >= push.end)
         return;
+    uint row = index / uint(size.x);
+    ivec3 texel = ivec3(int(index % uint(size.x)), int(row % uint(size.y)),
+                        int(row / uint(size.y)));
     uint order = push.order;
     float r, mu, mu_s, nu;
     ms_texel_params(texel, r, mu, mu_s, nu);

@@ -15,11 +15,13 @@
 #include "sky_shaders.h"
 
 #define TABLE_WIDTH (SKY_MS_NU * SKY_MS_MU_S)
-#define TABLE_ROWS (SKY_MS_MU * SKY_MS_R)
-/* Starting guesses of GPU ms on lavapipe (2 cores); measured times replace them. */
-#define INITIAL_MS_PER_RADIANCE_ROW 0.10
-#define INITIAL_MS_PER_DENSITY_ROW 0.15
-#define INITIAL_MS_GROUND 0.3
+/* A slice: one workgroup's SKY_MS_LOCAL texels (row-major). */
+#define TABLE_TEXELS (TABLE_WIDTH * SKY_MS_MU * SKY_MS_R)
+#define TABLE_SLICES ((TABLE_TEXELS + SKY_MS_LOCAL - 1) / SKY_MS_LOCAL)
+/* Starting guesses of GPU ms per slice on lavapipe (2 cores); measured times replace them. */
+#define INITIAL_MS_PER_RADIANCE_SLICE 0.1
+#define INITIAL_MS_PER_DENSITY_SLICE 0.15
+#define INITIAL_MS_GROUND 0.5
 
 enum step_kind { STEP_DENSITY, STEP_RADIANCE, STEP_GROUND, STEP_KINDS };
 enum state { STATE_EMPTY, STATE_BUILDING, STATE_COMPLETE };
@@ -42,9 +44,10 @@ struct ms_refine {
     struct step steps[STEP_COUNT];
     enum state state;
     struct sky_render_atmosphere built_for; /* the table's atmosphere (building or complete) */
-    uint32_t step, next_row;
+    uint32_t step, next_slice;
     double weight, last_now, build_start, build_seconds;
-    double ms_per_row[STEP_KINDS]; /* ground: per dispatch */
+    double ms_per_row[STEP_KINDS]; /* per slice; ground: per dispatch */
+    bool warmed; /* every pipeline has run once */
     uint32_t rows_this_frame[STEP_KINDS];
 };
 
@@ -67,8 +70,8 @@ struct ms_refine *ms_refine_create(struct vk_context *ctx)
     if (!m)
         return NULL;
     m->build_seconds = NAN;
-    m->ms_per_row[STEP_DENSITY] = INITIAL_MS_PER_DENSITY_ROW;
-    m->ms_per_row[STEP_RADIANCE] = INITIAL_MS_PER_RADIANCE_ROW;
+    m->ms_per_row[STEP_DENSITY] = INITIAL_MS_PER_DENSITY_SLICE;
+    m->ms_per_row[STEP_RADIANCE] = INITIAL_MS_PER_RADIANCE_SLICE;
     m->ms_per_row[STEP_GROUND] = INITIAL_MS_GROUND;
     int n = 0;
     for (uint32_t order = 1; order <= MS_REFINE_ORDERS; order++) {
@@ -179,11 +182,11 @@ static void start(struct ms_refine *m, const struct sky_render_atmosphere *a, do
     m->built_for = *a;
     m->state = STATE_BUILDING;
     m->step = 0;
-    m->next_row = 0;
+    m->next_slice = 0;
     m->build_start = now_s;
 }
 
-/* Records `rows` rows (or the ground's one dispatch) of the current step. */
+/* Records `rows` slices (or the ground's one dispatch) of the current step. */
 static void record_step(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_timer *timer,
                         uint32_t rows)
 {
@@ -191,18 +194,30 @@ static void record_step(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_tim
     /* Density J_n reads L_{n-1}; radiance and ground of order n write / read L_n. */
     uint32_t parity = (s->kind == STEP_DENSITY ? s->order - 1 : s->order) % 2;
     struct sky_ms_push push = { .order = s->order,
-                                .row_offset = m->next_row,
+                                .first = m->next_slice * SKY_MS_LOCAL,
                                 .last = s->order == MS_REFINE_ORDERS,
-                                .row_end = m->next_row + rows };
-    uint32_t size[3] = { TABLE_WIDTH, rows, 1 };
-    uint32_t local[3] = { SKY_MS_LOCAL, SKY_MS_LOCAL, 1 };
-    if (s->kind == STEP_GROUND) {
-        size[0] = SKY_MS_GROUND, size[1] = 1;
-        local[1] = 1;
-    }
+                                .end = (m->next_slice + rows) * SKY_MS_LOCAL };
+    if (push.end > TABLE_TEXELS)
+        push.end = TABLE_TEXELS;
+    const uint32_t size[3] = { s->kind == STEP_GROUND ? SKY_MS_GROUND : rows * SKY_MS_LOCAL, 1,
+                               1 };
+    const uint32_t local[3] = { SKY_MS_LOCAL, 1, 1 };
     compute_pass_record(cmd, &m->pass[s->kind][parity], &push, size, local);
     gpu_timer_mark(timer, cmd, pass_names[s->kind]);
     m->rows_this_frame[s->kind] += rows;
+}
+
+void ms_refine_record_warm_up(struct ms_refine *m, VkCommandBuffer cmd)
+{
+    if (m->warmed)
+        return;
+    /* An empty range: nothing is written but the ground table (rewritten before any read). */
+    const struct sky_ms_push push = { .order = 1, .first = 0, .last = 0, .end = 0 };
+    const uint32_t size[3] = { 1, 1, 1 }, local[3] = { SKY_MS_LOCAL, 1, 1 };
+    for (int k = 0; k < STEP_KINDS; k++)
+        for (int parity = 0; parity < 2; parity++)
+            compute_pass_record(cmd, &m->pass[k][parity], &push, size, local);
+    m->warmed = true;
 }
 
 /* Records steps worth about budget_ms (at least one slice); true when the table is complete. */
@@ -217,9 +232,9 @@ static bool record_slices(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_t
         uint32_t rows = 1;
         if (kind != STEP_GROUND) {
             double fit = floor(remaining / cost);
-            rows = fit > TABLE_ROWS ? TABLE_ROWS : (uint32_t)fmax(fit, 0.0);
-            if (rows > TABLE_ROWS - m->next_row)
-                rows = TABLE_ROWS - m->next_row;
+            rows = fit > TABLE_SLICES ? TABLE_SLICES : (uint32_t)fmax(fit, 0.0);
+            if (rows > TABLE_SLICES - m->next_slice)
+                rows = TABLE_SLICES - m->next_slice;
         } else if (remaining < cost) {
             rows = 0;
         }
@@ -230,11 +245,11 @@ static bool record_slices(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_t
         record_step(m, cmd, timer, rows);
         remaining -= rows * cost;
         first = false;
-        m->next_row += rows;
-        if (kind != STEP_GROUND && m->next_row < TABLE_ROWS)
+        m->next_slice += rows;
+        if (kind != STEP_GROUND && m->next_slice < TABLE_SLICES)
             return false;
         m->step++;
-        m->next_row = 0;
+        m->next_slice = 0;
     }
     return true;
 }
@@ -303,7 +318,7 @@ double ms_refine_progress(const struct ms_refine *m)
     if (m->state == STATE_EMPTY)
         return 0.0;
     double per_step = 1.0 / STEP_COUNT;
-    double within = m->steps[m->step].kind == STEP_GROUND ? 0.0 : (double)m->next_row / TABLE_ROWS;
+    double within = m->steps[m->step].kind == STEP_GROUND ? 0.0 : (double)m->next_slice / TABLE_SLICES;
     return (m->step + within) * per_step;
 }
 

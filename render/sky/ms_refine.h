@@ -49,6 +49,10 @@ bool ms_refine_record_frame(struct ms_refine *refine, VkCommandBuffer cmd,
 /* Builds the whole table for `displayed` now (unless it holds it) and shows it fully. */
 bool ms_refine_record_all(struct ms_refine *refine, VkCommandBuffer cmd, struct gpu_timer *timer,
                           const struct sky_render_atmosphere *displayed);
+/* Runs every pass once over nothing, the first time only: lavapipe compiles a pipeline at its
+ * first dispatch, which is better paid by a frame that rebuilds the LUTs at once anyway than
+ * by one under the budget. */
+void ms_refine_record_warm_up(struct ms_refine *refine, VkCommandBuffer cmd);
 /* Forget the table (images recreated, a failed submission). */
 void ms_refine_invalidate(struct ms_refine *refine);
 

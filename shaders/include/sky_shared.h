@@ -130,14 +130,14 @@ struct sky_rows_push {
     SKY_UINT pad2;
 };
 
-/* One step of the converged multiple scattering (ms_refine.h): the order, the rows
- * [row_offset, row_end) (row = y + z * height) of the table this dispatch covers, and whether
- * the order is the last. */
+/* One step of the converged multiple scattering (ms_refine.h): the order, the texels
+ * [first, end) of the table (row-major: x fastest, then y, then z) this dispatch covers, and
+ * whether the order is the last. */
 struct sky_ms_push {
     SKY_UINT order;
-    SKY_UINT row_offset;
+    SKY_UINT first;
     SKY_UINT last;
-    SKY_UINT row_end;
+    SKY_UINT end;
 };
 
 /* out = mix(from, to, weight): the displayed LUTs blend from the last complete build to the

@@ -29,6 +29,7 @@
 #define GROUND_MEAN_REL 0.04
 #define GROUND_MAX_REL 0.20
 #define ILLUMINANCE_MAX_REL 0.07
+#define CONVERGED_ILLUMINANCE_MAX_REL 0.025
 
 #define REF_ORDERS 12
 #define REF_REL_ERROR 0.004
@@ -301,9 +302,7 @@ static void test_illuminance(const struct sky_render_atmosphere *atm,
     double e_top[3];
     sky_sun_illuminance_top(atm, view.sun_illuminance_lux, e_top);
     for (size_t k = 0; k < sizeof sun_zeniths / sizeof *sun_zeniths; k++) {
-        double sun_lux, sky_lux, sun[3], t[3], irr[3], se[3], sun_rgb[3], sky_rgb[3];
-        CHECK(sky_ground_illuminance(renderer, atm, &view, sun_zeniths[k], &sun_lux, &sky_lux) ==
-              0);
+        double sun[3], t[3], irr[3], se[3], sun_rgb[3], sky_rgb[3];
         direction(sun_zeniths[k], 0.0, sun);
         ref_transmittance(ref, 0.0, sun[2], t);
         ref_sky_irradiance(ref, sun, REF_ORDERS, 40000, 99 + k, REF_THREADS, irr, se);
@@ -313,12 +312,24 @@ static void test_illuminance(const struct sky_render_atmosphere *atm,
         }
         double ref_sun = 0.2126 * sun_rgb[0] + 0.7152 * sun_rgb[1] + 0.0722 * sun_rgb[2];
         double ref_sky = 0.2126 * sky_rgb[0] + 0.7152 * sky_rgb[1] + 0.0722 * sky_rgb[2];
-        printf("illuminance, sun zenith %4.1f: sun %9.1f lx (ref %9.1f, %+.2f%%), sky %8.1f lx "
-               "(ref %8.1f, %+.2f%%)\n",
-               sun_zeniths[k], sun_lux, ref_sun, 100 * (sun_lux / ref_sun - 1), sky_lux, ref_sky,
-               100 * (sky_lux / ref_sky - 1));
-        CHECK_LE(fabs(sun_lux / ref_sun - 1), 0.005);
-        CHECK_LE(fabs(sky_lux / ref_sky - 1), ILLUMINANCE_MAX_REL);
+        /* Both multiple-scattering paths: Hillaire's LUT, then the converged table. */
+        const enum sky_render_probe_ms modes[2] = { SKY_RENDER_PROBE_MS_FAST,
+                                                    SKY_RENDER_PROBE_MS_CONVERGED };
+        const double bounds[2] = { ILLUMINANCE_MAX_REL, CONVERGED_ILLUMINANCE_MAX_REL };
+        for (int m = 0; m < 2; m++) {
+            double sun_lux, sky_lux;
+            sky_renderer_set_probe_multiple_scattering(renderer, modes[m]);
+            CHECK(sky_ground_illuminance(renderer, atm, &view, sun_zeniths[k], &sun_lux,
+                                         &sky_lux) == 0);
+            printf("illuminance (%s), sun zenith %4.1f: sun %9.1f lx (ref %9.1f, %+.2f%%), sky "
+                   "%8.1f lx (ref %8.1f, %+.2f%%)\n",
+                   m == 0 ? "fast" : "converged", sun_zeniths[k], sun_lux, ref_sun,
+                   100 * (sun_lux / ref_sun - 1), sky_lux, ref_sky,
+                   100 * (sky_lux / ref_sky - 1));
+            CHECK_LE(fabs(sun_lux / ref_sun - 1), 0.005);
+            CHECK_LE(fabs(sky_lux / ref_sky - 1), bounds[m]);
+        }
+        sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_CURRENT);
     }
 }
 
