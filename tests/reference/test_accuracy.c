@@ -230,9 +230,14 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
                     add_band(&fast_bands[band], rel);
                     add_band(&conv_bands[band], rel_c);
                     double ref_1 = L1[c] * e_top[c], ref_ms = ref_L - ref_1;
-                    add_band(&single_bands[band], single[v][c] / ref_1 - 1.0);
-                    add_band(&fast_ms_bands[band], (gpu[v][c] - single[v][c]) / ref_ms - 1.0);
-                    add_band(&conv_ms_bands[band], (conv[v][c] - single[v][c]) / ref_ms - 1.0);
+                    /* a part under 0.1% of the light (the shadowed ground) says nothing */
+                    if (ref_1 > 1e-3 * ref_L)
+                        add_band(&single_bands[band], single[v][c] / ref_1 - 1.0);
+                    if (ref_ms > 1e-3 * ref_L) {
+                        add_band(&fast_ms_bands[band], (gpu[v][c] - single[v][c]) / ref_ms - 1.0);
+                        add_band(&conv_ms_bands[band],
+                                 (conv[v][c] - single[v][c]) / ref_ms - 1.0);
+                    }
                 }
                 if (today) {
                     add_error(is_ground ? &ground : &sky, fabs(rel));
