@@ -46,9 +46,11 @@ struct ms_refine {
     struct sky_render_atmosphere built_for; /* the table's atmosphere (building or complete) */
     uint32_t step, next_slice;
     double weight, last_now, build_start, build_seconds;
-    double ms_per_row[STEP_KINDS]; /* per slice; ground: per dispatch */
+    double ms_per_slice[STEP_KINDS]; /* per slice; ground: per dispatch */
     bool warmed; /* every pipeline has run once */
-    uint32_t rows_this_frame[STEP_KINDS];
+    /* Slices of each dispatch recorded this frame, per kind in recording order: the timer's
+     * marks come back in that order, one per dispatch. */
+    uint32_t pending[STEP_KINDS][8], pending_head[STEP_KINDS], pending_count[STEP_KINDS];
 };
 
 static const struct compute_pass_desc descs[STEP_KINDS] = {
@@ -70,9 +72,9 @@ struct ms_refine *ms_refine_create(struct vk_context *ctx)
     if (!m)
         return NULL;
     m->build_seconds = NAN;
-    m->ms_per_row[STEP_DENSITY] = INITIAL_MS_PER_DENSITY_SLICE;
-    m->ms_per_row[STEP_RADIANCE] = INITIAL_MS_PER_RADIANCE_SLICE;
-    m->ms_per_row[STEP_GROUND] = INITIAL_MS_GROUND;
+    m->ms_per_slice[STEP_DENSITY] = INITIAL_MS_PER_DENSITY_SLICE;
+    m->ms_per_slice[STEP_RADIANCE] = INITIAL_MS_PER_RADIANCE_SLICE;
+    m->ms_per_slice[STEP_GROUND] = INITIAL_MS_GROUND;
     int n = 0;
     for (uint32_t order = 1; order <= MS_REFINE_ORDERS; order++) {
         if (order >= 2)
@@ -186,9 +188,9 @@ static void start(struct ms_refine *m, const struct sky_render_atmosphere *a, do
     m->build_start = now_s;
 }
 
-/* Records `rows` slices (or the ground's one dispatch) of the current step. */
+/* Records `slices` slices (or the ground's one dispatch) of the current step. */
 static void record_step(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_timer *timer,
-                        uint32_t rows)
+                        uint32_t slices)
 {
     const struct step *s = &m->steps[m->step];
     /* Density J_n reads L_{n-1}; radiance and ground of order n write / read L_n. */
@@ -196,15 +198,17 @@ static void record_step(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_tim
     struct sky_ms_push push = { .order = s->order,
                                 .first = m->next_slice * SKY_MS_LOCAL,
                                 .last = s->order == MS_REFINE_ORDERS,
-                                .end = (m->next_slice + rows) * SKY_MS_LOCAL };
+                                .end = (m->next_slice + slices) * SKY_MS_LOCAL };
     if (push.end > TABLE_TEXELS)
         push.end = TABLE_TEXELS;
-    const uint32_t size[3] = { s->kind == STEP_GROUND ? SKY_MS_GROUND : rows * SKY_MS_LOCAL, 1,
+    const uint32_t size[3] = { s->kind == STEP_GROUND ? SKY_MS_GROUND : slices * SKY_MS_LOCAL, 1,
                                1 };
     const uint32_t local[3] = { SKY_MS_LOCAL, 1, 1 };
     compute_pass_record(cmd, &m->pass[s->kind][parity], &push, size, local);
     gpu_timer_mark(timer, cmd, pass_names[s->kind]);
-    m->rows_this_frame[s->kind] += rows;
+    uint32_t k = s->kind;
+    if (m->pending_head[k] + m->pending_count[k] < 8)
+        m->pending[k][m->pending_head[k] + m->pending_count[k]++] = slices;
 }
 
 void ms_refine_record_warm_up(struct ms_refine *m, VkCommandBuffer cmd)
@@ -228,30 +232,36 @@ static bool record_slices(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_t
     bool first = true;
     while (m->step < STEP_COUNT) {
         enum step_kind kind = m->steps[m->step].kind;
-        double cost = m->ms_per_row[kind];
-        uint32_t rows = 1;
+        double cost = m->ms_per_slice[kind];
+        uint32_t slices = 1;
         if (kind != STEP_GROUND) {
             double fit = floor(remaining / cost);
-            rows = fit > TABLE_SLICES ? TABLE_SLICES : (uint32_t)fmax(fit, 0.0);
-            if (rows > TABLE_SLICES - m->next_slice)
-                rows = TABLE_SLICES - m->next_slice;
+            slices = fit > TABLE_SLICES ? TABLE_SLICES : (uint32_t)fmax(fit, 0.0);
+            if (slices > TABLE_SLICES - m->next_slice)
+                slices = TABLE_SLICES - m->next_slice;
         } else if (remaining < cost) {
-            rows = 0;
+            slices = 0;
         }
-        if (rows == 0 && !first)
+        if (slices == 0 && !first)
             return false;
-        if (rows == 0)
-            rows = 1;
-        record_step(m, cmd, timer, rows);
-        remaining -= rows * cost;
+        if (slices == 0)
+            slices = 1;
+        record_step(m, cmd, timer, slices);
+        remaining -= slices * cost;
         first = false;
-        m->next_slice += rows;
+        m->next_slice += slices;
         if (kind != STEP_GROUND && m->next_slice < TABLE_SLICES)
             return false;
         m->step++;
         m->next_slice = 0;
     }
     return true;
+}
+
+static void forget_pending(struct ms_refine *m)
+{
+    memset(m->pending_head, 0, sizeof m->pending_head);
+    memset(m->pending_count, 0, sizeof m->pending_count);
 }
 
 static void complete(struct ms_refine *m, double now_s)
@@ -264,6 +274,7 @@ bool ms_refine_record_frame(struct ms_refine *m, VkCommandBuffer cmd, struct gpu
                             const struct sky_render_atmosphere *displayed, bool settled,
                             double budget_ms, double now_s)
 {
+    forget_pending(m); /* the last frame's marks were read (or never will be) */
     double dt = m->last_now > 0.0 ? fmax(0.0, now_s - m->last_now) : 0.0;
     m->last_now = now_s;
     bool current = settled && same_atmosphere(displayed, &m->built_for);
@@ -295,7 +306,7 @@ bool ms_refine_record_all(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_t
         start(m, displayed, m->last_now);
         record_slices(m, cmd, timer, INFINITY);
         /* the timestamps of a whole build would teach the slices nothing: forget them */
-        memset(m->rows_this_frame, 0, sizeof m->rows_this_frame);
+        forget_pending(m);
         complete(m, m->last_now);
         recorded = true;
     }
@@ -335,11 +346,14 @@ double ms_refine_build_seconds(const struct ms_refine *m)
 void ms_refine_observe(struct ms_refine *m, const char *pass_name, double ms)
 {
     for (int k = 0; k < STEP_KINDS; k++) {
-        if (strcmp(pass_name, pass_names[k]) != 0 || m->rows_this_frame[k] == 0 || !(ms > 0.0))
+        if (strcmp(pass_name, pass_names[k]) != 0 || m->pending_count[k] == 0)
             continue;
-        double per_row = ms / m->rows_this_frame[k];
+        uint32_t slices = m->pending[k][m->pending_head[k]++];
+        m->pending_count[k]--;
+        if (!(ms > 0.0) || slices == 0)
+            return;
         /* Smoothed: lavapipe's timings jitter from frame to frame. */
-        m->ms_per_row[k] = 0.7 * m->ms_per_row[k] + 0.3 * per_row;
-        m->rows_this_frame[k] = 0;
+        m->ms_per_slice[k] = 0.7 * m->ms_per_slice[k] + 0.3 * (ms / slices);
+        return;
     }
 }

@@ -1,6 +1,6 @@
 /* Converged multiple scattering: while the atmosphere stands still, the orders of scattering
  * are gathered one by one into a 4D table of (altitude, view zenith, sun zenith, view-sun
- * angle) (Bruneton & Neyret 2008, section 4) a few rows per frame under the LUT budget; once
+ * angle) (Bruneton & Neyret 2008, section 4) a few slices per frame under the LUT budget; once
  * complete, the sky-view fades from Hillaire's isotropic multiple-scattering LUT to the table
  * over MS_REFINE_FADE_S. The table holds every order >= 2 for any sun and camera altitude, so
  * the sun and the camera may move freely: "standing still" means the atmosphere's parameters
