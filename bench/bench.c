@@ -217,12 +217,106 @@ static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsign
     return 0;
 }
 
+/* The converged multiple scattering (ms_refine.h): from an atmosphere change, frames under the
+ * LUT budget until the table has faded in fully, then as many frames after. Prints the wall
+ * time to each stage, the refinement's passes per frame and the frames' p99 during the
+ * refinement against after it, in the same run. */
+static int bench_converge(struct sky_renderer *r, const struct cli_common *c, unsigned w,
+                          unsigned h, double budget_ms, double budget_fraction,
+                          struct series *during, struct series *after)
+{
+    static double ms_passes[MAX_FRAMES];
+    const char *const kinds[3] = { "ms_density", "ms_radiance", "ms_ground" };
+    double kind_total[3] = { 0 };
+    struct sky_render_atmosphere atm;
+    struct sky_render_view view;
+    size_t bytes;
+    void *pixels = frame_setup(r, c, w, h, &atm, &view, &bytes);
+    if (!pixels)
+        return -1;
+    sky_renderer_set_amortization(r, &(struct sky_render_amortization){
+                                          .budget_ms = budget_ms,
+                                          .budget_fraction = budget_fraction,
+                                          .blend_frames = 4 });
+    struct sky_render_stats st;
+    for (int i = 0; i < 3; i++)
+        if (sky_renderer_render(r, &atm, &view, pixels, bytes, &st) != 0)
+            goto fail;
+    /* A new atmosphere: the LUTs rebuild, then the table starts from order 1. */
+    for (int k = 0; k < 3; k++)
+        atm.ground_albedo[k] += 0.01;
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    double settled_s = -1, complete_s = -1, faded_s = -1;
+    int n_during = 0, n_after = 0;
+    for (int i = 0; n_after < MAX_FRAMES && (faded_s < 0 || n_after < n_during); i++) {
+        if (n_during == MAX_FRAMES)
+            n_during--; /* keeps the last frames' samples past the series' length */
+        double cpu0 = process_cpu_ms();
+        if (sky_renderer_render(r, &atm, &view, pixels, bytes, &st) != 0)
+            goto fail;
+        struct timespec t;
+        clock_gettime(CLOCK_MONOTONIC, &t);
+        double now = (double)(t.tv_sec - t0.tv_sec) + (t.tv_nsec - t0.tv_nsec) * 1e-9;
+        if (settled_s < 0 && st.atmosphere_settled)
+            settled_s = now;
+        if (complete_s < 0 && st.multiple_scattering.progress >= 1.0 && settled_s >= 0)
+            complete_s = now;
+        for (int p = 0; p < st.pass_count && faded_s < 0; p++)
+            for (int k = 0; k < 3; k++)
+                if (strcmp(st.pass_names[p], kinds[k]) == 0)
+                    kind_total[k] += st.pass_ms[p];
+        if (faded_s < 0) {
+            if (settled_s >= 0 && complete_s < 0 && n_during < MAX_FRAMES) {
+                /* the frames that carry the refinement's slices */
+                record_sample(during, n_during, &st, process_cpu_ms() - cpu0);
+                ms_passes[n_during] = 0.0;
+                for (int p = 0; p < st.pass_count; p++)
+                    if (strncmp(st.pass_names[p], "ms_", 3) == 0)
+                        ms_passes[n_during] += st.pass_ms[p];
+                n_during++;
+            }
+            if (st.multiple_scattering.weight >= 1.0)
+                faded_s = now;
+        } else {
+            record_sample(after, n_after++, &st, process_cpu_ms() - cpu0);
+        }
+        if (now > 120.0) {
+            fprintf(stderr, "bench: the table did not converge in 120 s\n");
+            goto fail;
+        }
+    }
+    printf("converge %ux%u (LUT budget %.1f ms, at most %.3f of the rest of the frame): LUTs "
+           "settled %.2f s, table complete %.2f s, faded in %.2f s after the change; %d frames "
+           "refining\n",
+           w, h, budget_ms, budget_fraction, settled_s, complete_s, faded_s, n_during);
+    if (n_during > 0 && n_after > 0) {
+        printf("    refinement passes per frame: median %.2f ms, p99 %.2f ms; in all: density %.0f, "
+               "radiance %.0f, ground %.0f ms gpu\n",
+               percentile(ms_passes, n_during, 0.5), percentile(ms_passes, n_during, 0.99),
+               kind_total[0], kind_total[1], kind_total[2]);
+        double p99_during = percentile(during->wall_ms, n_during, 0.99);
+        double p99_after = percentile(after->wall_ms, n_after, 0.99);
+        printf("    frame wall while refining: median %.2f p99 %.2f ms | after: median %.2f p99 "
+               "%.2f ms | p99 ratio %.2fx; gpu median %.2f / %.2f ms\n",
+               percentile(during->wall_ms, n_during, 0.5), p99_during,
+               percentile(after->wall_ms, n_after, 0.5), p99_after, p99_during / p99_after,
+               percentile(during->gpu_ms, n_during, 0.5), percentile(after->gpu_ms, n_after, 0.5));
+    }
+    free(pixels);
+    return 0;
+fail:
+    free(pixels);
+    return -1;
+}
+
 int main(int argc, char **argv)
 {
     struct cli_common common;
     cli_common_init(&common);
     int frames = 30, rebuilds = 10;
     double drag_budget_ms = 0.0, drag_fraction = 0.05; /* the daemon's defaults: 2 ms, 0.05 */
+    bool converge = false;
     unsigned sizes[MAX_SIZES][2];
     int size_count = 0;
     for (int i = 1; i < argc; i++) {
@@ -242,6 +336,8 @@ int main(int argc, char **argv)
             if (!(v = cli_take_value(argc, argv, &i)) ||
                 !cli_parse_double("--drag", v, 0.1, 1000, &drag_budget_ms))
                 return 2;
+        } else if (strcmp(argv[i], "--converge") == 0) {
+            converge = true;
         } else if (strcmp(argv[i], "--drag-fraction") == 0) {
             if (!(v = cli_take_value(argc, argv, &i)) ||
                 !cli_parse_double("--drag-fraction", v, 0.0, 1.0, &drag_fraction))
@@ -278,7 +374,7 @@ int main(int argc, char **argv)
             size_count++;
         } else {
             fprintf(stderr, "usage: skyd_bench [--frames N] [--rebuilds N] [--size WxH]... "
-                            "[--drag BUDGET_MS] [--drag-fraction F] [--clouds] [--projection NAME] "
+                            "[--drag BUDGET_MS] [--drag-fraction F] [--converge] [--clouds] [--projection NAME] "
                             "[--preset NAME] "
                             "[--set PATH=VALUE] [--device NAME]\n");
             return 2;
@@ -319,6 +415,17 @@ int main(int argc, char **argv)
     for (int k = 0; k < size_count && status == 0 && drag; k++)
         status = bench_drag(r, &common, sizes[k][0], sizes[k][1], frames, drag_budget_ms,
                             drag_fraction, s, drag) == 0 ? 0 : 1;
+    /* --converge: the table's convergence under the drag's budget (2 ms when not given). */
+    struct series *after = converge ? calloc(1, sizeof *after) : NULL;
+    struct series *during = converge ? calloc(1, sizeof *during) : NULL;
+    if (converge && (!after || !during))
+        status = 1;
+    for (int k = 0; k < size_count && status == 0 && converge; k++)
+        status = bench_converge(r, &common, sizes[k][0], sizes[k][1],
+                                drag_budget_ms > 0 ? drag_budget_ms : 2.0, drag_fraction, during,
+                                after) == 0 ? 0 : 1;
+    free(after);
+    free(during);
     free(drag);
     free(s);
     sky_renderer_destroy(&r);

@@ -370,6 +370,9 @@ char *sky_msg_build_probe_result(const struct sky_msg_id *id,
         put_number(&b, b.root, "sun_lux", result->sun_lux);
         put_number(&b, b.root, "sky_lux", result->sky_lux);
     }
+    if (result && result->multiple_scattering &&
+        (quantity == SKY_PROBE_LUMINANCE || quantity == SKY_PROBE_ILLUMINANCE))
+        put_string(&b, b.root, "multiple_scattering", result->multiple_scattering);
     return finish(&b);
 }
 
@@ -397,6 +400,16 @@ char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stat
     }
     put_number(&b, b.root, "lut_rebuild_progress", stats->lut_rebuild_progress);
     put_number(&b, b.root, "simulation_time_s", stats->simulation_time_s);
+    const struct sky_msg_multiple_scattering *ms = stats->multiple_scattering;
+    if (ms && (!(ms->weight >= 0 && ms->weight <= 1) || !(ms->progress >= 0 && ms->progress <= 1) ||
+               ms->order < 0)) {
+        b.ok = false;
+    } else if (ms) {
+        cJSON *item = put(&b, b.root, "multiple_scattering", cJSON_CreateObject());
+        put_number(&b, item, "weight", ms->weight);
+        put_number(&b, item, "progress", ms->progress);
+        put_count(&b, item, "order", (uint64_t)ms->order);
+    }
     cJSON *subscriptions = put(&b, b.root, "subscriptions", cJSON_CreateArray());
     for (size_t i = 0; i < stats->subscription_count && b.ok; i++) {
         const struct sky_msg_subscription_stats *s = &stats->subscriptions[i];

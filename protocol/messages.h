@@ -313,6 +313,9 @@ struct sky_msg_probe_result {
     enum sky_probe_quantity quantity;
     double rgb[3];          /* transmittance (unitless) or luminance (cd/m^2) */
     double sun_lux, sky_lux; /* illuminance */
+    /* Luminance and illuminance: the multiple scattering they were computed with, "fast",
+     * "blending" or "converged" (NULL: left out). */
+    const char *multiple_scattering;
 };
 
 char *sky_msg_build_probe_result(const struct sky_msg_id *id,
@@ -333,6 +336,13 @@ struct sky_msg_subscription_stats {
     double max_kbps;        /* 0: none */
 };
 
+/* Where the converged multiple scattering stands: its weight in frames [0, 1], the progress of
+ * its build [0, 1], and the order being computed (0: none). */
+struct sky_msg_multiple_scattering {
+    double weight, progress;
+    int order;
+};
+
 struct sky_msg_stats {
     double fps;                          /* >= 0 */
     int clients;                         /* >= 0 */
@@ -342,6 +352,8 @@ struct sky_msg_stats {
     double simulation_time_s;            /* the simulated clock, seconds since 1970 UTC */
     const struct sky_msg_subscription_stats *subscriptions;
     size_t subscription_count;
+    /* The converged multiple scattering's refinement (NULL: left out). */
+    const struct sky_msg_multiple_scattering *multiple_scattering;
 };
 
 char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stats *stats);

@@ -11,6 +11,7 @@
 #include "compute_pass.h"
 #include "fault_injection.h"
 #include "gpu_timer.h"
+#include "ms_refine.h"
 #include "night_sky.h"
 #include "night_stars.h"
 #include "sky_photometry.h"
@@ -29,6 +30,7 @@ struct skyview_inputs {
     bool moonlit;
     float radius_km;
     float sun[3], moon[3];
+    float converged[2]; /* the converged multiple scattering's weights (ms_refine.h) */
 };
 
 /* Below these changes a rebuilt sky-view LUT would differ by well under 1 % (the LUT's own
@@ -54,6 +56,7 @@ static struct skyview_inputs skyview_inputs_of(const struct sky_frame_uniforms *
         .radius_km = sqrtf(c->x * c->x + c->y * c->y + c->z * c->z),
         .sun = { fu->sun_local.x, fu->sun_local.y, fu->sun_local.z },
         .moon = { fu->moon_local.x, fu->moon_local.y, fu->moon_local.z },
+        .converged = { fu->multiple_scattering.x, fu->multiple_scattering.y },
     };
 }
 
@@ -63,7 +66,8 @@ static bool skyview_still_valid(const struct skyview_inputs *shown,
                                 const struct skyview_inputs *now)
 {
     return shown->valid && shown->luts_generation == now->luts_generation &&
-           (shown->moonlit || !now->moonlit) &&
+           (shown->moonlit || !now->moonlit) && shown->converged[0] == now->converged[0] &&
+           shown->converged[1] == now->converged[1] &&
            fabsf(shown->radius_km - now->radius_km) < SKYVIEW_KEEP_KM &&
            directions_close(shown->sun, now->sun) &&
            (!now->moonlit || directions_close(shown->moon, now->moon));
@@ -78,12 +82,14 @@ struct sky_renderer {
     struct cloud_renderer *clouds;
     struct sky_render_night night;
     struct skyview_inputs skyview_shown; /* what the sky-view LUTs were last built for */
+    enum sky_render_probe_ms probe_ms; /* which multiple scattering probes answer with */
 };
 
 /* After a failed submission or recreated images nothing the LUTs hold can be trusted. */
 static void invalidate_luts(struct sky_renderer *r)
 {
     atmosphere_luts_invalidate(r->luts);
+    ms_refine_invalidate(sky_passes_ms_refine(r->passes));
     r->skyview_shown.valid = false;
 }
 
@@ -243,6 +249,7 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
     if (gpu_timer_read(r->ctx, r->timer, &t)) {
         for (int i = 0; i < t.count && i < SKY_RENDER_MAX_PASSES; i++) {
             atmosphere_luts_observe(r->luts, t.names[i], t.ms[i]);
+            ms_refine_observe(sky_passes_ms_refine(r->passes), t.names[i], t.ms[i]);
             cloud_renderer_observe(r->clouds, t.names[i], t.ms[i]);
             /* A pass recorded in several dispatches (the LUT blends) is one pass: its total. */
             int k = 0;
@@ -261,6 +268,7 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
     stats->luts_rebuilt = rebuilt;
     stats->lut_rebuild_progress = atmosphere_luts_progress(r->luts);
     stats->atmosphere_settled = atmosphere_luts_settled(r->luts);
+    sky_renderer_multiple_scattering(r, &stats->multiple_scattering);
     stats->metered_ev100 = sky_passes_metered_ev100(r->passes);
     stats->wall_ms = now_ms() - start;
 }
@@ -306,7 +314,23 @@ static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_
     *rebuilt = exact ? atmosphere_luts_record_exact(r->luts, r->passes, *cmd, r->timer, a)
                      : atmosphere_luts_record_frame(r->luts, r->passes, *cmd, r->timer, a);
     a = atmosphere_luts_displayed(r->luts);
+    /* The converged multiple scattering: its share of the frame's LUT budget while the
+     * atmosphere stands still (none when amortization is off), all of it for a converged probe. */
+    struct ms_refine *ms = sky_passes_ms_refine(r->passes);
+    if (*rebuilt && atmosphere_luts_settled(r->luts))
+        ms_refine_record_warm_up(ms, *cmd); /* once, with the first whole LUT build */
+    double budget = atmosphere_luts_frame_budget(r->luts);
+    bool converged = exact && want_view_luts && r->probe_ms == SKY_RENDER_PROBE_MS_CONVERGED;
+    bool fast = exact && r->probe_ms == SKY_RENDER_PROBE_MS_FAST;
+    if (converged)
+        ms_refine_record_all(ms, *cmd, r->timer, a);
+    else if (!exact && budget > 0.0)
+        ms_refine_record_frame(ms, *cmd, r->timer, a, atmosphere_luts_settled(r->luts), budget,
+                               now_ms() * 1e-3);
     sky_uniforms_fill_frame(a, v, atmosphere_luts_zenith_transmittance(r->luts), fu);
+    bool none = exact && r->probe_ms == SKY_RENDER_PROBE_MS_NONE;
+    double weight = fast ? 0.0 : none ? 1.0 : ms_refine_weight_for(ms, a);
+    fu->multiple_scattering = (sky_vec4){ (float)weight, none ? 0.0f : 1.0f, 0.0f, 0.0f };
     bool moonlit = night_fill_uniforms(&r->night, v, sky_passes_brightest_star_lux(r->passes),
                                        fu);
     sky_passes_upload_frame(r->passes, fu);
@@ -478,6 +502,22 @@ int sky_renderer_probe_luminance(struct sky_renderer *r, const struct sky_render
     int rc = run_probe(r, a, &view, mode, (const float (*)[4])in, count, out_rgb);
     free(in);
     return rc;
+}
+
+void sky_renderer_set_probe_multiple_scattering(struct sky_renderer *r,
+                                                enum sky_render_probe_ms which)
+{
+    r->probe_ms = which;
+}
+
+void sky_renderer_multiple_scattering(const struct sky_renderer *r,
+                                      struct sky_render_multiple_scattering *out)
+{
+    const struct ms_refine *ms = sky_passes_ms_refine(r->passes);
+    out->weight = ms_refine_weight_for(ms, atmosphere_luts_displayed(r->luts));
+    out->progress = ms_refine_progress(ms);
+    out->order = ms_refine_order(ms);
+    out->build_s = ms_refine_build_seconds(ms);
 }
 
 void sky_renderer_set_amortization(struct sky_renderer *r,

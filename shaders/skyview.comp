@@ -4,7 +4,9 @@
 // for every direction around the camera, latitude/longitude with the sun at azimuth 0 and
 // horizon-dense rows. Rays below the horizon end at the ground, whose lit radiance is added
 // through the path's transmittance: the ground with its aerial perspective, exactly along
-// the ray.
+// the ray. Where the converged multiple scattering is complete (ms_refine.h), it replaces
+// Hillaire's LUT by frame.multiple_scattering.x: single scattering and the sunlit ground from
+// this march, every higher order (the sky's light on the ground included) from its table.
 #include "sky_shared.h"
 #include "sky_layouts.h"
 
@@ -15,6 +17,7 @@ layout(binding = SKY_SKYVIEW_TRANSMITTANCE) uniform sampler2D transmittance_lut;
 layout(binding = SKY_SKYVIEW_MULTISCATTERING) uniform sampler2D multiscattering_lut;
 layout(binding = SKY_SKYVIEW_IRRADIANCE) uniform sampler2D irradiance_lut;
 layout(binding = SKY_SKYVIEW_OUT, rgba32f) uniform writeonly image2D skyview_out;
+layout(binding = SKY_SKYVIEW_MS_SUM) uniform sampler3D ms_sum_table;
 // The moonlit sky-view LUT: the same integral with the moon as the light (seed 001 4.2).
 layout(constant_id = SKY_SKYVIEW_CONST_MOON_LIGHT) const bool MOON_LIGHT = false;
 
@@ -23,6 +26,7 @@ layout(constant_id = SKY_SKYVIEW_CONST_MOON_LIGHT) const bool MOON_LIGHT = false
 #include "atmosphere.glsl"
 #include "scattering_march.glsl"
 #include "ground.glsl"
+#include "ms_table.glsl"
 
 // Step count grows with the ray's length (Hillaire 2020, 5.3): 16 for short upward rays,
 // up to 40 toward the horizon. Rows of the LUT share a zenith angle, so neighbouring
@@ -55,9 +59,15 @@ void main()
     bool hits;
     atmosphere_segment(origin, dir, t_start, t_end, hits);
     float steps = floor(mix(MIN_STEPS, MAX_STEPS, clamp((t_end - t_start) / LONG_RAY_KM, 0.0, 1.0)));
-    MarchResult m = march_scattering(origin, dir, sun_dir, 1e9, steps);
+    // The moonlit sky keeps Hillaire's LUT: the table is the sun's.
+    float converged = MOON_LIGHT ? 0.0 : frame.multiple_scattering.x;
+    MarchResult m = march_scattering_weighted(origin, dir, sun_dir, 1e9, steps, 1.0 - converged);
     vec3 L = m.luminance;
     if (m.hits_ground)
-        L += m.transmittance * ground_radiance_per_lux(origin + m.t_end * dir, sun_dir);
+        L += m.transmittance
+             * ground_radiance_weighted(origin + m.t_end * dir, sun_dir, 1.0 - converged);
+    if (converged > 0.0)
+        L += converged * frame.multiple_scattering.y
+             * ms_lookup_log(ms_sum_table, r, view_zenith_cos, sun_dir.z, dot(dir, sun_dir));
     imageStore(skyview_out, px, vec4(L, 1.0));
 }

@@ -94,6 +94,16 @@ struct sky_renderer_params {
 
 #define SKY_RENDER_MAX_PASSES 32 /* = GPU_TIMER_MAX_PASSES */
 
+/* The converged multiple scattering (render/sky/ms_refine.h): while the atmosphere stands
+ * still, an amortized multi-order integration refines Hillaire's approximation. */
+struct sky_render_multiple_scattering {
+    double weight;   /* of the converged table in what frames show: 0 Hillaire's fast path, 1
+                        converged, between: fading */
+    double progress; /* of the table's build, [0, 1]; 1: complete */
+    int order;       /* the order being computed, 0 when none is */
+    double build_s;  /* wall time of the last complete build (NAN before one) */
+};
+
 struct sky_render_stats {
     int pass_count;
     const char *pass_names[SKY_RENDER_MAX_PASSES];
@@ -107,6 +117,7 @@ struct sky_render_stats {
     /* The exposure multiplier the frame used (auto or manual): the sRGB output tonemaps
      * luminance x exposure; with LINEAR output it says how the frame would have been exposed. */
     double exposure;
+    struct sky_render_multiple_scattering multiple_scattering;
 };
 
 struct sky_renderer;
@@ -177,6 +188,22 @@ int sky_renderer_probe_luminance(struct sky_renderer *renderer,
                                  const struct sky_render_atmosphere *atmosphere,
                                  const struct sky_render_view *view, const double (*dirs)[3],
                                  size_t count, bool include_sun, double (*out_rgb)[3]);
+
+/* Which multiple scattering luminance probes answer with. */
+enum sky_render_probe_ms {
+    SKY_RENDER_PROBE_MS_CURRENT = 0,   /* what frames show now (the default) */
+    SKY_RENDER_PROBE_MS_FAST = 1,      /* Hillaire's approximation alone */
+    /* the converged table, built first for the atmosphere when it does not hold it (about a
+     * second on lavapipe, once per atmosphere) */
+    SKY_RENDER_PROBE_MS_CONVERGED = 2,
+    /* single scattering and the sunlit ground alone (no multiple scattering: for tests) */
+    SKY_RENDER_PROBE_MS_NONE = 3,
+};
+void sky_renderer_set_probe_multiple_scattering(struct sky_renderer *renderer,
+                                                enum sky_render_probe_ms which);
+/* Where the converged multiple scattering stands. */
+void sky_renderer_multiple_scattering(const struct sky_renderer *renderer,
+                                      struct sky_render_multiple_scattering *out);
 
 /* Amortized atmosphere LUT updates (seed 001, 3.5.1). With budget_ms > 0, a frame whose
  * atmosphere differs from the displayed one starts a rebuild that is spread over frames, about

@@ -147,9 +147,7 @@ static void start_rebuild(struct atmosphere_luts *luts, struct sky_passes *passe
 static bool record_slices(struct atmosphere_luts *luts, struct sky_passes *passes,
                           VkCommandBuffer cmd, struct gpu_timer *timer)
 {
-    double remaining = luts->budget_ms;
-    if (luts->budget_fraction > 0.0 && luts->frame_ms > 0.0)
-        remaining = fmin(remaining, luts->budget_fraction * luts->frame_ms);
+    double remaining = atmosphere_luts_frame_budget(luts);
     bool first = true;
     while (luts->step != SKY_BUILD_IRRADIANCE) {
         uint32_t total = luts->step == SKY_BUILD_TRANSMITTANCE ? luts->transmittance_slices
@@ -187,6 +185,14 @@ static bool record_slices(struct atmosphere_luts *luts, struct sky_passes *passe
     /* Only now, once per completed rebuild: this integral costs CPU time. */
     sky_zenith_transmittance(&luts->target, luts->zenith_target);
     return true;
+}
+
+double atmosphere_luts_frame_budget(const struct atmosphere_luts *luts)
+{
+    double budget = luts->budget_ms;
+    if (luts->budget_fraction > 0.0 && luts->frame_ms > 0.0)
+        budget = fmin(budget, luts->budget_fraction * luts->frame_ms);
+    return budget;
 }
 
 bool atmosphere_luts_record_frame(struct atmosphere_luts *luts, struct sky_passes *passes,
@@ -263,7 +269,8 @@ double atmosphere_luts_progress(const struct atmosphere_luts *luts)
 bool sky_render_pass_is_atmosphere_lut(const char *name)
 {
     static const char *const names[] = { "transmittance", "multiscattering", "irradiance",
-                                         "lut_blend", "lut_save" };
+                                         "lut_blend", "lut_save",
+                                         "ms_density", "ms_radiance", "ms_ground" };
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (strcmp(name, names[i]) == 0)
             return true;

@@ -37,6 +37,10 @@ bool atmosphere_luts_record_frame(struct atmosphere_luts *luts, struct sky_passe
                                   VkCommandBuffer cmd, struct gpu_timer *timer,
                                   const struct sky_render_atmosphere *a);
 
+/* This frame's GPU-time budget for LUT work (ms): budget_ms, or less by budget_fraction; <= 0
+ * when amortization is off. */
+double atmosphere_luts_frame_budget(const struct atmosphere_luts *luts);
+
 /* Changes whenever the displayed LUTs do (an exact build, a blend step); slices of a rebuild
  * under way leave it, as they leave the display. */
 uint64_t atmosphere_luts_display_generation(const struct atmosphere_luts *luts);

@@ -264,7 +264,8 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
         compute_pass_bind(ctx, &p->pass[PASS_SAVE_TRANSMITTANCE + which], save);
     }
 
-    /* Frames read the display copy. */
+    /* Frames read the display copy; so does the converged multiple scattering. */
+    ms_refine_bind(ctx, p->ms, &p->atmosphere_params, &p->transmittance, p->sampler);
     sky_passes_bind_aerial_perspective(ctx, p);
     struct compute_resource skyview[SKY_LAYOUT_COUNT(SKY_LAYOUT_SKYVIEW)] = {
         [SKY_SKYVIEW_ATMOSPHERE] = buf(&p->atmosphere_params),
@@ -273,6 +274,7 @@ static void bind_passes(struct vk_context *ctx, struct sky_passes *p)
         [SKY_SKYVIEW_MULTISCATTERING] = tex(p, &p->multiscattering),
         [SKY_SKYVIEW_IRRADIANCE] = tex(p, &p->irradiance),
         [SKY_SKYVIEW_OUT] = img(&p->skyview),
+        [SKY_SKYVIEW_MS_SUM] = tex(p, ms_refine_table(p->ms)),
     };
     compute_pass_bind(ctx, &p->pass[PASS_SKYVIEW], skyview);
     skyview[SKY_SKYVIEW_OUT] = img(&p->moon_skyview);
@@ -356,6 +358,9 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
         goto fail;
     if (create_luts(ctx, p, sizes) != 0)
         goto fail;
+    p->ms = ms_refine_create(ctx);
+    if (!p->ms)
+        goto fail;
     bind_passes(ctx, p);
     return p;
 fail:
@@ -369,6 +374,7 @@ void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **pp)
     if (!p)
         return;
     destroy_luts(ctx, p);
+    ms_refine_destroy(ctx, &p->ms);
     view_outputs_destroy(ctx, &p->outputs);
     gpu_buffer_destroy(ctx, &p->probe_in);
     gpu_buffer_destroy(ctx, &p->probe_out);
@@ -512,6 +518,8 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
         image = &p->ap_transmittance;
     else if (strcmp(name, "ap_shafts") == 0)
         image = &p->ap_shafts;
+    else
+        image = ms_refine_image(p->ms, name);
     if (!image)
         return NULL;
     size_t bytes = (size_t)image->width * image->height * image->depth * 16;
@@ -559,4 +567,9 @@ void sky_passes_bind_clouds(struct sky_passes *p, const struct sky_cloud_binding
         return;
     p->clouds = *clouds;
     sky_passes_bind_composite(p);
+}
+
+struct ms_refine *sky_passes_ms_refine(struct sky_passes *p)
+{
+    return p->ms;
 }

@@ -125,6 +125,9 @@ double sky_passes_metered_ev100(const struct sky_passes *p);
 float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const char *name,
                            uint32_t size[3]);
 
+/* The converged multiple scattering (ms_refine.h) the sky-view reads. */
+struct ms_refine *sky_passes_ms_refine(struct sky_passes *p);
+
 /* The resources the cloud passes share with the sky's. */
 struct sky_pass_resources {
     const struct gpu_buffer *atmosphere_params, *frame_params;

@@ -4,6 +4,7 @@
 #define SKYD_SKY_PASSES_INTERNAL_H
 
 #include "composite_variants.h"
+#include "ms_refine.h"
 #include "compute_pass.h"
 #include "sky_passes.h"
 #include "view_outputs.h"
@@ -66,6 +67,7 @@ struct sky_passes {
     struct sky_meter_push meter;
     double metered_ev100;
     struct sky_cloud_bindings clouds;
+    struct ms_refine *ms; /* the converged multiple scattering the sky-view may read */
 };
 
 /* The pass of a shading pair for the camera's situation. */

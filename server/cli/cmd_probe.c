@@ -172,6 +172,7 @@ static int run_probe(struct renderer_host *r, const struct cli_common *c, const 
                                    .view_azimuth_deg = a->view_azimuth_deg,
                                    .sun_zenith_deg = a->sun_zenith_deg };
     struct sky_msg_probe_result result;
+    renderer_host_converged_probes(r); /* a script wants the best answer, not the fastest */
     if (renderer_host_probe(r, &c->state, &query, &result) != 0)
         return SKYD_EXIT_FAILURE;
     if (a->kind == PROBE_ILLUMINANCE)

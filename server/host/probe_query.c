@@ -30,6 +30,7 @@ int probe_query_run(struct sky_renderer *renderer, const struct sky_world_state 
     sky_renderer_set_night(renderer, &night);
     memset(result, 0, sizeof *result);
     result->quantity = query->quantity;
+    int rc = -1;
     switch (query->quantity) {
     case SKY_PROBE_TRANSMITTANCE:
         return sky_renderer_probe_transmittance(renderer, &atm, &query->altitude_km, &query->mu,
@@ -40,12 +41,19 @@ int probe_query_run(struct sky_renderer *renderer, const struct sky_world_state 
         double dir[1][3];
         local_direction(query->view_zenith_deg, view.sun_azimuth_deg + query->view_azimuth_deg,
                         dir[0]);
-        return sky_renderer_probe_luminance(renderer, &atm, &view, (const double (*)[3])dir, 1,
-                                            true, &result->rgb);
+        rc = sky_renderer_probe_luminance(renderer, &atm, &view, (const double (*)[3])dir, 1,
+                                          true, &result->rgb);
+        break;
     }
     case SKY_PROBE_ILLUMINANCE:
-        return sky_ground_illuminance(renderer, &atm, &view, query->sun_zenith_deg,
-                                      &result->sun_lux, &result->sky_lux);
+        rc = sky_ground_illuminance(renderer, &atm, &view, query->sun_zenith_deg,
+                                    &result->sun_lux, &result->sky_lux);
+        break;
     }
-    return -1;
+    /* Which multiple scattering answered (ms_refine.h): the best there is now. */
+    struct sky_render_multiple_scattering ms;
+    sky_renderer_multiple_scattering(renderer, &ms);
+    result->multiple_scattering = ms.weight >= 1.0 ? "converged" : ms.weight > 0.0 ? "blending"
+                                                                                  : "fast";
+    return rc;
 }

@@ -328,6 +328,11 @@ static void handle_stats(struct render_context *ctx, struct session *session,
     struct sky_msg_subscription_stats subscriptions[SESSION_MAX_SUBSCRIPTIONS];
     size_t subscription_count = frame_scheduler_session_stats(ctx->frames, session, subscriptions,
                                                               SESSION_MAX_SUBSCRIPTIONS);
+    struct sky_msg_multiple_scattering ms = { 0.0, 0.0, 0 };
+    if (last)
+        ms = (struct sky_msg_multiple_scattering){ last->multiple_scattering.weight,
+                                                   last->multiple_scattering.progress,
+                                                   last->multiple_scattering.order };
     struct sky_msg_stats stats = { .fps = frame_scheduler_fps(ctx->frames),
                                    .clients = session_hub_count(ctx->hub),
                                    .passes = passes,
@@ -336,7 +341,8 @@ static void handle_stats(struct render_context *ctx, struct session *session,
                                    .simulation_time_s =
                                        world_host_state(ctx->world)->clock.utc_unix_s,
                                    .subscriptions = subscriptions,
-                                   .subscription_count = subscription_count };
+                                   .subscription_count = subscription_count,
+                                   .multiple_scattering = &ms };
     reply(session, &msg->id, sky_msg_build_stats(&msg->id, &stats));
 }
 

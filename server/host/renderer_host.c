@@ -213,6 +213,12 @@ int renderer_host_set_weather_map(struct renderer_host *h, const struct sky_weat
     return 0;
 }
 
+void renderer_host_converged_probes(struct renderer_host *h)
+{
+    if (h->renderer)
+        sky_renderer_set_probe_multiple_scattering(h->renderer, SKY_RENDER_PROBE_MS_CONVERGED);
+}
+
 int renderer_host_probe(struct renderer_host *h, const struct sky_world_state *state,
                         const struct sky_msg_probe *query, struct sky_msg_probe_result *result)
 {

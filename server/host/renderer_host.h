@@ -72,6 +72,8 @@ int renderer_host_rebuild_atmosphere(struct renderer_host *host,
 int renderer_host_set_weather_map(struct renderer_host *host, const struct sky_weather_map *map);
 
 /* A physical query (protocol probe, skyd probe) under the state. 0 or -1. */
+/* Probes from now on build and answer with the converged multiple scattering (skyd probe). */
+void renderer_host_converged_probes(struct renderer_host *host);
 int renderer_host_probe(struct renderer_host *host, const struct sky_world_state *state,
                         const struct sky_msg_probe *query, struct sky_msg_probe_result *result);
 

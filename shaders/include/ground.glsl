@@ -11,13 +11,19 @@ vec3 ground_irradiance_per_lux(float mu_s)
     return textureLod(irradiance_lut, vec2(u, 0.5), 0.0).rgb;
 }
 
-// Radiance leaving the ground at p: albedo / pi * (E_sun cos + E_sky) (Lambert).
-vec3 ground_radiance_per_lux(vec3 p, vec3 sun_dir)
+// Radiance leaving the ground at p: albedo / pi * (E_sun cos + sky_weight E_sky) (Lambert);
+// sky_weight < 1 where the converged multiple scattering brings the sky's part instead.
+vec3 ground_radiance_weighted(vec3 p, vec3 sun_dir, float sky_weight)
 {
     vec3 n = normalize(p);
     float mu_s = dot(n, sun_dir);
     vec3 direct = sun_transmittance(p + n * 1e-3, sun_dir) * max(mu_s, 0.0);
-    return atmo.ground_albedo.xyz / PI * (direct + ground_irradiance_per_lux(mu_s));
+    return atmo.ground_albedo.xyz / PI * (direct + sky_weight * ground_irradiance_per_lux(mu_s));
+}
+
+vec3 ground_radiance_per_lux(vec3 p, vec3 sun_dir)
+{
+    return ground_radiance_weighted(p, sun_dir, 1.0);
 }
 
 #endif

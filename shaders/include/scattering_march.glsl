@@ -15,7 +15,10 @@ struct MarchResult {
 
 // Marches from origin along dir through the atmosphere, at most to t_limit, with `steps`
 // samples (quadratic spacing from inside the atmosphere, uniform when entering from space).
-MarchResult march_scattering(vec3 origin, vec3 dir, vec3 sun_dir, float t_limit, float steps)
+// ms_weight scales the multiple-scattering LUT's part (the sky-view fades it out where the
+// converged multiple scattering of ms_table.glsl takes over).
+MarchResult march_scattering_weighted(vec3 origin, vec3 dir, vec3 sun_dir, float t_limit,
+                                      float steps, float ms_weight)
 {
     MarchResult res;
     res.luminance = vec3(0.0);
@@ -49,7 +52,7 @@ MarchResult march_scattering(vec3 origin, vec3 dir, vec3 sun_dir, float t_limit,
         vec3 sun_t = sun_transmittance(p, sun_dir);
         vec3 ms = multiscattering(r, dot(p / r, sun_dir));
         vec3 source = sun_t * (m.rayleigh_scattering * phase_r + m.mie_scattering * phase_m)
-                      + ms * m.scattering;
+                      + ms * m.scattering * ms_weight;
         vec3 step_t = exp(-m.extinction * dt);
         // Energy-conserving integral of the source over the step (seed 001 eq. 23).
         vec3 integral = mix(source * dt, (source - source * step_t) / max(m.extinction, vec3(1e-9)),
@@ -58,6 +61,11 @@ MarchResult march_scattering(vec3 origin, vec3 dir, vec3 sun_dir, float t_limit,
         res.transmittance *= step_t;
     }
     return res;
+}
+
+MarchResult march_scattering(vec3 origin, vec3 dir, vec3 sun_dir, float t_limit, float steps)
+{
+    return march_scattering_weighted(origin, dir, sun_dir, t_limit, steps, 1.0);
 }
 
 #endif

@@ -41,6 +41,49 @@
 #define SKY_LAYOUT_LUT_BLEND(X)                                                           \
     X(SKY_LUT_BLEND_FROM, IMAGE) X(SKY_LUT_BLEND_TO, IMAGE) X(SKY_LUT_BLEND_OUT, IMAGE)
 
+/* ---- converged multiple scattering (render/sky/ms_refine.h, ms_table.glsl) ---- */
+
+/* The 4D tables: SKY_MS_NU x SKY_MS_MU_S texels across, SKY_MS_MU rows (ground rays, then sky
+ * rays), SKY_MS_R slices; the ground irradiance over SKY_MS_GROUND cosines. No side a power of
+ * two (lut_extent in sky_passes.c says why). */
+#define SKY_MS_NU 8
+#define SKY_MS_MU_S 31
+#define SKY_MS_MU 30
+#define SKY_MS_R 8
+#define SKY_MS_GROUND 62
+#define SKY_MS_MU_S_MIN (-0.2) /* the sun 11.5 deg below the horizon: darker is zero */
+#define SKY_MS_LOCAL 32 /* texels per workgroup: the slice of the amortized build */
+
+/* ms_radiance.comp: one order's radiance; orders >= 2 add into the sum. */
+#define SKY_MS_RADIANCE_ATMOSPHERE 0
+#define SKY_MS_RADIANCE_TRANSMITTANCE 1
+#define SKY_MS_RADIANCE_DENSITY 2
+#define SKY_MS_RADIANCE_GROUND 3
+#define SKY_MS_RADIANCE_PREVIOUS 4
+#define SKY_MS_RADIANCE_OUT 5
+#define SKY_MS_RADIANCE_SUM 6
+#define SKY_LAYOUT_MS_RADIANCE(X)                                                          \
+    X(SKY_MS_RADIANCE_ATMOSPHERE, BLOCK) X(SKY_MS_RADIANCE_TRANSMITTANCE, SAMPLED)           \
+    X(SKY_MS_RADIANCE_DENSITY, SAMPLED) X(SKY_MS_RADIANCE_GROUND, SAMPLED)                   \
+    X(SKY_MS_RADIANCE_PREVIOUS, SAMPLED) X(SKY_MS_RADIANCE_OUT, IMAGE)                       \
+    X(SKY_MS_RADIANCE_SUM, IMAGE)
+
+/* ms_density.comp: the next order's scattering density from an order's radiance. */
+#define SKY_MS_DENSITY_ATMOSPHERE 0
+#define SKY_MS_DENSITY_RADIANCE 1
+#define SKY_MS_DENSITY_OUT 2
+#define SKY_LAYOUT_MS_DENSITY(X)                                                           \
+    X(SKY_MS_DENSITY_ATMOSPHERE, BLOCK) X(SKY_MS_DENSITY_RADIANCE, SAMPLED)                  \
+    X(SKY_MS_DENSITY_OUT, IMAGE)
+
+/* ms_ground.comp: an order's ground irradiance. */
+#define SKY_MS_GROUND_ATMOSPHERE 0
+#define SKY_MS_GROUND_RADIANCE 1
+#define SKY_MS_GROUND_OUT 2
+#define SKY_LAYOUT_MS_GROUND(X)                                                            \
+    X(SKY_MS_GROUND_ATMOSPHERE, BLOCK) X(SKY_MS_GROUND_RADIANCE, SAMPLED)                    \
+    X(SKY_MS_GROUND_OUT, IMAGE)
+
 /* ---- per-view LUTs ---- */
 
 /* skyview.comp; MOON_LIGHT: the same LUT lit by the moon. */
@@ -51,11 +94,13 @@
 #define SKY_SKYVIEW_MULTISCATTERING 3
 #define SKY_SKYVIEW_IRRADIANCE 4
 #define SKY_SKYVIEW_OUT 5
+#define SKY_SKYVIEW_MS_SUM 6 /* the converged multiple scattering (ms_table.glsl) */
 #define SKY_SKYVIEW_CONST_MOON_LIGHT 0
 #define SKY_LAYOUT_SKYVIEW(X)                                                             \
     X(SKY_SKYVIEW_ATMOSPHERE, BLOCK) X(SKY_SKYVIEW_FRAME, BLOCK)                            \
     X(SKY_SKYVIEW_TRANSMITTANCE, SAMPLED) X(SKY_SKYVIEW_MULTISCATTERING, SAMPLED)           \
-    X(SKY_SKYVIEW_IRRADIANCE, SAMPLED) X(SKY_SKYVIEW_OUT, IMAGE)
+    X(SKY_SKYVIEW_IRRADIANCE, SAMPLED) X(SKY_SKYVIEW_OUT, IMAGE)                            \
+    X(SKY_SKYVIEW_MS_SUM, SAMPLED)
 
 /* aerial_perspective.comp: the froxel volumes, with the clouds' shadow map and block. */
 #define SKY_AP_LOCAL 8

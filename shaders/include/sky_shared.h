@@ -100,6 +100,10 @@ struct sky_frame_uniforms {
     SKY_VEC4 night;               /* x airglow zenith luminance (cd/m2), y star brightness
                                      multiplier, z star blur sigma (rad), w sky luminance above
                                      which stars add under 0.1 % and are skipped */
+    SKY_VEC4 multiple_scattering; /* x weight of the converged multiple scattering (ms_refine.h)
+                                     against Hillaire's LUT in the sky-view; y 1, or 0 to leave
+                                     the table out (single scattering alone, for tests); zw
+                                     unused */
 };
 
 /* Per-dispatch constants of the probe pass. */
@@ -124,6 +128,16 @@ struct sky_rows_push {
     SKY_UINT pad0;
     SKY_UINT pad1;
     SKY_UINT pad2;
+};
+
+/* One step of the converged multiple scattering (ms_refine.h): the order, the texels
+ * [first, end) of the table (row-major: x fastest, then y, then z) this dispatch covers, and
+ * whether the order is the last. */
+struct sky_ms_push {
+    SKY_UINT order;
+    SKY_UINT first;
+    SKY_UINT last;
+    SKY_UINT end;
 };
 
 /* out = mix(from, to, weight): the displayed LUTs blend from the last complete build to the

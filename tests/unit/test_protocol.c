@@ -117,17 +117,18 @@ static size_t build_server_examples(char **out, size_t max)
 
     const char *presets[] = {"earth", "mars"};
     ADD(sky_msg_build_presets(&id11, SKY_PRESET_ATMOSPHERE, presets, 2));
-    struct sky_msg_probe_result t = {SKY_PROBE_TRANSMITTANCE, {0.8, 0.67, 0.46}, 0, 0};
-    struct sky_msg_probe_result l = {SKY_PROBE_LUMINANCE, {3200, 4100, 6900}, 0, 0};
-    struct sky_msg_probe_result e = {SKY_PROBE_ILLUMINANCE, {0, 0, 0}, 120014, 18700};
+    struct sky_msg_probe_result t = {SKY_PROBE_TRANSMITTANCE, {0.8, 0.67, 0.46}, 0, 0, NULL};
+    struct sky_msg_probe_result l = {SKY_PROBE_LUMINANCE, {3200, 4100, 6900}, 0, 0, "converged"};
+    struct sky_msg_probe_result e = {SKY_PROBE_ILLUMINANCE, {0, 0, 0}, 120014, 18700, NULL};
     ADD(sky_msg_build_probe_result(&id8, &t));
     ADD(sky_msg_build_probe_result(&id9, &l));
     ADD(sky_msg_build_probe_result(&id10, &e));
     const struct sky_msg_pass_time passes[] = {
         {"skyview", 0.42}, {"aerial_perspective", 0.31}, {"composite", 1.9}, {"sun_disk", 0.05}};
     const struct sky_msg_subscription_stats subscriptions[] = {{1, 5242880, 12.5, 70, 2000}};
+    const struct sky_msg_multiple_scattering ms = {0.4, 1, 0};
     struct sky_msg_stats stats = {29.8, 3, passes, COUNT_OF(passes), 1, 1782043200,
-                                  subscriptions, COUNT_OF(subscriptions)};
+                                  subscriptions, COUNT_OF(subscriptions), &ms};
     ADD(sky_msg_build_stats(&id13, &stats));
 #undef ADD
     return n;

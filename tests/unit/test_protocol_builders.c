@@ -241,15 +241,18 @@ void test_builders(void)
     CHECK(sky_msg_build_presets(NULL, (enum sky_preset_kind)3, names, 2) == NULL);
 
     check_case_name = "probe_result";
-    struct sky_msg_probe_result result = {SKY_PROBE_TRANSMITTANCE, {0.5, 0.25, 0.125}, 0, 0};
+    struct sky_msg_probe_result result = {SKY_PROBE_TRANSMITTANCE, {0.5, 0.25, 0.125}, 0, 0,
+                                          "fast"};
     json = parse_built(sky_msg_build_probe_result(&id5, &result), "probe_result");
     CHECK_STR(string_at(json, "quantity"), "transmittance");
     CHECK_DOUBLE(cJSON_GetArrayItem(get(json, "transmittance"), 2)->valuedouble, 0.125);
     CHECK(get(json, "luminance") == NULL);
+    CHECK(get(json, "multiple_scattering") == NULL); /* transmittance has none */
     cJSON_Delete(json);
     result.quantity = SKY_PROBE_LUMINANCE;
     json = parse_built(sky_msg_build_probe_result(NULL, &result), "probe_result");
     CHECK_INT(cJSON_GetArraySize(get(json, "luminance")), 3);
+    CHECK_STR(string_at(json, "multiple_scattering"), "fast");
     cJSON_Delete(json);
     result.quantity = SKY_PROBE_ILLUMINANCE;
     result.sun_lux = 120014;
@@ -269,7 +272,8 @@ void test_builders(void)
     check_case_name = "stats";
     struct sky_msg_pass_time passes[] = {{"skyview", 0.5}, {"composite", 1.25}};
     struct sky_msg_subscription_stats subs[] = {{2, 1000, 10, 0, 0}, {3, 4096, 2.5, 55, 80}};
-    struct sky_msg_stats stats = {30, 2, passes, 2, 0.5, 1782043200.25, subs, 2};
+    struct sky_msg_multiple_scattering ms = {0.25, 0.5, 3};
+    struct sky_msg_stats stats = {30, 2, passes, 2, 0.5, 1782043200.25, subs, 2, &ms};
     json = parse_built(sky_msg_build_stats(NULL, &stats), "stats");
     const cJSON *sub_items = get(json, "subscriptions");
     CHECK_INT(cJSON_GetArraySize(sub_items), 2);
@@ -286,7 +290,13 @@ void test_builders(void)
     CHECK_DOUBLE(number_at(json, "clients"), 2);
     CHECK_DOUBLE(number_at(get(json, "passes"), "composite"), 1.25);
     CHECK_DOUBLE(number_at(json, "lut_rebuild_progress"), 0.5);
+    CHECK_DOUBLE(number_at(get(json, "multiple_scattering"), "weight"), 0.25);
+    CHECK_DOUBLE(number_at(get(json, "multiple_scattering"), "progress"), 0.5);
+    CHECK_DOUBLE(number_at(get(json, "multiple_scattering"), "order"), 3);
     cJSON_Delete(json);
+    ms.weight = 1.5;
+    CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
+    ms.weight = 1;
     stats.lut_rebuild_progress = 1.5;
     CHECK(sky_msg_build_stats(NULL, &stats) == NULL);
     stats.lut_rebuild_progress = NAN;

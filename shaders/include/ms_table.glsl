@@ -1,0 +1,157 @@
+// The converged multiple-scattering tables (render/sky/ms_refine.h): 4D functions of
+// (r, mu, mu_s, nu) stored in a 3D image of SKY_MS_NU * SKY_MS_MU_S x SKY_MS_MU x SKY_MS_R
+// texels, parameterized as Bruneton's scattering texture (Bruneton & Neyret 2008 section 4,
+// as in the 2017 reference implementation): r by rho = sqrt(r^2 - R^2), mu by the distance to
+// the atmosphere's boundary with ground rays in the first half and sky rays in the second,
+// mu_s by the distance to the top from the ground (dense at the horizon, down to SKY_MS_MU_S_MIN),
+// nu linear; the nu axis is interpolated by hand between two 3D fetches.
+// Needs atmosphere.glsl.
+#ifndef SKY_MS_TABLE_GLSL
+#define SKY_MS_TABLE_GLSL
+
+const float MS_NU = float(SKY_MS_NU);
+const float MS_MU_S = float(SKY_MS_MU_S);
+const float MS_MU = float(SKY_MS_MU);
+const float MS_R = float(SKY_MS_R);
+
+float ms_distance_to_top(float r, float mu)
+{
+    float top = top_radius();
+    return max(0.0, -r * mu + sqrt(max(0.0, r * r * (mu * mu - 1.0) + top * top)));
+}
+
+// The mu_s coordinate of Bruneton's texture (2017, GetScatteringTextureUvwzFromRMuMuSNu).
+float ms_mu_s_to_unit(float mu_s)
+{
+    float bottom = bottom_radius(), top = top_radius();
+    float H = sqrt(max(0.0, top * top - bottom * bottom));
+    float d_min = top - bottom, d_max = H;
+    float d = ms_distance_to_top(bottom, mu_s);
+    float a = (d - d_min) / (d_max - d_min);
+    float A = (ms_distance_to_top(bottom, SKY_MS_MU_S_MIN) - d_min) / (d_max - d_min);
+    return max(1.0 - a / A, 0.0) / (1.0 + a);
+}
+
+float ms_unit_to_mu_s(float x)
+{
+    float bottom = bottom_radius(), top = top_radius();
+    float H = sqrt(max(0.0, top * top - bottom * bottom));
+    float d_min = top - bottom, d_max = H;
+    float A = (ms_distance_to_top(bottom, SKY_MS_MU_S_MIN) - d_min) / (d_max - d_min);
+    float a = (A - x * A) / (1.0 + x * A);
+    float d = d_min + min(a, A) * (d_max - d_min);
+    return d == 0.0 ? 1.0 : clamp((H * H - d * d) / (2.0 * bottom * d), -1.0, 1.0);
+}
+
+// Texture coordinates (u of one nu slice, v, w) and the nu coordinate in [0, 1].
+vec4 ms_coords(float r, float mu, float mu_s, float nu)
+{
+    float bottom = bottom_radius(), top = top_radius();
+    float H = sqrt(max(0.0, top * top - bottom * bottom));
+    r = clamp(r, bottom, top);
+    float rho = sqrt(max(0.0, r * r - bottom * bottom));
+    float u_r = unit_to_sub_uv(rho / H, MS_R);
+    float r_mu = r * mu;
+    float disc = r_mu * r_mu - r * r + bottom * bottom;
+    float u_mu;
+    float half_mu = MS_MU * 0.5;
+    if (mu < 0.0 && disc >= 0.0) {
+        float d = -r_mu - sqrt(disc);
+        float d_min = r - bottom, d_max = rho;
+        float x = d_max == d_min ? 0.0 : clamp((d - d_min) / (d_max - d_min), 0.0, 1.0);
+        u_mu = 0.5 - 0.5 * unit_to_sub_uv(x, half_mu);
+    } else {
+        float d = -r_mu + sqrt(max(0.0, disc + H * H));
+        float d_min = top - r, d_max = rho + H;
+        float x = clamp((d - d_min) / max(d_max - d_min, 1e-6), 0.0, 1.0);
+        u_mu = 0.5 + 0.5 * unit_to_sub_uv(x, half_mu);
+    }
+    float u_mu_s = unit_to_sub_uv(clamp(ms_mu_s_to_unit(mu_s), 0.0, 1.0), MS_MU_S);
+    float u_nu = clamp((nu + 1.0) * 0.5, 0.0, 1.0);
+    return vec4(u_mu_s, u_mu, u_r, u_nu);
+}
+
+// The (r, mu, mu_s, nu) of a texel's centre (the inverse of ms_coords).
+void ms_texel_params(ivec3 texel, out float r, out float mu, out float mu_s, out float nu)
+{
+    float bottom = bottom_radius(), top = top_radius();
+    float H = sqrt(max(0.0, top * top - bottom * bottom));
+    float rho = H * float(texel.z) / (MS_R - 1.0);
+    r = sqrt(rho * rho + bottom * bottom);
+    int half_mu = SKY_MS_MU / 2;
+    if (texel.y < half_mu) {
+        float x = float(half_mu - 1 - texel.y) / float(half_mu - 1);
+        float d_min = r - bottom, d_max = rho;
+        float d = d_min + x * (d_max - d_min);
+        mu = d == 0.0 ? -1.0 : clamp(-(rho * rho + d * d) / (2.0 * r * d), -1.0, 1.0);
+    } else {
+        float x = float(texel.y - half_mu) / float(half_mu - 1);
+        float d_min = top - r, d_max = rho + H;
+        float d = d_min + x * (d_max - d_min);
+        mu = d == 0.0 ? 1.0 : clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
+    }
+    int i_nu = texel.x / SKY_MS_MU_S, i_mu_s = texel.x % SKY_MS_MU_S;
+    mu_s = ms_unit_to_mu_s(float(i_mu_s) / (MS_MU_S - 1.0));
+    nu = float(i_nu) / (MS_NU - 1.0) * 2.0 - 1.0;
+    // nu is bounded by the two zenith angles.
+    float spread = sqrt(max(0.0, (1.0 - mu * mu) * (1.0 - mu_s * mu_s)));
+    nu = clamp(nu, mu * mu_s - spread, mu * mu_s + spread);
+}
+
+// The view direction and the sun of a texel's (mu, mu_s, nu) in a frame with the point on +z.
+void ms_directions(float mu, float mu_s, float nu, out vec3 view, out vec3 sun)
+{
+    float sin_mu = sqrt(max(0.0, 1.0 - mu * mu));
+    view = vec3(sin_mu, 0.0, mu);
+    float sx = sin_mu > 1e-4 ? clamp((nu - mu * mu_s) / sin_mu, -1.0, 1.0)
+                             : sqrt(max(0.0, 1.0 - mu_s * mu_s));
+    sun = vec3(sx, sqrt(max(0.0, 1.0 - sx * sx - mu_s * mu_s)), mu_s);
+}
+
+// A value of the table at (r, mu, mu_s, nu), interpolated in all four.
+vec3 ms_lookup(sampler3D table, float r, float mu, float mu_s, float nu)
+{
+    vec4 c = ms_coords(r, mu, mu_s, nu);
+    float t = c.w * (MS_NU - 1.0);
+    float i = min(floor(t), MS_NU - 2.0);
+    float f = t - i;
+    vec3 a = textureLod(table, vec3((i + c.x) / MS_NU, c.y, c.z), 0.0).rgb;
+    vec3 b = textureLod(table, vec3((i + 1.0 + c.x) / MS_NU, c.y, c.z), 0.0).rgb;
+    return mix(a, b, f);
+}
+
+// The same, geometric rather than linear in mu_s: where the sun sets the light falls off about
+// exponentially with its elevation, and a straight line between two texels overestimates it.
+vec3 ms_lookup_log(sampler3D table, float r, float mu, float mu_s, float nu)
+{
+    vec4 c = ms_coords(r, mu, mu_s, nu);
+    float t = c.w * (MS_NU - 1.0);
+    float i = min(floor(t), MS_NU - 2.0);
+    float f = t - i;
+    float s = clamp(c.x * MS_MU_S - 0.5, 0.0, MS_MU_S - 1.0);
+    float j = min(floor(s), MS_MU_S - 2.0);
+    float g = s - j;
+    float u0 = (j + 0.5) / MS_MU_S, u1 = (j + 1.5) / MS_MU_S;
+    vec3 a0 = textureLod(table, vec3((i + u0) / MS_NU, c.y, c.z), 0.0).rgb;
+    vec3 a1 = textureLod(table, vec3((i + u1) / MS_NU, c.y, c.z), 0.0).rgb;
+    vec3 b0 = textureLod(table, vec3((i + 1.0 + u0) / MS_NU, c.y, c.z), 0.0).rgb;
+    vec3 b1 = textureLod(table, vec3((i + 1.0 + u1) / MS_NU, c.y, c.z), 0.0).rgb;
+    const vec3 tiny = vec3(1e-30);
+    vec3 a = exp(mix(log(max(a0, tiny)), log(max(a1, tiny)), g));
+    vec3 b = exp(mix(log(max(b0, tiny)), log(max(b1, tiny)), g));
+    return mix(a, b, f);
+}
+
+// Ground irradiance table: SKY_MS_GROUND texels over mu_s, mapped as the 4D table's mu_s
+// (dense where twilight makes it fall steeply).
+float ms_ground_u(float mu_s)
+{
+    return unit_to_sub_uv(clamp(ms_mu_s_to_unit(mu_s), 0.0, 1.0), float(SKY_MS_GROUND));
+}
+
+float ms_ground_mu_s(int texel)
+{
+    return ms_unit_to_mu_s(float(texel) / float(SKY_MS_GROUND - 1));
+}
+
+#endif

@@ -1,0 +1,154 @@
+/* The converged multiple scattering (render/sky/ms_refine.h) on lavapipe with validation: while
+ * the atmosphere stands still it is built order by order over frames under the LUT budget
+ * (progress monotonic, orders in turn), then fades in over about half a second without a jump
+ * between frames; the table built in slices is the one a one-shot build makes; the sun moving
+ * keeps it; an atmosphere change fades it out and starts it again. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "test_support.h"
+
+#define W 96
+#define H 54
+#define MAX_FRAMES 4000
+
+static void view_for(double sun_elevation, struct sky_render_view *v)
+{
+    struct sky_world_state s;
+    sky_world_state_defaults(&s);
+    s.exposure.mode = SKY_EXPOSURE_MANUAL;
+    s.sun.elevation_deg = sun_elevation;
+    s.camera.pitch_deg = 5.0;
+    world_to_render_view(&s, W, H, SKY_RENDER_OUTPUT_SRGB8, v);
+}
+
+static int max_pixel_change(const uint8_t *a, const uint8_t *b)
+{
+    int worst = 0;
+    for (size_t i = 0; i < (size_t)W * H * 4; i++)
+        worst = abs((int)a[i] - (int)b[i]) > worst ? abs((int)a[i] - (int)b[i]) : worst;
+    return worst;
+}
+
+/* Frames of `atm` until the table has faded in fully; checks the build's progress and the fade
+ * on the way. Returns the frame count, or MAX_FRAMES. */
+static int render_until_converged(struct sky_renderer *r, const struct sky_render_atmosphere *atm,
+                                  const struct sky_render_view *view, uint8_t *first,
+                                  uint8_t *last)
+{
+    static uint8_t previous[W * H * 4], pixels[W * H * 4];
+    double last_progress = 0.0, last_weight = 0.0;
+    int last_order = 0, fade_frames = 0, orders_seen = 0, worst_step = 0;
+    /* orders are reported while they are computed (0 otherwise) */
+    bool restarted = false;
+    for (int frame = 0; frame < MAX_FRAMES; frame++) {
+        struct sky_render_stats st;
+        CHECK(sky_renderer_render(r, atm, view, pixels, sizeof pixels, &st) == 0);
+        const struct sky_render_multiple_scattering *ms = &st.multiple_scattering;
+        if (frame == 0)
+            memcpy(first, pixels, sizeof pixels);
+        if (ms->progress < last_progress) {
+            /* only once, from a table of another atmosphere that has faded out */
+            CHECK(!restarted && ms->weight == 0.0);
+            restarted = true;
+            last_order = 0;
+        } else if (ms->weight == 0.0) {
+            CHECK(ms->progress >= last_progress);
+        }
+        if (ms->order != 0 && ms->order != last_order) {
+            /* in turn (a frame may finish one order and start the next) */
+            CHECK(ms->order > last_order);
+            orders_seen++;
+        }
+        if (ms->weight > 0.0 && ms->weight < 1.0) {
+            CHECK(ms->progress == 1.0);
+            fade_frames++;
+        }
+        if (ms->weight > last_weight && frame > 0) {
+            int step = max_pixel_change(previous, pixels);
+            worst_step = step > worst_step ? step : worst_step;
+        }
+        last_progress = ms->progress;
+        last_order = ms->order;
+        memcpy(previous, pixels, sizeof pixels);
+        if (ms->weight >= 1.0 && last_weight >= 1.0) {
+            memcpy(last, pixels, sizeof pixels);
+            printf("converged after %d frames: %d orders, faded in over %d frames, largest "
+                   "change between two frames while fading %d/255\n",
+                   frame + 1, orders_seen, fade_frames, worst_step);
+            CHECK(orders_seen >= 2);
+            /* half a second of frames, each a few ms at this size: no jump */
+            CHECK(fade_frames >= 3);
+            CHECK(worst_step <= 4);
+            return frame + 1;
+        }
+        last_weight = ms->weight;
+    }
+    return MAX_FRAMES;
+}
+
+int main(void)
+{
+    unsigned messages = 0, messages_reference = 0;
+    struct sky_renderer *r = test_renderer_create(&messages);
+    struct sky_renderer *reference = test_renderer_create(&messages_reference);
+    CHECK(r && reference);
+    if (!r || !reference)
+        return check_summary();
+    /* A budget larger than the daemon's (2 ms, 5 % of the frame) keeps the test short. */
+    sky_renderer_set_amortization(r, &(struct sky_render_amortization){ .budget_ms = 40.0,
+                                                                         .blend_frames = 3 });
+    struct sky_render_atmosphere atm, other;
+    test_earth_atmosphere(&atm);
+    other = atm;
+    for (int c = 0; c < 3; c++)
+        other.ground_albedo[c] = 0.1;
+    struct sky_render_view view;
+    view_for(3.0, &view);
+    static uint8_t first[W * H * 4], converged[W * H * 4];
+
+    int frames = render_until_converged(r, &atm, &view, first, converged);
+    CHECK(frames < MAX_FRAMES);
+    /* Low sun: Hillaire's approximation and the converged table differ visibly. */
+    int change = max_pixel_change(first, converged);
+    printf("fast against converged frame: largest difference %d/255\n", change);
+    CHECK(change >= 2);
+
+    /* The table built in slices over frames answers as the one built at once. */
+    const double dirs[3][3] = { { 0, 0, 1 }, { 0.0, 0.996, 0.087 }, { 0.7, 0.0, 0.714 } };
+    double amortized[3][3], one_shot[3][3];
+    CHECK(sky_renderer_probe_luminance(r, &atm, &view, dirs, 3, false, amortized) == 0);
+    sky_renderer_set_probe_multiple_scattering(reference, SKY_RENDER_PROBE_MS_CONVERGED);
+    CHECK(sky_renderer_probe_luminance(reference, &atm, &view, dirs, 3, false, one_shot) == 0);
+    for (int i = 0; i < 3; i++)
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(amortized[i][c] / one_shot[i][c], 1.0, 1e-4);
+    struct sky_render_multiple_scattering ms;
+    sky_renderer_multiple_scattering(r, &ms);
+    CHECK(ms.weight == 1.0 && ms.progress == 1.0 && ms.build_s > 0.0);
+
+    /* The sun moves: the table holds every sun angle and stays. */
+    struct sky_render_view later;
+    view_for(4.0, &later);
+    static uint8_t pixels[W * H * 4];
+    struct sky_render_stats st;
+    CHECK(sky_renderer_render(r, &atm, &later, pixels, sizeof pixels, &st) == 0);
+    CHECK(st.multiple_scattering.weight == 1.0 && st.multiple_scattering.progress == 1.0);
+
+    /* Another atmosphere: the table fades out, is built again, and fades in. */
+    frames = render_until_converged(r, &other, &view, first, converged);
+    CHECK(frames < MAX_FRAMES);
+    CHECK(sky_renderer_probe_luminance(r, &other, &view, dirs, 3, false, amortized) == 0);
+    CHECK(sky_renderer_probe_luminance(reference, &other, &view, dirs, 3, false, one_shot) == 0);
+    for (int i = 0; i < 3; i++)
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(amortized[i][c] / one_shot[i][c], 1.0, 1e-4);
+
+    sky_renderer_destroy(&r);
+    sky_renderer_destroy(&reference);
+    CHECK(messages == 0 && messages_reference == 0);
+    return check_summary();
+}
