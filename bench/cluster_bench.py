@@ -39,12 +39,13 @@ def cpu_seconds(pid):
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-async def watch(url, clients, seconds, warm_s=3.0, pid=None):
-    """Each client subscribes its own view; returns frames per second over `seconds` (and,
-    with pid, the node's CPU ms per frame over the same window)."""
+async def watch(urls, clients, seconds, warm_s=3.0, pids=()):
+    """Clients spread over `urls` one after another (as haproxy's leastconn spreads fresh
+    connections), each subscribing its own view: views per second over `seconds`, and the CPU
+    ms per view of the processes `pids` over the same window (None without pids)."""
     conns = []
     for i in range(clients):
-        c = await Client.connect(url, f"bench-{i}")
+        c = await Client.connect(urls[i % len(urls)], f"bench-{i}")
         view = dict(VIEW, camera={"yaw_deg": (360.0 * i / clients) % 360, "pitch_deg": 10,
                                   "fov_deg": 70})
         r = await c.request({"type": "subscribe", "id": f"s{i}", "view": view},
@@ -54,18 +55,15 @@ async def watch(url, clients, seconds, warm_s=3.0, pid=None):
         conns.append(c)
     await asyncio.gather(*(c.pump(warm_s) for c in conns))
     before = sum(sum(c.frame_count.values()) for c in conns)
-    cpu0 = cpu_seconds(pid) if pid else 0.0
+    cpu0 = sum(cpu_seconds(pid) for pid in pids)
     t0 = time.monotonic()
     await asyncio.gather(*(c.pump(seconds) for c in conns))
     elapsed = time.monotonic() - t0
-    cpu = cpu_seconds(pid) - cpu0 if pid else 0.0
-    after = sum(sum(c.frame_count.values()) for c in conns)
+    cpu = sum(cpu_seconds(pid) for pid in pids) - cpu0
+    frames = sum(sum(c.frame_count.values()) for c in conns) - before
     for c in conns:
         await c.close()
-    frames = after - before
-    if pid:
-        return frames / elapsed, 1000.0 * cpu / max(frames, 1)
-    return frames / elapsed
+    return frames / elapsed, (1000.0 * cpu / max(frames, 1) if pids else None)
 
 
 async def change_latency(url, count=40):
@@ -95,34 +93,6 @@ def stop_all(lb, nodes, redis):
         redis.stop()
 
 
-async def watch_spread(nodes, clients, seconds, warm_s=2.0):
-    """Clients spread over `nodes` one after another (as haproxy's leastconn spreads fresh
-    connections), each watching its own view: views per second, and the nodes' CPU ms per
-    view, over `seconds`."""
-    conns = []
-    for i in range(clients):
-        node = nodes[i % len(nodes)]
-        c = await Client.connect(node.url(), f"bench-{i}")
-        view = dict(VIEW, camera={"yaw_deg": (360.0 * i / clients) % 360, "pitch_deg": 10,
-                                  "fov_deg": 70})
-        r = await c.request({"type": "subscribe", "id": f"s{i}", "view": view},
-                            FIRST_FRAME_TIMEOUT)
-        if r.get("type") != "subscribed":
-            raise RuntimeError(f"subscribe refused: {r}")
-        conns.append(c)
-    await asyncio.gather(*(c.pump(warm_s) for c in conns))
-    before = sum(sum(c.frame_count.values()) for c in conns)
-    cpu0 = sum(cpu_seconds(n.proc.pid) for n in nodes)
-    t0 = time.monotonic()
-    await asyncio.gather(*(c.pump(seconds) for c in conns))
-    elapsed = time.monotonic() - t0
-    cpu = sum(cpu_seconds(n.proc.pid) for n in nodes) - cpu0
-    frames = sum(sum(c.frame_count.values()) for c in conns) - before
-    for c in conns:
-        await c.close()
-    return frames / elapsed, 1000.0 * cpu / max(frames, 1)
-
-
 async def scale(skyd, scratch, node_counts, clients, seconds, rounds):
     """Three nodes of one world run throughout; each round measures every node count, in an
     order that alternates, so that the machine's other load falls on all of them alike."""
@@ -138,13 +108,14 @@ async def scale(skyd, scratch, node_counts, clients, seconds, rounds):
         lb = Haproxy(scratch, free_port(), ports)
         lb.start()
         await asyncio.sleep(1.5)
-        through_lb = await watch(lb.url(), clients, seconds)
+        through_lb, _ = await watch([lb.url()], clients, seconds)
         print(f"scale: {len(nodes)} node(s) through haproxy: {through_lb:.1f} views/s",
               flush=True)
         for r in range(rounds):
             order = node_counts if r % 2 == 0 else list(reversed(node_counts))
             for n in order:
-                rate, ms = await watch_spread(nodes[:n], clients, seconds)
+                rate, ms = await watch([nd.url() for nd in nodes[:n]], clients, seconds,
+                                       warm_s=2.0, pids=[nd.proc.pid for nd in nodes[:n]])
                 results[n].append((rate, ms))
                 print(f"scale: round {r + 1}, {n} node(s): {rate:.1f} views/s, "
                       f"{ms:.2f} CPU ms per view", flush=True)
@@ -183,8 +154,8 @@ async def overhead(skyd, scratch, clients, seconds, rounds):
             if r % 2:
                 order.reverse()
             for name, node in order:
-                rate, ms = await watch(node.url(), clients, seconds, warm_s=2.0,
-                                       pid=node.proc.pid)
+                rate, ms = await watch([node.url()], clients, seconds, warm_s=2.0,
+                                       pids=[node.proc.pid])
                 rates[name].append(rate)
                 cpu[name].append(ms)
                 print(f"overhead: round {r + 1} {name}: {rate:.1f} frames/s, {ms:.2f} CPU ms "

@@ -217,7 +217,7 @@ fi
 expect "probe missing parameter" 1 '' "probe: /sun_zenith_deg: required for illuminance [missing_field]" \
   c probe illuminance
 expect "probe unknown quantity" 1 '' "/quantity" c probe colour
-expect "stats" 0 "\{ +\"fps\": +$num, +\"clients\": +1, +\"passes\": .*\"lut_rebuild_progress\": +$num, +\"simulation_time_s\": +1782064800, +\"subscriptions\": +\[ *\] +\}" "" \
+expect "stats" 0 "\{ +\"fps\": +$num, +\"clients\": +1, +\"passes\": .*\"lut_rebuild_progress\": +$num, +\"simulation_time_s\": +1782064800, +\"multiple_scattering\": +\{ +\"weight\": +$num, +\"progress\": +$num, +\"order\": +$num +\}, +\"subscriptions\": +\[ *\] +\}" "" \
   c stats
 
 expect "snapshot toward the sun" 0 "$out/south.png: 160x90 PNG, [0-9]+ bytes, state revision 3, frame [0-9]+" "" \

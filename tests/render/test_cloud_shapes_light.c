@@ -68,6 +68,17 @@ void test_silver_lining(void)
               ratio[1]);
 }
 
+/* The overcast deck alone (no high layer, no rain), the camera 200 m over its top. */
+static bool deck_state(struct sky_world_state *s)
+{
+    if (!shapes_weather_state("overcast", s))
+        return false;
+    s->clouds.high.coverage = 0.0;
+    s->clouds.precipitation = 0.0;
+    s->camera.altitude_km = s->clouds.low.bottom_km + s->clouds.low.thickness_km + 0.2;
+    return true;
+}
+
 /* Powder: a sunlit deck seen from 200 m over its top, at a grazing 8 deg below the horizon and
  * straight down. Multiply scattered light builds up below the lit surface
  * (clouds.multiscatter.powder), so a view that grazes the surface gathers its light from the
@@ -79,12 +90,9 @@ static double deck_grazing_over_down(double powder)
     double mean[2];
     for (int k = 0; k < 2; k++) {
         struct sky_world_state s;
-        if (!shapes_weather_state("overcast", &s))
+        if (!deck_state(&s))
             return NAN;
-        s.clouds.high.coverage = 0.0;
-        s.clouds.precipitation = 0.0;
         s.clouds.multiscatter_powder = powder;
-        s.camera.altitude_km = s.clouds.low.bottom_km + s.clouds.low.thickness_km + 0.2;
         s.camera.yaw_deg = 0.0;
         s.camera.pitch_deg = k == 0 ? -8.0 : -90.0;
         s.camera.fov_deg = 8.0;
@@ -125,11 +133,8 @@ static double deck_toward_over_away(bool isotropic)
     double mean[2];
     for (int k = 0; k < 2; k++) {
         struct sky_world_state s;
-        if (!shapes_weather_state("overcast", &s))
+        if (!deck_state(&s))
             return NAN;
-        s.clouds.high.coverage = 0.0;
-        s.clouds.precipitation = 0.0;
-        s.camera.altitude_km = s.clouds.low.bottom_km + s.clouds.low.thickness_km + 0.2;
         s.camera.yaw_deg = k == 0 ? 0.0 : 180.0;
         s.camera.pitch_deg = -30.0;
         s.camera.fov_deg = 30.0;
