@@ -19,12 +19,18 @@ layout(push_constant) uniform OrderPush { sky_ms_push push; };
 #include "atmosphere.glsl"
 #include "ms_table.glsl"
 
-// 4-point Gauss-Legendre nodes and weights on [0, 1] (Abramowitz & Stegun table 25.4, mapped).
-const float GL_X[4] = float[4](0.0694318442, 0.3300094782, 0.6699905218, 0.9305681558);
-const float GL_W[4] = float[4](0.1739274226, 0.3260725774, 0.3260725774, 0.1739274226);
-const int ZENITHS = 4;
-const int AZIMUTHS = 8;
-const int MIE_RINGS = 6;
+// Gauss-Legendre nodes and weights on [0, 1] (Abramowitz & Stegun table 25.4, mapped), 4 points
+// then 3.
+const float GL4_X[4] = float[4](0.0694318442, 0.3300094782, 0.6699905218, 0.9305681558);
+const float GL4_W[4] = float[4](0.1739274226, 0.3260725774, 0.3260725774, 0.1739274226);
+const float GL3_X[3] = float[3](0.1127016654, 0.5, 0.8872983346);
+const float GL3_W[3] = float[3](0.2777777778, 0.4444444444, 0.2777777778);
+// J_2 integrates single scattering, whose Mie peak around the sun and horizon are sharp; the
+// higher orders integrate radiance that has already been scattered at least twice and is
+// smooth, and take fewer directions (orders: the push constant, the same for the whole
+// dispatch, so the loop bounds are uniform).
+const int ZENITHS_FIRST = 4, AZIMUTHS_FIRST = 8, MIE_RINGS_FIRST = 6;
+const int ZENITHS_HIGHER = 3, AZIMUTHS_HIGHER = 6, MIE_RINGS_HIGHER = 3;
 
 void main()
 {
@@ -41,22 +47,31 @@ void main()
     vec3 view, sun;
     ms_directions(mu, mu_s, nu, view, sun);
     r = clamp(r, bottom_radius() + 1e-3, top_radius() - 1e-3);
+    // The texel's altitude and sun zenith coordinates serve every direction.
+    float u_mu_s = ms_mu_s_coord(mu_s), u_r = ms_r_coord(r);
+    bool first = push.order <= 2u;
+    int zeniths = first ? ZENITHS_FIRST : ZENITHS_HIGHER;
+    int azimuths = first ? AZIMUTHS_FIRST : AZIMUTHS_HIGHER;
+    int mie_rings = first ? MIE_RINGS_FIRST : MIE_RINGS_HIGHER;
 
-    // Rayleigh: each hemisphere apart (the horizon is where L jumps from sky to ground), 4
-    // Gauss-Legendre zeniths each, 8 azimuths.
+    // Rayleigh: each hemisphere apart (the horizon is where L jumps from sky to ground),
+    // Gauss-Legendre zeniths (whose view-zenith coordinate serves a whole ring), uniform azimuths.
     vec3 sum_r = vec3(0.0);
     float weight_r = 0.0;
     for (int half_index = 0; half_index < 2; half_index++) {
         float side = half_index == 0 ? 1.0 : -1.0;
-        for (int j = 0; j < ZENITHS; j++) {
-            float cos_theta = side * GL_X[j];
+        for (int j = 0; j < zeniths; j++) {
+            float cos_theta = side * (first ? GL4_X[j] : GL3_X[j]);
             float sin_theta = sqrt(max(0.0, 1.0 - cos_theta * cos_theta));
-            for (int i = 0; i < AZIMUTHS; i++) {
-                float phi = 2.0 * PI * (float(i) + 0.5) / float(AZIMUTHS);
+            // solid angle of a node
+            float dw = (first ? GL4_W[j] : GL3_W[j]) * 2.0 * PI / float(azimuths);
+            float u_mu = ms_mu_coord(r, cos_theta);
+            for (int i = 0; i < azimuths; i++) {
+                float phi = 2.0 * PI * (float(i) + 0.5) / float(azimuths);
                 vec3 w = vec3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
-                float dw = GL_W[j] * 2.0 * PI / float(AZIMUTHS); // solid angle of the node
                 float pr = rayleigh_phase(dot(view, w)) * dw;
-                sum_r += pr * ms_lookup(radiance_table, r, w.z, mu_s, dot(w, sun));
+                vec4 c = vec4(u_mu_s, u_mu, u_r, clamp((dot(w, sun) + 1.0) * 0.5, 0.0, 1.0));
+                sum_r += pr * ms_lookup_coords(radiance_table, c);
                 weight_r += pr;
             }
         }
@@ -69,8 +84,8 @@ void main()
                                           : cross(view, vec3(1.0, 0.0, 0.0)));
     vec3 t2 = cross(view, t1);
     vec3 sum_m = vec3(0.0), weight_m = vec3(0.0);
-    for (int j = 0; j < MIE_RINGS; j++) {
-        float xi = (float(j) + 0.5) / float(MIE_RINGS);
+    for (int j = 0; j < mie_rings; j++) {
+        float xi = (float(j) + 0.5) / float(mie_rings);
         float c;
         if (abs(g) < 1e-3) {
             c = 1.0 - 2.0 * xi;
@@ -81,10 +96,12 @@ void main()
         float s = sqrt(max(0.0, 1.0 - c * c));
         float hg = (1.0 - g * g) / (4.0 * PI * pow(max(1e-6, 1.0 + g * g - 2.0 * g * c), 1.5));
         vec3 ratio = mie_phase(c, atmo.mie_g.xyz) / hg;
-        for (int i = 0; i < AZIMUTHS; i++) {
-            float phi = 2.0 * PI * (float(i) + 0.5 * float(j % 2) + 0.25) / float(AZIMUTHS);
+        for (int i = 0; i < azimuths; i++) {
+            float phi = 2.0 * PI * (float(i) + 0.5 * float(j % 2) + 0.25) / float(azimuths);
             vec3 w = c * view + s * (cos(phi) * t1 + sin(phi) * t2);
-            sum_m += ratio * ms_lookup(radiance_table, r, w.z, mu_s, dot(w, sun));
+            vec4 cw = vec4(u_mu_s, ms_mu_coord(r, w.z), u_r,
+                           clamp((dot(w, sun) + 1.0) * 0.5, 0.0, 1.0));
+            sum_m += ratio * ms_lookup_coords(radiance_table, cw);
             weight_m += ratio;
         }
     }
