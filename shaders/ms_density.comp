@@ -15,6 +15,8 @@ SKY_PARAMETER_BLOCK(SKY_MS_DENSITY_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_u
 layout(binding = SKY_MS_DENSITY_RADIANCE) uniform sampler3D radiance_table;
 layout(binding = SKY_MS_DENSITY_OUT, rgba32f) uniform writeonly image3D density_out;
 layout(push_constant) uniform OrderPush { sky_ms_push push; };
+// J_2 or J_n, n >= 3 (below): one pipeline each, so that the rules' sizes are constants.
+layout(constant_id = SKY_MS_CONST_HIGHER) const bool HIGHER = false;
 
 #include "atmosphere.glsl"
 #include "ms_table.glsl"
@@ -28,7 +30,7 @@ const float GL3_W[3] = float[3](0.2777777778, 0.4444444444, 0.2777777778);
 // J_2 integrates single scattering, whose Mie peak around the sun and horizon are sharp; the
 // higher orders integrate radiance that has already been scattered at least twice and is
 // smooth, and take fewer directions (orders: the push constant, the same for the whole
-// dispatch, so the loop bounds are uniform).
+// dispatch; the rule: a specialization constant).
 const int ZENITHS_FIRST = 4, AZIMUTHS_FIRST = 8, MIE_RINGS_FIRST = 6;
 const int ZENITHS_HIGHER = 3, AZIMUTHS_HIGHER = 6, MIE_RINGS_HIGHER = 3;
 
@@ -49,7 +51,7 @@ void main()
     r = clamp(r, bottom_radius() + 1e-3, top_radius() - 1e-3);
     // The texel's altitude and sun zenith coordinates serve every direction.
     float u_mu_s = ms_mu_s_coord(mu_s), u_r = ms_r_coord(r);
-    bool first = push.order <= 2u;
+    const bool first = !HIGHER;
     int zeniths = first ? ZENITHS_FIRST : ZENITHS_HIGHER;
     int azimuths = first ? AZIMUTHS_FIRST : AZIMUTHS_HIGHER;
     int mie_rings = first ? MIE_RINGS_FIRST : MIE_RINGS_HIGHER;

@@ -19,8 +19,8 @@
 #define TABLE_TEXELS (TABLE_WIDTH * SKY_MS_MU * SKY_MS_R)
 #define TABLE_SLICES ((TABLE_TEXELS + SKY_MS_LOCAL - 1) / SKY_MS_LOCAL)
 /* Starting guesses of GPU ms per slice on lavapipe (2 cores); measured times replace them. */
-#define INITIAL_MS_PER_RADIANCE_SLICE 0.1
-#define INITIAL_MS_PER_DENSITY_SLICE 0.15
+#define INITIAL_MS_PER_RADIANCE_SLICE 0.025
+#define INITIAL_MS_PER_DENSITY_SLICE 0.04
 #define INITIAL_MS_GROUND 0.5
 
 enum step_kind { STEP_DENSITY, STEP_RADIANCE, STEP_GROUND, STEP_KINDS };
@@ -39,8 +39,10 @@ static const char *const pass_names[STEP_KINDS] = { "ms_density", "ms_radiance",
 struct ms_refine {
     /* The order's radiance ping-pongs between two tables (L_n and L_{n-1}). */
     struct gpu_image radiance[2], density, sum, ground;
-    /* Per kind, one pass per radiance table it reads or writes (the order's parity). */
-    struct compute_pass pass[STEP_KINDS][2];
+    /* Per kind, one pass per radiance table it reads or writes (the order's parity) and per
+     * variant (variant_of: radiance of order 1 or >= 2, density of order 2 or >= 3; the ground
+     * has one). */
+    struct compute_pass pass[STEP_KINDS][2][2];
     struct step steps[STEP_COUNT];
     enum state state;
     struct sky_render_atmosphere built_for; /* the table's atmosphere (building or complete) */
@@ -65,6 +67,21 @@ static const struct compute_pass_desc descs[STEP_KINDS] = {
     [STEP_GROUND] = { .name = "ms_ground", .spirv = ms_ground_spv,
                       .spirv_bytes = sizeof ms_ground_spv, SKY_PASS_LAYOUT(SKY_LAYOUT_MS_GROUND) },
 };
+
+/* The pipeline variant an order takes (SKY_MS_CONST_HIGHER). */
+static uint32_t variant_of(enum step_kind kind, uint32_t order)
+{
+    if (kind == STEP_RADIANCE)
+        return order >= 2;
+    if (kind == STEP_DENSITY)
+        return order >= 3;
+    return 0;
+}
+
+static uint32_t variant_count(enum step_kind kind)
+{
+    return kind == STEP_GROUND ? 1 : 2;
+}
 
 struct ms_refine *ms_refine_create(struct vk_context *ctx)
 {
@@ -94,8 +111,15 @@ struct ms_refine *ms_refine_create(struct vk_context *ctx)
                   fail);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, SKY_MS_GROUND, 1, 1, "ms_ground", &m->ground), fail);
     for (int k = 0; k < STEP_KINDS; k++)
-        for (int parity = 0; parity < 2; parity++)
-            VK_CHECK_GOTO(compute_pass_create(ctx, &descs[k], &m->pass[k][parity]), fail);
+        for (uint32_t v = 0; v < variant_count(k); v++) {
+            struct compute_pass_desc desc = descs[k];
+            if (k != STEP_GROUND) {
+                desc.spec_count = 1;
+                desc.spec_values[SKY_MS_CONST_HIGHER] = v;
+            }
+            for (int parity = 0; parity < 2; parity++)
+                VK_CHECK_GOTO(compute_pass_create(ctx, &desc, &m->pass[k][parity][v]), fail);
+        }
     return m;
 fail:
     ms_refine_destroy(ctx, &m);
@@ -109,7 +133,8 @@ void ms_refine_destroy(struct vk_context *ctx, struct ms_refine **refine)
         return;
     for (int k = 0; k < STEP_KINDS; k++)
         for (int parity = 0; parity < 2; parity++)
-            compute_pass_destroy(ctx, &m->pass[k][parity]);
+            for (int v = 0; v < 2; v++)
+                compute_pass_destroy(ctx, &m->pass[k][parity][v]);
     gpu_image_destroy(ctx, &m->radiance[0]);
     gpu_image_destroy(ctx, &m->radiance[1]);
     gpu_image_destroy(ctx, &m->density);
@@ -130,7 +155,8 @@ void ms_refine_bind(struct vk_context *ctx, struct ms_refine *m,
             [SKY_MS_DENSITY_RADIANCE] = { .image = own, .sampler = sampler },
             [SKY_MS_DENSITY_OUT] = { .image = &m->density },
         };
-        compute_pass_bind(ctx, &m->pass[STEP_DENSITY][parity], density);
+        for (int v = 0; v < 2; v++)
+            compute_pass_bind(ctx, &m->pass[STEP_DENSITY][parity][v], density);
         struct compute_resource radiance[SKY_LAYOUT_COUNT(SKY_LAYOUT_MS_RADIANCE)] = {
             [SKY_MS_RADIANCE_ATMOSPHERE] = { .buffer = atmosphere_params },
             [SKY_MS_RADIANCE_TRANSMITTANCE] = { .image = transmittance, .sampler = sampler },
@@ -140,13 +166,14 @@ void ms_refine_bind(struct vk_context *ctx, struct ms_refine *m,
             [SKY_MS_RADIANCE_OUT] = { .image = own },
             [SKY_MS_RADIANCE_SUM] = { .image = &m->sum },
         };
-        compute_pass_bind(ctx, &m->pass[STEP_RADIANCE][parity], radiance);
+        for (int v = 0; v < 2; v++)
+            compute_pass_bind(ctx, &m->pass[STEP_RADIANCE][parity][v], radiance);
         struct compute_resource ground[SKY_LAYOUT_COUNT(SKY_LAYOUT_MS_GROUND)] = {
             [SKY_MS_GROUND_ATMOSPHERE] = { .buffer = atmosphere_params },
             [SKY_MS_GROUND_RADIANCE] = { .image = own, .sampler = sampler },
             [SKY_MS_GROUND_OUT] = { .image = &m->ground },
         };
-        compute_pass_bind(ctx, &m->pass[STEP_GROUND][parity], ground);
+        compute_pass_bind(ctx, &m->pass[STEP_GROUND][parity][0], ground);
     }
 }
 
@@ -204,7 +231,8 @@ static void record_step(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_tim
     const uint32_t size[3] = { s->kind == STEP_GROUND ? SKY_MS_GROUND : slices * SKY_MS_LOCAL, 1,
                                1 };
     const uint32_t local[3] = { SKY_MS_LOCAL, 1, 1 };
-    compute_pass_record(cmd, &m->pass[s->kind][parity], &push, size, local);
+    compute_pass_record(cmd, &m->pass[s->kind][parity][variant_of(s->kind, s->order)], &push,
+                        size, local);
     gpu_timer_mark(timer, cmd, pass_names[s->kind]);
     uint32_t k = s->kind;
     if (m->pending_head[k] + m->pending_count[k] < 8)
@@ -220,7 +248,8 @@ void ms_refine_record_warm_up(struct ms_refine *m, VkCommandBuffer cmd)
     const uint32_t size[3] = { 1, 1, 1 }, local[3] = { SKY_MS_LOCAL, 1, 1 };
     for (int k = 0; k < STEP_KINDS; k++)
         for (int parity = 0; parity < 2; parity++)
-            compute_pass_record(cmd, &m->pass[k][parity], &push, size, local);
+            for (uint32_t v = 0; v < variant_count(k); v++)
+                compute_pass_record(cmd, &m->pass[k][parity][v], &push, size, local);
     m->warmed = true;
 }
 
