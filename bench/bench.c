@@ -226,8 +226,8 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
                           struct series *during, struct series *after)
 {
     static double ms_passes[MAX_FRAMES];
-    const char *const kinds[3] = { "ms_density", "ms_radiance", "ms_ground" };
-    double kind_total[3] = { 0 };
+    const char *const kinds[4] = { "ms_density", "ms_radiance", "ms_ground", "ms_moments" };
+    double kind_total[4] = { 0 };
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
     size_t bytes;
@@ -263,7 +263,7 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
         if (complete_s < 0 && st.multiple_scattering.progress >= 1.0 && settled_s >= 0)
             complete_s = now;
         for (int p = 0; p < st.pass_count && faded_s < 0; p++)
-            for (int k = 0; k < 3; k++)
+            for (int k = 0; k < 4; k++)
                 if (strcmp(st.pass_names[p], kinds[k]) == 0)
                     kind_total[k] += st.pass_ms[p];
         if (faded_s < 0) {
@@ -291,10 +291,10 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
            "refining\n",
            w, h, budget_ms, budget_fraction, settled_s, complete_s, faded_s, n_during);
     if (n_during > 0 && n_after > 0) {
-        printf("    refinement passes per frame: median %.2f ms, p99 %.2f ms; in all: density %.0f, "
-               "radiance %.0f, ground %.0f ms gpu\n",
+        printf("    refinement passes per frame: median %.2f ms, p99 %.2f ms; in all: moments %.0f, "
+               "density %.0f, radiance %.0f, ground %.0f ms gpu\n",
                percentile(ms_passes, n_during, 0.5), percentile(ms_passes, n_during, 0.99),
-               kind_total[0], kind_total[1], kind_total[2]);
+               kind_total[3], kind_total[0], kind_total[1], kind_total[2]);
         double p99_during = percentile(during->wall_ms, n_during, 0.99);
         double p99_after = percentile(after->wall_ms, n_after, 0.99);
         printf("    frame wall while refining: median %.2f p99 %.2f ms | after: median %.2f p99 "

@@ -69,13 +69,24 @@
     X(SKY_MS_RADIANCE_PREVIOUS, SAMPLED) X(SKY_MS_RADIANCE_OUT, IMAGE)                       \
     X(SKY_MS_RADIANCE_SUM, IMAGE)
 
-/* ms_density.comp: the next order's scattering density from an order's radiance. */
+/* ms_moments.comp: an order's second moments per (mu_s, r), 4 texels each, for Rayleigh. */
+#define SKY_MS_MOMENTS 4
+#define SKY_MS_MOMENTS_ATMOSPHERE 0
+#define SKY_MS_MOMENTS_RADIANCE 1
+#define SKY_MS_MOMENTS_OUT 2
+#define SKY_LAYOUT_MS_MOMENTS(X)                                                           \
+    X(SKY_MS_MOMENTS_ATMOSPHERE, BLOCK) X(SKY_MS_MOMENTS_RADIANCE, SAMPLED)                  \
+    X(SKY_MS_MOMENTS_OUT, IMAGE)
+
+/* ms_density.comp: the next order's scattering density from an order's radiance (Mie) and its
+ * moments (Rayleigh). */
 #define SKY_MS_DENSITY_ATMOSPHERE 0
 #define SKY_MS_DENSITY_RADIANCE 1
 #define SKY_MS_DENSITY_OUT 2
+#define SKY_MS_DENSITY_MOMENTS 3
 #define SKY_LAYOUT_MS_DENSITY(X)                                                           \
     X(SKY_MS_DENSITY_ATMOSPHERE, BLOCK) X(SKY_MS_DENSITY_RADIANCE, SAMPLED)                  \
-    X(SKY_MS_DENSITY_OUT, IMAGE)
+    X(SKY_MS_DENSITY_OUT, IMAGE) X(SKY_MS_DENSITY_MOMENTS, SAMPLED)
 
 /* ms_ground.comp: an order's ground irradiance. */
 #define SKY_MS_GROUND_ATMOSPHERE 0
