@@ -221,6 +221,8 @@ static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsign
  * LUT budget until the table has faded in fully, then as many frames after. Prints the wall
  * time to each stage, the refinement's passes per frame and the frames' p99 during the
  * refinement against after it, in the same run. */
+#define CONVERGE_GOAL_S 10.0
+
 static int bench_converge(struct sky_renderer *r, const struct cli_common *c, unsigned w,
                           unsigned h, double budget_ms, double budget_fraction,
                           struct series *during, struct series *after)
@@ -303,6 +305,10 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
                percentile(after->wall_ms, n_after, 0.5), p99_after, p99_during / p99_after,
                percentile(during->gpu_ms, n_during, 0.5), percentile(after->gpu_ms, n_after, 0.5));
     }
+    /* The issue's goal for 640x360 on two lavapipe cores (docs/PERFORMANCE.md); printed, not
+     * enforced: a shared machine's load moves it by seconds. */
+    printf("    goal: table shown within %.0f s of the change: %s (faded in %.2f s)\n",
+           CONVERGE_GOAL_S, faded_s <= CONVERGE_GOAL_S ? "met" : "NOT met", faded_s);
     free(pixels);
     return 0;
 fail:
