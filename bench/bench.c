@@ -221,13 +221,15 @@ static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsign
  * LUT budget until the table has faded in fully, then as many frames after. Prints the wall
  * time to each stage, the refinement's passes per frame and the frames' p99 during the
  * refinement against after it, in the same run. */
+#define CONVERGE_GOAL_S 10.0
+
 static int bench_converge(struct sky_renderer *r, const struct cli_common *c, unsigned w,
                           unsigned h, double budget_ms, double budget_fraction,
                           struct series *during, struct series *after)
 {
     static double ms_passes[MAX_FRAMES];
-    const char *const kinds[3] = { "ms_density", "ms_radiance", "ms_ground" };
-    double kind_total[3] = { 0 };
+    const char *const kinds[4] = { "ms_density", "ms_radiance", "ms_ground", "ms_moments" };
+    double kind_total[4] = { 0 };
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
     size_t bytes;
@@ -263,7 +265,7 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
         if (complete_s < 0 && st.multiple_scattering.progress >= 1.0 && settled_s >= 0)
             complete_s = now;
         for (int p = 0; p < st.pass_count && faded_s < 0; p++)
-            for (int k = 0; k < 3; k++)
+            for (int k = 0; k < 4; k++)
                 if (strcmp(st.pass_names[p], kinds[k]) == 0)
                     kind_total[k] += st.pass_ms[p];
         if (faded_s < 0) {
@@ -291,10 +293,10 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
            "refining\n",
            w, h, budget_ms, budget_fraction, settled_s, complete_s, faded_s, n_during);
     if (n_during > 0 && n_after > 0) {
-        printf("    refinement passes per frame: median %.2f ms, p99 %.2f ms; in all: density %.0f, "
-               "radiance %.0f, ground %.0f ms gpu\n",
+        printf("    refinement passes per frame: median %.2f ms, p99 %.2f ms; in all: moments %.0f, "
+               "density %.0f, radiance %.0f, ground %.0f ms gpu\n",
                percentile(ms_passes, n_during, 0.5), percentile(ms_passes, n_during, 0.99),
-               kind_total[0], kind_total[1], kind_total[2]);
+               kind_total[3], kind_total[0], kind_total[1], kind_total[2]);
         double p99_during = percentile(during->wall_ms, n_during, 0.99);
         double p99_after = percentile(after->wall_ms, n_after, 0.99);
         printf("    frame wall while refining: median %.2f p99 %.2f ms | after: median %.2f p99 "
@@ -303,6 +305,10 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
                percentile(after->wall_ms, n_after, 0.5), p99_after, p99_during / p99_after,
                percentile(during->gpu_ms, n_during, 0.5), percentile(after->gpu_ms, n_after, 0.5));
     }
+    /* The issue's goal for 640x360 on two lavapipe cores (docs/PERFORMANCE.md); printed, not
+     * enforced: a shared machine's load moves it by seconds. */
+    printf("    goal: table shown within %.0f s of the change: %s (faded in %.2f s)\n",
+           CONVERGE_GOAL_S, faded_s <= CONVERGE_GOAL_S ? "met" : "NOT met", faded_s);
     free(pixels);
     return 0;
 fail:

@@ -3,10 +3,12 @@
 // Converged multiple scattering, one order's scattering density (Bruneton & Neyret 2008,
 // eq. 4 with the ground's light already inside L_{n-1}): J_n(x, v) = sum over the Rayleigh and
 // Mie parts of sigma_i(x) * integral over the sphere of p_i(v . w) L_{n-1}(x, w) dw, stored
-// divided by sigma_s(x) so that it varies slowly with altitude. Rayleigh's integral takes a
-// Gauss-Legendre rule on each hemisphere, Mie's a rule stratified in its lobe around the view
-// direction (its sharp forward peak falls between the nodes of any fixed rule); the weights of
-// each are normalised to sum to one, so that a uniform radiance is scattered exactly.
+// divided by sigma_s(x) so that it varies slowly with altitude. Rayleigh's phase is a
+// quadratic, so its integral comes from the radiance's second moments at the texel's altitude
+// and sun (ms_moments.comp: 16 zeniths x 16 azimuths, shared by every view and view-sun angle);
+// Mie's takes a rule stratified in its lobe around the view direction (its sharp forward peak
+// falls between the nodes of any fixed rule), normalised so that a uniform radiance is
+// scattered exactly.
 #include "sky_shared.h"
 #include "sky_layouts.h"
 
@@ -14,17 +16,19 @@ layout(local_size_x = SKY_MS_LOCAL) in;
 SKY_PARAMETER_BLOCK(SKY_MS_DENSITY_ATMOSPHERE, AtmosphereBlock, sky_atmosphere_uniforms, atmo);
 layout(binding = SKY_MS_DENSITY_RADIANCE) uniform sampler3D radiance_table;
 layout(binding = SKY_MS_DENSITY_OUT, rgba32f) uniform writeonly image3D density_out;
+layout(binding = SKY_MS_DENSITY_MOMENTS) uniform sampler2D moments;
 layout(push_constant) uniform OrderPush { sky_ms_push push; };
+// J_2 or J_n, n >= 3 (below): one pipeline each, so that the rules' sizes are constants.
+layout(constant_id = SKY_MS_CONST_HIGHER) const bool HIGHER = false;
 
 #include "atmosphere.glsl"
 #include "ms_table.glsl"
 
-// 4-point Gauss-Legendre nodes and weights on [0, 1] (Abramowitz & Stegun table 25.4, mapped).
-const float GL_X[4] = float[4](0.0694318442, 0.3300094782, 0.6699905218, 0.9305681558);
-const float GL_W[4] = float[4](0.1739274226, 0.3260725774, 0.3260725774, 0.1739274226);
-const int ZENITHS = 4;
-const int AZIMUTHS = 8;
-const int MIE_RINGS = 6;
+// J_2 integrates single scattering, whose Mie peak around the sun is sharp; the higher orders
+// integrate radiance that has already been scattered at least twice and is smooth, and take
+// fewer directions in Mie's lobe (rings x azimuths).
+const int MIE_RINGS = HIGHER ? 3 : 6;
+const int AZIMUTHS = HIGHER ? 6 : 8;
 
 void main()
 {
@@ -41,26 +45,25 @@ void main()
     vec3 view, sun;
     ms_directions(mu, mu_s, nu, view, sun);
     r = clamp(r, bottom_radius() + 1e-3, top_radius() - 1e-3);
+    // The texel's altitude and sun zenith coordinates serve every direction.
+    float u_mu_s = ms_mu_s_coord(mu_s), u_r = ms_r_coord(r);
 
-    // Rayleigh: each hemisphere apart (the horizon is where L jumps from sky to ground), 4
-    // Gauss-Legendre zeniths each, 8 azimuths.
-    vec3 sum_r = vec3(0.0);
-    float weight_r = 0.0;
-    for (int half_index = 0; half_index < 2; half_index++) {
-        float side = half_index == 0 ? 1.0 : -1.0;
-        for (int j = 0; j < ZENITHS; j++) {
-            float cos_theta = side * GL_X[j];
-            float sin_theta = sqrt(max(0.0, 1.0 - cos_theta * cos_theta));
-            for (int i = 0; i < AZIMUTHS; i++) {
-                float phi = 2.0 * PI * (float(i) + 0.5) / float(AZIMUTHS);
-                vec3 w = vec3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
-                float dw = GL_W[j] * 2.0 * PI / float(AZIMUTHS); // solid angle of the node
-                float pr = rayleigh_phase(dot(view, w)) * dw;
-                sum_r += pr * ms_lookup(radiance_table, r, w.z, mu_s, dot(w, sun));
-                weight_r += pr;
-            }
-        }
-    }
+    // Rayleigh: from the radiance's second moments at this altitude and sun (ms_moments.comp),
+    // in the moments' frame: the sun's azimuth along +x.
+    ivec2 base = ivec2(SKY_MS_MOMENTS * (texel.x % SKY_MS_MU_S), texel.z);
+    vec3 m_xx = texelFetch(moments, base, 0).rgb;
+    vec3 m_yy = texelFetch(moments, base + ivec2(1, 0), 0).rgb;
+    vec3 m_zz = texelFetch(moments, base + ivec2(2, 0), 0).rgb;
+    vec3 m_xz = texelFetch(moments, base + ivec2(3, 0), 0).rgb;
+    float sun_h = length(sun.xy);
+    vec2 toward_sun = sun_h > 1e-6 ? sun.xy / sun_h : vec2(1.0, 0.0);
+    float vx = dot(view.xy, toward_sun);
+    float vy2 = max(0.0, 1.0 - view.z * view.z - vx * vx);
+    float vz = view.z;
+    // 3 / (16 pi) (tr M + v^T M v), ms_moments.comp
+    vec3 sum_r = 3.0 / (16.0 * PI)
+                 * (m_xx + m_yy + m_zz + vx * vx * m_xx + vy2 * m_yy + vz * vz * m_zz
+                    + 2.0 * vx * vz * m_xz);
     // Mie: around the view direction, stratified in the Henyey-Greenstein lobe's cumulative
     // distribution (its inverse, e.g. Pharr et al. PBRT 11.3.1), each node weighted by the
     // Cornette-Shanks phase over the Henyey-Greenstein density.
@@ -84,12 +87,14 @@ void main()
         for (int i = 0; i < AZIMUTHS; i++) {
             float phi = 2.0 * PI * (float(i) + 0.5 * float(j % 2) + 0.25) / float(AZIMUTHS);
             vec3 w = c * view + s * (cos(phi) * t1 + sin(phi) * t2);
-            sum_m += ratio * ms_lookup(radiance_table, r, w.z, mu_s, dot(w, sun));
+            vec4 cw = vec4(u_mu_s, ms_mu_coord(r, w.z), u_r,
+                           clamp((dot(w, sun) + 1.0) * 0.5, 0.0, 1.0));
+            sum_m += ratio * ms_lookup_coords(radiance_table, cw);
             weight_m += ratio;
         }
     }
     MediumSample m = sample_medium(r - bottom_radius());
-    vec3 j = m.rayleigh_scattering * sum_r / max(weight_r, 1e-6)
+    vec3 j = m.rayleigh_scattering * sum_r
              + m.mie_scattering * sum_m / max(weight_m, vec3(1e-6));
     imageStore(density_out, texel, vec4(j / max(m.scattering, vec3(1e-12)), 1.0));
 }

@@ -20,12 +20,17 @@ layout(binding = SKY_MS_RADIANCE_PREVIOUS) uniform sampler3D previous_table;
 layout(binding = SKY_MS_RADIANCE_OUT, rgba32f) uniform writeonly image3D radiance_out;
 layout(binding = SKY_MS_RADIANCE_SUM, rgba32f) uniform image3D sum_table;
 layout(push_constant) uniform OrderPush { sky_ms_push push; };
+// Order 1 (the sun) or orders >= 2 (the scattering density): one pipeline each, so that neither
+// pays for the other's branch (lavapipe runs both sides of a branch it cannot prove uniform).
+layout(constant_id = SKY_MS_CONST_HIGHER) const bool HIGHER = false;
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #include "atmosphere.glsl"
 #include "ms_table.glsl"
 
-const float STEPS = 20.0;
+// March steps: orders 1 and 2 see the sun's sharp single scattering along the ray; the higher
+// orders' density is smooth along it and takes fewer.
+const float STEPS_LOW = 20.0, STEPS_HIGH = 12.0;
 
 void main()
 {
@@ -53,20 +58,22 @@ void main()
         float phase_r = rayleigh_phase(nu);
         vec3 phase_m = mie_phase(nu, atmo.mie_g.xyz);
         float t_prev = 0.0;
-        for (float k = 0.0; k < STEPS; k += 1.0) {
-            float t_next = march_boundary(0.0, t_end, k + 1.0, STEPS);
+        float steps = order <= 2u ? STEPS_LOW : STEPS_HIGH; // uniform: the push constant
+        for (float k = 0.0; k < steps; k += 1.0) {
+            float t_next = march_boundary(0.0, t_end, k + 1.0, steps);
             float dt = t_next - t_prev;
             vec3 p = origin + (t_prev + 0.5 * dt) * view;
             t_prev = t_next;
             float rp = length(p);
             MediumSample m = sample_medium(rp - bottom_radius());
             vec3 source;
-            if (order == 1u) {
+            if (!HIGHER) {
                 source = sun_transmittance(p, sun)
                          * (m.rayleigh_scattering * phase_r + m.mie_scattering * phase_m);
             } else {
                 vec3 up = p / rp;
-                source = m.scattering * ms_lookup_log(density_table, rp, dot(view, up), dot(sun, up), nu);
+                source = m.scattering
+                         * ms_lookup_log(density_table, rp, dot(view, up), dot(sun, up), nu);
             }
             vec3 step_t = exp(-m.extinction * dt);
             vec3 ext = max(m.extinction, vec3(1e-9));
@@ -77,14 +84,14 @@ void main()
             vec3 g = origin + t_end * view;
             vec3 n = normalize(g);
             float mu_g = dot(n, sun);
-            vec3 irradiance = order == 1u
+            vec3 irradiance = !HIGHER
                 ? sun_transmittance(g + n * 1e-3, sun) * max(mu_g, 0.0)
                 : textureLod(ground_table, vec2(ms_ground_u(mu_g), 0.5), 0.0).rgb;
             L += throughput * atmo.ground_albedo.xyz / PI * irradiance; // Lambert
         }
     }
     imageStore(radiance_out, texel, vec4(L, 1.0));
-    if (order == 1u) {
+    if (!HIGHER) {
         imageStore(sum_table, texel, vec4(0.0));
         return;
     }

@@ -270,7 +270,8 @@ bool sky_render_pass_is_atmosphere_lut(const char *name)
 {
     static const char *const names[] = { "transmittance", "multiscattering", "irradiance",
                                          "lut_blend", "lut_save",
-                                         "ms_density", "ms_radiance", "ms_ground" };
+                                         "ms_moments", "ms_density", "ms_radiance",
+                                         "ms_ground" };
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (strcmp(name, names[i]) == 0)
             return true;

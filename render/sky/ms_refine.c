@@ -18,29 +18,36 @@
 /* A slice: one workgroup's SKY_MS_LOCAL texels (row-major). */
 #define TABLE_TEXELS (TABLE_WIDTH * SKY_MS_MU * SKY_MS_R)
 #define TABLE_SLICES ((TABLE_TEXELS + SKY_MS_LOCAL - 1) / SKY_MS_LOCAL)
+/* The moments: one invocation per (mu_s, r). */
+#define MOMENT_POINTS (SKY_MS_MU_S * SKY_MS_R)
+#define MOMENT_SLICES ((MOMENT_POINTS + SKY_MS_LOCAL - 1) / SKY_MS_LOCAL)
 /* Starting guesses of GPU ms per slice on lavapipe (2 cores); measured times replace them. */
-#define INITIAL_MS_PER_RADIANCE_SLICE 0.1
-#define INITIAL_MS_PER_DENSITY_SLICE 0.15
+#define INITIAL_MS_PER_RADIANCE_SLICE 0.025
+#define INITIAL_MS_PER_DENSITY_SLICE 0.04
 #define INITIAL_MS_GROUND 0.5
+#define INITIAL_MS_PER_MOMENT_SLICE 0.2
 
-enum step_kind { STEP_DENSITY, STEP_RADIANCE, STEP_GROUND, STEP_KINDS };
+enum step_kind { STEP_DENSITY, STEP_RADIANCE, STEP_GROUND, STEP_MOMENTS, STEP_KINDS };
 enum state { STATE_EMPTY, STATE_BUILDING, STATE_COMPLETE };
 
-/* Order n: the density J_n from L_{n-1} (n >= 2), the radiance L_n, the ground irradiance E_n
- * (n < last). */
-#define STEP_COUNT (3 * MS_REFINE_ORDERS - 2)
+/* Order n: the moments of L_{n-1} and the density J_n from them and L_{n-1} (n >= 2), the
+ * radiance L_n, the ground irradiance E_n (n < last). */
+#define STEP_COUNT (4 * MS_REFINE_ORDERS - 3)
 struct step {
     enum step_kind kind;
     uint32_t order;
 };
 
-static const char *const pass_names[STEP_KINDS] = { "ms_density", "ms_radiance", "ms_ground" };
+static const char *const pass_names[STEP_KINDS] = { "ms_density", "ms_radiance", "ms_ground",
+                                                    "ms_moments" };
 
 struct ms_refine {
     /* The order's radiance ping-pongs between two tables (L_n and L_{n-1}). */
-    struct gpu_image radiance[2], density, sum, ground;
-    /* Per kind, one pass per radiance table it reads or writes (the order's parity). */
-    struct compute_pass pass[STEP_KINDS][2];
+    struct gpu_image radiance[2], density, sum, ground, moments;
+    /* Per kind, one pass per radiance table it reads or writes (the order's parity) and per
+     * variant (variant_of: radiance of order 1 or >= 2, density of order 2 or >= 3; the ground
+     * has one). */
+    struct compute_pass pass[STEP_KINDS][2][2];
     struct step steps[STEP_COUNT];
     enum state state;
     struct sky_render_atmosphere built_for; /* the table's atmosphere (building or complete) */
@@ -64,7 +71,37 @@ static const struct compute_pass_desc descs[STEP_KINDS] = {
                         .push_constant_bytes = sizeof(struct sky_ms_push) },
     [STEP_GROUND] = { .name = "ms_ground", .spirv = ms_ground_spv,
                       .spirv_bytes = sizeof ms_ground_spv, SKY_PASS_LAYOUT(SKY_LAYOUT_MS_GROUND) },
+    [STEP_MOMENTS] = { .name = "ms_moments", .spirv = ms_moments_spv,
+                       .spirv_bytes = sizeof ms_moments_spv,
+                       SKY_PASS_LAYOUT(SKY_LAYOUT_MS_MOMENTS),
+                       .push_constant_bytes = sizeof(struct sky_ms_push) },
 };
+
+/* The pipeline variant an order takes (SKY_MS_CONST_HIGHER). */
+static uint32_t variant_of(enum step_kind kind, uint32_t order)
+{
+    if (kind == STEP_RADIANCE)
+        return order >= 2;
+    if (kind == STEP_DENSITY)
+        return order >= 3;
+    return 0;
+}
+
+static uint32_t variant_count(enum step_kind kind)
+{
+    return kind == STEP_GROUND || kind == STEP_MOMENTS ? 1 : 2;
+}
+
+/* Slices of a step (the ground's is one dispatch). */
+static uint32_t slices_of(enum step_kind kind)
+{
+    return kind == STEP_MOMENTS ? MOMENT_SLICES : kind == STEP_GROUND ? 1 : TABLE_SLICES;
+}
+
+static uint32_t points_of(enum step_kind kind)
+{
+    return kind == STEP_MOMENTS ? MOMENT_POINTS : TABLE_TEXELS;
+}
 
 struct ms_refine *ms_refine_create(struct vk_context *ctx)
 {
@@ -75,10 +112,13 @@ struct ms_refine *ms_refine_create(struct vk_context *ctx)
     m->ms_per_slice[STEP_DENSITY] = INITIAL_MS_PER_DENSITY_SLICE;
     m->ms_per_slice[STEP_RADIANCE] = INITIAL_MS_PER_RADIANCE_SLICE;
     m->ms_per_slice[STEP_GROUND] = INITIAL_MS_GROUND;
+    m->ms_per_slice[STEP_MOMENTS] = INITIAL_MS_PER_MOMENT_SLICE;
     int n = 0;
     for (uint32_t order = 1; order <= MS_REFINE_ORDERS; order++) {
-        if (order >= 2)
+        if (order >= 2) {
+            m->steps[n++] = (struct step){ STEP_MOMENTS, order };
             m->steps[n++] = (struct step){ STEP_DENSITY, order };
+        }
         m->steps[n++] = (struct step){ STEP_RADIANCE, order };
         if (order < MS_REFINE_ORDERS)
             m->steps[n++] = (struct step){ STEP_GROUND, order };
@@ -93,9 +133,18 @@ struct ms_refine *ms_refine_create(struct vk_context *ctx)
     VK_CHECK_GOTO(gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_sum", &m->sum),
                   fail);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, SKY_MS_GROUND, 1, 1, "ms_ground", &m->ground), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, f, SKY_MS_MOMENTS * SKY_MS_MU_S, SKY_MS_R, 1, "ms_moments",
+                                   &m->moments), fail);
     for (int k = 0; k < STEP_KINDS; k++)
-        for (int parity = 0; parity < 2; parity++)
-            VK_CHECK_GOTO(compute_pass_create(ctx, &descs[k], &m->pass[k][parity]), fail);
+        for (uint32_t v = 0; v < variant_count(k); v++) {
+            struct compute_pass_desc desc = descs[k];
+            if (variant_count(k) > 1) {
+                desc.spec_count = 1;
+                desc.spec_values[SKY_MS_CONST_HIGHER] = v;
+            }
+            for (int parity = 0; parity < 2; parity++)
+                VK_CHECK_GOTO(compute_pass_create(ctx, &desc, &m->pass[k][parity][v]), fail);
+        }
     return m;
 fail:
     ms_refine_destroy(ctx, &m);
@@ -109,12 +158,14 @@ void ms_refine_destroy(struct vk_context *ctx, struct ms_refine **refine)
         return;
     for (int k = 0; k < STEP_KINDS; k++)
         for (int parity = 0; parity < 2; parity++)
-            compute_pass_destroy(ctx, &m->pass[k][parity]);
+            for (int v = 0; v < 2; v++)
+                compute_pass_destroy(ctx, &m->pass[k][parity][v]);
     gpu_image_destroy(ctx, &m->radiance[0]);
     gpu_image_destroy(ctx, &m->radiance[1]);
     gpu_image_destroy(ctx, &m->density);
     gpu_image_destroy(ctx, &m->sum);
     gpu_image_destroy(ctx, &m->ground);
+    gpu_image_destroy(ctx, &m->moments);
     free(m);
     *refine = NULL;
 }
@@ -129,8 +180,10 @@ void ms_refine_bind(struct vk_context *ctx, struct ms_refine *m,
             [SKY_MS_DENSITY_ATMOSPHERE] = { .buffer = atmosphere_params },
             [SKY_MS_DENSITY_RADIANCE] = { .image = own, .sampler = sampler },
             [SKY_MS_DENSITY_OUT] = { .image = &m->density },
+            [SKY_MS_DENSITY_MOMENTS] = { .image = &m->moments, .sampler = sampler },
         };
-        compute_pass_bind(ctx, &m->pass[STEP_DENSITY][parity], density);
+        for (int v = 0; v < 2; v++)
+            compute_pass_bind(ctx, &m->pass[STEP_DENSITY][parity][v], density);
         struct compute_resource radiance[SKY_LAYOUT_COUNT(SKY_LAYOUT_MS_RADIANCE)] = {
             [SKY_MS_RADIANCE_ATMOSPHERE] = { .buffer = atmosphere_params },
             [SKY_MS_RADIANCE_TRANSMITTANCE] = { .image = transmittance, .sampler = sampler },
@@ -140,13 +193,20 @@ void ms_refine_bind(struct vk_context *ctx, struct ms_refine *m,
             [SKY_MS_RADIANCE_OUT] = { .image = own },
             [SKY_MS_RADIANCE_SUM] = { .image = &m->sum },
         };
-        compute_pass_bind(ctx, &m->pass[STEP_RADIANCE][parity], radiance);
+        for (int v = 0; v < 2; v++)
+            compute_pass_bind(ctx, &m->pass[STEP_RADIANCE][parity][v], radiance);
         struct compute_resource ground[SKY_LAYOUT_COUNT(SKY_LAYOUT_MS_GROUND)] = {
             [SKY_MS_GROUND_ATMOSPHERE] = { .buffer = atmosphere_params },
             [SKY_MS_GROUND_RADIANCE] = { .image = own, .sampler = sampler },
             [SKY_MS_GROUND_OUT] = { .image = &m->ground },
         };
-        compute_pass_bind(ctx, &m->pass[STEP_GROUND][parity], ground);
+        compute_pass_bind(ctx, &m->pass[STEP_GROUND][parity][0], ground);
+        struct compute_resource moments[SKY_LAYOUT_COUNT(SKY_LAYOUT_MS_MOMENTS)] = {
+            [SKY_MS_MOMENTS_ATMOSPHERE] = { .buffer = atmosphere_params },
+            [SKY_MS_MOMENTS_RADIANCE] = { .image = own, .sampler = sampler },
+            [SKY_MS_MOMENTS_OUT] = { .image = &m->moments },
+        };
+        compute_pass_bind(ctx, &m->pass[STEP_MOMENTS][parity][0], moments);
     }
 }
 
@@ -157,10 +217,10 @@ const struct gpu_image *ms_refine_table(const struct ms_refine *m)
 
 const struct gpu_image *ms_refine_image(const struct ms_refine *m, const char *name)
 {
-    const struct gpu_image *images[] = { &m->sum, &m->density, &m->ground, &m->radiance[0],
-                                         &m->radiance[1] };
-    const char *const names[] = { "ms_sum", "ms_density", "ms_ground", "ms_radiance_even",
-                                  "ms_radiance_odd" };
+    const struct gpu_image *images[] = { &m->sum,          &m->density,     &m->ground,
+                                         &m->radiance[0], &m->radiance[1], &m->moments };
+    const char *const names[] = { "ms_sum",           "ms_density",      "ms_ground",
+                                  "ms_radiance_even", "ms_radiance_odd", "ms_moments" };
     for (size_t i = 0; i < sizeof images / sizeof images[0]; i++)
         if (strcmp(name, names[i]) == 0)
             return images[i];
@@ -193,18 +253,20 @@ static void record_step(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_tim
                         uint32_t slices)
 {
     const struct step *s = &m->steps[m->step];
-    /* Density J_n reads L_{n-1}; radiance and ground of order n write / read L_n. */
-    uint32_t parity = (s->kind == STEP_DENSITY ? s->order - 1 : s->order) % 2;
+    /* Moments and density J_n read L_{n-1}; radiance and ground of order n write / read L_n. */
+    bool previous = s->kind == STEP_DENSITY || s->kind == STEP_MOMENTS;
+    uint32_t parity = (previous ? s->order - 1 : s->order) % 2;
     struct sky_ms_push push = { .order = s->order,
                                 .first = m->next_slice * SKY_MS_LOCAL,
                                 .last = s->order == MS_REFINE_ORDERS,
                                 .end = (m->next_slice + slices) * SKY_MS_LOCAL };
-    if (push.end > TABLE_TEXELS)
-        push.end = TABLE_TEXELS;
+    if (push.end > points_of(s->kind))
+        push.end = points_of(s->kind);
     const uint32_t size[3] = { s->kind == STEP_GROUND ? SKY_MS_GROUND : slices * SKY_MS_LOCAL, 1,
                                1 };
     const uint32_t local[3] = { SKY_MS_LOCAL, 1, 1 };
-    compute_pass_record(cmd, &m->pass[s->kind][parity], &push, size, local);
+    compute_pass_record(cmd, &m->pass[s->kind][parity][variant_of(s->kind, s->order)], &push,
+                        size, local);
     gpu_timer_mark(timer, cmd, pass_names[s->kind]);
     uint32_t k = s->kind;
     if (m->pending_head[k] + m->pending_count[k] < 8)
@@ -220,7 +282,8 @@ void ms_refine_record_warm_up(struct ms_refine *m, VkCommandBuffer cmd)
     const uint32_t size[3] = { 1, 1, 1 }, local[3] = { SKY_MS_LOCAL, 1, 1 };
     for (int k = 0; k < STEP_KINDS; k++)
         for (int parity = 0; parity < 2; parity++)
-            compute_pass_record(cmd, &m->pass[k][parity], &push, size, local);
+            for (uint32_t v = 0; v < variant_count(k); v++)
+                compute_pass_record(cmd, &m->pass[k][parity][v], &push, size, local);
     m->warmed = true;
 }
 
@@ -236,9 +299,9 @@ static bool record_slices(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_t
         uint32_t slices = 1;
         if (kind != STEP_GROUND) {
             double fit = floor(remaining / cost);
-            slices = fit > TABLE_SLICES ? TABLE_SLICES : (uint32_t)fmax(fit, 0.0);
-            if (slices > TABLE_SLICES - m->next_slice)
-                slices = TABLE_SLICES - m->next_slice;
+            slices = fit > slices_of(kind) ? slices_of(kind) : (uint32_t)fmax(fit, 0.0);
+            if (slices > slices_of(kind) - m->next_slice)
+                slices = slices_of(kind) - m->next_slice;
         } else if (remaining < cost) {
             slices = 0;
         }
@@ -250,7 +313,7 @@ static bool record_slices(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_t
         remaining -= slices * cost;
         first = false;
         m->next_slice += slices;
-        if (kind != STEP_GROUND && m->next_slice < TABLE_SLICES)
+        if (kind != STEP_GROUND && m->next_slice < slices_of(kind))
             return false;
         m->step++;
         m->next_slice = 0;
@@ -329,7 +392,8 @@ double ms_refine_progress(const struct ms_refine *m)
     if (m->state == STATE_EMPTY)
         return 0.0;
     double per_step = 1.0 / STEP_COUNT;
-    double within = m->steps[m->step].kind == STEP_GROUND ? 0.0 : (double)m->next_slice / TABLE_SLICES;
+    enum step_kind kind = m->steps[m->step].kind;
+    double within = kind == STEP_GROUND ? 0.0 : (double)m->next_slice / slices_of(kind);
     return (m->step + within) * per_step;
 }
 

@@ -35,7 +35,8 @@ void ms_refine_bind(struct vk_context *ctx, struct ms_refine *refine,
 /* The table the sky-view reads: all orders >= 2 of radiance per unit sun illuminance. */
 const struct gpu_image *ms_refine_table(const struct ms_refine *refine);
 /* One of its images by name, for tests: "ms_sum" (the table), "ms_density", "ms_ground",
- * "ms_radiance_even" and "ms_radiance_odd" (the last two orders' radiance); NULL for another. */
+ * "ms_moments", "ms_radiance_even" and "ms_radiance_odd" (the last two orders' radiance); NULL
+ * for another. */
 const struct gpu_image *ms_refine_image(const struct ms_refine *refine, const char *name);
 
 /* One frame's step. `displayed` is the atmosphere the frame is shaded with and `settled` whether

@@ -43,32 +43,49 @@ float ms_unit_to_mu_s(float x)
     return d == 0.0 ? 1.0 : clamp((H * H - d * d) / (2.0 * bottom * d), -1.0, 1.0);
 }
 
-// Texture coordinates (u of one nu slice, v, w) and the nu coordinate in [0, 1].
-vec4 ms_coords(float r, float mu, float mu_s, float nu)
+// The w coordinate (altitude) of a radius.
+float ms_r_coord(float r)
 {
     float bottom = bottom_radius(), top = top_radius();
     float H = sqrt(max(0.0, top * top - bottom * bottom));
     r = clamp(r, bottom, top);
     float rho = sqrt(max(0.0, r * r - bottom * bottom));
-    float u_r = unit_to_sub_uv(rho / H, MS_R);
+    return unit_to_sub_uv(rho / H, MS_R);
+}
+
+// The u coordinate of a sun zenith within one nu slice.
+float ms_mu_s_coord(float mu_s)
+{
+    return unit_to_sub_uv(clamp(ms_mu_s_to_unit(mu_s), 0.0, 1.0), MS_MU_S);
+}
+
+// The v coordinate (view zenith) at radius r.
+float ms_mu_coord(float r, float mu)
+{
+    float bottom = bottom_radius(), top = top_radius();
+    float H = sqrt(max(0.0, top * top - bottom * bottom));
+    r = clamp(r, bottom, top);
+    float rho = sqrt(max(0.0, r * r - bottom * bottom));
     float r_mu = r * mu;
     float disc = r_mu * r_mu - r * r + bottom * bottom;
-    float u_mu;
     float half_mu = MS_MU * 0.5;
     if (mu < 0.0 && disc >= 0.0) {
         float d = -r_mu - sqrt(disc);
         float d_min = r - bottom, d_max = rho;
         float x = d_max == d_min ? 0.0 : clamp((d - d_min) / (d_max - d_min), 0.0, 1.0);
-        u_mu = 0.5 - 0.5 * unit_to_sub_uv(x, half_mu);
-    } else {
-        float d = -r_mu + sqrt(max(0.0, disc + H * H));
-        float d_min = top - r, d_max = rho + H;
-        float x = clamp((d - d_min) / max(d_max - d_min, 1e-6), 0.0, 1.0);
-        u_mu = 0.5 + 0.5 * unit_to_sub_uv(x, half_mu);
+        return 0.5 - 0.5 * unit_to_sub_uv(x, half_mu);
     }
-    float u_mu_s = unit_to_sub_uv(clamp(ms_mu_s_to_unit(mu_s), 0.0, 1.0), MS_MU_S);
-    float u_nu = clamp((nu + 1.0) * 0.5, 0.0, 1.0);
-    return vec4(u_mu_s, u_mu, u_r, u_nu);
+    float d = -r_mu + sqrt(max(0.0, disc + H * H));
+    float d_min = top - r, d_max = rho + H;
+    float x = clamp((d - d_min) / max(d_max - d_min, 1e-6), 0.0, 1.0);
+    return 0.5 + 0.5 * unit_to_sub_uv(x, half_mu);
+}
+
+// Texture coordinates (u of one nu slice, v, w) and the nu coordinate in [0, 1].
+vec4 ms_coords(float r, float mu, float mu_s, float nu)
+{
+    return vec4(ms_mu_s_coord(mu_s), ms_mu_coord(r, mu), ms_r_coord(r),
+                clamp((nu + 1.0) * 0.5, 0.0, 1.0));
 }
 
 // The (r, mu, mu_s, nu) of a texel's centre (the inverse of ms_coords).
@@ -108,16 +125,23 @@ void ms_directions(float mu, float mu_s, float nu, out vec3 view, out vec3 sun)
     sun = vec3(sx, sqrt(max(0.0, 1.0 - sx * sx - mu_s * mu_s)), mu_s);
 }
 
-// A value of the table at (r, mu, mu_s, nu), interpolated in all four.
-vec3 ms_lookup(sampler3D table, float r, float mu, float mu_s, float nu)
+// A value of the table at coordinates c (ms_coords), interpolated in all four: the
+// altitude and sun zenith of a texel are the same for all the directions around it, so
+// callers that integrate over directions compute those coordinates once.
+vec3 ms_lookup_coords(sampler3D table, vec4 c)
 {
-    vec4 c = ms_coords(r, mu, mu_s, nu);
     float t = c.w * (MS_NU - 1.0);
     float i = min(floor(t), MS_NU - 2.0);
     float f = t - i;
     vec3 a = textureLod(table, vec3((i + c.x) / MS_NU, c.y, c.z), 0.0).rgb;
     vec3 b = textureLod(table, vec3((i + 1.0 + c.x) / MS_NU, c.y, c.z), 0.0).rgb;
     return mix(a, b, f);
+}
+
+// A value of the table at (r, mu, mu_s, nu), interpolated in all four.
+vec3 ms_lookup(sampler3D table, float r, float mu, float mu_s, float nu)
+{
+    return ms_lookup_coords(table, ms_coords(r, mu, mu_s, nu));
 }
 
 // The same, geometric rather than linear in mu_s: where the sun sets the light falls off about

@@ -52,7 +52,8 @@
 #define SKY_MS_R 8
 #define SKY_MS_GROUND 62
 #define SKY_MS_MU_S_MIN (-0.2) /* the sun 11.5 deg below the horizon: darker is zero */
-#define SKY_MS_LOCAL 32 /* texels per workgroup: the slice of the amortized build */
+#define SKY_MS_LOCAL 8 /* texels per workgroup: the slice of the amortized build */
+#define SKY_MS_CONST_HIGHER 0 /* ms_radiance: orders >= 2; ms_density: orders >= 3 */
 
 /* ms_radiance.comp: one order's radiance; orders >= 2 add into the sum. */
 #define SKY_MS_RADIANCE_ATMOSPHERE 0
@@ -68,13 +69,24 @@
     X(SKY_MS_RADIANCE_PREVIOUS, SAMPLED) X(SKY_MS_RADIANCE_OUT, IMAGE)                       \
     X(SKY_MS_RADIANCE_SUM, IMAGE)
 
-/* ms_density.comp: the next order's scattering density from an order's radiance. */
+/* ms_moments.comp: an order's second moments per (mu_s, r), 4 texels each, for Rayleigh. */
+#define SKY_MS_MOMENTS 4
+#define SKY_MS_MOMENTS_ATMOSPHERE 0
+#define SKY_MS_MOMENTS_RADIANCE 1
+#define SKY_MS_MOMENTS_OUT 2
+#define SKY_LAYOUT_MS_MOMENTS(X)                                                           \
+    X(SKY_MS_MOMENTS_ATMOSPHERE, BLOCK) X(SKY_MS_MOMENTS_RADIANCE, SAMPLED)                  \
+    X(SKY_MS_MOMENTS_OUT, IMAGE)
+
+/* ms_density.comp: the next order's scattering density from an order's radiance (Mie) and its
+ * moments (Rayleigh). */
 #define SKY_MS_DENSITY_ATMOSPHERE 0
 #define SKY_MS_DENSITY_RADIANCE 1
 #define SKY_MS_DENSITY_OUT 2
+#define SKY_MS_DENSITY_MOMENTS 3
 #define SKY_LAYOUT_MS_DENSITY(X)                                                           \
     X(SKY_MS_DENSITY_ATMOSPHERE, BLOCK) X(SKY_MS_DENSITY_RADIANCE, SAMPLED)                  \
-    X(SKY_MS_DENSITY_OUT, IMAGE)
+    X(SKY_MS_DENSITY_OUT, IMAGE) X(SKY_MS_DENSITY_MOMENTS, SAMPLED)
 
 /* ms_ground.comp: an order's ground irradiance. */
 #define SKY_MS_GROUND_ATMOSPHERE 0
