@@ -212,15 +212,16 @@ const vec2 DETAIL_FADE_KM = vec2(0.1, 0.3);
 const int EMPTY_RUN = 3;
 // Dense cloud (a storm's core holds 60 optical depths per km): a step that enters it over more
 // than ENTRY_TAU optical depths would put the visible surface wherever its jittered sample
-// fell, grain and bands of the step's length on every tower. The march backs up to the last
+// fell, grain and bands of the step's length on every tower. (ENTRY_TAU 1 and STEP_TAU 0.5
+// resolve storms a little better, but refine most fair cumulus too: 10 % more frame.) The march backs up to the last
 // empty sample and comes in again in steps of 1 / REFINE of it, and inside takes steps of
 // STEP_TAU optical depths, between 1 and 2 / REFINE of the step (the thin fringe it comes
 // through first must not take a whole step again), for at most REFINED_SAMPLES samples and until
 // the view's transmittance has fallen to REFINED_T of what it was at the surface: deeper, the
 // surface's place no longer shows, and short steps through a whole cloud would spend the loop's
 // samples before the clouds behind it.
-const float ENTRY_TAU = 1.0;
-const float STEP_TAU = 0.5;
+const float ENTRY_TAU = 4.0;
+const float STEP_TAU = 1.0;
 const float REFINE = 8.0;
 const float REFINED_T = 0.05;
 const float REFINED_SAMPLES = 3.0 * REFINE;
