@@ -277,6 +277,8 @@ bool sky_world_state_set_path(struct sky_world_state *state, const char *path,
 
 /* Serializes the whole state (including "revision") as a new cJSON object; NULL on OOM. */
 struct cJSON *sky_world_state_to_json(const struct sky_world_state *state);
+/* The same as compact JSON text (malloc'd; free() it); NULL on OOM. */
+char *sky_world_state_to_text(const struct sky_world_state *state);
 
 /* Checks cross-field consistency of a complete state; fills errors. */
 bool sky_world_state_validate(const struct sky_world_state *state, struct sky_field_errors *errors);

@@ -308,3 +308,11 @@ cJSON *sky_world_state_to_json(const struct sky_world_state *state)
     }
     return root;
 }
+
+char *sky_world_state_to_text(const struct sky_world_state *state)
+{
+    cJSON *json = sky_world_state_to_json(state);
+    char *text = json ? cJSON_PrintUnformatted(json) : NULL;
+    cJSON_Delete(json);
+    return text;
+}

@@ -4,17 +4,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cjson/cJSON.h>
-
 #include "json_guard.h"
 #include "state_store.h"
 
 char *world_codec_state_text(const struct sky_world_state *state)
 {
-    cJSON *json = sky_world_state_to_json(state);
-    char *text = json ? cJSON_PrintUnformatted(json) : NULL;
-    cJSON_Delete(json);
-    return text;
+    return sky_world_state_to_text(state);
 }
 
 bool world_codec_parse_state(const char *text, struct sky_world_state *state, char *why,

@@ -85,9 +85,7 @@ static void node_commit(struct node *n, const struct sky_world_state *changed)
 /* The state written to JSON and read back as state_store does. */
 static void through_json(const struct sky_world_state *state, struct sky_world_state *out)
 {
-    cJSON *json = sky_world_state_to_json(state);
-    char *text = cJSON_PrintUnformatted(json);
-    cJSON_Delete(json);
+    char *text = sky_world_state_to_text(state);
     cJSON *root = cJSON_Parse(text);
     free(text);
     cJSON_DeleteItemFromObjectCaseSensitive(root, "revision");
@@ -104,19 +102,11 @@ static void through_json(const struct sky_world_state *state, struct sky_world_s
     cJSON_Delete(root);
 }
 
-static char *state_text(const struct sky_world_state *state)
-{
-    cJSON *json = sky_world_state_to_json(state);
-    char *text = cJSON_PrintUnformatted(json);
-    cJSON_Delete(json);
-    return text;
-}
-
 /* Bit for bit: every field's JSON (numbers to 17 digits) and the doubles the text rounds. */
 static bool same_world(const char *what, const struct sky_world_state *a,
                        const struct sky_world_state *b)
 {
-    char *ta = state_text(a), *tb = state_text(b);
+    char *ta = sky_world_state_to_text(a), *tb = sky_world_state_to_text(b);
     struct sky_weather_params pa, pb;
     sky_weather_params_get(a, &pa);
     sky_weather_params_get(b, &pb);

@@ -44,14 +44,6 @@ static void load_preset(const char *name, struct sky_world_state *state)
     CHECK(ok);
 }
 
-static char *state_text(const struct sky_world_state *state)
-{
-    cJSON *json = sky_world_state_to_json(state);
-    char *text = cJSON_PrintUnformatted(json);
-    cJSON_Delete(json);
-    return text;
-}
-
 static void test_clock(void)
 {
     struct sky_world_state s, before;
@@ -328,12 +320,12 @@ static void test_determinism(void)
     struct sky_world_state a, b, c, d;
     run_autopilot(7, 600, 600, &a);
     run_autopilot(7, 600, 600, &b);
-    char *ta = state_text(&a), *tb = state_text(&b);
+    char *ta = sky_world_state_to_text(&a), *tb = sky_world_state_to_text(&b);
     CHECK(strcmp(ta, tb) == 0); /* same seed, same steps: identical */
     free(tb);
     run_autopilot(7, 600, 1, &c);
     /* Step sizes: the weather and the wind offsets are functions of time, bit for bit. */
-    char *tc = state_text(&c);
+    char *tc = sky_world_state_to_text(&c);
     CHECK(strcmp(ta, tc) == 0);
     free(tc);
     CHECK(c.clock.utc_unix_s == a.clock.utc_unix_s);
@@ -348,7 +340,7 @@ static void test_determinism(void)
     CHECK(fabs(c.weather.offset_east_km) + fabs(c.weather.offset_north_km) > 50);
     /* Another seed, another weather. */
     run_autopilot(8, 600, 600, &b);
-    tb = state_text(&b);
+    tb = sky_world_state_to_text(&b);
     CHECK(strcmp(ta, tb) != 0);
     free(ta);
     free(tb);
