@@ -8,7 +8,7 @@ import socket
 import subprocess
 import time
 
-from serve_harness import Daemon, info, make_config
+from serve_harness import Daemon, info, make_config, stop_process
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CONFIG_DIR = os.path.normpath(os.path.join(HERE, "..", "..", "config"))
@@ -102,13 +102,7 @@ class Redis:
         raise RuntimeError(f"redis-server on port {self.port} did not start; see {self.log_path}")
 
     def stop(self, sig=signal.SIGTERM):
-        if self.proc and self.proc.poll() is None:
-            self.proc.send_signal(sig)
-            try:
-                self.proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
+        stop_process(self.proc, sig, timeout=10)
         self.proc = None
 
 
@@ -144,13 +138,7 @@ class Haproxy:
         return f"ws://127.0.0.1:{self.port}/"
 
     def stop(self):
-        if self.proc and self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
+        stop_process(self.proc, timeout=10)
         self.proc = None
 
 

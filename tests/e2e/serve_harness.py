@@ -142,6 +142,20 @@ def daemon_environment():
     return env
 
 
+def stop_process(proc, sig=signal.SIGTERM, timeout=EXIT_TIMEOUT):
+    """Sends `sig` to a running process and waits `timeout` s for it, then kills it. Returns
+    the exit status (None if it had to be killed, or when there is no process)."""
+    if proc is None or proc.poll() is not None:
+        return proc.poll() if proc else None
+    proc.send_signal(sig)
+    try:
+        return proc.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+        return None
+
+
 class Daemon:
     def __init__(self, skyd, scratch, name, config, env=None, args=None):
         self.skyd = skyd
@@ -229,15 +243,7 @@ class Daemon:
 
     def terminate(self):
         """SIGTERM; returns the exit status (None if it had to be killed)."""
-        if self.proc is None or self.proc.poll() is not None:
-            return self.proc.poll() if self.proc else None
-        self.proc.send_signal(signal.SIGTERM)
-        try:
-            return self.proc.wait(timeout=EXIT_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            self.proc.wait()
-            return None
+        return stop_process(self.proc)
 
     async def terminate_async(self):
         return await asyncio.get_running_loop().run_in_executor(None, self.terminate)
@@ -525,5 +531,12 @@ def run_daemon_test(run, doc, timeout_s):
         asyncio.run(asyncio.wait_for(run(skyd, scratch), timeout_s))
     except asyncio.TimeoutError:
         check(f"whole run within {timeout_s} s", False, "timed out")
-    print(f"{passed} passed, {failed} failed")
+    return summary()
+
+
+def summary(started=None):
+    """Prints "N passed, M failed" (with the seconds since `started`, a time.monotonic()
+    reading, when given) and returns the exit status: 0 when nothing failed."""
+    took = f" in {time.monotonic() - started:.1f} s" if started is not None else ""
+    print(f"{passed} passed, {failed} failed{took}")
     return 0 if failed == 0 else 1

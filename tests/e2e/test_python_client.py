@@ -285,9 +285,7 @@ def main():
         asyncio.run(asyncio.wait_for(run(skyd, scratch), 240))
     except asyncio.TimeoutError:
         check("whole run within 240 s", False, "timed out")
-    print(f"{serve_harness.passed} passed, {serve_harness.failed} failed "
-          f"in {time.monotonic() - started:.1f} s")
-    return 0 if serve_harness.failed == 0 else 1
+    return serve_harness.summary(started)
 
 
 if __name__ == "__main__":

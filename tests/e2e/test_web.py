@@ -33,7 +33,8 @@ import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import serve_harness  # noqa: E402
-from serve_harness import TOKEN, Client, Daemon, check, info, make_config  # noqa: E402
+from serve_harness import (TOKEN, Client, Daemon, check, info, make_config,  # noqa: E402
+                           stop_process)
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMEDRIVER = "/usr/bin/chromedriver"
@@ -158,12 +159,7 @@ class WebDriver:
                 self.call("DELETE", self.s(""))
         except (RuntimeError, urllib.error.URLError, ConnectionError):
             pass
-        self.proc.terminate()
-        try:
-            self.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            self.proc.wait()
+        stop_process(self.proc, timeout=10)
         self.log.close()
 
 
@@ -499,9 +495,7 @@ def main():
             wd.quit()
         status = daemon.terminate()
         check("skyd exits 0 on SIGTERM", status == 0, f"status {status}; {daemon.log_tail()}")
-    print(f"{serve_harness.passed} passed, {serve_harness.failed} failed "
-          f"in {time.monotonic() - started:.1f} s")
-    return 0 if serve_harness.failed == 0 else 1
+    return serve_harness.summary(started)
 
 
 if __name__ == "__main__":

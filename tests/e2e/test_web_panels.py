@@ -376,9 +376,7 @@ def main():
             wd.quit()
         status = daemon.terminate()
         check("skyd exits 0 on SIGTERM", status == 0, f"status {status}; {daemon.log_tail()}")
-    print(f"{serve_harness.passed} passed, {serve_harness.failed} failed "
-          f"in {time.monotonic() - started:.1f} s")
-    return 0 if serve_harness.failed == 0 else 1
+    return serve_harness.summary(started)
 
 
 if __name__ == "__main__":
