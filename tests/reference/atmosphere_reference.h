@@ -106,6 +106,23 @@ void ref_radiance_mc(const struct ref_atmosphere *a, double altitude, const doub
                      const double sun_dir[3], int min_order, int max_order, int paths,
                      uint64_t seed, int threads, double out[3], double std_error[3]);
 
+/* How the Monte Carlo estimates the sunlight scattered on each segment of a path.
+ *   REF_MC_SUNLIT_SEGMENTS (what every function here uses): a segment whose line crosses the
+ *     planet's shadow gets the expected value of its sun-lit in-scattering from points drawn
+ *     in its sunlit parts only; the others from the path's collision on them. In twilight
+ *     most collisions fall in the shadow and the light comes from a thin sunlit stretch far
+ *     up, so this cuts the variance there by a large factor.
+ *   REF_MC_COLLISION_ONLY: every segment from its collision alone (the simpler estimator;
+ *     the tests check that the two agree). */
+enum ref_mc_estimator { REF_MC_SUNLIT_SEGMENTS, REF_MC_COLLISION_ONLY };
+
+/* ref_radiance_mc with a chosen estimator. */
+void ref_radiance_mc_estimator(const struct ref_atmosphere *a, double altitude,
+                               const double view_dir[3], const double sun_dir[3], int min_order,
+                               int max_order, int paths, uint64_t seed, int threads,
+                               enum ref_mc_estimator estimator, double out[3],
+                               double std_error[3]);
+
 /* Total radiance of orders 1..max_order: order 1 from ref_single_scattering, orders
  * 2..max_order from ref_radiance_mc (same paths, seeds and result as that call).
  * std_error is that of the Monte Carlo part. Cost on 2 threads for the Earth defaults,

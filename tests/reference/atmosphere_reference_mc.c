@@ -95,6 +95,7 @@ struct mc_setup {
     double sun[3], cam[3], view[3];
     int mode; /* 0 radiance along view; +1/-1 cosine-weighted about +z / -z, times pi */
     int min_order, max_order;
+    int estimator; /* enum ref_mc_estimator */
     long first, count, nblocks; /* the batch being run */
     uint64_t seed;
     double (*blocks)[6];
@@ -117,13 +118,138 @@ static double kernel(const struct ref_atmosphere *a, int ch, const double sr[3],
     return sr[ch] * ref_phase_rayleigh(c) + sm[ch] * ref_phase_mie(c, a->mie_g[ch]);
 }
 
+/* The planet's shadow on the line o + t d (d unit length): the points y with y.s < 0 and
+ * |y|^2 - (y.s)^2 < R^2, i.e. those whose ray toward the sun s meets the planet. It is one
+ * interval (t0, t1), possibly unbounded; returns 0 when the line does not cross it. */
+static int shadow_interval(const double o[3], const double d[3], const double s[3], double R,
+                           double *t0, double *t1)
+{
+    double os = dot3(o, s), ds = dot3(d, s);
+    /* |y|^2 - (y.s)^2 - R^2 = qa t^2 + 2 qb t + qc */
+    double qa = 1.0 - ds * ds, qb = dot3(o, d) - os * ds, qc = dot3(o, o) - os * os - R * R;
+    double lo = -HUGE_VAL, hi = HUGE_VAL;
+    if (qa > 1e-15) {
+        double disc = qb * qb - qa * qc;
+        if (disc <= 0) return 0;
+        double q = -(qb + copysign(sqrt(disc), qb)); /* the roots without cancellation */
+        double r1 = q / qa, r2 = q != 0 ? qc / q : r1;
+        lo = fmin(r1, r2), hi = fmax(r1, r2);
+    } else if (qc >= 0) {
+        return 0;
+    }
+    if (ds > 0) hi = fmin(hi, -os / ds);
+    else if (ds < 0) lo = fmax(lo, -os / ds);
+    else if (os >= 0) return 0;
+    if (!(lo < hi)) return 0;
+    *t0 = lo, *t1 = hi;
+    return 1;
+}
+
+/* Columns from the start of m's ray to distance t (within its pieces). */
+static void march_column_at(const struct ctx *c, const struct march *m, double t, double col[4])
+{
+    int k = 0, hi_k = m->n - 1;
+    while (k < hi_k) {
+        int mid = (k + hi_k + 1) / 2;
+        if (m->t[mid] <= t) k = mid;
+        else hi_k = mid - 1;
+    }
+    double acc[4];
+    ref_medium_gl5(c, &m->r, m->t[k], fmin(fmax(t, m->t[k]), m->t[k + 1]), acc);
+    for (int q = 0; q < 4; ++q) col[q] = m->col[k][q] + acc[q];
+}
+
+/* Next-event estimation over a whole segment whose line crosses the planet's shadow: its
+ * expected value beta * integral of T(0, t) sigma_s(t) p(d.s) T_sun(t) dt is estimated from
+ * SUNLIT_SAMPLES points per channel drawn, stratified, from that channel's free-flight
+ * density restricted to the sunlit parts of the segment, combined by the balance heuristic
+ * (Veach 1997, eq. 9.13). In twilight the sunlit part is a thin, far stretch of the segment
+ * that a collision drawn from the whole segment rarely reaches; here every path gets it.
+ * Returns 0, adding nothing, when the segment does not meet the shadow: the caller then keeps
+ * its estimate at the path's own collision, which is as good there and costs nothing more. */
+#define SUNLIT_SAMPLES 2
+static int sunlit_segment_nee(const struct mc_setup *S, const struct march *m, const int act[3],
+                              int nact, const double beta[3], uint64_t *g, struct march *ms,
+                              double out[3])
+{
+    const struct ctx *c = &S->seg;
+    double t0, t1, ta = m->t[0], tb = m->t[m->n];
+    if (!shadow_interval(m->r.o, m->r.d, S->sun, c->R, &t0, &t1) || t1 <= ta || t0 >= tb)
+        return 0;
+    double iv[2][2], mass[3][2], top[3][2], width[3][2], total[3] = {0, 0, 0};
+    int ni = 0;
+    if (t0 > ta) iv[ni][0] = ta, iv[ni][1] = t0, ++ni;
+    if (t1 < tb) iv[ni][0] = t1, iv[ni][1] = tb, ++ni;
+    for (int i = 0; i < ni; ++i) {
+        double ca[4], cb[4];
+        march_column_at(c, m, iv[i][0], ca);
+        march_column_at(c, m, iv[i][1], cb);
+        for (int ch = 0; ch < 3; ++ch) {
+            double tau_a = tau_ch(c, ch, ca), tau_b = tau_ch(c, ch, cb);
+            top[ch][i] = tau_a;
+            width[ch][i] = -expm1(-(tau_b - tau_a));
+            mass[ch][i] = exp(-tau_a) * width[ch][i]; /* integral of sigma_t T over the part */
+            total[ch] += mass[ch][i];
+        }
+    }
+    int lit[3], nlit = 0;
+    for (int i = 0; i < nact; ++i)
+        if (total[act[i]] > 0) lit[nlit++] = act[i];
+    double cos_sun = dot3(m->r.d, S->sun);
+    for (int i = 0; i < nlit; ++i) {
+        int j = lit[i];
+        for (int k = 0; k < SUNLIT_SAMPLES; ++k) {
+            double u = (k + rng_u(g)) / SUNLIT_SAMPLES * total[j];
+            int p = ni > 1 && u >= mass[j][0];
+            double f = fmin(1.0, (p ? u - mass[j][0] : u) / fmax(mass[j][p], 1e-300));
+            double col[4], st[3], sr[3], sm[3], x[3], Ts[3], pdf = 0.0;
+            double t = march_sample(c, m, j, top[j][p] - log1p(-f * width[j][p]), col);
+            along(m->r.o, m->r.d, t, x);
+            local_coefs(c, ray_radius(&m->r, t), st, sr, sm);
+            for (int q = 0; q < nlit; ++q) /* the balance heuristic's summed densities */
+                pdf += SUNLIT_SAMPLES * st[lit[q]] * exp(-tau_ch(c, lit[q], col)) / total[lit[q]];
+            if (!(pdf > 0)) continue;
+            ref_medium_transmittance_to_top(c, x, S->sun, ms, Ts);
+            for (int ch = 0; ch < 3; ++ch)
+                out[ch] += beta[ch] * exp(-tau_ch(c, ch, col)) *
+                           kernel(S->a, ch, sr, sm, cos_sun) * Ts[ch] / pdf;
+        }
+    }
+    return 1;
+}
+
+/* Whether the sun s is hidden by the planet from x (see shadow_interval). */
+static int in_shadow(const double x[3], const double s[3], double R)
+{
+    double xs = dot3(x, s);
+    return xs < 0 && dot3(x, x) - xs * xs < R * R;
+}
+
+/* Directions from a shadowed point: a share GUIDE_SHARE drawn from a Henyey-Greenstein lobe
+ * of asymmetry GUIDE_G about the sun, the rest as before (phase function or cosine), and
+ * weighted by the mixture's density, so the estimate stays unbiased and never costs more
+ * than 1 / (1 - GUIDE_SHARE) times the variance of before (a defensive mixture, Hesterberg
+ * 1995). The twilight sky seen from the shadow is brightest toward the sun just above the
+ * horizon, a small part of the sphere that phase or cosine sampling rarely visits. */
+#ifndef GUIDE_SHARE
+#define GUIDE_SHARE 0.5
+#endif
+#ifndef GUIDE_G
+#define GUIDE_G 0.8
+#endif
+static double guide_pdf(const double s[3], const double w[3])
+{
+    double den = 1.0 + GUIDE_G * GUIDE_G - 2.0 * GUIDE_G * dot3(s, w);
+    return (1.0 - GUIDE_G * GUIDE_G) / (4.0 * REF_PI * den * sqrt(den));
+}
+
 /* One path from the camera along dir; out gets its estimate of orders min..max. On every
  * segment the volume vertex is a forced collision (density sigma_t T / (1 - T(L)) per
  * channel, mixed evenly over the channels); a segment that ends on the ground also yields
  * the ground vertex with weight T(L). Both get next-event estimation toward the sun, and
  * the path continues from one of them, chosen by its expected throughput. */
 static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, struct march *m,
-                  double out[3])
+                  struct march *ms, double out[3])
 {
     const struct ctx *c = &S->seg;
     const struct ref_atmosphere *a = S->a;
@@ -162,23 +288,45 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
         }
         if (!has_v && !m->ground) break;
         if (k >= S->min_order) {
+            /* its own random stream, so that the path itself is drawn as without it */
+            uint64_t h = *g ^ 0x5851F42D4C957F2Dull, gn = splitmix64(&h);
+            int segment_done = S->estimator == REF_MC_SUNLIT_SEGMENTS && nact > 0 &&
+                               sunlit_segment_nee(S, m, act, nact, beta, &gn, ms, out);
             // ground: albedo/pi * cos * T_sun; volume: sigma_s * phase * T_sun
             for (int ch = 0; ch < 3; ++ch)
                 w[ch] = bg[ch] * a->ground_albedo[ch] / REF_PI * fmax(0.0, dot3(ng, S->sun));
-            nee(S, xg, w, m, out);
+            nee(S, xg, w, ms, out);
             for (int ch = 0; ch < 3; ++ch)
-                w[ch] = has_v ? bv[ch] * kernel(a, ch, sr, sm, dot3(d, S->sun)) : 0.0;
-            nee(S, xv, w, m, out);
+                w[ch] = has_v && !segment_done ? bv[ch] * kernel(a, ch, sr, sm, dot3(d, S->sun))
+                                               : 0.0;
+            nee(S, xv, w, ms, out);
         }
         if (k == S->max_order) break;
         for (int ch = 0; ch < 3; ++ch)
             wg += bg[ch] * a->ground_albedo[ch], wv += has_v ? bv[ch] * (sr[ch] + sm[ch]) : 0.0;
         if (!(wg + wv > 0)) break;
         double pg = wg / (wg + wv);
-        if (pg > 0 && (pg >= 1 || rng_u(g) < pg)) {
-            double u1 = rng_u(g), u2 = rng_u(g);
-            dir_about(ng, sqrt(1.0 - u1), 2.0 * REF_PI * u2, nd); /* cosine-weighted */
-            for (int ch = 0; ch < 3; ++ch) beta[ch] = bg[ch] * a->ground_albedo[ch] / pg;
+        int on_ground = pg > 0 && (pg >= 1 || rng_u(g) < pg);
+        const double *xn = on_ground ? xg : xv;
+        /* From a point in the planet's shadow, part of the directions go to a lobe about the
+         * sun: the twilight glow it sees is brightest there (see guide_pdf). */
+        int guided = S->estimator == REF_MC_SUNLIT_SEGMENTS && in_shadow(xn, S->sun, c->R);
+        int to_guide = guided && rng_u(g) < GUIDE_SHARE;
+        if (to_guide) {
+            double u = rng_u(g), sq = (1.0 - GUIDE_G * GUIDE_G) / (1.0 - GUIDE_G + 2.0 * GUIDE_G * u);
+            dir_about(S->sun, (1.0 + GUIDE_G * GUIDE_G - sq * sq) / (2.0 * GUIDE_G),
+                      2.0 * REF_PI * rng_u(g), nd);
+        }
+        if (on_ground) {
+            if (!to_guide) {
+                double u1 = rng_u(g), u2 = rng_u(g);
+                dir_about(ng, sqrt(1.0 - u1), 2.0 * REF_PI * u2, nd); /* cosine-weighted */
+            }
+            double cos_n = fmax(0.0, dot3(ng, nd)), pdf = cos_n / REF_PI;
+            if (guided) pdf = (1.0 - GUIDE_SHARE) * pdf + GUIDE_SHARE * guide_pdf(S->sun, nd);
+            for (int ch = 0; ch < 3; ++ch) /* albedo/pi * cos / pdf: the albedo without guiding */
+                beta[ch] = cos_n > 0 ? bg[ch] * a->ground_albedo[ch] / REF_PI * cos_n / pdf / pg
+                                     : 0.0;
             memcpy(x, xg, sizeof x);
         } else {
             /* phase mixture: a channel evenly among the scattering ones, then Rayleigh or
@@ -186,13 +334,16 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
             int sc[3], ns = 0;
             for (int ch = 0; ch < 3; ++ch)
                 if (sr[ch] + sm[ch] > 0) sc[ns++] = ch;
-            int j = sc[(int)(rng_u(g) * ns)];
-            double ct = rng_u(g) * (sr[j] + sm[j]) < sr[j] ? sample_rayleigh(rng_u(g))
-                                                           : sample_cs(a->mie_g[j], g);
-            dir_about(d, ct, 2.0 * REF_PI * rng_u(g), nd);
-            double pdf = 0.0;
+            if (!to_guide) {
+                int j = sc[(int)(rng_u(g) * ns)];
+                double ct = rng_u(g) * (sr[j] + sm[j]) < sr[j] ? sample_rayleigh(rng_u(g))
+                                                               : sample_cs(a->mie_g[j], g);
+                dir_about(d, ct, 2.0 * REF_PI * rng_u(g), nd);
+            }
+            double ct = fmax(-1.0, fmin(1.0, dot3(d, nd))), pdf = 0.0;
             for (int i = 0; i < ns; ++i)
                 pdf += kernel(a, sc[i], sr, sm, ct) / (sr[sc[i]] + sm[sc[i]]) / ns;
+            if (guided) pdf = (1.0 - GUIDE_SHARE) * pdf + GUIDE_SHARE * guide_pdf(S->sun, nd);
             for (int ch = 0; ch < 3; ++ch)
                 beta[ch] = bv[ch] / (1.0 - pg) * kernel(a, ch, sr, sm, ct) / pdf;
             memcpy(x, xv, sizeof x);
@@ -213,7 +364,7 @@ static void *worker_main(void *arg)
 {
     const struct worker *w = arg;
     const struct mc_setup *S = w->S;
-    struct march *m = malloc(sizeof *m);
+    struct march *m = malloc(2 * sizeof *m), *ms = m ? m + 1 : NULL;
     for (long b = w->id; m && b < S->nblocks; b += w->nthreads) {
         double sums[6] = {0, 0, 0, 0, 0, 0};
         long begin = S->first + b * PATH_BLOCK, end = begin + PATH_BLOCK;
@@ -228,7 +379,7 @@ static void *worker_main(void *arg)
                 dir_about(axis, sqrt(1.0 - u1), 2.0 * REF_PI * u2, dir);
                 scale = REF_PI; // E = pi * E[L] for cosine-weighted directions
             }
-            trace(S, dir, &g, m, v);
+            trace(S, dir, &g, m, ms, v);
             for (int ch = 0; ch < 3; ++ch)
                 sums[ch] += scale * v[ch], sums[3 + ch] += scale * v[ch] * scale * v[ch];
         }
@@ -303,13 +454,23 @@ static void mc_run(struct mc_setup *S, int paths, int threads, double out[3], do
     free(S);
 }
 
+void ref_radiance_mc_estimator(const struct ref_atmosphere *a, double altitude,
+                               const double view_dir[3], const double sun_dir[3], int min_order,
+                               int max_order, int paths, uint64_t seed, int threads,
+                               enum ref_mc_estimator estimator, double out[3],
+                               double std_error[3])
+{
+    struct mc_setup *S = mc_setup_new(a, altitude, sun_dir, min_order, max_order, seed);
+    if (S) normalize3(view_dir, S->view), S->estimator = estimator;
+    mc_run(S, paths, threads, out, std_error);
+}
+
 void ref_radiance_mc(const struct ref_atmosphere *a, double altitude, const double view_dir[3],
                      const double sun_dir[3], int min_order, int max_order, int paths,
                      uint64_t seed, int threads, double out[3], double std_error[3])
 {
-    struct mc_setup *S = mc_setup_new(a, altitude, sun_dir, min_order, max_order, seed);
-    if (S) normalize3(view_dir, S->view);
-    mc_run(S, paths, threads, out, std_error);
+    ref_radiance_mc_estimator(a, altitude, view_dir, sun_dir, min_order, max_order, paths, seed,
+                              threads, REF_MC_SUNLIT_SEGMENTS, out, std_error);
 }
 
 void ref_radiance_adaptive(const struct ref_atmosphere *a, double altitude,
@@ -332,9 +493,10 @@ void ref_radiance_adaptive(const struct ref_atmosphere *a, double altitude,
         for (int ch = 0; ch < 3; ++ch)
             worst = fmax(worst, ss[ch] + ms[ch] > 0 ? se[ch] / (ss[ch] + ms[ch]) : 0.0);
         if (!(worst > rel_error)) break;
-        /* SE ~ 1/sqrt(n): aim 10% past the paths the target needs */
-        batch = (long)fmin(1.1 * (double)n * (worst / rel_error) * (worst / rel_error), 1e9) - n +
-                PATH_BLOCK;
+        /* SE ~ 1/sqrt(n): aim 10% past the paths the target needs, but at most 4 times the
+         * paths so far: in twilight one rare path can inflate the measured error for a while */
+        batch = (long)fmin(1.1 * (double)n * (worst / rel_error) * (worst / rel_error),
+                           fmin(4.0 * (double)n, 1e9)) - n + PATH_BLOCK;
     }
     free(S);
     for (int ch = 0; ch < 3; ++ch) {

@@ -486,6 +486,52 @@ static void test_monte_carlo(void)
     check(z < 4, "two seeds agree within their standard errors: max |diff|/SE %.2f", z);
 }
 
+/* The sunlit-segment estimator (the default) against the collision-only one: the same
+ * expectation in twilight, with a standard error several times smaller for the same paths
+ * with the sun 6 deg down (and no larger nearer the horizon, where the gain is smaller); and
+ * in daylight, where no segment meets the planet's shadow, exactly the same paths. */
+static void test_twilight_estimators(void)
+{
+    struct ref_atmosphere e;
+    ref_atmosphere_earth(&e);
+    struct {
+        double vel, vaz, sel;
+    } cases[] = {{90, 0, -6}, {-90, 0, -6}, {3, 0, -6}, {10, 150, -4}, {1, 60, -2}};
+    const int paths = 20000, simple_paths = 8 * paths;
+    for (int i = 0; i < 5; ++i) {
+        double v[3], s[3], a[3], ea[3], b[3], eb[3], z = 0, gain = HUGE_VAL;
+        dir_from(cases[i].vel, cases[i].vaz, v);
+        dir_from(cases[i].sel, 0, s);
+        double t0 = now();
+        ref_radiance_mc_estimator(&e, 0, v, s, 2, 12, paths, 40 + i, THREADS,
+                                  REF_MC_SUNLIT_SEGMENTS, a, ea);
+        double t_sunlit = now() - t0;
+        t0 = now();
+        ref_radiance_mc_estimator(&e, 0, v, s, 2, 12, simple_paths, 50 + i, THREADS,
+                                  REF_MC_COLLISION_ONLY, b, eb);
+        double t_simple = now() - t0;
+        for (int c = 0; c < 3; ++c) {
+            z = fmax(z, fabs(a[c] - b[c]) / hypot(ea[c], eb[c]));
+            /* the collision estimator's error at the same number of paths */
+            gain = fmin(gain, eb[c] * sqrt((double)simple_paths / paths) / ea[c]);
+        }
+        check(z < 4 && gain > (cases[i].sel <= -6 ? 3.0 : 0.8),
+              "twilight estimators (view %g/%g, sun %g), orders 2-12: sunlit segments (%.4g %.4g "
+              "%.4g) +- %.2f%%, collisions (%.4g %.4g %.4g) +- %.2f%%, max |diff|/SE %.2f; "
+              "standard error at equal paths %.1f times smaller (%.2f s vs %.2f s for %d and %d "
+              "paths)",
+              cases[i].vel, cases[i].vaz, cases[i].sel, a[0], a[1], a[2], 100 * ea[2] / a[2], b[0],
+              b[1], b[2], 100 * eb[2] / b[2], z, gain, t_sunlit, t_simple, paths, simple_paths);
+    }
+    double v[3], s[3], a[3], ea[3], b[3], eb[3];
+    dir_from(20, 200, v);
+    dir_from(30, 0, s);
+    ref_radiance_mc_estimator(&e, 0, v, s, 2, 12, 4000, 7, THREADS, REF_MC_SUNLIT_SEGMENTS, a, ea);
+    ref_radiance_mc_estimator(&e, 0, v, s, 2, 12, 4000, 7, THREADS, REF_MC_COLLISION_ONLY, b, eb);
+    check(!memcmp(a, b, sizeof a) && !memcmp(ea, eb, sizeof ea),
+          "sun 30 deg up: both estimators draw the same paths (blue %.6g, %.6g)", a[2], b[2]);
+}
+
 /* ------------------------------------------------ Earth report and timings */
 
 static void report_earth(void)
@@ -525,6 +571,7 @@ int main(void)
     test_transmittance();
     test_single_scattering();
     test_monte_carlo();
+    test_twilight_estimators();
     report_earth();
     printf("%s: %d failure(s), %.1f s\n", failures ? "FAILED" : "OK", failures, now() - t0);
     return failures ? 1 : 0;
