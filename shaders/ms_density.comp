@@ -3,9 +3,11 @@
 // Converged multiple scattering, one order's scattering density (Bruneton & Neyret 2008,
 // eq. 4 with the ground's light already inside L_{n-1}): J_n(x, v) = sum over the Rayleigh and
 // Mie parts of sigma_i(x) * integral over the sphere of p_i(v . w) L_{n-1}(x, w) dw, stored
-// divided by sigma_s(x) so that it varies slowly with altitude. Rayleigh's phase is a
-// quadratic, so its integral comes from the radiance's second moments at the texel's altitude
-// and sun (ms_moments.comp: 16 zeniths x 16 azimuths, shared by every view and view-sun angle);
+// divided by sigma_s(x) so that it varies slowly with altitude, and as its logarithm so that
+// ms_radiance.comp's filtered fetches interpolate it geometrically (ms_lookup_of_log).
+// Rayleigh's phase is a quadratic, so its integral comes from the radiance's second moments at
+// the texel's altitude and sun (ms_moments.comp: 20 zeniths x 16 azimuths, shared by every view
+// and view-sun angle);
 // Mie's takes a rule stratified in its lobe around the view direction (its sharp forward peak
 // falls between the nodes of any fixed rule), normalised so that a uniform radiance is
 // scattered exactly.
@@ -96,5 +98,6 @@ void main()
     MediumSample m = sample_medium(r - bottom_radius());
     vec3 j = m.rayleigh_scattering * sum_r
              + m.mie_scattering * sum_m / max(weight_m, vec3(1e-6));
-    imageStore(density_out, texel, vec4(j / max(m.scattering, vec3(1e-12)), 1.0));
+    imageStore(density_out, texel,
+               vec4(log(max(j / max(m.scattering, vec3(1e-12)), vec3(1e-30))), 1.0));
 }

@@ -14,7 +14,9 @@ layout(binding = SKY_MS_GROUND_OUT, rgba32f) uniform writeonly image2D ground_ou
 #include "atmosphere.glsl"
 #include "ms_table.glsl"
 
-const int ZENITHS = 16;
+// 4-point Gauss-Legendre panels in cos theta graded quadratically toward the horizon, where the
+// twilight sky is brightest (ms_moments.comp).
+const int PANELS = 4;
 const int AZIMUTHS = 16;
 
 void main()
@@ -26,16 +28,21 @@ void main()
     float mu_s = ms_ground_mu_s(i);
     vec3 sun = vec3(sqrt(max(0.0, 1.0 - mu_s * mu_s)), 0.0, mu_s);
     vec3 E = vec3(0.0);
-    // Midpoint rule in cos theta over (0, 1], uniform in azimuth: cos theta dw = mu dmu dphi.
-    for (int j = 0; j < ZENITHS; j++) {
-        float c = (float(j) + 0.5) / float(ZENITHS);
-        float s = sqrt(max(0.0, 1.0 - c * c));
-        for (int k = 0; k < AZIMUTHS; k++) {
-            float phi = 2.0 * PI * (float(k) + 0.5) / float(AZIMUTHS);
-            vec3 w = vec3(s * cos(phi), s * sin(phi), c);
-            E += ms_lookup(radiance_table, bottom_radius() + 1e-3, c, mu_s, dot(w, sun)) * c;
+    // cos theta dw = mu dmu dphi, mu = u^2
+    for (int panel = 0; panel < PANELS; panel++) {
+        for (int j = 0; j < 4; j++) {
+            float u = (float(panel) + GL4_X[j]) / float(PANELS);
+            float c = u * u, dc = 2.0 * u * GL4_W[j] / float(PANELS);
+            float s = sqrt(max(0.0, 1.0 - c * c));
+            for (int k = 0; k < AZIMUTHS; k++) {
+                float phi = 2.0 * PI * (float(k) + 0.5) / float(AZIMUTHS);
+                vec3 w = vec3(s * cos(phi), s * sin(phi), c);
+                E += ms_lookup_log_cubic(radiance_table, bottom_radius() + 1e-3, c, mu_s,
+                                         dot(w, sun))
+                     * c * dc;
+            }
         }
     }
-    E *= 2.0 * PI / float(ZENITHS * AZIMUTHS);
+    E *= 2.0 * PI / float(AZIMUTHS);
     imageStore(ground_out, ivec2(i, 0), vec4(E, 1.0));
 }

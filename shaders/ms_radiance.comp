@@ -4,7 +4,7 @@
 // eq. 3): L_n(x, v) = integral of T(x, p) J_n(p, v) along the ray + T(x, g) rho / pi E_{n-1}(g)
 // when the ray ends on the ground. Order 1 is single scattering of the sun (J_1 = sigma_s p(nu)
 // T_sun) with the sunlit ground; order n >= 2 reads the scattering density J_n of
-// ms_density.comp (stored over sigma_s) and the ground irradiance E_{n-1} of ms_ground.comp.
+// ms_density.comp (the logarithm of J_n / sigma_s) and the ground irradiance E_{n-1} of ms_ground.comp.
 // Orders >= 2 add into the sum the sky-view reads; the last order adds the rest of the series
 // as a geometric tail L_N q / (1 - q), q = L_N / L_{N-1} per texel and channel.
 // A dispatch covers a range of texels (row-major), so that the work can be spread over frames.
@@ -73,7 +73,7 @@ void main()
             } else {
                 vec3 up = p / rp;
                 source = m.scattering
-                         * ms_lookup_log(density_table, rp, dot(view, up), dot(sun, up), nu);
+                         * ms_lookup_of_log(density_table, rp, dot(view, up), dot(sun, up), nu);
             }
             vec3 step_t = exp(-m.extinction * dt);
             vec3 ext = max(m.extinction, vec3(1e-9));
@@ -86,7 +86,7 @@ void main()
             float mu_g = dot(n, sun);
             vec3 irradiance = !HIGHER
                 ? sun_transmittance(g + n * 1e-3, sun) * max(mu_g, 0.0)
-                : textureLod(ground_table, vec2(ms_ground_u(mu_g), 0.5), 0.0).rgb;
+                : ms_ground_lookup(ground_table, mu_g);
             L += throughput * atmo.ground_albedo.xyz / PI * irradiance; // Lambert
         }
     }

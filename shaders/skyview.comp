@@ -68,6 +68,6 @@ void main()
              * ground_radiance_weighted(origin + m.t_end * dir, sun_dir, 1.0 - converged);
     if (converged > 0.0)
         L += converged * frame.multiple_scattering.y
-             * ms_lookup_log(ms_sum_table, r, view_zenith_cos, sun_dir.z, dot(dir, sun_dir));
+             * ms_lookup_log_cubic(ms_sum_table, r, view_zenith_cos, sun_dir.z, dot(dir, sun_dir));
     imageStore(skyview_out, px, vec4(L, 1.0));
 }

@@ -50,7 +50,7 @@
 #define SKY_MS_MU_S 31
 #define SKY_MS_MU 30
 #define SKY_MS_R 8
-#define SKY_MS_GROUND 62
+#define SKY_MS_GROUND SKY_MS_MU_S
 #define SKY_MS_MU_S_MIN (-0.2) /* the sun 11.5 deg below the horizon: darker is zero */
 #define SKY_MS_LOCAL 8 /* texels per workgroup: the slice of the amortized build */
 #define SKY_MS_CONST_HIGHER 0 /* ms_radiance: orders >= 2; ms_density: orders >= 3 */

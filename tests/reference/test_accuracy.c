@@ -1,6 +1,6 @@
 /* GPU against the independent double-precision CPU reference (tests/reference/):
  * transmittance, sky and ground luminance over a grid of view directions and sun elevations
- * from -2 to 90 degrees, and horizontal illuminance. Prints mean and max relative errors and
+ * from -6 to 90 degrees, and horizontal illuminance. Prints mean and max relative errors and
  * fails beyond the tolerances below (see docs/ACCURACY.md for the figures reached). */
 #include <math.h>
 #include <stdio.h>
@@ -32,7 +32,13 @@
 #define CONVERGED_ILLUMINANCE_MAX_REL 0.025
 
 #define REF_ORDERS 12
+/* The reference's Monte Carlo runs until its standard error is at most REF_REL_ERROR of the
+ * value, or REF_MAX_PATHS paths (which it never needs: the test checks the error reached).
+ * With the sun 6 deg down the light is a hundred times fainter and several times the paths
+ * per sample reach only 1%, ten times finer than the twilight target. */
 #define REF_REL_ERROR 0.004
+#define REF_REL_ERROR_DEEP_TWILIGHT 0.01
+#define REF_MAX_PATHS 3000000
 #define REF_THREADS 2
 
 static struct sky_renderer *renderer;
@@ -168,8 +174,8 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
     const int nv = (int)(sizeof views / sizeof *views);
     struct error_stats sky = { 0 }, sky_high = { 0 }, ground = { 0 };
     struct error_stats c_sky = { 0 }, c_ground = { 0 }, c_twilight = { 0 };
-    /* The same beyond twice the reference's standard error. */
-    struct error_stats c_sky_net = { 0 }, c_ground_net = { 0 }, c_twilight_net = { 0 };
+    /* The reference's own relative standard error over the same values (its worst). */
+    struct error_stats noise_sky = { 0 }, noise_ground = { 0 }, noise_twilight = { 0 };
     for (size_t e = 0; e < sizeof sun_elevations / sizeof *sun_elevations; e++) {
         double elevation = sun_elevations[e];
         struct sky_world_state state;
@@ -208,8 +214,9 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
             int before = (int)e - 2;
             uint64_t seed = before >= 0 ? 1234 + (uint64_t)(before * 100 + v)
                                         : 91234 + (uint64_t)(e * 100 + (size_t)v);
-            ref_radiance_adaptive(ref, 0.0, dirs[v], sun, REF_ORDERS, REF_REL_ERROR, 2000,
-                                  64000, seed, REF_THREADS, L, se, &paths);
+            ref_radiance_adaptive(ref, 0.0, dirs[v], sun, REF_ORDERS,
+                                  elevation <= -6 ? REF_REL_ERROR_DEEP_TWILIGHT : REF_REL_ERROR,
+                                  2000, REF_MAX_PATHS, seed, REF_THREADS, L, se, &paths);
             double L1[3];
             ref_single_scattering(ref, 0.0, dirs[v], sun, L1);
             double worst = 0, worst_c = 0, noise = 0;
@@ -218,11 +225,7 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
             for (int c = 0; c < 3; c++) {
                 double ref_L = L[c] * e_top[c];
                 double rel = gpu[v][c] / ref_L - 1.0, rel_c = conv[v][c] / ref_L - 1.0;
-                /* The reference's own Monte Carlo error: twice its standard error is allowed on
-                 * top of the converged path's bounds (it reaches 0.4% except in deep twilight,
-                 * where 64 000 paths leave several per cent). */
                 double se_rel = se[c] / fmax(L[c], 1e-300);
-                double rel_c_net = fmax(0.0, fabs(rel_c) - 2.0 * se_rel);
                 noise = fmax(noise, se_rel);
                 worst = fmax(worst, fabs(rel));
                 worst_c = fmax(worst_c, fabs(rel_c));
@@ -246,11 +249,11 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
                 }
                 if (elevation >= -4) {
                     add_error(is_ground ? &c_ground : &c_sky, fabs(rel_c));
-                    add_error(is_ground ? &c_ground_net : &c_sky_net, rel_c_net);
+                    add_error(is_ground ? &noise_ground : &noise_sky, se_rel);
                 }
                 if (elevation <= -2) {
                     add_error(&c_twilight, fabs(rel_c));
-                    add_error(&c_twilight_net, rel_c_net);
+                    add_error(&noise_twilight, se_rel);
                 }
             }
             printf("sun %5.1f view zenith %5.1f azimuth %5.1f: fast %10.4g %10.4g %10.4g  "
@@ -275,16 +278,16 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
     printf("fast: ground luminance: %d values, mean rel error %.2f%%, max %.2f%%\n", ground.n,
            100 * ground.sum / ground.n, 100 * ground.max);
     printf("converged: sky luminance, view zenith <= 89 deg, sun -4 to 90: %d values, mean rel "
-           "error %.2f%%, max %.2f%% (%.2f%% beyond 2 reference standard errors)\n",
-           c_sky.n, 100 * c_sky.sum / c_sky.n, 100 * c_sky.max, 100 * c_sky_net.max);
+           "error %.2f%%, max %.2f%% (reference standard error at most %.2f%%)\n",
+           c_sky.n, 100 * c_sky.sum / c_sky.n, 100 * c_sky.max, 100 * noise_sky.max);
     printf("converged: ground luminance, sun -4 to 90: %d values, mean rel error %.2f%%, max "
-           "%.2f%% (%.2f%% beyond 2 reference standard errors)\n",
+           "%.2f%% (reference standard error at most %.2f%%)\n",
            c_ground.n, 100 * c_ground.sum / c_ground.n, 100 * c_ground.max,
-           100 * c_ground_net.max);
+           100 * noise_ground.max);
     printf("converged: twilight, sun -2 to -6, all views: %d values, mean rel error %.2f%%, max "
-           "%.2f%% (%.2f%% beyond 2 reference standard errors)\n",
+           "%.2f%% (reference standard error at most %.2f%%)\n",
            c_twilight.n, 100 * c_twilight.sum / c_twilight.n, 100 * c_twilight.max,
-           100 * c_twilight_net.max);
+           100 * noise_twilight.max);
     CHECK_LE(sky_high.sum / sky_high.n, SKY_HIGH_MEAN_REL);
     CHECK_LE(sky_high.max, SKY_HIGH_MAX_REL);
     CHECK_LE(sky.sum / sky.n, SKY_ALL_MEAN_REL);
@@ -292,9 +295,13 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
     CHECK_LE(ground.sum / ground.n, GROUND_MEAN_REL);
     CHECK_LE(ground.max, GROUND_MAX_REL);
     CHECK_LE(c_sky.sum / c_sky.n, CONVERGED_SKY_MEAN_REL);
-    CHECK_LE(c_sky_net.max, CONVERGED_SKY_MAX_REL);
-    CHECK_LE(c_ground_net.max, CONVERGED_GROUND_MAX_REL);
-    CHECK_LE(c_twilight_net.max, CONVERGED_TWILIGHT_MAX_REL);
+    CHECK_LE(c_sky.max, CONVERGED_SKY_MAX_REL);
+    CHECK_LE(c_ground.max, CONVERGED_GROUND_MAX_REL);
+    CHECK_LE(c_twilight.max, CONVERGED_TWILIGHT_MAX_REL);
+    /* The reference must be fine enough for the bounds to mean something. */
+    CHECK_LE(noise_sky.max, 0.005);
+    CHECK_LE(noise_ground.max, 0.005);
+    CHECK_LE(noise_twilight.max, 0.011);
 }
 
 /* Horizontal illuminance at the ground: sun through the transmittance LUT, sky integrated
