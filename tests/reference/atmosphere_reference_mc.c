@@ -231,12 +231,8 @@ static int in_shadow(const double x[3], const double s[3], double R)
  * than 1 / (1 - GUIDE_SHARE) times the variance of before (a defensive mixture, Hesterberg
  * 1995). The twilight sky seen from the shadow is brightest toward the sun just above the
  * horizon, a small part of the sphere that phase or cosine sampling rarely visits. */
-#ifndef GUIDE_SHARE
 #define GUIDE_SHARE 0.5
-#endif
-#ifndef GUIDE_G
 #define GUIDE_G 0.8
-#endif
 static double guide_pdf(const double s[3], const double w[3])
 {
     double den = 1.0 + GUIDE_G * GUIDE_G - 2.0 * GUIDE_G * dot3(s, w);

@@ -481,6 +481,13 @@ static void test_random_samples(const struct sky_render_atmosphere *atm,
         direction(90.0 - elevation, 0.0, sun);
         CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double (*)[3])dir, 1,
                                            false, conv) == 0);
+        /* and single scattering alone, to tell where an error comes from */
+        double single[1][3], L1[3];
+        sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_NONE);
+        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double (*)[3])dir, 1,
+                                           false, single) == 0);
+        sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_CONVERGED);
+        ref_single_scattering(ref, random_run.altitude_km, dir[0], sun, L1);
         sky_sun_illuminance_top(atm, view.sun_illuminance_lux, e_top);
         int paths = 0;
         ref_radiance_adaptive(ref, random_run.altitude_km, dir[0], sun, REF_ORDERS,
@@ -488,9 +495,16 @@ static void test_random_samples(const struct sky_render_atmosphere *atm,
                               REF_MAX_PATHS, random_run.seed * 1000 + (uint64_t)k, REF_THREADS,
                               L, se, &paths);
         double bound = elevation >= -4 ? CONVERGED_SKY_MAX_REL : CONVERGED_TWILIGHT_MAX_REL;
-        double worst = 0, noise = 0;
+        double worst = 0, noise = 0, signed_rel[3], single_rel[3], ms_rel[3];
         for (int c = 0; c < 3; c++) {
-            double rel = fabs(conv[0][c] / (L[c] * e_top[c]) - 1.0);
+            double ref_L = L[c] * e_top[c], ref_1 = L1[c] * e_top[c];
+            double rel = fabs(conv[0][c] / ref_L - 1.0);
+            signed_rel[c] = 100 * (conv[0][c] / ref_L - 1.0);
+            /* a part under 0.1% of the light says nothing */
+            single_rel[c] = ref_1 > 1e-3 * ref_L ? 100 * (single[0][c] / ref_1 - 1.0) : 0.0;
+            ms_rel[c] = ref_L - ref_1 > 1e-3 * ref_L
+                            ? 100 * ((conv[0][c] - single[0][c]) / (ref_L - ref_1) - 1.0)
+                            : 0.0;
             worst = fmax(worst, rel);
             noise = fmax(noise, se[c] / L[c]);
             add_error(&all, rel);
@@ -499,10 +513,13 @@ static void test_random_samples(const struct sky_render_atmosphere *atm,
         }
         worst_bound_ratio = fmax(worst_bound_ratio, worst / bound);
         printf("random %3d: sun %6.2f view zenith %6.2f azimuth %6.1f: converged %10.4g %10.4g "
-               "%10.4g ref %10.4g %10.4g %10.4g worst %.2f%% (bound %.0f%%; reference %d paths, "
-               "standard error %.2f%%)\n",
+               "%10.4g ref %10.4g %10.4g %10.4g error RGB %+.1f %+.1f %+.1f%% (single scattering "
+               "%+.1f %+.1f %+.1f%%, multiple part %+.1f %+.1f %+.1f%%) worst %.2f%% (bound "
+               "%.0f%%; reference %d paths, standard error %.2f%%)\n",
                k, elevation, zenith, azimuth, conv[0][0], conv[0][1], conv[0][2], L[0] * e_top[0],
-               L[1] * e_top[1], L[2] * e_top[2], 100 * worst, 100 * bound, paths, 100 * noise);
+               L[1] * e_top[1], L[2] * e_top[2], signed_rel[0], signed_rel[1], signed_rel[2],
+               single_rel[0], single_rel[1], single_rel[2], ms_rel[0], ms_rel[1], ms_rel[2],
+               100 * worst, 100 * bound, paths, 100 * noise);
         CHECK_LE(worst, bound);
     }
     sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_CURRENT);
