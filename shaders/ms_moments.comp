@@ -45,8 +45,8 @@ void main()
     vec3 m_xx = vec3(0.0), m_yy = vec3(0.0), m_zz = vec3(0.0), m_xz = vec3(0.0);
     // Zenith cosines in three parts split where the radiance is least smooth: above the
     // horizontal, from it down to the horizon (rays that graze the planet, the longest and, in
-    // twilight, the brightest: they reach the sunlit air), and the ground below, each with
-    // 4-point Gauss-Legendre panels graded quadratically toward the horizon.
+    // twilight, the brightest: they reach the sunlit air), and the ground below, in 4-point
+    // Gauss-Legendre panels: the first and last parts graded quadratically toward the horizon.
     float mu_horizon = -sqrt(max(0.0, 1.0 - (bottom_radius() / r) * (bottom_radius() / r)));
     for (int part = 0; part < 3; part++) {
         int panels = part == 1 ? GRAZING_PANELS : PANELS;
