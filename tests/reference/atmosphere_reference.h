@@ -132,6 +132,10 @@ void ref_radiance(const struct ref_atmosphere *a, double altitude, const double 
                   const double sun_dir[3], int max_order, int paths, uint64_t seed,
                   int threads, double out[3], double std_error[3]);
 
+/* A uniform double in [0, 1) from a splitmix64 stream (Steele et al. 2014) whose state is
+ * *state: the generator of the Monte Carlo's paths, for tests that draw their own samples. */
+double ref_uniform(uint64_t *state);
+
 /* ref_radiance with the path count chosen for a target precision: runs batches of paths
  * (min_paths first, then about as many as the measured variance says are still needed) until
  * max over channels of std_error / radiance <= rel_error, or max_paths have run. The result is

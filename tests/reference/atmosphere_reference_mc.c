@@ -63,7 +63,7 @@ static uint64_t splitmix64(uint64_t *x)
     return z ^ (z >> 31);
 }
 
-static double rng_u(uint64_t *g)
+double ref_uniform(uint64_t *g)
 {
     return (double)(splitmix64(g) >> 11) * 0x1.0p-53;
 }
@@ -80,12 +80,12 @@ static double sample_rayleigh(double u)
 static double sample_cs(double g, uint64_t *rg)
 {
     for (;;) {
-        double u = rng_u(rg), c = 2.0 * u - 1.0;
+        double u = ref_uniform(rg), c = 2.0 * u - 1.0;
         if (fabs(g) >= 1e-6) {
             double sq = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
             c = fmax(-1.0, fmin(1.0, (1.0 + g * g - sq * sq) / (2.0 * g)));
         }
-        if (2.0 * rng_u(rg) < 1.0 + c * c) return c;
+        if (2.0 * ref_uniform(rg) < 1.0 + c * c) return c;
     }
 }
 
@@ -199,7 +199,7 @@ static int sunlit_segment_nee(const struct mc_setup *S, const struct march *m, c
     for (int i = 0; i < nlit; ++i) {
         int j = lit[i];
         for (int k = 0; k < SUNLIT_SAMPLES; ++k) {
-            double u = (k + rng_u(g)) / SUNLIT_SAMPLES * total[j];
+            double u = (k + ref_uniform(g)) / SUNLIT_SAMPLES * total[j];
             int p = ni > 1 && u >= mass[j][0];
             double f = fmin(1.0, (p ? u - mass[j][0] : u) / fmax(mass[j][p], 1e-300));
             double col[4], st[3], sr[3], sm[3], x[3], Ts[3], pdf = 0.0;
@@ -273,8 +273,8 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
             for (int i = 0; i < 3; ++i) xg[i] = a->bottom_radius * ng[i];
         }
         if (nact > 0) {
-            int j = act[(int)(rng_u(g) * nact)];
-            double t = march_sample(c, m, j, -log1p(-rng_u(g) * pe[j]), col), p = 0.0;
+            int j = act[(int)(ref_uniform(g) * nact)];
+            double t = march_sample(c, m, j, -log1p(-ref_uniform(g) * pe[j]), col), p = 0.0;
             along(r.o, r.d, t, xv);
             local_coefs(c, ray_radius(&r, t), st, sr, sm);
             for (int i = 0; i < nact; ++i)
@@ -302,20 +302,20 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
             wg += bg[ch] * a->ground_albedo[ch], wv += has_v ? bv[ch] * (sr[ch] + sm[ch]) : 0.0;
         if (!(wg + wv > 0)) break;
         double pg = wg / (wg + wv);
-        int on_ground = pg > 0 && (pg >= 1 || rng_u(g) < pg);
+        int on_ground = pg > 0 && (pg >= 1 || ref_uniform(g) < pg);
         const double *xn = on_ground ? xg : xv;
         /* From a point in the planet's shadow, part of the directions go to a lobe about the
          * sun: the twilight glow it sees is brightest there (see guide_pdf). */
         int guided = S->estimator == REF_MC_SUNLIT_SEGMENTS && in_shadow(xn, S->sun, c->R);
-        int to_guide = guided && rng_u(g) < GUIDE_SHARE;
+        int to_guide = guided && ref_uniform(g) < GUIDE_SHARE;
         if (to_guide) {
-            double u = rng_u(g), sq = (1.0 - GUIDE_G * GUIDE_G) / (1.0 - GUIDE_G + 2.0 * GUIDE_G * u);
+            double u = ref_uniform(g), sq = (1.0 - GUIDE_G * GUIDE_G) / (1.0 - GUIDE_G + 2.0 * GUIDE_G * u);
             dir_about(S->sun, (1.0 + GUIDE_G * GUIDE_G - sq * sq) / (2.0 * GUIDE_G),
-                      2.0 * REF_PI * rng_u(g), nd);
+                      2.0 * REF_PI * ref_uniform(g), nd);
         }
         if (on_ground) {
             if (!to_guide) {
-                double u1 = rng_u(g), u2 = rng_u(g);
+                double u1 = ref_uniform(g), u2 = ref_uniform(g);
                 dir_about(ng, sqrt(1.0 - u1), 2.0 * REF_PI * u2, nd); /* cosine-weighted */
             }
             double cos_n = fmax(0.0, dot3(ng, nd)), pdf = cos_n / REF_PI;
@@ -331,10 +331,10 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
             for (int ch = 0; ch < 3; ++ch)
                 if (sr[ch] + sm[ch] > 0) sc[ns++] = ch;
             if (!to_guide) {
-                int j = sc[(int)(rng_u(g) * ns)];
-                double ct = rng_u(g) * (sr[j] + sm[j]) < sr[j] ? sample_rayleigh(rng_u(g))
+                int j = sc[(int)(ref_uniform(g) * ns)];
+                double ct = ref_uniform(g) * (sr[j] + sm[j]) < sr[j] ? sample_rayleigh(ref_uniform(g))
                                                                : sample_cs(a->mie_g[j], g);
-                dir_about(d, ct, 2.0 * REF_PI * rng_u(g), nd);
+                dir_about(d, ct, 2.0 * REF_PI * ref_uniform(g), nd);
             }
             double ct = fmax(-1.0, fmin(1.0, dot3(d, nd))), pdf = 0.0;
             for (int i = 0; i < ns; ++i)
@@ -345,7 +345,7 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
             memcpy(x, xv, sizeof x);
         }
         double mb = fmax(beta[0], fmax(beta[1], beta[2]));
-        if (!(mb > 0) || (k >= 2 && mb < RR_LEVEL && rng_u(g) * RR_LEVEL >= mb)) break;
+        if (!(mb > 0) || (k >= 2 && mb < RR_LEVEL && ref_uniform(g) * RR_LEVEL >= mb)) break;
         for (int ch = 0; ch < 3 && k >= 2 && mb < RR_LEVEL; ++ch) beta[ch] *= RR_LEVEL / mb;
         memcpy(d, nd, sizeof d);
     }
@@ -371,7 +371,7 @@ static void *worker_main(void *arg)
             if (S->mode == 0) {
                 memcpy(dir, S->view, sizeof dir);
             } else {
-                double u1 = rng_u(&g), u2 = rng_u(&g);
+                double u1 = ref_uniform(&g), u2 = ref_uniform(&g);
                 dir_about(axis, sqrt(1.0 - u1), 2.0 * REF_PI * u2, dir);
                 scale = REF_PI; // E = pi * E[L] for cosine-weighted directions
             }

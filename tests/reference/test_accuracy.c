@@ -444,14 +444,6 @@ static struct {
     double altitude_km;
 } random_run;
 
-static double random_unit(uint64_t *state)
-{
-    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-}
-
 static void test_random_samples(const struct sky_render_atmosphere *atm,
                                 const struct ref_atmosphere *ref)
 {
@@ -460,15 +452,15 @@ static void test_random_samples(const struct sky_render_atmosphere *atm,
     double worst_bound_ratio = 0;
     sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_CONVERGED);
     for (int k = 0; k < random_run.count; k++) {
-        double elevation = k % 3 == 0 ? -6.0 + 6.0 * random_unit(&rng) : 90.0 * random_unit(&rng);
-        double v = random_unit(&rng), zenith;
+        double elevation = k % 3 == 0 ? -6.0 + 6.0 * ref_uniform(&rng) : 90.0 * ref_uniform(&rng);
+        double v = ref_uniform(&rng), zenith;
         if (v < 1.0 / 6)
-            zenith = 95.0 + 85.0 * random_unit(&rng);
+            zenith = 95.0 + 85.0 * ref_uniform(&rng);
         else if (v < 5.0 / 12)
-            zenith = 75.0 + 14.5 * random_unit(&rng);
+            zenith = 75.0 + 14.5 * ref_uniform(&rng);
         else
-            zenith = acos(1.0 - random_unit(&rng) * (1.0 - cos(75.0 * DEG))) / DEG;
-        double azimuth = 360.0 * random_unit(&rng);
+            zenith = acos(1.0 - ref_uniform(&rng) * (1.0 - cos(75.0 * DEG))) / DEG;
+        double azimuth = 360.0 * ref_uniform(&rng);
         struct sky_world_state state;
         sky_world_state_defaults(&state);
         state.camera.altitude_km = random_run.altitude_km;
