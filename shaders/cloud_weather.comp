@@ -1,20 +1,19 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Weather map (seed 001 5.3; Schneider 2015/2017): r low-layer footprint, g high-layer
+// Weather map (seed 001 5.3; Schneider 2015/2017): r low-layer coverage, g high-layer
 // coverage, b low-layer cloud type, a precipitation; tileable over weather.map_extent_km (the
 // wind shifts the lookup, not the map). Procedural from the layer parameters and the weather
 // seed, or resampled from a client's map. Written a slice of rows per dispatch so rebuilds
 // spread over frames.
 //
-// The footprint is what cloud_density.glsl builds a cloud's column from: 0 outside a cloud,
-// rising toward 1 in its core, where the cloud reaches its type's full height (the dome of a
-// cumulus, the tower of a cumulonimbus). Each cloud type has its own pattern and cell scale
-// (render/cloud_params.c): stratus a near-uniform sheet, stratocumulus closed cells with thin
-// clear borders, cumulus clumps of about 0.5-2 km, cumulonimbus towers about 10 km apart. A
-// clump field is a sum of octaves of gradient noise (fBm, Hurst exponent about 0.5, so that its
-// level sets have outlines of dimension about 1.35 as real clouds do: Lovejoy 1982) with round
-// maxima (so cores are domes, not cones), thresholded at the quantile that leaves the asked
-// coverage. Only the types present at a texel are evaluated.
+// Coverage is a threshold of the 3D base shape (cloud_density.glsl): a texel of coverage c
+// keeps the part c of the shape above 1 - c, so the map says where clouds gather and the shape
+// draws them. Each cloud type has its own pattern (render/cloud_params.c): cumulus turrets
+// clustered by a fractional Brownian field over every scale from a few hundred metres to 20 km,
+// cumulonimbus cells about 10 km apart whose cores are towers, stratocumulus closed cells in a
+// varying deck, stratus a sheet. The map's share of the field and the shape's are weighed so
+// that about the asked coverage of the layer is cloud. Only the types present at a texel are
+// evaluated.
 #include "cloud_shared.h"
 #include "cloud_layouts.h"
 
@@ -59,41 +58,50 @@ float fbm2(vec2 x, ivec2 period, uint salt, int octaves, float hurst, float texe
     return sum / (OCTAVE_SIGMA * sqrt(max(power, 1e-12)));
 }
 
-// Deviations of the field past the threshold over which a cumulus reaches the layer's full
-// height: a clump's peak rises about 1 deviation above it, and its column rises as the square
-// root of the footprint (cloud_density.glsl), so most fair cumulus are half as tall as wide to
-// as tall as wide (humilis to mediocris) and only the largest fill the layer. Cumulonimbus
-// cores reach the top sooner: towers.
-const float CUMULUS_RAMP = 3.5, TOWER_RAMP = 3.0;
-// Stratocumulus cells and stratus sheets reach their (low) tops just inside their edges.
-const float CELL_RAMP = 0.8, SHEET_RAMP = 0.4;
+// The normal quantile of p (logistic approximation of the probit) and its inverse.
+const float LOGISTIC_PROBIT = 1.702;
+float probit(float p)
+{
+    p = clamp(p, 1e-4, 1.0 - 1e-4);
+    return log(p / (1.0 - p)) / LOGISTIC_PROBIT;
+}
+float normal_cdf(float z)
+{
+    return 1.0 / (1.0 + exp(-LOGISTIC_PROBIT * z));
+}
+
+// The coverage a texel stores: cloud_density.glsl keeps cloud where the 3D shape's normal score
+// S (deviation 1) exceeds -probit(coverage), so a texel of field value W (deviation 1) holds
+// cloud where weight W + S > threshold, a Gaussian field of deviation sqrt(1 + weight^2):
+// the threshold that leaves `coverage` of it is that deviation times probit(1 - coverage).
+// `weight` says how much the map's own pattern (clusters, cells, sheets) rules over the
+// shape's turrets. The score is returned, not the coverage, so types can be blended.
+const float PROJECTION_OFFSET = 0.8;
+float coverage_score(float field, float coverage, float weight)
+{
+    if (coverage <= 0.0)
+        return -20.0;
+    if (coverage >= 1.0)
+        return 20.0;
+    return weight * field - sqrt(1.0 + weight * weight) * probit(1.0 - coverage) - PROJECTION_OFFSET;
+}
+
+// The map's weight per type: cumulus fields are the turrets' own pattern clustered by the map,
+// cumulonimbus towers the map's cores, stratocumulus its cells, stratus its sheet.
+const float CUMULUS_WEIGHT = 1.3, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5, SHEET_WEIGHT = 3.0;
+// Hurst exponents of the fBm fields (amplitude 2^-H per octave). Level sets of a field of
+// exponent H have outlines of dimension (3 - H) / 2 and a size distribution n(L) ~ L^-(3 - H)
+// (Kondev & Henley 1995); observed cumulus: D 1.3-1.4 (Lovejoy 1982), b 1.7-2.9. Decks: a
+// radiance spectrum k^-5/3 over 1-8 km (Cahalan & Snider 1989), E(k) ~ k^-(2H + 1): H = 1/3.
+const float CUMULUS_HURST = 0.4, TOWER_HURST = 0.6, DECK_HURST = 0.33;
+// The largest octaves (10-20 km) of a cumulus field only nudge it: at full amplitude they would
+// clear or fill whole views, and a 25 km view's cloud fraction would stray from the coverage.
+const float CLUSTER_AMPLITUDE = 0.35;
 
 // mix(a, b, t) of two independent fields of deviation 1, scaled back to deviation 1.
 float blend(float a, float b, float t)
 {
     return mix(a, b, t) / sqrt((1.0 - t) * (1.0 - t) + t * t);
-}
-
-// The normal quantile of 1 - coverage (logistic approximation of the probit).
-float threshold_for(float coverage)
-{
-    coverage = clamp(coverage, 1e-4, 1.0 - 1e-4);
-    return log((1.0 - coverage) / coverage) / 1.702;
-}
-
-// Footprint of a field of deviation 1 thresholded so that about `coverage` of the map is
-// inside, rising to 1 over `ramp` deviations past the threshold. Stored signed: outside the
-// cloud it goes on falling to -1, and the lookup clamps it at 0 (cloud_density.glsl). The
-// bilinear lookup of a footprint clamped here would be positive over whole squares between
-// texel centres around every texel inside a cloud, and outlines would follow their edges: stair
-// steps of one texel.
-float footprint(float field, float coverage, float ramp)
-{
-    if (coverage <= 0.0)
-        return -1.0;
-    if (coverage >= 1.0)
-        return 1.0;
-    return clamp((field - threshold_for(coverage)) / ramp, -1.0, 1.0);
 }
 
 // Weights of the four tabulated types (stratus, stratocumulus, cumulus, cumulonimbus) at
@@ -123,34 +131,32 @@ void main()
     // The type varies from cloud to cloud around the asked one (cumulus of several ages).
     float type = clamp(p.z + gradient2(x, ivec2(max(1, cu_period / 4)), 14u) * 0.3, 0.0, 1.0);
     vec4 w = type_weights(type);
-    // The fields of the types present, blended with their weights (each has deviation 1, and
-    // so has the blend), thresholded once: a sum of thresholded fields would cover their union.
+    // The score of each type present, blended with their weights, then the coverage.
     float low = 0.0;
     if (p.x > 0.0) {
-        float field = 0.0, ramp = 0.0;
-        // Clusters a few cells wide (cloud streets and groups) shift the clump fields.
-        float cluster = gradient2(x, ivec2(max(1, cu_period / 6)), 15u) / OCTAVE_SIGMA;
-        if (w.z > 0.0) { // cumulus: round clumps of many sizes
-            field += w.z * blend(fbm2(x, ivec2(cu_period), 11u, 4, 0.8, texels), cluster, 0.25);
-            ramp += w.z * CUMULUS_RAMP;
+        float score = 0.0;
+        if (w.z > 0.0) { // cumulus: turrets clustered over every scale up to 20 km
+            float clusters = fbm2(x, ivec2(max(1, cu_period / 8)), 15u, 2, CUMULUS_HURST, texels);
+            float field = fbm2(x, ivec2(max(1, cu_period / 2)), 11u, 7, CUMULUS_HURST, texels);
+            score += w.z * coverage_score(blend(field, clusters, CLUSTER_AMPLITUDE * 0.5), p.x,
+                                          CUMULUS_WEIGHT);
         }
         if (w.w > 0.0) { // cumulonimbus: few big cells whose cores are towers
-            field += w.w * blend(fbm2(x, ivec2(cb_period), 21u, 4, 0.6, texels), cluster, 0.15);
-            ramp += w.w * TOWER_RAMP;
+            float field = fbm2(x, ivec2(cb_period), 21u, 6, TOWER_HURST, texels);
+            score += w.w * coverage_score(field, p.x, TOWER_WEIGHT);
         }
         if (w.y > 0.0) {
             // Stratocumulus: closed cells (inverted cellular noise is high at a cell's centre
-            // and low along its borders), roughened.
+            // and low along its borders) in a deck that varies on every scale.
             float cells = (worley2(x, sc_period, 31u) - WORLEY_MEAN) / WORLEY_SIGMA;
-            field += w.y * blend(cells, gradient2(x, ivec2(sc_period * 2), 32u) / OCTAVE_SIGMA,
-                                 0.35);
-            ramp += w.y * CELL_RAMP;
+            float deck = fbm2(x, ivec2(max(1, st_period)), 32u, 7, DECK_HURST, texels);
+            score += w.y * coverage_score(blend(cells, deck, 0.5), p.x, CELL_WEIGHT);
         }
-        if (w.x > 0.0) { // stratus: a sheet with gentle variations and ragged gaps
-            field += w.x * fbm2(x, ivec2(st_period), 41u, 3, 0.5, texels);
-            ramp += w.x * SHEET_RAMP;
+        if (w.x > 0.0) { // stratus: a sheet whose thickness varies on every scale
+            float field = fbm2(x, ivec2(st_period), 41u, 7, DECK_HURST, texels);
+            score += w.x * coverage_score(field, p.x, SHEET_WEIGHT);
         }
-        low = footprint(field / length(w), p.x, ramp);
+        low = normal_cdf(score / (w.x + w.y + w.z + w.w));
     }
     // The high layer: cirrostratus a veil of gentle variations (type 0), cirrus streaks ten
     // times longer east-west than wide (type 1).
@@ -159,9 +165,9 @@ void main()
         float fibrous = float(push.high_fibrous) / 1000.0;
         float veil = fbm2(x, ivec2(6), 13u, 3, 0.5, texels);
         float streaks = fbm2(x, ivec2(3, 30), 16u, 4, 0.4, texels);
-        high = footprint(blend(veil, streaks, fibrous), p.y, 0.6);
+        high = normal_cdf(3.0 * (blend(veil, streaks, fibrous) - probit(1.0 - p.y)));
         high *= mix(0.55, 1.0, p.y);
     }
-    float rain = p.w * smoothstep(0.3, 0.9, low);
+    float rain = p.w * smoothstep(0.5, 0.95, low);
     imageStore(weather_out, px, vec4(low, high, type, rain));
 }

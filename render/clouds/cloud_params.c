@@ -6,15 +6,16 @@
 #define V4(x_, y_, z_, w_) ((sky_vec4){ (float)(x_), (float)(y_), (float)(z_), (float)(w_) })
 
 /* Cloud-type shapes over the layer's height fraction (after Schneider 2015/2017's density
- * gradients per type): the height a core reaches, the base's rounding, the detail erosion, the
- * anvil. Stratus are thin flat sheets; stratocumulus reach half the layer; cumulus domes most
- * of it (humilis at lower types, congestus toward cumulonimbus); cumulonimbus towers fill it
- * and spread into an anvil under its top. */
+ * gradients per type, cloud_density.glsl's profile_rise): the height of the highest tops, the
+ * base's rounding, the detail erosion of the edges, the anvil. Stratus are thin sheets;
+ * stratocumulus reach half the layer; cumulus domes most of it (humilis to congestus, by the
+ * strength of their columns); cumulonimbus towers fill it and spread into an anvil under its
+ * top. */
 static const float type_shapes[CLOUD_PROFILE_COUNT][4] = {
-    { 0.30f, 0.10f, 0.20f, 0.0f }, /* stratus */
-    { 0.50f, 0.08f, 0.30f, 0.0f }, /* stratocumulus */
-    { 0.95f, 0.04f, 0.40f, 0.0f }, /* cumulus */
-    { 1.00f, 0.03f, 0.35f, 1.0f }, /* cumulonimbus */
+    { 0.35f, 0.10f, 0.15f, 0.0f }, /* stratus */
+    { 0.55f, 0.06f, 0.25f, 0.0f }, /* stratocumulus */
+    { 0.90f, 0.03f, 0.35f, 0.0f }, /* cumulus */
+    { 0.95f, 0.02f, 0.30f, 1.0f }, /* cumulonimbus */
 };
 
 /* Cell size of each type's weather pattern, km (cloud_weather.comp). */
@@ -86,8 +87,9 @@ void cloud_params_fill(const struct sky_render_clouds *c, double R, struct sky_c
     for (int i = 0; i < CLOUD_PROFILE_COUNT; i++)
         u->profiles[i] = V4(type_shapes[i][0], type_shapes[i][1], type_shapes[i][2],
                             type_shapes[i][3]);
-    /* Base noise billows of about a kilometre (the size of a fair-weather cumulus), detail of
-     * tens of metres, curl distortion over a few kilometres. */
-    u->tiles = V4(tile_km(extent, 5.0), tile_km(extent, 0.8), tile_km(extent, 12.0), 0);
+    /* Base noise turrets of 150-600 m (Wielicki & Welch 1986: cumulus turrets 250 m - 1 km;
+     * cells of a quarter to a sixteenth of the tile), detail of tens of metres, curl distortion
+     * over a few kilometres. */
+    u->tiles = V4(tile_km(extent, 2.5), tile_km(extent, 0.8), tile_km(extent, 12.0), 0);
     u->build_up = V4(c->multiscatter_powder, 0, 0, 0);
 }

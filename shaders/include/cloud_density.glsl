@@ -1,7 +1,9 @@
 // Cloud density (extinction per km) at a planet-centred point (seed 001 5.3-5.4; Schneider
-// 2015): weather map (coverage, type, precipitation) x height profile of the cloud type x
-// Perlin-Worley base shape, eroded by Worley detail noise, distorted by curl noise. Two layers:
-// a low cumulus-type layer and a high thin one.
+// 2015/2017, Nubis): the weather map's coverage is a threshold of the 3D base shape, so the
+// noise draws every outline; a height profile per cloud type, a function of the height alone,
+// raises that threshold toward the type's tops (clouds narrow into domes and towers over flat
+// bases); detail noise erodes the edges only; curl noise moves the outlines. Two layers: a low
+// cumulus-type layer and a high thin one.
 //
 // The including shader declares `atmo`, `cloud` (sky_cloud_uniforms) and the samplers
 // base_noise (3D), detail_noise (3D), curl_noise (2D: rg curl, b blue noise) and weather_map
@@ -9,11 +11,15 @@
 #ifndef CLOUD_DENSITY_GLSL
 #define CLOUD_DENSITY_GLSL
 
-const float CURL_STRENGTH_KM = 0.35;
+const float CURL_STRENGTH_KM = 0.25;
 
 // How much the detail noise erodes, in [0, 1]: the march lowers it where its steps are longer
 // than the detail's features (tens of metres), which it would only alias into grain.
 float cloud_detail_weight = 1.0;
+// Level of detail of the base shape, in [0, 1]: 0 its full turret-scale octaves, 1 its lowest
+// octave alone with softer edges. The march raises it with its step length, so that clouds
+// far away are filtered instead of aliased into speckle.
+float cloud_lod = 0.0;
 
 float remap(float v, float lo, float hi, float new_lo, float new_hi)
 {
@@ -26,17 +32,15 @@ vec2 cloud_pattern_xy(vec3 p)
     return p.xy - cloud.weather.xy;
 }
 
-// The map's footprints are signed (cloud_weather.comp): their zero crossings, interpolated,
-// are the outlines; clamped here.
 vec4 sample_weather(vec2 pattern_xy)
 {
     vec4 wm = textureLod(weather_map, pattern_xy * cloud.weather.z + 0.5, 0.0);
-    return vec4(max(wm.rg, vec2(0.0)), wm.ba);
+    return vec4(clamp(wm.rg, vec2(0.0), vec2(1.0)), wm.ba);
 }
 
 // Shape parameters of a cloud type in [0, 1] (stratus .. cumulonimbus), interpolated between
-// the tabulated types (render/cloud_params.c): x core height, y base rounding, z erosion,
-// w anvil.
+// the tabulated types (render/cloud_params.c): x the height fraction of the highest tops,
+// y base rounding, z erosion, w anvil.
 vec4 type_shape(float type)
 {
     float x = clamp(type, 0.0, 1.0) * float(CLOUD_PROFILE_COUNT - 1);
@@ -49,60 +53,85 @@ float layer_fraction(float r, vec4 layer)
     return (r - layer.x) / (layer.y - layer.x);
 }
 
-// Where a cloud may be at height fraction h over a point of footprint f (Schneider 2017's
-// density-height gradient, made to follow the footprint): the column of a clump reaches
-// shape.x * sqrt(c (2 - c)), a quarter circle in c = f / CORE_FOOTPRINT; the footprint rises
-// smoothly toward a clump's core (cloud_weather.comp), so a clump is a dome with steep sides on
-// a flat base and a cumulonimbus core a tower. The top levels off over the core (f past
-// CORE_FOOTPRINT) instead of following the footprint to its peak, which made pyramids; the
-// billows carve its upper 40 % into cauliflower domes. Under
-// the layer top the anvil spreads over the whole footprint (f^0.3 widens it, Schneider 2017's
-// anvil bias).
-const float CORE_FOOTPRINT = 0.7;
-float cloud_envelope(float h, float f, vec4 shape)
+// The base shape is stored uniformly distributed (cloud_noise.comp), so a coverage c keeps the
+// c of it that lies above 1 - c. Coverage at a height is the column's coverage with its normal
+// score lowered by the profile's rise: Phi(Phi^-1(c) - rise), with the logistic approximation
+// of Phi (s = 1.702): c / (c + (1 - c) exp(s rise)).
+const float LOGISTIC_PROBIT = 1.702;
+float coverage_at(float c, float rise)
 {
-    float core = clamp(f / CORE_FOOTPRINT, 0.0, 1.0);
-    float top = shape.x * sqrt(core * (2.0 - core));
-    float column = smoothstep(0.0, shape.y, h) * (1.0 - smoothstep(0.6 * top, top, h));
-    float anvil = shape.w * smoothstep(0.7, 0.8, h) * (1.0 - smoothstep(0.9, 0.98, h))
-                  * pow(f, 0.3);
-    return max(column, anvil);
+    c = min(c, 0.995);
+    return c / (c + (1.0 - c) * exp(LOGISTIC_PROBIT * rise));
 }
 
-// The low layer's envelope at height fraction h over a point of weather wm (0 outside the
-// layer or the footprint). Precipitation widens the footprint (seed 001 5.4: weather drives the
-// shape).
-float low_envelope(float h, vec4 wm, vec4 shape)
+// How far (normal scores) the threshold rises at height fraction h (Schneider 2017's
+// density-height gradient as a threshold): slowly up to RISE_AT_TOP at the type's tops
+// shape.x, then fast, so that only the strongest columns reach them and no top is cut flat by
+// the layer.
+const float RISE_AT_TOP = 2.6;
+float profile_rise(float h, vec4 shape)
+{
+    float x = h / shape.x;
+    return RISE_AT_TOP * x * x + 30.0 * max(h - shape.x, 0.0) + 12.0 * smoothstep(0.9, 1.0, h);
+}
+
+// Extinction ramps from the threshold over this much of the shape's range (with its level of
+// detail, wider): the interior is dense, the edges tens of metres soft.
+const vec2 EDGE_RAMP = vec2(0.12, 0.3);
+// Coverage below this holds no cloud (so the march can skip it; the specks it would leave are
+// a few voxels).
+const float MIN_COVERAGE = 0.02;
+// Anvils: in the top of a cumulonimbus layer the coverage spreads from the towers around it,
+// the largest of the columns ANVIL_REACH of the layer's thickness around.
+const float ANVIL_REACH = 0.3;
+
+// The low layer's coverage at height fraction h over pattern position xy (0 outside the layer).
+float low_coverage(float h, vec2 xy, vec4 wm, vec4 shape)
 {
     if (h <= 0.0 || h >= 1.0 || wm.r <= 0.0)
         return 0.0;
-    return cloud_envelope(h, clamp(wm.r * (1.0 + 0.5 * wm.a), 0.0, 1.0), shape);
+    float c = coverage_at(wm.r, profile_rise(h, shape));
+    if (shape.w > 0.0 && h > 0.6) {
+        float reach = ANVIL_REACH * (cloud.low.y - cloud.low.x);
+        float around = max(max(sample_weather(xy + vec2(reach, 0.0)).r,
+                               sample_weather(xy - vec2(reach, 0.0)).r),
+                           max(sample_weather(xy + vec2(0.0, reach)).r,
+                               sample_weather(xy - vec2(0.0, reach)).r));
+        float spread = shape.w * smoothstep(0.65, 0.8, h) * (1.0 - smoothstep(0.9, 0.98, h));
+        c = max(c, spread * coverage_at(max(around, wm.r), 0.6));
+    }
+    return c;
 }
 
-// Low layer. `detail` false gives the coarse shape used by shadow and light marches.
+// Low layer. `detail` false gives the coarse shape (no detail erosion) of light and shadow
+// marches.
 float low_density(vec3 p, float r, vec4 wm, bool detail)
 {
     float h = layer_fraction(r, cloud.low);
     vec4 shape = type_shape(wm.b);
-    float envelope = low_envelope(h, wm, shape);
-    if (envelope <= 0.0)
+    vec2 xy = cloud_pattern_xy(p);
+    float c = low_coverage(h, xy, wm, shape) - MIN_COVERAGE;
+    if (c <= 0.0)
         return 0.0;
-    float altitude = r - bottom_radius();
-    vec3 q = vec3(cloud_pattern_xy(p), altitude);
-    if (detail) { // the coarse shape of light and shadow marches skips the distortion
-        vec2 curl = textureLod(curl_noise, q.xy / cloud.tiles.z, 0.0).rg;
-        q.xy += curl * CURL_STRENGTH_KM * (1.0 - h);
-    }
+    vec3 q = vec3(xy, r - bottom_radius());
+    // Curl distortion moves the outlines, most in the turrets (Schneider 2015).
+    vec2 curl = textureLod(curl_noise, q.xy / cloud.tiles.z, 0.0).rg;
+    q.xy += curl * CURL_STRENGTH_KM * (0.5 + h);
     vec4 n = textureLod(base_noise, q / cloud.tiles.x, 0.0);
-    float fbm = dot(n.gba, vec3(0.625, 0.25, 0.125));
-    // Perlin-Worley billows (Schneider 2015), then the envelope as coverage: only the densest
-    // billows survive where the envelope is low, so outlines are billowy level sets.
-    float billows = clamp(remap(n.r, fbm - 1.0, 1.0, 0.0, 1.0), 0.0, 1.0);
-    float d = clamp(remap(billows, 1.0 - envelope, 1.0, 0.0, 1.0), 0.0, 1.0) * envelope;
-    if (detail && d > 0.0) {
+    // Sheets (stratus, stratocumulus) keep the shape's lowest octave: radiative smoothing
+    // leaves real decks smooth below a few hundred metres.
+    float lod = max(cloud_lod, 1.0 - smoothstep(0.3, 0.55, wm.b));
+    float u = mix(n.r, n.g, lod);
+    float ramp = mix(EDGE_RAMP.x, EDGE_RAMP.y, lod);
+    float d = clamp((u - (1.0 - c)) / ramp, 0.0, 1.0);
+    // Flat bases: the cloud starts at the layer's bottom (the condensation level), rounded
+    // over shape.y.
+    d *= smoothstep(0.0, shape.y, h);
+    if (detail && d > 0.0 && d < 1.0) {
         vec3 dn = textureLod(detail_noise, q / cloud.tiles.y, 0.0).rgb;
         float dfbm = dot(dn, vec3(0.625, 0.25, 0.125));
-        // Wispy at the base, billowy toward the top (Schneider 2015).
+        // Wispy at the base, billowy toward the top (Schneider 2015); edges only: the remap
+        // leaves the dense interior (d near 1) as it is.
         float modifier = mix(dfbm, 1.0 - dfbm, clamp(h * 6.0, 0.0, 1.0));
         d = clamp(remap(d, modifier * shape.z * cloud_detail_weight, 1.0, 0.0, 1.0), 0.0, 1.0);
     }
@@ -120,7 +149,7 @@ float high_density(vec3 p, float r, vec4 wm)
     float stretch = mix(1.0, 4.0, cloud.media.w);
     vec3 q = vec3(cloud_pattern_xy(p) * vec2(1.0 / stretch, 1.0), (r - bottom_radius()) * 3.0);
     vec4 n = textureLod(base_noise, q / (cloud.tiles.x * 2.0), 0.0);
-    float shape = mix(n.r, dot(n.gba, vec3(0.625, 0.25, 0.125)), 0.5) * profile;
+    float shape = mix(n.g, n.r, 0.3) * profile;
     float d = clamp(remap(shape, 1.0 - wm.g, 1.0, 0.0, 1.0), 0.0, 1.0) * wm.g;
     return d * cloud.high.z;
 }
@@ -145,19 +174,20 @@ float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
     return low_layer ? low_density(p, r, wm, detail) : high_density(p, r, wm);
 }
 
-// Whether the layer may hold cloud around p: its envelope (low) or its coverage (high) is
-// positive there. Unlike the density, which the billows cut into level sets, this stays
-// positive over a cloud's whole fringe, so a march that probes it steps over empty space
-// without jumping across fringes thinner than its probe spacing.
+// Whether the layer may hold cloud around p: its coverage there is above MIN_COVERAGE (the
+// density needs that and the shape's level set), so a march that probes it steps over empty
+// space without jumping across fringes thinner than its probe spacing.
 bool cloud_layer_occupied(vec3 p, bool low_layer)
 {
     float r = length(p);
-    vec4 wm = sample_weather(cloud_pattern_xy(p));
+    vec2 xy = cloud_pattern_xy(p);
+    vec4 wm = sample_weather(xy);
     if (!low_layer) {
         float h = layer_fraction(r, cloud.high);
         return cloud.high.w > 0.5 && h > 0.0 && h < 1.0 && wm.g > 0.0;
     }
-    return low_envelope(layer_fraction(r, cloud.low), wm, type_shape(wm.b)) > 0.0;
+    float h = layer_fraction(r, cloud.low);
+    return low_coverage(h, xy, wm, type_shape(wm.b)) > MIN_COVERAGE;
 }
 
 // Rain under the low layer's precipitating bases, 0..1 (the weather map's precipitation, which
