@@ -369,10 +369,10 @@ void sky_world_state_defaults(struct sky_world_state *state)
      * octaves fitted to it against Monte Carlo (docs/ACCURACY.md, tests/reference/test_cloud_accuracy.c). */
     clouds->phase_w = 0.25;
     clouds->multiscatter_a = 0.5;
-    clouds->multiscatter_b = 0.5;
-    clouds->multiscatter_c = 0.05;
+    clouds->multiscatter_b = 0.8;
+    clouds->multiscatter_c = 0.2;
     clouds->multiscatter_octaves = 4;
-    clouds->multiscatter_powder = 8.0;
+    clouds->multiscatter_powder = 16.0;
     clouds->ambient_scale = 1.0;
     clouds->noise_seed = 1;
     clouds->primary_steps = 64;

@@ -20,6 +20,7 @@
 /* Share of the last frame's GPU time that weather and shadow map builds may take. */
 #define RELATIVE_MAP_BUDGET 0.1
 #define FLOAT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
+#define SUN_DEPTH_FORMAT VK_FORMAT_R32G32_SFLOAT
 #define WEATHER_SIZE 512
 #define SHADOW_SIZE 384
 /* The shadow map follows the sun once it has moved this far (radians, about 0.3 degree). */
@@ -95,7 +96,15 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
         map_create(ctx, &cr->shadow, FLOAT_FORMAT, SHADOW_SIZE, "cloud_shadow",
                    INITIAL_MS_PER_SHADOW_ROW) != 0)
         goto fail;
+    for (int i = 0; i < 2; i++)
+        VK_CHECK_GOTO(gpu_image_create(ctx, SUN_DEPTH_FORMAT, SHADOW_SIZE, SHADOW_SIZE,
+                                       SKY_CLOUD_SUN_DEPTH_LEVELS, "cloud_sun_depth",
+                                       &cr->sun_depth[i]),
+                      fail);
     VK_CHECK_GOTO(gpu_image_create(ctx, FLOAT_FORMAT, 1, 1, 1, "cloud_none", &cr->dummy), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, SUN_DEPTH_FORMAT, 1, 1, 2, "cloud_none_volume",
+                                   &cr->dummy_volume),
+                  fail);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_cloud_uniforms),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "cloud_params",
                                     &cr->params),
@@ -125,8 +134,11 @@ void cloud_renderer_destroy(struct vk_context *ctx, struct cloud_renderer **pcr)
     cloud_noise_destroy(ctx, &cr->noise);
     map_destroy(ctx, &cr->weather);
     map_destroy(ctx, &cr->shadow);
+    gpu_image_destroy(ctx, &cr->sun_depth[0]);
+    gpu_image_destroy(ctx, &cr->sun_depth[1]);
     gpu_image_destroy(ctx, &cr->client_map);
     gpu_image_destroy(ctx, &cr->dummy);
+    gpu_image_destroy(ctx, &cr->dummy_volume);
     gpu_buffer_destroy(ctx, &cr->params);
     gpu_buffer_destroy(ctx, &cr->env);
     if (cr->repeat)
@@ -313,6 +325,8 @@ void cloud_march_resources(const struct cloud_renderer *cr, const struct cloud_f
     r[SKY_CLOUD_MARCH_CURL_NOISE] = tex(&cr->noise.curl, cr->repeat);
     r[SKY_CLOUD_MARCH_WEATHER] = tex(shown(cr, &cr->weather), cr->repeat);
     r[SKY_CLOUD_MARCH_SKYVIEW] = tex(s->skyview, s->sampler);
+    r[SKY_CLOUD_MARCH_SUN_DEPTH] =
+        tex(cr->shadow.ready ? &cr->sun_depth[cr->shadow.shown] : &cr->dummy_volume, cr->repeat);
 }
 
 static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
@@ -350,11 +364,14 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
         [SKY_CLOUD_SHADOW_CURL_NOISE] = tex(&cr->noise.curl, cr->repeat),
         [SKY_CLOUD_SHADOW_WEATHER] = tex(shown(cr, &cr->weather), cr->repeat),
         [SKY_CLOUD_SHADOW_OUT] = img(&cr->shadow.image[1 - cr->shadow.shown]),
+        [SKY_CLOUD_SHADOW_SUN_DEPTH_OUT] = img(&cr->sun_depth[1 - cr->shadow.shown]),
     };
     compute_pass_bind(ctx, &cr->pass[P_SHADOW], r);
     struct sky_cloud_rows_push push = { .row_offset = 0 };
-    if (map_record(cr, &cr->shadow, cmd, timer, &cr->pass[P_SHADOW], &push, budget))
+    if (map_record(cr, &cr->shadow, cmd, timer, &cr->pass[P_SHADOW], &push, budget)) {
         cr->env_dirty = true;
+        memcpy(cr->shown_shadow_sun, cr->shadow_sun, sizeof cr->shown_shadow_sun);
+    }
 }
 
 
@@ -415,8 +432,9 @@ int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr
     record_weather(ctx, cr, cmd, timer, &budget);
     /* The shadow builder reads the sun it is built for from the block. */
     record_shadow(ctx, cr, cmd, timer, f, &budget);
-    cr->u.shadow_sun = (sky_vec4){ cr->shadow_sun[0], cr->shadow_sun[1], cr->shadow_sun[2],
-                                   cr->shadow.ready ? 1.0f : 0.0f };
+    /* What the frame's passes read: the sun of the maps they are shown. */
+    cr->u.shadow_sun = (sky_vec4){ cr->shown_shadow_sun[0], cr->shown_shadow_sun[1],
+                                   cr->shown_shadow_sun[2], cr->shadow.ready ? 1.0f : 0.0f };
     memcpy(cr->params.mapped, &cr->u, sizeof cr->u);
     record_hemisphere(ctx, cr, cmd, timer, f);
     out->shadow = shown(cr, &cr->shadow);

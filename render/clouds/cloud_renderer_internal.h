@@ -55,6 +55,10 @@ struct cloud_renderer {
     VkSampler repeat;
     struct cloud_noise noise;
     struct cloud_map weather, shadow;
+    /* The sun-space optical-depth volume, built and shown with the shadow map
+     * (shadow.shown): SHADOW_SIZE^2 x SKY_CLOUD_SUN_DEPTH_LEVELS. */
+    struct gpu_image sun_depth[2];
+    struct gpu_image dummy_volume;
     struct gpu_image client_map, dummy;
     bool has_client_map;
     uint32_t client_generation;
@@ -66,7 +70,8 @@ struct cloud_renderer {
     struct sky_cloud_uniforms u;
     struct weather_key weather_target;
     struct shadow_key shadow_target;
-    float shadow_sun[3];
+    float shadow_sun[3];       /* the sun the shadow map is (being) built for */
+    float shown_shadow_sun[3]; /* the sun of the shown shadow map and sun-depth volume */
     bool shadow_has_sun, env_dirty;
     double budget_ms;
     double last_frame_ms; /* GPU time of the last frame, for the relative map budget */

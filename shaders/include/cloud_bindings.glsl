@@ -1,4 +1,4 @@
-// Bindings 0-10 shared by the passes that march the cloud layers (trace, hemisphere): the
+// Bindings 0-11 shared by the passes that march the cloud layers (trace, hemisphere): the
 // atmosphere and frame blocks, the atmosphere LUTs, the cloud block, the noise volumes, the
 // weather map and the sky-view LUT. Then the atmosphere, density and march code.
 #include "cloud_layouts.h"
@@ -15,6 +15,8 @@ layout(binding = SKY_CLOUD_MARCH_CURL_NOISE) uniform sampler2D curl_noise;
 layout(binding = SKY_CLOUD_MARCH_WEATHER) uniform sampler2D weather_map;
 // The sky around the camera: sky ambient.
 layout(binding = SKY_CLOUD_MARCH_SKYVIEW) uniform sampler2D skyview_lut;
+// The sun's optical depth through the low layer in sun space (cloud_shadow.comp).
+layout(binding = SKY_CLOUD_MARCH_SUN_DEPTH) uniform sampler3D sun_depth_volume;
 // False in the pipelines for frames the moon does not light (cloud_renderer.c): they carry no
 // moonlight march.
 layout(constant_id = SKY_CLOUD_CONST_MOONLIT) const bool MOONLIT = true;
@@ -24,4 +26,5 @@ layout(constant_id = SKY_CLOUD_CONST_MOONLIT) const bool MOONLIT = true;
 #define SKY_HAS_SKYVIEW_LUT
 #include "atmosphere.glsl"
 #include "cloud_density.glsl"
+#include "cloud_sun_depth.glsl"
 #include "cloud_march.glsl"

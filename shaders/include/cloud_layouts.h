@@ -26,15 +26,20 @@
 #define SKY_CLOUD_SHADOW_CURL_NOISE 4
 #define SKY_CLOUD_SHADOW_WEATHER 5
 #define SKY_CLOUD_SHADOW_OUT 6
+#define SKY_CLOUD_SHADOW_SUN_DEPTH_OUT 7
 #define SKY_LAYOUT_CLOUD_SHADOW(X)                                                        \
     X(SKY_CLOUD_SHADOW_ATMOSPHERE, BLOCK) X(SKY_CLOUD_SHADOW_CLOUD, BLOCK)                  \
     X(SKY_CLOUD_SHADOW_BASE_NOISE, SAMPLED) X(SKY_CLOUD_SHADOW_DETAIL_NOISE, SAMPLED)       \
     X(SKY_CLOUD_SHADOW_CURL_NOISE, SAMPLED) X(SKY_CLOUD_SHADOW_WEATHER, SAMPLED)            \
-    X(SKY_CLOUD_SHADOW_OUT, IMAGE)
+    X(SKY_CLOUD_SHADOW_OUT, IMAGE) X(SKY_CLOUD_SHADOW_SUN_DEPTH_OUT, IMAGE)
+
+/* Altitude levels of the sun-space optical-depth volume (cloud_shadow.comp): cumulative
+ * optical depth of the low layer along the sun's ray from its base up to each level. */
+#define SKY_CLOUD_SUN_DEPTH_LEVELS 16
 
 /* ---- passes that march the cloud layers (cloud_bindings.glsl) ---- */
 
-/* Bindings 0-10 of the hemisphere and trace passes (and the slab self-test). */
+/* Bindings 0-11 of the hemisphere and trace passes (and the slab self-test). */
 #define SKY_CLOUD_MARCH_ATMOSPHERE 0
 #define SKY_CLOUD_MARCH_FRAME 1
 #define SKY_CLOUD_MARCH_TRANSMITTANCE 2
@@ -46,26 +51,27 @@
 #define SKY_CLOUD_MARCH_CURL_NOISE 8
 #define SKY_CLOUD_MARCH_WEATHER 9
 #define SKY_CLOUD_MARCH_SKYVIEW 10
+#define SKY_CLOUD_MARCH_SUN_DEPTH 11
 #define SKY_LAYOUT_CLOUD_MARCH(X)                                                         \
     X(SKY_CLOUD_MARCH_ATMOSPHERE, BLOCK) X(SKY_CLOUD_MARCH_FRAME, BLOCK)                    \
     X(SKY_CLOUD_MARCH_TRANSMITTANCE, SAMPLED) X(SKY_CLOUD_MARCH_MULTISCATTERING, SAMPLED)   \
     X(SKY_CLOUD_MARCH_IRRADIANCE, SAMPLED) X(SKY_CLOUD_MARCH_CLOUD, BLOCK)                  \
     X(SKY_CLOUD_MARCH_BASE_NOISE, SAMPLED) X(SKY_CLOUD_MARCH_DETAIL_NOISE, SAMPLED)         \
     X(SKY_CLOUD_MARCH_CURL_NOISE, SAMPLED) X(SKY_CLOUD_MARCH_WEATHER, SAMPLED)              \
-    X(SKY_CLOUD_MARCH_SKYVIEW, SAMPLED)
+    X(SKY_CLOUD_MARCH_SKYVIEW, SAMPLED) X(SKY_CLOUD_MARCH_SUN_DEPTH, SAMPLED)
 /* Their specialization: the moon's light marched. */
 #define SKY_CLOUD_CONST_MOONLIT 0
 
 /* cloud_hemisphere.comp */
-#define SKY_CLOUD_HEMISPHERE_ENV_OUT 11
+#define SKY_CLOUD_HEMISPHERE_ENV_OUT 12
 #define SKY_LAYOUT_CLOUD_HEMISPHERE(X)                                                    \
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_HEMISPHERE_ENV_OUT, BUFFER)
 
 /* cloud_trace.comp: with the view's froxel volume. */
-#define SKY_CLOUD_TRACE_COLOR_OUT 11
-#define SKY_CLOUD_TRACE_DEPTH_OUT 12
-#define SKY_CLOUD_TRACE_AP_INSCATTER 13
-#define SKY_CLOUD_TRACE_AP_TRANSMITTANCE 14
+#define SKY_CLOUD_TRACE_COLOR_OUT 12
+#define SKY_CLOUD_TRACE_DEPTH_OUT 13
+#define SKY_CLOUD_TRACE_AP_INSCATTER 14
+#define SKY_CLOUD_TRACE_AP_TRANSMITTANCE 15
 #define SKY_LAYOUT_CLOUD_TRACE(X)                                                         \
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_TRACE_COLOR_OUT, IMAGE)                           \
     X(SKY_CLOUD_TRACE_DEPTH_OUT, IMAGE) X(SKY_CLOUD_TRACE_AP_INSCATTER, SAMPLED)            \
@@ -74,9 +80,9 @@
 /* tests/shaders/cloud_slab_selftest.comp (tests/reference/test_cloud_accuracy.c): one ray per
  * invocation. */
 #define SKY_CLOUD_SLAB_LOCAL 64
-#define SKY_CLOUD_SLAB_CASES 11
-#define SKY_CLOUD_SLAB_RAYS 12
-#define SKY_CLOUD_SLAB_RESULTS 13
+#define SKY_CLOUD_SLAB_CASES 12
+#define SKY_CLOUD_SLAB_RAYS 13
+#define SKY_CLOUD_SLAB_RESULTS 14
 #define SKY_LAYOUT_CLOUD_SLAB(X)                                                          \
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_SLAB_CASES, BUFFER) X(SKY_CLOUD_SLAB_RAYS, BUFFER) \
     X(SKY_CLOUD_SLAB_RESULTS, BUFFER)

@@ -23,7 +23,6 @@ struct CloudResult {
     vec3 luminance;   // scattered by the clouds toward the origin (cd/m2)
     float transmittance;
     float depth;      // transmittance-weighted front depth (seed 001 eq. 21), km
-    float octave_t[MAX_OCTAVES]; // the view's transmittance for each octave (0: transmittance)
 };
 
 // Henyey-Greenstein phase, normalized over the sphere.
@@ -57,10 +56,68 @@ float light_optical_depth(vec3 p, vec3 sun_dir, float jitter, bool low_layer)
     return tau;
 }
 
-// Wrenninge et al.'s octaves (seed 000 eq. 14.18): octave n is the medium once more with
-// scattering a^n sigma_s, extinction b^n sigma_t and phase p(g c^n), p the dual lobe of seed 000
-// eq. 14.17. Each octave is seen through its own thinned extinction along the view ray too, as
-// in the whole renders the octaves stand for: its light comes from deeper inside the cloud.
+// The sun's optical depth from p (to_sun) and along the same ray behind p, through the layer
+// (behind: what the light that reaches p has still to cross); smooth_to_sun: to_sun without
+// the near march's jitter (the volume's alone, where there is one), for the ratios below.
+struct SunDepth {
+    float to_sun, behind, smooth_to_sun;
+};
+
+// The low layer's sun march covers NEAR_KM in NEAR_STEPS jittered samples, each step twice the
+// last (the first 13 m: half an optical depth of a dense cloud), where the shape decides how a
+// surface is lit; the rest of the sun's ray, and the depth behind p, come from
+// the sun-space volume (cloud_sun_depth.glsl), smooth where single jittered kilometre steps
+// made the optical depth jump by tens from one sample to the next. Without the volume (a sun
+// that moved since it was built, the high layer) the geometric march above, and the layer
+// below p at p's extinction.
+const float NEAR_KM = 0.4;
+const float NEAR_STEPS = 5.0;
+
+// The marched part of the sun's optical depth: NEAR_KM where the volume holds the rest
+// (with_volume), the whole reach of light_optical_depth otherwise.
+float sun_march(vec3 p, vec3 dir, float jitter, bool low_layer, bool with_volume)
+{
+    if (!with_volume)
+        return light_optical_depth(p, dir, jitter, low_layer);
+    float ds = NEAR_KM / (exp2(NEAR_STEPS) - 1.0), t = 0.0, tau = 0.0;
+    for (float i = 0.0; i < NEAR_STEPS; i += 1.0) {
+        tau += cloud_layer_extinction(p + dir * (t + jitter * ds), false, true) * ds;
+        t += ds;
+        ds *= 2.0;
+    }
+    return tau;
+}
+
+// The depths at p from the marched part (which a sample may take from its neighbour along
+// the view: the march is the costly part) and the volume's, read at p itself.
+SunDepth sun_depths(vec3 p, vec3 dir, float marched, bool with_volume, float sigma_here,
+                    bool low_layer)
+{
+    SunDepth s;
+    float r = length(p);
+    vec2 uv;
+    if (with_volume && sun_depth_coords(p, dir, uv)) {
+        vec3 here = sun_column_depths(uv, r);
+        vec3 beyond = sun_column_depths(uv, length(p + dir * NEAR_KM));
+        s.to_sun = marched + max(beyond.y - beyond.x, 0.0) + here.z;
+        s.behind = here.x;
+        s.smooth_to_sun = max(here.y - here.x, 0.0) + here.z;
+        return s;
+    }
+    s.to_sun = marched;
+    s.smooth_to_sun = marched;
+    float base = low_layer ? cloud.low.x : cloud.high.x;
+    s.behind = sigma_here * max(r - base, 0.0) / max(dot(dir, p / r), 0.1);
+    return s;
+}
+
+// Wrenninge et al.'s octaves (seed 000 eq. 14.18): octave n is the light scattered once more,
+// with scattering a^n sigma_s, phase p(g c^n) (p the dual lobe of seed 000 eq. 14.17) and the
+// sun's extinction thinned to b^n sigma_t: light that has wandered deeper than the sun's ray.
+// Their sum is the in-scattered radiance at a point, so the view ray attenuates every octave
+// by the full extinction, as it does the single scattering: thinned along the view too, the
+// octaves would be gathered from several optical depths inside every outline, where sunlight
+// hardly reaches, and each silhouette would glow.
 struct OctavePhases {
     float weighted[MAX_OCTAVES]; // a^n p(g c^n): the angle to the light is fixed along a ray
 };
@@ -80,39 +137,58 @@ OctavePhases octave_phases(float cos_theta)
     return o;
 }
 
-// The octaves n >= 1 stand for light that has forgotten the sun's direction: it enters through
-// the lit surface with the flux E mu0 (mu0: the sun's cosine to the surface) and fades with the
-// depth below it, not with the distance along the sun's ray. Below the top of a layer at the
-// local extinction sigma, tau_up = sigma (top - r) estimates that depth; mu0 ~ tau_up / tau_sun
-// (1 inside a cloud lit from the side, where the sun's ray is the shorter way out). Fitted to
-// the Monte Carlo decks of tests/test_cloud_accuracy.c: the depth tau_sun (0.1 + 0.9 mu0).
+// The octaves n >= 1 stand for light that has forgotten the sun's direction: the diffuse light
+// of a two-stream (Eddington) column along the sun's ray through the sample (Bohren 1987, Am.
+// J. Phys. 55, 524): at depth x_s below the lit side and x_b above the dark side (optical depths
+// along the surface's normal), with s = 3/4 (1 - g), the column passes T = 1 / (1 + s (x_s +
+// x_b)) of the flux and its mean diffuse radiance is E mu0 T (k0 + s x_b) / pi: near the flux
+// entering at the lit side, falling linearly to T E mu0 k0 / pi at the dark side. Octave n
+// crosses the column with its extinction thinned by b^n (seed 000 eq. 14.18), so later octaves
+// reach deeper, and is scattered with a^n p(g c^n) (4 pi p ~ 1 turns the mean radiance into the
+// source). mu0, the sun's cosine to the lit surface: tau_up = sigma (top - r), the depth below
+// the layer's top at the local extinction, over the sun's optical depth (mu0 of a deck; 1
+// inside a cloud lit from the side, where the sun's ray is the shorter way out).
 const float MU0_FLOOR = 0.1;
-const float NORMAL_DEPTH = 0.9;
+// k0: the dark side's diffuse radiance over the flux through it (fitted with the octaves to
+// the Monte Carlo decks of tests/reference/test_cloud_accuracy.c).
+const float DIFFUSE_DARK_SIDE = 0.8;
+const float ABSORPTION_SCALE = 0.5;
 
-// Multiply scattered light is not there yet at the lit surface: it builds up over the first
+// Multiply scattered light is not all there yet at the lit surface: it builds up over the first
 // optical depths below it (Schneider 2015's "powder" darkening of sun-facing creases, seen where
-// a view ray grazes a lit surface and gathers its light from that shallow layer). The build-up
-// 1 - exp(-K depth) is scaled by (b^n + K) / K, so that an octave's source integrated over the
-// depth of a deck, int (1 - exp(-K x)) exp(-b^n x) dx = K / (b^n (b^n + K)), is what it was: the
-// light is moved deeper, not taken away. K (clouds.multiscatter.powder) was fitted with the
-// octaves to the Monte Carlo decks.
-float octave_build_up(float depth, float b)
+// a view ray grazes a lit surface and gathers its light from that shallow layer), from half its
+// value at the surface, at the rate K (clouds.multiscatter.powder) per optical depth.
+float octave_build_up(float depth)
 {
-    float k = cloud.build_up.x;
-    return k > 0.0 ? (1.0 - exp(-k * depth)) * (b + k) / k : 1.0;
+    return 1.0 - 0.5 * exp(-cloud.build_up.x * depth);
 }
 
-// The light each octave scatters toward the viewer per unit of its own optical depth, per unit
-// illuminance: a^n p_n exp(-b^n tau) / b^n (seed 000 eq. 14.18), the diffuse octaves by the
-// incidence and the build-up above.
-void octave_sources(OctavePhases o, float tau, float tau_up, out float src[MAX_OCTAVES])
+// The light each octave scatters toward the viewer per unit optical depth, per unit
+// illuminance: single scattering p exp(-tau_sun), and the diffuse octaves above, absorbed over
+// the depth below the lit side at the diffusion rate sqrt(3 (1 - albedo) (1 - albedo g)).
+void octave_sources(OctavePhases o, SunDepth sd, float tau_up, out float src[MAX_OCTAVES])
 {
-    float mu0 = clamp(tau_up / max(tau, 1e-6), MU0_FLOOR, 1.0);
-    float depth = tau * mix(1.0, mu0, NORMAL_DEPTH);
-    src[0] = o.weighted[0] * exp(-tau);
+    float mu0 = clamp(tau_up / max(sd.smooth_to_sun, 1e-6), MU0_FLOOR, 1.0);
+    float x_s = mu0 * sd.to_sun, x_b = mu0 * sd.behind;
+    src[0] = o.weighted[0] * exp(-sd.to_sun);
+    float g = mix(cloud.phase.x, cloud.phase.y, cloud.phase.z);
+    float s = 0.75 * (1.0 - g);
+    float albedo = cloud.media.x;
+    float absorption = sqrt(3.0 * max(1.0 - albedo, 0.0) * (1.0 - albedo * g));
+    // Only what the column scatters at least twice is diffuse: 1 - exp(-tau) of the sun's beam
+    // is scattered once, mostly forward (g ~ 0.5-0.8), so about as likely again.
+    float once = 1.0 - exp(-(sd.smooth_to_sun + sd.behind));
+    float scattered = once * once;
+    float common_part = 4.0 * PI * mu0 * scattered * octave_build_up(x_s) *
+                        exp(-ABSORPTION_SCALE * absorption * x_s);
+    // Light entering at a grazing angle is scattered near the surface and leaves the way it
+    // came more often: the dark side's share falls with mu0 as the Eddington solution's
+    // transmission does, (1/2 + 3/4 mu0) / (5/4) (Joseph, Wiscombe & Weinman 1976).
+    float dark_side = DIFFUSE_DARK_SIDE * (0.5 + 0.75 * mu0) / 1.25;
     float b = cloud.octaves.y;
     for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
-        src[n] = o.weighted[n] * mu0 * exp(-b * depth) / b * octave_build_up(depth, b);
+        float diffuse = (dark_side + s * b * x_b) / (1.0 + s * b * (x_s + x_b));
+        src[n] = o.weighted[n] * common_part * diffuse / PI;
         b *= cloud.octaves.y;
     }
 }
@@ -248,7 +324,8 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     bool moon_on = moon_lights_clouds();
     vec3 moon_dir = frame.moon_direction.xyz;
     vec3 moon = moon_on ? frame.moon_illuminance.xyz * sun_transmittance(mid, moon_dir) : vec3(0.0);
-    float tau_moon = 0.0;
+    float moon_marched = 0.0;
+    bool moon_volume = false;
     float albedo = cloud.media.x * (1.0 - 0.5 * cloud.media.y);
     float t = t0 + jitter * ds;
     float t_fine = t; // the last fine sample: the skip never backs up behind it
@@ -258,7 +335,8 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     bool refining = false; // coming in again in short steps (until the ray leaves the cloud)
     float entry_t = 1.0;   // the view's transmittance where the ray came in
     float refine_left = 0.0; // samples the refinement may still take
-    float tau = 0.0;
+    float sun_marched = 0.0;
+    bool sun_volume = false;
     bool fresh_light = true;
     for (float i = 0.0; i < 2.0 * steps + 4.0 * REFINE && t < t1; i += 1.0) {
         if (res.transmittance < EARLY_EXIT_T)
@@ -320,61 +398,43 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
             // bias every light sample of the ray alike, and the octaves that see deep into
             // the cloud would turn that into grain.
             float light_jitter = fract(jitter + 0.6180340 * i);
-            tau = light_optical_depth(p, sun_dir, light_jitter, low_layer);
-            if (moon_on)
-                tau_moon = light_optical_depth(p, moon_dir, light_jitter, low_layer);
+            vec2 uv;
+            sun_volume = low_layer && sun_depth_coords(p, sun_dir, uv);
+            sun_marched = sun_march(p, sun_dir, light_jitter, low_layer, sun_volume);
+            if (moon_on) {
+                moon_volume = low_layer && sun_depth_coords(p, moon_dir, uv);
+                moon_marched = sun_march(p, moon_dir, light_jitter, low_layer, moon_volume);
+            }
         }
+        SunDepth sun_depth = sun_depths(p, sun_dir, sun_marched, sun_volume, sigma_t, low_layer);
+        SunDepth moon_depth = sun_depth;
+        if (moon_on)
+            moon_depth = sun_depths(p, moon_dir, moon_marched, moon_volume, sigma_t, low_layer);
         fresh_light = !(fresh_light || entering);
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
         vec3 ambient = mix(amb.bottom, amb.top, h);
         float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
         float top = low_layer ? cloud.low.y : cloud.high.y;
         float tau_up = sigma_t * max(top - r, 0.0);
-        octave_sources(phases, tau, tau_up, src);
+        octave_sources(phases, sun_depth, tau_up, src);
         if (moon_on)
-            octave_sources(moon_phases, tau_moon, tau_up, moon_src);
-        // seed 001 eq. 17 per octave: the source integrated over the step against the octave's
-        // own extinction b^n sigma_t (the 1 / b^n is in the sources).
-        float b = 1.0, sun_sum = 0.0, moon_sum = 0.0;
+            octave_sources(moon_phases, moon_depth, tau_up, moon_src);
+        // seed 001 eq. 17: the sources integrated over the step against the extinction.
+        float step_t = exp(-sigma_t * ds);
+        float sun_sum = 0.0, moon_sum = 0.0;
         for (int n = 0; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
-            float step_n = exp(-b * sigma_t * ds);
-            float seen = res.octave_t[n] * (1.0 - step_n);
-            sun_sum += seen * src[n];
+            sun_sum += src[n];
             if (moon_on)
-                moon_sum += seen * moon_src[n];
-            res.octave_t[n] *= step_n;
-            b *= cloud.octaves.y;
+                moon_sum += moon_src[n];
         }
         // The sky's ambient light is scattered once (octave 0).
-        float step_t = exp(-sigma_t * ds);
-        res.luminance += albedo * (sun * sun_sum + moon * moon_sum +
-                                   ambient * (res.transmittance * (1.0 - step_t)));
+        res.luminance += albedo * res.transmittance * (1.0 - step_t) *
+                         (sun * sun_sum + moon * moon_sum + ambient);
         // seed 001 eq. 21: front depth weighted by the transmittance to the viewer.
         depth_sum += vec2(res.transmittance * t, res.transmittance);
         res.transmittance *= step_t;
-        if (res.transmittance < EARLY_EXIT_T) {
-            // The octaves' light from behind the exit, up to the layer's far side: the medium
-            // continued with this sample's extinction, the sun's optical depth growing along
-            // the view by k per unit of the view's, as in a plane-parallel deck (0 on a rising
-            // ray). Geometric, not the difference of two jittered light marches, whose noise
-            // 1 / (1 + k) would turn into a bias.
-            vec3 up = p / r;
-            float k = max(0.0, -dot(d, up)) / max(dot(sun_dir, up), 0.1);
-            float rest = sigma_t * max(t1 - t - ds, 0.0);
-            b = cloud.octaves.y;
-            sun_sum = 0.0;
-            moon_sum = 0.0;
-            for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
-                float seen = res.octave_t[n] * exp(-b * k * sigma_t * ds) *
-                             (1.0 - exp(-b * (1.0 + k) * rest)) / (1.0 + k);
-                sun_sum += seen * src[n];
-                if (moon_on)
-                    moon_sum += seen * moon_src[n];
-                b *= cloud.octaves.y;
-            }
-            res.luminance += albedo * (sun * sun_sum + moon * moon_sum);
+        if (res.transmittance < EARLY_EXIT_T)
             break;
-        }
         t += ds;
     }
 }
@@ -430,8 +490,6 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
     res.luminance = vec3(0.0);
     res.transmittance = 1.0;
     res.depth = 0.0;
-    for (int n = 0; n < MAX_OCTAVES; n++)
-        res.octave_t[n] = 1.0;
     if (cloud.march.z < 0.5)
         return res;
     float lo0, lo1, hi0, hi1;

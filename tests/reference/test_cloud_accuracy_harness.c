@@ -38,6 +38,7 @@ void slab_harness_destroy(struct harness *h)
     gpu_image_destroy(h->ctx, &h->detail);
     gpu_image_destroy(h->ctx, &h->curl);
     gpu_image_destroy(h->ctx, &h->weather);
+    gpu_image_destroy(h->ctx, &h->sun_depth);
     gpu_image_destroy(h->ctx, &h->skyview);
     if (h->sampler)
         vkDestroySampler(h->ctx->device, h->sampler, NULL);
@@ -91,6 +92,7 @@ bool slab_harness_create(struct vk_context *ctx, const struct options *o, struct
     ok = ok && gpu_image_create(ctx, f, 4, 4, 1, "slab_curl", &h->curl) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 4, 4, 1, "slab_weather", &h->weather) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 8, 8, 1, "slab_skyview", &h->skyview) == VK_SUCCESS;
+    ok = ok && gpu_image_create(ctx, f, 4, 4, 4, "slab_sun_depth", &h->sun_depth) == VK_SUCCESS;
     ok = ok && gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
                                          &h->sampler) == VK_SUCCESS;
     CHECK(ok);
@@ -109,6 +111,7 @@ bool slab_harness_create(struct vk_context *ctx, const struct options *o, struct
         [SKY_CLOUD_MARCH_CURL_NOISE] = { .image = &h->curl, .sampler = smp },
         [SKY_CLOUD_MARCH_WEATHER] = { .image = &h->weather, .sampler = smp },
         [SKY_CLOUD_MARCH_SKYVIEW] = { .image = &h->skyview, .sampler = smp },
+        [SKY_CLOUD_MARCH_SUN_DEPTH] = { .image = &h->sun_depth, .sampler = smp },
         [SKY_CLOUD_SLAB_CASES] = { .buffer = &h->cases },
         [SKY_CLOUD_SLAB_RAYS] = { .buffer = &h->rays },
         [SKY_CLOUD_SLAB_RESULTS] = { .buffer = &h->results },

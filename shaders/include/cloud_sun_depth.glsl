@@ -1,0 +1,40 @@
+// The sun's optical depth through the low layer from the sun-space volume that cloud_shadow.comp
+// builds with the shadow map: for a point p, the sun's ray through it meets the ground at a
+// point whose pattern position indexes the volume, and the volume holds that ray's optical
+// depth from the layer's base up to each of its altitude levels. Smooth and free of the
+// jitter of a march: the marches take the far part of the sun's optical depth from it.
+// Needs `cloud`, the atmosphere functions and a `sun_depth_volume` sampler (repeat addressing).
+#ifndef CLOUD_SUN_DEPTH_GLSL
+#define CLOUD_SUN_DEPTH_GLSL
+
+// The sun may have moved this far (cosine) from the one the volume was built for: the map
+// follows it within about 0.3 degree (render/clouds/cloud_renderer.c).
+const float SUN_DEPTH_SUN_COS = 0.99996;
+
+// The volume's coordinates for p: false when it was not built for this sun, or when the sun's
+// ray through p does not come from the ground (a sun at the horizon).
+bool sun_depth_coords(vec3 p, vec3 sun_dir, out vec2 uv)
+{
+    uv = vec2(0.0);
+    if (cloud.shadow_sun.w < 0.5 || dot(sun_dir, cloud.shadow_sun.xyz) < SUN_DEPTH_SUN_COS)
+        return false;
+    float t = ray_sphere_nearest(p, -sun_dir, bottom_radius());
+    if (t < 0.0)
+        return false;
+    vec3 ground = p - sun_dir * t;
+    uv = (ground.xy - cloud.weather.xy) * cloud.weather.z + 0.5;
+    return true;
+}
+
+// Optical depths along the sun's ray through p: x the low layer's from its base up to p's
+// altitude, y the whole low layer's, z the high layer's.
+vec3 sun_column_depths(vec2 uv, float r)
+{
+    const float levels = float(SKY_CLOUD_SUN_DEPTH_LEVELS);
+    float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
+    vec2 at = textureLod(sun_depth_volume, vec3(uv, (h * (levels - 1.0) + 0.5) / levels), 0.0).rg;
+    float whole = textureLod(sun_depth_volume, vec3(uv, (levels - 0.5) / levels), 0.0).r;
+    return vec3(at.r, whole, at.g);
+}
+
+#endif
