@@ -2,7 +2,7 @@
  * cloud density model: a weather preset seen from 14 km straight down (cloud_field_views.h).
  *
  *   cloud_field_probe PRESET [--coverage C] [--seed S] [--sun-elev E] [--sun-az A]
- *                     [--keep-high] [--views N] [--what all|sizes|spectra]
+ *                     [--keep-high | --no-high] [--views N] [--what all|sizes|spectra]
  *                     [--set PATH=VALUE]... [--out DIR] [--config-dir DIR]
  *
  * sizes: the cloudy/clear pair over a black ground at fov 90: cloud fraction, size
@@ -10,8 +10,8 @@
  * at fov 90 (beta over 1-8 km) and up to 2 at fov 60 (beta from 4 px to 200 m) over the
  * preset's ground, the test's deck views (seeds 1 and 7, two parts of the map, suns 40 and
  * 65 deg) unless --seed or --sun-elev fix them; with --views 4 the decks' pooled figures are
- * the test's. The high layer is left out unless --keep-high (the test keeps it for fair
- * cumulus only). SKYD_VALIDATION=1 turns the validation layer on (off by default here). */
+ * the test's. The preset's high layer stays in the sizes' pair and is left out of the spectra,
+ * as in the test, unless --keep-high or --no-high says otherwise for both. SKYD_VALIDATION=1 turns the validation layer on (off by default here). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,14 +25,14 @@ struct options {
     const char *preset, *what;
     double coverage, sun_elevation, sun_azimuth;
     int seed, views;
-    bool keep_high;
+    int high; /* -1: as the test's view; 0: left out; 1: kept */
 };
 
 static int usage(void)
 {
     fprintf(stderr,
             "usage: cloud_field_probe PRESET [--coverage C] [--seed S] [--sun-elev E] "
-            "[--sun-az A] [--keep-high] [--views N] [--what all|sizes|spectra] "
+            "[--sun-az A] [--keep-high | --no-high] [--views N] [--what all|sizes|spectra] "
             "[--set PATH=VALUE]... [--out DIR] [--config-dir DIR]\n");
     return 2;
 }
@@ -42,7 +42,8 @@ static struct field_view customised(const struct options *o, struct field_view v
 {
     view.preset = o->preset;
     view.low_coverage = o->coverage;
-    view.keep_high = o->keep_high;
+    if (o->high >= 0)
+        view.keep_high = o->high == 1;
     if (o->seed >= 0)
         view.seed = o->seed;
     if (!isnan(o->sun_elevation))
@@ -99,12 +100,13 @@ static bool probe_spectra(const struct field_views *v, const struct options *o)
 
 int main(int argc, char **argv)
 {
-    struct options o = { NULL, "all", NAN, NAN, 135.0, -1, 1, false };
+    struct options o = { NULL, "all", NAN, NAN, 135.0, -1, 1, -1 };
     static const char *sets[MAX_SETS];
     struct field_views v = { NULL, "config", NULL, sets, 0 };
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *value = i + 1 < argc ? argv[i + 1] : NULL;
-        bool takes_value = strcmp(a, "--keep-high") != 0 && strncmp(a, "--", 2) == 0;
+        bool flag = strcmp(a, "--keep-high") == 0 || strcmp(a, "--no-high") == 0;
+        bool takes_value = !flag && strncmp(a, "--", 2) == 0;
         if (takes_value && !value)
             return usage();
         if (strcmp(a, "--coverage") == 0)
@@ -125,8 +127,8 @@ int main(int argc, char **argv)
             v.config_dir = value;
         else if (strcmp(a, "--set") == 0 && v.set_count < MAX_SETS)
             sets[v.set_count++] = value;
-        else if (strcmp(a, "--keep-high") == 0)
-            o.keep_high = true;
+        else if (flag)
+            o.high = strcmp(a, "--keep-high") == 0;
         else if (a[0] != '-' && !o.preset)
             o.preset = a;
         else
