@@ -71,8 +71,8 @@ int cloud_field_spectrum(const float *luma, int w, int h, double pixel_km, doubl
  * averages more Fourier modes: the lowest rings of an image hold a few dozen modes each, and
  * the window smears them over +-2 rings. Keep lambda_max_km at a quarter of the image or less
  * and average E over several views: one 512^2 view of a k^-5/3 field gives beta over rings
- * 4-24 with a scatter of about 0.16, four views about 0.1. *used (when not NULL): the rings in the fit.
- * NAN with fewer than 3. */
+ * 4-24 with a scatter of about 0.16, four views about 0.1. *used (when not NULL): the rings
+ * in the fit. NAN with fewer than 3. */
 double cloud_field_spectral_slope(const double *k, const double *e, int rings,
                                   double lambda_min_km, double lambda_max_km, int *used);
 

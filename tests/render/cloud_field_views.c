@@ -242,11 +242,13 @@ static void black_ground(struct sky_world_state *s)
 /* The part of mask[] within FIELD_NADIR_DEG of the nadir (a pinhole straight down). */
 static double nadir_fraction(double fov_deg)
 {
-    double tan_half = tan(0.5 * fov_deg * M_PI / 180.0), limit = tan(FIELD_NADIR_DEG * M_PI / 180.0);
+    double tan_half = tan(0.5 * fov_deg * M_PI / 180.0);
+    double limit = tan(FIELD_NADIR_DEG * M_PI / 180.0);
     long on = 0, all = 0;
     for (int y = 0; y < FIELD_SIDE; y++)
         for (int x = 0; x < FIELD_SIDE; x++) {
-            double nx = 2.0 * (x + 0.5) / FIELD_SIDE - 1.0, ny = 2.0 * (y + 0.5) / FIELD_SIDE - 1.0;
+            double nx = 2.0 * (x + 0.5) / FIELD_SIDE - 1.0;
+            double ny = 2.0 * (y + 0.5) / FIELD_SIDE - 1.0;
             if (tan_half * hypot(nx, ny) > limit)
                 continue;
             all++;
@@ -321,9 +323,9 @@ void field_print_cumulus(const char *name, const struct cumulus_figures *f)
            "km): b %.2f +- %.2f (untruncated %.2f, binned %.2f, KS %.3f); D %.3f over %d >= "
            "%d px\n",
            name, 1000.0 * f->pixel_km, f->fraction, FIELD_NADIR_DEG, f->coverage,
-           f->fraction - f->coverage, f->image_fraction, f->objects, z->whole, z->used, 1000.0 * z->l_min_km, z->l_max_km, z->b, z->b_sigma,
-           z->b_clauset, z->b_binned, z->ks, f->dimension, f->dimension_used,
-           FIELD_D_MIN_AREA_PX);
+           f->fraction - f->coverage, f->image_fraction, f->objects, z->whole, z->used,
+           1000.0 * z->l_min_km, z->l_max_km, z->b, z->b_sigma, z->b_clauset, z->b_binned,
+           z->ks, f->dimension, f->dimension_used, FIELD_D_MIN_AREA_PX);
 }
 
 void field_print_octaves(const char *name, const struct field_spectrum *spectrum)

@@ -1,19 +1,21 @@
 /* Cloud fields against the issue's targets, measured on skyd's renders from 14 km straight down
  * (cloud_field_views.h, cloud_field_metrics.h):
  * - fair cumulus (low coverage 0.25 and 0.45; weather seeds 1 and 7; sun 40 and 65 deg up):
- *   the cloud fraction (within 20 deg of the nadir) within 0.06 of the coverage; cloud sizes n(L) ~ L^-b, b 1.6-2.9 over at
- *   least 50 clouds (Neggers et al. 2003, JAS 60; Zhao & Di Girolamo 2007, JGR 112; De Vera
- *   et al. 2024, ACP 24); area-perimeter dimension 1.22-1.42 (Lovejoy 1982);
+ *   the cloud fraction (within 20 deg of the nadir) within 0.06 of the coverage; cloud sizes
+ *   n(L) ~ L^-b, b 1.6-2.9 over at least 50 clouds (Neggers et al. 2003, JAS 60; Zhao & Di
+ *   Girolamo 2007, JGR 112; De Vera et al. 2024, ACP 24); area-perimeter dimension 1.22-1.42
+ *   (Lovejoy 1982);
  * - stratocumulus (broken without its cirrus) and stratus (overcast without its cirrus) decks:
  *   the radiance spectrum E(k) ~ k^-beta with beta 1.3-2.0 over 1-8 km (Cahalan & Snider
  *   1989, RSE 28; Davis et al. 1997, JAS 54), and at least 2.5 below 200 m, where radiative
  *   smoothing takes over (Davis et al. 1997).
  * Cumulus from fov 90 deg (512 px over 24 km, 46 m a pixel). Decks: 1-8 km from four fov 90
  * views (two seeds, two parts of the map, the two suns; 48-51 m a pixel), their spectra
- * summed, since one 24 km view scatters beta over 1-8 km by 0.16 alone; 4 px (103-110 m) to
- * 200 m from two fov 60 views (26-27 m a pixel, as Landsat's 28.5 m in Davis et al. 1997). The decks are measured without the presets'
- * cirrus, which lies over them and is not the deck.
- * argv[1]: where the renders and masks are written as PNGs; argv[2]: the config directory. */
+ * summed, since one 24 km view scatters beta over 1-8 km by 0.16 alone; 4 px (111-118 m) to
+ * 200 m from two fov 60 views (28-30 m a pixel, as Landsat's 28.5 m in Davis et al. 1997).
+ * The decks are measured without the presets' cirrus, which lies over them and is not the
+ * deck. argv[1]: where the renders and masks are written as PNGs; argv[2]: the config
+ * directory. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

@@ -11,7 +11,8 @@
  * preset's ground, the test's deck views (seeds 1 and 7, two parts of the map, suns 40 and
  * 65 deg) unless --seed or --sun-elev fix them; with --views 4 the decks' pooled figures are
  * the test's. The preset's high layer stays in the sizes' pair and is left out of the spectra,
- * as in the test, unless --keep-high or --no-high says otherwise for both. SKYD_VALIDATION=1 turns the validation layer on (off by default here). */
+ * as in the test, unless --keep-high or --no-high says otherwise for both. SKYD_VALIDATION=1
+ * turns the validation layer on (off by default here). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -80,8 +80,9 @@ static void test_truncated_power_law(void)
 }
 
 /* Discs of power-law diameters (b = 1.8 and 2.6; 4 to 150 px), scattered without touching one
- * another or the border over a 2048^2 mask (1500 of them cover about 15 %); the fit above 6 px (28 px of area). Pixel areas
- * blur the diameters by about a pixel, which moves clouds across the lower edge both ways. */
+ * another or the border over a 2048^2 mask (1500 of them cover about 15 %); the fit above
+ * 6 px (28 px of area). Pixel areas blur the diameters by about a pixel, which moves clouds
+ * across the lower edge both ways. */
 static void test_disc_sizes(void)
 {
     enum { S = 2048, N = 1500 };
