@@ -71,6 +71,21 @@
     X(SKY_CLOUD_TRACE_DEPTH_OUT, IMAGE) X(SKY_CLOUD_TRACE_AP_INSCATTER, SAMPLED)            \
     X(SKY_CLOUD_TRACE_AP_TRANSMITTANCE, SAMPLED)
 
+/* cloud_pathtrace.comp (the path-traced reference): sums of the samples so far (rgb luminance,
+ * a transmittance; x depth x weight, y depth weight, z samples), the cloud image it writes
+ * (as the reconstruction does), the view's froxel volume, and counters (pt_stats). */
+#define SKY_CLOUD_PATHTRACE_SUM 11
+#define SKY_CLOUD_PATHTRACE_DEPTH_SUM 12
+#define SKY_CLOUD_PATHTRACE_COLOR_OUT 13
+#define SKY_CLOUD_PATHTRACE_AP_INSCATTER 14
+#define SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE 15
+#define SKY_CLOUD_PATHTRACE_STATS 16
+#define SKY_LAYOUT_CLOUD_PATHTRACE(X)                                                     \
+    SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_PATHTRACE_SUM, IMAGE)                             \
+    X(SKY_CLOUD_PATHTRACE_DEPTH_SUM, IMAGE) X(SKY_CLOUD_PATHTRACE_COLOR_OUT, IMAGE)         \
+    X(SKY_CLOUD_PATHTRACE_AP_INSCATTER, SAMPLED)                                           \
+    X(SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE, SAMPLED) X(SKY_CLOUD_PATHTRACE_STATS, BUFFER)
+
 /* tests/shaders/cloud_slab_selftest.comp (tests/reference/test_cloud_accuracy.c): one ray per
  * invocation. */
 #define SKY_CLOUD_SLAB_LOCAL 64
