@@ -96,6 +96,12 @@
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_SLAB_CASES, BUFFER) X(SKY_CLOUD_SLAB_RAYS, BUFFER) \
     X(SKY_CLOUD_SLAB_RESULTS, BUFFER)
 
+/* tests/shaders/cloud_pathtrace_selftest.comp (tests/reference/test_cloud_pathtrace_slab.c):
+ * the path tracer through a homogeneous deck, one sample per invocation; the slab self-test's
+ * bindings with the path tracer's counters. */
+#define SKY_CLOUD_PT_SLAB_STATS 14
+#define SKY_LAYOUT_CLOUD_PT_SLAB(X) SKY_LAYOUT_CLOUD_SLAB(X) X(SKY_CLOUD_PT_SLAB_STATS, BUFFER)
+
 /* ---- per-view passes ---- */
 
 /* cloud_reconstruct.comp */
