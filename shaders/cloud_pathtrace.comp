@@ -17,6 +17,8 @@ layout(binding = SKY_CLOUD_PATHTRACE_DEPTH_SUM, rgba32f) uniform image2D depth_s
 layout(binding = SKY_CLOUD_PATHTRACE_COLOR_OUT, rgba32f) uniform writeonly image2D color_out;
 layout(binding = SKY_CLOUD_PATHTRACE_AP_INSCATTER) uniform sampler3D ap_inscatter;
 layout(binding = SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE) uniform sampler3D ap_transmittance;
+// Per cell of the weather map: x, y 1 where the low, high layer may hold cloud (near it).
+layout(binding = SKY_CLOUD_PATHTRACE_GRID) uniform sampler2D pt_grid;
 layout(std430, binding = SKY_CLOUD_PATHTRACE_STATS) buffer Stats {
     sky_cloud_reference_stats pt_stats;
 };
@@ -47,22 +49,21 @@ Primary primary_ray(vec3 cam, vec3 d)
         float t0, t1, m;
         if (!pt_next_segment(o, d, t0, t1, m))
             break;
-        float t = t0;
-        for (int i = 0; i < PT_MAX_STEPS; i++) {
-            t += pt_flight(m);
-            if (t >= t1)
-                break;
+        PtWalk w = pt_walk(t0);
+        while (pt_propose(w, o, d, t1, m)) {
+            float t = w.t;
             vec3 p = o + t * d;
-            float sigma = pt_extinction(p, m);
-            // Proposals are uniform in t (rate m), so these sums estimate m times the integrals
-            // of T t and T over the cloud: their ratio is eq. 21's depth.
+            float sigma = pt_extinction(p, w.majorant);
+            // Proposals are uniform in t at the rate of the majorant, so these sums, weighted by
+            // its inverse, estimate the integrals of T t and T over the cloud: their ratio is
+            // eq. 21's depth.
             if (sigma > 0.0)
-                r.depth += r.T * vec2(base + t, 1.0);
-            if (!r.hit && pt_random() * m < sigma) {
+                r.depth += r.T / w.majorant * vec2(base + t, 1.0);
+            if (!r.hit && pt_random() * w.majorant < sigma) {
                 r.hit = true;
                 r.p = p;
             }
-            r.T *= 1.0 - sigma / m;
+            r.T *= 1.0 - sigma / w.majorant;
             if (r.T < PRIMARY_ROULETTE_T && r.T > 0.0)
                 r.T = pt_random() * PRIMARY_ROULETTE_T < r.T ? PRIMARY_ROULETTE_T : 0.0;
             if (r.hit && r.T <= 0.0)

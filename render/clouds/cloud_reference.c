@@ -15,6 +15,8 @@
 
 struct cloud_reference {
     struct compute_pass pass[2]; /* without, then with the moon's light */
+    struct compute_pass majorant;
+    struct gpu_image grid;
     struct gpu_buffer stats;
 };
 
@@ -26,6 +28,10 @@ struct cloud_reference {
       .spec_values = { [SKY_CLOUD_CONST_MOONLIT] = moonlit } }
 
 static const struct compute_pass_desc descs[2] = { PATHTRACE_DESC(0), PATHTRACE_DESC(1) };
+static const struct compute_pass_desc majorant_desc = {
+    .name = "cloud_majorant", .spirv = cloud_majorant_spv,
+    .spirv_bytes = sizeof(cloud_majorant_spv), SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_MAJORANT)
+};
 
 struct cloud_reference *cloud_reference_create(struct vk_context *ctx)
 {
@@ -39,6 +45,10 @@ struct cloud_reference *cloud_reference_create(struct vk_context *ctx)
     memset(ref->stats.mapped, 0, sizeof(struct sky_cloud_reference_stats));
     for (int i = 0; i < 2; i++)
         VK_CHECK_GOTO(compute_pass_create(ctx, &descs[i], &ref->pass[i]), fail);
+    VK_CHECK_GOTO(compute_pass_create(ctx, &majorant_desc, &ref->majorant), fail);
+    VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, SKY_CLOUD_MAJORANT_GRID_SIZE,
+                                   SKY_CLOUD_MAJORANT_GRID_SIZE, 1, "cloud_majorant", &ref->grid),
+                  fail);
     return ref;
 fail:
     cloud_reference_destroy(ctx, &ref);
@@ -52,6 +62,8 @@ void cloud_reference_destroy(struct vk_context *ctx, struct cloud_reference **pr
         return;
     for (int i = 0; i < 2; i++)
         compute_pass_destroy(ctx, &ref->pass[i]);
+    compute_pass_destroy(ctx, &ref->majorant);
+    gpu_image_destroy(ctx, &ref->grid);
     gpu_buffer_destroy(ctx, &ref->stats);
     free(ref);
     *pref = NULL;
@@ -67,12 +79,20 @@ int cloud_reference_record(struct vk_context *ctx, struct cloud_reference *ref,
     struct compute_pass *pass = &ref->pass[moonlit(f)];
     struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_PATHTRACE)];
     cloud_march_resources(cr, f, r);
+    struct compute_resource g[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_MAJORANT)] = {
+        [SKY_CLOUD_MAJORANT_WEATHER] = r[SKY_CLOUD_MARCH_WEATHER],
+        [SKY_CLOUD_MAJORANT_OUT] = img(&ref->grid),
+    };
+    compute_pass_bind(ctx, &ref->majorant, g);
+    const uint32_t grid_size[3] = { SKY_CLOUD_MAJORANT_GRID_SIZE, SKY_CLOUD_MAJORANT_GRID_SIZE, 1 };
+    compute_pass_record(cmd, &ref->majorant, NULL, grid_size, local_2d);
     r[SKY_CLOUD_PATHTRACE_SUM] = img(&e->trace_color);
     r[SKY_CLOUD_PATHTRACE_DEPTH_SUM] = img(&e->trace_depth);
     r[SKY_CLOUD_PATHTRACE_COLOR_OUT] = img(&e->color[e->latest]);
     r[SKY_CLOUD_PATHTRACE_AP_INSCATTER] = tex(f->sky.ap_inscatter, f->sky.sampler);
     r[SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE] = tex(f->sky.ap_transmittance, f->sky.sampler);
     r[SKY_CLOUD_PATHTRACE_STATS] = buf(&ref->stats);
+    r[SKY_CLOUD_PATHTRACE_GRID] = tex(&ref->grid, f->sky.sampler);
     compute_pass_bind(ctx, pass, r);
     /* The frame is recorded after the last one completed: nothing reads the counters now. */
     memset(ref->stats.mapped, 0, sizeof(struct sky_cloud_reference_stats));

@@ -80,11 +80,21 @@
 #define SKY_CLOUD_PATHTRACE_AP_INSCATTER 14
 #define SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE 15
 #define SKY_CLOUD_PATHTRACE_STATS 16
+#define SKY_CLOUD_PATHTRACE_GRID 17
 #define SKY_LAYOUT_CLOUD_PATHTRACE(X)                                                     \
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_PATHTRACE_SUM, IMAGE)                             \
     X(SKY_CLOUD_PATHTRACE_DEPTH_SUM, IMAGE) X(SKY_CLOUD_PATHTRACE_COLOR_OUT, IMAGE)         \
     X(SKY_CLOUD_PATHTRACE_AP_INSCATTER, SAMPLED)                                           \
-    X(SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE, SAMPLED) X(SKY_CLOUD_PATHTRACE_STATS, BUFFER)
+    X(SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE, SAMPLED) X(SKY_CLOUD_PATHTRACE_STATS, BUFFER)   \
+    X(SKY_CLOUD_PATHTRACE_GRID, SAMPLED)
+
+/* cloud_majorant.comp: the path tracer's majorant grid from the weather map, a cell per
+ * invocation. */
+#define SKY_CLOUD_MAJORANT_GRID_SIZE 64
+#define SKY_CLOUD_MAJORANT_WEATHER 0
+#define SKY_CLOUD_MAJORANT_OUT 1
+#define SKY_LAYOUT_CLOUD_MAJORANT(X)                                                      \
+    X(SKY_CLOUD_MAJORANT_WEATHER, SAMPLED) X(SKY_CLOUD_MAJORANT_OUT, IMAGE)
 
 /* tests/shaders/cloud_slab_selftest.comp (tests/reference/test_cloud_accuracy.c): one ray per
  * invocation. */

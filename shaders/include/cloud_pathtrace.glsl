@@ -8,7 +8,7 @@
 //
 // The including shader includes cloud_bindings.glsl first, sets pt_precipitation_ceiling and
 // pt_rng, and declares the buffer `pt_stats` (violations, max_ratio_bits, kilo_samples,
-// overflows).
+// overflows) and the majorant grid `pt_grid` (sampler2D; or defines PT_WITHOUT_GRID).
 #ifndef CLOUD_PATHTRACE_GLSL
 #define CLOUD_PATHTRACE_GLSL
 
@@ -18,7 +18,7 @@ float pt_precipitation_ceiling = 1.0;
 uint pt_rng = 0u;
 uint pt_samples = 0u; // density evaluations of this invocation
 
-// Collisions proposed per segment before it gives up (counted in pt_stats.overflows).
+// Proposals (and grid stretches) per segment before it gives up (pt_stats.overflows).
 const int PT_MAX_STEPS = 1 << 20;
 // Shell segments a ray may cross (low, high, low again past a grazing dip, ...).
 const int PT_MAX_SEGMENTS = 8;
@@ -88,7 +88,9 @@ bool pt_next_segment(vec3 o, vec3 d, out float t0, out float t1, out float major
         t0 = t1 = majorant = 0.0;
         return false;
     }
-    return majorant > 0.0;
+    // A grazing ray's sphere intersections can come out NaN or huge in float: no segment (a
+    // real one is under 2 sqrt(2 R h) < 2000 km).
+    return majorant > 0.0 && t1 > t0 && t1 - t0 < 2000.0;
 }
 
 // cloud_extinction(p, true), with a count of samples above the majorant (which would bias
@@ -104,6 +106,70 @@ float pt_extinction(vec3 p, float majorant)
     return sigma;
 }
 
+// The majorant over the stretch of a ray around p: the layers' bounds where the majorant grid
+// (cloud_majorant.comp: per cell of the weather map, whether a layer has coverage within a
+// cell of it) says they may hold cloud, 0 elsewhere. A stretch no longer than a cell stays
+// within the cells around its middle, which the grid's cell covers. Without the grid (the
+// self-test), the bounds everywhere.
+float pt_cell_km()
+{
+#ifdef PT_WITHOUT_GRID
+    return 1e9;
+#else
+    return cloud.weather.w / float(textureSize(pt_grid, 0).x);
+#endif
+}
+
+float pt_local_majorant(vec3 p, float segment_majorant)
+{
+#ifdef PT_WITHOUT_GRID
+    return segment_majorant;
+#else
+    // The weather map's coordinates of p, as sample_weather (cloud_density.glsl) reads it.
+    vec2 uv = fract(cloud_pattern_xy(p) * cloud.weather.z + 0.5);
+    ivec2 n = textureSize(pt_grid, 0);
+    vec2 g = texelFetch(pt_grid, min(ivec2(uv * vec2(n)), n - 1), 0).xy;
+    return min(segment_majorant, (g.x > 0.0 ? pt_bound_low() : 0.0) +
+                                     (g.y > 0.0 ? pt_bound_high() : 0.0));
+#endif
+}
+
+// Proposed collisions along [t0, t1] of the ray o + t d: exponential flights under a majorant
+// that is constant over each stretch of a cell's length (skipped where it is 0). The state
+// of one walk; pt_propose advances it to the next proposal, false past t1.
+struct PtWalk {
+    float t, stretch_end, majorant;
+};
+
+PtWalk pt_walk(float t0)
+{
+    return PtWalk(t0, t0, 0.0);
+}
+
+bool pt_propose(inout PtWalk w, vec3 o, vec3 d, float t1, float segment_majorant)
+{
+    float cell = pt_cell_km();
+    for (int i = 0; i < PT_MAX_STEPS; i++) {
+        if (w.t >= w.stretch_end) {
+            if (w.stretch_end >= t1)
+                return false;
+            float a = w.stretch_end;
+            w.stretch_end = min(a + cell, t1);
+            w.majorant = pt_local_majorant(o + d * (0.5 * (a + w.stretch_end)), segment_majorant);
+            w.t = w.majorant > 0.0 ? a : w.stretch_end;
+            continue;
+        }
+        float next = w.t + pt_flight(w.majorant);
+        if (next < w.stretch_end) {
+            w.t = next;
+            return true;
+        }
+        w.t = w.stretch_end; // memoryless: the next stretch starts afresh
+    }
+    atomicAdd(pt_stats.overflows, 1u);
+    return false;
+}
+
 // Delta tracking from o along d: true at a real collision, with o moved there; false when the
 // ray leaves the shells, with o at its last exit (or where it started).
 bool pt_track(inout vec3 o, vec3 d)
@@ -112,18 +178,13 @@ bool pt_track(inout vec3 o, vec3 d)
         float t0, t1, m;
         if (!pt_next_segment(o, d, t0, t1, m))
             return false;
-        float t = t0;
-        for (int i = 0; i < PT_MAX_STEPS; i++) {
-            t += pt_flight(m);
-            if (t >= t1)
-                break;
-            vec3 p = o + t * d;
-            if (pt_random() * m < pt_extinction(p, m)) {
+        PtWalk w = pt_walk(t0);
+        while (pt_propose(w, o, d, t1, m)) {
+            vec3 p = o + w.t * d;
+            if (pt_random() * w.majorant < pt_extinction(p, w.majorant)) {
                 o = p;
                 return true;
             }
-            if (i == PT_MAX_STEPS - 1)
-                atomicAdd(pt_stats.overflows, 1u);
         }
         o += d * (t1 + PT_EPS_KM);
     }
@@ -140,12 +201,9 @@ float pt_transmittance(vec3 o, vec3 d)
         float t0, t1, m;
         if (!pt_next_segment(o, d, t0, t1, m))
             return T;
-        float t = t0;
-        for (int i = 0; i < PT_MAX_STEPS; i++) {
-            t += pt_flight(m);
-            if (t >= t1)
-                break;
-            T *= 1.0 - pt_extinction(o + t * d, m) / m;
+        PtWalk w = pt_walk(t0);
+        while (pt_propose(w, o, d, t1, m)) {
+            T *= 1.0 - pt_extinction(o + w.t * d, w.majorant) / w.majorant;
             if (T < PT_ROULETTE_T) {
                 if (pt_random() * PT_ROULETTE_T >= T)
                     return 0.0;

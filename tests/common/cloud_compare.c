@@ -15,6 +15,32 @@ double cloud_compare_relative_error(const float *a, const float *b, const unsign
     return sum > 0.0 ? diff / sum : NAN;
 }
 
+double cloud_compare_block_relative_error(const float *a, const float *b,
+                                          const unsigned char *mask, int width, int height,
+                                          int block)
+{
+    double diff = 0.0, sum = 0.0;
+    for (int by = 0; by + block <= height; by += block)
+        for (int bx = 0; bx + block <= width; bx += block) {
+            double sa = 0.0, sb = 0.0;
+            int n = 0;
+            for (int y = by; y < by + block; y++)
+                for (int x = bx; x < bx + block; x++) {
+                    long i = (long)y * width + x;
+                    if (mask[i]) {
+                        sa += a[i];
+                        sb += b[i];
+                        n++;
+                    }
+                }
+            if (2 * n < block * block)
+                continue;
+            diff += fabs(sa - sb);
+            sum += sb;
+        }
+    return sum > 0.0 ? diff / sum : NAN;
+}
+
 void cloud_compare_bands(const unsigned char *mask, int width, int height, int band,
                          unsigned char *out)
 {

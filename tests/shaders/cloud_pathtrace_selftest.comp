@@ -96,6 +96,7 @@ bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out fl
 }
 
 #include "cloud_march.glsl"
+#define PT_WITHOUT_GRID
 #include "cloud_pathtrace.glsl"
 
 void main()
