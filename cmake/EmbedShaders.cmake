@@ -7,7 +7,8 @@ find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 set(SKYD_SHADER_OUT "${CMAKE_BINARY_DIR}/shaders")
 file(MAKE_DIRECTORY "${SKYD_SHADER_OUT}")
 file(GLOB SKYD_SHADER_INCLUDES CONFIGURE_DEPENDS
-     "${CMAKE_SOURCE_DIR}/shaders/include/*.glsl" "${CMAKE_SOURCE_DIR}/shaders/include/*.h")
+     "${CMAKE_SOURCE_DIR}/shaders/include/*.glsl" "${CMAKE_SOURCE_DIR}/shaders/include/*.h"
+     "${CMAKE_SOURCE_DIR}/tests/shaders/*.glsl")
 
 function(skyd_embed_shader target)
   cmake_parse_arguments(ARG "" "NAME;SOURCE" "DEFINES" ${ARGN})

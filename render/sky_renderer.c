@@ -562,3 +562,9 @@ void sky_renderer_set_night(struct sky_renderer *r, const struct sky_render_nigh
 {
     r->night = *night;
 }
+
+int sky_renderer_cloud_reference_stats(const struct sky_renderer *r,
+                                       struct sky_render_reference_stats *out)
+{
+    return cloud_renderer_reference_stats(r->clouds, out);
+}

@@ -131,6 +131,7 @@ void cloud_renderer_destroy(struct vk_context *ctx, struct cloud_renderer **pcr)
     for (int i = 0; i < P_COUNT; i++)
         compute_pass_destroy(ctx, &cr->pass[i]);
     cloud_history_destroy(ctx, &cr->history);
+    cloud_reference_destroy(ctx, &cr->reference);
     cloud_noise_destroy(ctx, &cr->noise);
     map_destroy(ctx, &cr->weather);
     map_destroy(ctx, &cr->shadow);
@@ -194,6 +195,9 @@ int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer
                           &staging) != VK_SUCCESS)
         return -1;
     memcpy(staging.mapped, rgba8, (size_t)bytes);
+    uint8_t max_rain = 0;
+    for (size_t i = 3; i < (size_t)bytes; i += 4)
+        max_rain = rgba8[i] > max_rain ? rgba8[i] : max_rain;
     /* The new map is complete before it replaces the old one: a failure keeps the old map. */
     struct gpu_image uploaded = { 0 };
     int rc = -1;
@@ -219,6 +223,7 @@ int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer
     vk_context_wait_idle(ctx); /* frames in flight may still sample the old map */
     gpu_image_destroy(ctx, &cr->client_map);
     cr->client_map = uploaded;
+    cr->client_max_rain = max_rain / 255.0f;
     cr->has_client_map = true;
     cr->client_generation++;
     return 0;
@@ -465,6 +470,15 @@ void cloud_renderer_observe_frame(struct cloud_renderer *cr, double gpu_ms)
 {
     if (gpu_ms > 0.0)
         cr->last_frame_ms = gpu_ms;
+}
+
+int cloud_renderer_reference_stats(const struct cloud_renderer *cr,
+                                   struct sky_render_reference_stats *out)
+{
+    if (!cr->reference)
+        return -1;
+    cloud_reference_stats(cr->reference, out);
+    return 0;
 }
 
 double cloud_renderer_progress(const struct cloud_renderer *cr)

@@ -6,6 +6,7 @@
 #include "cloud_history.h"
 #include "cloud_layouts.h"
 #include "cloud_noise.h"
+#include "cloud_reference.h"
 #include "cloud_renderer.h"
 #include "compute_pass.h"
 #include "vk_resources.h"
@@ -76,6 +77,8 @@ struct cloud_renderer {
     double budget_ms;
     double last_frame_ms; /* GPU time of the last frame, for the relative map budget */
     uint32_t params_generation; /* counts changes of the clouds other than the wind's drift */
+    float client_max_rain;      /* the largest precipitation of the client map */
+    struct cloud_reference *reference; /* created with the first reference frame */
 };
 
 /* The workgroup of the 2D passes. */

@@ -103,6 +103,39 @@ static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, Vk
     gpu_timer_mark(timer, cmd, cr->pass[P_RESOLVE].name);
 }
 
+/* The reference's history entries: apart from the views' own. */
+#define REFERENCE_KEY_BIT (UINT64_C(1) << 63)
+
+/* The path-traced reference in place of trace and reconstruction, at the output's size, then
+ * the same resolve. */
+static int record_reference(struct vk_context *ctx, struct cloud_renderer *cr,
+                            VkCommandBuffer cmd, struct gpu_timer *timer,
+                            const struct cloud_frame *f, struct sky_cloud_bindings *out)
+{
+    const struct sky_render_clouds *c = &cr->clouds;
+    struct cloud_history_entry *e = cloud_history_acquire(
+        ctx, &cr->history, f->history_key ^ REFERENCE_KEY_BIT, f->width, f->height, 1, f->now_s);
+    if (!e)
+        return -1;
+    if (!cr->reference && !(cr->reference = cloud_reference_create(ctx)))
+        return -1;
+    /* The procedural map's precipitation is at most clouds.precipitation; a client map's is
+     * its own, but the map shown may still be the other one while a build completes. */
+    float ceiling = (float)c->precipitation;
+    if (cr->has_client_map && cr->client_max_rain > ceiling)
+        ceiling = cr->client_max_rain;
+    if (cloud_reference_record(ctx, cr->reference, cr, cmd, f, e, c->reference_spp,
+                               c->reference_seed, ceiling) != 0)
+        return -1;
+    gpu_timer_mark(timer, cmd, "cloud_pathtrace");
+    e->valid = false;
+    record_resolve(ctx, cr, cmd, timer, f, e);
+    out->over_sky = &e->over_sky;
+    out->over_ground = &e->over_ground;
+    out->over_filled = e->use.filled;
+    return 0;
+}
+
 /* Within about a degree: reprojection keeps nearly all of a history. */
 static bool same_direction(const float a[4], const sky_vec4 b)
 {
@@ -114,6 +147,8 @@ int cloud_view_record(struct vk_context *ctx, struct cloud_renderer *cr, VkComma
                       struct sky_cloud_bindings *out)
 {
     const struct sky_render_clouds *c = &cr->clouds;
+    if (c->reference_spp > 0)
+        return record_reference(ctx, cr, cmd, timer, f, out);
     int block = cloud_params_block(c->resolution);
     uint32_t scale = (uint32_t)cloud_params_downscale(c->resolution);
     uint32_t width = (f->width + scale - 1) / scale, height = (f->height + scale - 1) / scale;

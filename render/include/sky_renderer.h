@@ -270,7 +270,23 @@ struct sky_render_clouds {
     uint32_t weather_seed;
     double map_extent_km;
     bool use_client_map;        /* sample the map given to sky_renderer_set_weather_map */
+    /* The path-traced reference instead of the real-time clouds (shaders/cloud_pathtrace.comp):
+     * samples per pixel of every view, 0 off; every pixel traced, no temporal history, the
+     * frame as slow as the samples make it. reference_seed varies its random numbers. */
+    uint32_t reference_spp;
+    uint32_t reference_seed;
 };
+
+/* What the last reference frame's path tracer counted (once sky_renderer_render returned). */
+struct sky_render_reference_stats {
+    double density_samples;    /* evaluations of the cloud density */
+    uint32_t bound_violations; /* of them, above the majorant (0 unless the density's bound broke) */
+    double max_bound_ratio;    /* the largest density / majorant among those */
+    uint32_t overflows;        /* ray segments cut short by the step limit */
+};
+/* Returns 0, or -1 when no reference frame has been rendered. */
+int sky_renderer_cloud_reference_stats(const struct sky_renderer *renderer,
+                                       struct sky_render_reference_stats *out);
 
 /* Sets the clouds of the following frames. The noise volumes are generated (on the GPU, a few
  * hundred ms on lavapipe) the first time a layer has coverage and whenever noise_seed changes;

@@ -12,7 +12,7 @@ struct vk_context;
 struct gpu_image;
 struct gpu_buffer;
 
-#define COMPUTE_PASS_MAX_BINDINGS 16
+#define COMPUTE_PASS_MAX_BINDINGS 20
 #define COMPUTE_PASS_MAX_SPEC 8
 
 struct compute_pass_desc {

@@ -226,6 +226,7 @@ struct renderer_host *cli_create_renderer(struct cli_common *c)
         .device_preference = c->device,
         .validation = c->validation,
         .validation_message_counter = &c->validation_messages,
+        .cloud_reference_spp = c->reference_spp,
     };
     char err[256];
     struct renderer_host *r = renderer_host_create(&params, &c->state, NULL, err, sizeof err);

@@ -19,6 +19,7 @@ struct cli_common {
     bool validation;          /* --validation, $SKYD_VALIDATION=1 */
     unsigned validation_messages; /* counted by the renderer, through its destruction */
     struct sky_world_state state;
+    unsigned reference_spp;   /* skyd render --reference: path-traced clouds (0: off) */
 };
 
 void cli_common_init(struct cli_common *c);

@@ -19,6 +19,8 @@
 #define MAX_DIMENSION 8192
 #define MAX_FRAMES 100000
 #define MAX_STEP_S 31557600.0 /* a year of simulated time between frames */
+#define DEFAULT_REFERENCE_SPP 256
+#define MAX_REFERENCE_SPP 65536
 
 /* The time-lapse: frame count, simulated seconds between frames, and a weather transition
  * that starts with the first frame. */
@@ -59,7 +61,10 @@ static void usage(FILE *out)
             "  --config-dir DIR       where presets live (default: the source tree's config/)\n"
             "  --device NAME          cpu, gpu, an index or part of a device name\n"
             "  --validation           enable the Vulkan validation layer (exit 3 on messages)\n"
-            "  --stats                print per-pass GPU times as JSON on stdout\n");
+            "  --stats                print per-pass GPU times as JSON on stdout\n"
+            "  --reference            path trace the clouds (the unbiased reference of the\n"
+            "                         real-time clouds: slow, minutes per frame on a CPU)\n"
+            "  --spp N                the reference's samples per pixel, 1..65536 (default 256)\n");
 }
 
 /* Splits an --out pattern at its one %d or %0Nd; false when it has none, another conversion,
@@ -193,7 +198,8 @@ int skyd_cmd_render(int argc, char **argv)
     cli_common_init(&common);
     unsigned width = 0, height = 0;
     const char *out_path = NULL, *weather_map_path = NULL;
-    bool stats_json = false, linear16 = false;
+    bool stats_json = false, linear16 = false, reference = false;
+    unsigned spp = 0;
     const char *format = NULL;
     unsigned quality = 0;
     enum sky_render_projection projection = SKY_RENDER_PROJECTION_PERSPECTIVE;
@@ -215,6 +221,12 @@ int skyd_cmd_render(int argc, char **argv)
             return SKYD_EXIT_OK;
         } else if (strcmp(opt, "--stats") == 0) {
             stats_json = true;
+        } else if (strcmp(opt, "--reference") == 0) {
+            reference = true;
+        } else if (strcmp(opt, "--spp") == 0) {
+            if (!(value = cli_take_value(argc, argv, &i)) ||
+                !cli_parse_uint(opt, value, 1, MAX_REFERENCE_SPP, &spp))
+                return SKYD_EXIT_USAGE;
         } else if (strcmp(opt, "--width") == 0 || strcmp(opt, "--height") == 0) {
             if (!(value = cli_take_value(argc, argv, &i)) ||
                 !cli_parse_uint(opt, value, 1, MAX_DIMENSION, opt[2] == 'w' ? &width : &height))
@@ -272,6 +284,13 @@ int skyd_cmd_render(int argc, char **argv)
         usage(stderr);
         return SKYD_EXIT_USAGE;
     }
+
+    if (spp && !reference) {
+        fprintf(stderr, "skyd render: --spp is for the path-traced reference: give --reference\n");
+        return SKYD_EXIT_USAGE;
+    }
+    if (reference)
+        common.reference_spp = spp ? spp : DEFAULT_REFERENCE_SPP;
 
     if (!format && (has_suffix(out_path, ".jpg") || has_suffix(out_path, ".jpeg")))
         format = "jpeg";

@@ -114,6 +114,7 @@ static int update_clouds(struct renderer_host *h, const struct sky_world_state *
 {
     struct sky_render_clouds clouds;
     world_to_render_clouds(state, &clouds);
+    clouds.reference_spp = h->params.cloud_reference_spp;
     if (h->clouds_set && memcmp(&clouds, &h->clouds, sizeof clouds) == 0)
         return 0;
     if (sky_renderer_set_clouds(h->renderer, &clouds) != 0) {

@@ -77,6 +77,31 @@
     X(SKY_CLOUD_TRACE_DEPTH_OUT, IMAGE) X(SKY_CLOUD_TRACE_AP_INSCATTER, SAMPLED)            \
     X(SKY_CLOUD_TRACE_AP_TRANSMITTANCE, SAMPLED)
 
+/* cloud_pathtrace.comp (the path-traced reference): sums of the samples so far (rgb luminance,
+ * a transmittance; x depth x weight, y depth weight, z samples), the cloud image it writes
+ * (as the reconstruction does), the view's froxel volume, and counters (pt_stats). */
+#define SKY_CLOUD_PATHTRACE_SUM 12
+#define SKY_CLOUD_PATHTRACE_DEPTH_SUM 13
+#define SKY_CLOUD_PATHTRACE_COLOR_OUT 14
+#define SKY_CLOUD_PATHTRACE_AP_INSCATTER 15
+#define SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE 16
+#define SKY_CLOUD_PATHTRACE_STATS 17
+#define SKY_CLOUD_PATHTRACE_GRID 18
+#define SKY_LAYOUT_CLOUD_PATHTRACE(X)                                                     \
+    SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_PATHTRACE_SUM, IMAGE)                             \
+    X(SKY_CLOUD_PATHTRACE_DEPTH_SUM, IMAGE) X(SKY_CLOUD_PATHTRACE_COLOR_OUT, IMAGE)         \
+    X(SKY_CLOUD_PATHTRACE_AP_INSCATTER, SAMPLED)                                           \
+    X(SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE, SAMPLED) X(SKY_CLOUD_PATHTRACE_STATS, BUFFER)   \
+    X(SKY_CLOUD_PATHTRACE_GRID, SAMPLED)
+
+/* cloud_majorant.comp: the path tracer's majorant grid from the weather map, a cell per
+ * invocation. */
+#define SKY_CLOUD_MAJORANT_GRID_SIZE 64
+#define SKY_CLOUD_MAJORANT_WEATHER 0
+#define SKY_CLOUD_MAJORANT_OUT 1
+#define SKY_LAYOUT_CLOUD_MAJORANT(X)                                                      \
+    X(SKY_CLOUD_MAJORANT_WEATHER, SAMPLED) X(SKY_CLOUD_MAJORANT_OUT, IMAGE)
+
 /* tests/shaders/cloud_slab_selftest.comp (tests/reference/test_cloud_accuracy.c): one ray per
  * invocation. */
 #define SKY_CLOUD_SLAB_LOCAL 64
@@ -86,6 +111,12 @@
 #define SKY_LAYOUT_CLOUD_SLAB(X)                                                          \
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_SLAB_CASES, BUFFER) X(SKY_CLOUD_SLAB_RAYS, BUFFER) \
     X(SKY_CLOUD_SLAB_RESULTS, BUFFER)
+
+/* tests/shaders/cloud_pathtrace_selftest.comp (tests/reference/test_cloud_pathtrace_slab.c):
+ * the path tracer through a homogeneous deck, one sample per invocation; the slab self-test's
+ * bindings with the path tracer's counters. */
+#define SKY_CLOUD_PT_SLAB_STATS 15
+#define SKY_LAYOUT_CLOUD_PT_SLAB(X) SKY_LAYOUT_CLOUD_SLAB(X) X(SKY_CLOUD_PT_SLAB_STATS, BUFFER)
 
 /* ---- per-view passes ---- */
 

@@ -75,6 +75,21 @@ struct sky_cloud_view_push {
                                weight of a new sample, w 1 = temporal accumulation on */
 };
 
+/* Per-dispatch constants of the path-traced reference (cloud_pathtrace.comp). */
+struct sky_cloud_reference_push {
+    SKY_IVEC4 samples;     /* x samples per pixel before this dispatch, y in it, z seed */
+    SKY_IVEC4 target;      /* xy size of the cloud image (the output's) */
+    SKY_VEC4 media;        /* x the largest precipitation of the weather map */
+};
+
+/* The reference's counters (cloud_pathtrace.comp's pt_stats). */
+struct sky_cloud_reference_stats {
+    SKY_UINT violations;     /* density samples above the majorant */
+    SKY_UINT max_ratio_bits; /* the largest density / majorant among them (float bits) */
+    SKY_UINT kilo_samples;   /* density samples, thousands */
+    SKY_UINT overflows;      /* segments that ran out of steps */
+};
+
 /* Hemisphere averages of the clouds seen from the ground (seed 001 eq. 22 inputs). */
 #define CLOUD_HEMISPHERE_RAYS 64
 

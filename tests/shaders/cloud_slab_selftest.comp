@@ -22,7 +22,6 @@ layout(binding = SKY_CLOUD_MARCH_DETAIL_NOISE) uniform sampler3D detail_noise;
 layout(binding = SKY_CLOUD_MARCH_CURL_NOISE) uniform sampler2D curl_noise;
 layout(binding = SKY_CLOUD_MARCH_WEATHER) uniform sampler2D weather_map;
 layout(binding = SKY_CLOUD_MARCH_SKYVIEW) uniform sampler2D skyview_lut;
-layout(binding = SKY_CLOUD_MARCH_SUN_DEPTH) uniform sampler3D sun_depth_volume;
 layout(constant_id = SKY_CLOUD_CONST_MOONLIT) const bool MOONLIT = true;
 
 // One case: the deck, the sun and the cloud parameters that the comparison varies.
@@ -97,20 +96,7 @@ bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out fl
     return t1 > t0;
 }
 
-// In place of cloud_sun_depth.glsl: the deck's optical depths along the sun's ray, exact where
-// the renderer reads its sun-space volume. uv.x carries the sun's cosine to the local vertical.
-bool sun_depth_coords(vec3 p, vec3 sun_dir, out vec2 uv)
-{
-    uv = vec2(max(dot(sun_dir, normalize(p)), 1e-3), 0.0);
-    return true;
-}
-
-vec3 sun_column_depths(vec2 uv, float r)
-{
-    float below = cloud.low.z * (clamp(r, cloud.low.x, cloud.low.y) - cloud.low.x) / uv.x;
-    return vec3(below, cloud.low.z * (cloud.low.y - cloud.low.x) / uv.x, 0.0);
-}
-
+#include "slab_sun_depth.glsl"
 #include "cloud_march.glsl"
 
 void main()

@@ -1,0 +1,30 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The path tracer's majorant grid (cloud_pathtrace.glsl): per cell of a grid over the weather
+// map, 1 in x (y) where the low (high) layer's coverage is positive in any texel of the 3x3
+// cells around it or one texel beyond (the bilinear read's reach), else 0. The density is 0
+// where a layer's coverage is (cloud_density.glsl); the path tracer counts any sample that
+// says otherwise.
+#include "cloud_layouts.h"
+
+layout(local_size_x = SKY_CLOUD_LOCAL, local_size_y = SKY_CLOUD_LOCAL) in;
+layout(binding = SKY_CLOUD_MAJORANT_WEATHER) uniform sampler2D weather_map;
+layout(binding = SKY_CLOUD_MAJORANT_OUT, rgba32f) uniform writeonly image2D grid;
+
+void main()
+{
+    ivec2 cell = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 cells = imageSize(grid);
+    if (any(greaterThanEqual(cell, cells)))
+        return;
+    ivec2 size = textureSize(weather_map, 0);
+    ivec2 per_cell = max(size / cells, ivec2(1));
+    ivec2 first = (cell - 1) * per_cell - 1, last = (cell + 2) * per_cell;
+    vec2 flags = vec2(0.0);
+    for (int y = first.y; y <= last.y; y++)
+        for (int x = first.x; x <= last.x; x++) {
+            vec4 wm = texelFetch(weather_map, (ivec2(x, y) % size + size) % size, 0);
+            flags = max(flags, vec2(greaterThan(wm.rg, vec2(0.0))));
+        }
+    imageStore(grid, cell, vec4(flags, 0.0, 0.0));
+}

@@ -1,0 +1,309 @@
+/* The real-time clouds against their path-traced reference (sky_render_clouds.reference_spp,
+ * shaders/cloud_pathtrace.comp), both through the same resolve and composite: one cumulus
+ * (a client weather map with one round cell, as test_cloud_shapes places it) lit from behind
+ * the camera, from the side and from behind the cloud (the sun out of the frame), and one
+ * cumulonimbus, seen from the ground. Over the cloud's pixels (where the reference differs from
+ * the clear sky by more than 10 %, above the horizon; tests/common/cloud_compare.h):
+ *   - mean relative luminance error <= 15 %;
+ *   - outline (2 px band) / interior brightness within 15 % of the reference's;
+ *   - pixel-scale grain (high-pass std / mean, inside the outline) at most 1.2 x the
+ *     reference's.
+ * The reference is rendered twice with different seeds: its own noise (the relative difference
+ * of the two, and the grain of their half difference) is reported, and must stay well under
+ * the figures it judges. The renderer uses the state's defaults (its one-off render
+ * accumulates); the reference traces 64 samples per pixel ($SKYD_REFERENCE_SPP), twice.
+ * $SKYD_COMPARE_CASE runs one case by name.
+ * argv[1]: where each case is saved as renderer | reference side by side; argv[2]: the config
+ * directory. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "check.h"
+#include "cloud_compare.h"
+#include "png_write.h"
+#include "presets.h"
+#include "test_support.h"
+
+#define W 128
+#define H 96
+#define DEFAULT_REF_SPP 64
+#define BAND 2
+/* The relative error compares 4x4 blocks: at pixel scale the reference's own noise would
+ * dominate (several % at the spp two CPU cores afford); the outline and grain are per pixel. */
+#define ERROR_BLOCK 4
+#define DEG (3.14159265358979323846 / 180.0)
+
+#define MAX_RELATIVE_ERROR 0.15
+#define MAX_OUTLINE_DEVIATION 0.15
+#define MAX_GRAIN_RATIO 1.2
+
+static const char *out_dir = ".";
+static const char *config_dir = "config";
+static struct sky_renderer *renderer;
+static uint64_t next_key = 1;
+static uint32_t ref_spp = DEFAULT_REF_SPP;
+
+struct scene {
+    const char *name;
+    const char *preset;
+    double sun_azimuth_deg, sun_elevation_deg;
+    double radius_km, north_km, fov_deg;
+    uint8_t type, rain;
+};
+
+static const struct scene scenes[] = {
+    { "cumulus_front", "fair_cumulus", 180.0, 30.0, 1.5, 8.0, 40.0, 168, 0 },
+    { "cumulus_side", "fair_cumulus", 90.0, 30.0, 1.5, 8.0, 40.0, 168, 0 },
+    { "cumulus_back", "fair_cumulus", 0.0, 40.0, 1.5, 8.0, 40.0, 168, 0 },
+    { "cumulonimbus", "storm", 180.0, 30.0, 3.0, 25.0, 60.0, 255, 230 },
+};
+
+static double seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static bool scene_state(const struct scene *sc, struct sky_world_state *s)
+{
+    sky_world_state_defaults(s);
+    char msg[1024] = "";
+    bool ok = sky_preset_apply(config_dir, "weather", sc->preset, s, NULL, msg, sizeof msg);
+    CHECK_MSG(ok, "weather preset %s: %s", sc->preset, msg);
+    s->weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    s->clouds.high.coverage = 0.0;
+    s->camera.altitude_km = 0.2;
+    s->camera.yaw_deg = 0.0;
+    s->camera.pitch_deg = 12.0;
+    s->camera.fov_deg = sc->fov_deg;
+    s->sun.azimuth_deg = sc->sun_azimuth_deg;
+    s->sun.elevation_deg = sc->sun_elevation_deg;
+    return ok;
+}
+
+/* test_cloud_shapes' shapes_set_cell_map: one footprint of `radius` km, `north` km north. */
+static void set_cell_map(const struct sky_world_state *s, double radius, double north,
+                         uint8_t type, uint8_t rain)
+{
+    enum { MAP = 128 };
+    static uint8_t map[MAP * MAP * 4];
+    double extent = s->weather.map_extent_km;
+    for (int y = 0; y < MAP; y++)
+        for (int x = 0; x < MAP; x++) {
+            double east_km = ((x + 0.5) / MAP - 0.5) * extent;
+            double north_km = (0.5 - (y + 0.5) / MAP) * extent;
+            double r = hypot(east_km, north_km - north) / radius;
+            uint8_t *t = map + 4 * (y * MAP + x);
+            t[0] = (uint8_t)lround(255.0 * fmax(0.0, 1.0 - r * r));
+            t[1] = 0;
+            t[2] = type;
+            t[3] = r < 1.0 ? rain : 0;
+        }
+    CHECK(sky_renderer_set_weather_map(renderer, map, MAP, MAP) == 0);
+}
+
+/* Renders `s` (reference_spp 0: the renderer) into rgba and its luminance into luma. */
+static void render(const struct sky_world_state *s, uint32_t spp, uint32_t seed, float *rgba,
+                   float *luma)
+{
+    struct sky_render_atmosphere atm;
+    struct sky_render_view view;
+    struct sky_render_clouds clouds;
+    struct sky_render_night night;
+    world_to_render_atmosphere(s, &atm);
+    world_to_render_view(s, W, H, SKY_RENDER_OUTPUT_LINEAR, &view);
+    view.history_key = next_key++;
+    world_to_render_clouds(s, &clouds);
+    clouds.reference_spp = spp;
+    clouds.reference_seed = seed;
+    CHECK(sky_renderer_set_clouds(renderer, &clouds) == 0);
+    world_to_render_night(s, &night);
+    sky_renderer_set_night(renderer, &night);
+    CHECK(sky_renderer_render(renderer, &atm, &view, rgba, (size_t)W * H * 16, NULL) == 0);
+    CHECK(test_count_bad(rgba, (size_t)W * H) == 0);
+    for (int i = 0; i < W * H; i++)
+        luma[i] = (float)test_pixel_luminance(rgba + 4 * i);
+    if (spp > 0) {
+        struct sky_render_reference_stats st;
+        CHECK(sky_renderer_cloud_reference_stats(renderer, &st) == 0);
+        CHECK_MSG(st.bound_violations == 0, "%u density samples above the majorant (up to %.3f x)",
+                  st.bound_violations, st.max_bound_ratio);
+        CHECK_MSG(st.overflows == 0, "%u ray segments cut short", st.overflows);
+        printf("  reference (seed %u): %.3g density samples, %u above the majorant\n", seed,
+               st.density_samples, st.bound_violations);
+    }
+}
+
+static uint8_t srgb8(double v)
+{
+    v = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
+    return (uint8_t)lround(fmin(fmax(v, 0.0), 1.0) * 255.0);
+}
+
+/* renderer | reference, exposed alike for the reference's mean luminance (Reinhard). */
+static void save_pair(const char *name, const float *a, const float *b)
+{
+    static uint8_t pixels[2 * W * H * 4];
+    double mean = 0.0;
+    for (int i = 0; i < W * H; i++)
+        mean += test_pixel_luminance(b + 4 * i);
+    double k = 0.25 / fmax(mean / (W * H), 1e-9);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < 2 * W; x++) {
+            const float *src = (x < W ? a : b) + 4 * ((size_t)y * W + (size_t)(x % W));
+            uint8_t *p = pixels + 4 * ((size_t)y * 2 * W + (size_t)x);
+            for (int c = 0; c < 3; c++) {
+                double v = src[c] * k;
+                p[c] = srgb8(v / (1.0 + v));
+            }
+            p[3] = 255;
+        }
+    char path[1024], err[256];
+    snprintf(path, sizeof path, "%s/cloud_vs_reference_%s.png", out_dir, name);
+    CHECK(png_write_rgba8_file(path, pixels, 2 * W, H, err, sizeof err) == 0);
+    printf("  saved %s (renderer | reference)\n", path);
+}
+
+/* The cloud: where the reference differs from the clear sky by over 10 %, above the horizon
+ * (under it the clouds' shadows change the ground). */
+static int cloud_mask(const struct sky_world_state *s, const float *ref, const float *clear,
+                      unsigned char *mask)
+{
+    double f[3], r[3], u[3];
+    double yaw = s->camera.yaw_deg * DEG;
+    sky_direction_from_angles(s->camera.yaw_deg, s->camera.pitch_deg, f);
+    r[0] = cos(yaw), r[1] = -sin(yaw), r[2] = 0.0;
+    u[0] = r[1] * f[2] - r[2] * f[1];
+    u[1] = r[2] * f[0] - r[0] * f[2];
+    u[2] = r[0] * f[1] - r[1] * f[0];
+    double tan_half = tan(0.5 * s->camera.fov_deg * DEG);
+    int on = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double ny = 1.0 - 2.0 * ((y + 0.5) / H), nx = 2.0 * ((x + 0.5) / W) - 1.0;
+            double d[3], len = 0.0;
+            for (int c = 0; c < 3; c++) {
+                d[c] = f[c] + r[c] * nx * tan_half * W / H + u[c] * ny * tan_half;
+                len += d[c] * d[c];
+            }
+            size_t i = (size_t)y * W + (size_t)x;
+            mask[i] = d[2] / sqrt(len) > sin(1.0 * DEG) &&
+                      fabs((double)ref[i] - clear[i]) > 0.10 * clear[i];
+            on += mask[i];
+        }
+    return on;
+}
+
+static float rt_rgba[W * H * 4], ref_rgba[2][W * H * 4], clear_rgba[W * H * 4];
+static float rt[W * H], ref[2][W * H], ref_mean[W * H], clear[W * H], half_diff[W * H];
+static unsigned char mask[W * H];
+
+static void compare_scene(const struct scene *sc)
+{
+    struct sky_world_state s;
+    if (!scene_state(sc, &s))
+        return;
+    printf("%s: sun at azimuth %.0f, elevation %.0f deg; %dx%d, reference %d spp x 2\n",
+           sc->name, sc->sun_azimuth_deg, sc->sun_elevation_deg, W, H, ref_spp);
+    set_cell_map(&s, sc->radius_km, sc->north_km, sc->type, sc->rain);
+    double t0 = seconds();
+    render(&s, 0, 0, rt_rgba, rt);
+    double t1 = seconds();
+    render(&s, ref_spp, 1, ref_rgba[0], ref[0]);
+    render(&s, ref_spp, 2, ref_rgba[1], ref[1]);
+    double t2 = seconds();
+    struct sky_world_state c = s;
+    c.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+    c.clouds.low.coverage = 0.0;
+    render(&c, 0, 0, clear_rgba, clear);
+    for (int i = 0; i < W * H; i++) {
+        ref_mean[i] = 0.5f * (ref[0][i] + ref[1][i]);
+        half_diff[i] = 0.5f * (ref[0][i] - ref[1][i]);
+        for (int k = 0; k < 4; k++)
+            ref_rgba[0][4 * i + k] = 0.5f * (ref_rgba[0][4 * i + k] + ref_rgba[1][4 * i + k]);
+    }
+    save_pair(sc->name, rt_rgba, ref_rgba[0]);
+    int pixels = cloud_mask(&s, ref_mean, clear, mask);
+    double err = cloud_compare_block_relative_error(rt, ref_mean, mask, W, H, ERROR_BLOCK);
+    double err_pixel = cloud_compare_relative_error(rt, ref_mean, mask, W, H);
+    double outline_rt = cloud_compare_outline_ratio(rt, mask, W, H, BAND);
+    double outline_ref = cloud_compare_outline_ratio(ref_mean, mask, W, H, BAND);
+    double grain_rt = cloud_compare_grain(rt, mask, W, H, BAND);
+    double grain_ref = cloud_compare_grain(ref_mean, mask, W, H, BAND);
+    /* The reference's own noise: its two halves differ by twice the noise of their mean in
+     * quadrature (sqrt 2 each way): relative error of one against the other / 2, and the
+     * grain of their half difference over the mean luminance. */
+    double noise_err =
+        0.5 * cloud_compare_block_relative_error(ref[0], ref[1], mask, W, H, ERROR_BLOCK);
+    double noise_err_pixel = 0.5 * cloud_compare_relative_error(ref[0], ref[1], mask, W, H);
+    double interior_mean = 0.0;
+    {
+        unsigned char bands[W * H];
+        cloud_compare_bands(mask, W, H, BAND, bands);
+        long n = 0;
+        for (int i = 0; i < W * H; i++)
+            if (bands[i] == 2)
+                interior_mean += ref_mean[i], n++;
+        interior_mean = n ? interior_mean / n : NAN;
+    }
+    double noise_grain = NAN;
+    {
+        /* std of the high-pass of the half difference, over the interior's mean luminance:
+         * cloud_compare_grain divides by the image's own mean, so scale it back. */
+        float shifted[W * H];
+        for (int i = 0; i < W * H; i++)
+            shifted[i] = half_diff[i] + (float)interior_mean;
+        noise_grain = cloud_compare_grain(shifted, mask, W, H, BAND);
+    }
+    double outline_dev = outline_rt / outline_ref - 1.0;
+    /* The reference's grain without its noise (independent, so their variances add). */
+    double grain_clean = sqrt(fmax(grain_ref * grain_ref - noise_grain * noise_grain, 0.0));
+    printf("  cloud pixels %d; renderer %.1f s, reference %.1f s (two renders)\n", pixels,
+           t1 - t0, t2 - t1);
+    printf("  mean relative luminance error over %dx%d blocks %.3f (target <= %.2f), per pixel "
+           "%.3f; the reference's own noise %.3f per block, %.3f per pixel\n", ERROR_BLOCK,
+           ERROR_BLOCK, err, MAX_RELATIVE_ERROR, err_pixel, noise_err, noise_err_pixel);
+    printf("  outline / interior: renderer %.3f, reference %.3f (%+.1f %%, target within "
+           "%.0f %%)\n", outline_rt, outline_ref, 100.0 * outline_dev,
+           100.0 * MAX_OUTLINE_DEVIATION);
+    printf("  grain: renderer %.4f, reference %.4f with its noise %.4f, %.4f without it "
+           "(ratio %.2f, target <= %.1f)\n", grain_rt, grain_ref, noise_grain, grain_clean,
+           grain_rt / grain_clean, MAX_GRAIN_RATIO);
+    CHECK_MSG(pixels > 100, "%s: only %d cloud pixels", sc->name, pixels);
+    CHECK_MSG(noise_err < MAX_RELATIVE_ERROR / 3.0, "%s: the reference's noise %.3f",
+              sc->name, noise_err);
+    CHECK_MSG(err <= MAX_RELATIVE_ERROR, "%s: relative error %.3f", sc->name, err);
+    CHECK_MSG(fabs(outline_dev) <= MAX_OUTLINE_DEVIATION, "%s: outline / interior %.3f, "
+              "reference %.3f", sc->name, outline_rt, outline_ref);
+    /* A verdict on grain needs a reference whose noise is well under its own grain. */
+    CHECK_MSG(noise_grain <= 0.5 * grain_clean, "%s: the reference's noise grain %.4f is not "
+              "well under its grain %.4f: more spp (SKYD_REFERENCE_SPP) or a GPU", sc->name,
+              noise_grain, grain_clean);
+    CHECK_MSG(grain_rt <= MAX_GRAIN_RATIO * grain_clean, "%s: grain %.4f, reference %.4f",
+              sc->name, grain_rt, grain_clean);
+}
+
+static void run(void)
+{
+    const char *only = getenv("SKYD_COMPARE_CASE");
+    const char *spp = getenv("SKYD_REFERENCE_SPP");
+    if (spp && atoi(spp) > 0)
+        ref_spp = (uint32_t)atoi(spp);
+    for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++)
+        if (!only || strcmp(only, scenes[k].name) == 0)
+            compare_scene(&scenes[k]);
+    CHECK(sky_renderer_set_weather_map(renderer, NULL, 0, 0) == 0);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1)
+        out_dir = argv[1];
+    if (argc > 2)
+        config_dir = argv[2];
+    return test_run_with_renderer(&renderer, run);
+}

@@ -1,0 +1,21 @@
+// In place of cloud_sun_depth.glsl for the self-tests' homogeneous deck (cloud.low: radii and
+// extinction): the deck's optical depths along the sun's ray, exact where the renderer reads
+// its sun-space volume. uv.x carries the sun's cosine to the local vertical.
+#ifndef SLAB_SUN_DEPTH_GLSL
+#define SLAB_SUN_DEPTH_GLSL
+
+layout(binding = SKY_CLOUD_MARCH_SUN_DEPTH) uniform sampler3D sun_depth_volume;
+
+bool sun_depth_coords(vec3 p, vec3 sun_dir, out vec2 uv)
+{
+    uv = vec2(max(dot(sun_dir, normalize(p)), 1e-3), 0.0);
+    return true;
+}
+
+vec3 sun_column_depths(vec2 uv, float r)
+{
+    float below = cloud.low.z * (clamp(r, cloud.low.x, cloud.low.y) - cloud.low.x) / uv.x;
+    return vec3(below, cloud.low.z * (cloud.low.y - cloud.low.x) / uv.x, 0.0);
+}
+
+#endif
