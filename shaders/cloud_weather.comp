@@ -76,7 +76,7 @@ float normal_cdf(float z)
 // the threshold that leaves `coverage` of it is that deviation times probit(1 - coverage).
 // `weight` says how much the map's own pattern (clusters, cells, sheets) rules over the
 // shape's turrets. The score is returned, not the coverage, so types can be blended.
-const float PROJECTION_OFFSET = 0.8;
+const float PROJECTION_OFFSET = 0.55;
 float coverage_score(float field, float coverage, float weight)
 {
     if (coverage <= 0.0)
@@ -88,15 +88,15 @@ float coverage_score(float field, float coverage, float weight)
 
 // The map's weight per type: cumulus fields are the turrets' own pattern clustered by the map,
 // cumulonimbus towers the map's cores, stratocumulus its cells, stratus its sheet.
-const float CUMULUS_WEIGHT = 1.3, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5, SHEET_WEIGHT = 3.0;
+const float CUMULUS_WEIGHT = 1.0, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5, SHEET_WEIGHT = 3.0;
 // Hurst exponents of the fBm fields (amplitude 2^-H per octave). Level sets of a field of
 // exponent H have outlines of dimension (3 - H) / 2 and a size distribution n(L) ~ L^-(3 - H)
 // (Kondev & Henley 1995); observed cumulus: D 1.3-1.4 (Lovejoy 1982), b 1.7-2.9. Decks: a
 // radiance spectrum k^-5/3 over 1-8 km (Cahalan & Snider 1989), E(k) ~ k^-(2H + 1): H = 1/3.
-const float CUMULUS_HURST = 0.4, TOWER_HURST = 0.6, DECK_HURST = 0.33;
-// The largest octaves (10-20 km) of a cumulus field only nudge it: at full amplitude they would
-// clear or fill whole views, and a 25 km view's cloud fraction would stray from the coverage.
-const float CLUSTER_AMPLITUDE = 0.35;
+const float CUMULUS_HURST = 0.3, TOWER_HURST = 0.6, DECK_HURST = 0.33;
+// The largest scales (6-25 km) of a cumulus field only nudge it: at full amplitude they would
+// clear or fill whole views, and a view's cloud fraction would stray from the coverage.
+const float CLUSTER_AMPLITUDE = 0.12;
 
 // mix(a, b, t) of two independent fields of deviation 1, scaled back to deviation 1.
 float blend(float a, float b, float t)
@@ -129,16 +129,19 @@ void main()
     int cu_period = int(PERIODS.x), cb_period = int(PERIODS.y);
     int sc_period = int(PERIODS.z), st_period = int(PERIODS.w);
     // The type varies from cloud to cloud around the asked one (cumulus of several ages).
-    float type = clamp(p.z + gradient2(x, ivec2(max(1, cu_period / 4)), 14u) * 0.3, 0.0, 1.0);
+    float type = clamp(p.z + gradient2(x, ivec2(max(1, cu_period / 4)), 14u) * 0.15, 0.0, 1.0);
     vec4 w = type_weights(type);
     // The score of each type present, blended with their weights, then the coverage.
     float low = 0.0;
     if (p.x > 0.0) {
         float score = 0.0;
-        if (w.z > 0.0) { // cumulus: turrets clustered over every scale up to 20 km
-            float clusters = fbm2(x, ivec2(max(1, cu_period / 8)), 15u, 2, CUMULUS_HURST, texels);
-            float field = fbm2(x, ivec2(max(1, cu_period / 2)), 11u, 7, CUMULUS_HURST, texels);
-            score += w.z * coverage_score(blend(field, clusters, CLUSTER_AMPLITUDE * 0.5), p.x,
+        if (w.z > 0.0) {
+            // Cumulus: turrets gathered by a field whose variance lies in cells of 1.6 km and
+            // less, nudged by clusters of 6-25 km (weak, so that a view of ten kilometres
+            // holds about the coverage).
+            float clusters = fbm2(x, ivec2(max(1, cu_period / 16)), 15u, 3, CUMULUS_HURST, texels);
+            float field = fbm2(x, ivec2(cu_period), 11u, 5, CUMULUS_HURST, texels);
+            score += w.z * coverage_score(blend(field, clusters, CLUSTER_AMPLITUDE), p.x,
                                           CUMULUS_WEIGHT);
         }
         if (w.w > 0.0) { // cumulonimbus: few big cells whose cores are towers
@@ -157,6 +160,8 @@ void main()
             score += w.x * coverage_score(field, p.x, SHEET_WEIGHT);
         }
         low = normal_cdf(score / (w.x + w.y + w.z + w.w));
+        // Below the least coverage that holds cloud, falling on to below 0 (cloud_shared.h).
+        low = low >= CLOUD_MIN_COVERAGE ? low : 2.0 * low - CLOUD_MIN_COVERAGE;
     }
     // The high layer: cirrostratus a veil of gentle variations (type 0), cirrus streaks ten
     // times longer east-west than wide (type 1).
@@ -165,7 +170,9 @@ void main()
         float fibrous = float(push.high_fibrous) / 1000.0;
         float veil = fbm2(x, ivec2(6), 13u, 3, 0.5, texels);
         float streaks = fbm2(x, ivec2(3, 30), 16u, 4, 0.4, texels);
-        high = normal_cdf(3.0 * (blend(veil, streaks, fibrous) - probit(1.0 - p.y)));
+        // Signed: outside the veil it falls on to -1 and the lookup clamps it at 0, so that
+        // the bilinear lookup draws its outlines between texel centres, not along texel edges.
+        high = clamp((blend(veil, streaks, fibrous) - probit(1.0 - p.y)) / 0.6, -1.0, 1.0);
         high *= mix(0.55, 1.0, p.y);
     }
     float rain = p.w * smoothstep(0.5, 0.95, low);

@@ -80,7 +80,7 @@ float profile_rise(float h, vec4 shape)
 const vec2 EDGE_RAMP = vec2(0.12, 0.3);
 // Coverage below this holds no cloud (so the march can skip it; the specks it would leave are
 // a few voxels).
-const float MIN_COVERAGE = 0.02;
+const float MIN_COVERAGE = CLOUD_MIN_COVERAGE;
 // Anvils: in the top of a cumulonimbus layer the coverage spreads from the towers around it,
 // the largest of the columns ANVIL_REACH of the layer's thickness around.
 const float ANVIL_REACH = 0.3;
@@ -120,9 +120,8 @@ float low_density(vec3 p, float r, vec4 wm, bool detail)
     vec4 n = textureLod(base_noise, q / cloud.tiles.x, 0.0);
     // Sheets (stratus, stratocumulus) keep the shape's lowest octave: radiative smoothing
     // leaves real decks smooth below a few hundred metres.
-    float lod = max(cloud_lod, 1.0 - smoothstep(0.3, 0.55, wm.b));
-    float u = mix(n.r, n.g, lod);
-    float ramp = mix(EDGE_RAMP.x, EDGE_RAMP.y, lod);
+    float u = mix(n.r, n.g, max(cloud_lod, 1.0 - smoothstep(0.3, 0.55, wm.b)));
+    float ramp = mix(EDGE_RAMP.x, EDGE_RAMP.y, cloud_lod);
     float d = clamp((u - (1.0 - c)) / ramp, 0.0, 1.0);
     // Flat bases: the cloud starts at the layer's bottom (the condensation level), rounded
     // over shape.y.

@@ -60,52 +60,88 @@ float light_optical_depth(vec3 p, vec3 sun_dir, float jitter, bool low_layer)
 // (behind: what the light that reaches p has still to cross); smooth_to_sun: to_sun without
 // the near march's jitter (the volume's alone, where there is one), for the ratios below.
 struct SunDepth {
-    float to_sun, behind, smooth_to_sun;
+    float to_sun, behind, smooth_to_sun, support;
 };
 
-// The low layer's sun march covers NEAR_KM in NEAR_STEPS jittered samples, each step twice the
-// last (the first 13 m: half an optical depth of a dense cloud), where the shape decides how a
-// surface is lit; the rest of the sun's ray, and the depth behind p, come from
-// the sun-space volume (cloud_sun_depth.glsl), smooth where single jittered kilometre steps
-// made the optical depth jump by tens from one sample to the next. Without the volume (a sun
-// that moved since it was built, the high layer) the geometric march above, and the layer
-// below p at p's extinction.
+// The low layer's sun march covers at least NEAR_KM, on to the volume's next altitude level,
+// in NEAR_STEPS jittered samples, each step twice the last (the first 13 m: half an optical
+// depth of a dense cloud), where the shape decides how a surface is lit; the rest of the sun's
+// ray, from that level up, and the depth behind p come from the sun-space volume
+// (cloud_sun_depth.glsl), smooth where single jittered kilometre steps made the optical depth
+// jump by tens from one sample to the next. Read between its levels, the volume would spread a
+// lit surface's cloud over the level above it, and put optical depth where the sun's ray has
+// already left the cloud. Without the volume (a sun that moved since it was built, the high
+// layer) the geometric march above, and the layer below p at p's extinction.
 const float NEAR_KM = 0.4;
 const float NEAR_STEPS = 5.0;
 
-// The marched part of the sun's optical depth: NEAR_KM where the volume holds the rest
-// (with_volume), the whole reach of light_optical_depth otherwise.
-float sun_march(vec3 p, vec3 dir, float jitter, bool low_layer, bool with_volume)
+// Where the march hands over to the volume: the radius of the first level at or above p +
+// NEAR_KM dir (the layer's top at most), and the distance to it along dir.
+vec2 sun_march_reach(vec3 p, vec3 dir)
 {
+    float spacing = (cloud.low.y - cloud.low.x) / float(SKY_CLOUD_SUN_DEPTH_LEVELS - 1);
+    float above = length(p + dir * NEAR_KM) - cloud.low.x;
+    float r = cloud.low.x + min(ceil(max(above, 0.0) / spacing) * spacing,
+                                cloud.low.y - cloud.low.x);
+    float t = ray_sphere_far(p, dir, r);
+    return vec2(r, t > 0.0 ? t : NEAR_KM);
+}
+
+// The marched part of the sun's optical depth, over the reach above where the volume holds
+// the rest (with_volume), the whole reach of light_optical_depth otherwise. incidence: the
+// sun's cosine to the surface above p, from the optical depth over the march's first
+// INCIDENCE_STEPS steps along the sun against the same distance straight up (a deck's mu0;
+// over 1 on a face lit from the side; 2, none, deeper than a few optical depths).
+const float INCIDENCE_STEPS = 3.0;
+const float INCIDENCE_DEPTH = 6.0;
+float sun_march(vec3 p, vec3 dir, float jitter, bool low_layer, bool with_volume, vec2 reach,
+                out float incidence)
+{
+    incidence = 2.0;
     if (!with_volume)
         return light_optical_depth(p, dir, jitter, low_layer);
-    float ds = NEAR_KM / (exp2(NEAR_STEPS) - 1.0), t = 0.0, tau = 0.0;
-    for (float i = 0.0; i < NEAR_STEPS; i += 1.0) {
+    // A longer reach (a thick layer's sparse levels, a low sun) takes more steps.
+    float steps = NEAR_STEPS + ceil(log2(max(reach.y / NEAR_KM, 1.0)));
+    float ds0 = reach.y / (exp2(steps) - 1.0);
+    float ds = ds0, t = 0.0, tau = 0.0, tau_first = 0.0, tau_up = 0.0;
+    vec3 up = normalize(p);
+    for (float i = 0.0; i < steps; i += 1.0) {
         tau += cloud_layer_extinction(p + dir * (t + jitter * ds), false, true) * ds;
+        if (i < INCIDENCE_STEPS) {
+            tau_first = tau;
+            tau_up += cloud_layer_extinction(p + up * (t + jitter * ds), false, true) * ds;
+        }
         t += ds;
         ds *= 2.0;
     }
+    // Only near the lit surface (the sun's ray leaves the cloud within a few optical depths)
+    // does the surface above p say how the light came in.
+    incidence = mix(2.0, tau_first > 0.0 ? tau_up / tau_first : 1.0,
+                    exp(-tau_first / INCIDENCE_DEPTH));
     return tau;
 }
 
 // The depths at p from the marched part (which a sample may take from its neighbour along
-// the view: the march is the costly part) and the volume's, read at p itself.
-SunDepth sun_depths(vec3 p, vec3 dir, float marched, bool with_volume, float sigma_here,
-                    bool low_layer)
+// the view: the march is the costly part) up to the reach's level and the volume's, read at p
+// itself.
+SunDepth sun_depths(vec3 p, vec3 dir, float marched, bool with_volume, float reach_r,
+                    float sigma_here, bool low_layer)
 {
     SunDepth s;
     float r = length(p);
     vec2 uv;
     if (with_volume && sun_depth_coords(p, dir, uv)) {
         vec3 here = sun_column_depths(uv, r);
-        vec3 beyond = sun_column_depths(uv, length(p + dir * NEAR_KM));
+        vec3 beyond = sun_column_depths(uv, reach_r);
         s.to_sun = marched + max(beyond.y - beyond.x, 0.0) + here.z;
         s.behind = here.x;
         s.smooth_to_sun = max(here.y - here.x, 0.0) + here.z;
+        s.support = 1.0;
         return s;
     }
     s.to_sun = marched;
     s.smooth_to_sun = marched;
+    s.support = 1.0;
     float base = low_layer ? cloud.low.x : cloud.high.x;
     s.behind = sigma_here * max(r - base, 0.0) / max(dot(dir, p / r), 0.1);
     return s;
@@ -120,11 +156,13 @@ SunDepth sun_depths(vec3 p, vec3 dir, float marched, bool with_volume, float sig
 // hardly reaches, and each silhouette would glow.
 struct OctavePhases {
     float weighted[MAX_OCTAVES]; // a^n p(g c^n): the angle to the light is fixed along a ray
+    float cos_theta;             // between the view's direction and the light's
 };
 
 OctavePhases octave_phases(float cos_theta)
 {
     OctavePhases o;
+    o.cos_theta = cos_theta;
     float a = 1.0, c = 1.0;
     for (int n = 0; n < MAX_OCTAVES; n++) {
         o.weighted[n] = float(n) < cloud.phase.w
@@ -147,12 +185,22 @@ OctavePhases octave_phases(float cos_theta)
 // reach deeper, and is scattered with a^n p(g c^n) (4 pi p ~ 1 turns the mean radiance into the
 // source). mu0, the sun's cosine to the lit surface: tau_up = sigma (top - r), the depth below
 // the layer's top at the local extinction, over the sun's optical depth (mu0 of a deck; 1
-// inside a cloud lit from the side, where the sun's ray is the shorter way out).
+// inside a cloud lit from the side, where the sun's ray is the shorter way out), or the
+// incidence the short marches measure near a lit surface (sun_march), whichever is smaller.
 const float MU0_FLOOR = 0.1;
-// k0: the dark side's diffuse radiance over the flux through it (fitted with the octaves to
-// the Monte Carlo decks of tests/reference/test_cloud_accuracy.c).
-const float DIFFUSE_DARK_SIDE = 0.8;
+// Fitted with the octaves to the Monte Carlo decks of tests/reference/test_cloud_accuracy.c:
+// k0, the dark side's diffuse radiance over the flux through it, and the share of the
+// diffusion's absorption rate that the octaves (already thinned by b^n) still need.
+const float DIFFUSE_DARK_SIDE = 0.5;
 const float ABSORPTION_SCALE = 0.5;
+// Fitted to the path-traced cumulus and cumulonimbus of tests/render/test_cloud_vs_reference.c
+// (the decks do not depend on them): the diffuse light a cloud's sides let out at the edge of
+// an isolated cloud (below), how strongly the diffuse light's flow away from the sun shows
+// toward a viewer who looks along it (1: the diffusion approximation's 3/4 F / I, below), and
+// the sky ambient's share at a cloud's surface (0.5 would be half the sky, scattered once).
+const float LATERAL_LOSS = 1.0;
+const float FLOW_SCALE = 1.5;
+const float AMBIENT_SHARE = 1.0;
 
 // Multiply scattered light is not all there yet at the lit surface: it builds up over the first
 // optical depths below it (Schneider 2015's "powder" darkening of sun-facing creases, seen where
@@ -166,9 +214,12 @@ float octave_build_up(float depth)
 // The light each octave scatters toward the viewer per unit optical depth, per unit
 // illuminance: single scattering p exp(-tau_sun), and the diffuse octaves above, absorbed over
 // the depth below the lit side at the diffusion rate sqrt(3 (1 - albedo) (1 - albedo g)).
-void octave_sources(OctavePhases o, SunDepth sd, float tau_up, out float src[MAX_OCTAVES])
+void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence,
+                    out float src[MAX_OCTAVES])
 {
-    float mu0 = clamp(tau_up / max(sd.smooth_to_sun, 1e-6), MU0_FLOOR, 1.0);
+    // Both estimates of mu0 are too large where they err (below a cloud's top the layer's top
+    // is further; the short marches reach past a deck's surface): the smaller.
+    float mu0 = clamp(min(tau_up / max(sd.smooth_to_sun, 1e-6), incidence), MU0_FLOOR, 1.0);
     float x_s = mu0 * sd.to_sun, x_b = mu0 * sd.behind;
     src[0] = o.weighted[0] * exp(-sd.to_sun);
     float g = mix(cloud.phase.x, cloud.phase.y, cloud.phase.z);
@@ -179,6 +230,10 @@ void octave_sources(OctavePhases o, SunDepth sd, float tau_up, out float src[MAX
     // is scattered once, mostly forward (g ~ 0.5-0.8), so about as likely again.
     float once = 1.0 - exp(-(sd.smooth_to_sun + sd.behind));
     float scattered = once * once;
+    // A cloud a few kilometres wide loses diffuse light through its sides too (a deck only
+    // through its top and base): of the light stored between a sample and the dark side,
+    // LATERAL_LOSS at the edge of an isolated cloud; what reaches the dark side has escaped.
+    float kept = 1.0 - LATERAL_LOSS * (1.0 - sd.support);
     float common_part = 4.0 * PI * mu0 * scattered * octave_build_up(x_s) *
                         exp(-ABSORPTION_SCALE * absorption * x_s);
     // Light entering at a grazing angle is scattered near the surface and leaves the way it
@@ -187,8 +242,15 @@ void octave_sources(OctavePhases o, SunDepth sd, float tau_up, out float src[MAX
     float dark_side = DIFFUSE_DARK_SIDE * (0.5 + 0.75 * mu0) / 1.25;
     float b = cloud.octaves.y;
     for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
-        float diffuse = (dark_side + s * b * x_b) / (1.0 + s * b * (x_s + x_b));
-        src[n] = o.weighted[n] * common_part * diffuse / PI;
+        float stored = dark_side + kept * s * b * x_b;
+        // The diffuse light flows away from the sun: its radiance is I (1 + 3/(4 pi) F.w / I)
+        // (the diffusion approximation), the flux F = T E mu0 against the mean, which the
+        // phase's mean cosine g passes on to the scattered light: brighter toward a viewer who
+        // looks at the dark side with the sun behind it. Not darker the other way: at the lit
+        // side the light leaving toward the sun is what the build-up and the decks fit.
+        float flow = 1.0 + FLOW_SCALE * g * 0.75 * max(o.cos_theta, 0.0) / stored;
+        float diffuse = stored / (1.0 + s * b * (x_s + x_b));
+        src[n] = o.weighted[n] * common_part * diffuse * max(flow, 0.0) / PI;
         b *= cloud.octaves.y;
     }
 }
@@ -285,6 +347,9 @@ const float SKIP_FACTOR = 3.0;
 const float MARCH_LOD = 0.008; // longest primary step per km of distance
 // Steps (km) over which the detail erosion fades out: its features are 50-200 m.
 const vec2 DETAIL_FADE_KM = vec2(0.1, 0.3);
+// Steps (km) over which the base shape falls back to its lowest octave (cells of 600 m) with
+// softer edges: its turrets (150-600 m) would alias into speckle and striations.
+const vec2 LOD_FADE_KM = vec2(0.12, 0.45);
 const int EMPTY_RUN = 3;
 // Dense cloud (a storm's core holds 60 optical depths per km): a step that enters it over more
 // than ENTRY_TAU optical depths would put the visible surface wherever its jittered sample
@@ -326,7 +391,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     vec3 moon = moon_on ? frame.moon_illuminance.xyz * sun_transmittance(mid, moon_dir) : vec3(0.0);
     float moon_marched = 0.0;
     bool moon_volume = false;
-    float albedo = cloud.media.x * (1.0 - 0.5 * cloud.media.y);
+    float albedo = cloud.media.x;
     float t = t0 + jitter * ds;
     float t_fine = t; // the last fine sample: the skip never backs up behind it
     int empty = EMPTY_RUN;
@@ -335,7 +400,9 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     bool refining = false; // coming in again in short steps (until the ray leaves the cloud)
     float entry_t = 1.0;   // the view's transmittance where the ray came in
     float refine_left = 0.0; // samples the refinement may still take
-    float sun_marched = 0.0;
+    float sun_marched = 0.0, sun_support = 1.0;
+    vec2 sun_reach = vec2(0.0), moon_reach = vec2(0.0);
+    float sun_incidence = 2.0, moon_incidence = 2.0;
     bool sun_volume = false;
     bool fresh_light = true;
     for (float i = 0.0; i < 2.0 * steps + 4.0 * REFINE && t < t1; i += 1.0) {
@@ -344,6 +411,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         ds = clamp(MARCH_LOD * t, ds_near, ds_far);
         cloud_detail_weight = clamp((DETAIL_FADE_KM.y - ds) / (DETAIL_FADE_KM.y - DETAIL_FADE_KM.x),
                                     0.0, 1.0);
+        cloud_lod = clamp((ds - LOD_FADE_KM.x) / (LOD_FADE_KM.y - LOD_FADE_KM.x), 0.0, 1.0);
         vec3 p = o + t * d;
         if (empty >= EMPTY_RUN && !refining) { // not while coming in again
             // Probing where the layer may hold cloud, big steps.
@@ -400,25 +468,34 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
             float light_jitter = fract(jitter + 0.6180340 * i);
             vec2 uv;
             sun_volume = low_layer && sun_depth_coords(p, sun_dir, uv);
-            sun_marched = sun_march(p, sun_dir, light_jitter, low_layer, sun_volume);
+            sun_reach = sun_march_reach(p, sun_dir);
+            sun_marched = sun_march(p, sun_dir, light_jitter, low_layer, sun_volume, sun_reach,
+                                    sun_incidence);
+            // It varies over hundreds of metres: the neighbour's serves too.
+            sun_support = sun_volume ? sun_column_support(uv, sun_dir) : 1.0;
             if (moon_on) {
                 moon_volume = low_layer && sun_depth_coords(p, moon_dir, uv);
-                moon_marched = sun_march(p, moon_dir, light_jitter, low_layer, moon_volume);
+                moon_reach = sun_march_reach(p, moon_dir);
+                moon_marched = sun_march(p, moon_dir, light_jitter, low_layer, moon_volume,
+                                         moon_reach, moon_incidence);
             }
         }
-        SunDepth sun_depth = sun_depths(p, sun_dir, sun_marched, sun_volume, sigma_t, low_layer);
+        SunDepth sun_depth =
+            sun_depths(p, sun_dir, sun_marched, sun_volume, sun_reach.x, sigma_t, low_layer);
+        sun_depth.support = sun_support;
         SunDepth moon_depth = sun_depth;
         if (moon_on)
-            moon_depth = sun_depths(p, moon_dir, moon_marched, moon_volume, sigma_t, low_layer);
+            moon_depth = sun_depths(p, moon_dir, moon_marched, moon_volume, moon_reach.x, sigma_t,
+                                    low_layer);
         fresh_light = !(fresh_light || entering);
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
         vec3 ambient = mix(amb.bottom, amb.top, h);
         float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
         float top = low_layer ? cloud.low.y : cloud.high.y;
         float tau_up = sigma_t * max(top - r, 0.0);
-        octave_sources(phases, sun_depth, tau_up, src);
+        octave_sources(phases, sun_depth, tau_up, sun_incidence, src);
         if (moon_on)
-            octave_sources(moon_phases, moon_depth, tau_up, moon_src);
+            octave_sources(moon_phases, moon_depth, tau_up, moon_incidence, moon_src);
         // seed 001 eq. 17: the sources integrated over the step against the extinction.
         float step_t = exp(-sigma_t * ds);
         float sun_sum = 0.0, moon_sum = 0.0;
@@ -428,8 +505,12 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
                 moon_sum += moon_src[n];
         }
         // The sky's ambient light is scattered once (octave 0).
+        // The sky's light reaches a sample through the cloud around it: from about half its
+        // directions (the other half is cloud or ground) and less the deeper it lies, which
+        // the view's own transmittance since it entered the cloud stands for.
+        float sky_seen = AMBIENT_SHARE * res.transmittance / max(entry_t, 1e-6);
         res.luminance += albedo * res.transmittance * (1.0 - step_t) *
-                         (sun * sun_sum + moon * moon_sum + ambient);
+                         (sun * sun_sum + moon * moon_sum + ambient * sky_seen);
         // seed 001 eq. 21: front depth weighted by the transmittance to the viewer.
         depth_sum += vec2(res.transmittance * t, res.transmittance);
         res.transmittance *= step_t;

@@ -245,11 +245,11 @@ float pt_phase(float cos_theta)
     return dual_lobe_phase(cos_theta, cloud.phase.x, cloud.phase.y, cloud.phase.z);
 }
 
-// The single-scattering albedo the renderer's march uses (cloud_march.glsl,
-// march_layer_segment): precipitation darkens the clouds.
+// The droplets' single-scattering albedo, as the renderer's march uses it. Rain darkens a
+// cloud's base through its extinction (cloud_density.glsl), not through absorption.
 float pt_albedo()
 {
-    return cloud.media.x * (1.0 - 0.5 * cloud.media.y);
+    return cloud.media.x;
 }
 
 // Illuminance (lux) of the sun and of the moon when it lights, reaching p through the

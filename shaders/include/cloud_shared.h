@@ -13,6 +13,11 @@
  * much the detail noise erodes, w the anvil's spread under the layer top. */
 #define CLOUD_PROFILE_COUNT 4
 
+/* Coverage below this holds no cloud (cloud_density.glsl). The procedural map stores less than
+ * it as a value falling below 0 (cloud_weather.comp), so that "coverage <= 0" marks texels
+ * without cloud (the path tracer's majorant grid, cloud_majorant.comp). */
+#define CLOUD_MIN_COVERAGE 0.02
+
 /* Weather-map texel channels (procedural and client maps alike). */
 #define CLOUD_WEATHER_LOW_COVERAGE 0  /* r */
 #define CLOUD_WEATHER_HIGH_COVERAGE 1 /* g */

@@ -37,4 +37,25 @@ vec3 sun_column_depths(vec2 uv, float r)
     return vec3(at.r, whole, at.g);
 }
 
+// How much of the cloud around p's column is still cloud LATERAL_KM to its sides, in [0, 1]:
+// the four neighbouring sun columns' optical depths over p's own (1 in a deck, less at the
+// edge of a cloud of a few kilometres, whose diffuse light also leaves through its sides).
+const float LATERAL_KM = 0.4;
+float sun_column_support(vec2 uv, vec3 sun_dir)
+{
+    float own = textureLod(sun_depth_volume, vec3(uv, 1.0 - 0.5 / float(SKY_CLOUD_SUN_DEPTH_LEVELS)), 0.0).r;
+    if (own <= 0.0)
+        return 1.0;
+    vec2 across = normalize(abs(sun_dir.x) + abs(sun_dir.y) > 1e-4 ? vec2(-sun_dir.y, sun_dir.x)
+                                                                     : vec2(1.0, 0.0));
+    vec2 along = vec2(-across.y, across.x);
+    vec2 step_a = across * LATERAL_KM * cloud.weather.z, step_b = along * LATERAL_KM * cloud.weather.z;
+    float z = 1.0 - 0.5 / float(SKY_CLOUD_SUN_DEPTH_LEVELS);
+    float sum = min(textureLod(sun_depth_volume, vec3(uv + step_a, z), 0.0).r, own) +
+                min(textureLod(sun_depth_volume, vec3(uv - step_a, z), 0.0).r, own) +
+                min(textureLod(sun_depth_volume, vec3(uv + step_b, z), 0.0).r, own) +
+                min(textureLod(sun_depth_volume, vec3(uv - step_b, z), 0.0).r, own);
+    return sum / (4.0 * own);
+}
+
 #endif

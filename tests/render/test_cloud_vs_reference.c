@@ -58,7 +58,7 @@ static const struct scene scenes[] = {
     { "cumulus_front", "fair_cumulus", 180.0, 30.0, 1.5, 8.0, 40.0, 168, 0 },
     { "cumulus_side", "fair_cumulus", 90.0, 30.0, 1.5, 8.0, 40.0, 168, 0 },
     { "cumulus_back", "fair_cumulus", 0.0, 40.0, 1.5, 8.0, 40.0, 168, 0 },
-    { "cumulonimbus", "storm", 180.0, 30.0, 3.0, 25.0, 60.0, 255, 230 },
+    { "cumulonimbus", "storm", 180.0, 30.0, 3.0, 25.0, 60.0, 255, 0 },
 };
 
 static double seconds(void)
@@ -76,6 +76,9 @@ static bool scene_state(const struct scene *sc, struct sky_world_state *s)
     CHECK_MSG(ok, "weather preset %s: %s", sc->preset, msg);
     s->weather.map_source = SKY_WEATHER_MAP_CLIENT;
     s->clouds.high.coverage = 0.0;
+    /* No rain: the shafts under a base are the renderer's own march, not cloud density, and
+     * the reference traces the density alone. */
+    s->clouds.precipitation = 0.0;
     s->camera.altitude_km = 0.2;
     s->camera.yaw_deg = 0.0;
     s->camera.pitch_deg = 12.0;
@@ -198,6 +201,48 @@ static int cloud_mask(const struct sky_world_state *s, const float *ref, const f
     return on;
 }
 
+/* $SKYD_REFERENCE_CACHE: a folder that keeps each case's reference renders (for work on the
+ * renderer's light, which leaves the reference as it is): read from it when there, written
+ * to it otherwise. Unset in ctest: the reference is rendered every run. */
+static bool cache_path(const char *name, int k, char *path, size_t size)
+{
+    const char *dir = getenv("SKYD_REFERENCE_CACHE");
+    if (!dir || !*dir)
+        return false;
+    snprintf(path, size, "%s/%s-%u-%d.f32", dir, name, ref_spp, k);
+    return true;
+}
+
+static bool load_cached(const char *name, int k, float *rgba, float *luma)
+{
+    char path[1024];
+    if (!cache_path(name, k, path, sizeof path))
+        return false;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return false;
+    size_t got = fread(rgba, sizeof(float), (size_t)W * H * 4, f);
+    fclose(f);
+    if (got != (size_t)W * H * 4)
+        return false;
+    for (int i = 0; i < W * H; i++)
+        luma[i] = (float)test_pixel_luminance(rgba + 4 * i);
+    printf("  reference (seed %d) from %s\n", k + 1, path);
+    return true;
+}
+
+static void save_cached(const char *name, int k, const float *rgba)
+{
+    char path[1024];
+    if (!cache_path(name, k, path, sizeof path))
+        return;
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return;
+    fwrite(rgba, sizeof(float), (size_t)W * H * 4, f);
+    fclose(f);
+}
+
 static float rt_rgba[W * H * 4], ref_rgba[2][W * H * 4], clear_rgba[W * H * 4];
 static float rt[W * H], ref[2][W * H], ref_mean[W * H], clear[W * H], half_diff[W * H];
 static unsigned char mask[W * H];
@@ -213,8 +258,11 @@ static void compare_scene(const struct scene *sc)
     double t0 = seconds();
     render(&s, 0, 0, rt_rgba, rt);
     double t1 = seconds();
-    render(&s, ref_spp, 1, ref_rgba[0], ref[0]);
-    render(&s, ref_spp, 2, ref_rgba[1], ref[1]);
+    for (int k = 0; k < 2; k++)
+        if (!load_cached(sc->name, k, ref_rgba[k], ref[k])) {
+            render(&s, ref_spp, (uint32_t)k + 1, ref_rgba[k], ref[k]);
+            save_cached(sc->name, k, ref_rgba[k]);
+        }
     double t2 = seconds();
     struct sky_world_state c = s;
     c.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
@@ -262,8 +310,13 @@ static void compare_scene(const struct scene *sc)
     double outline_dev = outline_rt / outline_ref - 1.0;
     /* The reference's grain without its noise (independent, so their variances add). */
     double grain_clean = sqrt(fmax(grain_ref * grain_ref - noise_grain * noise_grain, 0.0));
+    double sum_rt = 0.0, sum_ref = 0.0;
+    for (int i = 0; i < W * H; i++)
+        if (mask[i])
+            sum_rt += rt[i], sum_ref += ref_mean[i];
     printf("  cloud pixels %d; renderer %.1f s, reference %.1f s (two renders)\n", pixels,
            t1 - t0, t2 - t1);
+    printf("  mean luminance over the cloud: renderer / reference %.3f\n", sum_rt / sum_ref);
     printf("  mean relative luminance error over %dx%d blocks %.3f (target <= %.2f), per pixel "
            "%.3f; the reference's own noise %.3f per block, %.3f per pixel\n", ERROR_BLOCK,
            ERROR_BLOCK, err, MAX_RELATIVE_ERROR, err_pixel, noise_err, noise_err_pixel);

@@ -49,6 +49,7 @@ layout(std430, binding = SKY_CLOUD_PT_SLAB_STATS) buffer Stats {
 
 #define CLOUD_DENSITY_GLSL
 float cloud_detail_weight = 1.0;
+float cloud_lod = 0.0;
 
 float cloud_extinction(vec3 p, bool detail)
 {

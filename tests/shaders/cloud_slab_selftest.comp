@@ -53,6 +53,7 @@ layout(std430, binding = SKY_CLOUD_SLAB_RESULTS) writeonly buffer Results { floa
 #define CLOUD_DENSITY_GLSL
 // The march sets it per step (cloud_density.glsl); the uniform deck has no detail to fade.
 float cloud_detail_weight = 1.0;
+float cloud_lod = 0.0;
 
 // No rain under the deck.
 vec2 cloud_rain(vec3 p)

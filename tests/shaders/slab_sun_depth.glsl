@@ -18,4 +18,10 @@ vec3 sun_column_depths(vec2 uv, float r)
     return vec3(below, cloud.low.z * (cloud.low.y - cloud.low.x) / uv.x, 0.0);
 }
 
+// A deck has cloud on every side.
+float sun_column_support(vec2 uv, vec3 sun_dir)
+{
+    return 1.0;
+}
+
 #endif
