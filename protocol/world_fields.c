@@ -192,7 +192,7 @@ const struct sky_field_desc sky_world_field_table[] = {
     NUMBER("clouds.multiscatter.a", clouds.multiscatter_a, 0, 1,
            "scattering attenuation per multiple-scattering octave (a <= b conserves energy)"),
     NUMBER("clouds.multiscatter.b", clouds.multiscatter_b, 0, 1,
-           "extinction attenuation per multiple-scattering octave, along the sun and the view"),
+           "extinction attenuation per multiple-scattering octave, through the sun's column"),
     NUMBER("clouds.multiscatter.c", clouds.multiscatter_c, 0, 1,
            "phase eccentricity attenuation per multiple-scattering octave"),
     INT("clouds.multiscatter.octaves", clouds.multiscatter_octaves, 1, 8,

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The clouds' review sheet: every cloud type by day, at sunset looking toward the sun and from
-# 14 km straight above, rendered by `skyd render` into docs/images/clouds/ and listed in
-# docs/CLOUDS.md; then the README's cloud image and time-lapse (docs/images/clouds.png,
-# timelapse.png). Usage: scripts/review-sheet.sh [BUILD_DIR] (default build). About a minute
-# and a half on two lavapipe cores.
+# 14 km straight above, each beside the path-traced reference of the same view (`skyd render
+# --reference`), rendered into docs/images/clouds/ and listed in docs/CLOUDS.md; then the
+# README's cloud image and time-lapse (docs/images/clouds.png, timelapse.png). Usage:
+# scripts/review-sheet.sh [BUILD_DIR] (default build); REVIEW_SPP sets the reference's samples
+# per pixel (default 64). The references take most of its 20-40 minutes on two lavapipe cores.
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -11,7 +12,8 @@ cd "$root"
 out=docs/images/clouds
 mkdir -p "$out"
 skyd="$root/$build/skyd"
-size=(--width 480 --height 270)
+size=(--width 320 --height 180)
+spp=${REVIEW_SPP:-64}
 
 # name | weather preset | extra settings
 types=(
@@ -33,11 +35,14 @@ doc=docs/CLOUDS.md
 {
   echo "# Cloud review sheet"
   echo
-  echo "Every cloud type by day, at sunset looking toward the sun, and from 14 km straight above."
+  echo "Every cloud type by day, at sunset looking toward the sun, and from 14 km straight above,"
+  echo "each beside its path-traced reference: \`skyd render --reference --spp $spp\` traces the same"
+  echo "density with delta tracking and every order of scattering, sun and sky light, and no"
+  echo "approximation (its grain is its own Monte Carlo noise). Both are exposed alike."
   echo "Regenerate with \`scripts/review-sheet.sh\` (it rewrites this page and the images)."
   echo
-  echo "| type | day | sunset, toward the sun | from above |"
-  echo "| --- | --- | --- | --- |"
+  echo "| type | day | day, reference | sunset, toward the sun | sunset, reference | from above | from above, reference |"
+  echo "| --- | --- | --- | --- | --- | --- | --- |"
 } > "$doc"
 for t in "${types[@]}"; do
   IFS='|' read -r name preset extra <<< "$t"
@@ -45,9 +50,14 @@ for t in "${types[@]}"; do
   for v in "${views[@]}"; do
     IFS='|' read -r view settings <<< "$v"
     file="$out/$name-$view.png"
+    # One exposure for the pair: the renderer's metered one, read back from its stats.
     # shellcheck disable=SC2086
-    "$skyd" render "${size[@]}" --weather "$preset" $extra $settings --out "$file" >/dev/null
-    row="$row ![$name, $view](images/clouds/$name-$view.png) |"
+    ev=$("$skyd" render "${size[@]}" --weather "$preset" $extra $settings --out "$file" --stats |
+         /usr/bin/python3 -c 'import json, math, sys; print("%.3f" % json.load(sys.stdin)["metered_ev100"])')
+    # shellcheck disable=SC2086
+    "$skyd" render "${size[@]}" --weather "$preset" $extra $settings --set exposure.mode=manual \
+      --set exposure.ev100="$ev" --reference --spp "$spp" --out "$out/$name-$view-reference.png" >/dev/null
+    row="$row ![$name, $view](images/clouds/$name-$view.png) | ![$name, $view, reference](images/clouds/$name-$view-reference.png) |"
   done
   echo "$row" >> "$doc"
   echo "review-sheet: $name"

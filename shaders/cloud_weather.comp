@@ -88,7 +88,7 @@ float coverage_score(float field, float coverage, float weight)
 
 // The map's weight per type: cumulus fields are the turrets' own pattern clustered by the map,
 // cumulonimbus towers the map's cores, stratocumulus its cells, stratus its sheet.
-const float CUMULUS_WEIGHT = 1.0, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5, SHEET_WEIGHT = 3.0;
+const float CUMULUS_WEIGHT = 0.7, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5, SHEET_WEIGHT = 3.0;
 // Hurst exponents of the fBm fields (amplitude 2^-H per octave). Level sets of a field of
 // exponent H have outlines of dimension (3 - H) / 2 and a size distribution n(L) ~ L^-(3 - H)
 // (Kondev & Henley 1995); observed cumulus: D 1.3-1.4 (Lovejoy 1982), b 1.7-2.9. Decks: a

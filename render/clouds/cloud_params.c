@@ -14,7 +14,7 @@
 static const float type_shapes[CLOUD_PROFILE_COUNT][4] = {
     { 0.35f, 0.10f, 0.15f, 0.0f }, /* stratus */
     { 0.55f, 0.06f, 0.25f, 0.0f }, /* stratocumulus */
-    { 0.90f, 0.03f, 0.35f, 0.0f }, /* cumulus */
+    { 0.90f, 0.03f, 0.25f, 0.0f }, /* cumulus */
     { 0.95f, 0.02f, 0.30f, 1.0f }, /* cumulonimbus */
 };
 
@@ -65,6 +65,12 @@ static double tile_km(double extent, double wanted)
     return extent / count;
 }
 
+/* The same, an even number of times: twice it tiles too (cloud_density.glsl's towers). */
+static double even_tile_km(double extent, double wanted)
+{
+    return 0.5 * tile_km(extent, 2.0 * wanted);
+}
+
 void cloud_params_fill(const struct sky_render_clouds *c, double R, struct sky_cloud_uniforms *u)
 {
     memset(u, 0, sizeof *u);
@@ -90,6 +96,6 @@ void cloud_params_fill(const struct sky_render_clouds *c, double R, struct sky_c
     /* Base noise turrets of 150-600 m (Wielicki & Welch 1986: cumulus turrets 250 m - 1 km;
      * cells of a quarter to a sixteenth of the tile), detail of tens of metres, curl distortion
      * over a few kilometres. */
-    u->tiles = V4(tile_km(extent, 2.5), tile_km(extent, 0.8), tile_km(extent, 12.0), 0);
+    u->tiles = V4(even_tile_km(extent, 2.5), tile_km(extent, 0.8), tile_km(extent, 12.0), 0);
     u->build_up = V4(c->multiscatter_powder, 0, 0, 0);
 }

@@ -186,7 +186,10 @@ static int write_frame(const char *path, const void *pixels, uint16_t *rgb16, in
 
 static void print_stats(const struct sky_render_stats *s)
 {
-    printf("{\"gpu_ms\":%.3f,\"wall_ms\":%.3f,\"passes\":{", s->gpu_ms, s->wall_ms);
+    /* The exposure too, so that another render (a reference) can be exposed alike. */
+    printf("{\"gpu_ms\":%.3f,\"wall_ms\":%.3f,\"exposure\":%.9g,\"metered_ev100\":%.4f,"
+           "\"passes\":{",
+           s->gpu_ms, s->wall_ms, s->exposure, s->metered_ev100);
     for (int i = 0; i < s->pass_count; i++)
         printf("%s\"%s\":%.3f", i ? "," : "", s->pass_names[i], s->pass_ms[i]);
     printf("}}\n");

@@ -78,6 +78,9 @@ float profile_rise(float h, vec4 shape)
 // Extinction ramps from the threshold over this much of the shape's range (with its level of
 // detail, wider): the interior is dense, the edges tens of metres soft.
 const vec2 EDGE_RAMP = vec2(0.12, 0.3);
+// The share of the shape's lowest octave in every cloud: outlines of area-perimeter dimension about
+// 1.35 from above, as observed (Lovejoy 1982), not 1.45.
+const float TURRET_SMOOTHING = 0.4;
 // Coverage below this holds no cloud (so the march can skip it; the specks it would leave are
 // a few voxels).
 const float MIN_COVERAGE = CLOUD_MIN_COVERAGE;
@@ -117,10 +120,18 @@ float low_density(vec3 p, float r, vec4 wm, bool detail)
     // Curl distortion moves the outlines, most in the turrets (Schneider 2015).
     vec2 curl = textureLod(curl_noise, q.xy / cloud.tiles.z, 0.0).rg;
     q.xy += curl * CURL_STRENGTH_KM * (0.5 + h);
-    vec4 n = textureLod(base_noise, q / cloud.tiles.x, 0.0);
+    // Towering clouds boil in turrets twice as large (a kilometre and more in a cumulonimbus);
+    // the base tile repeats an even number of times over the weather extent
+    // (render/clouds/cloud_params.c), so twice it still tiles.
+    float towering = smoothstep(0.67, 1.0, wm.b);
+    vec4 n = vec4(0.0);
+    if (towering < 1.0)
+        n = textureLod(base_noise, q / cloud.tiles.x, 0.0);
+    if (towering > 0.0)
+        n = mix(n, textureLod(base_noise, q / (2.0 * cloud.tiles.x), 0.0), towering);
     // Sheets (stratus, stratocumulus) keep the shape's lowest octave: radiative smoothing
     // leaves real decks smooth below a few hundred metres.
-    float u = mix(n.r, n.g, max(cloud_lod, 1.0 - smoothstep(0.3, 0.55, wm.b)));
+    float u = mix(n.r, n.g, max(max(cloud_lod, 1.0 - smoothstep(0.3, 0.55, wm.b)), TURRET_SMOOTHING));
     float ramp = mix(EDGE_RAMP.x, EDGE_RAMP.y, cloud_lod);
     float d = clamp((u - (1.0 - c)) / ramp, 0.0, 1.0);
     // Flat bases: the cloud starts at the layer's bottom (the condensation level), rounded

@@ -197,10 +197,11 @@ const float ABSORPTION_SCALE = 0.5;
 // (the decks do not depend on them): the diffuse light a cloud's sides let out at the edge of
 // an isolated cloud (below), how strongly the diffuse light's flow away from the sun shows
 // toward a viewer who looks along it (1: the diffusion approximation's 3/4 F / I, below), and
-// the sky ambient's share at a cloud's surface (0.5 would be half the sky, scattered once).
+// the sky ambient's share at a cloud's surface (0.5 would be half the sky scattered once;
+// more: the sky's light scattered again).
 const float LATERAL_LOSS = 1.0;
 const float FLOW_SCALE = 1.5;
-const float AMBIENT_SHARE = 1.0;
+const float AMBIENT_SHARE = 1.3;
 
 // Multiply scattered light is not all there yet at the lit surface: it builds up over the first
 // optical depths below it (Schneider 2015's "powder" darkening of sun-facing creases, seen where
@@ -260,6 +261,7 @@ void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence,
 // atmosphere, seed 001 4.2) and the airglow floor.
 struct CloudAmbient {
     vec3 top, bottom;
+    vec3 bottom_sun; // the part of bottom that the sun lights on the ground, at full sun
 };
 
 // Directions of the sky ambient's quadrature: cosine-weighted over the upper hemisphere on a
@@ -324,8 +326,11 @@ CloudAmbient cloud_ambient(vec3 sun_dir, vec3 d)
     // The sky-view LUT holds the sky around a camera inside the atmosphere only.
     bool sky_view = length(frame.camera_position.xyz) < top_radius();
     vec3 sky_e = sky * frame.sun_illuminance.xyz * (sky_view ? sky_ambient_shape(d) : vec3(1.0));
-    // The ground under the clouds is lit by a light they half hide, on average.
+    // The ground under the clouds is lit by a light they half hide, on average (the march
+    // puts the sun's part in the shadow it knows, bottom_sun).
     vec3 ground_e = (0.5 * direct + sky) * frame.sun_illuminance.xyz;
+    a.bottom_sun = atmo.ground_albedo.xyz * direct * frame.sun_illuminance.xyz / PI *
+                   cloud.media.z;
     if (moon_lights_clouds()) {
         ground_light_per_lux(frame.moon_direction.xyz, sky, direct);
         sky_e += sky * frame.moon_illuminance.xyz;
@@ -345,9 +350,10 @@ CloudAmbient cloud_ambient(vec3 sun_dir, vec3 d)
 // finely again.
 const float SKIP_FACTOR = 3.0;
 const float MARCH_LOD = 0.008; // longest primary step per km of distance
-// Steps (km) over which the detail erosion fades out: its features are 50-200 m.
+// Footprints (km: the step the distance asks for, MARCH_LOD t) over which the detail erosion
+// fades out: its features are 50-200 m.
 const vec2 DETAIL_FADE_KM = vec2(0.1, 0.3);
-// Steps (km) over which the base shape falls back to its lowest octave (cells of 600 m) with
+// Footprints (km) over which the base shape falls back to its lowest octave (cells of 600 m) with
 // softer edges: its turrets (150-600 m) would alias into speckle and striations.
 const vec2 LOD_FADE_KM = vec2(0.12, 0.45);
 const int EMPTY_RUN = 3;
@@ -409,9 +415,13 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         if (res.transmittance < EARLY_EXIT_T)
             break;
         ds = clamp(MARCH_LOD * t, ds_near, ds_far);
-        cloud_detail_weight = clamp((DETAIL_FADE_KM.y - ds) / (DETAIL_FADE_KM.y - DETAIL_FADE_KM.x),
-                                    0.0, 1.0);
-        cloud_lod = clamp((ds - LOD_FADE_KM.x) / (LOD_FADE_KM.y - LOD_FADE_KM.x), 0.0, 1.0);
+        // Level of detail from the distance (the step the distance asks for), not from the
+        // step count: fewer steps must not change what the clouds are, only how finely they are
+        // sampled.
+        float footprint = MARCH_LOD * t;
+        cloud_detail_weight = clamp((DETAIL_FADE_KM.y - footprint) /
+                                        (DETAIL_FADE_KM.y - DETAIL_FADE_KM.x), 0.0, 1.0);
+        cloud_lod = clamp((footprint - LOD_FADE_KM.x) / (LOD_FADE_KM.y - LOD_FADE_KM.x), 0.0, 1.0);
         vec3 p = o + t * d;
         if (empty >= EMPTY_RUN && !refining) { // not while coming in again
             // Probing where the layer may hold cloud, big steps.
@@ -489,7 +499,15 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
                                     low_layer);
         fresh_light = !(fresh_light || entering);
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
-        vec3 ambient = mix(amb.bottom, amb.top, h);
+        vec3 bottom = amb.bottom;
+        // The ground under a cloud lies in its shadow: where the volume knows the sun's
+        // optical depth to the ground below the sample, its sunlit half becomes that share.
+        vec2 below_uv;
+        if (low_layer && sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv)) {
+            vec3 column = sun_column_depths(below_uv, cloud.low.y);
+            bottom += amb.bottom_sun * (exp(-(column.y + column.z)) - 0.5);
+        }
+        vec3 ambient = mix(bottom, amb.top, h);
         float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
         float top = low_layer ? cloud.low.y : cloud.high.y;
         float tau_up = sigma_t * max(top - r, 0.0);
@@ -505,12 +523,14 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
                 moon_sum += moon_src[n];
         }
         // The sky's ambient light is scattered once (octave 0).
-        // The sky's light reaches a sample through the cloud around it: from about half its
-        // directions (the other half is cloud or ground) and less the deeper it lies, which
-        // the view's own transmittance since it entered the cloud stands for.
+        // The sky's light reaches a sample through the cloud around it, less the deeper it
+        // lies, which the view's own transmittance since it entered the cloud stands for:
+        // the source falls as exp(-tau) along the view as the view's transmittance does, and
+        // over the step int sigma exp(-2 sigma t) dt = (1 - step_t^2) / 2.
         float sky_seen = AMBIENT_SHARE * res.transmittance / max(entry_t, 1e-6);
-        res.luminance += albedo * res.transmittance * (1.0 - step_t) *
-                         (sun * sun_sum + moon * moon_sum + ambient * sky_seen);
+        res.luminance += albedo * res.transmittance *
+                         ((1.0 - step_t) * (sun * sun_sum + moon * moon_sum) +
+                          0.5 * (1.0 - step_t * step_t) * ambient * sky_seen);
         // seed 001 eq. 21: front depth weighted by the transmittance to the viewer.
         depth_sum += vec2(res.transmittance * t, res.transmittance);
         res.transmittance *= step_t;
