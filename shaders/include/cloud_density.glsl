@@ -87,6 +87,7 @@ const float MIN_COVERAGE = CLOUD_MIN_COVERAGE;
 // Anvils: in the top of a cumulonimbus layer the coverage spreads from the towers around it,
 // the largest of the columns ANVIL_REACH of the layer's thickness around.
 const float ANVIL_REACH = 0.3;
+const float ANVIL_TYPE = 0.85;
 
 // The low layer's coverage at height fraction h over pattern position xy (0 outside the layer).
 float low_coverage(float h, vec2 xy, vec4 wm, vec4 shape)
@@ -94,7 +95,8 @@ float low_coverage(float h, vec2 xy, vec4 wm, vec4 shape)
     if (h <= 0.0 || h >= 1.0 || wm.r <= 0.0)
         return 0.0;
     float c = coverage_at(wm.r, profile_rise(h, shape));
-    if (shape.w > 0.0 && h > 0.6) {
+    // (Cumulonimbus alone: the anvil's four lookups are not spent on the cumulus around it.)
+    if (shape.w > 0.0 && wm.b > ANVIL_TYPE && h > 0.6) {
         float reach = ANVIL_REACH * (cloud.low.y - cloud.low.x);
         float around = max(max(sample_weather(xy + vec2(reach, 0.0)).r,
                                sample_weather(xy - vec2(reach, 0.0)).r),
@@ -123,7 +125,7 @@ float low_density(vec3 p, float r, vec4 wm, bool detail)
     // Towering clouds boil in turrets twice as large (a kilometre and more in a cumulonimbus);
     // the base tile repeats an even number of times over the weather extent
     // (render/clouds/cloud_params.c), so twice it still tiles.
-    float towering = smoothstep(0.67, 1.0, wm.b);
+    float towering = smoothstep(0.8, 1.0, wm.b);
     vec4 n = vec4(0.0);
     if (towering < 1.0)
         n = textureLod(base_noise, q / cloud.tiles.x, 0.0);

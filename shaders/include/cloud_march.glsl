@@ -406,7 +406,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     bool refining = false; // coming in again in short steps (until the ray leaves the cloud)
     float entry_t = 1.0;   // the view's transmittance where the ray came in
     float refine_left = 0.0; // samples the refinement may still take
-    float sun_marched = 0.0, sun_support = 1.0;
+    float sun_marched = 0.0, sun_support = 1.0, ground_sun = 0.5;
     vec2 sun_reach = vec2(0.0), moon_reach = vec2(0.0);
     float sun_incidence = 2.0, moon_incidence = 2.0;
     bool sun_volume = false;
@@ -483,6 +483,15 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
                                     sun_incidence);
             // It varies over hundreds of metres: the neighbour's serves too.
             sun_support = sun_volume ? sun_column_support(uv, sun_dir) : 1.0;
+            // The ground under a cloud lies in its shadow: where the volume knows the sun's
+            // optical depth to the ground below the sample, its sunlit half becomes that share.
+            vec2 below_uv;
+            ground_sun = 0.5;
+            if (low_layer && sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir,
+                                              below_uv)) {
+                vec3 column = sun_column_depths(below_uv, cloud.low.y);
+                ground_sun = exp(-(column.y + column.z));
+            }
             if (moon_on) {
                 moon_volume = low_layer && sun_depth_coords(p, moon_dir, uv);
                 moon_reach = sun_march_reach(p, moon_dir);
@@ -499,15 +508,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
                                     low_layer);
         fresh_light = !(fresh_light || entering);
         float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
-        vec3 bottom = amb.bottom;
-        // The ground under a cloud lies in its shadow: where the volume knows the sun's
-        // optical depth to the ground below the sample, its sunlit half becomes that share.
-        vec2 below_uv;
-        if (low_layer && sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv)) {
-            vec3 column = sun_column_depths(below_uv, cloud.low.y);
-            bottom += amb.bottom_sun * (exp(-(column.y + column.z)) - 0.5);
-        }
-        vec3 ambient = mix(bottom, amb.top, h);
+        vec3 ambient = mix(amb.bottom + amb.bottom_sun * (ground_sun - 0.5), amb.top, h);
         float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
         float top = low_layer ? cloud.low.y : cloud.high.y;
         float tau_up = sigma_t * max(top - r, 0.0);

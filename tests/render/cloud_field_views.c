@@ -15,11 +15,16 @@
 #endif
 
 #define N_PIXELS (FIELD_SIDE * FIELD_SIDE)
+#define N_FRACTION_PIXELS (FIELD_FRACTION_SIDE * FIELD_FRACTION_SIDE)
 #define MAX_OBJECTS 16384
 
 static float rgba[N_PIXELS * 4];
 static float cloudy[N_PIXELS], clear[N_PIXELS];
 static unsigned char mask[N_PIXELS];
+/* The moved views' clear renders ([i - 1] for view i), their cloudy render and mask. */
+static float moved_clear[FIELD_FRACTION_VIEWS - 1][N_FRACTION_PIXELS];
+static float moved_cloudy[N_FRACTION_PIXELS];
+static unsigned char moved_mask[N_FRACTION_PIXELS];
 static struct cloud_object objects[MAX_OBJECTS];
 static uint64_t next_history_key = 1;
 
@@ -40,6 +45,12 @@ struct field_view field_deck_view(const char *preset, int i, bool narrow)
     struct field_view view = { preset, NAN, false, views[i].seed, views[i].sun, 135.0,
                                { offset, offset }, narrow ? 60.0 : 90.0 };
     return view;
+}
+
+void field_fraction_offset_km(int i, double offset_km[2])
+{
+    offset_km[0] = (i == 1 || i == 3) ? 15.0 : 0.0;
+    offset_km[1] = (i == 2 || i == 3) ? 15.0 : 0.0;
 }
 
 bool field_state(const struct field_views *v, const struct field_view *view,
@@ -124,21 +135,25 @@ static bool settle_atmosphere(const struct field_views *v, const struct sky_worl
     return true;
 }
 
-static bool render(const struct field_views *v, const struct sky_world_state *s, float *luma)
+/* A side x side render (side <= FIELD_SIDE) into rgba[] and its luminance into luma. */
+static bool render(const struct field_views *v, const struct sky_world_state *s, int side,
+                   float *luma)
 {
     if (!settle_atmosphere(v, s))
         return false;
     /* A one-off view, converged from scratch. */
-    if (test_render_world(v->renderer, s, FIELD_SIDE, FIELD_SIDE, SKY_RENDER_OUTPUT_LINEAR,
-                          next_history_key++, false, rgba, sizeof rgba) != 0) {
+    size_t pixels = (size_t)side * (size_t)side;
+    if (test_render_world(v->renderer, s, (uint32_t)side, (uint32_t)side,
+                          SKY_RENDER_OUTPUT_LINEAR, next_history_key++, false, rgba,
+                          pixels * 4 * sizeof rgba[0]) != 0) {
         printf("render failed\n");
         return false;
     }
-    if (test_count_bad(rgba, N_PIXELS) != 0) {
+    if (test_count_bad(rgba, pixels) != 0) {
         printf("render has NaN, infinite or negative pixels\n");
         return false;
     }
-    cloud_metrics_luma(rgba, FIELD_SIDE, FIELD_SIDE, luma);
+    cloud_metrics_luma(rgba, side, side, luma);
     return true;
 }
 
@@ -148,45 +163,50 @@ static uint8_t srgb8(double x)
     return (uint8_t)lround(fmin(fmax(x, 0.0), 1.0) * 255.0);
 }
 
-static void write_png(const struct field_views *v, const char *name, const uint8_t *pixels)
+static void write_png(const struct field_views *v, const char *name, const uint8_t *pixels,
+                      int side)
 {
     char path[1024], err[256];
     snprintf(path, sizeof path, "%s/cloud_field_%s.png", v->out_dir, name);
-    if (png_write_rgba8_file(path, pixels, FIELD_SIDE, FIELD_SIDE, err, sizeof err) != 0)
+    if (png_write_rgba8_file(path, pixels, side, side, err, sizeof err) != 0)
         printf("%s: %s\n", path, err);
 }
 
-/* The render in rgba[], exposed for its mean luminance and tone mapped (Reinhard). */
-static void save_render(const struct field_views *v, const char *name)
+/* The side x side render in rgba[], exposed for its mean luminance and tone mapped
+ * (Reinhard). */
+static void save_render(const struct field_views *v, const char *name, int side)
 {
     static uint8_t pixels[N_PIXELS * 4];
     if (!v->out_dir)
         return;
+    int n = side * side;
     double mean = 0.0;
-    for (int i = 0; i < N_PIXELS; i++)
+    for (int i = 0; i < n; i++)
         mean += test_pixel_luminance(rgba + 4 * i);
-    double scale = 0.25 / fmax(mean / N_PIXELS, 1e-9);
-    for (int i = 0; i < N_PIXELS; i++) {
+    double scale = 0.25 / fmax(mean / n, 1e-9);
+    for (int i = 0; i < n; i++) {
         for (int c = 0; c < 3; c++) {
             double x = rgba[4 * i + c] * scale;
             pixels[4 * i + c] = srgb8(x / (1.0 + x));
         }
         pixels[4 * i + 3] = 255;
     }
-    write_png(v, name, pixels);
+    write_png(v, name, pixels, side);
 }
 
-static void save_mask(const struct field_views *v, const char *name, int count)
+/* A side x side mask, with the boxes of objects[0, count) when side is FIELD_SIDE. */
+static void save_mask(const struct field_views *v, const char *name,
+                      const unsigned char *m, int side, int count)
 {
     static uint8_t pixels[N_PIXELS * 4];
     if (!v->out_dir)
         return;
-    for (int i = 0; i < N_PIXELS; i++) {
-        uint8_t g = mask[i] ? 200 : 0;
+    for (int i = 0; i < side * side; i++) {
+        uint8_t g = m[i] ? 200 : 0;
         pixels[4 * i] = pixels[4 * i + 1] = pixels[4 * i + 2] = g;
         pixels[4 * i + 3] = 255;
     }
-    for (int n = 0; n < count && n < MAX_OBJECTS; n++) {
+    for (int n = 0; side == FIELD_SIDE && n < count && n < MAX_OBJECTS; n++) {
         const struct cloud_object *o = &objects[n];
         bool used = !o->touches_border && o->area >= FIELD_MIN_AREA_PX;
         if (!used && !o->touches_border)
@@ -203,7 +223,7 @@ static void save_mask(const struct field_views *v, const char *name, int count)
     }
     char mask_name[256];
     snprintf(mask_name, sizeof mask_name, "%s_mask", name);
-    write_png(v, mask_name, pixels);
+    write_png(v, mask_name, pixels, side);
 }
 
 bool field_sum_spectra(struct field_spectrum *sum, const struct field_spectrum *one)
@@ -239,32 +259,80 @@ static void black_ground(struct sky_world_state *s)
         s->atmosphere.ground_albedo[c] = 0.0;
 }
 
-/* The part of mask[] within FIELD_NADIR_DEG of the nadir (a pinhole straight down). */
-static double nadir_fraction(double fov_deg)
+/* Cloud where the cloudy render is brighter than the clear one by more than 10 % of it.
+ * Brighter only: what a cloud darkens below it is its shadow on the air, not cloud. */
+static void mask_clouds(const float *cloudy_luma, const float *clear_luma, int n,
+                        unsigned char *m)
+{
+    for (int i = 0; i < n; i++)
+        m[i] = cloudy_luma[i] - clear_luma[i] > 0.10f * clear_luma[i];
+}
+
+/* The part of a side x side mask within FIELD_NADIR_DEG of the nadir (a pinhole straight
+ * down). */
+static double nadir_fraction(const unsigned char *m, int side, double fov_deg)
 {
     double tan_half = tan(0.5 * fov_deg * M_PI / 180.0);
     double limit = tan(FIELD_NADIR_DEG * M_PI / 180.0);
     long on = 0, all = 0;
-    for (int y = 0; y < FIELD_SIDE; y++)
-        for (int x = 0; x < FIELD_SIDE; x++) {
-            double nx = 2.0 * (x + 0.5) / FIELD_SIDE - 1.0;
-            double ny = 2.0 * (y + 0.5) / FIELD_SIDE - 1.0;
+    for (int y = 0; y < side; y++)
+        for (int x = 0; x < side; x++) {
+            double nx = 2.0 * (x + 0.5) / side - 1.0;
+            double ny = 2.0 * (y + 0.5) / side - 1.0;
             if (tan_half * hypot(nx, ny) > limit)
                 continue;
             all++;
-            on += mask[(size_t)y * FIELD_SIDE + x] != 0;
+            on += m[(size_t)y * (size_t)side + (size_t)x] != 0;
         }
     return all > 0 ? (double)on / all : NAN;
 }
 
+/* The state of the view moved by field_fraction_offset_km(i) over a black ground. The offset
+ * is added after field_state(), so to offsets that v->sets give too. */
+static bool moved_state(const struct field_views *v, const struct field_view *view, int i,
+                        struct sky_world_state *s)
+{
+    double offset_km[2];
+    if (!field_state(v, view, s))
+        return false;
+    field_fraction_offset_km(i, offset_km);
+    s->weather.offset_east_km += offset_km[0];
+    s->weather.offset_north_km += offset_km[1];
+    black_ground(s);
+    return true;
+}
+
 bool field_render_clear(const struct field_views *v, const struct field_view *view)
 {
+    for (int i = 0; i < FIELD_FRACTION_VIEWS; i++) {
+        struct sky_world_state s;
+        if (!moved_state(v, view, i, &s))
+            return false;
+        s.clouds.low.coverage = 0.0;
+        if (i == 0 ? !render(v, &s, FIELD_SIDE, clear)
+                   : !render(v, &s, FIELD_FRACTION_SIDE, moved_clear[i - 1]))
+            return false;
+    }
+    return true;
+}
+
+/* The disc's fraction in the moved view i (1 ..) over moved_clear[i - 1]. */
+static bool moved_fraction(const struct field_views *v, const struct field_view *view,
+                           const char *name, int i, double *fraction)
+{
     struct sky_world_state s;
-    if (!field_state(v, view, &s))
+    if (!moved_state(v, view, i, &s) || !render(v, &s, FIELD_FRACTION_SIDE, moved_cloudy))
         return false;
-    black_ground(&s);
-    s.clouds.low.coverage = 0.0;
-    return render(v, &s, clear);
+    double offset_km[2];
+    field_fraction_offset_km(i, offset_km);
+    char moved_name[256];
+    snprintf(moved_name, sizeof moved_name, "%s_at%.0f_%.0f", name, offset_km[0],
+             offset_km[1]);
+    save_render(v, moved_name, FIELD_FRACTION_SIDE);
+    mask_clouds(moved_cloudy, moved_clear[i - 1], N_FRACTION_PIXELS, moved_mask);
+    save_mask(v, moved_name, moved_mask, FIELD_FRACTION_SIDE, 0);
+    *fraction = nadir_fraction(moved_mask, FIELD_FRACTION_SIDE, s.camera.fov_deg);
+    return true;
 }
 
 bool field_measure_cumulus(const struct field_views *v, const struct field_view *view,
@@ -272,39 +340,45 @@ bool field_measure_cumulus(const struct field_views *v, const struct field_view 
                            struct field_spectrum *spectrum)
 {
     struct sky_world_state s;
-    if (!field_state(v, view, &s))
+    if (!moved_state(v, view, 0, &s) || !render(v, &s, FIELD_SIDE, cloudy))
         return false;
-    black_ground(&s);
-    if (!render(v, &s, cloudy))
-        return false;
-    save_render(v, name);
-    /* Brighter only: what a cloud darkens below it is its shadow on the air, not cloud. */
-    for (int i = 0; i < N_PIXELS; i++)
-        mask[i] = cloudy[i] - clear[i] > 0.10f * clear[i];
+    save_render(v, name, FIELD_SIDE);
+    mask_clouds(cloudy, clear, N_PIXELS, mask);
     int count = cloud_metrics_objects(mask, FIELD_SIDE, FIELD_SIDE, objects, MAX_OBJECTS);
     if (count < 0 || count > MAX_OBJECTS) {
         printf("%s: %d objects, more than the %d kept\n", name, count, MAX_OBJECTS);
         return false;
     }
-    save_mask(v, name, count);
+    save_mask(v, name, mask, FIELD_SIDE, count);
     out->pixel_km = field_pixel_km(&s);
     out->coverage = s.clouds.low.coverage;
-    out->fraction = nadir_fraction(s.camera.fov_deg);
+    out->fraction = nadir_fraction(mask, FIELD_SIDE, s.camera.fov_deg);
     out->image_fraction = cloud_field_fraction(mask, FIELD_SIDE, FIELD_SIDE);
     out->objects = count;
     out->size = cloud_field_size_distribution(objects, count, out->pixel_km, FIELD_MIN_AREA_PX);
     out->dimension = cloud_metrics_fractal_dimension(objects, count, FIELD_D_MIN_AREA_PX,
                                                      &out->dimension_used);
-    return spectrum ? add_spectrum(cloudy, out->pixel_km, spectrum) : true;
+    if (spectrum && !add_spectrum(cloudy, out->pixel_km, spectrum))
+        return false;
+    /* The configuration's cloud fraction: the disc's over the view and the moved ones. */
+    out->view_fractions[0] = out->fraction;
+    out->mean_fraction = out->fraction;
+    for (int i = 1; i < FIELD_FRACTION_VIEWS; i++) {
+        if (!moved_fraction(v, view, name, i, &out->view_fractions[i]))
+            return false;
+        out->mean_fraction += out->view_fractions[i];
+    }
+    out->mean_fraction /= FIELD_FRACTION_VIEWS;
+    return true;
 }
 
 bool field_add_spectrum(const struct field_views *v, const struct field_view *view,
                         const char *name, struct field_spectrum *spectrum)
 {
     struct sky_world_state s;
-    if (!field_state(v, view, &s) || !render(v, &s, cloudy))
+    if (!field_state(v, view, &s) || !render(v, &s, FIELD_SIDE, cloudy))
         return false;
-    save_render(v, name);
+    save_render(v, name, FIELD_SIDE);
     return add_spectrum(cloudy, field_pixel_km(&s), spectrum);
 }
 
@@ -318,14 +392,18 @@ double field_band_slope(const struct field_spectrum *spectrum, double lambda_min
 void field_print_cumulus(const char *name, const struct cumulus_figures *f)
 {
     const struct cloud_size_fit *z = &f->size;
-    printf("%s: %.1f m/px; cloud fraction %.3f within %.0f deg of the nadir (coverage %.2f, "
-           "%+.3f), %.3f of the image; %d objects, %d whole, %d >= L_min %.0f m (largest %.2f "
-           "km): b %.2f +- %.2f (untruncated %.2f, binned %.2f, KS %.3f); D %.3f over %d >= "
-           "%d px\n",
-           name, 1000.0 * f->pixel_km, f->fraction, FIELD_NADIR_DEG, f->coverage,
-           f->fraction - f->coverage, f->image_fraction, f->objects, z->whole, z->used,
-           1000.0 * z->l_min_km, z->l_max_km, z->b, z->b_sigma, z->b_clauset, z->b_binned,
-           z->ks, f->dimension, f->dimension_used, FIELD_D_MIN_AREA_PX);
+    printf("%s: %.1f m/px; cloud fraction within %.0f deg of the nadir %.3f over %d views "
+           "(coverage %.2f, %+.3f; views",
+           name, 1000.0 * f->pixel_km, FIELD_NADIR_DEG, f->mean_fraction, FIELD_FRACTION_VIEWS,
+           f->coverage, f->mean_fraction - f->coverage);
+    for (int i = 0; i < FIELD_FRACTION_VIEWS; i++)
+        printf(" %.3f", f->view_fractions[i]);
+    printf("), %.3f in this view (%+.3f), %.3f of its image; %d objects, %d whole, %d >= L_min "
+           "%.0f m (largest %.2f km): b %.2f +- %.2f (untruncated %.2f, binned %.2f, KS %.3f); "
+           "D %.3f over %d >= %d px\n",
+           f->fraction, f->fraction - f->coverage, f->image_fraction, f->objects, z->whole,
+           z->used, 1000.0 * z->l_min_km, z->l_max_km, z->b, z->b_sigma, z->b_clauset,
+           z->b_binned, z->ks, f->dimension, f->dimension_used, FIELD_D_MIN_AREA_PX);
 }
 
 void field_print_octaves(const char *name, const struct field_spectrum *spectrum)

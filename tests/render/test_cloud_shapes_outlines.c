@@ -8,8 +8,10 @@ static int compare_int(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Fair cumulus (coverage 0.3) seen from above, cloud = brighter than the black ground and the
- * air over it by more than 10 %: the area-perimeter dimension of the whole clouds' outlines,
+/* Fair cumulus (coverage 0.3, without the preset's thin high layer, whose veil would join the
+ * clouds under it into one outline) seen from above, cloud = brighter than the black ground
+ * and the air over it by more than 10 %: the area-perimeter dimension of the whole clouds'
+ * outlines (test_cloud_field holds it to the observed 1.22-1.42 over more fields),
  * and many small clouds (ten blobs covering 0.3 of the view would be 3 % of the image each;
  * the median cloud must be a tenth of that or less). */
 void test_from_above(const char *name, int seed, double sun_azimuth_deg,
@@ -19,6 +21,7 @@ void test_from_above(const char *name, int seed, double sun_azimuth_deg,
     if (!shapes_weather_state("fair_cumulus", &s))
         return;
     s.weather.seed = seed;
+    s.clouds.high.coverage = 0.0;
     s.sun.azimuth_deg = sun_azimuth_deg;
     s.camera.altitude_km = altitude_km;
     s.camera.pitch_deg = -90.0;

@@ -5,14 +5,17 @@
  *                     [--keep-high | --no-high] [--views N] [--what all|sizes|spectra]
  *                     [--set PATH=VALUE]... [--out DIR] [--config-dir DIR]
  *
- * sizes: the cloudy/clear pair over a black ground at fov 90: cloud fraction, size
- * distribution, area-perimeter dimension (as for fair cumulus in the test). spectra: N views
- * at fov 90 (beta over 1-8 km) and up to 2 at fov 60 (beta from 4 px to 200 m) over the
- * preset's ground, the test's deck views (seeds 1 and 7, two parts of the map, suns 40 and
- * 65 deg) unless --seed or --sun-elev fix them; with --views 4 the decks' pooled figures are
- * the test's. The preset's high layer stays in the sizes' pair and is left out of the spectra,
- * as in the test, unless --keep-high or --no-high says otherwise for both. SKYD_VALIDATION=1
- * turns the validation layer on (off by default here). */
+ * sizes: the cloudy/clear pair over a black ground at fov 90: size distribution and
+ * area-perimeter dimension, and the cloud fraction within 20 deg of the nadir, that view's and
+ * its mean over the view and three more 15 km east, north and both over the weather map, at
+ * 128 px (a disc 8.6 km across scatters by about 0.09 from one part of the field to another),
+ * as for fair cumulus in the test. spectra: N views at fov 90 (beta over 1-8 km) and up to 2
+ * at fov 60 (beta from 4 px to 200 m) over the preset's ground, the test's deck views (seeds 1
+ * and 7, two parts of the map, suns 40 and 65 deg) unless --seed or --sun-elev fix them; with
+ * --views 4 the decks' pooled figures are the test's. The preset's high layer stays in the
+ * sizes' pairs and is left out of the spectra, as in the test, unless --keep-high or --no-high
+ * says otherwise for both. SKYD_VALIDATION=1 turns the validation layer on (off by default
+ * here). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
