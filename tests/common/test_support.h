@@ -78,6 +78,29 @@ static inline double test_relative_difference(const float *a, const float *b, si
     return diff / fmax(sum, 1e-9);
 }
 
+/* A client weather map with one footprint of `radius` km (coverage 1 at its centre falling to 0
+ * at its rim; cloud type `type`, 255 cumulonimbus; precipitation `rain` inside it) `north` km
+ * north of the camera, given to `renderer`. Returns sky_renderer_set_weather_map's result. */
+static inline int test_set_cell_map(struct sky_renderer *renderer, const struct sky_world_state *s,
+                                    double radius, double north, uint8_t type, uint8_t rain)
+{
+    enum { MAP = 128 };
+    static uint8_t map[MAP * MAP * 4];
+    double extent = s->weather.map_extent_km;
+    for (int y = 0; y < MAP; y++)
+        for (int x = 0; x < MAP; x++) {
+            double east_km = ((x + 0.5) / MAP - 0.5) * extent;
+            double north_km = (0.5 - (y + 0.5) / MAP) * extent;
+            double r = hypot(east_km, north_km - north) / radius;
+            uint8_t *t = map + 4 * (y * MAP + x);
+            t[0] = (uint8_t)lround(255.0 * fmax(0.0, 1.0 - r * r));
+            t[1] = 0;
+            t[2] = type;
+            t[3] = r < 1.0 ? rain : 0;
+        }
+    return sky_renderer_set_weather_map(renderer, map, MAP, MAP);
+}
+
 /* Renders the world state `s` as the daemon does (atmosphere, clouds, night, view) at w x h
  * into `out` (`bytes` long) with the view's history `key`; `live` asks for a stream's frames
  * (see sky_render_view.live). Returns sky_renderer_render's result. */

@@ -184,27 +184,11 @@ int shapes_label(const struct sky_world_state *s, enum below_horizon below, doub
     return n < 0 ? 0 : n > MAX_OBJECTS ? MAX_OBJECTS : n;
 }
 
-/* A client weather map with one footprint of `radius` km (coverage 1 at its centre falling to 0
- * at its rim; cloud type `type`, 255 cumulonimbus; precipitation `rain` inside it) `north` km
- * north of the camera. */
+/* test_set_cell_map with the shapes' renderer. */
 void shapes_set_cell_map(const struct sky_world_state *s, double radius, double north,
                          uint8_t type, uint8_t rain)
 {
-    enum { MAP = 128 };
-    static uint8_t map[MAP * MAP * 4];
-    double extent = s->weather.map_extent_km;
-    for (int y = 0; y < MAP; y++)
-        for (int x = 0; x < MAP; x++) {
-            double east_km = ((x + 0.5) / MAP - 0.5) * extent;
-            double north_km = (0.5 - (y + 0.5) / MAP) * extent;
-            double r = hypot(east_km, north_km - north) / radius;
-            uint8_t *t = map + 4 * (y * MAP + x);
-            t[0] = (uint8_t)lround(255.0 * fmax(0.0, 1.0 - r * r));
-            t[1] = 0;
-            t[2] = type;
-            t[3] = r < 1.0 ? rain : 0;
-        }
-    CHECK(sky_renderer_set_weather_map(shapes_renderer, map, MAP, MAP) == 0);
+    CHECK(test_set_cell_map(shapes_renderer, s, radius, north, type, rain) == 0);
 }
 
 /* The tests, in order, with the renderer. */
