@@ -129,7 +129,7 @@ void main()
     int cu_period = int(PERIODS.x), cb_period = int(PERIODS.y);
     int sc_period = int(PERIODS.z), st_period = int(PERIODS.w);
     // The type varies from cloud to cloud around the asked one (cumulus of several ages).
-    float type = clamp(p.z + gradient2(x, ivec2(max(1, cu_period / 4)), 14u) * 0.15, 0.0, 1.0);
+    float type = clamp(p.z + gradient2(x, ivec2(max(1, cu_period / 4)), 14u) * CLOUD_TYPE_VARIATION, 0.0, 1.0);
     vec4 w = type_weights(type);
     // The score of each type present, blended with their weights, then the coverage.
     float low = 0.0;

@@ -31,9 +31,9 @@
 
 
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
-#define MARCH_SPEC(moonlit)                                                                \
-    .spec_count = SKY_CLOUD_CONST_MOONLIT + 1,                                             \
-    .spec_values = { [SKY_CLOUD_CONST_MOONLIT] = moonlit }
+#define MARCH_SPEC(moonlit, towering)                                                      \
+    .spec_count = SKY_CLOUD_CONST_TOWERING + 1,                                            \
+    .spec_values = { [SKY_CLOUD_CONST_MOONLIT] = moonlit, [SKY_CLOUD_CONST_TOWERING] = towering }
 #define RESOLVE_SPEC(ground)                                                               \
     .spec_count = SKY_CLOUD_RESOLVE_CONST_GROUND + 1,                                      \
     .spec_values = { [SKY_CLOUD_RESOLVE_CONST_GROUND] = ground }
@@ -46,13 +46,23 @@ static const struct compute_pass_desc descs[P_COUNT] = {
     [P_SHADOW] = { .name = "cloud_shadow", SPIRV(cloud_shadow_spv),
                    SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_SHADOW), ROWS_PUSH },
     [P_HEMISPHERE] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
-                       SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE), MARCH_SPEC(0) },
+                       SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE), MARCH_SPEC(0, 0) },
     [P_HEMISPHERE_MOONLIT] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
-                               SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE), MARCH_SPEC(1) },
+                               SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE), MARCH_SPEC(1, 0) },
+    [P_HEMISPHERE_TOWERING] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
+                                SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE), MARCH_SPEC(0, 1) },
+    [P_HEMISPHERE_TOWERING_MOONLIT] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
+                                        SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE),
+                                        MARCH_SPEC(1, 1) },
     [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
-                  SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(0) },
+                  SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(0, 0) },
     [P_TRACE_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
-                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(1) },
+                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(1, 0) },
+    [P_TRACE_TOWERING] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
+                           SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(0, 1) },
+    [P_TRACE_TOWERING_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
+                                   SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH,
+                                   MARCH_SPEC(1, 1) },
     [P_RECONSTRUCT_0] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
                           SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RECONSTRUCT), VIEW_PUSH },
     [P_RECONSTRUCT_1] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
@@ -195,9 +205,11 @@ int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer
                           &staging) != VK_SUCCESS)
         return -1;
     memcpy(staging.mapped, rgba8, (size_t)bytes);
-    uint8_t max_rain = 0;
-    for (size_t i = 3; i < (size_t)bytes; i += 4)
-        max_rain = rgba8[i] > max_rain ? rgba8[i] : max_rain;
+    uint8_t max_rain = 0, max_type = 0;
+    for (size_t i = 0; i < (size_t)bytes; i += 4) {
+        max_type = rgba8[i + 2] > max_type ? rgba8[i + 2] : max_type;
+        max_rain = rgba8[i + 3] > max_rain ? rgba8[i + 3] : max_rain;
+    }
     /* The new map is complete before it replaces the old one: a failure keeps the old map. */
     struct gpu_image uploaded = { 0 };
     int rc = -1;
@@ -224,6 +236,7 @@ int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer
     gpu_image_destroy(ctx, &cr->client_map);
     cr->client_map = uploaded;
     cr->client_max_rain = max_rain / 255.0f;
+    cr->client_max_type = max_type / 255.0f;
     cr->has_client_map = true;
     cr->client_generation++;
     return 0;
@@ -287,6 +300,11 @@ static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr,
     if (!cr->weather.building &&
         (!cr->weather.ready || memcmp(&key, &cr->weather_target, sizeof key) != 0)) {
         cr->weather_target = key;
+        /* The type varies around the asked one by CLOUD_TYPE_VARIATION times a 2D gradient
+         * noise, whose values stay within +-sqrt(1/2). */
+        float max_type = client ? cr->client_max_type
+                                : key.params[2] + 0.7072f * (float)CLOUD_TYPE_VARIATION;
+        cr->weather_towering[1 - cr->weather.shown] = max_type > (float)CLOUD_TOWERING_TYPE;
         map_start(&cr->weather);
     }
     if (!cr->weather.building)
@@ -387,7 +405,7 @@ static void record_hemisphere(struct vk_context *ctx, struct cloud_renderer *cr,
 {
     if (!cr->env_dirty)
         return;
-    struct compute_pass *pass = &cr->pass[P_HEMISPHERE + moonlit(f)];
+    struct compute_pass *pass = &cr->pass[P_HEMISPHERE + march_variant(cr, f)];
     struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_HEMISPHERE)];
     cloud_march_resources(cr, f, r);
     r[SKY_CLOUD_HEMISPHERE_ENV_OUT] = buf(&cr->env);

@@ -35,15 +35,20 @@ struct shadow_key {
     uint32_t weather_generation, noise_seed;
 };
 
-/* The marching passes come twice: without the moon's light (MOONLIT false), then with it, for
- * frames the moon lights. */
+/* The marching passes come four times: without the moon's light (MOONLIT false), then with
+ * it, for frames the moon lights; each for weather maps without towering clouds (TOWERING
+ * false), then with them (march_variant). */
 enum {
     P_WEATHER,
     P_SHADOW,
     P_HEMISPHERE,
     P_HEMISPHERE_MOONLIT,
+    P_HEMISPHERE_TOWERING,
+    P_HEMISPHERE_TOWERING_MOONLIT,
     P_TRACE,
     P_TRACE_MOONLIT,
+    P_TRACE_TOWERING,
+    P_TRACE_TOWERING_MOONLIT,
     P_RECONSTRUCT_0,
     P_RECONSTRUCT_1,
     P_RESOLVE,        /* rows that see no ground (GROUND false) */
@@ -78,6 +83,10 @@ struct cloud_renderer {
     double last_frame_ms; /* GPU time of the last frame, for the relative map budget */
     uint32_t params_generation; /* counts changes of the clouds other than the wind's drift */
     float client_max_rain;      /* the largest precipitation of the client map */
+    float client_max_type;      /* the largest cloud type of the client map */
+    /* Whether each weather image may hold towering clouds (a type above
+     * CLOUD_TOWERING_TYPE): the marches read the shown one's through their variant. */
+    bool weather_towering[2];
     struct cloud_reference *reference; /* created with the first reference frame */
 };
 
@@ -108,6 +117,14 @@ static inline const struct gpu_image *shown(const struct cloud_renderer *cr, con
 static inline int moonlit(const struct cloud_frame *f)
 {
     return f->frame->moon_illuminance.w > 0.5f ? 1 : 0;
+}
+
+/* Offset of this frame's variant of a marching pass (P_HEMISPHERE, P_TRACE): the moon's light,
+ * and towering clouds in the shown weather map. */
+static inline int march_variant(const struct cloud_renderer *cr, const struct cloud_frame *f)
+{
+    bool towering = cr->weather.ready && cr->weather_towering[cr->weather.shown];
+    return moonlit(f) + (towering ? 2 : 0);
 }
 
 /* The bindings that the marching passes share (SKY_LAYOUT_CLOUD_MARCH). */

@@ -156,7 +156,7 @@ int cloud_view_record(struct vk_context *ctx, struct cloud_renderer *cr, VkComma
         cloud_history_acquire(ctx, &cr->history, f->history_key, width, height, block, f->now_s);
     if (!e)
         return -1;
-    struct compute_pass *trace = &cr->pass[P_TRACE + moonlit(f)];
+    struct compute_pass *trace = &cr->pass[P_TRACE + march_variant(cr, f)];
     struct compute_resource tr[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_TRACE)];
     cloud_march_resources(cr, f, tr);
     tr[SKY_CLOUD_TRACE_COLOR_OUT] = img(&e->trace_color);

@@ -13,6 +13,12 @@
 
 const float CURL_STRENGTH_KM = 0.25;
 
+// False in the pipelines for weather maps with no cloud type above TOWERING_TYPE
+// (render/clouds/cloud_renderer.c): they carry no doubled turrets and no anvil. On lavapipe
+// every copy of that code in a march's loop slowed each sample, used or not.
+layout(constant_id = SKY_CLOUD_CONST_TOWERING) const bool TOWERING = true;
+const float TOWERING_TYPE = CLOUD_TOWERING_TYPE;
+
 // How much the detail noise erodes, in [0, 1]: the march lowers it where its steps are longer
 // than the detail's features (tens of metres), which it would only alias into grain.
 float cloud_detail_weight = 1.0;
@@ -96,7 +102,7 @@ float low_coverage(float h, vec2 xy, vec4 wm, vec4 shape)
         return 0.0;
     float c = coverage_at(wm.r, profile_rise(h, shape));
     // (Cumulonimbus alone: the anvil's four lookups are not spent on the cumulus around it.)
-    if (shape.w > 0.0 && wm.b > ANVIL_TYPE && h > 0.6) {
+    if (TOWERING && shape.w > 0.0 && wm.b > ANVIL_TYPE && h > 0.6) {
         float reach = ANVIL_REACH * (cloud.low.y - cloud.low.x);
         float around = max(max(sample_weather(xy + vec2(reach, 0.0)).r,
                                sample_weather(xy - vec2(reach, 0.0)).r),
@@ -109,15 +115,15 @@ float low_coverage(float h, vec2 xy, vec4 wm, vec4 shape)
 }
 
 // Low layer. `detail` false gives the coarse shape (no detail erosion) of light and shadow
-// marches.
-float low_density(vec3 p, float r, vec4 wm, bool detail)
+// marches. -1 where the coverage holds no cloud at all (empty space the march may skip).
+float low_density_or_empty(vec3 p, float r, vec4 wm, bool detail)
 {
     float h = layer_fraction(r, cloud.low);
     vec4 shape = type_shape(wm.b);
     vec2 xy = cloud_pattern_xy(p);
     float c = low_coverage(h, xy, wm, shape) - MIN_COVERAGE;
     if (c <= 0.0)
-        return 0.0;
+        return -1.0;
     vec3 q = vec3(xy, r - bottom_radius());
     // Curl distortion moves the outlines, most in the turrets (Schneider 2015).
     vec2 curl = textureLod(curl_noise, q.xy / cloud.tiles.z, 0.0).rg;
@@ -125,7 +131,7 @@ float low_density(vec3 p, float r, vec4 wm, bool detail)
     // Towering clouds boil in turrets twice as large (a kilometre and more in a cumulonimbus);
     // the base tile repeats an even number of times over the weather extent
     // (render/clouds/cloud_params.c), so twice it still tiles.
-    float towering = smoothstep(0.8, 1.0, wm.b);
+    float towering = TOWERING ? smoothstep(TOWERING_TYPE, 1.0, wm.b) : 0.0;
     vec4 n = vec4(0.0);
     if (towering < 1.0)
         n = textureLod(base_noise, q / cloud.tiles.x, 0.0);
@@ -151,12 +157,18 @@ float low_density(vec3 p, float r, vec4 wm, bool detail)
     return d * cloud.low.z * (1.0 + wm.a * (1.0 - h));
 }
 
-// High layer: a thin sheet, stretched along the wind-free x axis when fibrous.
-float high_density(vec3 p, float r, vec4 wm)
+float low_density(vec3 p, float r, vec4 wm, bool detail)
+{
+    return max(low_density_or_empty(p, r, wm, detail), 0.0);
+}
+
+// High layer: a thin sheet, stretched along the wind-free x axis when fibrous; -1 where it
+// holds no cloud at all.
+float high_density_or_empty(vec3 p, float r, vec4 wm)
 {
     float h = layer_fraction(r, cloud.high);
     if (cloud.high.w < 0.5 || h <= 0.0 || h >= 1.0 || wm.g <= 0.0)
-        return 0.0;
+        return -1.0;
     float profile = smoothstep(0.0, 0.25, h) * (1.0 - smoothstep(0.5, 1.0, h));
     float stretch = mix(1.0, 4.0, cloud.media.w);
     vec3 q = vec3(cloud_pattern_xy(p) * vec2(1.0 / stretch, 1.0), (r - bottom_radius()) * 3.0);
@@ -164,6 +176,11 @@ float high_density(vec3 p, float r, vec4 wm)
     float shape = mix(n.g, n.r, 0.3) * profile;
     float d = clamp(remap(shape, 1.0 - wm.g, 1.0, 0.0, 1.0), 0.0, 1.0) * wm.g;
     return d * cloud.high.z;
+}
+
+float high_density(vec3 p, float r, vec4 wm)
+{
+    return max(high_density_or_empty(p, r, wm), 0.0);
 }
 
 // Extinction (per km) at p; detail false for coarse (shadow, light) samples.
@@ -176,30 +193,22 @@ float cloud_extinction(vec3 p, bool detail)
     return low_density(p, r, wm, detail) + high_density(p, r, wm);
 }
 
-// The same for one layer. Marches call it with a constant `low_layer`, so that each loop holds
-// the noise lookups of its own layer only: lavapipe executes both sides of every branch, so
-// the other layer's early return would not spare its lookups.
-float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
+// The same for one layer, or -1 where the layer's coverage holds no cloud around p (below
+// MIN_COVERAGE: the shape's level sets cannot reach there), so a march that probes it steps over
+// empty space without jumping across fringes thinner than its probe spacing. Marches call it
+// with a constant `low_layer`, so that each loop holds the noise lookups of its own layer only:
+// lavapipe executes both sides of every branch, so the other layer's early return would not
+// spare its lookups.
+float cloud_layer_sample(vec3 p, bool detail, bool low_layer)
 {
     float r = length(p);
     vec4 wm = sample_weather(cloud_pattern_xy(p));
-    return low_layer ? low_density(p, r, wm, detail) : high_density(p, r, wm);
+    return low_layer ? low_density_or_empty(p, r, wm, detail) : high_density_or_empty(p, r, wm);
 }
 
-// Whether the layer may hold cloud around p: its coverage there is above MIN_COVERAGE (the
-// density needs that and the shape's level set), so a march that probes it steps over empty
-// space without jumping across fringes thinner than its probe spacing.
-bool cloud_layer_occupied(vec3 p, bool low_layer)
+float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
 {
-    float r = length(p);
-    vec2 xy = cloud_pattern_xy(p);
-    vec4 wm = sample_weather(xy);
-    if (!low_layer) {
-        float h = layer_fraction(r, cloud.high);
-        return cloud.high.w > 0.5 && h > 0.0 && h < 1.0 && wm.g > 0.0;
-    }
-    float h = layer_fraction(r, cloud.low);
-    return low_coverage(h, xy, wm, type_shape(wm.b)) > MIN_COVERAGE;
+    return max(cloud_layer_sample(p, detail, low_layer), 0.0);
 }
 
 // Rain under the low layer's precipitating bases, 0..1 (the weather map's precipitation, which

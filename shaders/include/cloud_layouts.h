@@ -59,8 +59,10 @@
     X(SKY_CLOUD_MARCH_BASE_NOISE, SAMPLED) X(SKY_CLOUD_MARCH_DETAIL_NOISE, SAMPLED)         \
     X(SKY_CLOUD_MARCH_CURL_NOISE, SAMPLED) X(SKY_CLOUD_MARCH_WEATHER, SAMPLED)              \
     X(SKY_CLOUD_MARCH_SKYVIEW, SAMPLED) X(SKY_CLOUD_MARCH_SUN_DEPTH, SAMPLED)
-/* Their specialization: the moon's light marched. */
+/* Their specialization: the moon's light marched; towering clouds (cumulonimbus turrets and
+ * anvils) in the weather map. */
 #define SKY_CLOUD_CONST_MOONLIT 0
+#define SKY_CLOUD_CONST_TOWERING 1
 
 /* cloud_hemisphere.comp */
 #define SKY_CLOUD_HEMISPHERE_ENV_OUT 12

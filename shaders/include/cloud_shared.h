@@ -18,6 +18,12 @@
  * without cloud (the path tracer's majorant grid, cloud_majorant.comp). */
 #define CLOUD_MIN_COVERAGE 0.02
 
+/* Cloud types above this tower: turrets twice as large, anvils (cloud_density.glsl). The
+ * procedural map varies the asked type by less than CLOUD_TYPE_VARIATION (cloud_weather.comp),
+ * so the renderer knows which maps hold towering clouds (cloud_renderer.c). */
+#define CLOUD_TOWERING_TYPE 0.8
+#define CLOUD_TYPE_VARIATION 0.15
+
 /* Weather-map texel channels (procedural and client maps alike). */
 #define CLOUD_WEATHER_LOW_COVERAGE 0  /* r */
 #define CLOUD_WEATHER_HIGH_COVERAGE 1 /* g */

@@ -26,15 +26,20 @@ bool sun_depth_coords(vec3 p, vec3 sun_dir, out vec2 uv)
     return true;
 }
 
-// Optical depths along the sun's ray through p: x the low layer's from its base up to p's
-// altitude, y the whole low layer's, z the high layer's.
-vec3 sun_column_depths(vec2 uv, float r)
+// The low layer's optical depth along the sun's ray through p from the layer's base up to
+// radius r.
+float sun_column_below(vec2 uv, float r)
 {
     const float levels = float(SKY_CLOUD_SUN_DEPTH_LEVELS);
     float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
-    vec2 at = textureLod(sun_depth_volume, vec3(uv, (h * (levels - 1.0) + 0.5) / levels), 0.0).rg;
-    float whole = textureLod(sun_depth_volume, vec3(uv, (levels - 0.5) / levels), 0.0).r;
-    return vec3(at.r, whole, at.g);
+    return textureLod(sun_depth_volume, vec3(uv, (h * (levels - 1.0) + 0.5) / levels), 0.0).r;
+}
+
+// The whole low layer's (x) and the high layer's (y) optical depths along the sun's ray.
+vec2 sun_column_totals(vec2 uv)
+{
+    const float levels = float(SKY_CLOUD_SUN_DEPTH_LEVELS);
+    return textureLod(sun_depth_volume, vec3(uv, (levels - 0.5) / levels), 0.0).rg;
 }
 
 // How much of the cloud around p's column is still cloud LATERAL_KM to its sides, in [0, 1]:

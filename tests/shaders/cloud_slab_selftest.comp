@@ -67,9 +67,11 @@ float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
     return low_layer && r > cloud.low.x && r < cloud.low.y ? cloud.low.z : 0.0;
 }
 
-bool cloud_layer_occupied(vec3 p, bool low_layer)
+// -1 outside the layer: empty space the march may skip.
+float cloud_layer_sample(vec3 p, bool detail, bool low_layer)
 {
-    return cloud_layer_extinction(p, false, low_layer) > 0.0;
+    float sigma = cloud_layer_extinction(p, detail, low_layer);
+    return sigma > 0.0 ? sigma : -1.0;
 }
 
 // The logic of cloud_density.glsl's shell_segment: range [t0, t1] of a ray inside the shell

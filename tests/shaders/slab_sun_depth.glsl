@@ -12,10 +12,14 @@ bool sun_depth_coords(vec3 p, vec3 sun_dir, out vec2 uv)
     return true;
 }
 
-vec3 sun_column_depths(vec2 uv, float r)
+float sun_column_below(vec2 uv, float r)
 {
-    float below = cloud.low.z * (clamp(r, cloud.low.x, cloud.low.y) - cloud.low.x) / uv.x;
-    return vec3(below, cloud.low.z * (cloud.low.y - cloud.low.x) / uv.x, 0.0);
+    return cloud.low.z * (clamp(r, cloud.low.x, cloud.low.y) - cloud.low.x) / uv.x;
+}
+
+vec2 sun_column_totals(vec2 uv)
+{
+    return vec2(cloud.low.z * (cloud.low.y - cloud.low.x) / uv.x, 0.0);
 }
 
 // A deck has cloud on every side.
