@@ -87,8 +87,8 @@ float coverage_score(float field, float coverage, float weight)
 }
 
 // The map's weight per type: cumulus fields are the turrets' own pattern clustered by the map,
-// cumulonimbus towers the map's cores, stratocumulus its cells, stratus its sheet.
-const float CUMULUS_WEIGHT = 0.7, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5, SHEET_WEIGHT = 3.0;
+// cumulonimbus towers the map's cores, stratocumulus its cells (stratus: below).
+const float CUMULUS_WEIGHT = 0.7, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5;
 // Hurst exponents of the fBm fields (amplitude 2^-H per octave). Level sets of a field of
 // exponent H have outlines of dimension (3 - H) / 2 and a size distribution n(L) ~ L^-(3 - H)
 // (Kondev & Henley 1995); observed cumulus: D 1.3-1.4 (Lovejoy 1982), b 1.7-2.9. Decks: a
@@ -97,6 +97,16 @@ const float CUMULUS_HURST = 0.3, TOWER_HURST = 0.6, DECK_HURST = 0.33;
 // The largest scales (6-25 km) of a cumulus field only nudge it: at full amplitude they would
 // clear or fill whole views, and a view's cloud fraction would stray from the coverage.
 const float CLUSTER_AMPLITUDE = 0.12;
+// Stratus: the map holds the sheet's thickness, not a share of the shape (sheets keep a fraction
+// of its relief, cloud_density.glsl): a normal score around probit(coverage), at most
+// SHEET_MAX_COVERAGE's, spread by SHEET_SPREAD times the deck's field and at least SHEET_FLOOR
+// below its mean (an overcast deck has thin parts, not holes), so that it is thinner and
+// thicker on every scale instead of one uniform slab. Stratocumulus: the share of the deck's
+// field against its cells, mostly the field, whose k^-5/3 spectrum the cells' single scale
+// would flatten over 1-8 km; its coverage capped alike (a full one would saturate the blend of
+// the two deck types into a uniform slab).
+const float SHEET_MAX_COVERAGE = 0.98, SHEET_SPREAD = 1.2, SHEET_FLOOR = 1.5;
+const float DECK_SHARE = 0.85;
 
 // mix(a, b, t) of two independent fields of deviation 1, scaled back to deviation 1.
 float blend(float a, float b, float t)
@@ -153,11 +163,13 @@ void main()
             // and low along its borders) in a deck that varies on every scale.
             float cells = (worley2(x, sc_period, 31u) - WORLEY_MEAN) / WORLEY_SIGMA;
             float deck = fbm2(x, ivec2(max(1, st_period)), 32u, 7, DECK_HURST, texels);
-            score += w.y * coverage_score(blend(cells, deck, 0.5), p.x, CELL_WEIGHT);
+            score += w.y * coverage_score(blend(cells, deck, DECK_SHARE),
+                                          min(p.x, SHEET_MAX_COVERAGE), CELL_WEIGHT);
         }
-        if (w.x > 0.0) { // stratus: a sheet whose thickness varies on every scale
+        if (w.x > 0.0) { // stratus: a sheet whose thickness varies on every scale (above)
             float field = fbm2(x, ivec2(st_period), 41u, 7, DECK_HURST, texels);
-            score += w.x * coverage_score(field, p.x, SHEET_WEIGHT);
+            float mean = probit(min(p.x, SHEET_MAX_COVERAGE));
+            score += w.x * max(mean + SHEET_SPREAD * field, mean - SHEET_FLOOR);
         }
         low = normal_cdf(score / (w.x + w.y + w.z + w.w));
         // Below the least coverage that holds cloud, falling on to below 0 (cloud_shared.h).

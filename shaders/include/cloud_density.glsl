@@ -87,6 +87,10 @@ const vec2 EDGE_RAMP = vec2(0.12, 0.3);
 // The share of the shape's lowest octave in every cloud: outlines of area-perimeter dimension about
 // 1.35 from above, as observed (Lovejoy 1982), not 1.45.
 const float TURRET_SMOOTHING = 0.4;
+// Sheets: the share of the shape's relief they keep, and their edge ramp (soft: a deck's top
+// thins over about 100 m).
+const float SHEET_RELIEF = 0.15;
+const float SHEET_RAMP = 0.6;
 // Coverage below this holds no cloud (so the march can skip it; the specks it would leave are
 // a few voxels).
 const float MIN_COVERAGE = CLOUD_MIN_COVERAGE;
@@ -137,10 +141,14 @@ float low_density_or_empty(vec3 p, float r, vec4 wm, bool detail)
         n = textureLod(base_noise, q / cloud.tiles.x, 0.0);
     if (towering > 0.0)
         n = mix(n, textureLod(base_noise, q / (2.0 * cloud.tiles.x), 0.0), towering);
-    // Sheets (stratus, stratocumulus) keep the shape's lowest octave: radiative smoothing
-    // leaves real decks smooth below a few hundred metres.
-    float u = mix(n.r, n.g, max(max(cloud_lod, 1.0 - smoothstep(0.3, 0.55, wm.b)), TURRET_SMOOTHING));
-    float ramp = mix(EDGE_RAMP.x, EDGE_RAMP.y, cloud_lod);
+    // Sheets (stratus, stratocumulus) keep the shape's lowest octave at a fraction of its
+    // relief, with soft tops and no detail erosion: radiative smoothing leaves real decks
+    // smooth below a few hundred metres, and their structure is the weather map's, on every
+    // scale (cloud_weather.comp); at full relief the base tile's cells would tile the deck.
+    float sheet = 1.0 - smoothstep(0.3, 0.55, wm.b);
+    float u = mix(n.r, n.g, max(max(cloud_lod, sheet), TURRET_SMOOTHING));
+    u = 0.5 + (u - 0.5) * mix(1.0, SHEET_RELIEF, sheet);
+    float ramp = mix(mix(EDGE_RAMP.x, EDGE_RAMP.y, cloud_lod), SHEET_RAMP, sheet);
     float d = clamp((u - (1.0 - c)) / ramp, 0.0, 1.0);
     // Flat bases: the cloud starts at the layer's bottom (the condensation level), rounded
     // over shape.y.
@@ -151,8 +159,12 @@ float low_density_or_empty(vec3 p, float r, vec4 wm, bool detail)
         // Wispy at the base, billowy toward the top (Schneider 2015); edges only: the remap
         // leaves the dense interior (d near 1) as it is.
         float modifier = mix(dfbm, 1.0 - dfbm, clamp(h * 6.0, 0.0, 1.0));
-        d = clamp(remap(d, modifier * shape.z * cloud_detail_weight, 1.0, 0.0, 1.0), 0.0, 1.0);
+        float erosion = shape.z * cloud_detail_weight * (1.0 - sheet);
+        d = clamp(remap(d, modifier * erosion, 1.0, 0.0, 1.0), 0.0, 1.0);
     }
+    // A sheet's liquid water grows with the height above its base (adiabatic ascent), so a
+    // thicker part of a deck is also denser.
+    d *= mix(1.0, clamp(2.0 * h / shape.x, 0.25, 2.0), sheet);
     // Precipitation also darkens the base: denser toward it.
     return d * cloud.low.z * (1.0 + wm.a * (1.0 - h));
 }

@@ -38,8 +38,8 @@ struct SunDepth {
 };
 
 // The low layer's sun march covers at least NEAR_KM, on to the volume's next altitude level,
-// in NEAR_STEPS or more jittered samples, each step twice the last (the first 13 m: half an
-// optical depth of a dense cloud), where the shape decides how a surface is lit; the rest of the sun's
+// in NEAR_STEPS jittered samples, each step twice the last (the first 3-10 m: a fraction of
+// an optical depth of a dense cloud), where the shape decides how a surface is lit; the rest of the sun's
 // ray, from that level up, and the depth behind p come from the sun-space volume
 // (cloud_sun_depth.glsl), smooth where single jittered kilometre steps made the optical depth
 // jump by tens from one sample to the next. Read between its levels, the volume would spread a
@@ -47,7 +47,9 @@ struct SunDepth {
 // already left the cloud. Without the volume (a sun that moved since it was built, the high
 // layer) a geometric march (below), and the layer below p at p's extinction.
 const float NEAR_KM = 0.4;
-const float NEAR_STEPS = 5.0;
+// A fixed count, the steps scaled to the reach: a count that grew with the reach changed where
+// the reach's level did, and drew contour lines along the tops of decks.
+const float NEAR_STEPS = 7.0;
 
 // Where the march hands over to the volume: the radius of the first level at or above p +
 // NEAR_KM dir (the layer's top at most), and the distance to it along dir.
@@ -61,9 +63,8 @@ vec2 sun_march_reach(vec3 p, vec3 dir)
     return vec2(r, t > 0.0 ? t : NEAR_KM);
 }
 
-// The marched part of the sun's optical depth: with the volume, the reach above in steps
-// doubling from the first, NEAR_STEPS and one more for each doubling of the reach past NEAR_KM
-// (a thick layer's sparse levels, a low sun); without it, light_march_km in the light steps
+// The marched part of the sun's optical depth: with the volume, the reach above in NEAR_STEPS
+// steps doubling from the first; without it, light_march_km in the light steps
 // of the clouds' parameters, each LIGHT_RATIO times the last (seed 001 5.5.2 doubles them; a
 // first step of 38 m spans 1.5 optical depths and exp of its jittered estimate is biased high).
 // With the volume, the march then measures the incidence: the sun's cosine to the surface above
@@ -92,8 +93,7 @@ SunMarch sun_march_begin(vec3 p, vec3 dir, float jitter, bool low_layer, bool wi
     m.dir = dir;
     m.jitter = jitter;
     m.with_volume = with_volume;
-    m.steps = with_volume ? NEAR_STEPS + ceil(log2(max(reach.y / NEAR_KM, 1.0)))
-                          : cloud.octaves.w;
+    m.steps = with_volume ? NEAR_STEPS : cloud.octaves.w;
     m.last = m.steps + (with_volume ? INCIDENCE_STEPS : 0.0);
     m.ratio = with_volume ? 2.0 : LIGHT_RATIO;
     m.ds0 = with_volume ? reach.y / (exp2(m.steps) - 1.0)
