@@ -64,9 +64,9 @@ vec2 sun_march_reach(vec3 p, vec3 dir)
 }
 
 // The marched part of the sun's optical depth: with the volume, the reach above in NEAR_STEPS
-// steps doubling from the first; without it, light_march_km in the light steps
-// of the clouds' parameters, each LIGHT_RATIO times the last (seed 001 5.5.2 doubles them; a
-// first step of 38 m spans 1.5 optical depths and exp of its jittered estimate is biased high).
+// steps doubling from the first; without it, light_march_km in the light steps of the clouds'
+// parameters, each LIGHT_RATIO times the last (seed 001 5.5.2 doubles them; a first step of
+// 38 m spans 1.5 optical depths and exp of its jittered estimate is biased high).
 // With the volume, the march then measures the incidence: the sun's cosine to the surface above
 // p, from the optical depth over its first INCIDENCE_STEPS steps along the sun against the same
 // distance straight up (a deck's mu0; over 1 on a face lit from the side; 2, none, deeper than
