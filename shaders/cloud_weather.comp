@@ -108,6 +108,23 @@ const float CLUSTER_AMPLITUDE = 0.12;
 const float SHEET_MAX_COVERAGE = 0.98, SHEET_SPREAD = 1.2, SHEET_FLOOR = 1.5;
 const float DECK_SHARE = 0.85;
 
+// Cumulus seen from above: a column is cloud where any of its heights is, so the fraction seen
+// from above is more than the share above the threshold at one height, the more so the lower
+// the coverage. The threshold is fitted to skyd's renders from 14 km (tests/render/
+// test_cloud_field.c: coverage 0.25 and 0.45, two seeds, four places each): the projected
+// field acts as one of deviation CUMULUS_PROJECTED_SPREAD shifted by CUMULUS_PROJECTED_OFFSET
+// (coverage_score's sqrt(1 + weight^2) and PROJECTION_OFFSET left 0.25 at 0.19).
+const float CUMULUS_PROJECTED_SPREAD = 0.852, CUMULUS_PROJECTED_OFFSET = 0.592;
+float cumulus_score(float field, float coverage)
+{
+    if (coverage <= 0.0)
+        return -20.0;
+    if (coverage >= 1.0)
+        return 20.0;
+    return CUMULUS_WEIGHT * field -
+           (CUMULUS_PROJECTED_SPREAD * probit(1.0 - coverage) + CUMULUS_PROJECTED_OFFSET);
+}
+
 // mix(a, b, t) of two independent fields of deviation 1, scaled back to deviation 1.
 float blend(float a, float b, float t)
 {
@@ -151,8 +168,7 @@ void main()
             // holds about the coverage).
             float clusters = fbm2(x, ivec2(max(1, cu_period / 16)), 15u, 3, CUMULUS_HURST, texels);
             float field = fbm2(x, ivec2(cu_period), 11u, 5, CUMULUS_HURST, texels);
-            score += w.z * coverage_score(blend(field, clusters, CLUSTER_AMPLITUDE), p.x,
-                                          CUMULUS_WEIGHT);
+            score += w.z * cumulus_score(blend(field, clusters, CLUSTER_AMPLITUDE), p.x);
         }
         if (w.w > 0.0) { // cumulonimbus: few big cells whose cores are towers
             float field = fbm2(x, ivec2(cb_period), 21u, 6, TOWER_HURST, texels);
