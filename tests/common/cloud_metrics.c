@@ -212,3 +212,55 @@ double cloud_metrics_sun_contrast(const float *luma, int w, int h, const double 
         return NAN;
     return peak / (sum / n_ring);
 }
+
+static uint8_t srgb8(double linear)
+{
+    double v = linear <= 0.0031308 ? 12.92 * linear : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+    return (uint8_t)lround(fmin(fmax(v, 0.0), 1.0) * 255.0);
+}
+
+void cloud_metrics_picture(const float *rgba, int w, int h, uint8_t *out)
+{
+    size_t n = (w > 0 && h > 0) ? (size_t)w * (size_t)h : 0;
+    double mean = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        const float *p = rgba + 4 * i;
+        mean += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    }
+    double k = n > 0 ? 0.25 / fmax(mean / (double)n, 1e-9) : 0.0;
+    for (size_t i = 0; i < n; i++) {
+        for (int c = 0; c < 3; c++) {
+            double v = rgba[4 * i + c] * k;
+            out[4 * i + c] = srgb8(v / (1.0 + v));
+        }
+        out[4 * i + 3] = 255;
+    }
+}
+
+void cloud_metrics_mask_picture(const unsigned char *mask, int w, int h,
+                                const struct cloud_object *objects, int count,
+                                bool (*measured)(const struct cloud_object *o, const void *ctx),
+                                const void *ctx, uint8_t *out)
+{
+    size_t n = (w > 0 && h > 0) ? (size_t)w * (size_t)h : 0;
+    for (size_t i = 0; i < n; i++) {
+        uint8_t v = mask[i] ? 200 : 0;
+        out[4 * i] = out[4 * i + 1] = out[4 * i + 2] = v;
+        out[4 * i + 3] = 255;
+    }
+    for (int k = 0; k < count; k++) {
+        const struct cloud_object *o = &objects[k];
+        bool used = measured(o, ctx);
+        if (!used && !o->touches_border)
+            continue;
+        for (int y = o->y0; y <= o->y1; y++)
+            for (int x = o->x0; x <= o->x1; x++) {
+                if (y != o->y0 && y != o->y1 && x != o->x0 && x != o->x1)
+                    continue;
+                uint8_t *p = out + 4 * ((size_t)y * (size_t)w + (size_t)x);
+                p[0] = used ? 0 : 255;
+                p[1] = used ? 255 : 0;
+                p[2] = 0;
+            }
+    }
+}

@@ -7,6 +7,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 /* Luminance (Rec. 709 weights) of w x h RGBA float pixels into luma[w * h]. */
 void cloud_metrics_luma(const float *rgba, int w, int h, float *luma);
@@ -63,5 +64,15 @@ double cloud_metrics_sun_contrast(const float *luma, int w, int h, const double 
                                   const double right[3], const double up[3], double tan_half,
                                   const double sun_dir[3], double disk_deg,
                                   const double ring_deg[2]);
+
+/* Pictures of what the tests measure, for the PNGs they write (8-bit sRGB RGBA, w x h x 4):
+ * a linear render exposed so that its mean luminance is 0.25 and tone mapped (Reinhard); a
+ * mask, grey where set, with boxes around its objects, green those `measured` accepts and red
+ * those cut by the border (the others unboxed). */
+void cloud_metrics_picture(const float *rgba, int w, int h, uint8_t *out);
+void cloud_metrics_mask_picture(const unsigned char *mask, int w, int h,
+                                const struct cloud_object *objects, int count,
+                                bool (*measured)(const struct cloud_object *o, const void *ctx),
+                                const void *ctx, uint8_t *out);
 
 #endif

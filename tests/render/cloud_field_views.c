@@ -157,12 +157,6 @@ static bool render(const struct field_views *v, const struct sky_world_state *s,
     return true;
 }
 
-static uint8_t srgb8(double x)
-{
-    x = x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055;
-    return (uint8_t)lround(fmin(fmax(x, 0.0), 1.0) * 255.0);
-}
-
 static void write_png(const struct field_views *v, const char *name, const uint8_t *pixels,
                       int side)
 {
@@ -172,26 +166,20 @@ static void write_png(const struct field_views *v, const char *name, const uint8
         printf("%s: %s\n", path, err);
 }
 
-/* The side x side render in rgba[], exposed for its mean luminance and tone mapped
- * (Reinhard). */
+/* The side x side render in rgba[], exposed and tone mapped (cloud_metrics_picture). */
 static void save_render(const struct field_views *v, const char *name, int side)
 {
     static uint8_t pixels[N_PIXELS * 4];
     if (!v->out_dir)
         return;
-    int n = side * side;
-    double mean = 0.0;
-    for (int i = 0; i < n; i++)
-        mean += test_pixel_luminance(rgba + 4 * i);
-    double scale = 0.25 / fmax(mean / n, 1e-9);
-    for (int i = 0; i < n; i++) {
-        for (int c = 0; c < 3; c++) {
-            double x = rgba[4 * i + c] * scale;
-            pixels[4 * i + c] = srgb8(x / (1.0 + x));
-        }
-        pixels[4 * i + 3] = 255;
-    }
+    cloud_metrics_picture(rgba, side, side, pixels);
     write_png(v, name, pixels, side);
+}
+
+static bool measured_field_object(const struct cloud_object *o, const void *ctx)
+{
+    (void)ctx;
+    return !o->touches_border && o->area >= FIELD_MIN_AREA_PX;
 }
 
 /* A side x side mask, with the boxes of objects[0, count) when side is FIELD_SIDE. */
@@ -201,26 +189,8 @@ static void save_mask(const struct field_views *v, const char *name,
     static uint8_t pixels[N_PIXELS * 4];
     if (!v->out_dir)
         return;
-    for (int i = 0; i < side * side; i++) {
-        uint8_t g = m[i] ? 200 : 0;
-        pixels[4 * i] = pixels[4 * i + 1] = pixels[4 * i + 2] = g;
-        pixels[4 * i + 3] = 255;
-    }
-    for (int n = 0; side == FIELD_SIDE && n < count && n < MAX_OBJECTS; n++) {
-        const struct cloud_object *o = &objects[n];
-        bool used = !o->touches_border && o->area >= FIELD_MIN_AREA_PX;
-        if (!used && !o->touches_border)
-            continue;
-        for (int y = o->y0; y <= o->y1; y++)
-            for (int x = o->x0; x <= o->x1; x++) {
-                if (y != o->y0 && y != o->y1 && x != o->x0 && x != o->x1)
-                    continue;
-                uint8_t *p = pixels + 4 * ((size_t)y * FIELD_SIDE + (size_t)x);
-                p[0] = used ? 0 : 255;
-                p[1] = used ? 255 : 0;
-                p[2] = 0;
-            }
-    }
+    int boxed = side == FIELD_SIDE ? (count < MAX_OBJECTS ? count : MAX_OBJECTS) : 0;
+    cloud_metrics_mask_picture(m, side, side, objects, boxed, measured_field_object, NULL, pixels);
     char mask_name[256];
     snprintf(mask_name, sizeof mask_name, "%s_mask", name);
     write_png(v, mask_name, pixels, side);

@@ -50,12 +50,6 @@ void shapes_render(const struct sky_world_state *s, float *luma)
     cloud_metrics_luma(rgba, W, H, luma);
 }
 
-static uint8_t srgb8(double v)
-{
-    v = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
-    return (uint8_t)lround(fmin(fmax(v, 0.0), 1.0) * 255.0);
-}
-
 static void write_png(const char *name, const uint8_t *pixels)
 {
     char path[1024], err[256];
@@ -63,21 +57,11 @@ static void write_png(const char *name, const uint8_t *pixels)
     CHECK(png_write_rgba8_file(path, pixels, W, H, err, sizeof err) == 0);
 }
 
-/* The render in rgba[], exposed for its mean luminance and tone mapped (Reinhard). */
+/* The render in rgba[], exposed and tone mapped (cloud_metrics_picture). */
 void shapes_save_render(const char *name)
 {
     static uint8_t pixels[W * H * 4];
-    double mean = 0.0;
-    for (int i = 0; i < W * H; i++)
-        mean += test_pixel_luminance(rgba + 4 * i);
-    double k = 0.25 / fmax(mean / (W * H), 1e-9);
-    for (int i = 0; i < W * H; i++) {
-        for (int c = 0; c < 3; c++) {
-            double v = rgba[4 * i + c] * k;
-            pixels[4 * i + c] = srgb8(v / (1.0 + v));
-        }
-        pixels[4 * i + 3] = 255;
-    }
+    cloud_metrics_picture(rgba, W, H, pixels);
     write_png(name, pixels);
 }
 
@@ -86,31 +70,24 @@ bool shapes_measured(const struct cloud_object *o, int min_area, int min_width)
     return !o->touches_border && o->area >= min_area && o->x1 - o->x0 + 1 >= min_width;
 }
 
+struct measured_sizes {
+    int min_area, min_width;
+};
+
+static bool measured_with(const struct cloud_object *o, const void *ctx)
+{
+    const struct measured_sizes *m = ctx;
+    return shapes_measured(o, m->min_area, m->min_width);
+}
+
 /* The mask (white) with boxes around its objects: green the measured ones, red those cut by
  * the border; the others (specks, narrow ones) unboxed. */
 void shapes_save_mask(const char *name, int count, int min_area, int min_width)
 {
     static uint8_t pixels[W * H * 4];
-    for (int i = 0; i < W * H; i++) {
-        uint8_t v = shapes_mask[i] ? 200 : 0;
-        pixels[4 * i] = pixels[4 * i + 1] = pixels[4 * i + 2] = v;
-        pixels[4 * i + 3] = 255;
-    }
-    for (int k = 0; k < count; k++) {
-        const struct cloud_object *o = &shapes_objects[k];
-        bool used = shapes_measured(o, min_area, min_width);
-        if (!used && !o->touches_border)
-            continue;
-        for (int y = o->y0; y <= o->y1; y++)
-            for (int x = o->x0; x <= o->x1; x++) {
-                if (y != o->y0 && y != o->y1 && x != o->x0 && x != o->x1)
-                    continue;
-                uint8_t *p = pixels + 4 * ((size_t)y * W + (size_t)x);
-                p[0] = used ? 0 : 255;
-                p[1] = used ? 255 : 0;
-                p[2] = 0;
-            }
-    }
+    struct measured_sizes sizes = { min_area, min_width };
+    cloud_metrics_mask_picture(shapes_mask, W, H, shapes_objects, count, measured_with, &sizes,
+                               pixels);
     write_png(name, pixels);
 }
 
