@@ -4,7 +4,10 @@
 # --reference`), rendered into docs/images/clouds/ and listed in docs/CLOUDS.md; then the
 # README's cloud image and time-lapse (docs/images/clouds.png, timelapse.png). Usage:
 # scripts/review-sheet.sh [BUILD_DIR] (default build); REVIEW_SPP sets the reference's samples
-# per pixel (default 64). The references take most of its 20-40 minutes on two lavapipe cores.
+# per pixel (default 16). The references take nearly all of its time: on two lavapipe cores
+# about 50 minutes at 16, most of it in the decks seen from below (light diffuses through tens
+# of optical depths, and the few paths that bring it make bright specks); 64 takes four times
+# as long.
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -13,7 +16,7 @@ out=docs/images/clouds
 mkdir -p "$out"
 skyd="$root/$build/skyd"
 size=(--width 320 --height 180)
-spp=${REVIEW_SPP:-64}
+spp=${REVIEW_SPP:-16}
 
 # name | weather preset | extra settings
 types=(
