@@ -127,6 +127,8 @@ static int record_reference(struct vk_context *ctx, struct cloud_renderer *cr,
     if (cloud_reference_record(ctx, cr->reference, cr, cmd, f, e, c->reference_spp,
                                c->reference_seed, ceiling) != 0)
         return -1;
+    /* The path trace takes minutes on a CPU device: its frame may be waited for that long. */
+    vk_context_expect_long_submission(ctx);
     gpu_timer_mark(timer, cmd, "cloud_pathtrace");
     e->valid = false;
     record_resolve(ctx, cr, cmd, timer, f, e);

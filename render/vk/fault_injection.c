@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum fault_kind { FAULT_DEVICE_LOST, FAULT_OUT_OF_MEMORY };
+enum fault_kind { FAULT_DEVICE_LOST, FAULT_OUT_OF_MEMORY, FAULT_TIMEOUT };
 
 #define MAX_TIMES 1000u
 #define MAX_AFTER_FRAMES 1000000u
@@ -54,6 +54,8 @@ static bool parse(const char *spec)
     else if (kind_length == strlen("out_of_memory") &&
              strncmp(spec, "out_of_memory", kind_length) == 0)
         fault.kind = FAULT_OUT_OF_MEMORY;
+    else if (kind_length == strlen("timeout") && strncmp(spec, "timeout", kind_length) == 0)
+        fault.kind = FAULT_TIMEOUT;
     else
         return false;
     fault.times = 1;
@@ -123,11 +125,13 @@ static bool fire(enum fault_kind kind)
         fires = true;
         fault.injected++;
         /* The next loss comes after_frames later; allocations fail back to back. */
-        if (kind == FAULT_DEVICE_LOST)
+        if (kind != FAULT_OUT_OF_MEMORY)
             fault.due_frame = fault.frames + fault.after_frames;
         fault.lost_for_good = fault.permanent;
         fprintf(stderr, "skyd: fault injection: %s (%u of %u, after %llu frames)\n",
-                kind == FAULT_DEVICE_LOST ? "the device is lost" : "out of device memory",
+                kind == FAULT_DEVICE_LOST    ? "the device is lost"
+                : kind == FAULT_TIMEOUT      ? "the wait for a submission times out"
+                                             : "out of device memory",
                 fault.injected, fault.times, (unsigned long long)fault.frames);
     }
     pthread_mutex_unlock(&fault.lock);
@@ -137,6 +141,11 @@ static bool fire(enum fault_kind kind)
 VkResult fault_injection_submit(void)
 {
     return fire(FAULT_DEVICE_LOST) ? VK_ERROR_DEVICE_LOST : VK_SUCCESS;
+}
+
+bool fault_injection_wait_times_out(void)
+{
+    return fire(FAULT_TIMEOUT);
 }
 
 VkResult fault_injection_allocate(void)

@@ -14,6 +14,10 @@
  *   out_of_memory:after_frames=N[:times=K]
  *       Once N frames have been rendered, the next K device memory allocations (default 1)
  *       report VK_ERROR_OUT_OF_DEVICE_MEMORY.
+ *   timeout:after_frames=N[:times=K]
+ *       Once N frames have been rendered, the next queue submission runs, but the wait for it
+ *       gives up at once with VK_TIMEOUT, as a bounded wait does on a device still running it
+ *       (a CPU device slower than the bound).
  *
  * The fault is process-wide, not per context, because a lost device outlives the renderer
  * that saw it: a renderer created after the loss must see it too. Unset (always, outside
@@ -22,6 +26,7 @@
 #ifndef SKYD_FAULT_INJECTION_H
 #define SKYD_FAULT_INJECTION_H
 
+#include <stdbool.h>
 #include <vulkan/vulkan.h>
 
 /* Reads SKYD_FAULT (the first call only) and says on stderr which fault is armed. */
@@ -32,6 +37,8 @@ void fault_injection_frame_rendered(void);
 
 /* VK_SUCCESS, or the result a queue submission must report instead of running. */
 VkResult fault_injection_submit(void);
+/* True when the wait for the submission just made must report VK_TIMEOUT at once. */
+bool fault_injection_wait_times_out(void);
 /* VK_SUCCESS, or the result a device memory allocation must report instead of allocating. */
 VkResult fault_injection_allocate(void);
 /* VK_SUCCESS, or the result creating a logical device must report. */

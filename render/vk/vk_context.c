@@ -12,9 +12,6 @@
 /* The passes read their parameters from storage buffers (sky_shared.h, SKY_PARAMETER_BLOCK): the
  * probe binds 6 per stage, beyond the 4 that Vulkan guarantees. */
 #define MIN_STORAGE_BUFFERS_PER_STAGE 8u
-#define STRINGIFY_(x) #x
-#define STRINGIFY(x) STRINGIFY_(x)
-#define VK_CONTEXT_TIMEOUT_TEXT STRINGIFY(VK_CONTEXT_SUBMIT_TIMEOUT_S) " s"
 
 const char *vk_result_name(VkResult result)
 {
@@ -436,6 +433,11 @@ VkResult vk_context_begin_commands(struct vk_context *ctx, VkCommandBuffer *out)
     return res;
 }
 
+void vk_context_expect_long_submission(struct vk_context *ctx)
+{
+    ctx->long_submission = true;
+}
+
 VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd)
 {
     if (ctx->device_lost) { /* said when it was lost; the commands are dropped */
@@ -460,14 +462,26 @@ VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd
         if (res == VK_SUCCESS)
             res = vkQueueSubmit(ctx->queue, 1, &submit, ctx->fence);
     }
+    unsigned timeout_s =
+        ctx->long_submission ? VK_CONTEXT_LONG_SUBMIT_TIMEOUT_S : VK_CONTEXT_SUBMIT_TIMEOUT_S;
+    ctx->long_submission = false;
+    char waiting[64];
     if (res == VK_SUCCESS) {
-        step = "waiting for the queue (at most " VK_CONTEXT_TIMEOUT_TEXT ")";
-        res = vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE,
-                              (uint64_t)VK_CONTEXT_SUBMIT_TIMEOUT_S * 1000000000ull);
+        snprintf(waiting, sizeof waiting, "waiting for the queue (at most %u s)", timeout_s);
+        step = waiting;
+        res = fault_injection_wait_times_out()
+                  ? VK_TIMEOUT
+                  : vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE,
+                                    (uint64_t)timeout_s * 1000000000ull);
     }
     if (res != VK_SUCCESS) {
         fprintf(stderr, "skyd: vulkan: %s failed: %s\n", step, vk_result_name(res));
         vk_context_note_failure(ctx, res, "%s", step);
+    }
+    if (res == VK_TIMEOUT) {
+        fprintf(stderr, "skyd: vulkan: the device is taken as lost; waiting for the submission "
+                        "to end before its commands are freed\n");
+        vkQueueWaitIdle(ctx->queue);
     }
     vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, cmd);
     *cmd = VK_NULL_HANDLE;

@@ -52,10 +52,18 @@ struct vk_context {
     unsigned validation_warnings;
     unsigned validation_errors;
     unsigned *validation_message_counter; /* from the params, may be NULL */
+    /* The next submission may run for VK_CONTEXT_LONG_SUBMIT_TIMEOUT_S
+     * (vk_context_expect_long_submission). */
+    bool long_submission;
 };
 
-/* A submission not finished after this long is taken for a hung device: waits are bounded. */
+/* A submission not finished after this long is taken for a hung device: waits are bounded. A
+ * path-traced reference frame, which takes minutes on a CPU device, may take up to a day. */
 #define VK_CONTEXT_SUBMIT_TIMEOUT_S 300
+#define VK_CONTEXT_LONG_SUBMIT_TIMEOUT_S 86400
+
+/* Lets the next vk_context_submit_and_wait wait up to VK_CONTEXT_LONG_SUBMIT_TIMEOUT_S. */
+void vk_context_expect_long_submission(struct vk_context *ctx);
 
 /* Returns NULL on failure after logging why. */
 struct vk_context *vk_context_create(const struct vk_context_params *params);
@@ -78,8 +86,11 @@ VkResult vk_context_wait_idle(struct vk_context *ctx);
 
 /* Allocates a primary command buffer and begins it for one-time submission. */
 VkResult vk_context_begin_commands(struct vk_context *ctx, VkCommandBuffer *out);
-/* Ends, submits, waits for completion (at most VK_CONTEXT_SUBMIT_TIMEOUT_S) and frees the
- * command buffer (always freed). On a lost device nothing is submitted: VK_ERROR_DEVICE_LOST. */
+/* Ends, submits, waits for completion (at most VK_CONTEXT_SUBMIT_TIMEOUT_S, or the long bound
+ * once) and frees the command buffer (always freed). On a lost device nothing is submitted:
+ * VK_ERROR_DEVICE_LOST. A submission still running at the bound makes the device lost, and is
+ * waited for without a bound before its command buffer is freed: freeing it while it runs (a CPU
+ * device keeps running it) would pull its commands from under the driver. */
 VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd);
 
 /* Finds a memory type allowed by type_bits with all `required` flags; UINT32_MAX if none. */

@@ -11,6 +11,12 @@
  *                  lost: that call and every later one fail at once with the status
  *                  device lost; destroying the renderer does not wait; a new renderer renders
  *                  the first frame again.
+ *   timeout        (SKYD_FAULT=timeout:after_frames=2) The wait for the third frame gives up
+ *                  while the device still runs it (a CPU device slower than the bound): the
+ *                  call fails with the status device lost naming VK_TIMEOUT, the submission is
+ *                  waited for before its command buffer is freed (validation would report
+ *                  freeing one in use, and lavapipe crashed on it), and a new renderer renders
+ *                  the first frame again.
  *
  * Validation messages are counted through each renderer's destruction: a failed create that
  * left an object behind, or one a lost renderer did not destroy, would be reported there. */
@@ -93,7 +99,9 @@ static double now_s(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-static void device_lost(void)
+/* The third frame fails with the device lost (its detail naming `result`); later calls fail at
+ * once, destroying the renderer does not wait, and a new renderer draws the first frame. */
+static void third_frame_lost(const char *result)
 {
     unsigned validation_messages = 0;
     struct sky_renderer *r = test_renderer_create(&validation_messages);
@@ -106,7 +114,7 @@ static void device_lost(void)
     CHECK(render(r, W, H, pixels) != 0);
     const char *detail = NULL;
     CHECK(sky_renderer_status(r, &detail) == SKY_RENDER_DEVICE_LOST);
-    CHECK_MSG(contains(detail, "VK_ERROR_DEVICE_LOST"), "detail \"%s\"", detail);
+    CHECK_MSG(contains(detail, result), "detail \"%s\"", detail);
 
     /* Everything fails at once from now on, and the status stays. */
     struct sky_render_atmosphere atm;
@@ -147,11 +155,15 @@ int main(int argc, char **argv)
         out_of_memory();
     } else if (strcmp(scenario, "device_lost") == 0 && fault &&
                strcmp(fault, "device_lost:after_frames=2") == 0) {
-        device_lost();
+        third_frame_lost("VK_ERROR_DEVICE_LOST");
+    } else if (strcmp(scenario, "timeout") == 0 && fault &&
+               strcmp(fault, "timeout:after_frames=2") == 0) {
+        third_frame_lost("VK_TIMEOUT");
     } else {
         printf("usage: SKYD_FAULT=out_of_memory:after_frames=1:times=2 test_render_faults "
                "out_of_memory\n       SKYD_FAULT=device_lost:after_frames=2 "
-               "test_render_faults device_lost\n");
+               "test_render_faults device_lost\n       SKYD_FAULT=timeout:after_frames=2 "
+               "test_render_faults timeout\n");
         return 2;
     }
     return check_summary();
