@@ -5,7 +5,7 @@
 # README's cloud image and time-lapse (docs/images/clouds.png, timelapse.png). Usage:
 # scripts/review-sheet.sh [BUILD_DIR] (default build); REVIEW_SPP sets the reference's samples
 # per pixel (default 16). The references take nearly all of its time: on two lavapipe cores
-# about 50 minutes at 16, most of it in the decks seen from below (light diffuses through tens
+# about an hour at 16, most of it in the decks seen from below (light diffuses through tens
 # of optical depths, and the few paths that bring it make bright specks); 64 takes four times
 # as long.
 set -euo pipefail
