@@ -76,14 +76,21 @@ float normal_cdf(float z)
 // the threshold that leaves `coverage` of it is that deviation times probit(1 - coverage).
 // `weight` says how much the map's own pattern (clusters, cells, sheets) rules over the
 // shape's turrets. The score is returned, not the coverage, so types can be blended.
+// threshold_score: the same with the threshold's spread and offset given.
 const float PROJECTION_OFFSET = 0.55;
-float coverage_score(float field, float coverage, float weight)
+float threshold_score(float field, float coverage, float weight, float spread, float offset)
 {
     if (coverage <= 0.0)
         return -20.0;
     if (coverage >= 1.0)
         return 20.0;
-    return weight * field - sqrt(1.0 + weight * weight) * probit(1.0 - coverage) - PROJECTION_OFFSET;
+    return weight * field - (spread * probit(1.0 - coverage) + offset);
+}
+
+float coverage_score(float field, float coverage, float weight)
+{
+    return threshold_score(field, coverage, weight, sqrt(1.0 + weight * weight),
+                           PROJECTION_OFFSET);
 }
 
 // The map's weight per type: cumulus fields are the turrets' own pattern clustered by the map,
@@ -117,12 +124,8 @@ const float DECK_SHARE = 0.85;
 const float CUMULUS_PROJECTED_SPREAD = 0.852, CUMULUS_PROJECTED_OFFSET = 0.592;
 float cumulus_score(float field, float coverage)
 {
-    if (coverage <= 0.0)
-        return -20.0;
-    if (coverage >= 1.0)
-        return 20.0;
-    return CUMULUS_WEIGHT * field -
-           (CUMULUS_PROJECTED_SPREAD * probit(1.0 - coverage) + CUMULUS_PROJECTED_OFFSET);
+    return threshold_score(field, coverage, CUMULUS_WEIGHT, CUMULUS_PROJECTED_SPREAD,
+                           CUMULUS_PROJECTED_OFFSET);
 }
 
 // mix(a, b, t) of two independent fields of deviation 1, scaled back to deviation 1.
