@@ -260,17 +260,18 @@ void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence,
     // came more often: the dark side's share falls with mu0 as the Eddington solution's
     // transmission does, (1/2 + 3/4 mu0) / (5/4) (Joseph, Wiscombe & Weinman 1976).
     float dark_side = DIFFUSE_DARK_SIDE * (0.5 + 0.75 * mu0) / 1.25;
+    // The diffuse light flows away from the sun: its radiance is I (1 + 3/(4 pi) F.w / I)
+    // (the diffusion approximation), the flux F = T E mu0 against the mean, which the phase's
+    // mean cosine g passes on to the scattered light: brighter toward a viewer who looks at the
+    // dark side with the sun behind it. Not darker the other way: at the lit side the light
+    // leaving toward the sun is what the build-up and the decks fit. With the mean radiance
+    // T (stored) and the flow's term T F_scale, the sum is T (stored + flow).
+    float flow = FLOW_SCALE * g * 0.75 * max(o.cos_theta, 0.0);
     float b = cloud.octaves.y;
     for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
         float stored = dark_side + kept * s * b * x_b;
-        // The diffuse light flows away from the sun: its radiance is I (1 + 3/(4 pi) F.w / I)
-        // (the diffusion approximation), the flux F = T E mu0 against the mean, which the
-        // phase's mean cosine g passes on to the scattered light: brighter toward a viewer who
-        // looks at the dark side with the sun behind it. Not darker the other way: at the lit
-        // side the light leaving toward the sun is what the build-up and the decks fit.
-        float flow = 1.0 + FLOW_SCALE * g * 0.75 * max(o.cos_theta, 0.0) / stored;
-        float diffuse = stored / (1.0 + s * b * (x_s + x_b));
-        src[n] = o.weighted[n] * common_part * diffuse * max(flow, 0.0) / PI;
+        src[n] = o.weighted[n] * common_part * (stored + flow) /
+                 (PI * (1.0 + s * b * (x_s + x_b)));
         b *= cloud.octaves.y;
     }
 }

@@ -137,8 +137,80 @@ const float REFINED_SAMPLES = 3.0 * REFINE;
 // of up to 12 steps for every other sample, and a sample stays short of it only in the
 // thinnest clouds.
 const float LIGHT_ITERATIONS = 8.0;
+// Lit samples the march collects before it shades them (below): a few passes of the outer loop
+// for a ray through a whole cloud.
+const int LIT_BATCH = 16;
+
+// What shading a lit sample needs from the march: where it is, its extinction and step, the
+// view's transmittance in front of it and since the ray entered the cloud, and the light
+// marches' optical depth and incidence with the radius where each handed over to the sun-space
+// volume (negative: no volume).
+struct LitSample {
+    float t, sigma_t, step_t, transmittance, seen_since_entry;
+    float sun_marched, sun_incidence, sun_reach_r;
+    float moon_marched, moon_incidence, moon_reach_r;
+};
+
+// Shades one lit sample of the segment (seed 001 eq. 17: the sources integrated over the step
+// against the extinction) and adds its light to res.
+void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 moon,
+                      OctavePhases phases, OctavePhases moon_phases, CloudAmbient amb,
+                      bool low_layer, inout CloudResult res)
+{
+    bool moon_on = moon_lights_clouds();
+    vec3 p = o + s.t * d;
+    float r = length(p);
+    vec2 uv;
+    bool sun_volume = s.sun_reach_r >= 0.0;
+    SunDepth sun_depth =
+        sun_depths(p, sun_dir, s.sun_marched, sun_volume, s.sun_reach_r, s.sigma_t, low_layer);
+    // It varies over hundreds of metres.
+    sun_depth.support =
+        sun_volume && sun_depth_coords(p, sun_dir, uv) ? sun_column_support(uv, sun_dir) : 1.0;
+    SunDepth moon_depth = sun_depth;
+    if (moon_on)
+        moon_depth = sun_depths(p, frame.moon_direction.xyz, s.moon_marched,
+                                s.moon_reach_r >= 0.0, s.moon_reach_r, s.sigma_t, low_layer);
+    // The ground under a cloud lies in its shadow: where the volume knows the sun's optical
+    // depth to the ground below the sample, its sunlit half becomes that share.
+    vec2 below_uv;
+    float ground_sun = 0.5;
+    if (low_layer && sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv)) {
+        vec2 totals = sun_column_totals(below_uv);
+        ground_sun = exp(-(totals.x + totals.y));
+    }
+    float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
+    vec3 ambient = mix(amb.bottom + amb.bottom_sun * (ground_sun - 0.5), amb.top, h);
+    float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
+    float top = low_layer ? cloud.low.y : cloud.high.y;
+    float tau_up = s.sigma_t * max(top - r, 0.0);
+    octave_sources(phases, sun_depth, tau_up, s.sun_incidence, src);
+    if (moon_on)
+        octave_sources(moon_phases, moon_depth, tau_up, s.moon_incidence, moon_src);
+    float sun_sum = 0.0, moon_sum = 0.0;
+    for (int n = 0; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
+        sun_sum += src[n];
+        if (moon_on)
+            moon_sum += moon_src[n];
+    }
+    // The sky's ambient light is scattered once (octave 0).
+    // The sky's light reaches a sample through the cloud around it, less the deeper it
+    // lies, which the view's own transmittance since it entered the cloud stands for:
+    // the source falls as exp(-tau) along the view as the view's transmittance does, and
+    // over the step int sigma exp(-2 sigma t) dt = (1 - step_t^2) / 2.
+    float sky_seen = AMBIENT_SHARE * s.seen_since_entry;
+    res.luminance += cloud.media.x * s.transmittance *
+                     ((1.0 - s.step_t) * (sun * sun_sum + moon * moon_sum) +
+                      0.5 * (1.0 - s.step_t * s.step_t) * ambient * sky_seen);
+}
 
 // low_layer: which layer's density the segment marches (a constant at every call).
+//
+// The march collects up to LIT_BATCH lit samples, then shades them in a loop of its own: its
+// inner loop then holds only the density lookup, the view's bookkeeping and the light march's
+// steps. lavapipe runs every instruction of a loop's body on every iteration, masked or not,
+// and the shading (the sun-space volume's lookups, the octaves) would otherwise run on each
+// step of every light march too.
 void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float jitter,
                          vec3 sun_dir, OctavePhases phases, OctavePhases moon_phases,
                          CloudAmbient amb, bool low_layer, inout CloudResult res,
@@ -162,7 +234,6 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     vec3 moon = moon_on ? frame.moon_illuminance.xyz * sun_transmittance(mid, moon_dir) : vec3(0.0);
     float moon_marched = 0.0;
     bool moon_volume = false;
-    float albedo = cloud.media.x;
     float t = t0 + jitter * ds;
     float t_fine = t; // the last fine sample: the skip never backs up behind it
     int empty = EMPTY_RUN;
@@ -171,7 +242,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     bool refining = false; // coming in again in short steps (until the ray leaves the cloud)
     float entry_t = 1.0;   // the view's transmittance where the ray came in
     float refine_left = 0.0; // samples the refinement may still take
-    float sun_marched = 0.0, sun_support = 1.0, ground_sun = 0.5;
+    float sun_marched = 0.0;
     vec2 sun_reach = vec2(0.0), moon_reach = vec2(0.0);
     float sun_incidence = 2.0, moon_incidence = 2.0;
     bool sun_volume = false;
@@ -183,167 +254,152 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
     float sigma_t = 0.0;
     float view_samples = 0.0; // the view's own samples and probes, as many as before the light
     const float max_samples = 2.0 * steps + 4.0 * REFINE;
-    for (float i = 0.0; i < LIGHT_ITERATIONS * max_samples; i += 1.0) {
-        if (!lighting) {
-            if (res.transmittance < EARLY_EXIT_T || t >= t1 || view_samples >= max_samples)
-                break;
-            view_samples += 1.0;
-            ds = clamp(MARCH_LOD * t, ds_near, ds_far);
-            // Level of detail from the distance (the step the distance asks for), not from
-            // the step count: fewer steps must not change what the clouds are, only how finely
-            // they are sampled.
-            float footprint = MARCH_LOD * t;
-            cloud_detail_weight = clamp((DETAIL_FADE_KM.y - footprint) /
-                                            (DETAIL_FADE_KM.y - DETAIL_FADE_KM.x), 0.0, 1.0);
-            cloud_lod =
-                clamp((footprint - LOD_FADE_KM.x) / (LOD_FADE_KM.y - LOD_FADE_KM.x), 0.0, 1.0);
-            p = o + t * d;
-        }
-        // The loop's one density lookup, for the view (a probe or a sample: -1 where the
-        // layer's coverage holds no cloud) or for the light march on the coarse shape.
-        float sampled = cloud_layer_sample(lighting ? sun_march_point(light) : p, !lighting,
-                                           low_layer);
-        if (lighting) {
-            sun_march_add(light, max(sampled, 0.0));
-            if (!sun_march_done(light))
-                continue;
-            if (!lighting_moon) {
-                sun_marched = light.tau;
-                sun_incidence = sun_march_incidence(light);
+    float i = 0.0;
+    bool marching = true;
+    LitSample lit[LIT_BATCH];
+    while (marching) {
+        int lit_count = 0;
+        for (; lit_count < LIT_BATCH; i += 1.0) {
+            if (!lighting) {
+                if (res.transmittance < EARLY_EXIT_T || t >= t1 ||
+                    view_samples >= max_samples || i >= LIGHT_ITERATIONS * max_samples) {
+                    marching = false;
+                    break;
+                }
+                view_samples += 1.0;
+                ds = clamp(MARCH_LOD * t, ds_near, ds_far);
+                // Level of detail from the distance (the step the distance asks for), not
+                // from the step count: fewer steps must not change what the clouds are, only
+                // how finely they are sampled.
+                float footprint = MARCH_LOD * t;
+                cloud_detail_weight = clamp((DETAIL_FADE_KM.y - footprint) /
+                                                (DETAIL_FADE_KM.y - DETAIL_FADE_KM.x),
+                                            0.0, 1.0);
+                cloud_lod = clamp((footprint - LOD_FADE_KM.x) / (LOD_FADE_KM.y - LOD_FADE_KM.x),
+                                  0.0, 1.0);
+                p = o + t * d;
+            }
+            // The loop's one density lookup, for the view (a probe or a sample: -1 where the
+            // layer's coverage holds no cloud) or for the light march on the coarse shape.
+            float sampled = cloud_layer_sample(lighting ? sun_march_point(light) : p, !lighting,
+                                               low_layer);
+            if (lighting) {
+                sun_march_add(light, max(sampled, 0.0));
+                if (!sun_march_done(light))
+                    continue;
+                if (!lighting_moon) {
+                    sun_marched = light.tau;
+                    sun_incidence = sun_march_incidence(light);
+                } else {
+                    moon_marched = light.tau;
+                    moon_incidence = sun_march_incidence(light);
+                }
+                if (moon_on && !lighting_moon) {
+                    lighting_moon = true;
+                    light = sun_march_begin(p, moon_dir, light.jitter, low_layer, moon_volume,
+                                            moon_reach);
+                    continue;
+                }
+                lighting = false; // on to the sample's light below
             } else {
-                moon_marched = light.tau;
-                moon_incidence = sun_march_incidence(light);
-            }
-            if (moon_on && !lighting_moon) {
-                lighting_moon = true;
-                light = sun_march_begin(p, moon_dir, light.jitter, low_layer, moon_volume,
-                                        moon_reach);
-                continue;
-            }
-            lighting = false; // on to the sample's light below
-        } else {
-            sigma_t = sampled;
-            if (empty >= EMPTY_RUN && !refining) { // probing, not while coming in again
-                if (sigma_t < 0.0) { // where the layer may hold cloud, big steps
-                    t += SKIP_FACTOR * ds;
-                    skipped = true;
-                    continue;
+                sigma_t = sampled;
+                if (empty >= EMPTY_RUN && !refining) { // probing, not while coming in again
+                    if (sigma_t < 0.0) { // where the layer may hold cloud, big steps
+                        t += SKIP_FACTOR * ds;
+                        skipped = true;
+                        continue;
+                    }
+                    empty = 0;
+                    // Back over the skipped stretch, never behind the last fine sample, and
+                    // sample there next.
+                    if (skipped) {
+                        t = max(t_fine, t - (SKIP_FACTOR - 1.0) * ds);
+                        skipped = false;
+                        continue;
+                    }
                 }
-                empty = 0;
-                // Back over the skipped stretch, never behind the last fine sample, and
-                // sample there next.
-                if (skipped) {
-                    t = max(t_fine, t - (SKIP_FACTOR - 1.0) * ds);
-                    skipped = false;
-                    continue;
-                }
-            }
-            sigma_t = max(sigma_t, 0.0);
-            float t_before = t_fine;
-            t_fine = t;
-            if (sigma_t <= 0.0) {
-                empty++;
-                // Short steps while coming in; a ray that has left the cloud steps as before.
-                t += refining && outside ? ds / REFINE : ds;
-                refining = refining && outside;
-                outside = true;
-                continue;
-            }
-            if (outside && !refining && sigma_t * ds > ENTRY_TAU && t - ds >= t0) {
-                refining = true;
-                refine_left = REFINED_SAMPLES;
-                t = max(t_before, t - ds) + ds / REFINE;
+                sigma_t = max(sigma_t, 0.0);
+                float t_before = t_fine;
                 t_fine = t;
-                continue;
-            }
-            bool entering = outside;
-            outside = false;
-            if (entering)
-                entry_t = res.transmittance;
-            refine_left -= 1.0;
-            refining = refining && refine_left > 0.0 && res.transmittance > REFINED_T * entry_t;
-            // This sample stands for [t, t + ds]: shorter in dense cloud once coming in again.
-            if (refining)
-                ds = clamp(STEP_TAU / sigma_t, ds / REFINE, 2.0 * ds / REFINE);
-            empty = 0;
-            // The light march runs for every other sample; the one between reuses its optical
-            // depth (samples are tens of metres apart, the march reaches kilometres). A sample
-            // that enters a cloud marches its own: the optical depth of the last one may be
-            // from deep inside another cloud further back along the ray.
-            bool fresh = fresh_light || entering;
-            fresh_light = !fresh;
-            if (fresh) {
-                // Each light march starts at its own offset (a golden-ratio sequence along the
-                // ray): with the pixel's one jitter for all of them, one unlucky offset would
-                // bias every light sample of the ray alike, and the octaves that see deep into
-                // the cloud would turn that into grain.
-                float light_jitter = fract(jitter + 0.6180340 * (view_samples - 1.0));
-                vec2 uv;
-                sun_volume = low_layer && sun_depth_coords(p, sun_dir, uv);
-                sun_reach = sun_march_reach(p, sun_dir);
-                // It varies over hundreds of metres: the neighbour's serves too.
-                sun_support = sun_volume ? sun_column_support(uv, sun_dir) : 1.0;
-                // The ground under a cloud lies in its shadow: where the volume knows the
-                // sun's optical depth to the ground below the sample, its sunlit half becomes
-                // that share.
-                float r = length(p);
-                vec2 below_uv;
-                ground_sun = 0.5;
-                if (low_layer && sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir,
-                                                  below_uv))
-                    {
-                    vec2 totals = sun_column_totals(below_uv);
-                    ground_sun = exp(-(totals.x + totals.y));
+                if (sigma_t <= 0.0) {
+                    empty++;
+                    // Short steps while coming in; a ray that has left the cloud steps as
+                    // before.
+                    t += refining && outside ? ds / REFINE : ds;
+                    refining = refining && outside;
+                    outside = true;
+                    continue;
                 }
-                if (moon_on) {
-                    moon_volume = low_layer && sun_depth_coords(p, moon_dir, uv);
-                    moon_reach = sun_march_reach(p, moon_dir);
+                if (outside && !refining && sigma_t * ds > ENTRY_TAU && t - ds >= t0) {
+                    refining = true;
+                    refine_left = REFINED_SAMPLES;
+                    t = max(t_before, t - ds) + ds / REFINE;
+                    t_fine = t;
+                    continue;
                 }
-                light = sun_march_begin(p, sun_dir, light_jitter, low_layer, sun_volume,
-                                        sun_reach);
-                lighting = true;
-                lighting_moon = false;
-                continue;
+                bool entering = outside;
+                outside = false;
+                if (entering)
+                    entry_t = res.transmittance;
+                refine_left -= 1.0;
+                refining =
+                    refining && refine_left > 0.0 && res.transmittance > REFINED_T * entry_t;
+                // This sample stands for [t, t + ds]: shorter in dense cloud once coming in
+                // again.
+                if (refining)
+                    ds = clamp(STEP_TAU / sigma_t, ds / REFINE, 2.0 * ds / REFINE);
+                empty = 0;
+                // The light march runs for every other sample; the one between reuses its
+                // optical depth (samples are tens of metres apart, the march reaches
+                // kilometres). A sample that enters a cloud marches its own: the optical depth
+                // of the last one may be from deep inside another cloud further back along the
+                // ray.
+                bool fresh = fresh_light || entering;
+                fresh_light = !fresh;
+                if (fresh) {
+                    // Each light march starts at its own offset (a golden-ratio sequence along
+                    // the ray): with the pixel's one jitter for all of them, one unlucky offset
+                    // would bias every light sample of the ray alike, and the octaves that see
+                    // deep into the cloud would turn that into grain.
+                    float light_jitter = fract(jitter + 0.6180340 * (view_samples - 1.0));
+                    vec2 uv;
+                    sun_volume = low_layer && sun_depth_coords(p, sun_dir, uv);
+                    sun_reach = sun_march_reach(p, sun_dir);
+                    if (moon_on) {
+                        moon_volume = low_layer && sun_depth_coords(p, moon_dir, uv);
+                        moon_reach = sun_march_reach(p, moon_dir);
+                    }
+                    light = sun_march_begin(p, sun_dir, light_jitter, low_layer, sun_volume,
+                                            sun_reach);
+                    lighting = true;
+                    lighting_moon = false;
+                    continue;
+                }
             }
+            // The sample at p, lit: kept for the shading below.
+            float step_t = exp(-sigma_t * ds);
+            LitSample s;
+            s.t = t;
+            s.sigma_t = sigma_t;
+            s.step_t = step_t;
+            s.transmittance = res.transmittance;
+            s.seen_since_entry = res.transmittance / max(entry_t, 1e-6);
+            s.sun_marched = sun_marched;
+            s.sun_incidence = sun_incidence;
+            s.sun_reach_r = sun_volume ? sun_reach.x : -1.0;
+            s.moon_marched = moon_marched;
+            s.moon_incidence = moon_incidence;
+            s.moon_reach_r = moon_volume ? moon_reach.x : -1.0;
+            lit[lit_count] = s;
+            lit_count++;
+            // seed 001 eq. 21: front depth weighted by the transmittance to the viewer.
+            depth_sum += vec2(res.transmittance * t, res.transmittance);
+            res.transmittance *= step_t;
+            t += ds;
         }
-        // The sample at p, lit.
-        float r = length(p);
-        SunDepth sun_depth =
-            sun_depths(p, sun_dir, sun_marched, sun_volume, sun_reach.x, sigma_t, low_layer);
-        sun_depth.support = sun_support;
-        SunDepth moon_depth = sun_depth;
-        if (moon_on)
-            moon_depth = sun_depths(p, moon_dir, moon_marched, moon_volume, moon_reach.x, sigma_t,
-                                    low_layer);
-        float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
-        vec3 ambient = mix(amb.bottom + amb.bottom_sun * (ground_sun - 0.5), amb.top, h);
-        float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
-        float top = low_layer ? cloud.low.y : cloud.high.y;
-        float tau_up = sigma_t * max(top - r, 0.0);
-        octave_sources(phases, sun_depth, tau_up, sun_incidence, src);
-        if (moon_on)
-            octave_sources(moon_phases, moon_depth, tau_up, moon_incidence, moon_src);
-        // seed 001 eq. 17: the sources integrated over the step against the extinction.
-        float step_t = exp(-sigma_t * ds);
-        float sun_sum = 0.0, moon_sum = 0.0;
-        for (int n = 0; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
-            sun_sum += src[n];
-            if (moon_on)
-                moon_sum += moon_src[n];
-        }
-        // The sky's ambient light is scattered once (octave 0).
-        // The sky's light reaches a sample through the cloud around it, less the deeper it
-        // lies, which the view's own transmittance since it entered the cloud stands for:
-        // the source falls as exp(-tau) along the view as the view's transmittance does, and
-        // over the step int sigma exp(-2 sigma t) dt = (1 - step_t^2) / 2.
-        float sky_seen = AMBIENT_SHARE * res.transmittance / max(entry_t, 1e-6);
-        res.luminance += albedo * res.transmittance *
-                         ((1.0 - step_t) * (sun * sun_sum + moon * moon_sum) +
-                          0.5 * (1.0 - step_t * step_t) * ambient * sky_seen);
-        // seed 001 eq. 21: front depth weighted by the transmittance to the viewer.
-        depth_sum += vec2(res.transmittance * t, res.transmittance);
-        res.transmittance *= step_t;
-        t += ds;
+        for (int k = 0; k < lit_count; k++)
+            shade_lit_sample(o, d, lit[k], sun_dir, sun, moon, phases, moon_phases, amb,
+                             low_layer, res);
     }
 }
 
