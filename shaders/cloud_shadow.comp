@@ -75,7 +75,7 @@ void main()
     xy -= cloud.weather.w * round(xy / cloud.weather.w); // the copy nearest the camera
     float R = bottom_radius();
     vec3 ground = normalize(vec3(xy, R)) * (R + 0.002);
-    vec3 sun = cloud.shadow_sun.xyz;
+    vec3 sun = push.params.xyz;
     // From the ground point's own zenith: the sun is up there when it is up in the layer.
     float up = dot(sun, normalize(ground));
     float cumulative[SKY_CLOUD_SUN_DEPTH_LEVELS];

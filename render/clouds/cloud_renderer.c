@@ -390,7 +390,12 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
         [SKY_CLOUD_SHADOW_SUN_DEPTH_OUT] = img(&cr->sun_depth[1 - cr->shadow.shown]),
     };
     compute_pass_bind(ctx, &cr->pass[P_SHADOW], r);
-    struct sky_cloud_rows_push push = { .row_offset = 0 };
+    /* Its own sun, not the block's: a frame's block holds the shown map's sun, which the
+     * slices of a build spread over frames would otherwise be built for. */
+    struct sky_cloud_rows_push push = {
+        .row_offset = 0,
+        .params = { cr->shadow_sun[0], cr->shadow_sun[1], cr->shadow_sun[2], 0.0f },
+    };
     if (map_record(cr, &cr->shadow, cmd, timer, &cr->pass[P_SHADOW], &push, budget)) {
         cr->env_dirty = true;
         memcpy(cr->shown_shadow_sun, cr->shadow_sun, sizeof cr->shown_shadow_sun);
@@ -443,8 +448,6 @@ int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr
         return 0;
     }
     cloud_params_fill(&cr->clouds, f->bottom_radius_km, &cr->u);
-    cr->u.shadow_sun = (sky_vec4){ cr->shadow_sun[0], cr->shadow_sun[1], cr->shadow_sun[2], 0 };
-    memcpy(cr->params.mapped, &cr->u, sizeof cr->u);
     /* The budget grows with the frame: on a slow device a fixed few ms would stretch a map
      * build over hundreds of frames, while a tenth of the frame keeps every frame within
      * about 10 % of its neighbours. */
@@ -453,9 +456,9 @@ int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr
         budget = RELATIVE_MAP_BUDGET * cr->last_frame_ms;
     cr->weather.rows_this_frame = cr->shadow.rows_this_frame = 0;
     record_weather(ctx, cr, cmd, timer, &budget);
-    /* The shadow builder reads the sun it is built for from the block. */
     record_shadow(ctx, cr, cmd, timer, f, &budget);
-    /* What the frame's passes read: the sun of the maps they are shown. */
+    /* The block the frame's passes read, written once before they run: the sun of the maps
+     * they are shown (the shadow builder has its own in its push constants). */
     cr->u.shadow_sun = (sky_vec4){ cr->shown_shadow_sun[0], cr->shown_shadow_sun[1],
                                    cr->shown_shadow_sun[2], cr->shadow.ready ? 1.0f : 0.0f };
     memcpy(cr->params.mapped, &cr->u, sizeof cr->u);

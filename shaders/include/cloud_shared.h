@@ -58,7 +58,8 @@ struct sky_cloud_rows_push {
     SKY_UINT seed;
     SKY_UINT high_fibrous; /* weather: the high layer's type, 0 a veil .. 1000 fibrous */
     SKY_VEC4 params;       /* weather: x low coverage, y high coverage, z low type,
-                              w precipitation */
+                              w precipitation; shadow: xyz the sun the map is built for (the
+                              block's shadow_sun is the shown map's) */
     SKY_VEC4 size;         /* resolve: xy the cloud image's size in texels (its extent may be
                               larger: gpu_image_create_view_sized); weather: cells across
                               the map of the cumulus, cumulonimbus, stratocumulus and
