@@ -45,6 +45,8 @@ static const struct compute_pass_desc descs[P_COUNT] = {
                     SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_WEATHER), ROWS_PUSH },
     [P_SHADOW] = { .name = "cloud_shadow", SPIRV(cloud_shadow_spv),
                    SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_SHADOW), ROWS_PUSH },
+    [P_SUN_COLUMNS] = { .name = "cloud_sun_columns", SPIRV(cloud_sun_columns_spv),
+                        SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_SUN_COLUMNS), ROWS_PUSH },
     [P_HEMISPHERE] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
                        SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE), MARCH_SPEC(0, 0) },
     [P_HEMISPHERE_MOONLIT] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
@@ -350,6 +352,25 @@ void cloud_march_resources(const struct cloud_renderer *cr, const struct cloud_f
     r[SKY_CLOUD_MARCH_SKYVIEW] = tex(s->skyview, s->sampler);
     r[SKY_CLOUD_MARCH_SUN_DEPTH] =
         tex(cr->shadow.ready ? &cr->sun_depth[cr->shadow.shown] : &cr->dummy_volume, cr->repeat);
+    r[SKY_CLOUD_MARCH_SUN_COLUMNS] = tex(shown(cr, &cr->shadow), cr->repeat);
+}
+
+/* The columns' support, once the shadow map and volume just completed (now shown) are whole. */
+static void record_sun_columns(struct vk_context *ctx, struct cloud_renderer *cr,
+                               VkCommandBuffer cmd, struct gpu_timer *timer,
+                               const struct sky_cloud_rows_push *push)
+{
+    struct compute_pass *pass = &cr->pass[P_SUN_COLUMNS];
+    struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_SUN_COLUMNS)] = {
+        [SKY_CLOUD_COLUMNS_CLOUD] = buf(&cr->params),
+        [SKY_CLOUD_COLUMNS_SUN_DEPTH] = tex(&cr->sun_depth[cr->shadow.shown], cr->repeat),
+        [SKY_CLOUD_COLUMNS_SHADOW] = img(&cr->shadow.image[cr->shadow.shown]),
+    };
+    compute_pass_bind(ctx, pass, r);
+    const struct gpu_image *map = &cr->shadow.image[cr->shadow.shown];
+    const uint32_t size[3] = { map->width, map->height, 1 };
+    compute_pass_record(cmd, pass, push, size, local_2d);
+    gpu_timer_mark(timer, cmd, pass->name);
 }
 
 static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
@@ -397,6 +418,7 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
         .params = { cr->shadow_sun[0], cr->shadow_sun[1], cr->shadow_sun[2], 0.0f },
     };
     if (map_record(cr, &cr->shadow, cmd, timer, &cr->pass[P_SHADOW], &push, budget)) {
+        record_sun_columns(ctx, cr, cmd, timer, &push);
         cr->env_dirty = true;
         memcpy(cr->shown_shadow_sun, cr->shadow_sun, sizeof cr->shown_shadow_sun);
     }

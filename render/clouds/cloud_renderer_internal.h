@@ -41,6 +41,7 @@ struct shadow_key {
 enum {
     P_WEATHER,
     P_SHADOW,
+    P_SUN_COLUMNS,
     P_HEMISPHERE,
     P_HEMISPHERE_MOONLIT,
     P_HEMISPHERE_TOWERING,

@@ -1,4 +1,4 @@
-// Bindings 0-11 shared by the passes that march the cloud layers (trace, hemisphere): the
+// Bindings 0-12 shared by the passes that march the cloud layers (trace, hemisphere): the
 // atmosphere and frame blocks, the atmosphere LUTs, the cloud block, the noise volumes, the
 // weather map and the sky-view LUT. Then the atmosphere, density and march code.
 #include "cloud_layouts.h"
@@ -17,6 +17,8 @@ layout(binding = SKY_CLOUD_MARCH_WEATHER) uniform sampler2D weather_map;
 layout(binding = SKY_CLOUD_MARCH_SKYVIEW) uniform sampler2D skyview_lut;
 // The sun's optical depth through the low layer in sun space (cloud_shadow.comp).
 layout(binding = SKY_CLOUD_MARCH_SUN_DEPTH) uniform sampler3D sun_depth_volume;
+// Each sun column's transmittance, optical depth and support (cloud_sun_columns.comp).
+layout(binding = SKY_CLOUD_MARCH_SUN_COLUMNS) uniform sampler2D sun_column_map;
 // False in the pipelines for frames the moon does not light (cloud_renderer.c): they carry no
 // moonlight march.
 layout(constant_id = SKY_CLOUD_CONST_MOONLIT) const bool MOONLIT = true;

@@ -33,13 +33,23 @@
     X(SKY_CLOUD_SHADOW_CURL_NOISE, SAMPLED) X(SKY_CLOUD_SHADOW_WEATHER, SAMPLED)            \
     X(SKY_CLOUD_SHADOW_OUT, IMAGE) X(SKY_CLOUD_SHADOW_SUN_DEPTH_OUT, IMAGE)
 
+/* cloud_sun_columns.comp: after a shadow map's last slice, each sun column's support (how much
+ * of the cloud around it is still cloud to its sides) beside its transmittance and optical
+ * depth, from the finished volume. */
+#define SKY_CLOUD_COLUMNS_CLOUD 0
+#define SKY_CLOUD_COLUMNS_SUN_DEPTH 1
+#define SKY_CLOUD_COLUMNS_SHADOW 2
+#define SKY_LAYOUT_CLOUD_SUN_COLUMNS(X)                                                   \
+    X(SKY_CLOUD_COLUMNS_CLOUD, BLOCK) X(SKY_CLOUD_COLUMNS_SUN_DEPTH, SAMPLED)               \
+    X(SKY_CLOUD_COLUMNS_SHADOW, IMAGE)
+
 /* Altitude levels of the sun-space optical-depth volume (cloud_shadow.comp): cumulative
  * optical depth of the low layer along the sun's ray from its base up to each level. */
 #define SKY_CLOUD_SUN_DEPTH_LEVELS 16
 
 /* ---- passes that march the cloud layers (cloud_bindings.glsl) ---- */
 
-/* Bindings 0-11 of the hemisphere and trace passes (and the slab self-test). */
+/* Bindings 0-12 of the hemisphere and trace passes (and the slab self-test). */
 #define SKY_CLOUD_MARCH_ATMOSPHERE 0
 #define SKY_CLOUD_MARCH_FRAME 1
 #define SKY_CLOUD_MARCH_TRANSMITTANCE 2
@@ -52,28 +62,30 @@
 #define SKY_CLOUD_MARCH_WEATHER 9
 #define SKY_CLOUD_MARCH_SKYVIEW 10
 #define SKY_CLOUD_MARCH_SUN_DEPTH 11
+#define SKY_CLOUD_MARCH_SUN_COLUMNS 12
 #define SKY_LAYOUT_CLOUD_MARCH(X)                                                         \
     X(SKY_CLOUD_MARCH_ATMOSPHERE, BLOCK) X(SKY_CLOUD_MARCH_FRAME, BLOCK)                    \
     X(SKY_CLOUD_MARCH_TRANSMITTANCE, SAMPLED) X(SKY_CLOUD_MARCH_MULTISCATTERING, SAMPLED)   \
     X(SKY_CLOUD_MARCH_IRRADIANCE, SAMPLED) X(SKY_CLOUD_MARCH_CLOUD, BLOCK)                  \
     X(SKY_CLOUD_MARCH_BASE_NOISE, SAMPLED) X(SKY_CLOUD_MARCH_DETAIL_NOISE, SAMPLED)         \
     X(SKY_CLOUD_MARCH_CURL_NOISE, SAMPLED) X(SKY_CLOUD_MARCH_WEATHER, SAMPLED)              \
-    X(SKY_CLOUD_MARCH_SKYVIEW, SAMPLED) X(SKY_CLOUD_MARCH_SUN_DEPTH, SAMPLED)
+    X(SKY_CLOUD_MARCH_SKYVIEW, SAMPLED) X(SKY_CLOUD_MARCH_SUN_DEPTH, SAMPLED)               \
+    X(SKY_CLOUD_MARCH_SUN_COLUMNS, SAMPLED)
 /* Their specialization: the moon's light marched; towering clouds (cumulonimbus turrets and
  * anvils) in the weather map. */
 #define SKY_CLOUD_CONST_MOONLIT 0
 #define SKY_CLOUD_CONST_TOWERING 1
 
 /* cloud_hemisphere.comp */
-#define SKY_CLOUD_HEMISPHERE_ENV_OUT 12
+#define SKY_CLOUD_HEMISPHERE_ENV_OUT 13
 #define SKY_LAYOUT_CLOUD_HEMISPHERE(X)                                                    \
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_HEMISPHERE_ENV_OUT, BUFFER)
 
 /* cloud_trace.comp: with the view's froxel volume. */
-#define SKY_CLOUD_TRACE_COLOR_OUT 12
-#define SKY_CLOUD_TRACE_DEPTH_OUT 13
-#define SKY_CLOUD_TRACE_AP_INSCATTER 14
-#define SKY_CLOUD_TRACE_AP_TRANSMITTANCE 15
+#define SKY_CLOUD_TRACE_COLOR_OUT 13
+#define SKY_CLOUD_TRACE_DEPTH_OUT 14
+#define SKY_CLOUD_TRACE_AP_INSCATTER 15
+#define SKY_CLOUD_TRACE_AP_TRANSMITTANCE 16
 #define SKY_LAYOUT_CLOUD_TRACE(X)                                                         \
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_TRACE_COLOR_OUT, IMAGE)                           \
     X(SKY_CLOUD_TRACE_DEPTH_OUT, IMAGE) X(SKY_CLOUD_TRACE_AP_INSCATTER, SAMPLED)            \
@@ -82,13 +94,13 @@
 /* cloud_pathtrace.comp (the path-traced reference): sums of the samples so far (rgb luminance,
  * a transmittance; x depth x weight, y depth weight, z samples), the cloud image it writes
  * (as the reconstruction does), the view's froxel volume, and counters (pt_stats). */
-#define SKY_CLOUD_PATHTRACE_SUM 12
-#define SKY_CLOUD_PATHTRACE_DEPTH_SUM 13
-#define SKY_CLOUD_PATHTRACE_COLOR_OUT 14
-#define SKY_CLOUD_PATHTRACE_AP_INSCATTER 15
-#define SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE 16
-#define SKY_CLOUD_PATHTRACE_STATS 17
-#define SKY_CLOUD_PATHTRACE_GRID 18
+#define SKY_CLOUD_PATHTRACE_SUM 13
+#define SKY_CLOUD_PATHTRACE_DEPTH_SUM 14
+#define SKY_CLOUD_PATHTRACE_COLOR_OUT 15
+#define SKY_CLOUD_PATHTRACE_AP_INSCATTER 16
+#define SKY_CLOUD_PATHTRACE_AP_TRANSMITTANCE 17
+#define SKY_CLOUD_PATHTRACE_STATS 18
+#define SKY_CLOUD_PATHTRACE_GRID 19
 #define SKY_LAYOUT_CLOUD_PATHTRACE(X)                                                     \
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_PATHTRACE_SUM, IMAGE)                             \
     X(SKY_CLOUD_PATHTRACE_DEPTH_SUM, IMAGE) X(SKY_CLOUD_PATHTRACE_COLOR_OUT, IMAGE)         \
@@ -107,9 +119,9 @@
 /* tests/shaders/cloud_slab_selftest.comp (tests/reference/test_cloud_accuracy.c): one ray per
  * invocation. */
 #define SKY_CLOUD_SLAB_LOCAL 64
-#define SKY_CLOUD_SLAB_CASES 12
-#define SKY_CLOUD_SLAB_RAYS 13
-#define SKY_CLOUD_SLAB_RESULTS 14
+#define SKY_CLOUD_SLAB_CASES 13
+#define SKY_CLOUD_SLAB_RAYS 14
+#define SKY_CLOUD_SLAB_RESULTS 15
 #define SKY_LAYOUT_CLOUD_SLAB(X)                                                          \
     SKY_LAYOUT_CLOUD_MARCH(X) X(SKY_CLOUD_SLAB_CASES, BUFFER) X(SKY_CLOUD_SLAB_RAYS, BUFFER) \
     X(SKY_CLOUD_SLAB_RESULTS, BUFFER)
@@ -117,7 +129,7 @@
 /* tests/shaders/cloud_pathtrace_selftest.comp (tests/reference/test_cloud_pathtrace_slab.c):
  * the path tracer through a homogeneous deck, one sample per invocation; the slab self-test's
  * bindings with the path tracer's counters. */
-#define SKY_CLOUD_PT_SLAB_STATS 15
+#define SKY_CLOUD_PT_SLAB_STATS 16
 #define SKY_LAYOUT_CLOUD_PT_SLAB(X) SKY_LAYOUT_CLOUD_SLAB(X) X(SKY_CLOUD_PT_SLAB_STATS, BUFFER)
 
 /* ---- per-view passes ---- */

@@ -151,11 +151,11 @@ SunDepth sun_depths(vec3 p, vec3 dir, float marched, bool with_volume, float rea
     vec2 uv;
     if (with_volume && sun_depth_coords(p, dir, uv)) {
         float below = sun_column_below(uv, r);
-        vec2 totals = sun_column_totals(uv);
-        s.to_sun = marched + max(totals.x - sun_column_below(uv, reach_r), 0.0) + totals.y;
+        SunColumn column = sun_column(uv);
+        s.to_sun = marched + max(column.depth - sun_column_below(uv, reach_r), 0.0);
         s.behind = below;
-        s.smooth_to_sun = max(totals.x - below, 0.0) + totals.y;
-        s.support = 1.0;
+        s.smooth_to_sun = max(column.depth - below, 0.0);
+        s.support = column.support;
         return s;
     }
     s.to_sun = marched;

@@ -160,13 +160,8 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
     bool moon_on = moon_lights_clouds();
     vec3 p = o + s.t * d;
     float r = length(p);
-    vec2 uv;
-    bool sun_volume = s.sun_reach_r >= 0.0;
-    SunDepth sun_depth =
-        sun_depths(p, sun_dir, s.sun_marched, sun_volume, s.sun_reach_r, s.sigma_t, low_layer);
-    // It varies over hundreds of metres.
-    sun_depth.support =
-        sun_volume && sun_depth_coords(p, sun_dir, uv) ? sun_column_support(uv, sun_dir) : 1.0;
+    SunDepth sun_depth = sun_depths(p, sun_dir, s.sun_marched, s.sun_reach_r >= 0.0,
+                                    s.sun_reach_r, s.sigma_t, low_layer);
     SunDepth moon_depth = sun_depth;
     if (moon_on)
         moon_depth = sun_depths(p, frame.moon_direction.xyz, s.moon_marched,
@@ -175,10 +170,8 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
     // depth to the ground below the sample, its sunlit half becomes that share.
     vec2 below_uv;
     float ground_sun = 0.5;
-    if (low_layer && sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv)) {
-        vec2 totals = sun_column_totals(below_uv);
-        ground_sun = exp(-(totals.x + totals.y));
-    }
+    if (low_layer && sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv))
+        ground_sun = exp(-sun_column(below_uv).depth);
     float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
     vec3 ambient = mix(amb.bottom + amb.bottom_sun * (ground_sun - 0.5), amb.top, h);
     float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];

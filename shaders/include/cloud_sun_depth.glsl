@@ -3,7 +3,8 @@
 // point whose pattern position indexes the volume, and the volume holds that ray's optical
 // depth from the layer's base up to each of its altitude levels. Smooth and free of the
 // jitter of a march: the marches take the far part of the sun's optical depth from it.
-// Needs `cloud`, the atmosphere functions and a `sun_depth_volume` sampler (repeat addressing).
+// Needs `cloud`, the atmosphere functions and the `sun_depth_volume` and `sun_column_map`
+// samplers (repeat addressing).
 #ifndef CLOUD_SUN_DEPTH_GLSL
 #define CLOUD_SUN_DEPTH_GLSL
 
@@ -35,32 +36,19 @@ float sun_column_below(vec2 uv, float r)
     return textureLod(sun_depth_volume, vec3(uv, (h * (levels - 1.0) + 0.5) / levels), 0.0).r;
 }
 
-// The whole low layer's (x) and the high layer's (y) optical depths along the sun's ray.
-vec2 sun_column_totals(vec2 uv)
-{
-    const float levels = float(SKY_CLOUD_SUN_DEPTH_LEVELS);
-    return textureLod(sun_depth_volume, vec3(uv, (levels - 0.5) / levels), 0.0).rg;
-}
+// A sun column's state (cloud_shadow.comp, cloud_sun_columns.comp): the optical depth of both
+// layers along the sun's ray, the sunlight it lets through to the ground, and its support: how
+// much of the cloud around it is still cloud LATERAL_KM to its sides, in [0, 1] (1 in a deck,
+// less at the edge of a cloud of a few kilometres, whose diffuse light also leaves through its
+// sides).
+struct SunColumn {
+    float depth, transmittance, support;
+};
 
-// How much of the cloud around p's column is still cloud LATERAL_KM to its sides, in [0, 1]:
-// the four neighbouring sun columns' optical depths over p's own (1 in a deck, less at the
-// edge of a cloud of a few kilometres, whose diffuse light also leaves through its sides).
-const float LATERAL_KM = 0.4;
-float sun_column_support(vec2 uv, vec3 sun_dir)
+SunColumn sun_column(vec2 uv)
 {
-    float own = textureLod(sun_depth_volume, vec3(uv, 1.0 - 0.5 / float(SKY_CLOUD_SUN_DEPTH_LEVELS)), 0.0).r;
-    if (own <= 0.0)
-        return 1.0;
-    vec2 across = normalize(abs(sun_dir.x) + abs(sun_dir.y) > 1e-4 ? vec2(-sun_dir.y, sun_dir.x)
-                                                                     : vec2(1.0, 0.0));
-    vec2 along = vec2(-across.y, across.x);
-    vec2 step_a = across * LATERAL_KM * cloud.weather.z, step_b = along * LATERAL_KM * cloud.weather.z;
-    float z = 1.0 - 0.5 / float(SKY_CLOUD_SUN_DEPTH_LEVELS);
-    float sum = min(textureLod(sun_depth_volume, vec3(uv + step_a, z), 0.0).r, own) +
-                min(textureLod(sun_depth_volume, vec3(uv - step_a, z), 0.0).r, own) +
-                min(textureLod(sun_depth_volume, vec3(uv + step_b, z), 0.0).r, own) +
-                min(textureLod(sun_depth_volume, vec3(uv - step_b, z), 0.0).r, own);
-    return sum / (4.0 * own);
+    vec4 c = textureLod(sun_column_map, uv, 0.0);
+    return SunColumn(c.g, c.r, c.b);
 }
 
 #endif

@@ -112,6 +112,8 @@ bool slab_harness_create(struct vk_context *ctx, const struct options *o, struct
         [SKY_CLOUD_MARCH_WEATHER] = { .image = &h->weather, .sampler = smp },
         [SKY_CLOUD_MARCH_SKYVIEW] = { .image = &h->skyview, .sampler = smp },
         [SKY_CLOUD_MARCH_SUN_DEPTH] = { .image = &h->sun_depth, .sampler = smp },
+        /* Unread: slab_sun_depth.glsl gives the deck's columns. */
+        [SKY_CLOUD_MARCH_SUN_COLUMNS] = { .image = &h->weather, .sampler = smp },
         [SKY_CLOUD_SLAB_CASES] = { .buffer = &h->cases },
         [SKY_CLOUD_SLAB_RAYS] = { .buffer = &h->rays },
         [SKY_CLOUD_SLAB_RESULTS] = { .buffer = &h->results },

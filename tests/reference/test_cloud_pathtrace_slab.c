@@ -113,6 +113,7 @@ static bool device_run(struct device *d)
         [SKY_CLOUD_MARCH_WEATHER] = t2,
         [SKY_CLOUD_MARCH_SKYVIEW] = t2,
         [SKY_CLOUD_MARCH_SUN_DEPTH] = t3,
+        [SKY_CLOUD_MARCH_SUN_COLUMNS] = t2, /* unread: slab_sun_depth.glsl */
         [SKY_CLOUD_SLAB_CASES] = { .buffer = &d->cases },
         [SKY_CLOUD_SLAB_RAYS] = { .buffer = &d->counts },
         [SKY_CLOUD_SLAB_RESULTS] = { .buffer = &d->results },

@@ -17,15 +17,15 @@ float sun_column_below(vec2 uv, float r)
     return cloud.low.z * (clamp(r, cloud.low.x, cloud.low.y) - cloud.low.x) / uv.x;
 }
 
-vec2 sun_column_totals(vec2 uv)
-{
-    return vec2(cloud.low.z * (cloud.low.y - cloud.low.x) / uv.x, 0.0);
-}
+// The whole deck along the sun's ray; a deck has cloud on every side.
+struct SunColumn {
+    float depth, transmittance, support;
+};
 
-// A deck has cloud on every side.
-float sun_column_support(vec2 uv, vec3 sun_dir)
+SunColumn sun_column(vec2 uv)
 {
-    return 1.0;
+    float depth = cloud.low.z * (cloud.low.y - cloud.low.x) / uv.x;
+    return SunColumn(depth, exp(-depth), 1.0);
 }
 
 #endif
