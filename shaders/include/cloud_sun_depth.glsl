@@ -37,18 +37,18 @@ float sun_column_below(vec2 uv, float r)
 }
 
 // A sun column's state (cloud_shadow.comp, cloud_sun_columns.comp): the optical depth of both
-// layers along the sun's ray, the sunlight it lets through to the ground, and its support: how
+// layers along the sun's ray, and its support: how
 // much of the cloud around it is still cloud LATERAL_KM to its sides, in [0, 1] (1 in a deck,
 // less at the edge of a cloud of a few kilometres, whose diffuse light also leaves through its
 // sides).
 struct SunColumn {
-    float depth, transmittance, support;
+    float depth, support;
 };
 
 SunColumn sun_column(vec2 uv)
 {
     vec4 c = textureLod(sun_column_map, uv, 0.0);
-    return SunColumn(c.g, c.r, c.b);
+    return SunColumn(c.g, c.b);
 }
 
 #endif

@@ -19,13 +19,13 @@ float sun_column_below(vec2 uv, float r)
 
 // The whole deck along the sun's ray; a deck has cloud on every side.
 struct SunColumn {
-    float depth, transmittance, support;
+    float depth, support;
 };
 
 SunColumn sun_column(vec2 uv)
 {
     float depth = cloud.low.z * (cloud.low.y - cloud.low.x) / uv.x;
-    return SunColumn(depth, exp(-depth), 1.0);
+    return SunColumn(depth, 1.0);
 }
 
 #endif
