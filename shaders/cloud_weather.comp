@@ -19,7 +19,7 @@
 
 layout(local_size_x = SKY_CLOUD_LOCAL, local_size_y = SKY_CLOUD_LOCAL) in;
 layout(binding = SKY_CLOUD_WEATHER_CLIENT_MAP) uniform sampler2D client_map;
-layout(binding = SKY_CLOUD_WEATHER_OUT, rgba32f) uniform writeonly image2D weather_out;
+layout(binding = SKY_CLOUD_WEATHER_OUT, rgba16f) uniform writeonly image2D weather_out;
 layout(push_constant) uniform RowsPush { sky_cloud_rows_push push; };
 
 #define noise_seed push.seed
@@ -36,20 +36,30 @@ const float WORLEY_MEAN = 0.5706, WORLEY_SIGMA = 0.1893;
 
 // Octaves with fewer texels a cell than this fade out (gone at half of it): finer noise would
 // change from texel to texel, and the bilinear lookup of such a map draws clouds whose outlines
-// are stair steps one texel (117 m) high. The outlines' finer roughness comes from the 3D
-// billows (cloud_density.glsl).
+// are stair steps one texel high. The stratus field goes down to it (cells of 234 m over the
+// default 60 km map): the sheet's structure ends there, and below it its radiance falls
+// steeply with the finest octave's spectrum, as radiative smoothing leaves real decks below
+// 200 m (Davis et al. 1997); without that octave, the 3D shape's faint texture sets the slope
+// there. (At twice the texel, the bilinear lookup's kinks along the texel grid were the
+// decks' texture from 118 to 200 m.)
 const float MIN_TEXELS_PER_CELL = 4.0;
+// The fields that draw cumulus, towers, stratocumulus (which fair cumulus blend into) and the
+// high layer stop at cells of 1/128 of the map (470 m over 60 km): the outlines' finer
+// roughness comes from the 3D billows
+// (cloud_density.glsl), whose outlines have the area-perimeter dimension observed (about 1.35,
+// Lovejoy 1982); finer octaves of the map roughen them past 1.42.
+const float SHAPED_FINEST_CELLS = 128.0;
 
 // fBm of `octaves` octaves of gradient2 starting at `period` cells, amplitudes falling by
-// 2^-hurst per octave, in units of its own deviation (mean 0, deviation about 1). texels: the
-// map's width.
-float fbm2(vec2 x, ivec2 period, uint salt, int octaves, float hurst, float texels)
+// 2^-hurst per octave, in units of its own deviation (mean 0, deviation about 1). Octaves of
+// more cells across the map than finest_cells fade out (gone at twice as many).
+float fbm2(vec2 x, ivec2 period, uint salt, int octaves, float hurst, float finest_cells)
 {
     float sum = 0.0, power = 0.0, amp = 1.0;
     for (int o = 0; o < octaves; o++) {
         ivec2 cells = period << o;
-        float resolved = texels / float(max(cells.x, cells.y));
-        float a = amp * clamp(2.0 * resolved / MIN_TEXELS_PER_CELL - 1.0, 0.0, 1.0);
+        float resolved = finest_cells / float(max(cells.x, cells.y));
+        float a = amp * clamp(2.0 * resolved - 1.0, 0.0, 1.0);
         if (a > 0.0)
             sum += a * gradient2(x, cells, salt + uint(o));
         power += a * a;
@@ -100,7 +110,10 @@ const float CUMULUS_WEIGHT = 0.7, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5;
 // exponent H have outlines of dimension (3 - H) / 2 and a size distribution n(L) ~ L^-(3 - H)
 // (Kondev & Henley 1995); observed cumulus: D 1.3-1.4 (Lovejoy 1982), b 1.7-2.9. Decks: a
 // radiance spectrum k^-5/3 over 1-8 km (Cahalan & Snider 1989), E(k) ~ k^-(2H + 1): H = 1/3.
-const float CUMULUS_HURST = 0.3, TOWER_HURST = 0.6, DECK_HURST = 0.33;
+// The stratocumulus deck's field a little smoother (H = 0.4): its threshold and its cells
+// flatten the rendered spectrum to k^-1.30 over 1-8 km at H = 1/3, k^-1.37 at 0.4 (smoother
+// still, its small scales fade into the 3D shape's texture: k^-2.4 below 200 m at 0.45).
+const float CUMULUS_HURST = 0.3, TOWER_HURST = 0.6, DECK_HURST = 0.33, SC_DECK_HURST = 0.4;
 // The largest scales (6-25 km) of a cumulus field only nudge it: at full amplitude they would
 // clear or fill whole views, and a view's cloud fraction would stray from the coverage.
 const float CLUSTER_AMPLITUDE = 0.12;
@@ -149,7 +162,8 @@ void main()
     if (any(greaterThanEqual(px, size)))
         return;
     vec2 x = (vec2(px) + 0.5) / vec2(size);
-    float texels = float(size.x);
+    float shaped = min(SHAPED_FINEST_CELLS, float(size.x) / MIN_TEXELS_PER_CELL);
+    float decks = float(size.x) / MIN_TEXELS_PER_CELL;
     if (push.mode == 1u) {
         // Client rows run from the north edge southward; map rows from the south.
         imageStore(weather_out, px, textureLod(client_map, vec2(x.x, 1.0 - x.y), 0.0));
@@ -169,24 +183,24 @@ void main()
             // Cumulus: turrets gathered by a field whose variance lies in cells of 1.6 km and
             // less, nudged by clusters of 6-25 km (weak, so that a view of ten kilometres
             // holds about the coverage).
-            float clusters = fbm2(x, ivec2(max(1, cu_period / 16)), 15u, 3, CUMULUS_HURST, texels);
-            float field = fbm2(x, ivec2(cu_period), 11u, 5, CUMULUS_HURST, texels);
+            float clusters = fbm2(x, ivec2(max(1, cu_period / 16)), 15u, 3, CUMULUS_HURST, shaped);
+            float field = fbm2(x, ivec2(cu_period), 11u, 5, CUMULUS_HURST, shaped);
             score += w.z * cumulus_score(blend(field, clusters, CLUSTER_AMPLITUDE), p.x);
         }
         if (w.w > 0.0) { // cumulonimbus: few big cells whose cores are towers
-            float field = fbm2(x, ivec2(cb_period), 21u, 6, TOWER_HURST, texels);
+            float field = fbm2(x, ivec2(cb_period), 21u, 6, TOWER_HURST, shaped);
             score += w.w * coverage_score(field, p.x, TOWER_WEIGHT);
         }
         if (w.y > 0.0) {
             // Stratocumulus: closed cells (inverted cellular noise is high at a cell's centre
             // and low along its borders) in a deck that varies on every scale.
             float cells = (worley2(x, sc_period, 31u) - WORLEY_MEAN) / WORLEY_SIGMA;
-            float deck = fbm2(x, ivec2(max(1, st_period)), 32u, 7, DECK_HURST, texels);
+            float deck = fbm2(x, ivec2(max(1, st_period)), 32u, 7, SC_DECK_HURST, shaped);
             score += w.y * coverage_score(blend(cells, deck, DECK_SHARE),
                                           min(p.x, SHEET_MAX_COVERAGE), CELL_WEIGHT);
         }
         if (w.x > 0.0) { // stratus: a sheet whose thickness varies on every scale (above)
-            float field = fbm2(x, ivec2(st_period), 41u, 7, DECK_HURST, texels);
+            float field = fbm2(x, ivec2(st_period), 41u, 7, DECK_HURST, decks);
             float mean = probit(min(p.x, SHEET_MAX_COVERAGE));
             score += w.x * max(mean + SHEET_SPREAD * field, mean - SHEET_FLOOR);
         }
@@ -199,8 +213,8 @@ void main()
     float high = 0.0;
     if (p.y > 0.0) {
         float fibrous = float(push.high_fibrous) / 1000.0;
-        float veil = fbm2(x, ivec2(6), 13u, 3, 0.5, texels);
-        float streaks = fbm2(x, ivec2(3, 30), 16u, 4, 0.4, texels);
+        float veil = fbm2(x, ivec2(6), 13u, 3, 0.5, shaped);
+        float streaks = fbm2(x, ivec2(3, 30), 16u, 4, 0.4, shaped);
         // Signed: outside the veil it falls on to -1 and the lookup clamps it at 0, so that
         // the bilinear lookup draws its outlines between texel centres, not along texel edges.
         high = clamp((blend(veil, streaks, fibrous) - probit(1.0 - p.y)) / 0.6, -1.0, 1.0);

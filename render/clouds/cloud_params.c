@@ -40,7 +40,7 @@ void cloud_params_weather_periods(const struct sky_render_clouds *c, float perio
 {
     double extent = c->map_extent_km > 0.0 ? c->map_extent_km : 60.0;
     for (int i = 0; i < 4; i++)
-        /* At most 64 cells over the 512 texels of the map: 8 texels a cell at least. */
+        /* At most 64 cells across the map (its base octave): 16 texels a cell at least. */
         periods[i] = (float)fmin(64.0, fmax(1.0, round(extent / cell_km[i])));
 }
 

@@ -21,7 +21,10 @@
 #define RELATIVE_MAP_BUDGET 0.1
 #define FLOAT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
 #define SUN_DEPTH_FORMAT VK_FORMAT_R32G32_SFLOAT
-#define WEATHER_SIZE 512
+#define WEATHER_FORMAT VK_FORMAT_R16G16B16A16_SFLOAT
+/* 59 m a texel over the default 60 km: the kinks of its bilinear lookup along the texel grid lie
+ * below 120 m, where at 117 m they were the decks' whole texture from 118 to 200 m. */
+#define WEATHER_SIZE 1024
 #define SHADOW_SIZE 384
 /* The shadow map follows the sun once it has moved this far (radians, about 0.3 degree). */
 #define SHADOW_SUN_TOLERANCE 5e-3
@@ -103,7 +106,7 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
     VK_CHECK_GOTO(gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_REPEAT, &cr->repeat),
                   fail);
     if (cloud_noise_create(ctx, &cr->noise) != 0 ||
-        map_create(ctx, &cr->weather, FLOAT_FORMAT, WEATHER_SIZE, "cloud_weather",
+        map_create(ctx, &cr->weather, WEATHER_FORMAT, WEATHER_SIZE, "cloud_weather",
                    INITIAL_MS_PER_WEATHER_ROW) != 0 ||
         map_create(ctx, &cr->shadow, FLOAT_FORMAT, SHADOW_SIZE, "cloud_shadow",
                    INITIAL_MS_PER_SHADOW_ROW) != 0)
