@@ -20,13 +20,13 @@
 #include "commands.h"
 #include "config.h"
 #include "control_token.h"
-#include "serve_cluster.h"
 #include "log.h"
 #include "render_loop.h"
 #include "serve_reload.h"
 #include "service_metrics.h"
 #include "service_notify.h"
 #include "session.h"
+#include "shared_world.h"
 #include "state_store.h"
 #include "ws_server.h"
 
@@ -239,7 +239,7 @@ struct serve_parts {
     struct ws_server *server;
     struct service_notify *notify;
     struct serve_reload reload;
-    struct serve_cluster cluster; /* a shared world; its store outlives the loop */
+    struct shared_world *shared_world; /* outlives the loop */
 };
 
 /* The watchdog's question: the render thread ticks and rendering works. */
@@ -263,7 +263,7 @@ static void serve_teardown(struct serve_parts *parts)
     if (parts->hub)
         session_hub_set_wake(parts->hub, NULL, NULL);
     render_loop_destroy(&parts->loop);
-    serve_cluster_close(&parts->cluster);
+    shared_world_close(&parts->shared_world);
     if (parts->watch_started) {
         parts->watch.done = 1;
         pthread_kill(parts->watch.thread, SIGTERM); /* in case no signal came */
@@ -332,13 +332,11 @@ int skyd_cmd_serve(int argc, char **argv)
                                               .state_file = config.state_file };
     char err[512];
     if (config.cluster_redis[0]) {
-        if (!serve_cluster_open(&parts.cluster, &config, &loop_params.initial_state, err,
-                                sizeof err))
+        if (!(parts.shared_world = shared_world_open(&config, &loop_params.initial_state, err,
+                                                     sizeof err)))
             return serve_fail(&parts, err);
         loop_params.state_file = ""; /* the shared world lives in Redis */
-        loop_params.cluster = parts.cluster.store;
-        loop_params.cluster_start = parts.cluster.start;
-        loop_params.cluster_map = &parts.cluster.map;
+        loop_params.shared_world = parts.shared_world;
     } else {
         initial_state(config.state_file, &config.initial_state, &loop_params.initial_state);
     }
