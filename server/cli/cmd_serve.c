@@ -27,7 +27,7 @@
 #include "service_notify.h"
 #include "session.h"
 #include "shared_world.h"
-#include "state_store.h"
+#include "world_files.h"
 #include "ws_server.h"
 
 struct serve_options {
@@ -143,28 +143,6 @@ static bool load_config(const void *options, struct skyd_config *config)
         return false;
     }
     return true;
-}
-
-static void initial_state(const char *state_file, const struct sky_world_state *configured,
-                          struct sky_world_state *state)
-{
-    *state = *configured; /* the config's initial_state, unless a saved state is restored */
-    if (!state_file[0])
-        return;
-    char msg[1024];
-    switch (state_store_load(state_file, state, msg, sizeof msg)) {
-    case STATE_LOAD_RESTORED:
-        skyd_log(SKYD_LOG_INFO, "restored the world state (revision %llu) from %s",
-                (unsigned long long)state->revision, state_file);
-        break;
-    case STATE_LOAD_ABSENT:
-        skyd_log(SKYD_LOG_INFO, "%s", msg);
-        break;
-    case STATE_LOAD_CORRUPT:
-    case STATE_LOAD_FAILED:
-        skyd_log(SKYD_LOG_ERROR, "%s", msg);
-        break;
-    }
 }
 
 /* Signals are blocked in every thread; this one waits for them. */
@@ -338,7 +316,8 @@ int skyd_cmd_serve(int argc, char **argv)
         loop_params.state_file = ""; /* the shared world lives in Redis */
         loop_params.shared_world = parts.shared_world;
     } else {
-        initial_state(config.state_file, &config.initial_state, &loop_params.initial_state);
+        world_files_resume_state(config.state_file, &config.initial_state,
+                                 &loop_params.initial_state);
     }
     parts.hub = session_hub_create(NULL, NULL);
     parts.metrics = service_metrics_create();
