@@ -4,7 +4,7 @@
  * set_weather_map's format) is itself a oneOf over its variants. The members the rows leave to
  * code (the id, a set's patch, the view object, a preset's name, the weather map's data) are
  * written here; the patch is the world state's own schema. Built without cJSON's parser, which
- * is not thread-safe (server/base/json_guard.h), so any thread may call it. */
+ * is not thread-safe (server/base/include/json_guard.h), so any thread may call it. */
 #include "message_parser.h"
 #include "message_names.h"
 

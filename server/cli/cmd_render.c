@@ -12,7 +12,7 @@
 #include "jpeg_write.h"
 #include "png_write.h"
 #include "presets.h"
-#include "state_store.h"
+#include "world_files.h"
 #include "world_render.h"
 #include "world_sim.h"
 
@@ -156,8 +156,7 @@ static bool start_lapse_transition(struct cli_common *common, const struct lapse
 static bool load_weather_map(const char *path, struct sky_weather_map *map)
 {
     char msg[640];
-    if (state_store_read_weather_map(path, 16u << 20, map, msg, sizeof msg) ==
-        STATE_LOAD_RESTORED)
+    if (world_files_read_weather_map(path, 16u << 20, map, msg, sizeof msg))
         return true;
     fprintf(stderr, "skyd render: --weather-map: %s\n", msg);
     return false;

@@ -20,14 +20,14 @@
 #include "commands.h"
 #include "config.h"
 #include "control_token.h"
-#include "serve_cluster.h"
 #include "log.h"
 #include "render_loop.h"
 #include "serve_reload.h"
 #include "service_metrics.h"
 #include "service_notify.h"
 #include "session.h"
-#include "state_store.h"
+#include "shared_world.h"
+#include "world_files.h"
 #include "ws_server.h"
 
 struct serve_options {
@@ -145,28 +145,6 @@ static bool load_config(const void *options, struct skyd_config *config)
     return true;
 }
 
-static void initial_state(const char *state_file, const struct sky_world_state *configured,
-                          struct sky_world_state *state)
-{
-    *state = *configured; /* the config's initial_state, unless a saved state is restored */
-    if (!state_file[0])
-        return;
-    char msg[1024];
-    switch (state_store_load(state_file, state, msg, sizeof msg)) {
-    case STATE_LOAD_RESTORED:
-        skyd_log(SKYD_LOG_INFO, "restored the world state (revision %llu) from %s",
-                (unsigned long long)state->revision, state_file);
-        break;
-    case STATE_LOAD_ABSENT:
-        skyd_log(SKYD_LOG_INFO, "%s", msg);
-        break;
-    case STATE_LOAD_CORRUPT:
-    case STATE_LOAD_FAILED:
-        skyd_log(SKYD_LOG_ERROR, "%s", msg);
-        break;
-    }
-}
-
 /* Signals are blocked in every thread; this one waits for them. */
 struct signal_watch {
     pthread_t thread;
@@ -239,7 +217,7 @@ struct serve_parts {
     struct ws_server *server;
     struct service_notify *notify;
     struct serve_reload reload;
-    struct serve_cluster cluster; /* a shared world; its store outlives the loop */
+    struct shared_world *shared_world; /* outlives the loop */
 };
 
 /* The watchdog's question: the render thread ticks and rendering works. */
@@ -263,7 +241,7 @@ static void serve_teardown(struct serve_parts *parts)
     if (parts->hub)
         session_hub_set_wake(parts->hub, NULL, NULL);
     render_loop_destroy(&parts->loop);
-    serve_cluster_close(&parts->cluster);
+    shared_world_close(&parts->shared_world);
     if (parts->watch_started) {
         parts->watch.done = 1;
         pthread_kill(parts->watch.thread, SIGTERM); /* in case no signal came */
@@ -332,15 +310,14 @@ int skyd_cmd_serve(int argc, char **argv)
                                               .state_file = config.state_file };
     char err[512];
     if (config.cluster_redis[0]) {
-        if (!serve_cluster_open(&parts.cluster, &config, &loop_params.initial_state, err,
-                                sizeof err))
+        if (!(parts.shared_world = shared_world_open(&config, &loop_params.initial_state, err,
+                                                     sizeof err)))
             return serve_fail(&parts, err);
         loop_params.state_file = ""; /* the shared world lives in Redis */
-        loop_params.cluster = parts.cluster.store;
-        loop_params.cluster_start = parts.cluster.start;
-        loop_params.cluster_map = &parts.cluster.map;
+        loop_params.shared_world = parts.shared_world;
     } else {
-        initial_state(config.state_file, &config.initial_state, &loop_params.initial_state);
+        world_files_resume_state(config.state_file, &config.initial_state,
+                                 &loop_params.initial_state);
     }
     parts.hub = session_hub_create(NULL, NULL);
     parts.metrics = service_metrics_create();

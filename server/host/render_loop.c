@@ -13,6 +13,7 @@
 #include "log.h"
 #include "render_commands.h"
 #include "monotonic_clock.h"
+#include "shared_world_internal.h"
 #include "wall_clock.h"
 
 /* While only the simulation changes the state, it is written at most this often. */
@@ -348,14 +349,15 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     loop->on_failure = params->on_failure;
     loop->failure_user = params->failure_user;
     loop->metrics = params->metrics;
+    struct shared_world *shared = params->shared_world;
     struct world_host_params world = {
         .state_file = params->state_file,
         .initial_state = params->initial_state,
         .save_delay_s = params->config->state_save_delay_s,
         .now_s = monotonic_seconds(),
         .wall_s = wall_clock_seconds(),
-        .cluster = params->cluster,
-        .client_map = params->cluster_map,
+        .cluster = shared ? shared_world_store(shared) : NULL,
+        .client_map = shared ? shared_world_client_map(shared) : NULL,
     };
     ctx->world = world_host_create(&world);
     struct frame_scheduler_params frames = { .encoder_threads = params->config->encoder_threads,
@@ -386,9 +388,9 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         return NULL;
     }
     world_host_restore_weather_map(ctx->world, ctx->renderer);
-    if (params->cluster &&
-        !(ctx->cluster = cluster_sync_create(params->cluster, params->cluster_start,
-                                             encoder_done, loop, err, errlen))) {
+    if (shared && !(ctx->cluster = cluster_sync_create(shared_world_store(shared),
+                                                       shared_world_start(shared), encoder_done,
+                                                       loop, err, errlen))) {
         render_loop_destroy(&loop);
         return NULL;
     }

@@ -27,7 +27,7 @@
 
 enum sky_frame_format {
     SKY_FRAME_FORMAT_PNG = 1,   /* 8-bit sRGB RGBA, exposed and tonemapped */
-    SKY_FRAME_FORMAT_PNG16 = 2, /* 16-bit linear-light RGB before the tonemap (server/frames/png_write.h) */
+    SKY_FRAME_FORMAT_PNG16 = 2, /* 16-bit linear-light RGB before the tonemap (server/frames/include/png_write.h) */
     SKY_FRAME_FORMAT_JPEG = 3,  /* baseline JPEG of the same pixels as PNG, 4:2:0 */
 };
 

@@ -10,13 +10,12 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "cluster_entry.h"
-#include "cluster_store.h"
 #include "config.h"
-#include "messages.h"
 #include "live_settings.h"
+#include "messages.h"
 #include "service_metrics.h"
 #include "session.h"
+#include "shared_world.h"
 #include "world_state.h"
 
 struct render_loop_params {
@@ -26,12 +25,9 @@ struct render_loop_params {
     const char *config_dir;           /* presets: <config_dir>/atmosphere/<name>.json */
     const char *state_file;           /* "" = no persistence */
     struct sky_world_state initial_state;
-    /* A shared world: its store (borrowed, used by the render thread only, outliving the
-     * loop), the snapshot initial_state was read from (its map, its stream id) and the map
-     * decoded from it. NULL: the state file. */
-    struct cluster_store *cluster;
-    const struct cluster_entry *cluster_start;
-    const struct sky_weather_map *cluster_map;
+    /* A shared world initial_state was read from (shared_world.h): borrowed, used by the
+     * render thread only, outliving the loop. NULL: the state file. */
+    struct shared_world *shared_world;
     struct session_hub *hub;
     /* Counters for operators (frames, device losses) and the heartbeat of every tick, with
      * the revision, subscriptions and LUT progress; may be NULL. */

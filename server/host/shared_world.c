@@ -1,0 +1,104 @@
+#include "shared_world.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+#include "shared_world_internal.h"
+#include "wall_clock.h"
+#include "world_codec.h"
+#include "world_sim.h"
+
+struct shared_world {
+    struct cluster_store *store;
+    struct cluster_entry *start; /* the snapshot the node starts from */
+    struct sky_weather_map map;  /* its client weather map (no texels: none) */
+};
+
+/* Reads the world, made from `initial` when it does not exist yet, into *state. */
+static bool read_world(struct shared_world *w, const struct skyd_config *config,
+                       const struct sky_world_state *initial, struct sky_world_state *state,
+                       char *err, size_t errlen)
+{
+    char why[512];
+    char *initial_text = world_codec_state_text(initial);
+    if (!initial_text) {
+        snprintf(err, errlen, "out of memory");
+        return false;
+    }
+    w->start = cluster_store_open(w->store, config->initial_state.revision, initial_text, why,
+                                  sizeof why);
+    free(initial_text);
+    if (!w->start) {
+        snprintf(err, errlen, "/cluster: %s", why);
+        return false;
+    }
+    if (!world_codec_parse_state(w->start->state, state, why, sizeof why)) {
+        snprintf(err, errlen, "/cluster: the world %s holds a state this node cannot use: %s",
+                 cluster_store_name(w->store), why);
+        return false;
+    }
+    state->revision = w->start->revision;
+    if (w->start->map && !world_codec_parse_map(w->start->map, w->start->map_length, &w->map))
+        skyd_log(SKYD_LOG_WARNING, "the shared world's client weather map cannot be read");
+    return true;
+}
+
+struct shared_world *shared_world_open(const struct skyd_config *config,
+                                       struct sky_world_state *state, char *err,
+                                       size_t errlen)
+{
+    struct shared_world *w = calloc(1, sizeof *w);
+    if (!w) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    struct cluster_store_params params = { .url = config->cluster_redis,
+                                           .world = config->cluster_world };
+    char why[512];
+    w->store = cluster_store_create(&params, why, sizeof why);
+    if (!w->store) {
+        snprintf(err, errlen, "/cluster/redis: %s", why);
+        shared_world_close(&w);
+        return NULL;
+    }
+    /* A world made by this node gets its epoch now, so that every node that reads it later
+     * computes the same simulated instant (a node anchoring it at its own start would not). */
+    struct sky_world_state anchored = config->initial_state;
+    world_sim_anchor(&anchored, wall_clock_seconds());
+    if (!read_world(w, config, &anchored, state, err, errlen)) {
+        shared_world_close(&w);
+        return NULL;
+    }
+    skyd_log(SKYD_LOG_INFO, "shared world %s at revision %llu", cluster_store_name(w->store),
+             (unsigned long long)state->revision);
+    return w;
+}
+
+void shared_world_close(struct shared_world **world)
+{
+    struct shared_world *w = *world;
+    *world = NULL;
+    if (!w)
+        return;
+    cluster_entry_free(w->start);
+    sky_weather_map_free(&w->map);
+    cluster_store_destroy(&w->store);
+    free(w);
+}
+
+struct cluster_store *shared_world_store(struct shared_world *world)
+{
+    return world->store;
+}
+
+const struct cluster_entry *shared_world_start(const struct shared_world *world)
+{
+    return world->start;
+}
+
+const struct sky_weather_map *shared_world_client_map(const struct shared_world *world)
+{
+    return &world->map;
+}
