@@ -3,9 +3,11 @@ bad uploads (each leaving the state as it was), an upload above max_message_byte
 controller may send, rgba8 and PNG encodings, the revision and event it makes, frames that
 show it, the file beside the state, and returning to the procedural map."""
 
+import asyncio
 import base64
 import os
 import random
+import time
 
 from serve_harness import (FIRST_FRAME_TIMEOUT, bad_input, check, check_error, decode_png,
                            encode_png, short)
@@ -39,6 +41,23 @@ async def snapshot_mean(d, client, tag):
     with open(os.path.join(d.scratch, f"{tag}.png"), "wb") as f:  # for review
         f.write(binary[48:])
     return blueness(binary)
+
+
+# While a stream is subscribed the daemon builds new weather and shadow maps over frames
+# (frame_scheduler.c), and frames show the maps shown until then: a change appears once its
+# maps are built, seconds later on lavapipe under load.
+MAPS_BUILT_TIMEOUT = 60.0
+
+
+async def settled_snapshot_mean(d, client, tag, settled):
+    """Snapshots until `settled(blueness)` holds, or MAPS_BUILT_TIMEOUT has passed: the
+    last blueness (None when a snapshot failed)."""
+    deadline = time.monotonic() + MAPS_BUILT_TIMEOUT
+    while True:
+        value = await snapshot_mean(d, client, tag)
+        if value is None or settled(value) or time.monotonic() > deadline:
+            return value
+        await asyncio.sleep(0.5)
 
 
 async def t_weather_map(d, ctl, viewer):
@@ -95,7 +114,7 @@ async def t_weather_map(d, ctl, viewer):
     r = await ctl.request({"type": "set", "id": "wms", "patch": {
         "clock": {"sky_bodies": "manual"}, "sun": {"elevation_deg": 40, "azimuth_deg": 180}}})
     check("weather map: a fixed sun", r.get("type") == "ack", short(r))
-    procedural = await snapshot_mean(d, viewer, "wm-before")
+    procedural = await settled_snapshot_mean(d, viewer, "wm-before", lambda v: v > 40)
     before = await ctl.get_state()
 
     # 512 x 512 texels (1 MiB, 1.4 MB of base64): overcast low cloud with noise in every
@@ -131,7 +150,8 @@ async def t_weather_map(d, ctl, viewer):
     except (OSError, ValueError) as e:
         check("weather map: saved beside the state as a 512x512 PNG", False, repr(e))
 
-    overcast = await snapshot_mean(d, viewer, "wm-overcast")
+    overcast = await settled_snapshot_mean(
+        d, viewer, "wm-overcast", lambda v: procedural is not None and v < 0.5 * procedural)
     if procedural is not None and overcast is not None:
         check("weather map: frames show it (an overcast map greys the clear sky)",
               procedural > 40 and overcast < 0.5 * procedural,
@@ -146,7 +166,9 @@ async def t_weather_map(d, ctl, viewer):
     event = await viewer.wait_event(lambda e: e.get("revision") == revision + 1)
     check("weather map: event for a second map names only /weather/map",
           event is not None and event.get("changed") == ["/weather/map"], short(event))
-    cleared = await snapshot_mean(d, viewer, "wm-clear")
+    cleared = await settled_snapshot_mean(
+        d, viewer, "wm-clear", lambda v: procedural is not None
+        and abs(v - procedural) < 0.1 * procedural)
     if None not in (procedural, cleared):
         check("weather map: a clear map shows the clear sky again",
               abs(cleared - procedural) < 0.1 * procedural,
