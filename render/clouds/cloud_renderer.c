@@ -364,13 +364,13 @@ static void record_sun_columns(struct vk_context *ctx, struct cloud_renderer *cr
                                const struct sky_cloud_rows_push *push)
 {
     struct compute_pass *pass = &cr->pass[P_SUN_COLUMNS];
+    const struct gpu_image *map = &cr->shadow.image[cr->shadow.shown];
     struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_SUN_COLUMNS)] = {
         [SKY_CLOUD_COLUMNS_CLOUD] = buf(&cr->params),
         [SKY_CLOUD_COLUMNS_SUN_DEPTH] = tex(&cr->sun_depth[cr->shadow.shown], cr->repeat),
-        [SKY_CLOUD_COLUMNS_SHADOW] = img(&cr->shadow.image[cr->shadow.shown]),
+        [SKY_CLOUD_COLUMNS_SHADOW] = img(map),
     };
     compute_pass_bind(ctx, pass, r);
-    const struct gpu_image *map = &cr->shadow.image[cr->shadow.shown];
     const uint32_t size[3] = { map->width, map->height, 1 };
     compute_pass_record(cmd, pass, push, size, local_2d);
     gpu_timer_mark(timer, cmd, pass->name);

@@ -37,10 +37,9 @@ float sun_column_below(vec2 uv, float r)
 }
 
 // A sun column's state (cloud_shadow.comp, cloud_sun_columns.comp): the optical depth of both
-// layers along the sun's ray, and its support: how
-// much of the cloud around it is still cloud LATERAL_KM to its sides, in [0, 1] (1 in a deck,
-// less at the edge of a cloud of a few kilometres, whose diffuse light also leaves through its
-// sides).
+// layers along the sun's ray, and its support: how much of the cloud around it is still cloud
+// 400 m to its sides, in [0, 1] (1 in a deck, less at the edge of a cloud of a few kilometres,
+// whose diffuse light also leaves through its sides).
 struct SunColumn {
     float depth, support;
 };
