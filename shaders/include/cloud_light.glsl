@@ -219,7 +219,7 @@ const float ABSORPTION_SCALE = 0.5;
 // the sky ambient's share at a cloud's surface (0.5 would be half the sky scattered once;
 // more: the sky's light scattered again).
 const float LATERAL_LOSS = 1.0;
-const float FLOW_SCALE = 1.5;
+const float FLOW_SCALE = 1.6;
 const float AMBIENT_SHARE = 1.3;
 
 // Multiply scattered light is not all there yet at the lit surface: it builds up over the first
