@@ -442,16 +442,18 @@ int sky_passes_prepare_probe(struct vk_context *ctx, struct sky_passes *p, size_
         gpu_buffer_destroy(ctx, &p->probe_out);
         VkDeviceSize bytes = (VkDeviceSize)count * 4 * sizeof(float);
         VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-        VK_CHECK_GOTO(gpu_buffer_create(ctx, bytes, storage, "probe_in", &p->probe_in), fail);
-        VK_CHECK_GOTO(gpu_buffer_create(ctx, bytes, storage, "probe_out", &p->probe_out), fail);
+        VK_CHECK_GOTO(gpu_buffer_create(ctx, bytes, storage, "probe_in", &p->probe_in),
+                      forget_probes);
+        VK_CHECK_GOTO(gpu_buffer_create(ctx, bytes, storage, "probe_out", &p->probe_out),
+                      destroy_probe_in);
         p->probe_capacity = count;
         bind_passes(ctx, p);
     }
     memcpy(p->probe_in.mapped, in, count * 4 * sizeof(float));
     return 0;
-fail:
+destroy_probe_in:
     gpu_buffer_destroy(ctx, &p->probe_in);
-    gpu_buffer_destroy(ctx, &p->probe_out);
+forget_probes: /* the old pair is already gone */
     p->probe_capacity = 0;
     return -1;
 }

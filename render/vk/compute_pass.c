@@ -6,58 +6,17 @@
 #include "vk_context.h"
 #include "vk_resources.h"
 
-VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_desc *desc,
-                             struct compute_pass *out)
+/* The shader module lives only as long as it takes to make the pipeline. */
+static VkResult create_pipeline(struct vk_context *ctx, const struct compute_pass_desc *desc,
+                                VkPipelineLayout layout, VkPipeline *out)
 {
-    memset(out, 0, sizeof *out);
-    out->name = desc->name;
-    out->binding_count = desc->binding_count;
-    memcpy(out->bindings, desc->bindings, sizeof out->bindings);
-    out->push_constant_bytes = desc->push_constant_bytes;
-    VkShaderModule module = VK_NULL_HANDLE;
-    VkResult result;
-
-    VkDescriptorSetLayoutBinding bindings[COMPUTE_PASS_MAX_BINDINGS];
-    VkDescriptorPoolSize pool_sizes[COMPUTE_PASS_MAX_BINDINGS];
-    for (uint32_t i = 0; i < desc->binding_count; i++) {
-        bindings[i] = (VkDescriptorSetLayoutBinding){
-            .binding = i,
-            .descriptorType = desc->bindings[i],
-            .descriptorCount = 1,
-            .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
-        };
-        pool_sizes[i] = (VkDescriptorPoolSize){ desc->bindings[i], 1 };
-    }
-    VkDescriptorSetLayoutCreateInfo set_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-        .bindingCount = desc->binding_count,
-        .pBindings = bindings,
-    };
-    VK_CHECK_KEEP_GOTO(vkCreateDescriptorSetLayout(ctx->device, &set_info, NULL,
-                                                   &out->set_layout),
-                       result, fail);
-    VkPushConstantRange range = {
-        .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
-        .offset = 0,
-        .size = desc->push_constant_bytes,
-    };
-    VkPipelineLayoutCreateInfo layout_info = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-        .setLayoutCount = 1,
-        .pSetLayouts = &out->set_layout,
-        .pushConstantRangeCount = desc->push_constant_bytes ? 1 : 0,
-        .pPushConstantRanges = &range,
-    };
-    VK_CHECK_KEEP_GOTO(vkCreatePipelineLayout(ctx->device, &layout_info, NULL, &out->layout),
-                       result, fail);
-
     VkShaderModuleCreateInfo module_info = {
         .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
         .codeSize = desc->spirv_bytes,
         .pCode = desc->spirv,
     };
-    VK_CHECK_KEEP_GOTO(vkCreateShaderModule(ctx->device, &module_info, NULL, &module), result,
-                       fail);
+    VkShaderModule module;
+    VK_CHECK_RETURN(vkCreateShaderModule(ctx->device, &module_info, NULL, &module));
     uint32_t spec_count = desc->spec_count < COMPUTE_PASS_MAX_SPEC ? desc->spec_count
                                                                : COMPUTE_PASS_MAX_SPEC;
     VkSpecializationMapEntry entries[COMPUTE_PASS_MAX_SPEC];
@@ -78,14 +37,64 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
             .pName = "main",
             .pSpecializationInfo = spec_count ? &spec : NULL,
         },
-        .layout = out->layout,
+        .layout = layout,
     };
+    VkResult result;
     VK_CHECK_KEEP_GOTO(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &pipeline_info,
-                                                NULL, &out->pipeline),
-                       result, fail);
+                                                NULL, out),
+                       result, destroy_module);
+    vk_context_name_object(ctx, VK_OBJECT_TYPE_PIPELINE, (uint64_t)*out, desc->name);
+destroy_module:
     vkDestroyShaderModule(ctx->device, module, NULL);
-    module = VK_NULL_HANDLE;
-    vk_context_name_object(ctx, VK_OBJECT_TYPE_PIPELINE, (uint64_t)out->pipeline, desc->name);
+    return result;
+}
+
+VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_desc *desc,
+                             struct compute_pass *out)
+{
+    memset(out, 0, sizeof *out);
+    out->name = desc->name;
+    out->binding_count = desc->binding_count;
+    memcpy(out->bindings, desc->bindings, sizeof out->bindings);
+    out->push_constant_bytes = desc->push_constant_bytes;
+    VkResult result;
+
+    VkDescriptorSetLayoutBinding bindings[COMPUTE_PASS_MAX_BINDINGS];
+    VkDescriptorPoolSize pool_sizes[COMPUTE_PASS_MAX_BINDINGS];
+    for (uint32_t i = 0; i < desc->binding_count; i++) {
+        bindings[i] = (VkDescriptorSetLayoutBinding){
+            .binding = i,
+            .descriptorType = desc->bindings[i],
+            .descriptorCount = 1,
+            .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
+        };
+        pool_sizes[i] = (VkDescriptorPoolSize){ desc->bindings[i], 1 };
+    }
+    VkDescriptorSetLayoutCreateInfo set_info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .bindingCount = desc->binding_count,
+        .pBindings = bindings,
+    };
+    VK_CHECK_KEEP_GOTO(vkCreateDescriptorSetLayout(ctx->device, &set_info, NULL,
+                                                   &out->set_layout),
+                       result, report);
+    VkPushConstantRange range = {
+        .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
+        .offset = 0,
+        .size = desc->push_constant_bytes,
+    };
+    VkPipelineLayoutCreateInfo layout_info = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = 1,
+        .pSetLayouts = &out->set_layout,
+        .pushConstantRangeCount = desc->push_constant_bytes ? 1 : 0,
+        .pPushConstantRanges = &range,
+    };
+    VK_CHECK_KEEP_GOTO(vkCreatePipelineLayout(ctx->device, &layout_info, NULL, &out->layout),
+                       result, destroy_set_layout);
+    result = create_pipeline(ctx, desc, out->layout, &out->pipeline);
+    if (result != VK_SUCCESS)
+        goto destroy_layout;
 
     VkDescriptorPoolCreateInfo pool_info = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
@@ -94,22 +103,29 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
         .pPoolSizes = pool_sizes,
     };
     VK_CHECK_KEEP_GOTO(vkCreateDescriptorPool(ctx->device, &pool_info, NULL, &out->pool), result,
-                       fail);
+                       destroy_pipeline);
     VkDescriptorSetAllocateInfo alloc = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
         .descriptorPool = out->pool,
         .descriptorSetCount = 1,
         .pSetLayouts = &out->set_layout,
     };
-    VK_CHECK_KEEP_GOTO(vkAllocateDescriptorSets(ctx->device, &alloc, &out->set), result, fail);
+    VK_CHECK_KEEP_GOTO(vkAllocateDescriptorSets(ctx->device, &alloc, &out->set), result,
+                       destroy_pool);
     return VK_SUCCESS;
 
-fail:
+destroy_pool:
+    vkDestroyDescriptorPool(ctx->device, out->pool, NULL);
+destroy_pipeline:
+    vkDestroyPipeline(ctx->device, out->pipeline, NULL);
+destroy_layout:
+    vkDestroyPipelineLayout(ctx->device, out->layout, NULL);
+destroy_set_layout:
+    vkDestroyDescriptorSetLayout(ctx->device, out->set_layout, NULL);
+report:
     fprintf(stderr, "skyd: vulkan: cannot create compute pass %s\n", desc->name);
     vk_context_note_failure(ctx, result, "creating compute pass %s", desc->name);
-    if (module)
-        vkDestroyShaderModule(ctx->device, module, NULL);
-    compute_pass_destroy(ctx, out);
+    memset(out, 0, sizeof *out);
     return result;
 }
 

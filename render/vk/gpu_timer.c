@@ -28,9 +28,9 @@ struct gpu_timer *gpu_timer_create(struct vk_context *ctx)
         .queryType = VK_QUERY_TYPE_TIMESTAMP,
         .queryCount = GPU_TIMER_MAX_PASSES + 1,
     };
-    VK_CHECK_GOTO(vkCreateQueryPool(ctx->device, &info, NULL, &timer->pool), fail);
+    VK_CHECK_GOTO(vkCreateQueryPool(ctx->device, &info, NULL, &timer->pool), free_timer);
     return timer;
-fail:
+free_timer:
     free(timer);
     return NULL;
 }

@@ -28,6 +28,33 @@ static VkResult bind_new_memory(struct vk_context *ctx, VkMemoryRequirements req
     return vkAllocateMemory(ctx->device, &info, NULL, out);
 }
 
+/* Moves a new image to the general layout, cleared to zero so that a table read before its
+ * first build is black, never garbage. */
+static VkResult clear_image(struct vk_context *ctx, const struct gpu_image *image)
+{
+    VkCommandBuffer cmd;
+    VK_CHECK_RETURN(vk_context_begin_commands(ctx, &cmd));
+    VkImageMemoryBarrier barrier = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+        .srcAccessMask = 0,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+        .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+        .newLayout = VK_IMAGE_LAYOUT_GENERAL,
+        .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .image = image->image,
+        .subresourceRange = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1 },
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL, 0, NULL, 1, &barrier);
+    VkClearColorValue zero = { .float32 = { 0, 0, 0, 0 } };
+    vkCmdClearColorImage(cmd, image->image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1,
+                         &barrier.subresourceRange);
+    gpu_barrier_compute_to_compute(cmd);
+    VK_CHECK_RETURN(vk_context_submit_and_wait(ctx, &cmd));
+    return VK_SUCCESS;
+}
+
 static VkResult image_create(struct vk_context *ctx, VkFormat format, uint32_t width,
                              uint32_t height, uint32_t depth, uint32_t extent_width,
                              uint32_t extent_height, const char *name, struct gpu_image *out)
@@ -52,16 +79,16 @@ static VkResult image_create(struct vk_context *ctx, VkFormat format, uint32_t w
         .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
         .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
     };
-    VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkResult result;
-    VK_CHECK_KEEP_GOTO(vkCreateImage(ctx->device, &info, NULL, &out->image), result, fail);
+    VK_CHECK_KEEP_GOTO(vkCreateImage(ctx->device, &info, NULL, &out->image), result, report);
     vk_context_name_object(ctx, VK_OBJECT_TYPE_IMAGE, (uint64_t)out->image, name);
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(ctx->device, out->image, &req);
     VK_CHECK_KEEP_GOTO(
         bind_new_memory(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, &out->memory), result,
-        fail);
-    VK_CHECK_KEEP_GOTO(vkBindImageMemory(ctx->device, out->image, out->memory, 0), result, fail);
+        destroy_image);
+    VK_CHECK_KEEP_GOTO(vkBindImageMemory(ctx->device, out->image, out->memory, 0), result,
+                       free_memory);
 
     VkImageViewCreateInfo view = {
         .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
@@ -70,34 +97,23 @@ static VkResult image_create(struct vk_context *ctx, VkFormat format, uint32_t w
         .format = format,
         .subresourceRange = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1 },
     };
-    VK_CHECK_KEEP_GOTO(vkCreateImageView(ctx->device, &view, NULL, &out->view), result, fail);
-
-    VK_CHECK_KEEP_GOTO(vk_context_begin_commands(ctx, &cmd), result, fail);
-    VkImageMemoryBarrier barrier = {
-        .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-        .srcAccessMask = 0,
-        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-        .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-        .newLayout = VK_IMAGE_LAYOUT_GENERAL,
-        .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-        .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-        .image = out->image,
-        .subresourceRange = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1 },
-    };
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, NULL, 0, NULL, 1, &barrier);
-    /* Start from zero so a table read before its first build is black, never garbage. */
-    VkClearColorValue zero = { .float32 = { 0, 0, 0, 0 } };
-    vkCmdClearColorImage(cmd, out->image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1,
-                         &barrier.subresourceRange);
-    gpu_barrier_compute_to_compute(cmd);
-    VK_CHECK_KEEP_GOTO(vk_context_submit_and_wait(ctx, &cmd), result, fail);
+    VK_CHECK_KEEP_GOTO(vkCreateImageView(ctx->device, &view, NULL, &out->view), result,
+                       free_memory);
+    result = clear_image(ctx, out);
+    if (result != VK_SUCCESS)
+        goto destroy_view;
     return VK_SUCCESS;
 
-fail:
+destroy_view:
+    vkDestroyImageView(ctx->device, out->view, NULL);
+free_memory:
+    vkFreeMemory(ctx->device, out->memory, NULL);
+destroy_image:
+    vkDestroyImage(ctx->device, out->image, NULL);
+report:
     vk_context_note_failure(ctx, result, "creating image \"%s\" (%ux%ux%u)", name ? name : "",
                             width, height, out->depth);
-    gpu_image_destroy(ctx, out);
+    memset(out, 0, sizeof *out);
     return result;
 }
 
@@ -153,7 +169,7 @@ VkResult gpu_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBufferUs
         .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
     };
     VkResult result;
-    VK_CHECK_KEEP_GOTO(vkCreateBuffer(ctx->device, &info, NULL, &out->buffer), result, fail);
+    VK_CHECK_KEEP_GOTO(vkCreateBuffer(ctx->device, &info, NULL, &out->buffer), result, report);
     vk_context_name_object(ctx, VK_OBJECT_TYPE_BUFFER, (uint64_t)out->buffer, name);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx->device, out->buffer, &req);
@@ -161,16 +177,21 @@ VkResult gpu_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBufferUs
                                  VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     VK_CHECK_KEEP_GOTO(bind_new_memory(ctx, req, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT, host,
                                        &out->memory),
-                       result, fail);
-    VK_CHECK_KEEP_GOTO(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0), result, fail);
+                       result, destroy_buffer);
+    VK_CHECK_KEEP_GOTO(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0), result,
+                       free_memory);
     VK_CHECK_KEEP_GOTO(vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped),
-                       result, fail);
+                       result, free_memory);
     return VK_SUCCESS;
 
-fail:
+free_memory:
+    vkFreeMemory(ctx->device, out->memory, NULL);
+destroy_buffer:
+    vkDestroyBuffer(ctx->device, out->buffer, NULL);
+report:
     vk_context_note_failure(ctx, result, "creating buffer \"%s\" (%llu bytes)", name ? name : "",
                             (unsigned long long)size);
-    gpu_buffer_destroy(ctx, out);
+    memset(out, 0, sizeof *out);
     return result;
 }
 
