@@ -142,29 +142,29 @@ struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *param
     };
     r->ctx = vk_context_create(&ctx_params);
     if (!r->ctx)
-        goto fail;
+        goto destroy_partial;
     r->timer = gpu_timer_create(r->ctx);
     r->luts = atmosphere_luts_create();
     if (!r->luts)
-        goto fail;
+        goto destroy_partial;
     r->sizes = sizes_with_defaults(&p->lut_sizes);
     r->clouds = cloud_renderer_create(r->ctx, p->quiet);
     if (!r->clouds)
-        goto fail;
+        goto destroy_partial;
     struct sky_cloud_bindings no_clouds;
     cloud_renderer_no_clouds(r->clouds, &no_clouds);
     struct night_stars *stars = night_stars_create();
     if (!stars)
-        goto fail;
+        goto destroy_partial;
     size_t star_words;
     const uint32_t(*words)[4] = night_stars_words(stars, &star_words);
     struct sky_star_field field = { words, star_words, night_stars_brightest_lux(stars) };
     r->passes = sky_passes_create(r->ctx, &r->sizes, &no_clouds, &field);
     night_stars_destroy(&stars);
     if (!r->passes)
-        goto fail;
+        goto destroy_partial;
     return r;
-fail:
+destroy_partial:
     sky_renderer_destroy(&r);
     return NULL;
 }

@@ -55,21 +55,21 @@ static int entry_create(struct vk_context *ctx, struct cloud_history_entry *e, u
 {
     uint32_t tw = (w + (uint32_t)block - 1) / (uint32_t)block;
     uint32_t th = (h + (uint32_t)block - 1) / (uint32_t)block;
-    VK_CHECK_GOTO(image(ctx, tw, th, "cloud_trace", &e->trace_color), fail);
-    VK_CHECK_GOTO(image(ctx, tw, th, "cloud_trace_depth", &e->trace_depth), fail);
+    VK_CHECK_GOTO(image(ctx, tw, th, "cloud_trace", &e->trace_color), destroy_partial);
+    VK_CHECK_GOTO(image(ctx, tw, th, "cloud_trace_depth", &e->trace_depth), destroy_partial);
     for (int i = 0; i < 2; i++) {
-        VK_CHECK_GOTO(image(ctx, w, h, "cloud_history", &e->color[i]), fail);
-        VK_CHECK_GOTO(image(ctx, w, h, "cloud_history_aux", &e->aux[i]), fail);
+        VK_CHECK_GOTO(image(ctx, w, h, "cloud_history", &e->color[i]), destroy_partial);
+        VK_CHECK_GOTO(image(ctx, w, h, "cloud_history_aux", &e->aux[i]), destroy_partial);
     }
-    VK_CHECK_GOTO(image(ctx, w, h, "clouds_over_sky", &e->over_sky), fail);
-    VK_CHECK_GOTO(image(ctx, w, h, "clouds_over_ground", &e->over_ground), fail);
+    VK_CHECK_GOTO(image(ctx, w, h, "clouds_over_sky", &e->over_sky), destroy_partial);
+    VK_CHECK_GOTO(image(ctx, w, h, "clouds_over_ground", &e->over_ground), destroy_partial);
     e->use.in_use = true;
     e->key = key;
     e->width = w;
     e->height = h;
     e->block = block;
     return 0;
-fail:
+destroy_partial:
     entry_destroy(ctx, e);
     return -1;
 }

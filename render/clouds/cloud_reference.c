@@ -41,16 +41,16 @@ struct cloud_reference *cloud_reference_create(struct vk_context *ctx)
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_cloud_reference_stats),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "cloud_reference_stats",
                                     &ref->stats),
-                  fail);
+                  destroy_partial);
     memset(ref->stats.mapped, 0, sizeof(struct sky_cloud_reference_stats));
     for (int i = 0; i < 2; i++)
-        VK_CHECK_GOTO(compute_pass_create(ctx, &descs[i], &ref->pass[i]), fail);
-    VK_CHECK_GOTO(compute_pass_create(ctx, &majorant_desc, &ref->majorant), fail);
+        VK_CHECK_GOTO(compute_pass_create(ctx, &descs[i], &ref->pass[i]), destroy_partial);
+    VK_CHECK_GOTO(compute_pass_create(ctx, &majorant_desc, &ref->majorant), destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, SKY_CLOUD_MAJORANT_GRID_SIZE,
                                    SKY_CLOUD_MAJORANT_GRID_SIZE, 1, "cloud_majorant", &ref->grid),
-                  fail);
+                  destroy_partial);
     return ref;
-fail:
+destroy_partial:
     cloud_reference_destroy(ctx, &ref);
     return NULL;
 }

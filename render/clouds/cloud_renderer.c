@@ -104,36 +104,37 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
         return NULL;
     cr->quiet = quiet;
     VK_CHECK_GOTO(gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_REPEAT, &cr->repeat),
-                  fail);
+                  destroy_partial);
     if (cloud_noise_create(ctx, &cr->noise) != 0 ||
         map_create(ctx, &cr->weather, WEATHER_FORMAT, WEATHER_SIZE, "cloud_weather",
                    INITIAL_MS_PER_WEATHER_ROW) != 0 ||
         map_create(ctx, &cr->shadow, FLOAT_FORMAT, SHADOW_SIZE, "cloud_shadow",
                    INITIAL_MS_PER_SHADOW_ROW) != 0)
-        goto fail;
+        goto destroy_partial;
     for (int i = 0; i < 2; i++)
         VK_CHECK_GOTO(gpu_image_create(ctx, SUN_DEPTH_FORMAT, SHADOW_SIZE, SHADOW_SIZE,
                                        SKY_CLOUD_SUN_DEPTH_LEVELS, "cloud_sun_depth",
                                        &cr->sun_depth[i]),
-                      fail);
-    VK_CHECK_GOTO(gpu_image_create(ctx, FLOAT_FORMAT, 1, 1, 1, "cloud_none", &cr->dummy), fail);
+                      destroy_partial);
+    VK_CHECK_GOTO(gpu_image_create(ctx, FLOAT_FORMAT, 1, 1, 1, "cloud_none", &cr->dummy),
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, SUN_DEPTH_FORMAT, 1, 1, 2, "cloud_none_volume",
                                    &cr->dummy_volume),
-                  fail);
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_cloud_uniforms),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "cloud_params",
                                     &cr->params),
-                  fail);
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, 8 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                     "cloud_env", &cr->env),
-                  fail);
+                  destroy_partial);
     memset(cr->params.mapped, 0, sizeof(struct sky_cloud_uniforms));
     const float no_clouds[8] = { 0, 0, 0, 0, 1, 1, 1, 1 };
     memcpy(cr->env.mapped, no_clouds, sizeof no_clouds);
     for (int i = 0; i < P_COUNT; i++)
-        VK_CHECK_GOTO(compute_pass_create(ctx, &descs[i], &cr->pass[i]), fail);
+        VK_CHECK_GOTO(compute_pass_create(ctx, &descs[i], &cr->pass[i]), destroy_partial);
     return cr;
-fail:
+destroy_partial:
     cloud_renderer_destroy(ctx, &cr);
     return NULL;
 }

@@ -216,13 +216,13 @@ struct night_stars *night_stars_create(void)
     size_t count = 0;
     struct star *stars = ns ? make_stars(&count) : NULL;
     if (!stars || count >= NIGHT_STAR_EMPTY)
-        goto fail;
+        goto destroy_partial;
     size_t cells = (size_t)NIGHT_STAR_GRID_W * NIGHT_STAR_GRID_H;
     size_t cell_words = (cells + 1) / 2;
     ns->word_count = 1 + cell_words + 2 * count;
     ns->words = malloc(ns->word_count * sizeof *ns->words);
     if (!ns->words)
-        goto fail;
+        goto destroy_partial;
     ns->star_count = count;
     uint32_t *header = ns->words[0];
     header[0] = NIGHT_STAR_GRID_W;
@@ -246,7 +246,7 @@ struct night_stars *night_stars_create(void)
     }
     free(stars);
     return ns;
-fail:
+destroy_partial:
     free(stars);
     night_stars_destroy(&ns);
     return NULL;

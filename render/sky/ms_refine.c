@@ -125,16 +125,17 @@ struct ms_refine *ms_refine_create(struct vk_context *ctx)
     }
     const VkFormat f = VK_FORMAT_R32G32B32A32_SFLOAT;
     VK_CHECK_GOTO(gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_radiance_even",
-                                   &m->radiance[0]), fail);
+                                   &m->radiance[0]), destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_radiance_odd",
-                                   &m->radiance[1]), fail);
+                                   &m->radiance[1]), destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_density",
-                                   &m->density), fail);
+                                   &m->density), destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_sum", &m->sum),
-                  fail);
-    VK_CHECK_GOTO(gpu_image_create(ctx, f, SKY_MS_GROUND, 1, 1, "ms_ground", &m->ground), fail);
+                  destroy_partial);
+    VK_CHECK_GOTO(gpu_image_create(ctx, f, SKY_MS_GROUND, 1, 1, "ms_ground", &m->ground),
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, SKY_MS_MOMENTS * SKY_MS_MU_S, SKY_MS_R, 1, "ms_moments",
-                                   &m->moments), fail);
+                                   &m->moments), destroy_partial);
     for (int k = 0; k < STEP_KINDS; k++)
         for (uint32_t v = 0; v < variant_count(k); v++) {
             struct compute_pass_desc desc = descs[k];
@@ -143,10 +144,11 @@ struct ms_refine *ms_refine_create(struct vk_context *ctx)
                 desc.spec_values[SKY_MS_CONST_HIGHER] = v;
             }
             for (int parity = 0; parity < 2; parity++)
-                VK_CHECK_GOTO(compute_pass_create(ctx, &desc, &m->pass[k][parity][v]), fail);
+                VK_CHECK_GOTO(compute_pass_create(ctx, &desc, &m->pass[k][parity][v]),
+                              destroy_partial);
         }
     return m;
-fail:
+destroy_partial:
     ms_refine_destroy(ctx, &m);
     return NULL;
 }

@@ -142,19 +142,19 @@ static int create_luts(struct vk_context *ctx, struct sky_passes *p,
         for (int which = 0; which < 3; which++)
             VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, sizes[which][0], sizes[which][1], 1,
                                            names[copy][which], atmosphere_lut(p, copy, which)),
-                          fail);
+                          destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1, "skyview",
-                                   &p->skyview), fail);
+                                   &p->skyview), destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1,
-                                   "moon_skyview", &p->moon_skyview), fail);
+                                   "moon_skyview", &p->moon_skyview), destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_inscatter",
-                                   &p->ap_inscatter), fail);
+                                   &p->ap_inscatter), destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_transmittance",
-                                   &p->ap_transmittance), fail);
+                                   &p->ap_transmittance), destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_shafts",
-                                   &p->ap_shafts), fail);
+                                   &p->ap_shafts), destroy_partial);
     return 0;
-fail:
+destroy_partial:
     destroy_luts(ctx, p);
     return -1;
 }
@@ -335,35 +335,37 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
     p->metered_ev100 = NAN;
     p->clouds = p->ap_clouds = *clouds;
     VK_CHECK_GOTO(
-        gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, &p->sampler), fail);
+        gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, &p->sampler),
+        destroy_partial);
     for (int i = 0; i < PASS_COUNT; i++)
-        VK_CHECK_GOTO(compute_pass_create(ctx, &pass_descs[i], &p->pass[i]), fail);
+        VK_CHECK_GOTO(compute_pass_create(ctx, &pass_descs[i], &p->pass[i]), destroy_partial);
     p->composite = composite_variants_create();
     if (!p->composite)
-        goto fail;
+        goto destroy_partial;
     VkBufferUsageFlags params = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), params,
-                                    "atmosphere_params", &p->atmosphere_params), fail);
+                                    "atmosphere_params", &p->atmosphere_params), destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), params,
-                                    "build_atmosphere_params", &p->build_atmosphere_params), fail);
+                                    "build_atmosphere_params", &p->build_atmosphere_params),
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_frame_uniforms), params, "frame_params",
-                                    &p->frame_params), fail);
+                                    &p->frame_params), destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, 4 * sizeof(float), storage, "exposure", &p->exposure),
-                  fail);
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, SKY_METER_MAX_GROUPS * 2 * sizeof(float), storage,
-                                    "meter_partials", &p->meter_partials), fail);
+                                    "meter_partials", &p->meter_partials), destroy_partial);
     memset(p->exposure.mapped, 0, 4 * sizeof(float));
     if (create_stars(ctx, p, stars) != 0)
-        goto fail;
+        goto destroy_partial;
     if (create_luts(ctx, p, sizes) != 0)
-        goto fail;
+        goto destroy_partial;
     p->ms = ms_refine_create(ctx);
     if (!p->ms)
-        goto fail;
+        goto destroy_partial;
     bind_passes(ctx, p);
     return p;
-fail:
+destroy_partial:
     sky_passes_destroy(ctx, &p);
     return NULL;
 }

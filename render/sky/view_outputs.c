@@ -46,14 +46,14 @@ struct view_output *view_outputs_acquire(struct vk_context *ctx, struct view_out
     if (found)
         return s;
     VK_CHECK_GOTO(gpu_image_create_view_sized(ctx, format, width, height, "output", &s->image),
-                  fail);
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, (VkDeviceSize)width * height * texel_bytes,
                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT, "readback", &s->readback),
-                  fail);
+                  destroy_partial);
     s->use.in_use = true;
     *created = true;
     return s;
-fail:
+destroy_partial:
     release(ctx, s);
     return NULL;
 }

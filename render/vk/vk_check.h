@@ -1,5 +1,9 @@
 /* One VkResult check, always compiled in: it logs where the call failed and jumps to a
- * cleanup label named after what that label undoes. */
+ * cleanup label named after what that label undoes. The labels stand in reverse order of
+ * acquisition (destroy_view:, free_memory:, destroy_image:), so a failure jumps to the label
+ * for the last thing acquired and falls through the rest; a last report: says what failed. A
+ * create that hands a partial object to its own destroy, which frees whatever is there, jumps
+ * to destroy_partial:. */
 #ifndef SKYD_VK_CHECK_H
 #define SKYD_VK_CHECK_H
 

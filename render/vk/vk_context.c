@@ -298,8 +298,8 @@ struct vk_context *vk_context_create(const struct vk_context_params *params)
     ctx->validation_message_counter = p->validation_message_counter;
     fault_injection_init();
 
-    VK_CHECK_GOTO(create_instance(ctx, p->validation), fail);
-    VK_CHECK_GOTO(pick_physical_device(ctx, p), fail);
+    VK_CHECK_GOTO(create_instance(ctx, p->validation), destroy_partial);
+    VK_CHECK_GOTO(pick_physical_device(ctx, p), destroy_partial);
 
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue_info = {
@@ -317,7 +317,7 @@ struct vk_context *vk_context_create(const struct vk_context_params *params)
     VK_CHECK_GOTO(injected != VK_SUCCESS
                       ? injected
                       : vkCreateDevice(ctx->physical_device, &device_info, NULL, &ctx->device),
-                  fail);
+                  destroy_partial);
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
 
     VkCommandPoolCreateInfo pool_info = {
@@ -325,12 +325,13 @@ struct vk_context *vk_context_create(const struct vk_context_params *params)
         .flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT,
         .queueFamilyIndex = ctx->queue_family,
     };
-    VK_CHECK_GOTO(vkCreateCommandPool(ctx->device, &pool_info, NULL, &ctx->command_pool), fail);
+    VK_CHECK_GOTO(vkCreateCommandPool(ctx->device, &pool_info, NULL, &ctx->command_pool),
+                  destroy_partial);
     VkFenceCreateInfo fence_info = { .sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO };
-    VK_CHECK_GOTO(vkCreateFence(ctx->device, &fence_info, NULL, &ctx->fence), fail);
+    VK_CHECK_GOTO(vkCreateFence(ctx->device, &fence_info, NULL, &ctx->fence), destroy_partial);
     return ctx;
 
-fail:
+destroy_partial:
     vk_context_destroy(&ctx);
     return NULL;
 }
