@@ -145,10 +145,11 @@ static void handle_set(struct render_context *ctx, struct session *session,
     commit_state(ctx, session, &msg->id, &next);
 }
 
-static int list_presets(struct render_context *ctx, enum sky_preset_kind kind,
-                        char names[][SKY_PRESET_NAME_MAX + 1], int max)
+/* The folder's preset names into ctx->preset_names; -1 when the folder cannot be read. */
+static int list_presets(struct render_context *ctx, enum sky_preset_kind kind)
 {
-    return sky_preset_list(ctx->config_dir, preset_folders[kind], names, max);
+    return sky_preset_list(ctx->config_dir, preset_folders[kind], ctx->preset_names,
+                           SKY_MSG_MAX_PRESETS);
 }
 
 /* A weather preset: its weather parameters are reached through a transition (at once for
@@ -171,12 +172,11 @@ static void start_weather_preset(const struct sky_world_state *live,
 static void handle_apply_preset(struct render_context *ctx, struct session *session,
                                 const struct sky_client_msg *msg)
 {
-    static char names[SKY_MSG_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
     const char *folder = preset_folders[msg->preset.kind];
-    int count = list_presets(ctx, msg->preset.kind, names, SKY_MSG_MAX_PRESETS);
+    int count = list_presets(ctx, msg->preset.kind);
     bool known = false;
     for (int i = 0; i < count && !known; i++)
-        known = strcmp(names[i], msg->preset.name) == 0;
+        known = strcmp(ctx->preset_names[i], msg->preset.name) == 0;
     if (!known) {
         reply_error(session, &msg->id, SKY_MSG_ERR_NOT_FOUND,
                     "no %s preset \"%s\" (list_presets names them)", folder, msg->preset.name);
@@ -229,15 +229,14 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
 static void handle_list_presets(struct render_context *ctx, struct session *session,
                                 const struct sky_client_msg *msg)
 {
-    static char names[SKY_MSG_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
-    int count = list_presets(ctx, msg->preset.kind, names, SKY_MSG_MAX_PRESETS);
+    int count = list_presets(ctx, msg->preset.kind);
     if (count < 0) {
         reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "the preset folder cannot be read");
         return;
     }
     const char *list[SKY_MSG_MAX_PRESETS];
     for (int i = 0; i < count; i++)
-        list[i] = names[i];
+        list[i] = ctx->preset_names[i];
     reply(session, &msg->id,
           sky_msg_build_presets(&msg->id, msg->preset.kind, list, (size_t)count));
 }

@@ -14,6 +14,7 @@
 #include "messages.h"
 #include "frame_scheduler.h"
 #include "live_settings.h"
+#include "presets.h"
 #include "renderer_host.h"
 #include "session.h"
 #include "world_host.h"
@@ -34,6 +35,8 @@ struct render_context {
      * conflict_revision; the change is then made again over the caught-up state. */
     struct cluster_sync *cluster;
     uint64_t conflict_revision;
+    /* A preset folder's listing (16 KiB): the render thread's scratch, kept off its stack. */
+    char preset_names[SKY_MSG_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
 };
 
 /* false: a change to a shared world found it moved on; the caller tries the message again

@@ -53,6 +53,9 @@ struct render_loop {
     void *failure_user;
     struct service_metrics *metrics;
     char failure[384]; /* why the loop stopped on its own; "" while it runs (under lock) */
+    /* report_tick's scratch (10 KiB, kept off the stack): the render thread's, and the
+     * creating thread's before the render thread starts. */
+    struct sky_msg_subscription_stats traffic[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
 };
 
 static void free_command(struct command *c)
@@ -249,10 +252,9 @@ static void report_tick(struct render_loop *loop, double now)
         tick.cluster_connected = cluster_sync_connected(loop->ctx.cluster,
                                                         &tick.cluster_connections);
     service_metrics_tick(loop->metrics, &tick);
-    static struct sky_msg_subscription_stats traffic[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
-    size_t count = frame_scheduler_session_stats(loop->ctx.frames, NULL, traffic,
+    size_t count = frame_scheduler_session_stats(loop->ctx.frames, NULL, loop->traffic,
                                                  SERVICE_METRICS_MAX_SUBSCRIPTIONS);
-    service_metrics_subscriptions(loop->metrics, traffic, count);
+    service_metrics_subscriptions(loop->metrics, loop->traffic, count);
 }
 
 static void *thread_main(void *arg)

@@ -235,8 +235,10 @@ int renderer_host_probe(struct renderer_host *h, const struct sky_world_state *s
 static int warm_up_pipelines(struct renderer_host *h, const struct sky_world_state *state,
                              const struct sky_render_atmosphere *atmosphere)
 {
-    enum { WARM_W = 64, WARM_H = 36 };
-    static uint8_t rgba[WARM_W * WARM_H * 4];
+    enum { WARM_W = 64, WARM_H = 36, WARM_BYTES = WARM_W * WARM_H * 4 };
+    uint8_t *rgba = malloc(WARM_BYTES);
+    if (!rgba)
+        return -1;
     struct sky_world_state s = *state;
     s.clouds.low.coverage = fmax(s.clouds.low.coverage, 0.5);
     s.clouds.high.coverage = fmax(s.clouds.high.coverage, 0.3);
@@ -251,8 +253,9 @@ static int warm_up_pipelines(struct renderer_host *h, const struct sky_world_sta
         view.history_key = UINT64_MAX;
         view.live = true;
         /* at once: the weather and shadow maps within the frame */
-        status = renderer_host_render(h, &s, atmosphere, &view, true, rgba, sizeof rgba, NULL);
+        status = renderer_host_render(h, &s, atmosphere, &view, true, rgba, WARM_BYTES, NULL);
     }
+    free(rgba);
     return status;
 }
 

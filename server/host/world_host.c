@@ -15,6 +15,8 @@
 #include "world_render.h"
 #include "world_sim.h"
 
+enum { MAX_CHANGED = 192 };
+
 struct world_host {
     char state_file[SKYD_CONFIG_STRING];
     struct sky_world_state state;
@@ -35,6 +37,9 @@ struct world_host {
     /* A shared world: commits go to Redis; pending_map is the map set_weather_map commits. */
     struct cluster_store *cluster;
     const struct sky_weather_map *pending_map;
+    /* The pointers a commit, an entry or a simulation event names (24 KiB, kept off the render
+     * thread's stack); each fills and uses it within one call. */
+    char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
 };
 
 struct world_host *world_host_create(const struct world_host_params *params)
@@ -130,8 +135,6 @@ static void unpersist(struct world_host *h)
     }
 }
 
-enum { MAX_CHANGED = 192 };
-
 /* A shared world: the change goes to Redis, checked against the revision it was made from;
  * with the changed pointers ('\n' between them) and the map being set, if any. */
 static bool commit_to_cluster(struct world_host *h, const struct sky_world_state *next,
@@ -207,20 +210,19 @@ bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
                        struct sky_world_state *next, const char *also_changed, const char *by,
                        struct world_commit *out)
 {
-    static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
     world_sim_commit(&h->state, next, h->wall_s, h->drift);
-    size_t count = sky_msg_state_diff(&h->state, next, changed, MAX_CHANGED - 1);
+    size_t count = sky_msg_state_diff(&h->state, next, h->changed, MAX_CHANGED - 1);
     if (count > MAX_CHANGED - 1)
         count = MAX_CHANGED - 1;
     if (also_changed)
-        snprintf(changed[count++], SKY_MSG_POINTER_MAX, "%s", also_changed);
+        snprintf(h->changed[count++], SKY_MSG_POINTER_MAX, "%s", also_changed);
     if (count == 0)
         return true;
     const char *pointers[MAX_CHANGED];
     for (size_t i = 0; i < count; i++)
-        pointers[i] = changed[i];
+        pointers[i] = h->changed[i];
     next->revision = h->state.revision + 1;
     char why[448];
     if (h->cluster) {
@@ -271,7 +273,6 @@ static bool adopt_map(struct world_host *h, struct renderer_host *renderer,
 bool world_host_apply_entry(struct world_host *h, struct renderer_host *renderer,
                             const struct cluster_entry *e, char **event)
 {
-    static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
     *event = NULL;
     if (e->revision <= h->state.revision && !(e->snapshot && e->revision < h->state.revision))
         return true;
@@ -294,24 +295,24 @@ bool world_host_apply_entry(struct world_host *h, struct renderer_host *renderer
     bool map_changed = e->map && adopt_map(h, renderer, e);
     size_t count = 0;
     if (e->snapshot) {
-        count = sky_msg_state_diff(&h->state, &next, changed, MAX_CHANGED - 1);
+        count = sky_msg_state_diff(&h->state, &next, h->changed, MAX_CHANGED - 1);
         if (count > MAX_CHANGED - 1)
             count = MAX_CHANGED - 1;
         if (map_changed)
-            snprintf(changed[count++], SKY_MSG_POINTER_MAX, "/weather/map");
+            snprintf(h->changed[count++], SKY_MSG_POINTER_MAX, "/weather/map");
     } else {
         for (const char *p = e->changed; *p && count < MAX_CHANGED;) {
             size_t length = strcspn(p, "\n");
             if (length > 0 && length < SKY_MSG_POINTER_MAX) {
-                memcpy(changed[count], p, length);
-                changed[count++][length] = '\0';
+                memcpy(h->changed[count], p, length);
+                h->changed[count++][length] = '\0';
             }
             p += length + (p[length] == '\n');
         }
     }
     const char *pointers[MAX_CHANGED];
     for (size_t i = 0; i < count; i++)
-        pointers[i] = changed[i];
+        pointers[i] = h->changed[i];
     if (install(h, renderer, &next, pointers, count, e->snapshot ? "cluster" : e->by, event, why,
                 sizeof why) != 0) {
         fprintf(stderr, "skyd: the renderer did not take revision %llu: %s\n",
@@ -439,16 +440,14 @@ char *world_host_simulation_event(struct world_host *h, double now_s, double per
 {
     if (now_s - h->announced_at_s < period_s)
         return NULL;
-    enum { MAX_CHANGED = 192 };
-    static char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
-    size_t count = sky_msg_state_diff(&h->announced, &h->state, changed, MAX_CHANGED);
+    size_t count = sky_msg_state_diff(&h->announced, &h->state, h->changed, MAX_CHANGED);
     if (count == 0)
         return NULL;
     if (count > MAX_CHANGED)
         count = MAX_CHANGED;
     const char *pointers[MAX_CHANGED];
     for (size_t i = 0; i < count; i++)
-        pointers[i] = changed[i];
+        pointers[i] = h->changed[i];
     char *event = sky_msg_build_simulation_event(h->state.revision, pointers, count, &h->state);
     if (event) {
         h->announced = h->state;
