@@ -20,13 +20,13 @@ struct encoder_pool {
     int queued, running;
     bool stopping;
     struct session_hub *hub;
-    void (*done)(void *user);
-    void *done_user;
+    struct encoder_pool_callbacks callbacks;
     int thread_count;
     pthread_t threads[];
 };
 
-static void deliver(struct encode_job *job, struct encoded_frame *frame)
+static void deliver(struct encoder_pool *pool, struct encode_job *job,
+                    struct encoded_frame *frame)
 {
     for (size_t i = 0; i < job->target_count; i++) {
         struct encode_target *t = &job->targets[i];
@@ -34,10 +34,10 @@ static void deliver(struct encode_job *job, struct encoded_frame *frame)
             session_slot_deliver(t->session, t->subscription, frame);
         else if (frame)
             session_snapshot_deliver(t->session, &t->snapshot_id, frame);
-        else
-            session_snapshot_fail(t->session, &t->snapshot_id,
-                                  "encoding the frame failed (out of memory, or the daemon is "
-                                  "stopping)");
+        else if (session_snapshot_fail(t->session, &t->snapshot_id,
+                                       "encoding the frame failed (out of memory, or the "
+                                       "daemon is stopping)"))
+            pool->callbacks.failed(pool->callbacks.failed_user);
         session_unref(&t->session);
     }
     free(job->targets);
@@ -46,7 +46,7 @@ static void deliver(struct encode_job *job, struct encoded_frame *frame)
     job->pixels = NULL;
 }
 
-static void run_job(struct encode_job *job)
+static void run_job(struct encoder_pool *pool, struct encode_job *job)
 {
     uint8_t *encoded_bytes = NULL;
     size_t length = 0;
@@ -70,7 +70,7 @@ static void run_job(struct encode_job *job)
     if (encoded == 0)
         frame = encoded_frame_create(&job->meta, encoded_bytes, length);
     free(encoded_bytes);
-    deliver(job, frame);
+    deliver(pool, job, frame);
     encoded_frame_unref(&frame);
 }
 
@@ -90,13 +90,13 @@ static void *worker(void *arg)
         pool->queued--;
         pool->running++;
         pthread_mutex_unlock(&pool->lock);
-        run_job(&q->job);
+        run_job(pool, &q->job);
         free(q);
         session_hub_wake(pool->hub);
         pthread_mutex_lock(&pool->lock);
         pool->running--;
         pthread_mutex_unlock(&pool->lock);
-        pool->done(pool->done_user);
+        pool->callbacks.done(pool->callbacks.done_user);
         pthread_mutex_lock(&pool->lock);
     }
     pthread_mutex_unlock(&pool->lock);
@@ -104,7 +104,7 @@ static void *worker(void *arg)
 }
 
 struct encoder_pool *encoder_pool_create(int threads, struct session_hub *hub,
-                                         void (*done)(void *user), void *user)
+                                         const struct encoder_pool_callbacks *callbacks)
 {
     struct encoder_pool *pool = calloc(1, sizeof *pool + sizeof(pthread_t) * (size_t)threads);
     if (!pool)
@@ -112,8 +112,7 @@ struct encoder_pool *encoder_pool_create(int threads, struct session_hub *hub,
     pthread_mutex_init(&pool->lock, NULL);
     pthread_cond_init(&pool->work, NULL);
     pool->hub = hub;
-    pool->done = done;
-    pool->done_user = user;
+    pool->callbacks = *callbacks;
     for (int i = 0; i < threads; i++) {
         if (pthread_create(&pool->threads[i], NULL, worker, pool) != 0)
             break;
@@ -141,7 +140,7 @@ void encoder_pool_destroy(struct encoder_pool **pool_ptr)
     while (pool->head) {
         struct queued_job *q = pool->head;
         pool->head = q->next;
-        deliver(&q->job, NULL);
+        deliver(pool, &q->job, NULL);
         free(q);
     }
     pthread_cond_destroy(&pool->work);
@@ -153,7 +152,7 @@ void encoder_pool_submit(struct encoder_pool *pool, struct encode_job *job)
 {
     struct queued_job *q = calloc(1, sizeof *q);
     if (!q) {
-        deliver(job, NULL);
+        deliver(pool, job, NULL);
         return;
     }
     q->job = *job;

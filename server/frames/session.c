@@ -336,13 +336,14 @@ void session_snapshot_deliver(struct session *s, const struct sky_msg_id *id,
     pthread_mutex_unlock(&s->lock);
 }
 
-void session_snapshot_fail(struct session *s, const struct sky_msg_id *id, const char *message)
+bool session_snapshot_fail(struct session *s, const struct sky_msg_id *id, const char *message)
 {
     char *text = sky_msg_build_error(id, SKY_MSG_ERR_INTERNAL, message, NULL);
     if (text)
         session_push_text(s, text);
     free(text);
     session_snapshot_deliver(s, id, NULL);
+    return text != NULL;
 }
 
 static void take_text(struct session *s, struct session_output *out)

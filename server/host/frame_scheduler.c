@@ -117,15 +117,31 @@ static bool group_add(struct render_group *g, struct session *session, uint64_t 
     return true;
 }
 
+/* A snapshot answered with an error instead of its frame. The encoder workers call it too:
+ * service_metrics takes its own lock. */
+static void count_failed_snapshot(void *user)
+{
+    struct frame_scheduler *fs = user;
+    service_metrics_error(fs->metrics, SKY_MSG_ERR_INTERNAL);
+}
+
+static void fail_snapshot(struct frame_scheduler *fs, struct session *session,
+                          const struct sky_msg_id *id, const char *message)
+{
+    if (session_snapshot_fail(session, id, message))
+        count_failed_snapshot(fs);
+}
+
 /* A view that could not be rendered: its subscriptions skip a frame, its snapshots are
  * answered with `message`. */
-static void fail_targets(struct encode_target *targets, size_t count, const char *message)
+static void fail_targets(struct frame_scheduler *fs, struct encode_target *targets, size_t count,
+                         const char *message)
 {
     for (size_t i = 0; i < count; i++) {
         if (targets[i].subscription)
             session_slot_deliver(targets[i].session, targets[i].subscription, NULL);
         else
-            session_snapshot_fail(targets[i].session, &targets[i].snapshot_id, message);
+            fail_snapshot(fs, targets[i].session, &targets[i].snapshot_id, message);
         session_unref(&targets[i].session);
     }
     free(targets);
@@ -155,7 +171,7 @@ static void render_group(struct frame_scheduler *fs, struct world_host *world,
             snprintf(message, sizeof message, "%s failed: out of memory for its pixels", what);
         skyd_log(SKYD_LOG_ERROR, "%s", message);
         free(pixels);
-        fail_targets(g->targets, g->count, message);
+        fail_targets(fs, g->targets, g->count, message);
         session_hub_wake(fs->hub);
         return;
     }
@@ -399,8 +415,11 @@ struct frame_scheduler *frame_scheduler_create(const struct frame_scheduler_para
     fs->metrics = params->metrics;
     fs->encoder_threads = params->encoder_threads;
     fs->fps_window_start = monotonic_seconds();
-    fs->encoder = encoder_pool_create(params->encoder_threads, params->hub, params->encoded,
-                                      params->user);
+    struct encoder_pool_callbacks callbacks = { .done = params->encoded,
+                                                .done_user = params->user,
+                                                .failed = count_failed_snapshot,
+                                                .failed_user = fs };
+    fs->encoder = encoder_pool_create(params->encoder_threads, params->hub, &callbacks);
     if (!fs->encoder) {
         free(fs);
         return NULL;
@@ -526,7 +545,7 @@ void frame_scheduler_session_closed(struct frame_scheduler *fs, struct session *
 void frame_scheduler_fail_snapshots(struct frame_scheduler *fs, const char *message)
 {
     for (size_t i = 0; i < fs->snapshot_count; i++) {
-        session_snapshot_fail(fs->snapshots[i].session, &fs->snapshots[i].id, message);
+        fail_snapshot(fs, fs->snapshots[i].session, &fs->snapshots[i].id, message);
         session_unref(&fs->snapshots[i].session);
     }
     fs->snapshot_count = 0;

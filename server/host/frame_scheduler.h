@@ -23,7 +23,9 @@ struct frame_scheduler_params {
      * frame of that view). */
     void (*encoded)(void *user);
     void *user;
-    struct service_metrics *metrics; /* frames rendered and skipped, render times; may be NULL */
+    /* frames rendered and skipped, render times, snapshots answered with an error; may be
+     * NULL */
+    struct service_metrics *metrics;
 };
 
 struct frame_scheduler;

@@ -17,14 +17,32 @@ static const char *const preset_folders[] = {
     [SKY_PRESET_WEATHER] = "weather",
 };
 
-/* Queues a built message (NULL only when building failed, which the client hears of). */
-static void reply(struct session *session, const struct sky_msg_id *id, char *text)
+/* Every error the commands answer is built, counted and queued here. */
+static void send_error(struct render_context *ctx, struct session *session,
+                       const struct sky_msg_id *id, enum sky_msg_error_code code,
+                       const char *message, const struct sky_field_errors *fields)
 {
+    char *text = sky_msg_build_error(id, code, message, fields);
+    if (!text) {
+        code = SKY_MSG_ERR_INTERNAL;
+        text = sky_msg_build_error(id, code, "the reply could not be built", NULL);
+    }
     if (!text)
-        text = sky_msg_build_error(id, SKY_MSG_ERR_INTERNAL, "the reply could not be built",
-                                   NULL);
-    if (text)
-        session_push_text(session, text);
+        return;
+    service_metrics_error(ctx->metrics, code);
+    session_push_text(session, text);
+    free(text);
+}
+
+/* Queues a built message (NULL only when building failed, which the client hears of). */
+static void reply(struct render_context *ctx, struct session *session,
+                  const struct sky_msg_id *id, char *text)
+{
+    if (!text) {
+        send_error(ctx, session, id, SKY_MSG_ERR_INTERNAL, "the reply could not be built", NULL);
+        return;
+    }
+    session_push_text(session, text);
     free(text);
 }
 
@@ -46,10 +64,11 @@ static void log_refusal(struct session *session, const char *message)
 }
 
 #if defined(__GNUC__)
-__attribute__((format(printf, 4, 5)))
+__attribute__((format(printf, 5, 6)))
 #endif
-static void reply_error(struct session *session, const struct sky_msg_id *id,
-                        enum sky_msg_error_code code, const char *format, ...)
+static void reply_error(struct render_context *ctx, struct session *session,
+                        const struct sky_msg_id *id, enum sky_msg_error_code code,
+                        const char *format, ...)
 {
     char message[512];
     va_list args;
@@ -57,12 +76,13 @@ static void reply_error(struct session *session, const struct sky_msg_id *id,
     vsnprintf(message, sizeof message, format, args);
     va_end(args);
     log_refusal(session, message);
-    reply(session, id, sky_msg_build_error(id, code, message, NULL));
+    send_error(ctx, session, id, code, message, NULL);
 }
 
 /* A failed apply: pointers are into the message, so they gain the "/patch" prefix. */
-static void reply_field_errors(struct session *session, const struct sky_msg_id *id,
-                               const char *prefix, const struct sky_field_errors *errors)
+static void reply_field_errors(struct render_context *ctx, struct session *session,
+                               const struct sky_msg_id *id, const char *prefix,
+                               const struct sky_field_errors *errors)
 {
     struct sky_field_errors prefixed = *errors;
     for (int i = 0; i < prefixed.count; i++)
@@ -77,7 +97,7 @@ static void reply_field_errors(struct session *session, const struct sky_msg_id 
     else
         snprintf(message, sizeof message, "the patch was rejected");
     log_refusal(session, message);
-    reply(session, id, sky_msg_build_error(id, code, message, &prefixed));
+    send_error(ctx, session, id, code, message, &prefixed);
 }
 
 /* Who a state_changed names: the sender's hello name, else its role (only a controller
@@ -98,7 +118,7 @@ static void commit_refused(struct render_context *ctx, struct session *session,
         ctx->conflict_revision = commit->current;
         return;
     }
-    reply_error(session, id,
+    reply_error(ctx, session, id,
                 commit->status == WORLD_COMMIT_UNAVAILABLE ? SKY_MSG_ERR_UNAVAILABLE
                                                             : SKY_MSG_ERR_INTERNAL,
                 "%s", commit->error);
@@ -115,7 +135,7 @@ static bool commit_state(struct render_context *ctx, struct session *session,
         commit_refused(ctx, session, id, &commit);
         return false;
     }
-    reply(session, id, sky_msg_build_ack(id, commit.revision, SKY_ROLE_NONE));
+    reply(ctx, session, id, sky_msg_build_ack(id, commit.revision, SKY_ROLE_NONE));
     if (commit.event)
         session_hub_broadcast(ctx->hub, commit.event);
     free(commit.event);
@@ -129,16 +149,16 @@ static void handle_set(struct render_context *ctx, struct session *session,
     struct sky_world_state next = *live;
     struct sky_field_errors errors;
     if (!sky_world_state_apply_patch(&next, msg->set.patch, &errors)) {
-        reply_field_errors(session, &msg->id, "/patch", &errors);
+        reply_field_errors(ctx, session, &msg->id, "/patch", &errors);
         return;
     }
     sky_field_errors_clear(&errors);
     if (!world_sim_check_client_patch(live, &next, msg->set.patch, &errors)) {
-        reply_field_errors(session, &msg->id, "/patch", &errors);
+        reply_field_errors(ctx, session, &msg->id, "/patch", &errors);
         return;
     }
     if (world_host_client_map_missing(ctx->world, &next, &errors)) {
-        reply_field_errors(session, &msg->id, "/patch", &errors);
+        reply_field_errors(ctx, session, &msg->id, "/patch", &errors);
         return;
     }
     world_sim_client_changed(live, &next);
@@ -178,7 +198,7 @@ static void handle_apply_preset(struct render_context *ctx, struct session *sess
     for (int i = 0; i < count && !known; i++)
         known = strcmp(ctx->preset_names[i], msg->preset.name) == 0;
     if (!known) {
-        reply_error(session, &msg->id, SKY_MSG_ERR_NOT_FOUND,
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_NOT_FOUND,
                     "no %s preset \"%s\" (list_presets names them)", folder, msg->preset.name);
         return;
     }
@@ -192,8 +212,8 @@ static void handle_apply_preset(struct render_context *ctx, struct session *sess
     json_guard_unlock();
     if (!applied) {
         fprintf(stderr, "skyd: preset %s: %s\n", msg->preset.name, why);
-        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "preset \"%s\" cannot be applied: %s",
-                    msg->preset.name, why);
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_INTERNAL,
+                    "preset \"%s\" cannot be applied: %s", msg->preset.name, why);
         return;
     }
     if (msg->preset.kind == SKY_PRESET_WEATHER) {
@@ -202,7 +222,7 @@ static void handle_apply_preset(struct render_context *ctx, struct session *sess
                              msg->preset.has_transition ? msg->preset.transition_s : 0.0, &next);
     }
     if (world_host_client_map_missing(ctx->world, &next, &errors)) {
-        reply_field_errors(session, &msg->id, "", &errors);
+        reply_field_errors(ctx, session, &msg->id, "", &errors);
         return;
     }
     commit_state(ctx, session, &msg->id, &next);
@@ -220,7 +240,7 @@ static void handle_set_weather_map(struct render_context *ctx, struct session *s
         commit_refused(ctx, session, &msg->id, &commit);
         return;
     }
-    reply(session, &msg->id, sky_msg_build_ack(&msg->id, commit.revision, SKY_ROLE_NONE));
+    reply(ctx, session, &msg->id, sky_msg_build_ack(&msg->id, commit.revision, SKY_ROLE_NONE));
     if (commit.event)
         session_hub_broadcast(ctx->hub, commit.event);
     free(commit.event);
@@ -231,13 +251,14 @@ static void handle_list_presets(struct render_context *ctx, struct session *sess
 {
     int count = list_presets(ctx, msg->preset.kind);
     if (count < 0) {
-        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "the preset folder cannot be read");
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_INTERNAL,
+                    "the preset folder cannot be read");
         return;
     }
     const char *list[SKY_MSG_MAX_PRESETS];
     for (int i = 0; i < count; i++)
         list[i] = ctx->preset_names[i];
-    reply(session, &msg->id,
+    reply(ctx, session, &msg->id,
           sky_msg_build_presets(&msg->id, msg->preset.kind, list, (size_t)count));
 }
 
@@ -248,20 +269,20 @@ static void handle_auth(struct render_context *ctx, struct session *session,
     case LIVE_TOKEN_MATCHES:
         break;
     case LIVE_TOKEN_READ_ONLY:
-        reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "%s",
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "%s",
                     "this server is read-only (read_only in its configuration): "
                     "nobody can control it");
         return;
     case LIVE_TOKEN_NONE:
-        reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "%s",
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "%s",
                     "this server has no controller token: nobody can control it");
         return;
     case LIVE_TOKEN_WRONG:
-        reply_error(session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "wrong token");
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_AUTH_FAILED, "wrong token");
         return;
     }
     session_set_role(session, SKY_ROLE_CONTROLLER);
-    reply(session, &msg->id,
+    reply(ctx, session, &msg->id,
           sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
                             SKY_ROLE_CONTROLLER));
 }
@@ -272,21 +293,21 @@ static void handle_subscribe(struct render_context *ctx, struct session *session
     uint64_t id = 0;
     struct frame_refusal refused = frame_scheduler_subscribe(ctx->frames, session, &msg->view, &id);
     if (refused.code != SKY_MSG_OK) {
-        reply_error(session, &msg->id, refused.code, "%s", refused.message);
+        reply_error(ctx, session, &msg->id, refused.code, "%s", refused.message);
         return;
     }
-    reply(session, &msg->id, sky_msg_build_subscribed(&msg->id, id, &msg->view));
+    reply(ctx, session, &msg->id, sky_msg_build_subscribed(&msg->id, id, &msg->view));
 }
 
 static void handle_unsubscribe(struct render_context *ctx, struct session *session,
                                const struct sky_client_msg *msg)
 {
     if (frame_scheduler_unsubscribe(ctx->frames, session, msg->unsubscribe.subscription)) {
-        reply(session, &msg->id, sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
-                                                   SKY_ROLE_NONE));
+        reply(ctx, session, &msg->id,
+              sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision, SKY_ROLE_NONE));
         return;
     }
-    reply_error(session, &msg->id, SKY_MSG_ERR_NOT_FOUND,
+    reply_error(ctx, session, &msg->id, SKY_MSG_ERR_NOT_FOUND,
                 "this connection has no subscription %llu",
                 (unsigned long long)msg->unsubscribe.subscription);
 }
@@ -297,7 +318,7 @@ static void handle_snapshot(struct render_context *ctx, struct session *session,
     struct frame_refusal refused = frame_scheduler_snapshot(ctx->frames, session, &msg->id,
                                                             &msg->view);
     if (refused.code != SKY_MSG_OK)
-        reply_error(session, &msg->id, refused.code, "%s", refused.message);
+        reply_error(ctx, session, &msg->id, refused.code, "%s", refused.message);
 }
 
 static void handle_probe(struct render_context *ctx, struct session *session,
@@ -307,10 +328,10 @@ static void handle_probe(struct render_context *ctx, struct session *session,
     if (renderer_host_probe(ctx->renderer, world_host_state(ctx->world), &msg->probe, &result) != 0) {
         char why[512];
         renderer_host_describe_failure(ctx->renderer, "the probe", why, sizeof why);
-        reply_error(session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s", why);
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s", why);
         return;
     }
-    reply(session, &msg->id, sky_msg_build_probe_result(&msg->id, &result));
+    reply(ctx, session, &msg->id, sky_msg_build_probe_result(&msg->id, &result));
 }
 
 static void handle_stats(struct render_context *ctx, struct session *session,
@@ -342,7 +363,7 @@ static void handle_stats(struct render_context *ctx, struct session *session,
                                    .subscriptions = subscriptions,
                                    .subscription_count = subscription_count,
                                    .multiple_scattering = &ms };
-    reply(session, &msg->id, sky_msg_build_stats(&msg->id, &stats));
+    reply(ctx, session, &msg->id, sky_msg_build_stats(&msg->id, &stats));
 }
 
 static void handle_describe(struct render_context *ctx, struct session *session,
@@ -350,7 +371,7 @@ static void handle_describe(struct render_context *ctx, struct session *session,
 {
     struct sky_msg_limits limits;
     live_settings_limits(ctx->settings, &limits);
-    reply(session, &msg->id, sky_msg_build_schema(&msg->id, &limits));
+    reply(ctx, session, &msg->id, sky_msg_build_schema(&msg->id, &limits));
 }
 
 static void dispatch(struct render_context *ctx, struct session *session,
@@ -358,7 +379,7 @@ static void dispatch(struct render_context *ctx, struct session *session,
 {
     if (protocol_message_needs_controller(msg->type) &&
         session_role(session) != SKY_ROLE_CONTROLLER) {
-        reply_error(session, &msg->id, SKY_MSG_ERR_FORBIDDEN, "%s needs the controller role",
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_FORBIDDEN, "%s needs the controller role",
                     sky_msg_type_name(msg->type));
         return;
     }
@@ -367,15 +388,17 @@ static void dispatch(struct render_context *ctx, struct session *session,
         if (msg->hello.has_client)
             session_set_client_name(session, msg->hello.client);
         session_set_simulation_events(session, msg->hello.simulation_events);
-        reply(session, &msg->id, sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
-                                                   SKY_ROLE_NONE));
+        reply(ctx, session, &msg->id,
+              sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision, SKY_ROLE_NONE));
         break;
     case SKY_MSG_NONE:
-        reply(session, &msg->id, sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
-                                                   SKY_ROLE_NONE));
+        reply(ctx, session, &msg->id,
+              sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision, SKY_ROLE_NONE));
         break;
     case SKY_MSG_AUTH: handle_auth(ctx, session, msg); break;
-    case SKY_MSG_GET_STATE: reply(session, &msg->id, sky_msg_build_state(&msg->id, world_host_state(ctx->world))); break;
+    case SKY_MSG_GET_STATE:
+        reply(ctx, session, &msg->id, sky_msg_build_state(&msg->id, world_host_state(ctx->world)));
+        break;
     case SKY_MSG_SET: handle_set(ctx, session, msg); break;
     case SKY_MSG_SUBSCRIBE: handle_subscribe(ctx, session, msg); break;
     case SKY_MSG_UNSUBSCRIBE: handle_unsubscribe(ctx, session, msg); break;
@@ -407,7 +430,7 @@ bool render_commands_handle(struct render_context *ctx, struct session *session,
     if (wanted != 0 && waited_s < RETRY_S) {
         done = false;
     } else if (wanted != 0) {
-        reply_error(session, &msg->id, SKY_MSG_ERR_UNAVAILABLE,
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_UNAVAILABLE,
                     "the shared world is at revision %llu and this node could not catch up "
                     "with it within %.0f s; the change is not applied",
                     (unsigned long long)wanted, RETRY_S);

@@ -16,6 +16,7 @@
 #include "live_settings.h"
 #include "presets.h"
 #include "renderer_host.h"
+#include "service_metrics.h"
 #include "session.h"
 #include "world_host.h"
 #include "world_state.h"
@@ -31,6 +32,7 @@ struct render_context {
     struct world_host *world;
     struct frame_scheduler *frames;
     struct renderer_host *renderer;
+    struct service_metrics *metrics; /* counts the errors the commands answer; may be NULL */
     /* A shared world (NULL: the state file). A commit that finds the world moved on sets
      * conflict_revision; the change is then made again over the caught-up state. */
     struct cluster_sync *cluster;

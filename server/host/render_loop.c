@@ -51,7 +51,6 @@ struct render_loop {
     double last_trim_s;
     void (*on_failure)(void *user);
     void *failure_user;
-    struct service_metrics *metrics;
     char failure[384]; /* why the loop stopped on its own; "" while it runs (under lock) */
     /* report_tick's scratch (10 KiB, kept off the stack): the render thread's, and the
      * creating thread's before the render thread starts. */
@@ -186,12 +185,12 @@ static bool renderer_usable(struct render_loop *loop)
     case RENDERER_HOST_OK:
         return true;
     case RENDERER_HOST_REBUILT:
-        service_metrics_device_lost(loop->metrics);
+        service_metrics_device_lost(loop->ctx.metrics);
         /* The LUTs were built at once for the atmosphere frames are asked to show. */
         world_host_renderer_rebuilt(ctx->world);
         return true;
     case RENDERER_HOST_FAILED:
-        service_metrics_device_lost(loop->metrics);
+        service_metrics_device_lost(loop->ctx.metrics);
         break;
     }
     stop_on_failure(loop, why);
@@ -251,10 +250,10 @@ static void report_tick(struct render_loop *loop, double now)
     if (loop->ctx.cluster)
         tick.cluster_connected = cluster_sync_connected(loop->ctx.cluster,
                                                         &tick.cluster_connections);
-    service_metrics_tick(loop->metrics, &tick);
+    service_metrics_tick(loop->ctx.metrics, &tick);
     size_t count = frame_scheduler_session_stats(loop->ctx.frames, NULL, loop->traffic,
                                                  SERVICE_METRICS_MAX_SUBSCRIPTIONS);
-    service_metrics_subscriptions(loop->metrics, loop->traffic, count);
+    service_metrics_subscriptions(loop->ctx.metrics, loop->traffic, count);
 }
 
 static void *thread_main(void *arg)
@@ -350,7 +349,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
 
     loop->on_failure = params->on_failure;
     loop->failure_user = params->failure_user;
-    loop->metrics = params->metrics;
+    ctx->metrics = params->metrics;
     struct shared_world *shared = params->shared_world;
     struct world_host_params world = {
         .state_file = params->state_file,

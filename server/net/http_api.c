@@ -247,8 +247,7 @@ static bool take_reply(struct http_api *api, struct http_request *r)
                     : SKY_MSG_OK;
             if (value == SKY_MSG_OK)
                 value = SKY_MSG_ERR_INTERNAL;
-            service_metrics_error(api->metrics, value);
-            respond_json(r, status_of_error(value), reply);
+            respond_json(r, status_of_error(value), reply); /* counted where it was built */
         } else if (strcmp(kind, "ack") == 0) {
             cJSON *answer = cJSON_CreateObject();
             cJSON_AddItemToObject(answer, "revision",

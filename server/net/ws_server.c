@@ -89,6 +89,17 @@ static int confirm_upgrade(struct ws_server *srv, struct lws *wsi)
     return 0;
 }
 
+/* Every error the lws thread answers is built and counted here. */
+static char *build_error(struct ws_server *srv, const struct sky_msg_id *id,
+                         enum sky_msg_error_code code, const char *message,
+                         const struct sky_field_errors *fields)
+{
+    char *text = sky_msg_build_error(id, code, message, fields);
+    if (text)
+        service_metrics_error(srv->metrics, code);
+    return text;
+}
+
 static void queue_and_wake(struct lws *wsi, struct session *session, char *text)
 {
     if (text)
@@ -119,7 +130,7 @@ static int on_established(struct ws_server *srv, struct lws *wsi, struct connect
                  srv->limits.max_clients);
         skyd_log(SKYD_LOG_WARNING, "connection %llu refused: %s", c->number, message);
         queue_and_wake(wsi, c->session,
-                       sky_msg_build_error(NULL, SKY_MSG_ERR_LIMIT_REACHED, message, NULL));
+                       build_error(srv, NULL, SKY_MSG_ERR_LIMIT_REACHED, message, NULL));
         session_request_close(c->session, SESSION_CLOSE_POLICY, "too many clients", true);
         return 0;
     }
@@ -176,16 +187,16 @@ static void on_message(struct ws_server *srv, struct connection *c)
     struct sky_client_msg msg;
     memset(&msg, 0, sizeof msg);
     if (c->rx_binary) {
-        error = sky_msg_build_error(NULL, SKY_MSG_ERR_INVALID_ENCODING,
-                                    "binary messages are not accepted: send JSON text", NULL);
+        error = build_error(srv, NULL, SKY_MSG_ERR_INVALID_ENCODING,
+                            "binary messages are not accepted: send JSON text", NULL);
     } else if (c->rx_out_of_memory) {
-        error = sky_msg_build_error(NULL, SKY_MSG_ERR_INTERNAL,
-                                    "out of memory while receiving this message", NULL);
+        error = build_error(srv, NULL, SKY_MSG_ERR_INTERNAL,
+                            "out of memory while receiving this message", NULL);
     } else if (c->rx_length > c->rx_limit) {
         snprintf(message, sizeof message, "message of %zu bytes is larger than %s (%zu)",
                  c->rx_length, c->rx_limit > srv->limits.max_message_bytes ? "max_upload_bytes"
                  : "max_message_bytes", c->rx_limit);
-        error = sky_msg_build_error(NULL, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message, NULL);
+        error = build_error(srv, NULL, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message, NULL);
     } else {
         struct sky_msg_parse_error parse_error;
         json_guard_lock();
@@ -196,11 +207,12 @@ static void on_message(struct ws_server *srv, struct connection *c)
         if (!allowed) {
             snprintf(message, sizeof message, "more than %g messages per second; this one was "
                      "dropped", srv->limits.control_messages_per_second);
-            error = sky_msg_build_error(&msg.id, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
+            error = build_error(srv, &msg.id, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
         } else if (code == SKY_MSG_OK) {
             render_loop_submit_message(srv->loop, c->session, &msg);
         } else {
-            error = sky_msg_build_parse_error(&msg, &parse_error);
+            error = build_error(srv, &msg.id, parse_error.code, parse_error.message,
+                                &parse_error.fields);
             if (msg.type == SKY_MSG_AUTH || protocol_message_needs_controller(msg.type))
                 skyd_log(SKYD_LOG_WARNING, "%s refused from connection %llu (%s): %s",
                          sky_msg_type_name(msg.type), c->number, c->peer, parse_error.message);
@@ -267,23 +279,6 @@ static void on_receive(struct ws_server *srv, struct lws *wsi, struct connection
         on_message(srv, c);
 }
 
-/* Every error a client hears passes here, whoever built it (the replies are cJSON's compact
- * print, whose members keep the builder's order: type, id, code). */
-static void count_error(struct ws_server *srv, const char *text, size_t length)
-{
-    static const char error_type[] = "{\"type\":\"error\"";
-    static const char code_key[] = "\"code\":\"";
-    if (length < sizeof error_type || memcmp(text, error_type, sizeof error_type - 1) != 0)
-        return;
-    const char *code = strstr(text, code_key);
-    const char *end = code ? strchr(code + sizeof code_key - 1, '"') : NULL;
-    enum sky_msg_error_code value =
-        end ? sky_msg_error_code_named(code + sizeof code_key - 1,
-                                       (size_t)(end - (code + sizeof code_key - 1)))
-            : SKY_MSG_OK;
-    service_metrics_error(srv->metrics, value); /* SKY_MSG_OK counts as internal */
-}
-
 static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connection *c)
 {
     if (!c->session)
@@ -295,7 +290,6 @@ static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connectio
     case SESSION_OUTPUT_NONE:
         break;
     case SESSION_OUTPUT_TEXT:
-        count_error(srv, out.text, out.length);
         if (lws_write(wsi, (unsigned char *)out.text, out.length, LWS_WRITE_TEXT) <
             (int)out.length)
             rc = -1;

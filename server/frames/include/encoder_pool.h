@@ -29,10 +29,19 @@ struct encode_job {
 
 struct encoder_pool;
 
-/* done(user) is called from a worker after each job (the render thread waits on it to start
- * the next frame of a busy subscription). */
+/* What the pool tells its owner. done(done_user) is called from a worker after each job (the
+ * render thread waits on it to start the next frame of a busy subscription). failed(failed_user)
+ * is called for each snapshot answered with an `internal` error instead of its frame, from a
+ * worker or, for a job that never ran, from encoder_pool_submit or encoder_pool_destroy. */
+struct encoder_pool_callbacks {
+    void (*done)(void *user);
+    void *done_user;
+    void (*failed)(void *user);
+    void *failed_user;
+};
+
 struct encoder_pool *encoder_pool_create(int threads, struct session_hub *hub,
-                                         void (*done)(void *user), void *user);
+                                         const struct encoder_pool_callbacks *callbacks);
 /* Stops the workers; jobs not started are delivered as failures. */
 void encoder_pool_destroy(struct encoder_pool **pool);
 

@@ -106,8 +106,9 @@ bool session_snapshot_reserve(struct session *session);
 void session_snapshot_deliver(struct session *session, const struct sky_msg_id *id,
                               struct encoded_frame *frame);
 /* A snapshot that could not be rendered or encoded: frees its place and queues an `error`
- * `internal` reply with `message` (the sender must not wait in silence). */
-void session_snapshot_fail(struct session *session, const struct sky_msg_id *id,
+ * `internal` reply with `message` (the sender must not wait in silence). false when the reply
+ * could not be built; the caller counts the ones that were. */
+bool session_snapshot_fail(struct session *session, const struct sky_msg_id *id,
                            const char *message);
 
 enum session_output_kind {
