@@ -361,12 +361,17 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         .client_map = shared ? shared_world_client_map(shared) : NULL,
     };
     ctx->world = world_host_create(&world);
+    if (!ctx->world) {
+        snprintf(err, errlen, "out of memory for the world state");
+        render_loop_destroy(&loop);
+        return NULL;
+    }
     struct frame_scheduler_params frames = { .encoder_threads = params->config->encoder_threads,
                                              .hub = params->hub,
                                              .encoded = encoder_done,
                                              .user = loop,
                                              .metrics = params->metrics };
-    ctx->frames = ctx->world ? frame_scheduler_create(&frames) : NULL;
+    ctx->frames = frame_scheduler_create(&frames);
     if (!ctx->frames) {
         snprintf(err, errlen, "cannot start the encoder threads");
         render_loop_destroy(&loop);

@@ -32,7 +32,7 @@ struct world_host;
 
 /* The initial state is brought to wall_s by its epoch (a stored state resumes at the time its
  * epoch gives now, not at the time it was saved); a state without an epoch is anchored at
- * wall_s with the clock it holds, and written. */
+ * wall_s with the clock it holds, and written. NULL only when memory runs out. */
 struct world_host *world_host_create(const struct world_host_params *params);
 void world_host_destroy(struct world_host **host);
 
