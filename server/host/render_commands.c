@@ -46,13 +46,11 @@ static void reply(struct render_context *ctx, struct session *session,
     free(text);
 }
 
-/* The message being handled, for the log of refusals. Only the render thread handles
- * messages, one at a time. */
-static const struct sky_client_msg *handling;
-
 /* An auth failure or a refused change is logged once, with who sent it; never the token. */
-static void log_refusal(struct session *session, const char *message)
+static void log_refusal(const struct render_context *ctx, struct session *session,
+                        const char *message)
 {
+    const struct sky_client_msg *handling = ctx->handling;
     if (!handling || (handling->type != SKY_MSG_AUTH &&
                       !protocol_message_needs_controller(handling->type)))
         return;
@@ -75,7 +73,7 @@ static void reply_error(struct render_context *ctx, struct session *session,
     va_start(args, format);
     vsnprintf(message, sizeof message, format, args);
     va_end(args);
-    log_refusal(session, message);
+    log_refusal(ctx, session, message);
     send_error(ctx, session, id, code, message, NULL);
 }
 
@@ -96,7 +94,7 @@ static void reply_field_errors(struct render_context *ctx, struct session *sessi
                  prefixed.items[0].reason);
     else
         snprintf(message, sizeof message, "the patch was rejected");
-    log_refusal(session, message);
+    log_refusal(ctx, session, message);
     send_error(ctx, session, id, code, message, &prefixed);
 }
 
@@ -421,7 +419,7 @@ bool render_commands_handle(struct render_context *ctx, struct session *session,
      * a node that keeps losing the race (a flood of changes elsewhere) gives up after
      * RETRY_S. */
     static const double RETRY_S = 10.0;
-    handling = msg;
+    ctx->handling = msg;
     ctx->conflict_revision = 0;
     dispatch(ctx, session, msg);
     uint64_t wanted = ctx->conflict_revision;
@@ -435,7 +433,7 @@ bool render_commands_handle(struct render_context *ctx, struct session *session,
                     "with it within %.0f s; the change is not applied",
                     (unsigned long long)wanted, RETRY_S);
     }
-    handling = NULL;
+    ctx->handling = NULL;
     return done;
 }
 

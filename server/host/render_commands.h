@@ -37,6 +37,9 @@ struct render_context {
      * conflict_revision; the change is then made again over the caught-up state. */
     struct cluster_sync *cluster;
     uint64_t conflict_revision;
+    /* The message render_commands_handle is handling (NULL between messages), for the log of
+     * refusals. */
+    const struct sky_client_msg *handling;
     /* A preset folder's listing (16 KiB): the render thread's scratch, kept off its stack. */
     char preset_names[SKY_MSG_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
 };

@@ -70,7 +70,7 @@ struct world_host *world_host_create(const struct world_host_params *params)
     h->cluster = params->cluster;
     if (h->cluster && params->client_map && params->client_map->rgba &&
         !sky_weather_map_copy(params->client_map, &h->client_map)) {
-        free(h);
+        world_host_destroy(&h);
         return NULL;
     }
     return h;
