@@ -1,5 +1,6 @@
 /* The world state's fields: one descriptor row per leaf (path, type, range, description) and
- * the defaults. The schema engine in world_state.c does the rest. */
+ * the defaults. The schema engine (world_schema.c: lookup and checks; world_state.c: patching
+ * and validation; world_schema_json.c: the JSON Schema) reads the table. */
 #include "world_fields.h"
 
 #include <string.h>

@@ -200,9 +200,9 @@ static bool renderer_usable(struct render_loop *loop)
 /* glibc keeps what is freed in its arenas, and gives back only the free space at the top of
  * the main heap: the space between live blocks, and most of the other threads' arenas, stay
  * resident. Views, cloud histories, snapshots and lavapipe's command buffers and compiles free
- * a lot of it: at the end of a soak 77 of the daemon's 291 MiB were such free memory, and
- * malloc_trim gave it back. It takes 8-12 ms on a 2-core machine, so it runs only when the
- * next frame is not yet due, and at most every TRIM_PERIOD_S. */
+ * a lot of it (a quarter of the daemon's resident memory after a long run), which malloc_trim
+ * gives back. It takes 8-12 ms on a 2-core machine, so it runs only when the next frame is not
+ * yet due, and at most every TRIM_PERIOD_S. */
 static void give_back_free_memory(struct render_loop *loop, double now, double next_frame_at)
 {
 #ifdef __GLIBC__

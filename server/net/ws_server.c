@@ -140,7 +140,7 @@ static int on_established(struct ws_server *srv, struct lws *wsi, struct connect
                    sky_msg_build_hello(SKYD_VERSION, SKY_ROLE_VIEWER, capabilities,
                                        capability_count, &srv->limits));
     /* Only now among those that events go to: the render thread broadcasts through the hub,
-     * and a state_changed queued in between came before the hello (seen in a soak). */
+     * and the hello must be the first message a client receives. */
     session_hub_add(srv->hub, c->session);
     return 0;
 }
