@@ -1,7 +1,6 @@
 #include "sky_renderer.h"
 
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -83,6 +82,7 @@ struct sky_renderer {
     struct sky_render_night night;
     struct skyview_inputs skyview_shown; /* what the sky-view LUTs were last built for */
     enum sky_render_probe_ms probe_ms; /* which multiple scattering probes answer with */
+    struct sky_render_log log;         /* the caller's sink, which the context's forwards to */
 };
 
 /* After a failed submission or recreated images nothing the LUTs hold can be trusted. */
@@ -127,6 +127,26 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
+_Static_assert(SKY_RENDER_LOG_ERROR == (int)VK_LOG_ERROR &&
+                   SKY_RENDER_LOG_WARNING == (int)VK_LOG_WARNING &&
+                   SKY_RENDER_LOG_INFO == (int)VK_LOG_INFO &&
+                   SKY_RENDER_LOG_DEBUG == (int)VK_LOG_DEBUG,
+               "the renderer's log levels are the context's");
+
+static void forward_log(void *user, enum vk_log_level level, const char *line)
+{
+    const struct sky_render_log *log = user;
+    log->write(log->user, (enum sky_render_log_level)level, line);
+}
+
+/* The context's sink: the caller's, or none (stderr). */
+static struct vk_log_sink context_log(struct sky_renderer *r)
+{
+    if (!r->log.write)
+        return (struct vk_log_sink){ 0 };
+    return (struct vk_log_sink){ .write = forward_log, .user = &r->log };
+}
+
 struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *params)
 {
     struct sky_renderer_params defaults = { 0 };
@@ -134,11 +154,13 @@ struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *param
     struct sky_renderer *r = calloc(1, sizeof *r);
     if (!r)
         return NULL;
+    r->log = p->log;
     struct vk_context_params ctx_params = {
         .device_preference = p->device_preference,
         .validation = p->validation,
         .quiet = p->quiet,
         .validation_message_counter = p->validation_message_counter,
+        .log = context_log(r),
     };
     r->ctx = vk_context_create(&ctx_params);
     if (!r->ctx)
@@ -363,7 +385,8 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     double start = now_ms();
     size_t texel = v->output == SKY_RENDER_OUTPUT_LINEAR ? 16 : 4;
     if (v->width == 0 || v->height == 0 || pixels_bytes < (size_t)v->width * v->height * texel) {
-        fprintf(stderr, "skyd: render: output buffer too small for %ux%u\n", v->width, v->height);
+        vk_log(r->ctx, VK_LOG_ERROR, "render: output buffer too small for %ux%u", v->width,
+               v->height);
         return -1;
     }
     if (sky_passes_prepare_output(r->ctx, r->passes, v->width, v->height, v->output,

@@ -151,6 +151,22 @@ static VkResult create_passes(struct vk_context *ctx, struct cloud_noise *n)
     return VK_SUCCESS;
 }
 
+/* The progress rewrites one line of stderr; a sink takes whole lines, so it hears only the
+ * end. */
+static void progress_show(const struct vk_context *ctx, uint32_t percent)
+{
+    if (vk_log_is_stderr(ctx))
+        fprintf(stderr, "\rskyd: cloud noise %3u%%", percent);
+}
+
+static void progress_end(const struct vk_context *ctx, bool done)
+{
+    if (vk_log_is_stderr(ctx))
+        fputc('\n', stderr);
+    else if (done)
+        vk_log(ctx, VK_LOG_INFO, "cloud noise 100%%");
+}
+
 static int generate_volumes(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed,
                             bool quiet)
 {
@@ -167,11 +183,11 @@ static int generate_volumes(struct vk_context *ctx, struct cloud_noise *n, uint3
                                         SKY_CLOUD_NOISE_VOLUME_LOCAL };
             rc = run_pass(ctx, passes[v], &push, size, local);
             if (!quiet && v == 0)
-                fprintf(stderr, "\rskyd: cloud noise %3u%%", (z + slab) * 100 / depth);
+                progress_show(ctx, (z + slab) * 100 / depth);
         }
     }
     if (!quiet)
-        fprintf(stderr, "\n");
+        progress_end(ctx, rc == 0);
     return rc;
 }
 
@@ -220,7 +236,7 @@ int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *n, uint32_t
 {
     n->generated = false;
     if (generate_volumes(ctx, n, seed, quiet) != 0 || generate_curl(ctx, n, seed) != 0) {
-        fprintf(stderr, "skyd: render: cloud noise generation failed\n");
+        vk_log(ctx, VK_LOG_ERROR, "render: cloud noise generation failed");
         return -1;
     }
     n->seed = seed;

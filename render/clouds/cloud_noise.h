@@ -28,8 +28,8 @@ struct cloud_noise {
 int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *noise);
 void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *noise);
 
-/* Generates every volume from `seed` now (synchronous, in slabs; progress on stderr unless
- * quiet). Returns 0 or -1. */
+/* Generates every volume from `seed` now (synchronous, in slabs; unless quiet, progress on
+ * stderr, or one line at the end through the context's log sink). Returns 0 or -1. */
 int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *noise, uint32_t seed,
                          bool quiet);
 

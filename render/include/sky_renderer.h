@@ -82,6 +82,23 @@ struct sky_render_view {
     bool live;
 };
 
+enum sky_render_log_level {
+    SKY_RENDER_LOG_ERROR = 0,
+    SKY_RENDER_LOG_WARNING = 1,
+    SKY_RENDER_LOG_INFO = 2,
+    SKY_RENDER_LOG_DEBUG = 3,
+};
+
+/* Where the renderer's lines go (the device chosen, validation messages, failures): `write`
+ * gets one line per call, without a newline and without the "skyd: " prefix, on the thread
+ * that called the renderer (validation messages: the thread of the offending call), from
+ * sky_renderer_create to the end of sky_renderer_destroy. No `write`: each line goes to stderr
+ * after "skyd: ". */
+struct sky_render_log {
+    void (*write)(void *user, enum sky_render_log_level level, const char *line);
+    void *user;
+};
+
 struct sky_renderer_params {
     const char *device_preference;    /* see vk_context_params; NULL = auto */
     bool validation;                  /* Khronos validation layer, messages counted */
@@ -90,6 +107,7 @@ struct sky_renderer_params {
     /* Optional: incremented for every validation warning or error, including those raised
      * while the renderer is destroyed. Must outlive the renderer. */
     unsigned *validation_message_counter;
+    struct sky_render_log log;
 };
 
 #define SKY_RENDER_MAX_PASSES 32 /* = GPU_TIMER_MAX_PASSES */
@@ -131,7 +149,7 @@ void sky_renderer_destroy(struct sky_renderer **renderer);
 
 /* Why the renderer's last call failed, as far as the device is concerned:
  *   SKY_RENDER_OK             no Vulkan failure since that call began (it may still have
- *                             failed on its arguments: said on stderr);
+ *                             failed on its arguments: said through the log);
  *   SKY_RENDER_FAILED         a Vulkan call failed; the renderer stays usable;
  *   SKY_RENDER_OUT_OF_MEMORY  host or device memory ran out; what that call was making is
  *                             undone, the renderer stays usable, and a later or a smaller

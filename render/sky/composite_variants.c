@@ -1,6 +1,5 @@
 #include "composite_variants.h"
 
-#include <stdio.h>
 #include <stdlib.h>
 
 #include "vk_check.h"
@@ -97,8 +96,8 @@ const struct compute_pass *composite_variants_get(struct vk_context *ctx,
     };
     VkResult result = compute_pass_create(ctx, &desc, &v->pass);
     if (result != VK_SUCCESS) {
-        fprintf(stderr, "skyd: render: cannot create composite variant %#x: %s\n", flags,
-                vk_result_name(result));
+        vk_log(ctx, VK_LOG_ERROR, "render: cannot create composite variant %#x: %s", flags,
+               vk_result_name(result));
         return NULL;
     }
     v->created = true;

@@ -1,7 +1,6 @@
 #include "sky_passes_internal.h"
 
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -308,8 +307,8 @@ static int create_stars(struct vk_context *ctx, struct sky_passes *p,
     VkResult result = gpu_buffer_create(ctx, stars->word_count * sizeof *stars->words,
                                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "stars", &p->stars);
     if (result != VK_SUCCESS) {
-        fprintf(stderr, "skyd: render: cannot create the star buffer: %s\n",
-                vk_result_name(result));
+        vk_log(ctx, VK_LOG_ERROR, "render: cannot create the star buffer: %s",
+               vk_result_name(result));
         return -1;
     }
     memcpy(p->stars.mapped, stars->words, stars->word_count * sizeof *stars->words);
@@ -326,7 +325,7 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
                          VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |
                              VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT) ||
         !format_supports(ctx, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT)) {
-        fprintf(stderr, "skyd: render: device lacks filtered RGBA32F storage images\n");
+        vk_log(ctx, VK_LOG_ERROR, "render: device lacks filtered RGBA32F storage images");
         return NULL;
     }
     struct sky_passes *p = calloc(1, sizeof *p);

@@ -123,7 +123,7 @@ destroy_layout:
 destroy_set_layout:
     vkDestroyDescriptorSetLayout(ctx->device, out->set_layout, NULL);
 report:
-    fprintf(stderr, "skyd: vulkan: cannot create compute pass %s\n", desc->name);
+    vk_log(ctx, VK_LOG_ERROR, "vulkan: cannot create compute pass %s", desc->name);
     vk_context_note_failure(ctx, result, "creating compute pass %s", desc->name);
     memset(out, 0, sizeof *out);
     return result;

@@ -22,7 +22,9 @@
  * The fault is process-wide, not per context, because a lost device outlives the renderer
  * that saw it: a renderer created after the loss must see it too. Unset (always, outside
  * tests), every hook below is one test of a flag that stays false. A malformed value is
- * reported on stderr and injects nothing. Thread-safe. */
+ * reported on stderr and injects nothing. Thread-safe. Its lines go to stderr whatever the
+ * log level, not through a context's log sink: process-wide, it has no context to ask, and
+ * it exists for tests alone. */
 #ifndef SKYD_FAULT_INJECTION_H
 #define SKYD_FAULT_INJECTION_H
 

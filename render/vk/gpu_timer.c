@@ -76,7 +76,7 @@ bool gpu_timer_read(struct vk_context *ctx, struct gpu_timer *timer,
                                          sizeof stamps, stamps, sizeof stamps[0],
                                          VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
     if (res != VK_SUCCESS) {
-        fprintf(stderr, "skyd: vulkan: timestamps unavailable: %s\n", vk_result_name(res));
+        vk_log(ctx, VK_LOG_ERROR, "vulkan: timestamps unavailable: %s", vk_result_name(res));
         vk_context_note_failure(ctx, res, "reading the timestamps");
         return false;
     }

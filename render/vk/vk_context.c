@@ -38,26 +38,59 @@ const char *vk_result_name(VkResult result)
     }
 }
 
+static void write_line(const struct vk_context *ctx, enum vk_log_level level, const char *line)
+{
+    if (ctx && ctx->log.write)
+        ctx->log.write(ctx->log.user, level, line);
+    else
+        fprintf(stderr, "skyd: %s\n", line);
+}
+
+void vk_log(const struct vk_context *ctx, enum vk_log_level level, const char *format, ...)
+{
+    char line[1024];
+    va_list args, again;
+    va_start(args, format);
+    va_copy(again, args);
+    int length = vsnprintf(line, sizeof line, format, args);
+    /* Validation messages can run longer: those are formatted again, whole. */
+    char *long_line = length >= (int)sizeof line ? malloc((size_t)length + 1) : NULL;
+    if (long_line)
+        vsnprintf(long_line, (size_t)length + 1, format, again);
+    va_end(again);
+    va_end(args);
+    write_line(ctx, level, long_line ? long_line : line);
+    free(long_line);
+}
+
+bool vk_log_is_stderr(const struct vk_context *ctx)
+{
+    return !ctx || !ctx->log.write;
+}
+
 static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(
     VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
     const VkDebugUtilsMessengerCallbackDataEXT *data, void *user)
 {
     (void)types;
     struct vk_context *ctx = user;
-    const char *level = "info";
+    const char *name = "info";
+    enum vk_log_level level = VK_LOG_INFO;
     if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
         ctx->validation_errors++;
-        level = "error";
+        name = "error";
+        level = VK_LOG_ERROR;
     } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
         ctx->validation_warnings++;
-        level = "warning";
+        name = "warning";
+        level = VK_LOG_WARNING;
     }
     if (ctx->validation_message_counter &&
         (severity & (VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT |
                      VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT)))
         (*ctx->validation_message_counter)++;
-    fprintf(stderr, "skyd: vulkan validation %s: %s\n", level,
-            data && data->pMessage ? data->pMessage : "(no message)");
+    vk_log(ctx, level, "vulkan validation %s: %s", name,
+           data && data->pMessage ? data->pMessage : "(no message)");
     return VK_FALSE;
 }
 
@@ -138,8 +171,26 @@ static bool is_decimal(const char *s)
     return true;
 }
 
+/* Logs the devices as one line, for a preference that matched none. */
+static void log_no_match(const struct vk_context *ctx, VkPhysicalDevice *devices, uint32_t count,
+                         const char *preference)
+{
+    char list[1024] = "";
+    size_t used = 0;
+    for (uint32_t i = 0; i < count && used < sizeof list; i++) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(devices[i], &p);
+        int n = snprintf(list + used, sizeof list - used, "%s%u: %s", i ? "; " : "", i,
+                         p.deviceName);
+        used += n > 0 ? (size_t)n : 0;
+    }
+    vk_log(ctx, VK_LOG_ERROR, "vulkan: no device with a compute queue matches \"%s\"; devices: %s",
+           preference, list);
+}
+
 /* Returns the index of the chosen device or -1; logs why nothing matched. */
-static int choose_device(VkPhysicalDevice *devices, uint32_t count, const char *preference)
+static int choose_device(const struct vk_context *ctx, VkPhysicalDevice *devices, uint32_t count,
+                         const char *preference)
 {
     const char *pref = preference ? preference : "";
     int best = -1, best_rank = -1;
@@ -150,9 +201,9 @@ static int choose_device(VkPhysicalDevice *devices, uint32_t count, const char *
         if (!find_compute_queue(devices[i], &family, &bits))
             continue;
         if (p.limits.maxPerStageDescriptorStorageBuffers < MIN_STORAGE_BUFFERS_PER_STAGE) {
-            fprintf(stderr, "skyd: vulkan: %s skipped: %u storage buffers per stage, %u needed\n",
-                    p.deviceName, p.limits.maxPerStageDescriptorStorageBuffers,
-                    MIN_STORAGE_BUFFERS_PER_STAGE);
+            vk_log(ctx, VK_LOG_WARNING,
+                   "vulkan: %s skipped: %u storage buffers per stage, %u needed", p.deviceName,
+                   p.limits.maxPerStageDescriptorStorageBuffers, MIN_STORAGE_BUFFERS_PER_STAGE);
             continue;
         }
         int rank = device_kind_rank(p.deviceType);
@@ -172,15 +223,8 @@ static int choose_device(VkPhysicalDevice *devices, uint32_t count, const char *
             best_rank = rank;
         }
     }
-    if (best < 0) {
-        fprintf(stderr, "skyd: vulkan: no device with a compute queue matches \"%s\"; devices:\n",
-                pref);
-        for (uint32_t i = 0; i < count; i++) {
-            VkPhysicalDeviceProperties p;
-            vkGetPhysicalDeviceProperties(devices[i], &p);
-            fprintf(stderr, "  %u: %s\n", i, p.deviceName);
-        }
-    }
+    if (best < 0)
+        log_no_match(ctx, devices, count, pref);
     return best;
 }
 
@@ -190,8 +234,8 @@ static VkResult create_instance(struct vk_context *ctx, bool validation)
     uint32_t layer_count = 0;
     if (validation) {
         if (!instance_has_layer(VALIDATION_LAYER)) {
-            fprintf(stderr, "skyd: vulkan: validation requested but %s is not installed\n",
-                    VALIDATION_LAYER);
+            vk_log(ctx, VK_LOG_ERROR, "vulkan: validation requested but %s is not installed",
+                   VALIDATION_LAYER);
             return VK_ERROR_LAYER_NOT_PRESENT;
         }
         layers[layer_count++] = VALIDATION_LAYER;
@@ -202,7 +246,7 @@ static VkResult create_instance(struct vk_context *ctx, bool validation)
     if (debug_utils)
         extensions[extension_count++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
     else if (validation) {
-        fprintf(stderr, "skyd: vulkan: validation needs %s\n", VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+        vk_log(ctx, VK_LOG_ERROR, "vulkan: validation needs %s", VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
         return VK_ERROR_EXTENSION_NOT_PRESENT;
     }
 
@@ -252,7 +296,7 @@ static VkResult pick_physical_device(struct vk_context *ctx, const struct vk_con
     uint32_t count = 0;
     VK_CHECK_RETURN(vkEnumeratePhysicalDevices(ctx->instance, &count, NULL));
     if (count == 0) {
-        fprintf(stderr, "skyd: vulkan: no physical device (is mesa-vulkan-drivers installed?)\n");
+        vk_log(ctx, VK_LOG_ERROR, "vulkan: no physical device (is mesa-vulkan-drivers installed?)");
         return VK_ERROR_INITIALIZATION_FAILED;
     }
     VkPhysicalDevice *devices = calloc(count, sizeof *devices);
@@ -263,7 +307,7 @@ static VkResult pick_physical_device(struct vk_context *ctx, const struct vk_con
         free(devices);
         return res;
     }
-    int chosen = choose_device(devices, count, p->device_preference);
+    int chosen = choose_device(ctx, devices, count, p->device_preference);
     if (chosen >= 0)
         ctx->physical_device = devices[chosen];
     free(devices);
@@ -277,13 +321,13 @@ static VkResult pick_physical_device(struct vk_context *ctx, const struct vk_con
     ctx->timestamp_period_ns = timestamp_bits ? ctx->properties.limits.timestampPeriod : 0.0f;
     ctx->timestamp_mask = timestamp_bits >= 64 ? UINT64_MAX : ((1ull << timestamp_bits) - 1ull);
     if (!p->quiet) {
-        fprintf(stderr, "skyd: vulkan device: %s (%s, Vulkan %u.%u.%u)%s\n",
-                ctx->properties.deviceName,
-                ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? "cpu" : "gpu",
-                VK_API_VERSION_MAJOR(ctx->properties.apiVersion),
-                VK_API_VERSION_MINOR(ctx->properties.apiVersion),
-                VK_API_VERSION_PATCH(ctx->properties.apiVersion),
-                ctx->validation_enabled ? ", validation on" : "");
+        vk_log(ctx, VK_LOG_INFO, "vulkan device: %s (%s, Vulkan %u.%u.%u)%s",
+               ctx->properties.deviceName,
+               ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? "cpu" : "gpu",
+               VK_API_VERSION_MAJOR(ctx->properties.apiVersion),
+               VK_API_VERSION_MINOR(ctx->properties.apiVersion),
+               VK_API_VERSION_PATCH(ctx->properties.apiVersion),
+               ctx->validation_enabled ? ", validation on" : "");
     }
     return VK_SUCCESS;
 }
@@ -296,6 +340,7 @@ struct vk_context *vk_context_create(const struct vk_context_params *params)
     if (!ctx)
         return NULL;
     ctx->validation_message_counter = p->validation_message_counter;
+    ctx->log = p->log;
     fault_injection_init();
 
     VK_CHECK_GOTO(create_instance(ctx, p->validation), destroy_partial);
@@ -399,7 +444,7 @@ VkResult vk_context_wait_idle(struct vk_context *ctx)
         return VK_ERROR_DEVICE_LOST;
     VkResult res = vkDeviceWaitIdle(ctx->device);
     if (res != VK_SUCCESS) {
-        fprintf(stderr, "skyd: vulkan: vkDeviceWaitIdle failed: %s\n", vk_result_name(res));
+        vk_log(ctx, VK_LOG_ERROR, "vulkan: vkDeviceWaitIdle failed: %s", vk_result_name(res));
         vk_context_note_failure(ctx, res, "waiting for the device to be idle");
     }
     return res;
@@ -415,8 +460,8 @@ VkResult vk_context_begin_commands(struct vk_context *ctx, VkCommandBuffer *out)
     };
     VkResult res = vkAllocateCommandBuffers(ctx->device, &alloc, out);
     if (res != VK_SUCCESS) {
-        fprintf(stderr, "skyd: vulkan: vkAllocateCommandBuffers failed: %s\n",
-                vk_result_name(res));
+        vk_log(ctx, VK_LOG_ERROR, "vulkan: vkAllocateCommandBuffers failed: %s",
+               vk_result_name(res));
         vk_context_note_failure(ctx, res, "allocating a command buffer");
         *out = VK_NULL_HANDLE;
         return res;
@@ -476,12 +521,12 @@ VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd
                                     (uint64_t)timeout_s * 1000000000ull);
     }
     if (res != VK_SUCCESS) {
-        fprintf(stderr, "skyd: vulkan: %s failed: %s\n", step, vk_result_name(res));
+        vk_log(ctx, VK_LOG_ERROR, "vulkan: %s failed: %s", step, vk_result_name(res));
         vk_context_note_failure(ctx, res, "%s", step);
     }
     if (res == VK_TIMEOUT) {
-        fprintf(stderr, "skyd: vulkan: the device is taken as lost; waiting for the submission "
-                        "to end before its commands are freed\n");
+        vk_log(ctx, VK_LOG_ERROR, "vulkan: the device is taken as lost; waiting for the "
+                                  "submission to end before its commands are freed");
         vkQueueWaitIdle(ctx->queue);
     }
     vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, cmd);

@@ -15,6 +15,20 @@
 #include <stdint.h>
 #include <vulkan/vulkan.h>
 
+enum vk_log_level {
+    VK_LOG_ERROR = 0,
+    VK_LOG_WARNING = 1,
+    VK_LOG_INFO = 2,
+    VK_LOG_DEBUG = 3,
+};
+
+/* Where a context's lines go: one line per call, without the "skyd: " prefix or a newline,
+ * on the thread that made the call (the render thread). No `write`: stderr, prefixed. */
+struct vk_log_sink {
+    void (*write)(void *user, enum vk_log_level level, const char *line);
+    void *user;
+};
+
 struct vk_context_params {
     /* Device choice: NULL or "" picks a GPU when present (discrete, then integrated, then
      * virtual), else a CPU device (lavapipe). "cpu"/"gpu" force a kind; a decimal number picks
@@ -25,6 +39,7 @@ struct vk_context_params {
     /* Optional counter of validation warnings + errors that outlives the context, so that
      * messages raised while destroying it (objects still alive) are counted too. */
     unsigned *validation_message_counter;
+    struct vk_log_sink log;
 };
 
 struct vk_context {
@@ -52,6 +67,7 @@ struct vk_context {
     unsigned validation_warnings;
     unsigned validation_errors;
     unsigned *validation_message_counter; /* from the params, may be NULL */
+    struct vk_log_sink log;
     /* The next submission may run for VK_CONTEXT_LONG_SUBMIT_TIMEOUT_S
      * (vk_context_expect_long_submission). */
     bool long_submission;
@@ -61,6 +77,15 @@ struct vk_context {
  * path-traced reference frame, which takes minutes on a CPU device, may take up to a day. */
 #define VK_CONTEXT_SUBMIT_TIMEOUT_S 300
 #define VK_CONTEXT_LONG_SUBMIT_TIMEOUT_S 86400
+
+/* Writes one line through the context's sink (ctx NULL or no sink: stderr). */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+void vk_log(const struct vk_context *ctx, enum vk_log_level level, const char *format, ...);
+/* Whether the context's lines go to stderr (no sink), where a progress indicator may
+ * rewrite its own line. */
+bool vk_log_is_stderr(const struct vk_context *ctx);
 
 /* Lets the next vk_context_submit_and_wait wait up to VK_CONTEXT_LONG_SUBMIT_TIMEOUT_S. */
 void vk_context_expect_long_submission(struct vk_context *ctx);

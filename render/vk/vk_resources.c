@@ -14,7 +14,7 @@ static VkResult bind_new_memory(struct vk_context *ctx, VkMemoryRequirements req
     if (type == UINT32_MAX)
         type = vk_context_find_memory_type(ctx, req.memoryTypeBits, required);
     if (type == UINT32_MAX) {
-        fprintf(stderr, "skyd: vulkan: no memory type for %#x\n", (unsigned)required);
+        vk_log(ctx, VK_LOG_ERROR, "vulkan: no memory type for %#x", (unsigned)required);
         return VK_ERROR_OUT_OF_DEVICE_MEMORY;
     }
     VkMemoryAllocateInfo info = {

@@ -3,6 +3,7 @@
 #include <inttypes.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +23,7 @@ struct cluster_feed {
     char world[CLUSTER_WORLD_MAX + 1];
     void (*wake)(void *user);
     void *user;
+    struct cluster_log log;
     pthread_t thread;
     bool started;
 
@@ -36,6 +38,25 @@ struct cluster_feed {
     char last_id[CLUSTER_ID_MAX];
     uint64_t last_revision;
 };
+
+/* One line about the world, through the sink (or on stderr). */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+static void feed_log(const struct cluster_feed *f, enum cluster_log_level level,
+                     const char *format, ...)
+{
+    char line[1024];
+    int prefix = snprintf(line, sizeof line, "cluster world \"%s\": ", f->world);
+    va_list args;
+    va_start(args, format);
+    vsnprintf(line + prefix, sizeof line - (size_t)prefix, format, args);
+    va_end(args);
+    if (f->log.write)
+        f->log.write(f->log.user, level, line);
+    else
+        fprintf(stderr, "skyd: %s\n", line);
+}
 
 static struct timespec monotonic_deadline(double after_s)
 {
@@ -84,12 +105,11 @@ static bool queue_snapshot(struct cluster_feed *f, redisContext *c)
     struct cluster_entry *e = cluster_redis_snapshot(c, &f->keys, 0, NULL, &absent, why,
                                                      sizeof why);
     if (!e) {
-        fprintf(stderr, "skyd: cluster world \"%s\": cannot read the snapshot: %s\n", f->world,
-                why);
+        feed_log(f, CLUSTER_LOG_ERROR, "cannot read the snapshot: %s", why);
         return false;
     }
-    fprintf(stderr, "skyd: cluster world \"%s\": catching up from the snapshot at revision "
-            "%" PRIu64 "\n", f->world, e->revision);
+    feed_log(f, CLUSTER_LOG_INFO, "catching up from the snapshot at revision %" PRIu64,
+             e->revision);
     queue(f, e);
     return true;
 }
@@ -102,7 +122,7 @@ static bool read_once(struct cluster_feed *f, redisContext *c, int block_ms)
     if (!r || r->type == REDIS_REPLY_ERROR) {
         char why[320];
         cluster_redis_describe(c, r, why, sizeof why);
-        fprintf(stderr, "skyd: cluster world \"%s\": reading the stream: %s\n", f->world, why);
+        feed_log(f, CLUSTER_LOG_WARNING, "reading the stream: %s", why);
         if (r)
             freeReplyObject(r);
         return false;
@@ -116,14 +136,15 @@ static bool read_once(struct cluster_feed *f, redisContext *c, int block_ms)
             struct cluster_entry *e = cluster_redis_parse_entry(items->element[i], why,
                                                                 sizeof why);
             if (!e) {
-                fprintf(stderr, "skyd: cluster world \"%s\": %s\n", f->world, why);
+                feed_log(f, CLUSTER_LOG_ERROR, "%s", why);
                 ok = false;
             } else if (e->revision <= f->last_revision) {
                 snprintf(f->last_id, sizeof f->last_id, "%s", e->id); /* already applied */
                 cluster_entry_free(e);
             } else if (e->revision != f->last_revision + 1) {
-                fprintf(stderr, "skyd: cluster world \"%s\": the stream jumps from revision "
-                        "%" PRIu64 " to %" PRIu64 "\n", f->world, f->last_revision, e->revision);
+                feed_log(f, CLUSTER_LOG_WARNING,
+                         "the stream jumps from revision %" PRIu64 " to %" PRIu64,
+                         f->last_revision, e->revision);
                 cluster_entry_free(e);
                 ok = queue_snapshot(f, c);
                 woke = true;
@@ -176,9 +197,9 @@ static void *feed_main(void *arg)
                                                 COMMAND_TIMEOUT_S, why, sizeof why);
         if (c && catch_up(f, c)) {
             if (failures > 0)
-                fprintf(stderr, "skyd: cluster world \"%s\": reconnected to Redis after %u "
-                        "failed attempt%s; reading from %s\n", f->world, failures,
-                        failures == 1 ? "" : "s", f->last_id);
+                feed_log(f, CLUSTER_LOG_INFO,
+                         "reconnected to Redis after %u failed attempt%s; reading from %s",
+                         failures, failures == 1 ? "" : "s", f->last_id);
             failures = 0;
             set_connected(f, true);
             retry = RETRY_MIN_S;
@@ -186,8 +207,9 @@ static void *feed_main(void *arg)
             }
             set_connected(f, false);
         } else if (!c && failures++ == 0) {
-            fprintf(stderr, "skyd: cluster world \"%s\": cannot reach Redis: %s (trying again "
-                    "with back-off up to %.0f s)\n", f->world, why, RETRY_MAX_S);
+            feed_log(f, CLUSTER_LOG_ERROR,
+                     "cannot reach Redis: %s (trying again with back-off up to %.0f s)", why,
+                     RETRY_MAX_S);
         }
         if (c)
             redisFree(c);
@@ -224,6 +246,7 @@ struct cluster_feed *cluster_feed_create(const struct cluster_feed_params *p, ch
     f->last_revision = p->last_revision;
     f->wake = p->wake;
     f->user = p->user;
+    f->log = p->log;
     pthread_mutex_init(&f->lock, NULL);
     pthread_condattr_t attr;
     pthread_condattr_init(&attr);

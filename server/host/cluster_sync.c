@@ -4,10 +4,24 @@
 #include <stdlib.h>
 
 #include "cluster_feed.h"
+#include "log.h"
 
 struct cluster_sync {
     struct cluster_feed *feed;
 };
+
+_Static_assert(CLUSTER_LOG_ERROR == (int)SKYD_LOG_ERROR &&
+                   CLUSTER_LOG_WARNING == (int)SKYD_LOG_WARNING &&
+                   CLUSTER_LOG_INFO == (int)SKYD_LOG_INFO &&
+                   CLUSTER_LOG_DEBUG == (int)SKYD_LOG_DEBUG,
+               "the cluster's log levels are the daemon's");
+
+/* The feed's lines join the daemon's log (skyd_log is thread-safe). */
+static void log_cluster_line(void *user, enum cluster_log_level level, const char *line)
+{
+    (void)user;
+    skyd_log((enum skyd_log_level)level, "%s", line);
+}
 
 struct cluster_sync *cluster_sync_create(const struct cluster_store *store,
                                          const struct cluster_entry *start,
@@ -24,7 +38,8 @@ struct cluster_sync *cluster_sync_create(const struct cluster_store *store,
                                           .last_id = start->id,
                                           .last_revision = start->revision,
                                           .wake = wake,
-                                          .user = user };
+                                          .user = user,
+                                          .log = { .write = log_cluster_line } };
     s->feed = cluster_feed_create(&params, err, errlen);
     if (!s->feed) {
         free(s);

@@ -40,6 +40,19 @@ static void set_amortization(struct renderer_host *h, double budget_ms)
                          .blend_frames = h->params.lut_blend_frames });
 }
 
+_Static_assert(SKY_RENDER_LOG_ERROR == (int)SKYD_LOG_ERROR &&
+                   SKY_RENDER_LOG_WARNING == (int)SKYD_LOG_WARNING &&
+                   SKY_RENDER_LOG_INFO == (int)SKYD_LOG_INFO &&
+                   SKY_RENDER_LOG_DEBUG == (int)SKYD_LOG_DEBUG,
+               "the renderer's log levels are the daemon's");
+
+/* The renderer's lines join the daemon's log, so --log-level governs them too. */
+static void log_render_line(void *user, enum sky_render_log_level level, const char *line)
+{
+    (void)user;
+    skyd_log((enum skyd_log_level)level, "%s", line);
+}
+
 static int open_renderer(struct renderer_host *h, const struct sky_world_state *state,
                          const struct sky_render_atmosphere *atmosphere, bool quiet, char *err,
                          size_t errlen)
@@ -49,6 +62,7 @@ static int open_renderer(struct renderer_host *h, const struct sky_world_state *
         .validation = h->params.validation,
         .validation_message_counter = h->params.validation_message_counter,
         .quiet = quiet,
+        .log = { .write = log_render_line },
     };
     world_to_lut_sizes(state, &rp.lut_sizes);
     h->renderer = sky_renderer_create(&rp);

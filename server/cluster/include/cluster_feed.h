@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "cluster_entry.h"
+#include "cluster_log.h"
 
 struct cluster_feed_params {
     const char *url;
@@ -19,6 +20,7 @@ struct cluster_feed_params {
     uint64_t last_revision; /* and its revision */
     void (*wake)(void *user); /* called from the feed's thread when entries were queued */
     void *user;
+    struct cluster_log log; /* what the feed's thread has to say */
 };
 
 struct cluster_feed;
