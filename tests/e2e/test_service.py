@@ -14,7 +14,8 @@ Usage: /usr/bin/python3 tests/e2e/test_service.py PATH_TO_SKYD SCRATCH_DIR UNIT_
 - Simulation events: a client whose hello asks hears the running clock about once a second;
   others hear nothing.
 - Logging: each connection is logged (opened and closed), an auth failure and a refused change
-  are logged, tokens never are; --log-level warning hides the connections; a bad level exits 2.
+  are logged, tokens never are; --log-level warning hides the connections; --log-level error
+  hides the renderer's "vulkan device" line, which the default level shows; a bad level exits 2.
 - config/skyd.service passes `systemd-analyze verify` (with the paths of this build).
 Exit 0 when every check passed.
 """
@@ -308,6 +309,21 @@ async def check_log_level(skyd, scratch):
         daemon.terminate()
     log = daemon.log_text()
     check("--log-level warning: no connection lines", "connection" not in log, log[-400:])
+    shown = start_up_log(skyd, scratch, "default-level", [])
+    check("default log level: the renderer's vulkan device line", "vulkan device" in shown,
+          shown[-400:])
+    hidden = start_up_log(skyd, scratch, "error-level", ["--log-level", "error"])
+    check("--log-level error: no vulkan device line from the renderer",
+          "vulkan device" not in hidden, hidden[-400:])
+
+
+def start_up_log(skyd, scratch, name, args):
+    """What a daemon started with `args` logs until it listens, and while it stops."""
+    config = make_config(scratch, os.path.join(scratch, f"{name}-state.json"))
+    daemon = Daemon(skyd, scratch, name, config, args=args)
+    daemon.start()
+    daemon.terminate()
+    return daemon.log_text()
 
 
 def check_unit(skyd):
