@@ -11,10 +11,10 @@ simulated minutes are those measured, after the warm-up's --warmup-minutes (10).
 
 The daemon (`skyd serve`, validation on, a scratch state directory) gets these clients:
   - a controller that sends random valid changes: `set` patches drawn from the world state's
-    field table (protocol/world_fields.c, checked against what `get_state` returns) within
-    each field's range or enum, weather and atmosphere presets, weather transitions,
-    `set_weather_map` uploads (rgba8 and PNG, 1x1 to 512x512), the autopilot, clock jumps and
-    time-scale excursions;
+    JSON Schema as `skyd schema` prints it (checked against what `get_state` returns) within
+    each field's type, range, enum or array length, never a readOnly field; weather and
+    atmosphere presets, weather transitions, `set_weather_map` uploads (rgba8 and PNG, 1x1 to
+    512x512), the autopilot, clock jumps and time-scale excursions;
   - three subscribers that read frames and keep changing their views (sizes from 1x1 to
     480x270, camera and exposure overrides, frame rates, shared views, up to three
     subscriptions each);
@@ -51,17 +51,18 @@ or unanswered request, no bad frame and the daemon alive and exiting 0 on SIGTER
 otherwise; 2 for a bad command line or a daemon that does not start. The last line is a
 one-line summary with the figures.
 
-The code: bench/soak.py (the run, the command line and the report), soak_fields.py (constants,
-the field table, random valid values), soak_bookkeeping.py (the record, memory, the checking
-client), soak_controller.py (the controller) and soak_clients.py (the other clients).
+The code: bench/soak.py (the run, the command line and the report), soak_schema.py (the
+fields of `skyd schema`), soak_fields.py (constants, random valid values), soak_bookkeeping.py
+(the record, memory, the checking client), soak_controller.py (the controller) and
+soak_clients.py (the other clients).
 """
 
 import argparse
 import asyncio
 import os
 import random
-import re
 import statistics
+import subprocess
 import sys
 import tempfile
 
@@ -72,36 +73,31 @@ from soak_bookkeeping import Soak, connect  # noqa: E402
 from soak_clients import churn, monitor, subscriber, viewer  # noqa: E402
 from soak_controller import Controller  # noqa: E402
 from soak_fields import (CLOCK_FIELDS, EPHEMERIS_ANGLES, HOME_VIEWS,  # noqa: E402
-                         VALIDATION_PREFIX, Draw, leaves, read_field_table)
+                         VALIDATION_PREFIX, Draw)
+from soak_schema import (check_state, leaves, load_schema, schema_fields,  # noqa: E402
+                         without_read_only)
 
 
 # ------------------------------------------------------------------------------------------
 # The run
 
 
-def reference_patch(state):
-    """The initial state as a patch that can be sent back at any time: without the fields the
-    simulation keeps or moves, and without the angles the ephemeris places."""
-    flat = leaves(state)
-    for p in list(flat):
-        if p.startswith("weather.transition.") or p in CLOCK_FIELDS or \
-                p in ("weather.offset_east_km", "weather.offset_north_km"):
-            del flat[p]
+# Writable fields the simulation moves on its own (the wind drifts the weather map): sent back
+# as they were at the start they would move the map, not restore the state.
+MOVED_BY_SIMULATION = ["weather.offset_east_km", "weather.offset_north_km"]
+
+
+def reference_patch(state, fields):
+    """The initial state as a patch that can be sent back at any time: without the schema's
+    readOnly fields (the daemon refuses them), the clock, the fields the simulation moves,
+    and the angles the ephemeris places."""
+    flat = without_read_only(leaves(state), fields)
+    for p in CLOCK_FIELDS + MOVED_BY_SIMULATION:
+        flat.pop(p, None)
     if flat.get("clock.sky_bodies") == "ephemeris":
         for p in EPHEMERIS_ANGLES:
-            del flat[p]
+            flat.pop(p, None)
     return flat
-
-
-def check_schema(fields, state):
-    """The field table must name exactly the leaves get_state returns (the transition's ends
-    are rows of a macro the table reader skips: read-only, never drawn)."""
-    table = {f.path for f in fields}
-    got = {p for p in leaves(state) if not re.match(r"weather\.transition\.(from|to)\.", p)}
-    missing, extra = sorted(got - table), sorted(table - got)
-    if missing or extra:
-        raise SystemExit(f"soak: protocol/world_fields.c and get_state disagree: not in the "
-                         f"table {missing}, not in the state {extra}")
 
 
 def summary_of(values):
@@ -117,9 +113,9 @@ async def soak_main(args, soak, fields):
     ctl = await connect(soak, "controller")
     await ctl.auth()
     state = (await ctl.get_state())["state"]
-    check_schema(fields, state)
+    check_state(fields, state)
     draw = Draw(random.Random(args.seed), fields, args.uncapped)
-    controller = Controller(soak, ctl, draw, reference_patch(state))
+    controller = Controller(soak, ctl, draw, reference_patch(state, fields))
     soak.warm_needed = 2 + len(HOME_VIEWS) + 1  # controller, viewer, subscribers, churn
     tasks = [asyncio.ensure_future(monitor(soak))]
     tasks += [asyncio.ensure_future(subscriber(soak, i, args.seed * 1000 + 10 + i))
@@ -219,11 +215,16 @@ def parse_args():
 
 def main():
     args = parse_args()
-    fields = read_field_table(os.path.join(ROOT, "protocol", "world_fields.c"))
-    if not fields:
-        print("soak: no fields found in protocol/world_fields.c", file=sys.stderr)
+    try:
+        fields = schema_fields(load_schema(args.skyd))
+    except (OSError, ValueError, subprocess.SubprocessError) as e:
+        print(f"soak: `{args.skyd} schema state` gave no schema: {e}", file=sys.stderr)
+        return 2
+    if not [f for f in fields if not f.read_only]:
+        print(f"soak: `{args.skyd} schema state` names no writable field", file=sys.stderr)
         return 2
     soak = Soak(args)
+    soak.schema_fields = fields
     config = H.make_config(args.scratch, os.path.join(args.scratch, "state.json"),
                            max_clients=32, max_width=1920, max_height=1080, max_fps=30,
                            control_messages_per_second=200, max_message_bytes=65536,
@@ -313,7 +314,7 @@ def report(args, soak):
               f"{statistics.median(fps):.1f}, min {min(fps):.1f}; longest gap between two "
               f"frames of one subscription: " + ", ".join(
                   f"{k} {v:.1f} s" for k, v in sorted(soak.max_frame_gap.items())), flush=True)
-    writable = [f for f in soak_fields(args) if not f.read_only]
+    writable = [f for f in soak.schema_fields if not f.read_only]
     print(f"soak: fields set {len(soak.fields_set & {f.path for f in writable})} of "
           f"{len(writable)}, enum values {len(soak.enum_values_set)}; replies by type: "
           + ", ".join(f"{k} {v}" for k, v in sorted(soak.replies.items())), flush=True)
@@ -331,10 +332,6 @@ def report(args, soak):
           f"{soak.elapsed():.0f} real s (time scale {args.time_scale:g}); validation messages "
           f"{len(validation)}; seed {args.seed}", flush=True)
     return 0 if not soak.failures else 1
-
-
-def soak_fields(args):
-    return read_field_table(os.path.join(ROOT, "protocol", "world_fields.c"))
 
 
 def fmt_mib(kib):

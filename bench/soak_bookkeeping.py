@@ -22,6 +22,7 @@ import serve_harness as H  # noqa: E402
 class Soak:
     def __init__(self, args):
         self.args = args
+        self.schema_fields = []  # soak_schema.Field of `skyd schema state`
         self.failures = []
         self.sent = {}
         self.acked = {}

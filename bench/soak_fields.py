@@ -1,12 +1,11 @@
-"""bench/soak.py's constants, the world state's field table (read from
-protocol/world_fields.c) with helpers for flat and nested state trees, and the draws of random
-valid values: patches, views, probes and weather maps."""
+"""bench/soak.py's constants and its draws of random valid values: patches of the world
+state (from the fields of `skyd schema`, bench/soak_schema.py), views, probes and weather
+maps."""
 
 import base64
 import datetime
 import math
 import os
-import re
 import sys
 
 _E2E = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tests", "e2e")
@@ -31,22 +30,22 @@ MAX_SNAPSHOT = (640, 360)
 WEATHER_PRESETS = ["clear", "fair_cumulus", "scattered", "broken", "overcast", "storm"]
 ATMOSPHERE_PRESETS = ["earth", "mars"]
 
-# The 14 weather parameters the autopilot and transitions drive, and the angles the ephemeris
-# drives (PROTOCOL.md, set): a patch naming them must switch those off in the same patch.
-WEATHER_PARAMS = [f"clouds.{layer}.{name}" for layer in ("low", "high")
-                  for name in ("coverage", "type", "density", "bottom_km", "thickness_km")] + [
-    "clouds.precipitation", "weather.humidity", "weather.wind.speed_m_s",
-    "weather.wind.direction_deg"]
+# Rules of `set` (PROTOCOL.md) between fields, which a per-field schema cannot state: the
+# angles the ephemeris drives (a patch naming them must switch it off in the same patch), the
+# two radii (the top above the bottom by at most 1000 km). The weather parameters the autopilot
+# and transitions drive come from the schema: weather_params().
 EPHEMERIS_ANGLES = ["sun.azimuth_deg", "sun.elevation_deg", "moon.azimuth_deg",
                     "moon.elevation_deg"]
 RADII = ["atmosphere.bottom_radius_km", "atmosphere.top_radius_km"]
 MAX_ATMOSPHERE_THICKNESS_KM = 1000.0
 CLOCK_FIELDS = ["clock.utc", "clock.time_scale"]  # changed only as clock excursions (below)
+TRANSITION_END = "weather.transition.from."
 
-# Bounds the soak keeps to (unless --uncapped) on fields whose whole range is valid but whose
-# top end costs more than a soak on two CPU cores can carry: a 4096x4096 transmittance LUT is
-# 28 s of lavapipe time per rebuild, a 512^3 froxel volume 2 GiB. Twice the default sizes and
-# step counts still change every buffer's size.
+# Soak-side choices, keyed by path. Bounds the soak keeps to (unless --uncapped) on fields whose
+# whole range is valid but whose top end costs more than a soak on two CPU cores can carry: a
+# 4096x4096 transmittance LUT is 28 s of lavapipe time per rebuild, a 512^3 froxel volume
+# 2 GiB. Twice the default sizes and step counts still change every buffer's size. An array's
+# cap is per element.
 COST_CAPS = {
     "render.transmittance_lut": [512, 128],
     "render.multiscattering_lut": [64, 64],
@@ -55,70 +54,18 @@ COST_CAPS = {
     "clouds.quality.primary_steps": 128,
     "clouds.quality.light_steps": 12,
 }
-UTC_DRAW_RANGE = (-2177452800.0, 4070908800.0)  # 1901..2099: room for the clock to run on
+# The schema gives a date-time no bounds (the daemon takes 1900..2100): drawn within 1901..2099,
+# room for the clock to run on after a jump.
+DATE_TIME_DRAW_RANGE = (-2177452800.0, 4070908800.0)
+UNBOUNDED_DRAW_RANGE = (-1e6, 1e6)  # a number or integer the schema leaves unbounded
 
 
-# ------------------------------------------------------------------------------------------
-# The field table
-
-
-class Field:
-    def __init__(self, path, kind, lo=None, hi=None, names=None, read_only=False):
-        self.path, self.kind, self.lo, self.hi = path, kind, lo, hi
-        self.names, self.read_only = names, read_only
-
-
-def read_field_table(path):
-    """The world state's fields from protocol/world_fields.c: path, type, range, enum names."""
-    with open(path) as f:
-        text = f.read()
-    defines = {m.group(1): float(m.group(2)) for m in
-               re.finditer(r"^#define (\w+) (-?[0-9.eE+-]+)\s*$", text, re.M)}
-    enums = {m.group(1): re.findall(r'"([^"]*)"', m.group(2)) for m in
-             re.finditer(r"static const char \*const (\w+)\[\] = \{([^}]*)\};", text)}
-
-    def number(token):
-        return defines[token] if token in defines else float(token)
-
-    fields = []
-    row = re.compile(r"\b(NUMBER|RGB|INT_PAIR|INT_TRIPLE|INT|TIME|ENUM|RO_NUMBER|RO_TIME)\(\s*"
-                     r'"([a-z0-9_.]+)"\s*,\s*([\w.\[\]]+)\s*,\s*([-+\w.]+)\s*'
-                     r"(?:,\s*([-+\w.]+)\s*)?,")
-    for m in row.finditer(text):
-        kind, fpath, _member, a, b = m.groups()
-        if kind == "ENUM":
-            fields.append(Field(fpath, kind, names=enums[a]))
-        elif kind.startswith("RO_"):
-            fields.append(Field(fpath, kind[3:], number(a), number(b), read_only=True))
-        else:
-            fields.append(Field(fpath, kind, number(a), number(b)))
-    return fields
-
-
-def leaves(tree, prefix=""):
-    """Dotted paths of a state tree's leaves (arrays are leaves)."""
-    out = {}
-    for k, v in tree.items():
-        p = f"{prefix}{k}"
-        if isinstance(v, dict):
-            out.update(leaves(v, p + "."))
-        else:
-            out[p] = v
-    return out
-
-
-def put(tree, path, value):
-    parts = path.split(".")
-    for p in parts[:-1]:
-        tree = tree.setdefault(p, {})
-    tree[parts[-1]] = value
-
-
-def nested(flat):
-    tree = {}
-    for path, value in flat.items():
-        put(tree, path, value)
-    return tree
+def weather_params(fields):
+    """The weather parameters the autopilot and transitions drive: the fields a transition's
+    ends stand for (weather.transition.from.<path>, read-only rows of the schema)."""
+    paths = {f.path for f in fields}
+    return [f.path[len(TRANSITION_END):] for f in fields if f.path.startswith(TRANSITION_END)
+            and f.path[len(TRANSITION_END):] in paths]
 
 
 # ------------------------------------------------------------------------------------------
@@ -129,6 +76,7 @@ class Draw:
     def __init__(self, rng, fields, uncapped):
         self.rng = rng
         self.fields = {f.path: f for f in fields if not f.read_only}
+        self.weather = [p for p in weather_params(fields) if p in self.fields]
         self.uncapped = uncapped
         self.map_uploaded = False
 
@@ -153,30 +101,46 @@ class Draw:
 
     def value(self, f):
         cap = None if self.uncapped else COST_CAPS.get(f.path)
-        if f.kind == "NUMBER":
-            return self.number(f.lo, f.hi)
-        if f.kind == "RGB":
-            if self.rng.random() < 0.2:
-                return self.number(f.lo, f.hi)  # one number sets all three channels
-            return [self.number(f.lo, f.hi) for _ in range(3)]
-        if f.kind == "INT":
-            return self.integer(f.lo, min(f.hi, cap) if cap else f.hi)
-        if f.kind in ("INT_PAIR", "INT_TRIPLE"):
-            n = 2 if f.kind == "INT_PAIR" else 3
-            return [self.integer(f.lo, min(f.hi, cap[i]) if cap else f.hi) for i in range(n)]
-        if f.kind == "ENUM":
-            names = list(f.names)
-            if f.path == "weather.map_source" and not self.map_uploaded:
-                names.remove("client")
-            return self.rng.choice(names)
-        if f.kind == "TIME":
-            return iso_utc(self.rng.uniform(*UTC_DRAW_RANGE))
-        raise ValueError(f"no draw for {f.kind} ({f.path})")
+        return self.node(f.schema, cap)
+
+    def node(self, s, cap=None):
+        """A random value valid under the schema node `s`; `cap` bounds an integer from above
+        (a list: per array element)."""
+        if "const" in s:
+            return s["const"]
+        if "enum" in s:
+            return self.rng.choice(list(s["enum"]))
+        if "oneOf" in s:
+            return self.node(self.rng.choice(s["oneOf"]), cap)
+        kind = s.get("type")
+        if kind in ("number", "integer"):
+            lo = s.get("minimum", s.get("exclusiveMinimum", UNBOUNDED_DRAW_RANGE[0]))
+            hi = s.get("maximum", s.get("exclusiveMaximum", UNBOUNDED_DRAW_RANGE[1]))
+            if kind == "integer":
+                lo += "exclusiveMinimum" in s and "minimum" not in s
+                hi -= "exclusiveMaximum" in s and "maximum" not in s
+                return self.integer(lo, min(hi, cap) if cap is not None else hi)
+            v = self.number(lo, hi)
+            if ("exclusiveMinimum" in s and v <= lo) or ("exclusiveMaximum" in s and v >= hi):
+                v = (lo + hi) / 2
+            return v
+        if kind == "array":
+            lo = s.get("minItems", 0)
+            n = self.rng.randint(lo, s.get("maxItems", lo + 3))
+            caps = cap if isinstance(cap, list) else [cap] * n
+            return [self.node(s.get("items", {}), caps[i] if i < len(caps) else None)
+                    for i in range(n)]
+        if kind == "boolean":
+            return self.rng.random() < 0.5
+        if kind == "string" and s.get("format") == "date-time":
+            return iso_utc(self.rng.uniform(*DATE_TIME_DRAW_RANGE))
+        raise ValueError(f"no draw for the schema node {s}")
 
     def radii(self):
-        bottom = self.number(100.0, 100000.0)
-        return {RADII[0]: bottom,
-                RADII[1]: bottom + self.rng.uniform(0.1, MAX_ATMOSPHERE_THICKNESS_KM)}
+        bottom, top = self.fields[RADII[0]].schema, self.fields[RADII[1]].schema
+        b = self.number(bottom["minimum"], bottom["maximum"])
+        t = b + self.rng.uniform(0.1, MAX_ATMOSPHERE_THICKNESS_KM)
+        return {RADII[0]: b, RADII[1]: min(max(t, top["minimum"]), top["maximum"])}
 
     def make_valid(self, flat):
         """Completes a flat patch so that it is valid whatever the state it meets."""
@@ -186,7 +150,7 @@ class Draw:
             flat.update(self.radii())
         if any(p in flat for p in EPHEMERIS_ANGLES):
             flat["clock.sky_bodies"] = "manual"
-        if any(p in flat for p in WEATHER_PARAMS):
+        if any(p in flat for p in self.weather):
             flat["weather.autopilot"] = "off"
         if flat.get("weather.map_source") == "client" and not self.map_uploaded:
             flat["weather.map_source"] = "procedural"
@@ -202,7 +166,7 @@ class Draw:
             group = self.rng.choice(sorted({p.rsplit(".", 1)[0] for p in candidates}))
             paths = [p for p in candidates if p.rsplit(".", 1)[0] == group]
         else:
-            paths = self.rng.sample(candidates, self.rng.randint(1, 6))
+            paths = self.rng.sample(candidates, min(len(candidates), self.rng.randint(1, 6)))
         return self.patch(paths)
 
     def camera(self):
