@@ -1,6 +1,7 @@
 """bench/soak.py's other clients: the subscribers that keep changing their views, the viewer
 taking snapshots, probes, stats, presets lists and states, the client that connects and
-disconnects, and the monitor that reads stats (the simulated clock) and samples RSS."""
+disconnects, the client that subscribes and never reads, and the monitor that reads stats (the
+simulated clock) and samples RSS."""
 
 import asyncio
 import json
@@ -134,6 +135,31 @@ async def viewer(soak, seed):
                 await other()
     finally:
         await c.close()
+
+
+def _open_stalled(port):
+    s = H.raw_ws_connect(port)  # a 4 KiB receive buffer: the daemon's writes back up at once
+    H.raw_ws_send_text(s, json.dumps({"type": "subscribe", "id": 1,
+                                      "view": {"width": 320, "height": 180, "fps": 10}}))
+    return s
+
+
+async def stalled_reader(soak):
+    """A client that subscribes to a stream and never reads a byte: the daemon must go on
+    serving everyone else (the other clients' acks and frame gaps say whether it does)."""
+    loop = asyncio.get_running_loop()
+    soak.count(soak.sent, "stalled_reader")
+    try:
+        s = await loop.run_in_executor(None, _open_stalled, soak.daemon.port)
+    except Exception as e:  # noqa: BLE001 - reported as a failure
+        soak.fail(f"stalled reader: {e!r}")
+        return
+    soak.count(soak.acked, "stalled_reader")
+    try:
+        while not soak.done:
+            await asyncio.sleep(0.5)
+    finally:
+        s.close()
 
 
 async def churn(soak, seed):
