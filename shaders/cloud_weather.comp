@@ -8,9 +8,9 @@
 //
 // Coverage is a threshold of the 3D base shape (cloud_density.glsl): a texel of coverage c
 // keeps the part c of the shape above 1 - c, so the map says where clouds gather and the shape
-// draws them. Each cloud type has its own pattern (render/cloud_params.c): cumulus turrets
-// clustered by a fractional Brownian field over every scale from a few hundred metres to 20 km,
-// cumulonimbus cells about 10 km apart whose cores are towers, stratocumulus closed cells in a
+// draws them. Each cloud type has its own pattern (render/cloud_params.c): cumulus separate
+// clouds in cells of 2.4 km down to 150 m, roughened and clustered by fractional Brownian
+// fields up to 20 km, cumulonimbus cells about 10 km apart whose cores are towers, stratocumulus closed cells in a
 // varying deck, stratus a sheet. The map's share of the field and the shape's are weighed so
 // that about the asked coverage of the layer is cloud. Only the types present at a texel are
 // evaluated.
@@ -68,6 +68,47 @@ float fbm2(vec2 x, ivec2 period, uint salt, int octaves, float hurst, float fine
     return sum / (OCTAVE_SIGMA * sqrt(max(power, 1e-12)));
 }
 
+// Distinct cumulus at several sizes: CELL_LEVELS grids of `period` cells across the map, then
+// twice, four and eight times as many, each cell holding at most one cloud: a dome falling as
+// 1 - (d/r)^2 to 0 at its radius, of random height. A cell of level k holds one with
+// probability CELL_PRESENCE * CELL_PRESENCE_RATIO^k, so the clouds per size octave grow
+// 4 * 0.8 = 3.2 times an octave smaller: n(L) ~ L^-(3 + log2 0.8) = L^-2.7 as placed, which the
+// threshold and merging flatten (rendered fields measure b 1.6-2.3; observed 1.7-2.9, Neggers
+// et al. 2003). Smaller clouds are a little lower (CELL_HEIGHT_RATIO a level): a smaller cloud
+// is also a shallower one (humilis), and thin towers would stand where the domes were equal.
+// Separate domes keep clouds apart, as observed; a single thresholded field joined turrets
+// into networks whose outlines reached an area-perimeter dimension of 1.5 at mid coverage.
+const int CELL_LEVELS = 5;
+const float CELL_PRESENCE = 0.9, CELL_PRESENCE_RATIO = 0.8, CELL_RADIUS = 0.62;
+const float CELL_HEIGHT_RATIO = 0.85;
+// Mean and deviation of cumulus_cells() before its normalisation (sampled at 40 000 points of
+// the same construction).
+const float CELLS_MEAN = 0.477, CELLS_SIGMA = 0.178;
+float cumulus_cells(vec2 x, int period, uint salt)
+{
+    float best = 0.0;
+    for (int k = 0; k < CELL_LEVELS; k++) {
+        int n = period << k;
+        vec2 p = x * float(n);
+        ivec2 cell = ivec2(floor(p));
+        float presence = CELL_PRESENCE * pow(CELL_PRESENCE_RATIO, float(k));
+        uint level_salt = salt + 16u * uint(k);
+        for (int j = -1; j <= 1; j++)
+            for (int i = -1; i <= 1; i++) {
+                ivec2 c = cell + ivec2(i, j);
+                ivec2 wrapped = ((c % n) + n) % n;
+                vec2 kind = hash2(wrapped, level_salt + 1u);
+                if (kind.x >= presence)
+                    continue;
+                vec2 centre = vec2(c) + 0.25 + 0.5 * hash2(wrapped, level_salt);
+                float d2 = dot(p - centre, p - centre) / (CELL_RADIUS * CELL_RADIUS);
+                float amp = mix(0.4, 1.0, kind.y) * pow(CELL_HEIGHT_RATIO, float(k));
+                best = max(best, amp * (1.0 - d2));
+            }
+    }
+    return (best - CELLS_MEAN) / CELLS_SIGMA;
+}
+
 // The normal quantile of p (logistic approximation of the probit) and its inverse.
 const float LOGISTIC_PROBIT = 1.702;
 float probit(float p)
@@ -103,9 +144,9 @@ float coverage_score(float field, float coverage, float weight)
                            PROJECTION_OFFSET);
 }
 
-// The map's weight per type: cumulus fields are the turrets' own pattern clustered by the map,
-// cumulonimbus towers the map's cores, stratocumulus its cells (stratus: below).
-const float CUMULUS_WEIGHT = 0.7, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5;
+// The map's weight per type: cumulus fields are the map's cells, the 3D shape's turrets their
+// outlines; cumulonimbus towers the map's cores, stratocumulus its cells (stratus: below).
+const float CUMULUS_WEIGHT = 1.5, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5;
 // Hurst exponents of the fBm fields (amplitude 2^-H per octave). Level sets of a field of
 // exponent H have outlines of dimension (3 - H) / 2 and a size distribution n(L) ~ L^-(3 - H)
 // (Kondev & Henley 1995); observed cumulus: D 1.3-1.4 (Lovejoy 1982), b 1.7-2.9. Decks: a
@@ -116,7 +157,10 @@ const float CUMULUS_WEIGHT = 0.7, TOWER_WEIGHT = 2.5, CELL_WEIGHT = 2.5;
 const float CUMULUS_HURST = 0.3, TOWER_HURST = 0.6, DECK_HURST = 0.33, SC_DECK_HURST = 0.4;
 // The largest scales (6-25 km) of a cumulus field only nudge it: at full amplitude they would
 // clear or fill whole views, and a view's cloud fraction would stray from the coverage.
-const float CLUSTER_AMPLITUDE = 0.12;
+const float CLUSTER_AMPLITUDE = 0.03;
+// The share of a fractional Brownian field (of cells of 1.6 km and less) in the cumulus cells:
+// the domes alone draw outlines smoother than observed (dimension 1.20 at coverage 0.2).
+const float CELL_ROUGHNESS = 0.3;
 // Stratus: the map holds the sheet's thickness, not a share of the shape (sheets keep a fraction
 // of its relief, cloud_density.glsl): a normal score around probit(coverage), at most
 // SHEET_MAX_COVERAGE's, spread by SHEET_SPREAD times the deck's field and at least SHEET_FLOOR
@@ -131,10 +175,10 @@ const float DECK_SHARE = 0.85;
 // Cumulus seen from above: a column is cloud where any of its heights is, so the fraction seen
 // from above is more than the share above the threshold at one height, the more so the lower
 // the coverage. The threshold is fitted to skyd's renders from 14 km (tests/render/
-// test_cloud_field.c: coverage 0.25 and 0.45, two seeds, four places each): the projected
-// field acts as one of deviation CUMULUS_PROJECTED_SPREAD shifted by CUMULUS_PROJECTED_OFFSET
-// (coverage_score's sqrt(1 + weight^2) and PROJECTION_OFFSET left 0.25 at 0.19).
-const float CUMULUS_PROJECTED_SPREAD = 0.852, CUMULUS_PROJECTED_OFFSET = 0.592;
+// test_cloud_field.c's views: coverage 0.2, 0.35 and 0.5, six seeds, four places each): the
+// projected field acts as one of deviation CUMULUS_PROJECTED_SPREAD shifted by
+// CUMULUS_PROJECTED_OFFSET.
+const float CUMULUS_PROJECTED_SPREAD = 1.48, CUMULUS_PROJECTED_OFFSET = 0.575;
 float cumulus_score(float field, float coverage)
 {
     return threshold_score(field, coverage, CUMULUS_WEIGHT, CUMULUS_PROJECTED_SPREAD,
@@ -180,11 +224,13 @@ void main()
     if (p.x > 0.0) {
         float score = 0.0;
         if (w.z > 0.0) {
-            // Cumulus: turrets gathered by a field whose variance lies in cells of 1.6 km and
-            // less, nudged by clusters of 6-25 km (weak, so that a view of ten kilometres
-            // holds about the coverage).
+            // Cumulus: separate clouds of 2.4 km cells and less, their outlines roughened,
+            // nudged by clusters of 6-25 km (weak, so that a view of ten kilometres holds
+            // about the coverage).
             float clusters = fbm2(x, ivec2(max(1, cu_period / 16)), 15u, 3, CUMULUS_HURST, shaped);
-            float field = fbm2(x, ivec2(cu_period), 11u, 5, CUMULUS_HURST, shaped);
+            float cells = cumulus_cells(x, max(1, cu_period * 2 / 3), 11u);
+            float rough = fbm2(x, ivec2(cu_period), 12u, 3, CUMULUS_HURST, shaped);
+            float field = blend(cells, rough, CELL_ROUGHNESS);
             score += w.z * cumulus_score(blend(field, clusters, CLUSTER_AMPLITUDE), p.x);
         }
         if (w.w > 0.0) { // cumulonimbus: few big cells whose cores are towers
