@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "cli_args.h"
+#include "field_errors.h"
 #include "trivial_write.h"
 #include "world_render.h"
 

@@ -1,6 +1,8 @@
 /* Construction of the server's text messages (PROTOCOL.md, "Server messages"); the parsing
  * of client messages is in messages.c. */
 #include "messages.h"
+#include "field_errors.h"
+#include "field_schema.h"
 #include "message_names.h"
 
 #include <cjson/cJSON.h>

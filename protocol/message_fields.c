@@ -3,6 +3,7 @@
  * checks names, duplicates, types, ranges, enum names and required members; messages.c and
  * message_view.c check what a row cannot say (the caller members, the protocol version, the
  * preset name's pattern, a view's aspect). */
+#include "field_schema.h"
 #include "message_parser.h"
 #include "message_names.h"
 

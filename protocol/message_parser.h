@@ -11,6 +11,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "field_schema.h"
 #include "messages.h"
 
 #if defined(__GNUC__)

@@ -1,6 +1,7 @@
 /* The message parser's readers of what has no row (the envelope's id, and the members
  * messages.c reads itself): each checks one member (presence, type, range, length) and records
  * a failure under its JSON Pointer. */
+#include "field_errors.h"
 #include "message_parser.h"
 #include "message_names.h"
 

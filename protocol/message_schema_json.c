@@ -5,6 +5,7 @@
  * code (the id, a set's patch, the view object, a preset's name, the weather map's data) are
  * written here; the patch is the world state's own schema. Built without cJSON's parser, which
  * is not thread-safe (server/base/include/json_guard.h), so any thread may call it. */
+#include "field_schema.h"
 #include "message_parser.h"
 #include "message_names.h"
 

@@ -1,5 +1,7 @@
 /* What the rows of message_fields.c leave to code: a view object (its rows run here, with the
  * limits, then its aspect is checked) and a client weather map's data. */
+#include "field_errors.h"
+#include "field_schema.h"
 #include "message_parser.h"
 #include "message_names.h"
 #include "weather_map.h"

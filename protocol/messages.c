@@ -1,4 +1,6 @@
 #include "messages.h"
+#include "field_errors.h"
+#include "field_schema.h"
 #include "message_names.h"
 #include "message_parser.h"
 

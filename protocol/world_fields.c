@@ -2,6 +2,7 @@
  * the defaults. The schema engine (world_schema.c: lookup and checks; world_state.c: patching
  * and validation; world_schema_json.c: the JSON Schema) reads the table. */
 #include "world_fields.h"
+#include "field_schema.h"
 
 #include <string.h>
 

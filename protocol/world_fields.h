@@ -5,6 +5,7 @@
 
 #include <stddef.h>
 
+#include "field_schema.h"
 #include "world_state.h"
 
 extern const struct sky_field_desc sky_world_field_table[];

@@ -8,6 +8,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "field_errors.h"
+#include "field_schema.h"
 #include "world_fields.h"
 #include "world_state.h"
 

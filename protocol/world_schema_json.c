@@ -1,6 +1,7 @@
 /* The world state's JSON Schema (2020-12), generated from the field table: one property per
  * leaf with its type, range, enum names, unit, default and description, nested like the state's
  * JSON, no other members allowed. */
+#include "field_schema.h"
 #include "world_schema.h"
 
 #include <cjson/cJSON.h>

@@ -1,6 +1,8 @@
 /* World state patching and validation: one descriptor row per leaf field (world_fields.c)
  * drives both; the engine's shared parts are in world_schema.c. */
 #include "world_state.h"
+#include "field_errors.h"
+#include "field_schema.h"
 #include "world_schema.h"
 #include "utc_time.h"
 

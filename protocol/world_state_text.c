@@ -1,5 +1,7 @@
 /* World states as JSON, and dotted-path assignments ("sun.elevation_deg=12", the command
  * line's --set) turned into patches applied like a client's. */
+#include "field_errors.h"
+#include "field_schema.h"
 #include "world_state.h"
 #include "world_schema.h"
 #include "utc_time.h"

@@ -14,6 +14,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "field_errors.h"
 #include "frame_header.h"
 #include "weather_map.h"
 #include "world_state.h"

@@ -1,19 +1,23 @@
-/* World state: the plain struct the daemon keeps, its defaults, and its JSON schema.
+/* World state: the plain struct the daemon keeps, its defaults, and its table of field rows
+ * (sky_world_schema, on the schema engine of field_schema.h).
  *
  * Pure C on cJSON: no sockets, no Vulkan, no globals. Every field has a JSON path
  * (e.g. "atmosphere.mie.g" with dots, "/atmosphere/mie/g" as a JSON Pointer), a type and a
  * validation range. Patches are validated completely before anything changes and are applied
- * all-or-nothing. Units are in the field names: km, per_km, deg, lux.
+ * all-or-nothing; failures are field errors (field_errors.h). Units are in the field names:
+ * km, per_km, deg, lux.
  */
 #ifndef SKYD_WORLD_STATE_H
 #define SKYD_WORLD_STATE_H
 
-#include <stdarg.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
 struct cJSON;
+struct sky_field_desc;
+struct sky_field_errors;
+struct sky_schema;
 
 enum sky_limb_darkening {
     SKY_LIMB_DARKENING_NONE = 0,
@@ -231,30 +235,6 @@ struct sky_world_state {
     struct sky_render_settings render;
 };
 
-/* One validation failure: a JSON Pointer to the field ("/atmosphere/mie/g") and a reason. */
-struct sky_field_error {
-    char pointer[128];
-    char reason[160];
-    int code; /* stable id, one of enum sky_field_error_code */
-};
-
-enum sky_field_error_code {
-    SKY_FIELD_UNKNOWN = 1,      /* no such field */
-    SKY_FIELD_WRONG_TYPE = 2,   /* e.g. a string where a number is expected */
-    SKY_FIELD_OUT_OF_RANGE = 3, /* number outside [min, max] or not finite */
-    SKY_FIELD_BAD_VALUE = 4,    /* unparsable value text, unknown enum name, wrong array length */
-    SKY_FIELD_INCONSISTENT = 5, /* fields valid alone but not together (top radius <= bottom) */
-    SKY_FIELD_MISSING = 6,      /* a required member is absent */
-};
-
-#define SKY_MAX_FIELD_ERRORS 32
-
-struct sky_field_errors {
-    int count;                  /* number of entries filled (at most SKY_MAX_FIELD_ERRORS) */
-    int total;                  /* number of failures found, may exceed count */
-    struct sky_field_error items[SKY_MAX_FIELD_ERRORS];
-};
-
 /* The weather parameters of a state, and writing them back. */
 void sky_weather_params_get(const struct sky_world_state *state, struct sky_weather_params *out);
 void sky_weather_params_put(struct sky_world_state *state, const struct sky_weather_params *in);
@@ -283,97 +263,13 @@ char *sky_world_state_to_text(const struct sky_world_state *state);
 /* Checks cross-field consistency of a complete state; fills errors. */
 bool sky_world_state_validate(const struct sky_world_state *state, struct sky_field_errors *errors);
 
-/* "a number", "a string", "a boolean", "null", "an array" or "an object": how error reasons
- * name the JSON value they got. */
-const char *sky_json_type_name(const struct cJSON *value);
-
-/* Formats errors as one line per failure, "pointer: reason", into buf. */
-void sky_field_errors_format(const struct sky_field_errors *errors, char *buf, size_t buflen);
-
 /* Splits "dotted.path=value" at the first '=' (surrounding blanks ignored) and calls
  * sky_world_state_set_path. */
 bool sky_world_state_set_assignment(struct sky_world_state *state, const char *assignment,
                                     struct sky_field_errors *errors);
 
-/* Empties errors (count and total 0). */
-void sky_field_errors_clear(struct sky_field_errors *errors);
-
-/* Records one failure: counts it in total, stores it while there is room. Long texts are
- * truncated. */
-void sky_field_errors_add(struct sky_field_errors *errors, int code, const char *pointer,
-                          const char *reason);
-
-/* The same with a printf-style reason; the va_list form is for wrappers. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 4, 5)))
-#endif
-void sky_field_errors_addf(struct sky_field_errors *errors, int code, const char *pointer,
-                           const char *format, ...);
-void sky_field_errors_vaddf(struct sky_field_errors *errors, int code, const char *pointer,
-                            const char *format, va_list args);
-
-/* The schema: one descriptor per leaf field. It drives validation, patching, --set,
- * serialization, and the protocol's `set` message and its documentation. */
-enum sky_field_type {
-    SKY_FIELD_TYPE_NUMBER,     /* double */
-    SKY_FIELD_TYPE_RGB,        /* double[3]; a single number in a patch sets all three */
-    SKY_FIELD_TYPE_INT_PAIR,   /* int[2] */
-    SKY_FIELD_TYPE_INT_TRIPLE, /* int[3] */
-    SKY_FIELD_TYPE_ENUM,       /* int-sized enum, written as enum_names[value] */
-    SKY_FIELD_TYPE_INT,        /* int */
-    SKY_FIELD_TYPE_TIME,       /* double seconds since 1970 UTC, ISO 8601 text in JSON;
-                                  min and max bound the seconds */
-    SKY_FIELD_TYPE_STRING,     /* char[capacity], NUL-terminated (the service configuration) */
-    SKY_FIELD_TYPE_BOOL,       /* bool (the service configuration) */
-    SKY_FIELD_TYPE_INT64,      /* int64_t, within +-(2^53 - 1) (ids and counts in messages) */
-};
-
-struct sky_field_desc {
-    const char *path;              /* dotted, "atmosphere.mie.g" */
-    enum sky_field_type type;
-    size_t offset;                 /* into the struct the table describes */
-    double min, max;               /* inclusive; for a number and for each array element;
-                                      STRING: min is the shortest length in bytes */
-    const char *const *enum_names; /* ENUM only: names indexed by value; a NULL name is no
-                                      value (a value 0 that means "none") */
-    int enum_count;
-    const char *description;       /* short, with the unit */
-    bool read_only;                /* kept by the simulation: a client `set` is refused; a saved
-                                      state restores it */
-    size_t capacity;               /* STRING only: the buffer's bytes */
-    bool required;                 /* an absent member is SKY_FIELD_MISSING */
-    bool exclusive_min;            /* min itself is out of range: the value must exceed it */
-};
-
-/* A table of field rows over one struct: the world state's (sky_world_schema), the service
- * configuration's (server/host/config.c). */
-struct sky_schema {
-    const struct sky_field_desc *fields;
-    size_t count;
-    const char *read_only_member; /* a top-level member a patch may not name ("revision") */
-    /* Top-level members the caller applies itself (no rows): skipped by the engine, listed
-     * among the expected names when a member is unknown. */
-    const char *const *caller_members;
-    size_t caller_member_count;
-    bool unique_members;          /* a member given twice is SKY_FIELD_BAD_VALUE (messages) */
-};
-
-/* The most rows a table may have. */
-#define SKY_SCHEMA_MAX_ROWS 256
-
 /* The world state's schema: the table of sky_world_state_fields. */
 const struct sky_schema *sky_world_schema(void);
-
-/* The schema engine: applies a JSON object to `target` (the struct the rows' offsets point
- * into) member by member. Unknown members, wrong types, values out of range and absent
- * required members are added to `errors` (not cleared first), each under its JSON Pointer
- * after `pointer_prefix`; nothing is checked across fields. Members are written as they pass:
- * apply to a scratch copy and keep it only when no error was added. `named` (NULL, or one
- * flag per row, cleared here) receives the rows the object names, valid or not. Returns
- * whether this call added no error. */
-bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
-                           const struct cJSON *object, const char *pointer_prefix,
-                           struct sky_field_errors *errors, bool *named);
 
 /* The descriptor table, in serialization order; *count receives its length. */
 const struct sky_field_desc *sky_world_state_fields(size_t *count);
@@ -403,32 +299,9 @@ bool sky_world_patch_names(const struct sky_world_patch *patch, const struct sky
 bool sky_world_state_apply_patch(struct sky_world_state *state, const struct sky_world_patch *patch,
                                  struct sky_field_errors *errors);
 
-/* A field's value read from `base` (the struct its table describes) as JSON, the same as
- * sky_world_state_to_json and sky_schema_to_json write it; NULL when memory is out. */
-struct cJSON *sky_field_to_json(const struct sky_field_desc *field, const void *base);
-
-/* The field's JSON Pointer ("/atmosphere/mie/g" for "atmosphere.mie.g"), truncated to
- * capacity. */
-void sky_field_pointer(const struct sky_field_desc *field, char *pointer, size_t capacity);
-
-/* The bytes a field takes in its struct. */
-size_t sky_field_size(const struct sky_field_desc *field);
-
-/* The unit of a field ("km", "deg", "1/km", "lx", "cd/m2", "EV", "UTC", ...), read from its
- * name's suffix; NULL for a dimensionless one. */
-const char *sky_field_unit(const struct sky_field_desc *field);
-
 /* The world state's JSON Schema (draft 2020-12) generated from the descriptor table: types,
  * ranges, enum names, units ("x-unit"), defaults, descriptions, read-only fields; every object
  * closed to other members. NULL when memory is out. The caller deletes it. */
 struct cJSON *sky_world_state_json_schema(void);
-
-/* The rows of `schema` read from `base` as nested JSON ({"listen": {"port": 8080}}). */
-struct cJSON *sky_schema_to_json(const struct sky_schema *schema, const void *base);
-
-/* The JSON Schema of any table: `defaults` (from sky_schema_to_json) gives the defaults, NULL
- * none. The caller adds what has no row (properties of its own) and deletes it. */
-struct cJSON *sky_schema_json_schema(const struct sky_schema *schema, const struct cJSON *defaults,
-                                     const char *title);
 
 #endif

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "config.h"
+#include "field_errors.h"
 #include "presets.h"
 #include "world_render.h"
 

@@ -8,6 +8,7 @@
 
 #include "cli_args.h"
 #include "commands.h"
+#include "field_errors.h"
 #include "messages.h"
 #include "jpeg_write.h"
 #include "png_write.h"

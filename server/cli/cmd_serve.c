@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "config.h"
 #include "control_token.h"
+#include "field_errors.h"
 #include "log.h"
 #include "render_loop.h"
 #include "serve_reload.h"

@@ -1,4 +1,6 @@
 #include "config.h"
+#include "field_errors.h"
+#include "field_schema.h"
 #include "text_file.h"
 
 #include <errno.h>

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "field_errors.h"
 #include "json_guard.h"
 #include "log.h"
 #include "presets.h"

@@ -1,4 +1,5 @@
 #include "state_store.h"
+#include "field_errors.h"
 #include "png_write.h"
 #include "text_file.h"
 

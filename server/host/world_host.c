@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "config.h"
+#include "field_errors.h"
 #include "messages.h"
 #include "monotonic_clock.h"
 #include "wall_clock.h"

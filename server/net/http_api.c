@@ -8,6 +8,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "field_errors.h"
 #include "json_guard.h"
 #include "log.h"
 #include "monotonic_clock.h"

@@ -9,6 +9,7 @@
 
 #include <libwebsockets.h>
 
+#include "field_errors.h"
 #include "frame_header.h"
 #include "http_api.h"
 #include "json_guard.h"

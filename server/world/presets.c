@@ -1,4 +1,5 @@
 #include "presets.h"
+#include "field_errors.h"
 #include "text_file.h"
 
 #include <cjson/cJSON.h>

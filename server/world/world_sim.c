@@ -8,6 +8,8 @@
 #include <string.h>
 
 #include "ephemeris.h"
+#include "field_errors.h"
+#include "field_schema.h"
 #include "utc_time.h"
 #include "weather_autopilot.h"
 #include "wind_drift.h"

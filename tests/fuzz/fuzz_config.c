@@ -1,6 +1,7 @@
 /* libFuzzer target: a configuration file's text through the loader's parser and validator
  * (server/host/config.c), initial_state included. */
 #include "config.h"
+#include "field_errors.h"
 
 #include <stdint.h>
 #include <stdlib.h>

@@ -1,6 +1,7 @@
 /* libFuzzer target: one client text message through the protocol parser and validator, and
  * for a valid set its patch onto a live state (the daemon's path), then the replies built
  * from what was parsed. Any crash or sanitizer report is a failure. */
+#include "field_errors.h"
 #include "messages.h"
 #include "world_state.h"
 

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "field_errors.h"
 #include "png_write.h"
 #include "presets.h"
 #include "test_support.h"

@@ -15,6 +15,7 @@
  * the objects measured, red those cut by the image's border); argv[2]: the config directory. */
 #include "test_cloud_shapes.h"
 
+#include "field_errors.h"
 #include "png_write.h"
 #include "presets.h"
 

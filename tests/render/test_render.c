@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "field_errors.h"
 #include "presets.h"
 #include "png_write.h"
 #include "test_support.h"

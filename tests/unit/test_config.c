@@ -9,6 +9,7 @@
 
 #include "check.h"
 #include "config.h"
+#include "field_errors.h"
 
 static char dir[] = "/tmp/skyd-config-XXXXXX";
 

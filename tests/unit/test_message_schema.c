@@ -9,6 +9,7 @@
 #include <cjson/cJSON.h>
 
 #include "check.h"
+#include "field_schema.h"
 #include "messages.h"
 #include "schema_validator.h"
 #include "test_message_schema.h"

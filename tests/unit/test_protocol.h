@@ -9,6 +9,7 @@
 #ifndef SKYD_TEST_PROTOCOL_H
 #define SKYD_TEST_PROTOCOL_H
 
+#include "field_errors.h"
 #include "frame_header.h"
 #include "messages.h"
 #include "world_state.h"

@@ -5,6 +5,8 @@
  * does what the world host does: world_sim_run_to at every tick with its own wind drift,
  * world_sim_commit for a client's change. argv[1] is the config directory. */
 #include "check.h"
+#include "field_errors.h"
+#include "field_schema.h"
 #include "presets.h"
 #include "wind_drift.h"
 #include "world_sim.h"

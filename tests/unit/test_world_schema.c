@@ -13,6 +13,8 @@
 
 #include "check.h"
 #include "config.h"
+#include "field_errors.h"
+#include "field_schema.h"
 #include "schema_validator.h"
 #include "test_message_schema.h"
 #include "world_state.h"

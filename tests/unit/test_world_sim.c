@@ -4,6 +4,7 @@
  * config directory. */
 #include "check.h"
 #include "ephemeris.h"
+#include "field_errors.h"
 #include "presets.h"
 #include "weather_autopilot.h"
 #include "wind_drift.h"

@@ -8,6 +8,8 @@
 #ifndef SKYD_TEST_WORLD_STATE_H
 #define SKYD_TEST_WORLD_STATE_H
 
+#include "field_errors.h"
+#include "field_schema.h"
 #include "presets.h"
 #include "world_state.h"
 

@@ -1,0 +1,96 @@
+/* The schema engine: a table of rows, one per leaf field of a C struct (path, type, offset,
+ * range), drives looking fields up, checking and applying JSON to the struct, writing it as
+ * JSON and describing it as a JSON Schema. The world state (world_state.h), the service
+ * configuration (server/host/config.c) and the client messages each describe their struct
+ * with such a table; failures are reported as field errors (field_errors.h). */
+#ifndef SKYD_FIELD_SCHEMA_H
+#define SKYD_FIELD_SCHEMA_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+struct cJSON;
+struct sky_field_errors;
+
+enum sky_field_type {
+    SKY_FIELD_TYPE_NUMBER,     /* double */
+    SKY_FIELD_TYPE_RGB,        /* double[3]; a single number in a patch sets all three */
+    SKY_FIELD_TYPE_INT_PAIR,   /* int[2] */
+    SKY_FIELD_TYPE_INT_TRIPLE, /* int[3] */
+    SKY_FIELD_TYPE_ENUM,       /* int-sized enum, written as enum_names[value] */
+    SKY_FIELD_TYPE_INT,        /* int */
+    SKY_FIELD_TYPE_TIME,       /* double seconds since 1970 UTC, ISO 8601 text in JSON;
+                                  min and max bound the seconds */
+    SKY_FIELD_TYPE_STRING,     /* char[capacity], NUL-terminated (the service configuration) */
+    SKY_FIELD_TYPE_BOOL,       /* bool (the service configuration) */
+    SKY_FIELD_TYPE_INT64,      /* int64_t, within +-(2^53 - 1) (ids and counts in messages) */
+};
+
+struct sky_field_desc {
+    const char *path;              /* dotted, "atmosphere.mie.g" */
+    enum sky_field_type type;
+    size_t offset;                 /* into the struct the table describes */
+    double min, max;               /* inclusive; for a number and for each array element;
+                                      STRING: min is the shortest length in bytes */
+    const char *const *enum_names; /* ENUM only: names indexed by value; a NULL name is no
+                                      value (a value 0 that means "none") */
+    int enum_count;
+    const char *description;       /* short, with the unit */
+    bool read_only;                /* kept by the simulation: a client `set` is refused; a saved
+                                      state restores it */
+    size_t capacity;               /* STRING only: the buffer's bytes */
+    bool required;                 /* an absent member is SKY_FIELD_MISSING */
+    bool exclusive_min;            /* min itself is out of range: the value must exceed it */
+};
+
+/* A table of field rows over one struct: the world state's (sky_world_schema), the service
+ * configuration's (server/host/config.c). */
+struct sky_schema {
+    const struct sky_field_desc *fields;
+    size_t count;
+    const char *read_only_member; /* a top-level member a patch may not name ("revision") */
+    /* Top-level members the caller applies itself (no rows): skipped by the engine, listed
+     * among the expected names when a member is unknown. */
+    const char *const *caller_members;
+    size_t caller_member_count;
+    bool unique_members;          /* a member given twice is SKY_FIELD_BAD_VALUE (messages) */
+};
+
+/* The most rows a table may have. */
+#define SKY_SCHEMA_MAX_ROWS 256
+
+/* The schema engine: applies a JSON object to `target` (the struct the rows' offsets point
+ * into) member by member. Unknown members, wrong types, values out of range and absent
+ * required members are added to `errors` (not cleared first), each under its JSON Pointer
+ * after `pointer_prefix`; nothing is checked across fields. Members are written as they pass:
+ * apply to a scratch copy and keep it only when no error was added. `named` (NULL, or one
+ * flag per row, cleared here) receives the rows the object names, valid or not. Returns
+ * whether this call added no error. */
+bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
+                           const struct cJSON *object, const char *pointer_prefix,
+                           struct sky_field_errors *errors, bool *named);
+
+/* A field's value read from `base` (the struct its table describes) as JSON, the same as
+ * sky_world_state_to_json and sky_schema_to_json write it; NULL when memory is out. */
+struct cJSON *sky_field_to_json(const struct sky_field_desc *field, const void *base);
+
+/* The field's JSON Pointer ("/atmosphere/mie/g" for "atmosphere.mie.g"), truncated to
+ * capacity. */
+void sky_field_pointer(const struct sky_field_desc *field, char *pointer, size_t capacity);
+
+/* The bytes a field takes in its struct. */
+size_t sky_field_size(const struct sky_field_desc *field);
+
+/* The unit of a field ("km", "deg", "1/km", "lx", "cd/m2", "EV", "UTC", ...), read from its
+ * name's suffix; NULL for a dimensionless one. */
+const char *sky_field_unit(const struct sky_field_desc *field);
+
+/* The rows of `schema` read from `base` as nested JSON ({"listen": {"port": 8080}}). */
+struct cJSON *sky_schema_to_json(const struct sky_schema *schema, const void *base);
+
+/* The JSON Schema of any table: `defaults` (from sky_schema_to_json) gives the defaults, NULL
+ * none. The caller adds what has no row (properties of its own) and deletes it. */
+struct cJSON *sky_schema_json_schema(const struct sky_schema *schema, const struct cJSON *defaults,
+                                     const char *title);
+
+#endif
