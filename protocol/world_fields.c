@@ -1,6 +1,6 @@
 /* The world state's fields: one descriptor row per leaf (path, type, range, description) and
- * the defaults. The schema engine (world_schema.c: lookup and checks; world_state.c: patching
- * and validation; world_schema_json.c: the JSON Schema) reads the table. */
+ * the defaults. The schema engine (field_schema.h) reads the table for world_state.c
+ * (patching, validation) and world_state_text.c (JSON, --set, the JSON Schema). */
 #include "world_fields.h"
 #include "field_schema.h"
 
@@ -293,6 +293,18 @@ static const struct sky_schema world_schema = {
 const struct sky_schema *sky_world_schema(void)
 {
     return &world_schema;
+}
+
+const struct sky_field_desc *sky_world_state_fields(size_t *count)
+{
+    if (count)
+        *count = sky_world_field_count;
+    return sky_world_field_table;
+}
+
+const struct sky_field_desc *sky_world_state_find_field(const char *dotted_path)
+{
+    return sky_schema_find(&world_schema, dotted_path);
 }
 
 static void set_rgb(double channels[3], double r, double g, double b)

@@ -1,5 +1,5 @@
-/* The world state's field table and defaults (world_fields.c), read by the schema engine in
- * world_state.c. Internal to protocol/. */
+/* The world state's field table (world_fields.c), the rows of sky_world_schema(), indexed by
+ * a compiled patch's field numbers (world_state.c). Internal to protocol/. */
 #ifndef SKYD_WORLD_FIELDS_H
 #define SKYD_WORLD_FIELDS_H
 

@@ -1,387 +1,16 @@
-/* World state patching and validation: one descriptor row per leaf field (world_fields.c)
- * drives both; the engine's shared parts are in world_schema.c. */
+/* World state patching and validation on the schema engine (field_schema.h) with the world's
+ * table (world_fields.c); what the rows cannot say, the checks across fields, is here. */
 #include "world_state.h"
 #include "field_errors.h"
 #include "field_schema.h"
-#include "world_schema.h"
-#include "utc_time.h"
+#include "world_fields.h"
 
 #include <cjson/cJSON.h>
 
 #include <math.h>
-#include <stdarg.h>
-#include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 static const double MAX_ATMOSPHERE_THICKNESS_KM = 1000.0;
-
-/* ---- patch application ------------------------------------------------------------------ */
-
-struct patch_context {
-    const struct sky_schema *schema;
-    void *target; /* a scratch copy: written freely, discarded on error */
-    struct sky_field_errors *errors;
-    bool *named;  /* per row: the object names it */
-};
-
-static void *field_address(void *target, const struct sky_field_desc *field)
-{
-    return (char *)target + field->offset;
-}
-
-static void apply_number(struct patch_context *context, const struct sky_field_desc *field,
-                         const cJSON *value, const char *pointer)
-{
-    if (!cJSON_IsNumber(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected a number, got %s", sky_json_type_name(value));
-        return;
-    }
-    if (schema_check_number(context->errors, field, value->valuedouble, pointer))
-        *(double *)field_address(context->target, field) = value->valuedouble;
-}
-
-static bool check_array_length(struct patch_context *context, const cJSON *value, int expected,
-                               const char *element_kind, const char *pointer)
-{
-    int length = cJSON_GetArraySize(value);
-    if (length == expected)
-        return true;
-    sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer,
-                          "expected an array of %d %s, got %d element%s", expected, element_kind,
-                          length, length == 1 ? "" : "s");
-    return false;
-}
-
-static void apply_rgb_array(struct patch_context *context, const struct sky_field_desc *field,
-                            const cJSON *value, const char *pointer)
-{
-    if (!check_array_length(context, value, 3, "numbers", pointer))
-        return;
-    double *channels = field_address(context->target, field);
-    int index = 0;
-    for (const cJSON *element = value->child; element; element = element->next, index++) {
-        char item_pointer[POINTER_CAPACITY];
-        schema_element_pointer(pointer, index, item_pointer, sizeof item_pointer);
-        if (!cJSON_IsNumber(element)) {
-            sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                                  "expected a number, got %s", sky_json_type_name(element));
-        } else if (schema_check_number(context->errors, field, element->valuedouble,
-                                       item_pointer)) {
-            channels[index] = element->valuedouble;
-        }
-    }
-}
-
-static void apply_rgb(struct patch_context *context, const struct sky_field_desc *field,
-                      const cJSON *value, const char *pointer)
-{
-    if (cJSON_IsArray(value)) {
-        apply_rgb_array(context, field, value, pointer);
-    } else if (cJSON_IsNumber(value)) {
-        if (schema_check_number(context->errors, field, value->valuedouble, pointer)) {
-            double *channels = field_address(context->target, field);
-            channels[0] = channels[1] = channels[2] = value->valuedouble;
-        }
-    } else {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected a number or an array of 3 numbers, got %s",
-                              sky_json_type_name(value));
-    }
-}
-
-static void apply_int_array(struct patch_context *context, const struct sky_field_desc *field,
-                            const cJSON *value, const char *pointer)
-{
-    int expected = schema_element_count(field->type);
-    if (!cJSON_IsArray(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected an array of %d integers, got %s", expected,
-                              sky_json_type_name(value));
-        return;
-    }
-    if (!check_array_length(context, value, expected, "integers", pointer))
-        return;
-    int *elements = field_address(context->target, field);
-    int index = 0;
-    for (const cJSON *element = value->child; element; element = element->next, index++) {
-        char item_pointer[POINTER_CAPACITY];
-        schema_element_pointer(pointer, index, item_pointer, sizeof item_pointer);
-        if (!cJSON_IsNumber(element)) {
-            sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                                  "expected an integer, got %s", sky_json_type_name(element));
-        } else if (schema_check_integer(context->errors, field, element->valuedouble,
-                                        item_pointer)) {
-            elements[index] = (int)element->valuedouble;
-        }
-    }
-}
-
-static int find_enum_value(const struct sky_field_desc *field, const char *name)
-{
-    for (int i = 0; i < field->enum_count; i++) {
-        if (field->enum_names[i] && strcmp(field->enum_names[i], name) == 0)
-            return i;
-    }
-    return -1;
-}
-
-static void apply_enum(struct patch_context *context, const struct sky_field_desc *field,
-                       const cJSON *value, const char *pointer)
-{
-    char names[REASON_CAPACITY];
-    schema_list_enum_names(field, names, sizeof names);
-    if (!cJSON_IsString(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected one of: %s, got %s", names, sky_json_type_name(value));
-        return;
-    }
-    int found = find_enum_value(field, value->valuestring);
-    if (found < 0) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer,
-                              "expected one of: %s, got \"%s\"", names, value->valuestring);
-        return;
-    }
-    *(int *)field_address(context->target, field) = found;
-}
-
-static void apply_int(struct patch_context *context, const struct sky_field_desc *field,
-                      const cJSON *value, const char *pointer)
-{
-    if (!cJSON_IsNumber(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected an integer, got %s", sky_json_type_name(value));
-        return;
-    }
-    if (schema_check_integer(context->errors, field, value->valuedouble, pointer)) {
-        if (field->type == SKY_FIELD_TYPE_INT64)
-            *(int64_t *)field_address(context->target, field) = (int64_t)value->valuedouble;
-        else
-            *(int *)field_address(context->target, field) = (int)value->valuedouble;
-    }
-}
-
-static void apply_time(struct patch_context *context, const struct sky_field_desc *field,
-                       const cJSON *value, const char *pointer)
-{
-    if (!cJSON_IsString(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected an ISO 8601 UTC time like \"2026-06-21T12:00:00Z\", got %s",
-                              sky_json_type_name(value));
-        return;
-    }
-    double seconds;
-    char why[REASON_CAPACITY];
-    if (!sky_time_parse_iso8601(value->valuestring, &seconds, why, sizeof why)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "%s", why);
-        return;
-    }
-    if (schema_check_time(context->errors, field, seconds, pointer))
-        *(double *)field_address(context->target, field) = seconds;
-}
-
-static void apply_string(struct patch_context *context, const struct sky_field_desc *field,
-                         const cJSON *value, const char *pointer)
-{
-    size_t length = cJSON_IsString(value) ? strlen(value->valuestring) : 0;
-    if (!cJSON_IsString(value))
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected a string, got %s", sky_json_type_name(value));
-    else if (field->min > 0 && (length < field->min || length >= field->capacity))
-        sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "must be %.0f to %zu bytes long, got %zu", field->min,
-                              field->capacity - 1, length);
-    else if (length >= field->capacity)
-        sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "longer than %zu characters", field->capacity - 1);
-    else
-        snprintf(field_address(context->target, field), field->capacity, "%s",
-                 value->valuestring);
-}
-
-static void apply_bool(struct patch_context *context, const struct sky_field_desc *field,
-                       const cJSON *value, const char *pointer)
-{
-    if (!cJSON_IsBool(value))
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected true or false, got %s", sky_json_type_name(value));
-    else
-        *(bool *)field_address(context->target, field) = cJSON_IsTrue(value);
-}
-
-static void apply_leaf(struct patch_context *context, const struct sky_field_desc *field,
-                       const cJSON *value, const char *pointer)
-{
-    switch (field->type) {
-    case SKY_FIELD_TYPE_NUMBER:
-        apply_number(context, field, value, pointer);
-        break;
-    case SKY_FIELD_TYPE_RGB:
-        apply_rgb(context, field, value, pointer);
-        break;
-    case SKY_FIELD_TYPE_INT_PAIR:
-    case SKY_FIELD_TYPE_INT_TRIPLE:
-        apply_int_array(context, field, value, pointer);
-        break;
-    case SKY_FIELD_TYPE_ENUM:
-        apply_enum(context, field, value, pointer);
-        break;
-    case SKY_FIELD_TYPE_INT:
-    case SKY_FIELD_TYPE_INT64:
-        apply_int(context, field, value, pointer);
-        break;
-    case SKY_FIELD_TYPE_TIME:
-        apply_time(context, field, value, pointer);
-        break;
-    case SKY_FIELD_TYPE_STRING:
-        apply_string(context, field, value, pointer);
-        break;
-    case SKY_FIELD_TYPE_BOOL:
-        apply_bool(context, field, value, pointer);
-        break;
-    }
-}
-
-/* Joins prefix and name with a dot; false for names that cannot be a schema segment. */
-static bool join_dotted(char *dotted, size_t capacity, const char *prefix, const char *name)
-{
-    if (!name || name[0] == '\0' || strchr(name, '.'))
-        return false;
-    size_t used = 0;
-    dotted[0] = '\0';
-    if (prefix[0] != '\0') {
-        if (!schema_append_bytes(dotted, capacity, &used, prefix, strlen(prefix)) ||
-            !schema_append_bytes(dotted, capacity, &used, ".", 1))
-            return false;
-    }
-    return schema_append_bytes(dotted, capacity, &used, name, strlen(name));
-}
-
-static void report_unknown_member(struct patch_context *context, const char *prefix,
-                                  const char *pointer)
-{
-    char children[REASON_CAPACITY];
-    schema_list_children(context->schema, prefix, children, sizeof children);
-    sky_field_errors_addf(context->errors, SKY_FIELD_UNKNOWN, pointer,
-                          "unknown field; expected one of: %s", children);
-}
-
-static void apply_object(struct patch_context *context, const cJSON *object, const char *prefix,
-                         const char *pointer);
-
-static bool given_before(const cJSON *object, const cJSON *member)
-{
-    for (const cJSON *earlier = object->child; earlier != member; earlier = earlier->next)
-        if (earlier->string && member->string && strcmp(earlier->string, member->string) == 0)
-            return true;
-    return false;
-}
-
-static void apply_member(struct patch_context *context, const cJSON *object, const cJSON *member,
-                         const char *prefix, const char *parent_pointer)
-{
-    const char *name = member->string ? member->string : "";
-    char pointer[POINTER_CAPACITY];
-    schema_copy_text(pointer, sizeof pointer, parent_pointer);
-    schema_pointer_append(pointer, sizeof pointer, name);
-
-    const struct sky_schema *schema = context->schema;
-    if (schema->unique_members && given_before(object, member)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "duplicate field");
-        return;
-    }
-    for (size_t i = 0; prefix[0] == '\0' && i < schema->caller_member_count; i++)
-        if (strcmp(name, schema->caller_members[i]) == 0)
-            return;
-    const char *reserved = schema->read_only_member;
-    if (prefix[0] == '\0' && reserved && strcmp(name, reserved) == 0) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "read-only");
-        return;
-    }
-    char dotted[DOTTED_PATH_CAPACITY];
-    if (!join_dotted(dotted, sizeof dotted, prefix, name)) {
-        report_unknown_member(context, prefix, pointer);
-        return;
-    }
-    const struct sky_field_desc *field = schema_find(context->schema, dotted);
-    if (field) {
-        apply_leaf(context, field, member, pointer);
-        if (field - schema->fields < SKY_SCHEMA_MAX_ROWS)
-            context->named[field - schema->fields] = true;
-    } else if (!schema_is_group(context->schema, dotted)) {
-        report_unknown_member(context, prefix, pointer);
-    } else if (cJSON_IsObject(member)) {
-        apply_object(context, member, dotted, pointer);
-    } else {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected an object, got %s", sky_json_type_name(member));
-    }
-}
-
-/* Recursion depth is bounded by the schema: only known groups are descended into. */
-static void apply_object(struct patch_context *context, const cJSON *object, const char *prefix,
-                         const char *pointer)
-{
-    for (const cJSON *member = object->child; member; member = member->next)
-        apply_member(context, object, member, prefix, pointer);
-}
-
-/* ---- whole-state validation ------------------------------------------------------------- */
-
-static void check_stored_field(const struct sky_world_state *state,
-                               const struct sky_field_desc *field, struct sky_field_errors *errors)
-{
-    char pointer[POINTER_CAPACITY];
-    char item_pointer[POINTER_CAPACITY];
-    schema_pointer_from_dotted(field->path, pointer, sizeof pointer);
-    const void *address = schema_const_field_address(state, field);
-    int count = schema_element_count(field->type);
-
-    switch (field->type) {
-    case SKY_FIELD_TYPE_NUMBER:
-        schema_check_number(errors, field, *(const double *)address, pointer);
-        break;
-    case SKY_FIELD_TYPE_RGB:
-        for (int i = 0; i < count; i++) {
-            schema_element_pointer(pointer, i, item_pointer, sizeof item_pointer);
-            schema_check_number(errors, field, ((const double *)address)[i], item_pointer);
-        }
-        break;
-    case SKY_FIELD_TYPE_INT_PAIR:
-    case SKY_FIELD_TYPE_INT_TRIPLE:
-        for (int i = 0; i < count; i++) {
-            schema_element_pointer(pointer, i, item_pointer, sizeof item_pointer);
-            schema_check_number(errors, field, ((const int *)address)[i], item_pointer);
-        }
-        break;
-    case SKY_FIELD_TYPE_INT:
-        schema_check_number(errors, field, *(const int *)address, pointer);
-        break;
-    case SKY_FIELD_TYPE_INT64:
-        schema_check_number(errors, field, (double)*(const int64_t *)address, pointer);
-        break;
-    case SKY_FIELD_TYPE_TIME:
-        schema_check_time(errors, field, *(const double *)address, pointer);
-        break;
-    case SKY_FIELD_TYPE_ENUM: {
-        int value = *(const int *)address;
-        if (value < 0 || value >= field->enum_count || !field->enum_names[value]) {
-            char names[REASON_CAPACITY];
-            schema_list_enum_names(field, names, sizeof names);
-            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                                  "must be one of: %s, got %d", names, value);
-        }
-        break;
-    }
-    case SKY_FIELD_TYPE_STRING:
-        if (!memchr(address, '\0', field->capacity))
-            sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "not terminated");
-        break;
-    case SKY_FIELD_TYPE_BOOL:
-        break;
-    }
-}
 
 static void check_consistency(const struct sky_world_state *state,
                               struct sky_field_errors *errors)
@@ -390,27 +19,27 @@ static void check_consistency(const struct sky_world_state *state,
     double top = state->atmosphere.top_radius_km;
     if (!isfinite(bottom) || !isfinite(top))
         return;
-    char bottom_text[NUMBER_TEXT_CAPACITY], top_text[NUMBER_TEXT_CAPACITY];
-    char limit_text[NUMBER_TEXT_CAPACITY], thickness_text[NUMBER_TEXT_CAPACITY];
-    schema_format_number(bottom, bottom_text, sizeof bottom_text);
-    schema_format_number(top, top_text, sizeof top_text);
+    char bottom_text[SKY_FIELD_NUMBER_TEXT_MAX], top_text[SKY_FIELD_NUMBER_TEXT_MAX];
+    char limit_text[SKY_FIELD_NUMBER_TEXT_MAX], thickness_text[SKY_FIELD_NUMBER_TEXT_MAX];
+    sky_field_format_number(bottom, bottom_text, sizeof bottom_text);
+    sky_field_format_number(top, top_text, sizeof top_text);
     if (top <= bottom) {
         sky_field_errors_addf(errors, SKY_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
                               "must be greater than bottom_radius_km (%s), got %s", bottom_text,
                               top_text);
     } else if (top - bottom > MAX_ATMOSPHERE_THICKNESS_KM) {
-        schema_format_number(MAX_ATMOSPHERE_THICKNESS_KM, limit_text, sizeof limit_text);
-        schema_format_number(top - bottom, thickness_text, sizeof thickness_text);
+        sky_field_format_number(MAX_ATMOSPHERE_THICKNESS_KM, limit_text, sizeof limit_text);
+        sky_field_format_number(top - bottom, thickness_text, sizeof thickness_text);
         sky_field_errors_addf(errors, SKY_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
                               "must be at most %s km above bottom_radius_km (%s), got %s km above",
                               limit_text, bottom_text, thickness_text);
     }
 }
 
+/* Every stored value against its row, then the checks across fields. */
 static void validate_into(const struct sky_world_state *state, struct sky_field_errors *errors)
 {
-    for (size_t i = 0; i < sky_world_field_count; i++)
-        check_stored_field(state, &sky_world_field_table[i], errors);
+    sky_schema_check(sky_world_schema(), state, errors);
     check_consistency(state, errors);
 }
 
@@ -428,44 +57,6 @@ bool sky_world_state_validate(const struct sky_world_state *state, struct sky_fi
     return errors->total == 0;
 }
 
-/* ---- public entry points ---------------------------------------------------------------- */
-
-static void report_missing(const struct sky_schema *schema, const bool *named,
-                           const char *pointer_prefix, struct sky_field_errors *errors)
-{
-    for (size_t i = 0; i < schema->count; i++) {
-        if (!schema->fields[i].required || named[i])
-            continue;
-        char pointer[POINTER_CAPACITY], relative[POINTER_CAPACITY];
-        schema_pointer_from_dotted(schema->fields[i].path, relative, sizeof relative);
-        snprintf(pointer, sizeof pointer, "%s%s", pointer_prefix, relative);
-        sky_field_errors_add(errors, SKY_FIELD_MISSING, pointer, "required");
-    }
-}
-
-/* A patch's members through `schema` into `target`, after checking that it is an object;
- * `named` (optional) records the rows it names. Returns whether this call added no error. */
-static bool apply_root(const struct sky_schema *schema, void *target, const cJSON *json,
-                       const char *pointer_prefix, struct sky_field_errors *errors, bool *named)
-{
-    int before = errors->total;
-    if (!cJSON_IsObject(json)) {
-        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer_prefix,
-                              "expected a JSON object, got %s",
-                              json ? sky_json_type_name(json) : "nothing");
-        return false;
-    }
-    bool scratch[SKY_SCHEMA_MAX_ROWS];
-    if (!named)
-        named = scratch;
-    size_t rows = schema->count < SKY_SCHEMA_MAX_ROWS ? schema->count : SKY_SCHEMA_MAX_ROWS;
-    memset(named, 0, rows * sizeof *named);
-    struct patch_context context = { schema, target, errors, named };
-    apply_object(&context, json, "", pointer_prefix);
-    report_missing(schema, named, pointer_prefix, errors);
-    return errors->total == before;
-}
-
 bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSON *patch,
                                 struct sky_field_errors *errors)
 {
@@ -480,19 +71,12 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
     /* memcpy rather than assignment keeps padding bytes identical, so callers can memcmp. */
     struct sky_world_state candidate;
     memcpy(&candidate, state, sizeof candidate);
-    if (apply_root(sky_world_schema(), &candidate, patch, "", errors, NULL))
+    if (sky_schema_apply_json(sky_world_schema(), &candidate, patch, "", errors, NULL))
         validate_into(&candidate, errors);
     if (errors->total != 0)
         return false;
     memcpy(state, &candidate, sizeof *state);
     return true;
-}
-
-bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
-                           const struct cJSON *object, const char *pointer_prefix,
-                           struct sky_field_errors *errors, bool *named)
-{
-    return apply_root(schema, target, object, pointer_prefix, errors, named);
 }
 
 bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefix,
@@ -502,7 +86,7 @@ bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefi
     out->count = 0;
     sky_world_state_defaults(&out->values);
     bool named[SKY_SCHEMA_MAX_ROWS];
-    bool ok = apply_root(schema, &out->values, json, pointer_prefix, errors, named);
+    bool ok = sky_schema_apply_json(schema, &out->values, json, pointer_prefix, errors, named);
     for (size_t i = 0; i < schema->count; i++)
         if (named[i])
             out->fields[out->count++] = (unsigned short)i;
@@ -511,9 +95,8 @@ bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefi
 
 bool sky_world_patch_names(const struct sky_world_patch *patch, const struct sky_field_desc *field)
 {
-    const struct sky_field_desc *rows = sky_world_field_table;
     for (size_t i = 0; i < patch->count; i++)
-        if (&rows[patch->fields[i]] == field)
+        if (&sky_world_field_table[patch->fields[i]] == field)
             return true;
     return false;
 }

@@ -54,6 +54,11 @@ void sky_field_errors_vaddf(struct sky_field_errors *errors, int code, const cha
 /* Formats errors as one line per failure, "pointer: reason", into buf. */
 void sky_field_errors_format(const struct sky_field_errors *errors, char *buf, size_t buflen);
 
+/* How reasons write a number: the shortest text that reads back as the same double, at most
+ * SKY_FIELD_NUMBER_TEXT_MAX bytes with its NUL. */
+#define SKY_FIELD_NUMBER_TEXT_MAX 32
+void sky_field_format_number(double value, char *text, size_t capacity);
+
 /* "a number", "a string", "a boolean", "null", "an array" or "an object": how error reasons
  * name the JSON value they got. */
 const char *sky_json_type_name(const struct cJSON *value);

@@ -59,6 +59,18 @@ struct sky_schema {
 /* The most rows a table may have. */
 #define SKY_SCHEMA_MAX_ROWS 256
 
+/* The row of a leaf field by dotted path ("atmosphere.mie.g"), or NULL (also for a group
+ * path like "atmosphere"). */
+const struct sky_field_desc *sky_schema_find(const struct sky_schema *schema,
+                                             const char *dotted_path);
+
+/* Checks the values stored in `base` (the struct the rows' offsets point into) against their
+ * rows: numbers finite and in range, enum values named, strings terminated. Each failure is
+ * added to `errors` (not cleared first) under the field's JSON Pointer. Returns whether this
+ * call added no error. */
+bool sky_schema_check(const struct sky_schema *schema, const void *base,
+                      struct sky_field_errors *errors);
+
 /* The schema engine: applies a JSON object to `target` (the struct the rows' offsets point
  * into) member by member. Unknown members, wrong types, values out of range and absent
  * required members are added to `errors` (not cleared first), each under its JSON Pointer
@@ -69,6 +81,15 @@ struct sky_schema {
 bool sky_schema_apply_json(const struct sky_schema *schema, void *target,
                            const struct cJSON *object, const char *pointer_prefix,
                            struct sky_field_errors *errors, bool *named);
+
+/* The JSON patch that sets the leaf at `path` to `value_text` as a command line writes it (a
+ * number, a JSON array "[1,2,3]", a bare number for an RGB field meaning all three channels,
+ * an enum name, an ISO 8601 time): {"a": {"b": value}} for "a.b", to be applied with
+ * sky_schema_apply_json. NULL, with the failure added to `errors`, for a group's path, value
+ * text that reads as no JSON value, or no memory. An unknown path gives a patch whose
+ * application reports it. The caller deletes the patch. */
+struct cJSON *sky_schema_assignment(const struct sky_schema *schema, const char *path,
+                                    const char *value_text, struct sky_field_errors *errors);
 
 /* A field's value read from `base` (the struct its table describes) as JSON, the same as
  * sky_world_state_to_json and sky_schema_to_json write it; NULL when memory is out. */
@@ -87,6 +108,9 @@ const char *sky_field_unit(const struct sky_field_desc *field);
 
 /* The rows of `schema` read from `base` as nested JSON ({"listen": {"port": 8080}}). */
 struct cJSON *sky_schema_to_json(const struct sky_schema *schema, const void *base);
+/* The same added to `root`, after the members it has; false when memory is out. */
+bool sky_schema_add_to_json(const struct sky_schema *schema, const void *base,
+                            struct cJSON *root);
 
 /* The JSON Schema of any table: `defaults` (from sky_schema_to_json) gives the defaults, NULL
  * none. The caller adds what has no row (properties of its own) and deletes it. */

@@ -1,5 +1,5 @@
 /* A small JSON Schema (2020-12) validator for the keywords skyd's generated schemas use, written
- * independently of the generators (protocol/world_schema_json.c, message_schema_json.c):
+ * independently of the generators (protocol/schema_json_schema.c, message_schema_json.c):
  * type, minimum, exclusiveMinimum, maximum, enum, const, format date-time, minLength,
  * maxLength, pattern (POSIX extended), items, minItems, maxItems, properties,
  * additionalProperties false, required, oneOf, dependentSchemas and "$ref" to "#/$defs/NAME".

@@ -1,4 +1,4 @@
-/* The world state's JSON Schema (protocol/world_schema_json.c) against the field table it is
+/* The world state's JSON Schema (protocol/schema_json_schema.c) against the field table it is
  * generated from and against the schema engine that validates every `set`: every field is
  * there with its type, range, unit, default and description, nothing else is; the default
  * state conforms to it (checked by schema_validator.c, written independently of the

@@ -24,7 +24,7 @@
 #include <sys/stat.h>
 
 #include "check.h"
-#include "world_schema.h"
+#include "schema_text.h"
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 

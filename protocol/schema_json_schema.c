@@ -1,8 +1,6 @@
-/* The world state's JSON Schema (2020-12), generated from the field table: one property per
- * leaf with its type, range, enum names, unit, default and description, nested like the state's
- * JSON, no other members allowed. */
-#include "field_schema.h"
-#include "world_schema.h"
+/* A table's JSON Schema (2020-12): one property per row with its type, range, enum names,
+ * unit, default and description, nested like the struct's JSON, no other members allowed. */
+#include "schema_text.h"
 
 #include <cjson/cJSON.h>
 
@@ -59,7 +57,7 @@ static cJSON *group_properties(cJSON *root, const char *dotted_path, char *leaf_
     return properties;
 }
 
-/* The value at a dotted path of a state's JSON (sky_world_state_to_json). */
+/* The value at a dotted path of a struct's JSON (sky_schema_to_json). */
 static const cJSON *value_at(const cJSON *state, const char *dotted_path)
 {
     const cJSON *node = state;
@@ -217,30 +215,6 @@ cJSON *sky_schema_json_schema(const struct sky_schema *schema, const cJSON *defa
     for (size_t i = 0; ok && i < schema->count; i++)
         ok = add_leaf(root, defaults, &schema->fields[i]);
     if (!ok) {
-        cJSON_Delete(root);
-        return NULL;
-    }
-    return root;
-}
-
-cJSON *sky_world_state_json_schema(void)
-{
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
-    cJSON *defaults = sky_world_state_to_json(&state);
-    cJSON *root = defaults ? sky_schema_json_schema(sky_world_schema(), defaults,
-                                                    "skyd world state")
-                           : NULL;
-    cJSON_Delete(defaults);
-    cJSON *properties = cJSON_GetObjectItemCaseSensitive(root, "properties");
-    cJSON *revision = properties ? cJSON_CreateObject() : NULL;
-    bool ok = revision && cJSON_AddStringToObject(revision, "type", "integer") &&
-              cJSON_AddNumberToObject(revision, "minimum", 0) &&
-              cJSON_AddStringToObject(revision, "description",
-                                      "accepted changes so far; set by the daemon") &&
-              cJSON_AddTrueToObject(revision, "readOnly");
-    if (!ok || !cJSON_AddItemToObject(properties, "revision", revision)) {
-        cJSON_Delete(revision);
         cJSON_Delete(root);
         return NULL;
     }
