@@ -4,7 +4,7 @@
 #include <stdbool.h>
 #include <stdlib.h>
 
-#include "world_sim.h"
+#include "weather_timeline.h"
 
 static const double DEG_TO_RAD = 3.14159265358979323846 / 180.0;
 
@@ -42,9 +42,9 @@ long wind_drift_cells_summed(const struct wind_drift *drift)
 
 static double wrap_offset(double km)
 {
-    if (km > WORLD_SIM_OFFSET_LIMIT_KM || km < -WORLD_SIM_OFFSET_LIMIT_KM)
-        km -= 2.0 * WORLD_SIM_OFFSET_LIMIT_KM * floor((km + WORLD_SIM_OFFSET_LIMIT_KM) /
-                                                      (2.0 * WORLD_SIM_OFFSET_LIMIT_KM));
+    if (km > WIND_DRIFT_OFFSET_LIMIT_KM || km < -WIND_DRIFT_OFFSET_LIMIT_KM)
+        km -= 2.0 * WIND_DRIFT_OFFSET_LIMIT_KM * floor((km + WIND_DRIFT_OFFSET_LIMIT_KM) /
+                                                       (2.0 * WIND_DRIFT_OFFSET_LIMIT_KM));
     return km;
 }
 
@@ -54,7 +54,7 @@ static void add_cell(const struct sky_world_state *state, double from, double to
                      double *north)
 {
     struct sky_weather_params mid;
-    world_sim_weather_at(state, from + 0.5 * (to - from), &mid);
+    weather_timeline_at(state, from + 0.5 * (to - from), &mid);
     double to_rad = (mid.wind_direction_deg + 180.0) * DEG_TO_RAD;
     double distance_km = mid.wind_speed_m_s * (to - from) / 1000.0;
     *east = wrap_offset(*east + distance_km * sin(to_rad));
@@ -64,21 +64,21 @@ static void add_cell(const struct sky_world_state *state, double from, double to
 /* The first multiple of the cell length after t, and the last one before it. */
 static double boundary_after(double t)
 {
-    double b = floor(t / WORLD_SIM_MAX_SUBSTEP_S) * WORLD_SIM_MAX_SUBSTEP_S;
+    double b = floor(t / WIND_DRIFT_CELL_S) * WIND_DRIFT_CELL_S;
     while (b <= t)
-        b += WORLD_SIM_MAX_SUBSTEP_S;
-    while (b - WORLD_SIM_MAX_SUBSTEP_S > t)
-        b -= WORLD_SIM_MAX_SUBSTEP_S;
+        b += WIND_DRIFT_CELL_S;
+    while (b - WIND_DRIFT_CELL_S > t)
+        b -= WIND_DRIFT_CELL_S;
     return b;
 }
 
 static double boundary_before(double t)
 {
-    double b = ceil(t / WORLD_SIM_MAX_SUBSTEP_S) * WORLD_SIM_MAX_SUBSTEP_S;
+    double b = ceil(t / WIND_DRIFT_CELL_S) * WIND_DRIFT_CELL_S;
     while (b >= t)
-        b -= WORLD_SIM_MAX_SUBSTEP_S;
-    while (b + WORLD_SIM_MAX_SUBSTEP_S < t)
-        b += WORLD_SIM_MAX_SUBSTEP_S;
+        b -= WIND_DRIFT_CELL_S;
+    while (b + WIND_DRIFT_CELL_S < t)
+        b += WIND_DRIFT_CELL_S;
     return b;
 }
 

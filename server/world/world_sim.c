@@ -12,30 +12,16 @@
 #include "field_schema.h"
 #include "utc_time.h"
 #include "weather_autopilot.h"
+#include "weather_timeline.h"
 #include "wind_drift.h"
 
 /* clock.utc's range in the schema: 1900-01-01 to 2100-12-31T23:59:59Z. */
 #define UTC_MIN_S -2208988800.0
 #define UTC_MAX_S 4133980799.0
 
-#define PARAM_COUNT (sizeof(struct sky_weather_params) / sizeof(double))
-_Static_assert(sizeof(struct sky_weather_params) == 14 * sizeof(double),
-               "weather parameters are 14 doubles");
-#define DIRECTION_INDEX (offsetof(struct sky_weather_params, wind_direction_deg) / sizeof(double))
-
 static double clamp(double x, double lo, double hi)
 {
     return x < lo ? lo : x > hi ? hi : x;
-}
-
-static double *params_array(struct sky_weather_params *p)
-{
-    return (double *)p;
-}
-
-static const double *const_params_array(const struct sky_weather_params *p)
-{
-    return (const double *)p;
 }
 
 static double wrap_degrees(double deg)
@@ -56,74 +42,6 @@ static double time_kept(double unix_s)
     return sky_time_parse_iso8601(text, &kept, err, sizeof err) ? kept : unix_s;
 }
 
-/* Time fraction of the transition at unix_s, in [0, 1]. */
-static double transition_fraction(const struct sky_transition_state *t, double unix_s)
-{
-    return clamp((unix_s - t->start_unix_s) / t->duration_s, 0.0, 1.0);
-}
-
-/* Whether the transition blends the weather at unix_s (a time before its start counts: it
- * shows its start values there). */
-static bool blending_at(const struct sky_transition_state *t, double unix_s)
-{
-    return t->duration_s > 0.0 && transition_fraction(t, unix_s) < 1.0;
-}
-
-/* Whether the state's own weather parameters are still a blend: the transition had not ended
- * by the state's clock. */
-static bool state_mid_blend(const struct sky_transition_state *t)
-{
-    return t->duration_s > 0.0 && t->progress < 1.0;
-}
-
-bool world_sim_transition_active(const struct sky_world_state *state)
-{
-    return blending_at(&state->weather.transition, state->clock.utc_unix_s);
-}
-
-void world_sim_mix_weather(const struct sky_weather_params *from,
-                           const struct sky_weather_params *to, double s,
-                           struct sky_weather_params *out)
-{
-    s = clamp(s, 0.0, 1.0);
-    double eased = s * s * (3.0 - 2.0 * s); /* smoothstep: monotonic, flat at both ends */
-    const double *a = const_params_array(from), *b = const_params_array(to);
-    struct sky_weather_params mixed;
-    double *m = params_array(&mixed);
-    for (size_t i = 0; i < PARAM_COUNT; i++) {
-        /* Exact at eased = 0 and 1; in between, rounding can put the blend one ulp outside
-         * its two ends (5 and 5 giving 5.000000000000001), past the field's range when they
-         * sit at its bound, so it is kept between them. */
-        double mixed_value = a[i] * (1.0 - eased) + b[i] * eased;
-        m[i] = fmin(fmax(mixed_value, fmin(a[i], b[i])), fmax(a[i], b[i]));
-    }
-    double arc = fmod(b[DIRECTION_INDEX] - a[DIRECTION_INDEX] + 540.0, 360.0) - 180.0;
-    m[DIRECTION_INDEX] = eased >= 1.0 ? b[DIRECTION_INDEX]
-                                      : wrap_degrees(a[DIRECTION_INDEX] + arc * eased);
-    *out = mixed;
-}
-
-void world_sim_weather_at(const struct sky_world_state *state, double unix_s,
-                          struct sky_weather_params *out)
-{
-    const struct sky_transition_state *t = &state->weather.transition;
-    bool autopilot = state->weather.autopilot == SKY_SWITCH_ON;
-    struct sky_weather_params target;
-    if (autopilot)
-        weather_autopilot_sample(state->weather.autopilot_seed, unix_s,
-                                 state->location.longitude_deg, &target);
-    else
-        target = t->to;
-    if (blending_at(t, unix_s))
-        world_sim_mix_weather(&t->from, &target, transition_fraction(t, unix_s), out);
-    else if (autopilot)
-        *out = target;
-    else if (state_mid_blend(t))
-        *out = t->to; /* it ends between the state's clock and unix_s */
-    else
-        sky_weather_params_get(state, out);
-}
-
 static void update_sky_bodies(struct sky_world_state *state)
 {
     if (state->clock.sky_bodies != SKY_BODIES_EPHEMERIS)
@@ -138,20 +56,6 @@ static void update_sky_bodies(struct sky_world_state *state)
     state->sun.elevation_deg = clamp(sun.elevation_deg, -90.0, 90.0);
     state->moon.azimuth_deg = wrap_degrees(moon.azimuth_deg);
     state->moon.elevation_deg = clamp(moon.elevation_deg, -90.0, 90.0);
-}
-
-static void update_weather(struct sky_world_state *state)
-{
-    struct sky_transition_state *t = &state->weather.transition;
-    double now_s = state->clock.utc_unix_s;
-    bool autopilot = state->weather.autopilot == SKY_SWITCH_ON;
-    if (!autopilot && !state_mid_blend(t) && !blending_at(t, now_s))
-        return; /* the parameters are the state's own */
-    struct sky_weather_params now;
-    world_sim_weather_at(state, now_s, &now); /* before progress moves: it reads it */
-    if (t->duration_s > 0.0)
-        t->progress = transition_fraction(t, now_s);
-    sky_weather_params_put(state, &now);
 }
 
 bool world_sim_anchored(const struct sky_world_state *state)
@@ -246,7 +150,7 @@ void world_sim_advance(struct sky_world_state *state, double sim_dt_s)
 
 void world_sim_settle(struct sky_world_state *state)
 {
-    update_weather(state);
+    weather_timeline_settle(state);
     update_sky_bodies(state);
 }
 
@@ -281,7 +185,7 @@ static const char *const weather_fields[] = {
     "clouds.high.thickness_km", "clouds.precipitation", "weather.humidity",
     "weather.wind.speed_m_s",   "weather.wind.direction_deg",
 };
-_Static_assert(sizeof weather_fields / sizeof weather_fields[0] == PARAM_COUNT,
+_Static_assert(sizeof weather_fields / sizeof weather_fields[0] == WEATHER_PARAM_COUNT,
                "one path per weather parameter");
 
 static bool listed(const char *path, const char *const *list, size_t count)
@@ -317,7 +221,7 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
                                  "follows the ephemeris while clock.sky_bodies is \"ephemeris\"; "
                                  "set clock.sky_bodies to \"manual\" in the same patch");
         } else if (after->weather.autopilot == SKY_SWITCH_ON &&
-                   listed(f->path, weather_fields, PARAM_COUNT)) {
+                   listed(f->path, weather_fields, WEATHER_PARAM_COUNT)) {
             sky_field_errors_add(errors, SKY_FIELD_INCONSISTENT, pointer,
                                  "driven by the autopilot while weather.autopilot is \"on\"; "
                                  "set weather.autopilot to \"off\" in the same patch");
@@ -341,27 +245,18 @@ void world_sim_client_changed(const struct sky_world_state *before,
                                  after->clock.utc_unix_s + WORLD_SIM_AUTOPILOT_BLEND_S,
                                  after->location.longitude_deg, &end);
         world_sim_start_transition(after, &end, WORLD_SIM_AUTOPILOT_BLEND_S);
-    } else if (was_on && !is_on && world_sim_transition_active(after)) {
+    } else if (was_on && !is_on && weather_timeline_active(after)) {
         /* Switched off mid-blend: the weather stays where it is, and the blend ends now. */
         sky_weather_params_get(after, &t->to);
         t->duration_s = fmax(after->clock.utc_unix_s - t->start_unix_s, 0.0);
         t->progress = 1.0;
-    } else if (!state_mid_blend(&before->weather.transition) &&
-               before->weather.transition.duration_s > 0.0 &&
-               world_sim_transition_active(after)) {
+    } else if (!weather_timeline_mid_blend(before) &&
+               before->weather.transition.duration_s > 0.0 && weather_timeline_active(after)) {
         /* The clock set back into a transition that had ended: the weather stays. */
         t->duration_s = 0.0;
         t->progress = 1.0;
-    } else if (world_sim_transition_active(after)) {
-        struct sky_weather_params old_values, new_values;
-        sky_weather_params_get(before, &old_values);
-        sky_weather_params_get(after, &new_values);
-        const double *o = const_params_array(&old_values), *n = const_params_array(&new_values);
-        double *from = params_array(&t->from), *to = params_array(&t->to);
-        for (size_t i = 0; i < PARAM_COUNT; i++) {
-            if (o[i] != n[i])
-                from[i] = to[i] = n[i]; /* a value set during a transition holds */
-        }
+    } else if (weather_timeline_active(after)) {
+        weather_timeline_hold(before, after);
     }
     if (world_sim_wind_changed(before, after))
         world_sim_anchor_wind(after);

@@ -8,6 +8,7 @@
 #include "field_errors.h"
 #include "field_schema.h"
 #include "presets.h"
+#include "weather_timeline.h"
 #include "wind_drift.h"
 #include "world_sim.h"
 #include "world_state.h"
@@ -160,7 +161,7 @@ static void test_autopilot_nodes(void)
     changed.weather.autopilot = SKY_SWITCH_ON;
     changed.weather.autopilot_seed = 5;
     node_commit(&a, &changed);
-    CHECK(world_sim_transition_active(&a.state));
+    CHECK(weather_timeline_active(&a.state));
     through_json(&a.state, &stored); /* what the change wrote */
     CHECK(same_world("read back", &stored, &a.state));
     node_start(&b, &stored, W0 + 4.7, 370);
@@ -171,11 +172,11 @@ static void test_autopilot_nodes(void)
         if (t >= W0 + 5.0)
             node_run_until(&b, t);
         if (fabs(t - (W0 + 4.0)) < 1e-9) {
-            CHECK(world_sim_transition_active(&a.state)); /* 900 s at 120x: 7.5 s */
+            CHECK(weather_timeline_active(&a.state)); /* 900 s at 120x: 7.5 s */
             through_json(&a.state, &mid_blend);
         }
         if (fabs(t - (W0 + 34.0)) < 1e-9) {
-            CHECK(!world_sim_transition_active(&a.state));
+            CHECK(!weather_timeline_active(&a.state));
             through_json(&a.state, &after_blend);
         }
         if (t >= W0 + 50.0 && !started_c) {

@@ -7,6 +7,7 @@
 #include "field_errors.h"
 #include "presets.h"
 #include "weather_autopilot.h"
+#include "weather_timeline.h"
 #include "wind_drift.h"
 #include "world_render.h"
 #include "world_sim.h"
@@ -205,7 +206,7 @@ static void test_transition(void)
     memcpy(end, &goal, sizeof end);
 
     world_sim_start_transition(&s, &goal, 1200);
-    CHECK(world_sim_transition_active(&s));
+    CHECK(weather_timeline_active(&s));
     CHECK_NEAR(s.weather.transition.progress, 0, 0);
     memcpy(previous, start, sizeof previous);
     int violations = 0;
@@ -230,10 +231,10 @@ static void test_transition(void)
             CHECK_NEAR(s.weather.wind.direction_deg, 275.0, 1e-9);
         }
         if (i == 1198)
-            CHECK(world_sim_transition_active(&s));
+            CHECK(weather_timeline_active(&s));
     }
     CHECK(violations == 0);
-    CHECK(!world_sim_transition_active(&s));
+    CHECK(!weather_timeline_active(&s));
     CHECK_NEAR(s.weather.transition.progress, 1.0, 0);
     params_of(&s, now);
     CHECK(memcmp(now, end, sizeof now) == 0); /* exactly the preset at the end */
@@ -243,7 +244,7 @@ static void test_transition(void)
     load_preset("clear", &target);
     sky_weather_params_get(&target, &goal);
     world_sim_start_transition(&s, &goal, 0);
-    CHECK(!world_sim_transition_active(&s));
+    CHECK(!weather_timeline_active(&s));
     CHECK_NEAR(s.clouds.low.coverage, 0.0, 0);
 
     /* A clock set past the end finishes it exactly. */
@@ -254,7 +255,7 @@ static void test_transition(void)
     struct sky_world_state before = s;
     s.clock.utc_unix_s += 7200;
     world_sim_client_changed(&before, &s);
-    CHECK(!world_sim_transition_active(&s));
+    CHECK(!weather_timeline_active(&s));
     CHECK_NEAR(s.clouds.low.coverage, 1.0, 0);
     CHECK_NEAR(s.clouds.low.bottom_km, 0.4, 0);
 }
@@ -412,10 +413,10 @@ static void test_autopilot_blend(void)
     s.weather.autopilot = SKY_SWITCH_ON;
     world_sim_client_changed(&before, &s);
     /* No jump: it starts where the weather was and blends in. */
-    CHECK(world_sim_transition_active(&s));
+    CHECK(weather_timeline_active(&s));
     CHECK_NEAR(s.clouds.low.coverage, 0.0, 1e-12);
     world_sim_advance(&s, WORLD_SIM_AUTOPILOT_BLEND_S);
-    CHECK(!world_sim_transition_active(&s));
+    CHECK(!weather_timeline_active(&s));
     struct sky_weather_params p;
     weather_autopilot_sample(s.weather.autopilot_seed, s.clock.utc_unix_s,
                              s.location.longitude_deg, &p);

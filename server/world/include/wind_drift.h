@@ -1,9 +1,9 @@
 /* The weather map's drift: weather.offset_* at a simulated time, as a pure function of the
- * state's wind anchor (weather.anchor) and of the weather the simulation gives
- * (world_sim_weather_at). From the anchor's time, the simulated time is cut at every multiple
- * of WORLD_SIM_MAX_SUBSTEP_S; each whole cell adds the wind at its midpoint times its length,
- * in order, wrapping within +-WORLD_SIM_OFFSET_LIMIT_KM, and the last, partial cell is added on
- * top. The cells do not depend on the times asked for, so any sequence of questions gets
+ * state's wind anchor (weather.anchor) and of the weather over time (the transition's, the
+ * autopilot's or the state's own wind). From the anchor's time, the simulated time is cut at
+ * every multiple of WIND_DRIFT_CELL_S; each whole cell adds the wind at its midpoint times its
+ * length, in order, wrapping within +-WIND_DRIFT_OFFSET_LIMIT_KM, and the last, partial cell is
+ * added on top. The cells do not depend on the times asked for, so any sequence of questions gets
  * bit-identical answers.
  *
  * A wind_drift only remembers the running sum at the last cell boundary reached, so a clock
@@ -13,6 +13,10 @@
 #define SKYD_WIND_DRIFT_H
 
 #include "world_state.h"
+
+#define WIND_DRIFT_CELL_S 60.0
+/* weather.offset_* wrap within +-this (the field's range). */
+#define WIND_DRIFT_OFFSET_LIMIT_KM 1e6
 
 struct wind_drift;
 

@@ -10,12 +10,13 @@
  *   (struct sky_weather_params) from its start values to its end values along a smoothstep of
  *   the simulated time; the end values are hit exactly at the end.
  * - The weather autopilot (weather.autopilot on) drives the same parameters from
- *   weather_autopilot_sample(); a transition under way blends into it.
+ *   weather_autopilot_sample(); a transition under way blends into it. Both are the weather
+ *   over time of server/world's weather_timeline.c.
  * - The wind advects the weather map: weather.offset_* grow downwind by speed x time
  *   (direction_deg is where the wind blows from). The offsets at simulated time t are those of
  *   weather.anchor plus the wind integrated from the anchor's time to t over cells bounded by
- *   the multiples of WORLD_SIM_MAX_SUBSTEP_S of simulated time (midpoint rule in each), summed
- *   in order (wind_drift.h).
+ *   the multiples of WIND_DRIFT_CELL_S of simulated time (midpoint rule in each), summed in
+ *   order (wind_drift.h).
  *
  * Everything is a function of the state as last changed by a client (its anchors) and the
  * simulated time, bit for bit: any split of a time span into ticks, and a state read back from
@@ -32,11 +33,8 @@
 struct cJSON;
 struct wind_drift;
 
-#define WORLD_SIM_MAX_SUBSTEP_S 60.0
 /* When the autopilot is switched on (or reseeded), the weather blends into it over this. */
 #define WORLD_SIM_AUTOPILOT_BLEND_S 900.0
-/* weather.offset_* wrap within +-this (the field's range). */
-#define WORLD_SIM_OFFSET_LIMIT_KM 1e6
 
 /* Whether the clock has an epoch (clock.epoch.wall is not 0). */
 bool world_sim_anchored(const struct sky_world_state *state);
@@ -84,27 +82,11 @@ void world_sim_advance(struct sky_world_state *state, double sim_dt_s);
  * the state's clock as it is; the offsets are left alone. */
 void world_sim_settle(struct sky_world_state *state);
 
-/* True when a transition is under way at the state's clock: its time fraction is below 1. */
-bool world_sim_transition_active(const struct sky_world_state *state);
-
-/* The weather parameters the simulation gives at simulated time unix_s: the transition's
- * or the autopilot's, or the state's own when neither drives them (the transition's end values
- * when it ends after the state's clock). Depends only on what a client last changed, not on
- * how far the state has run, so any later state of the same anchor gives the same answer. */
-void world_sim_weather_at(const struct sky_world_state *state, double unix_s,
-                          struct sky_weather_params *out);
-
 /* Starts a transition from the state's weather to target's over duration_s simulated
  * seconds, from clock.utc to the millisecond. duration_s 0 applies target's weather at once.
  * Other fields are not touched. */
 void world_sim_start_transition(struct sky_world_state *state,
                                 const struct sky_weather_params *target, double duration_s);
-
-/* smoothstep(0, 1, x) blend of two parameter sets; the wind direction along the shorter arc.
- * s = 0 gives from and s = 1 gives to exactly. */
-void world_sim_mix_weather(const struct sky_weather_params *from,
-                           const struct sky_weather_params *to, double s,
-                           struct sky_weather_params *out);
 
 /* The rules of a client `set` beyond the schema, checked on the applied result: a field the
  * patch names may not change when it is read-only, driven by the ephemeris (sun and moon
