@@ -9,11 +9,64 @@
 #include <cjson/cJSON.h>
 
 #include "field_errors.h"
+#include "http_endpoints.h"
 #include "json_guard.h"
 #include "log.h"
 #include "monotonic_clock.h"
-#include "http_api_internal.h"
-#include "world_state.h"
+
+/* The id of the messages an HTTP request sends. */
+#define HTTP_MESSAGE_ID "http"
+/* How long a request may wait for the render loop's reply. */
+#define REPLY_TIMEOUT_S 120
+/* Requests of one peer address kept for the rate limit; the least recent one gives way. */
+#define RATE_PEERS 64
+
+enum endpoint {
+    ENDPOINT_NONE = 0,
+    ENDPOINT_HEALTH,
+    ENDPOINT_METRICS,
+    ENDPOINT_STATE,    /* GET: the state; PATCH: a patch */
+    ENDPOINT_SNAPSHOT,
+    ENDPOINT_SCHEMA,
+};
+
+/* One request on a connection (lws keeps this per connection and reuses it for the next request
+ * of a kept-alive one). */
+struct http_request {
+    struct http_request *next_pending; /* in api->pending while its session may answer */
+    struct lws *wsi;
+    enum endpoint endpoint;
+    bool patch;                        /* PATCH rather than GET */
+    bool pending;
+    struct session *session;           /* the message's sender, until its reply is written */
+    char *body;                        /* a PATCH's body as it arrives */
+    size_t body_length, body_capacity;
+    bool body_too_large;
+    /* The response once known. */
+    bool ready;
+    unsigned status;
+    const char *content_type;
+    char *response;                    /* LWS_PRE bytes, then response_length bytes */
+    size_t response_length;
+    struct encoded_frame *frame;       /* a snapshot's image instead of `response` */
+};
+
+struct rate_peer {
+    char address[64];
+    double tokens, refilled_at, used_at;
+};
+
+struct http_api {
+    struct live_settings *settings;
+    const struct sky_msg_limits *limits;
+    struct session_hub *hub;
+    struct render_loop *loop;
+    struct service_metrics *metrics;
+    struct http_request *pending;
+    int pending_count;               /* bounded by max_clients */
+    struct rate_peer peers[RATE_PEERS];
+    struct lws_http_mount mounts[3];
+};
 
 struct http_api *http_api_create(const struct http_api_params *params)
 {
@@ -106,7 +159,8 @@ const struct lws_http_mount *http_api_mounts(struct http_api *api,
 
 /* ---- responses ---- */
 
-void respond(struct http_request *r, unsigned status, const char *content_type,
+/* The response (copied), written when the connection is writable. */
+static void respond(struct http_request *r, unsigned status, const char *content_type,
                     const char *text, size_t length)
 {
     free(r->response);
@@ -146,7 +200,7 @@ static unsigned status_of_error(enum sky_msg_error_code code)
 
 /* An error in the protocol's `error` shape, with `status`, or the status the code maps to
  * when status is 0. */
-void respond_error(struct http_api *api, struct http_request *r, unsigned status,
+static void respond_error(struct http_api *api, struct http_request *r, unsigned status,
                           enum sky_msg_error_code code, const char *message,
                           const struct sky_field_errors *fields)
 {
@@ -159,7 +213,7 @@ void respond_error(struct http_api *api, struct http_request *r, unsigned status
     free(text);
 }
 
-void respond_json(struct http_request *r, unsigned status, cJSON *json)
+static void respond_json(struct http_request *r, unsigned status, cJSON *json)
 {
     char *text = json ? cJSON_PrintUnformatted(json) : NULL;
     if (text)
@@ -321,8 +375,9 @@ static void submit(struct http_api *api, struct http_request *r, struct sky_clie
     render_loop_submit_message(api->loop, r->session, msg);
 }
 
-/* Parses `json` as a protocol message and submits it; a refusal is the response. */
-void submit_json(struct http_api *api, struct http_request *r, cJSON *json,
+/* Parses `json` (given the HTTP id) as a protocol message and hands it to the render loop from
+ * the request's own session with `role`; a refusal becomes the response. */
+static void submit_json(struct http_api *api, struct http_request *r, cJSON *json,
                         enum sky_msg_role role)
 {
     /* A snapshot's image is announced to its id; the response drops it again. */
@@ -350,6 +405,32 @@ void submit_json(struct http_api *api, struct http_request *r, cJSON *json,
         return;
     }
     submit(api, r, &msg, role);
+}
+
+/* An endpoint's answer, carried out on the request. */
+static void carry_out(struct http_api *api, struct http_request *r, struct http_answer *answer)
+{
+    switch (answer->kind) {
+    case HTTP_ANSWER_RESPONSE:
+        respond(r, answer->status, answer->content_type, answer->body ? answer->body : "{}",
+                answer->body ? answer->body_length : 2);
+        break;
+    case HTTP_ANSWER_ERROR:
+        respond_error(api, r, 0, answer->code, answer->message, NULL);
+        break;
+    case HTTP_ANSWER_SUBMIT:
+        submit_json(api, r, answer->json, answer->role);
+        break;
+    }
+    http_answer_release(answer);
+}
+
+static void answer_patch(struct http_api *api, struct http_request *r)
+{
+    struct http_answer answer;
+    http_endpoint_patch(&answer, r->body, r->body_length, r->body_too_large,
+                        api->limits->max_message_bytes);
+    carry_out(api, r, &answer);
 }
 
 /* ---- requests ---- */
@@ -475,25 +556,23 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
                       NULL);
         return 0;
     }
+    struct http_answer answer;
     switch (r->endpoint) {
-    case ENDPOINT_HEALTH: answer_health(api, r); break;
-    case ENDPOINT_METRICS: answer_metrics(api, r); break;
-    case ENDPOINT_SCHEMA: answer_schema(api, r); break;
-    case ENDPOINT_SNAPSHOT: answer_snapshot(api, r); break;
+    case ENDPOINT_HEALTH: http_endpoint_health(&answer, api->metrics, api->loop, api->hub); break;
+    case ENDPOINT_METRICS: http_endpoint_metrics(&answer, api->metrics, api->hub); break;
+    case ENDPOINT_SCHEMA: http_endpoint_schema(&answer); break;
+    case ENDPOINT_SNAPSHOT: http_endpoint_snapshot(&answer, wsi); break;
     case ENDPOINT_STATE:
-        if (!r->patch) {
-            json_guard_lock();
-            cJSON *get_state = cJSON_CreateObject();
-            cJSON_AddStringToObject(get_state, "type", "get_state");
-            json_guard_unlock();
-            submit_json(api, r, get_state, SKY_ROLE_VIEWER);
-            cJSON_Delete(get_state);
-        } else if (!body_follows(wsi)) {
-            answer_patch(api, r); /* no body: refused as not JSON */
+        if (r->patch) {
+            if (!body_follows(wsi))
+                answer_patch(api, r); /* no body: refused as not JSON */
+            return 0;
         }
+        http_endpoint_state(&answer);
         break;
-    case ENDPOINT_NONE: break;
+    case ENDPOINT_NONE: return 0;
     }
+    carry_out(api, r, &answer);
     return 0;
 }
 

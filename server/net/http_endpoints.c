@@ -1,21 +1,67 @@
-/* The HTTP API's endpoints: what each request becomes (http_api_internal.h). */
+/* The HTTP API's endpoints: what each request becomes (http_endpoints.h). */
+#include "http_endpoints.h"
+
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <cjson/cJSON.h>
+#include <libwebsockets.h>
 
-#include "http_api_internal.h"
 #include "json_guard.h"
 #include "monotonic_clock.h"
+#include "render_loop.h"
+#include "service_metrics.h"
+#include "session.h"
 #include "world_state.h"
 
-void answer_health(struct http_api *api, struct http_request *r)
+/* /healthz fails when the render thread has not ticked for this long (it ticks at least once
+ * a second when idle). */
+#define HEALTHY_TICK_AGE_S 5.0
+
+void http_answer_release(struct http_answer *answer)
 {
-    struct service_metrics_tick tick = service_metrics_last_tick(api->metrics);
+    free(answer->body);
+    cJSON_Delete(answer->json);
+    answer->body = NULL;
+    answer->json = NULL;
+}
+
+static void answer_text(struct http_answer *out, unsigned status, const char *content_type,
+                        char *body)
+{
+    *out = (struct http_answer){ .kind = HTTP_ANSWER_RESPONSE, .status = status,
+                                 .content_type = content_type, .body = body,
+                                 .body_length = body ? strlen(body) : 0 };
+}
+
+/* `json` as the response's text, or a 500 with an empty object when it cannot be printed. */
+static void answer_json(struct http_answer *out, unsigned status, const cJSON *json)
+{
+    char *text = json ? cJSON_PrintUnformatted(json) : NULL;
+    answer_text(out, text ? status : HTTP_STATUS_INTERNAL_SERVER_ERROR, "application/json", text);
+}
+
+static void answer_error(struct http_answer *out, enum sky_msg_error_code code,
+                         const char *message)
+{
+    *out = (struct http_answer){ .kind = HTTP_ANSWER_ERROR, .code = code };
+    snprintf(out->message, sizeof out->message, "%s", message);
+}
+
+/* Takes `json`. */
+static void answer_submit(struct http_answer *out, cJSON *json, enum sky_msg_role role)
+{
+    *out = (struct http_answer){ .kind = HTTP_ANSWER_SUBMIT, .json = json, .role = role };
+}
+
+void http_endpoint_health(struct http_answer *out, struct service_metrics *metrics,
+                          struct render_loop *loop, struct session_hub *hub)
+{
+    struct service_metrics_tick tick = service_metrics_last_tick(metrics);
     double age = monotonic_seconds() - tick.at_s;
-    const char *failure = api->loop ? render_loop_failure(api->loop) : "shutting down";
+    const char *failure = loop ? render_loop_failure(loop) : "shutting down";
     char reason[448] = "";
     if (failure)
         snprintf(reason, sizeof reason, "rendering stopped: %s", failure);
@@ -28,34 +74,42 @@ void answer_health(struct http_api *api, struct http_request *r)
         cJSON_AddStringToObject(json, "reason", reason);
     cJSON_AddNumberToObject(json, "revision", (double)tick.state_revision);
     cJSON_AddNumberToObject(json, "last_tick_age_s", age);
-    cJSON_AddNumberToObject(json, "clients", session_hub_count(api->hub));
+    cJSON_AddNumberToObject(json, "clients", session_hub_count(hub));
     cJSON_AddNumberToObject(json, "subscriptions", (double)tick.subscriptions);
-    respond_json(r, reason[0] ? HTTP_STATUS_SERVICE_UNAVAILABLE : HTTP_STATUS_OK, json);
+    answer_json(out, reason[0] ? HTTP_STATUS_SERVICE_UNAVAILABLE : HTTP_STATUS_OK, json);
     cJSON_Delete(json);
     json_guard_unlock();
 }
 
-void answer_metrics(struct http_api *api, struct http_request *r)
+void http_endpoint_metrics(struct http_answer *out, struct service_metrics *metrics,
+                           struct session_hub *hub)
 {
-    char *text = service_metrics_exposition(api->metrics, session_hub_count(api->hub));
-    if (!text) {
-        respond_error(api, r, 0, SKY_MSG_ERR_INTERNAL, "out of memory", NULL);
-        return;
-    }
-    respond(r, HTTP_STATUS_OK, "text/plain; version=0.0.4; charset=utf-8", text, strlen(text));
-    free(text);
+    char *text = service_metrics_exposition(metrics, session_hub_count(hub));
+    if (!text)
+        answer_error(out, SKY_MSG_ERR_INTERNAL, "out of memory");
+    else
+        answer_text(out, HTTP_STATUS_OK, "text/plain; version=0.0.4; charset=utf-8", text);
 }
 
-void answer_schema(struct http_api *api, struct http_request *r)
+void http_endpoint_schema(struct http_answer *out)
 {
     json_guard_lock();
     cJSON *schema = sky_world_state_json_schema();
     if (schema)
-        respond_json(r, HTTP_STATUS_OK, schema);
+        answer_json(out, HTTP_STATUS_OK, schema);
     cJSON_Delete(schema);
     json_guard_unlock();
     if (!schema)
-        respond_error(api, r, 0, SKY_MSG_ERR_INTERNAL, "out of memory", NULL);
+        answer_error(out, SKY_MSG_ERR_INTERNAL, "out of memory");
+}
+
+void http_endpoint_state(struct http_answer *out)
+{
+    json_guard_lock();
+    cJSON *get_state = cJSON_CreateObject();
+    cJSON_AddStringToObject(get_state, "type", "get_state");
+    json_guard_unlock();
+    answer_submit(out, get_state, SKY_ROLE_VIEWER);
 }
 
 /* A query parameter's value as JSON: a number when it reads as one, else the text (which the
@@ -83,15 +137,15 @@ static const struct {
 };
 #define SNAPSHOT_PARAM_COUNT (sizeof snapshot_params / sizeof snapshot_params[0])
 
-void answer_snapshot(struct http_api *api, struct http_request *r)
+void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi)
 {
     json_guard_lock();
     cJSON *message = cJSON_CreateObject();
     cJSON_AddStringToObject(message, "type", "snapshot");
     cJSON *view = cJSON_AddObjectToObject(message, "view");
-    char fragment[256], problem[320] = "";
+    char fragment[256], problem[HTTP_ANSWER_MESSAGE_MAX] = "";
     for (int n = 0; !problem[0] &&
-                    lws_hdr_copy_fragment(r->wsi, fragment, sizeof fragment,
+                    lws_hdr_copy_fragment(wsi, fragment, sizeof fragment,
                                           WSI_TOKEN_HTTP_URI_ARGS, n) > 0; n++) {
         char *equals = strchr(fragment, '=');
         const char *value = equals ? equals + 1 : "";
@@ -119,35 +173,37 @@ void answer_snapshot(struct http_api *api, struct http_request *r)
         cJSON_AddItemToObject(parent, snapshot_params[i].member, query_value(value));
     }
     json_guard_unlock();
-    if (problem[0])
-        respond_error(api, r, 0, SKY_MSG_ERR_UNKNOWN_FIELD, problem, NULL);
-    else
-        submit_json(api, r, message, SKY_ROLE_VIEWER);
-    cJSON_Delete(message);
+    if (problem[0]) {
+        answer_error(out, SKY_MSG_ERR_UNKNOWN_FIELD, problem);
+        cJSON_Delete(message);
+    } else {
+        answer_submit(out, message, SKY_ROLE_VIEWER);
+    }
 }
 
-void answer_patch(struct http_api *api, struct http_request *r)
+void http_endpoint_patch(struct http_answer *out, const char *body, size_t length,
+                         bool too_large, size_t max_message_bytes)
 {
     char message[160];
-    if (r->body_too_large) {
+    if (too_large) {
         snprintf(message, sizeof message, "the body is larger than max_message_bytes (%zu)",
-                 api->limits->max_message_bytes);
-        respond_error(api, r, 0, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message, NULL);
+                 max_message_bytes);
+        answer_error(out, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message);
         return;
     }
-    const char *text = r->body ? r->body : "";
-    if (memchr(text, '\0', r->body_length)) {
-        respond_error(api, r, 0, SKY_MSG_ERR_MALFORMED_JSON, "NUL byte in the body", NULL);
+    const char *text = body ? body : "";
+    if (memchr(text, '\0', length)) {
+        answer_error(out, SKY_MSG_ERR_MALFORMED_JSON, "NUL byte in the body");
         return;
     }
     json_guard_lock();
     const char *end = NULL;
-    cJSON *patch = cJSON_ParseWithLengthOpts(text, r->body_length, &end, false);
+    cJSON *patch = cJSON_ParseWithLengthOpts(text, length, &end, false);
     size_t offset = end ? (size_t)(end - text) : 0;
-    while (patch && offset < r->body_length && strchr(" \t\r\n", text[offset]))
+    while (patch && offset < length && strchr(" \t\r\n", text[offset]))
         offset++;
     cJSON *set = NULL;
-    if (patch && offset == r->body_length) {
+    if (patch && offset == length) {
         set = cJSON_CreateObject();
         cJSON_AddStringToObject(set, "type", "set");
         cJSON_AddItemToObject(set, "patch", patch);
@@ -157,9 +213,8 @@ void answer_patch(struct http_api *api, struct http_request *r)
     json_guard_unlock();
     if (!set) {
         snprintf(message, sizeof message, "the body is not JSON (at offset %zu)", offset);
-        respond_error(api, r, 0, SKY_MSG_ERR_MALFORMED_JSON, message, NULL);
+        answer_error(out, SKY_MSG_ERR_MALFORMED_JSON, message);
         return;
     }
-    submit_json(api, r, set, SKY_ROLE_CONTROLLER);
-    cJSON_Delete(set);
+    answer_submit(out, set, SKY_ROLE_CONTROLLER);
 }
