@@ -3,7 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cloud_renderer_internal.h"
+#include "cloud_history.h"
+#include "cloud_passes.h"
 #include "vk_check.h"
 #include "vk_context.h"
 
@@ -70,7 +71,7 @@ void cloud_reference_destroy(struct vk_context *ctx, struct cloud_reference **pr
 }
 
 int cloud_reference_record(struct vk_context *ctx, struct cloud_reference *ref,
-                           const struct cloud_renderer *cr, VkCommandBuffer cmd,
+                           const struct compute_resource *march, VkCommandBuffer cmd,
                            const struct cloud_frame *f, struct cloud_history_entry *e,
                            uint32_t spp, uint32_t seed, float precipitation_ceiling)
 {
@@ -78,7 +79,7 @@ int cloud_reference_record(struct vk_context *ctx, struct cloud_reference *ref,
         return -1;
     struct compute_pass *pass = &ref->pass[moonlit(f)];
     struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_PATHTRACE)];
-    cloud_march_resources(cr, f, r);
+    cloud_march_copy(march, r);
     struct compute_resource g[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_MAJORANT)] = {
         [SKY_CLOUD_MAJORANT_WEATHER] = r[SKY_CLOUD_MARCH_WEATHER],
         [SKY_CLOUD_MAJORANT_OUT] = img(&ref->grid),

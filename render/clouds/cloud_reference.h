@@ -10,7 +10,7 @@
 #include "sky_renderer.h"
 
 struct vk_context;
-struct cloud_renderer;
+struct compute_resource;
 struct cloud_frame;
 struct cloud_history_entry;
 struct cloud_reference;
@@ -20,10 +20,10 @@ void cloud_reference_destroy(struct vk_context *ctx, struct cloud_reference **re
 
 /* Records the dispatches that path trace `spp` samples per pixel of the view into e's latest
  * colour image (e's trace images hold the sums: e is a history entry of the output's size
- * with a block of 1). `precipitation_ceiling`: the largest precipitation of the weather map.
- * Returns 0 or -1. */
+ * with a block of 1). `march`: the bindings the marching passes share (SKY_LAYOUT_CLOUD_MARCH).
+ * `precipitation_ceiling`: the largest precipitation of the weather map. Returns 0 or -1. */
 int cloud_reference_record(struct vk_context *ctx, struct cloud_reference *ref,
-                           const struct cloud_renderer *cr, VkCommandBuffer cmd,
+                           const struct compute_resource *march, VkCommandBuffer cmd,
                            const struct cloud_frame *f, struct cloud_history_entry *e,
                            uint32_t spp, uint32_t seed, float precipitation_ceiling);
 

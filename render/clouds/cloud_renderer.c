@@ -1,14 +1,15 @@
-#include "cloud_renderer_internal.h"
+#include "cloud_renderer.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "cloud_history.h"
 #include "cloud_layouts.h"
 #include "cloud_noise.h"
 #include "cloud_params.h"
+#include "cloud_passes.h"
+#include "cloud_view.h"
 #include "compute_pass.h"
 #include "gpu_timer.h"
 #include "vk_check.h"
@@ -32,16 +33,89 @@
 #define INITIAL_MS_PER_WEATHER_ROW 0.02
 #define INITIAL_MS_PER_SHADOW_ROW 0.15
 
+/* The hemisphere averages come four times: without the moon's light (MOONLIT false), then
+ * with it, for frames the moon lights; each for weather maps without towering clouds (TOWERING
+ * false), then with them (march_variant). */
+enum {
+    P_WEATHER,
+    P_SHADOW,
+    P_SUN_COLUMNS,
+    P_HEMISPHERE,
+    P_HEMISPHERE_MOONLIT,
+    P_HEMISPHERE_TOWERING,
+    P_HEMISPHERE_TOWERING_MOONLIT,
+    P_COUNT
+};
 
-#define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
-#define MARCH_SPEC(moonlit, towering)                                                      \
-    .spec_count = SKY_CLOUD_CONST_TOWERING + 1,                                            \
-    .spec_values = { [SKY_CLOUD_CONST_MOONLIT] = moonlit, [SKY_CLOUD_CONST_TOWERING] = towering }
-#define RESOLVE_SPEC(ground)                                                               \
-    .spec_count = SKY_CLOUD_RESOLVE_CONST_GROUND + 1,                                      \
-    .spec_values = { [SKY_CLOUD_RESOLVE_CONST_GROUND] = ground }
-#define ROWS_PUSH .push_constant_bytes = sizeof(struct sky_cloud_rows_push)
-#define VIEW_PUSH .push_constant_bytes = sizeof(struct sky_cloud_view_push)
+/* A map rebuilt a slice of rows per frame into the hidden image, shown when complete. */
+struct cloud_map {
+    struct gpu_image image[2];
+    int shown;
+    bool ready, building;
+    uint32_t next_row, rows_this_frame;
+    double ms_per_row;
+    uint32_t generation;
+};
+
+/* What the weather map is built from. */
+struct weather_key {
+    float params[4];
+    float periods[4]; /* cells across the map per cloud type (cloud_weather.comp) */
+    uint32_t seed, mode, client_generation;
+    uint32_t high_fibrous; /* the high layer's type in thousandths */
+};
+
+/* What the shadow map is built from, besides the sun. */
+struct shadow_key {
+    struct sky_cloud_uniforms u; /* with the wind displacement and frame phase zeroed */
+    uint32_t weather_generation, noise_seed;
+};
+
+struct cloud_renderer {
+    bool quiet;
+    VkSampler repeat;
+    struct cloud_noise noise;
+    struct cloud_map weather, shadow;
+    /* The sun-space optical-depth volume, built and shown with the shadow map
+     * (shadow.shown): SHADOW_SIZE^2 x SKY_CLOUD_SUN_DEPTH_LEVELS. */
+    struct gpu_image sun_depth[2];
+    struct gpu_image dummy_volume;
+    struct gpu_image client_map, dummy;
+    bool has_client_map;
+    uint32_t client_generation;
+    struct gpu_buffer params, env;
+    struct compute_pass pass[P_COUNT];
+    struct cloud_views *views; /* each view's trace, reconstruction and resolve */
+    struct sky_render_clouds clouds;
+    bool active;
+    struct sky_cloud_uniforms u;
+    struct weather_key weather_target;
+    struct shadow_key shadow_target;
+    float shadow_sun[3];       /* the sun the shadow map is (being) built for */
+    float shown_shadow_sun[3]; /* the sun of the shown shadow map and sun-depth volume */
+    bool shadow_has_sun, env_dirty;
+    double budget_ms;
+    double last_frame_ms; /* GPU time of the last frame, for the relative map budget */
+    uint32_t params_generation; /* counts changes of the clouds other than the wind's drift */
+    float client_max_rain;      /* the largest precipitation of the client map */
+    float client_max_type;      /* the largest cloud type of the client map */
+    /* Whether each weather image may hold towering clouds (a type above
+     * CLOUD_TOWERING_TYPE): the marches read the shown one's through their variant. */
+    bool weather_towering[2];
+};
+
+static const struct gpu_image *shown(const struct cloud_renderer *cr, const struct cloud_map *m)
+{
+    return m->ready ? &m->image[m->shown] : &cr->dummy;
+}
+
+/* Offset of this frame's variant of a marching pass (P_HEMISPHERE, the views' trace): the
+ * moon's light, and towering clouds in the shown weather map. */
+static int march_variant(const struct cloud_renderer *cr, const struct cloud_frame *f)
+{
+    bool towering = cr->weather.ready && cr->weather_towering[cr->weather.shown];
+    return moonlit(f) + (towering ? 2 : 0);
+}
 
 static const struct compute_pass_desc descs[P_COUNT] = {
     [P_WEATHER] = { .name = "cloud_weather", SPIRV(cloud_weather_spv),
@@ -59,26 +133,7 @@ static const struct compute_pass_desc descs[P_COUNT] = {
     [P_HEMISPHERE_TOWERING_MOONLIT] = { .name = "cloud_hemisphere", SPIRV(cloud_hemisphere_spv),
                                         SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE),
                                         MARCH_SPEC(1, 1) },
-    [P_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
-                  SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(0, 0) },
-    [P_TRACE_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
-                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(1, 0) },
-    [P_TRACE_TOWERING] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
-                           SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(0, 1) },
-    [P_TRACE_TOWERING_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
-                                   SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH,
-                                   MARCH_SPEC(1, 1) },
-    [P_RECONSTRUCT_0] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
-                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RECONSTRUCT), VIEW_PUSH },
-    [P_RECONSTRUCT_1] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
-                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RECONSTRUCT), VIEW_PUSH },
-    [P_RESOLVE] = { .name = "cloud_resolve", SPIRV(cloud_resolve_spv),
-                    SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RESOLVE), ROWS_PUSH, RESOLVE_SPEC(0) },
-    [P_RESOLVE_GROUND] = { .name = "cloud_resolve", SPIRV(cloud_resolve_spv),
-                           SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RESOLVE), ROWS_PUSH,
-                           RESOLVE_SPEC(1) },
 };
-
 
 static int map_create(struct vk_context *ctx, struct cloud_map *m, VkFormat format, uint32_t size,
                       const char *name, double ms_per_row)
@@ -133,6 +188,8 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
     memcpy(cr->env.mapped, no_clouds, sizeof no_clouds);
     for (int i = 0; i < P_COUNT; i++)
         VK_CHECK_GOTO(compute_pass_create(ctx, &descs[i], &cr->pass[i]), destroy_partial);
+    if (!(cr->views = cloud_views_create(ctx)))
+        goto destroy_partial;
     return cr;
 destroy_partial:
     cloud_renderer_destroy(ctx, &cr);
@@ -146,8 +203,7 @@ void cloud_renderer_destroy(struct vk_context *ctx, struct cloud_renderer **pcr)
         return;
     for (int i = 0; i < P_COUNT; i++)
         compute_pass_destroy(ctx, &cr->pass[i]);
-    cloud_history_destroy(ctx, &cr->history);
-    cloud_reference_destroy(ctx, &cr->reference);
+    cloud_views_destroy(ctx, &cr->views);
     cloud_noise_destroy(ctx, &cr->noise);
     map_destroy(ctx, &cr->weather);
     map_destroy(ctx, &cr->shadow);
@@ -338,8 +394,8 @@ static float angle_between(const float a[3], const float b[3])
     return acosf(fminf(1.0f, fmaxf(-1.0f, d)));
 }
 
-/* The bindings that the marching passes share (SKY_LAYOUT_CLOUD_MARCH). */
-void cloud_march_resources(const struct cloud_renderer *cr, const struct cloud_frame *f,
+/* The bindings that the marching passes share (SKY_LAYOUT_CLOUD_MARCH), at the front of `r`. */
+static void cloud_march_resources(const struct cloud_renderer *cr, const struct cloud_frame *f,
                            struct compute_resource *r)
 {
     const struct sky_pass_resources *s = &f->sky;
@@ -499,7 +555,25 @@ int cloud_renderer_record_view(struct vk_context *ctx, struct cloud_renderer *cr
 {
     if (!cloud_renderer_active(cr))
         return 0;
-    return cloud_view_record(ctx, cr, cmd, timer, f, out);
+    struct compute_resource march[CLOUD_MARCH_BINDINGS];
+    cloud_march_resources(cr, f, march);
+    /* The procedural map's precipitation is at most clouds.precipitation; a client map's is
+     * its own, but the map shown may still be the other one while a build completes. */
+    float ceiling = (float)cr->clouds.precipitation;
+    if (cr->has_client_map && cr->client_max_rain > ceiling)
+        ceiling = cr->client_max_rain;
+    const struct cloud_view_inputs in = {
+        .clouds = &cr->clouds,
+        .march = march,
+        .march_variant = march_variant(cr, f),
+        .params = &cr->params,
+        .env = &cr->env,
+        .shadow = shown(cr, &cr->shadow),
+        .repeat = cr->repeat,
+        .look = cr->params_generation + cr->weather.generation + cr->shadow.generation,
+        .precipitation_ceiling = ceiling,
+    };
+    return cloud_views_record(ctx, cr->views, cmd, timer, f, &in, out);
 }
 
 void cloud_renderer_observe(struct cloud_renderer *cr, const char *pass_name, double ms)
@@ -522,10 +596,7 @@ void cloud_renderer_observe_frame(struct cloud_renderer *cr, double gpu_ms)
 int cloud_renderer_reference_stats(const struct cloud_renderer *cr,
                                    struct sky_render_reference_stats *out)
 {
-    if (!cr->reference)
-        return -1;
-    cloud_reference_stats(cr->reference, out);
-    return 0;
+    return cloud_views_reference_stats(cr->views, out);
 }
 
 double cloud_renderer_progress(const struct cloud_renderer *cr)

@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <vulkan/vulkan.h>
 
+#include "cloud_frame.h"
 #include "sky_passes.h"
 #include "sky_renderer.h"
 
@@ -28,19 +29,6 @@ int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer
                                    const uint8_t *rgba8, uint32_t width, uint32_t height);
 /* GPU ms per frame for weather and shadow map rebuilds; <= 0 rebuilds at once. */
 void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms);
-
-/* What one view's frame needs from the sky passes. */
-struct cloud_frame {
-    struct sky_pass_resources sky;
-    const struct sky_frame_uniforms *frame;
-    double bottom_radius_km;
-    uint32_t width, height;
-    uint64_t history_key;
-    double now_s; /* monotonic: histories idle for CLOUD_HISTORY_IDLE_S are released */
-    bool live; /* a stream: a new history starts converging from its first frame */
-    /* Output rows [first, end) that may see the ground, or NULL: none (sky_uniforms.h). */
-    const uint32_t *ground_rows;
-};
 
 /* The cloud work of a frame, in two parts around the view's aerial-perspective volume (which
  * takes the shadow map and is read by the trace). First the shared maps (weather, shadow,

@@ -1,11 +1,100 @@
-#include "cloud_renderer_internal.h"
+#include "cloud_view.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "cloud_history.h"
 #include "cloud_params.h"
+#include "cloud_passes.h"
+#include "cloud_reference.h"
 #include "gpu_timer.h"
+#include "vk_check.h"
 #include "vk_context.h"
+
+#include "clouds_shaders.h"
+
+#define VIEW_PUSH .push_constant_bytes = sizeof(struct sky_cloud_view_push)
+#define RESOLVE_SPEC(ground)                                                               \
+    .spec_count = SKY_CLOUD_RESOLVE_CONST_GROUND + 1,                                      \
+    .spec_values = { [SKY_CLOUD_RESOLVE_CONST_GROUND] = ground }
+
+/* The trace comes four times: without the moon's light, then with it, for frames the moon
+ * lights; each for weather maps without towering clouds, then with them (march_variant). */
+enum {
+    V_TRACE,
+    V_TRACE_MOONLIT,
+    V_TRACE_TOWERING,
+    V_TRACE_TOWERING_MOONLIT,
+    V_RECONSTRUCT_0,
+    V_RECONSTRUCT_1,
+    V_RESOLVE,        /* rows that see no ground (GROUND false) */
+    V_RESOLVE_GROUND, /* rows that may */
+    V_COUNT
+};
+
+static const struct compute_pass_desc descs[V_COUNT] = {
+    [V_TRACE] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
+                  SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(0, 0) },
+    [V_TRACE_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
+                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(1, 0) },
+    [V_TRACE_TOWERING] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
+                           SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH, MARCH_SPEC(0, 1) },
+    [V_TRACE_TOWERING_MOONLIT] = { .name = "cloud_trace", SPIRV(cloud_trace_spv),
+                                   SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_TRACE), VIEW_PUSH,
+                                   MARCH_SPEC(1, 1) },
+    [V_RECONSTRUCT_0] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
+                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RECONSTRUCT), VIEW_PUSH },
+    [V_RECONSTRUCT_1] = { .name = "cloud_reconstruct", SPIRV(cloud_reconstruct_spv),
+                          SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RECONSTRUCT), VIEW_PUSH },
+    [V_RESOLVE] = { .name = "cloud_resolve", SPIRV(cloud_resolve_spv),
+                    SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RESOLVE), ROWS_PUSH, RESOLVE_SPEC(0) },
+    [V_RESOLVE_GROUND] = { .name = "cloud_resolve", SPIRV(cloud_resolve_spv),
+                           SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RESOLVE), ROWS_PUSH,
+                           RESOLVE_SPEC(1) },
+};
+
+struct cloud_views {
+    struct compute_pass pass[V_COUNT];
+    struct cloud_history history;
+    struct cloud_reference *reference; /* created with the first reference frame */
+};
+
+struct cloud_views *cloud_views_create(struct vk_context *ctx)
+{
+    struct cloud_views *views = calloc(1, sizeof *views);
+    if (!views)
+        return NULL;
+    for (int i = 0; i < V_COUNT; i++)
+        VK_CHECK_GOTO(compute_pass_create(ctx, &descs[i], &views->pass[i]), destroy_partial);
+    return views;
+destroy_partial:
+    cloud_views_destroy(ctx, &views);
+    return NULL;
+}
+
+void cloud_views_destroy(struct vk_context *ctx, struct cloud_views **pviews)
+{
+    struct cloud_views *views = pviews ? *pviews : NULL;
+    if (!views)
+        return;
+    for (int i = 0; i < V_COUNT; i++)
+        compute_pass_destroy(ctx, &views->pass[i]);
+    cloud_history_destroy(ctx, &views->history);
+    cloud_reference_destroy(ctx, &views->reference);
+    free(views);
+    *pviews = NULL;
+}
+
+int cloud_views_reference_stats(const struct cloud_views *views,
+                                struct sky_render_reference_stats *out)
+{
+    if (!views->reference)
+        return -1;
+    cloud_reference_stats(views->reference, out);
+    return 0;
+}
+
 
 /* ---- per-view trace and reconstruction ---- */
 
@@ -75,9 +164,9 @@ static void record_resolve_rows(VkCommandBuffer cmd, struct compute_pass *pass, 
 
 /* The clouds' effect on the final image from the latest reconstruction (cloud_resolve.comp):
  * the rows that may see the ground with the ground's part, the rest without it. */
-static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
+static void record_resolve(struct vk_context *ctx, struct cloud_views *views, VkCommandBuffer cmd,
                            struct gpu_timer *timer, const struct cloud_frame *f,
-                           struct cloud_history_entry *e)
+                           const struct cloud_view_inputs *in, struct cloud_history_entry *e)
 {
     const struct sky_pass_resources *s = &f->sky;
     struct compute_resource r[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_RESOLVE)] = {
@@ -85,22 +174,22 @@ static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, Vk
         [SKY_CLOUD_RESOLVE_FRAME] = buf(s->frame_params),
         [SKY_CLOUD_RESOLVE_TRANSMITTANCE] = tex(s->transmittance, s->sampler),
         [SKY_CLOUD_RESOLVE_IRRADIANCE] = tex(s->irradiance, s->sampler),
-        [SKY_CLOUD_RESOLVE_CLOUD] = buf(&cr->params),
-        [SKY_CLOUD_RESOLVE_ENV] = buf(&cr->env),
-        [SKY_CLOUD_RESOLVE_SHADOW] = tex(shown(cr, &cr->shadow), cr->repeat),
+        [SKY_CLOUD_RESOLVE_CLOUD] = buf(in->params),
+        [SKY_CLOUD_RESOLVE_ENV] = buf(in->env),
+        [SKY_CLOUD_RESOLVE_SHADOW] = tex(in->shadow, in->repeat),
         [SKY_CLOUD_RESOLVE_AP_SHAFTS] = tex(s->ap_shafts, s->sampler),
         [SKY_CLOUD_RESOLVE_CLOUD_COLOR] = tex(&e->color[e->latest], s->sampler),
         [SKY_CLOUD_RESOLVE_SKY_OUT] = img(&e->over_sky),
         [SKY_CLOUD_RESOLVE_GROUND_OUT] = img(&e->over_ground),
     };
-    compute_pass_bind(ctx, &cr->pass[P_RESOLVE], r);
-    compute_pass_bind(ctx, &cr->pass[P_RESOLVE_GROUND], r);
+    compute_pass_bind(ctx, &views->pass[V_RESOLVE], r);
+    compute_pass_bind(ctx, &views->pass[V_RESOLVE_GROUND], r);
     uint32_t w = e->over_sky.width, h = e->over_sky.height, ground[2] = { h, h };
     cloud_ground_rows(f, h, ground);
-    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, h, 0, ground[0]);
-    record_resolve_rows(cmd, &cr->pass[P_RESOLVE_GROUND], w, h, ground[0], ground[1]);
-    record_resolve_rows(cmd, &cr->pass[P_RESOLVE], w, h, ground[1], h);
-    gpu_timer_mark(timer, cmd, cr->pass[P_RESOLVE].name);
+    record_resolve_rows(cmd, &views->pass[V_RESOLVE], w, h, 0, ground[0]);
+    record_resolve_rows(cmd, &views->pass[V_RESOLVE_GROUND], w, h, ground[0], ground[1]);
+    record_resolve_rows(cmd, &views->pass[V_RESOLVE], w, h, ground[1], h);
+    gpu_timer_mark(timer, cmd, views->pass[V_RESOLVE].name);
 }
 
 /* The reference's history entries: apart from the views' own. */
@@ -108,30 +197,27 @@ static void record_resolve(struct vk_context *ctx, struct cloud_renderer *cr, Vk
 
 /* The path-traced reference in place of trace and reconstruction, at the output's size, then
  * the same resolve. */
-static int record_reference(struct vk_context *ctx, struct cloud_renderer *cr,
+static int record_reference(struct vk_context *ctx, struct cloud_views *views,
                             VkCommandBuffer cmd, struct gpu_timer *timer,
-                            const struct cloud_frame *f, struct sky_cloud_bindings *out)
+                            const struct cloud_frame *f, const struct cloud_view_inputs *in,
+                            struct sky_cloud_bindings *out)
 {
-    const struct sky_render_clouds *c = &cr->clouds;
-    struct cloud_history_entry *e = cloud_history_acquire(
-        ctx, &cr->history, f->history_key ^ REFERENCE_KEY_BIT, f->width, f->height, 1, f->now_s);
+    const struct sky_render_clouds *c = in->clouds;
+    struct cloud_history_entry *e =
+        cloud_history_acquire(ctx, &views->history, f->history_key ^ REFERENCE_KEY_BIT,
+                              f->width, f->height, 1, f->now_s);
     if (!e)
         return -1;
-    if (!cr->reference && !(cr->reference = cloud_reference_create(ctx)))
+    if (!views->reference && !(views->reference = cloud_reference_create(ctx)))
         return -1;
-    /* The procedural map's precipitation is at most clouds.precipitation; a client map's is
-     * its own, but the map shown may still be the other one while a build completes. */
-    float ceiling = (float)c->precipitation;
-    if (cr->has_client_map && cr->client_max_rain > ceiling)
-        ceiling = cr->client_max_rain;
-    if (cloud_reference_record(ctx, cr->reference, cr, cmd, f, e, c->reference_spp,
-                               c->reference_seed, ceiling) != 0)
+    if (cloud_reference_record(ctx, views->reference, in->march, cmd, f, e, c->reference_spp,
+                               c->reference_seed, in->precipitation_ceiling) != 0)
         return -1;
     /* The path trace takes minutes on a CPU device: its frame may be waited for that long. */
     vk_context_expect_long_submission(ctx);
     gpu_timer_mark(timer, cmd, "cloud_pathtrace");
     e->valid = false;
-    record_resolve(ctx, cr, cmd, timer, f, e);
+    record_resolve(ctx, views, cmd, timer, f, in, e);
     out->over_sky = &e->over_sky;
     out->over_ground = &e->over_ground;
     out->over_filled = e->use.filled;
@@ -144,23 +230,24 @@ static bool same_direction(const float a[4], const sky_vec4 b)
     return a[0] * b.x + a[1] * b.y + a[2] * b.z > 0.99985f;
 }
 
-int cloud_view_record(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
-                      struct gpu_timer *timer, const struct cloud_frame *f,
-                      struct sky_cloud_bindings *out)
+int cloud_views_record(struct vk_context *ctx, struct cloud_views *views, VkCommandBuffer cmd,
+                       struct gpu_timer *timer, const struct cloud_frame *f,
+                       const struct cloud_view_inputs *in, struct sky_cloud_bindings *out)
 {
-    const struct sky_render_clouds *c = &cr->clouds;
+    const struct sky_render_clouds *c = in->clouds;
     if (c->reference_spp > 0)
-        return record_reference(ctx, cr, cmd, timer, f, out);
+        return record_reference(ctx, views, cmd, timer, f, in, out);
     int block = cloud_params_block(c->resolution);
     uint32_t scale = (uint32_t)cloud_params_downscale(c->resolution);
     uint32_t width = (f->width + scale - 1) / scale, height = (f->height + scale - 1) / scale;
     struct cloud_history_entry *e =
-        cloud_history_acquire(ctx, &cr->history, f->history_key, width, height, block, f->now_s);
+        cloud_history_acquire(ctx, &views->history, f->history_key, width, height, block,
+                              f->now_s);
     if (!e)
         return -1;
-    struct compute_pass *trace = &cr->pass[P_TRACE + march_variant(cr, f)];
+    struct compute_pass *trace = &views->pass[V_TRACE + in->march_variant];
     struct compute_resource tr[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_TRACE)];
-    cloud_march_resources(cr, f, tr);
+    cloud_march_copy(in->march, tr);
     tr[SKY_CLOUD_TRACE_COLOR_OUT] = img(&e->trace_color);
     tr[SKY_CLOUD_TRACE_DEPTH_OUT] = img(&e->trace_depth);
     tr[SKY_CLOUD_TRACE_AP_INSCATTER] = tex(f->sky.ap_inscatter, f->sky.sampler);
@@ -177,16 +264,15 @@ int cloud_view_record(struct vk_context *ctx, struct cloud_renderer *cr, VkComma
             [SKY_CLOUD_RECONSTRUCT_COLOR_OUT] = img(&e->color[1 - i]),
             [SKY_CLOUD_RECONSTRUCT_AUX_OUT] = img(&e->aux[1 - i]),
         };
-        compute_pass_bind(ctx, &cr->pass[P_RECONSTRUCT_0 + i], r);
+        compute_pass_bind(ctx, &views->pass[V_RECONSTRUCT_0 + i], r);
     }
     /* A one-off view comes out converged: it starts over when its history shows other clouds
      * than it would now (a history shared by views at different times, such as snapshots). */
-    uint32_t look = cr->params_generation + cr->weather.generation + cr->shadow.generation;
     if (!f->live && e->valid &&
-        (e->look != look || e->prev_up[3] != f->frame->camera_up.w ||
+        (e->look != in->look || e->prev_up[3] != f->frame->camera_up.w ||
          !same_direction(e->prev_forward, f->frame->camera_forward)))
         e->valid = false;
-    e->look = look;
+    e->look = in->look;
     int frames = (!e->valid && c->temporal && !f->live) ? frames_for_new_history(c->resolution)
                                                          : 1;
     static const float min_weight[5] = { 0, 0.08f, 0.15f, 0, 0.25f };
@@ -212,7 +298,7 @@ int cloud_view_record(struct vk_context *ctx, struct cloud_renderer *cr, VkComma
         compute_pass_record(cmd, trace, &push, tsize, local_2d);
         if (frames == 1)
             gpu_timer_mark(timer, cmd, "cloud_trace");
-        compute_pass_record(cmd, &cr->pass[P_RECONSTRUCT_0 + e->latest], &push, size,
+        compute_pass_record(cmd, &views->pass[V_RECONSTRUCT_0 + e->latest], &push, size,
                             local_2d);
         if (frames == 1)
             gpu_timer_mark(timer, cmd, "cloud_reconstruct");
@@ -227,7 +313,7 @@ int cloud_view_record(struct vk_context *ctx, struct cloud_renderer *cr, VkComma
     }
     if (frames > 1)
         gpu_timer_mark(timer, cmd, "cloud_accumulate");
-    record_resolve(ctx, cr, cmd, timer, f, e);
+    record_resolve(ctx, views, cmd, timer, f, in, e);
     out->over_sky = &e->over_sky;
     out->over_ground = &e->over_ground;
     out->over_filled = e->use.filled;
