@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "ephemeris.h"
+#include "messages.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -236,4 +237,30 @@ void world_to_render_night(const struct sky_world_state *state, struct sky_rende
                         state->location.longitude_deg, out->star_rotation);
     out->star_brightness = state->night.star_brightness;
     out->airglow_luminance_cd_m2 = state->night.airglow_luminance_cd_m2;
+}
+
+void world_render_input(const struct sky_world_state *state, struct render_input *out)
+{
+    memset(out, 0, sizeof *out);
+    out->state = *state;
+    world_to_render_atmosphere(state, &out->atmosphere);
+    out->frame_atmosphere = out->atmosphere;
+    out->settled_revision = state->revision;
+    world_to_render_clouds(state, &out->clouds);
+    world_to_render_night(state, &out->night);
+    world_to_lut_sizes(state, &out->lut_sizes);
+}
+
+void world_render_view(const struct render_input *input, const struct sky_msg_view *view,
+                       struct sky_render_view *out)
+{
+    struct sky_world_state resolved = input->state;
+    sky_msg_view_resolve(view, &input->state, &resolved.camera, &resolved.exposure);
+    world_to_render_view(&resolved, view->width, view->height,
+                         view->format == SKY_FRAME_FORMAT_PNG16 ? SKY_RENDER_OUTPUT_LINEAR
+                                                                : SKY_RENDER_OUTPUT_SRGB8,
+                         out);
+    out->projection = view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR
+                          ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
+                          : SKY_RENDER_PROJECTION_PERSPECTIVE;
 }

@@ -1,11 +1,24 @@
-/* Maps the world state (protocol/) onto the renderer's inputs (render/). */
+/* Maps the world state (protocol/) onto the renderer's inputs (render/): the one place where
+ * a state becomes a render input and a client's view a render view. */
 #ifndef SKYD_WORLD_RENDER_H
 #define SKYD_WORLD_RENDER_H
 
 #include <stdint.h>
 
+#include "render_input.h"
 #include "sky_renderer.h"
 #include "world_state.h"
+
+struct sky_msg_view;
+
+/* The state's render input: its atmosphere (also the one frames show, built amortized),
+ * clouds, night and LUT sizes; no client map, nothing pending (settled_revision is the
+ * state's). */
+void world_render_input(const struct sky_world_state *state, struct render_input *out);
+/* The view a client asks for (size, format, projection, camera and exposure overrides) of the
+ * input's state. Equal views compare equal bytewise (the struct is zero-filled first). */
+void world_render_view(const struct render_input *input, const struct sky_msg_view *view,
+                       struct sky_render_view *out);
 
 void world_to_render_atmosphere(const struct sky_world_state *state,
                                 struct sky_render_atmosphere *out);
