@@ -230,7 +230,9 @@ struct renderer_host *cli_create_renderer(struct cli_common *c)
         .cloud_reference_spp = c->reference_spp,
     };
     char err[256];
-    struct renderer_host *r = renderer_host_create(&params, &c->state, NULL, err, sizeof err);
+    struct render_input input;
+    world_render_input(&c->state, &input);
+    struct renderer_host *r = renderer_host_create(&params, &input, err, sizeof err);
     if (!r)
         fprintf(stderr, "skyd: cannot start the Vulkan renderer\n");
     return r;

@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "ephemeris.h"
 #include "renderer_host.h"
+#include "world_render.h"
 
 enum probe_kind { PROBE_TRANSMITTANCE, PROBE_LUMINANCE, PROBE_ILLUMINANCE };
 
@@ -173,7 +174,9 @@ static int run_probe(struct renderer_host *r, const struct cli_common *c, const 
                                    .sun_zenith_deg = a->sun_zenith_deg };
     struct sky_msg_probe_result result;
     renderer_host_converged_probes(r); /* a script wants the best answer, not the fastest */
-    if (renderer_host_probe(r, &c->state, &query, &result) != 0)
+    struct render_input input;
+    world_render_input(&c->state, &input);
+    if (renderer_host_probe(r, &input, &query, &result) != 0)
         return SKYD_EXIT_FAILURE;
     if (a->kind == PROBE_ILLUMINANCE)
         printf("{\"sun_lux\":%.6g,\"sky_lux\":%.6g}\n", result.sun_lux, result.sky_lux);

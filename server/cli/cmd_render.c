@@ -343,13 +343,12 @@ int skyd_cmd_render(int argc, char **argv)
         pixels = NULL;
     }
     struct renderer_host *renderer = pixels ? cli_create_renderer(&common) : NULL;
-    if (renderer && weather_map.rgba &&
-        renderer_host_set_weather_map(renderer, &weather_map) != 0) {
-        fprintf(stderr, "skyd render: the renderer could not take the weather map\n");
+    struct render_input *input = malloc(sizeof *input);
+    if (!input)
         cli_finish(&common, &renderer, SKYD_EXIT_FAILURE);
-    }
-    sky_weather_map_free(&weather_map);
     if (!renderer) {
+        free(input);
+        sky_weather_map_free(&weather_map);
         free(pixels);
         free(rgb16);
         return SKYD_EXIT_FAILURE;
@@ -359,15 +358,23 @@ int skyd_cmd_render(int argc, char **argv)
     int status = SKYD_EXIT_OK;
     char err[512], path[1200];
     world_sim_anchor_wind(&common.state); /* the lapse's wind runs from the state as given */
+    const struct sky_msg_view asked = {
+        .width = width,
+        .height = height,
+        .format = linear16 ? SKY_FRAME_FORMAT_PNG16 : SKY_FRAME_FORMAT_PNG,
+        .projection = projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR
+                          ? SKY_VIEW_PROJECTION_EQUIRECTANGULAR
+                          : SKY_VIEW_PROJECTION_PERSPECTIVE,
+    };
     for (unsigned frame = 0; frame < lapse.frames && status == SKYD_EXIT_OK; frame++) {
         if (frame > 0)
             world_sim_advance(&common.state, lapse.step_s);
-        world_to_render_view(&common.state, width, height,
-                             linear16 ? SKY_RENDER_OUTPUT_LINEAR : SKY_RENDER_OUTPUT_SRGB8, &view);
-        view.projection = projection;
+        world_render_input(&common.state, input);
+        input->client_map = &weather_map;
+        input->map_generation = weather_map.rgba ? 1 : 0;
+        world_render_view(input, &asked, &view);
         frame_path(prefix, number_width, suffix, frame, path, sizeof path);
-        if (renderer_host_render(renderer, &common.state, NULL, &view, false, pixels, bytes,
-                                 &stats) != 0) {
+        if (renderer_host_render(renderer, input, &view, false, pixels, bytes, &stats) != 0) {
             fprintf(stderr, "skyd render: rendering failed\n");
             status = SKYD_EXIT_FAILURE;
         } else if (write_frame(path, pixels, rgb16, (int)quality, width, height,
@@ -384,6 +391,8 @@ int skyd_cmd_render(int argc, char **argv)
         }
     }
     status = cli_finish(&common, &renderer, status);
+    free(input);
+    sky_weather_map_free(&weather_map);
     free(pixels);
     free(rgb16);
     return status;

@@ -59,13 +59,13 @@ void cluster_sync_destroy(struct cluster_sync **sync)
 }
 
 void cluster_sync_apply(struct cluster_sync *s, struct world_host *world,
-                        struct renderer_host *renderer, struct session_hub *hub)
+                        struct session_hub *hub)
 {
     struct cluster_entry *list = cluster_feed_take(s->feed);
     bool told = false;
     for (struct cluster_entry *e = list; e; e = e->next) {
         char *event = NULL;
-        world_host_apply_entry(world, renderer, e, &event);
+        world_host_apply_entry(world, e, &event);
         if (event) {
             session_hub_broadcast(hub, event);
             told = true;

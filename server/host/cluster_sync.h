@@ -10,7 +10,6 @@
 
 #include "cluster_entry.h"
 #include "cluster_store.h"
-#include "renderer_host.h"
 #include "session.h"
 #include "world_host.h"
 
@@ -24,9 +23,9 @@ struct cluster_sync *cluster_sync_create(const struct cluster_store *store,
                                          size_t errlen);
 void cluster_sync_destroy(struct cluster_sync **sync);
 
-/* Applies every queued entry; their events go to every client of the hub. */
+/* Applies every queued entry to the world host; their events go to every client of the hub. */
 void cluster_sync_apply(struct cluster_sync *sync, struct world_host *world,
-                        struct renderer_host *renderer, struct session_hub *hub);
+                        struct session_hub *hub);
 
 /* Whether the feed is connected now, and how often it connected since start. */
 bool cluster_sync_connected(struct cluster_sync *sync, unsigned *connections);

@@ -55,6 +55,8 @@ struct frame_scheduler {
     struct pending_snapshot *snapshots;
     size_t snapshot_count, snapshot_capacity;
     uint64_t render_sequence;
+    /* This render_due call's frames: one showed its input's frame atmosphere fully. */
+    bool atmosphere_shown;
     struct sky_render_stats last_stats;
     bool has_stats;
     double fps; /* frames rendered per second over the last second */
@@ -62,21 +64,7 @@ struct frame_scheduler {
     int fps_window_frames;
 };
 
-static void resolve_render_view(const struct sky_world_state *state,
-                                const struct sky_msg_view *view, struct sky_render_view *out)
-{
-    struct sky_world_state resolved = *state;
-    sky_msg_view_resolve(view, state, &resolved.camera, &resolved.exposure);
-    world_to_render_view(&resolved, view->width, view->height,
-                         view->format == SKY_FRAME_FORMAT_PNG16 ? SKY_RENDER_OUTPUT_LINEAR
-                                                                : SKY_RENDER_OUTPUT_SRGB8,
-                         out);
-    out->projection = view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR
-                          ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
-                          : SKY_RENDER_PROJECTION_PERSPECTIVE;
-}
-
-/* world_to_render_view zero-fills the struct first, so equal views compare equal bytewise. */
+/* world_render_view zero-fills the struct first, so equal views compare equal bytewise. */
 static struct render_group *group_for(struct render_group **groups, size_t *count,
                                       const struct sky_render_view *view,
                                       struct encoding encoding)
@@ -147,10 +135,20 @@ static void fail_targets(struct frame_scheduler *fs, struct encode_target *targe
     free(targets);
 }
 
-static void render_group(struct frame_scheduler *fs, struct world_host *world,
-                         struct renderer_host *renderer, struct render_group *g)
+/* While an atmosphere change is still being rebuilt, a frame carries the last revision whose
+ * atmosphere was on screen: a client waiting for its revision then knows its change is
+ * visible when a frame carries it. */
+static uint64_t carried_revision(struct frame_scheduler *fs, const struct render_input *input,
+                                 bool atmosphere_settled)
 {
-    const struct sky_world_state *state = world_host_state(world);
+    fs->atmosphere_shown |= atmosphere_settled;
+    return fs->atmosphere_shown || !input->atmosphere_pending ? input->state.revision
+                                                              : input->settled_revision;
+}
+
+static void render_group(struct frame_scheduler *fs, struct renderer_host *renderer,
+                         const struct render_input *input, struct render_group *g)
+{
     bool linear = g->view.output == SKY_RENDER_OUTPUT_LINEAR;
     size_t bytes = (size_t)g->view.width * g->view.height * (linear ? 16 : 4);
     void *pixels = malloc(bytes);
@@ -159,8 +157,8 @@ static void render_group(struct frame_scheduler *fs, struct world_host *world,
     bool unwatched = fs->subscription_count == 0;
     struct sky_render_stats stats;
     double started = monotonic_seconds();
-    int rendered = pixels ? renderer_host_render(renderer, state, world_host_atmosphere(world),
-                                                 &g->view, unwatched, pixels, bytes, &stats)
+    int rendered = pixels ? renderer_host_render(renderer, input, &g->view, unwatched, pixels,
+                                                 bytes, &stats)
                           : -1;
     if (rendered != 0) {
         char what[64], message[512];
@@ -178,7 +176,7 @@ static void render_group(struct frame_scheduler *fs, struct world_host *world,
     service_metrics_frame_rendered(fs->metrics, monotonic_seconds() - started);
     fs->last_stats = stats;
     fs->has_stats = true;
-    uint64_t revision = world_host_frame_rendered(world, stats.atmosphere_settled);
+    uint64_t revision = carried_revision(fs, input, stats.atmosphere_settled);
     fs->fps_window_frames++;
     struct encode_job job = {
         .pixels = pixels,
@@ -186,7 +184,7 @@ static void render_group(struct frame_scheduler *fs, struct world_host *world,
         .quality = g->encoding.quality,
         .meta = { .render_sequence = ++fs->render_sequence,
                   .state_revision = revision,
-                  .simulation_time_s = state->clock.utc_unix_s,
+                  .simulation_time_s = input->state.clock.utc_unix_s,
                   .width = g->view.width,
                   .height = g->view.height,
                   .format = g->encoding.format,
@@ -286,11 +284,11 @@ static void schedule_view(struct frame_scheduler *fs, const size_t *members, siz
 
 /* Groups the pending snapshots and the due subscriptions by view, renders each view once, and
  * returns when the loop should next look at the schedule. */
-double frame_scheduler_render_due(struct frame_scheduler *fs, struct world_host *world,
-                                  struct renderer_host *renderer, double now)
+double frame_scheduler_render_due(struct frame_scheduler *fs, struct renderer_host *renderer,
+                                  const struct render_input *input, double now,
+                                  bool *atmosphere_shown)
 {
-    world_host_settle_unwatched(world, renderer, fs->subscription_count > 0);
-    const struct sky_world_state *state = world_host_state(world);
+    fs->atmosphere_shown = false;
     struct render_group *groups = NULL;
     size_t group_count = 0;
     double next_wake = now + 1.0;
@@ -299,7 +297,7 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct world_host 
     for (size_t i = 0; i < fs->snapshot_count; i++) {
         struct pending_snapshot *p = &fs->snapshots[i];
         struct sky_render_view view;
-        resolve_render_view(state, &p->view, &view);
+        world_render_view(input, &p->view, &view);
         struct render_group *g =
             group_for(&groups, &group_count, &view, encoding_of(&p->view, p->view.quality));
         if (!g || !group_add(g, p->session, 0, &p->id))
@@ -317,7 +315,7 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct world_host 
     for (size_t i = 0; i < n; i++)
         fs->subscriptions[i].waiting_for_encoder = encoder_full;
     for (size_t i = 0; i < n && !encoder_full; i++) {
-        resolve_render_view(state, &fs->subscriptions[i].view, &views[i]);
+        world_render_view(input, &fs->subscriptions[i].view, &views[i]);
         fit_bandwidth(&fs->subscriptions[i]);
     }
     for (size_t i = 0; i < n && !encoder_full; i++) {
@@ -344,7 +342,7 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct world_host 
     free(grouped);
     for (size_t i = 0; i < group_count; i++) {
         if (groups[i].count > 0)
-            render_group(fs, world, renderer, &groups[i]);
+            render_group(fs, renderer, input, &groups[i]);
         else
             free(groups[i].targets);
     }
@@ -356,6 +354,7 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct world_host 
         if (!s->waiting_for_encoder)
             next_wake = fmin(next_wake, fmax(s->next_due, after));
     }
+    *atmosphere_shown = fs->atmosphere_shown;
     return next_wake;
 }
 void frame_scheduler_tick(struct frame_scheduler *fs, double now)

@@ -10,11 +10,11 @@
 #include <stdint.h>
 
 #include "messages.h"
+#include "render_input.h"
 #include "renderer_host.h"
 #include "service_metrics.h"
 #include "session.h"
 #include "sky_renderer.h"
-#include "world_host.h"
 
 struct frame_scheduler_params {
     int encoder_threads;
@@ -67,10 +67,14 @@ size_t frame_scheduler_session_stats(const struct frame_scheduler *scheduler,
                                      struct sky_msg_subscription_stats *out, size_t capacity);
 
 /* Renders every view that is due (pending snapshots, subscriptions whose frame is due and not
- * still encoding), each once, through the renderer host, for the world host's state, and hands
- * them to the encoders. Returns when it should next be called (CLOCK_MONOTONIC seconds). */
-double frame_scheduler_render_due(struct frame_scheduler *scheduler, struct world_host *world,
-                                  struct renderer_host *renderer, double now_s);
+ * still encoding), each once, through the renderer host, of the render input, and hands them
+ * to the encoders. *atmosphere_shown: a frame showed the input's frame atmosphere fully (from
+ * then on frames carry the input's revision; world_host_atmosphere_shown). Returns when it
+ * should next be called (CLOCK_MONOTONIC seconds). */
+double frame_scheduler_render_due(struct frame_scheduler *scheduler,
+                                  struct renderer_host *renderer,
+                                  const struct render_input *input, double now_s,
+                                  bool *atmosphere_shown);
 
 /* Frames rendered per second over the last whole second (updated by frame_scheduler_tick). */
 void frame_scheduler_tick(struct frame_scheduler *scheduler, double now_s);

@@ -18,16 +18,16 @@ static void local_direction(double zenith_deg, double azimuth_deg, double out[3]
     out[2] = cos(z);
 }
 
-int probe_query_run(struct sky_renderer *renderer, const struct sky_world_state *state,
+int probe_query_run(struct sky_renderer *renderer, const struct render_input *input,
                     const struct sky_msg_probe *query, struct sky_msg_probe_result *result)
 {
-    struct sky_render_atmosphere atm;
+    /* The state's own atmosphere, not the one frames are still being moved to. */
+    struct sky_render_atmosphere atm = input->atmosphere;
     struct sky_render_view view;
-    world_to_render_atmosphere(state, &atm);
-    world_to_render_view(state, 1, 1, SKY_RENDER_OUTPUT_LINEAR, &view);
-    struct sky_render_night night;
-    world_to_render_night(state, &night);
-    sky_renderer_set_night(renderer, &night);
+    const struct sky_msg_view pixel = { .width = 1, .height = 1,
+                                        .format = SKY_FRAME_FORMAT_PNG16 };
+    world_render_view(input, &pixel, &view);
+    sky_renderer_set_night(renderer, &input->night);
     memset(result, 0, sizeof *result);
     result->quantity = query->quantity;
     int rc = -1;

@@ -4,12 +4,12 @@
 #define SKYD_PROBE_QUERY_H
 
 #include "messages.h"
+#include "render_input.h"
 #include "sky_renderer.h"
-#include "world_state.h"
 
-/* Fills *result for the query's quantity under the state's atmosphere and sun photometry.
- * Returns 0 or -1. */
-int probe_query_run(struct sky_renderer *renderer, const struct sky_world_state *state,
+/* Fills *result for the query's quantity under the input state's atmosphere and sun
+ * photometry. Returns 0 or -1. */
+int probe_query_run(struct sky_renderer *renderer, const struct render_input *input,
                     const struct sky_msg_probe *query, struct sky_msg_probe_result *result);
 
 #endif

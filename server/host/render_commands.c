@@ -123,6 +123,32 @@ static void commit_refused(struct render_context *ctx, struct session *session,
                 "%s", commit->error);
 }
 
+/* The renderer takes a commit's new input, all or nothing (new LUT sizes, clouds, a client
+ * weather map); when it cannot, the commit is undone (world_host_undo_commit). false: it was. */
+static bool renderer_takes(struct render_context *ctx, struct world_commit *commit)
+{
+    char why[448];
+    if (!commit->input || renderer_host_take(ctx->renderer, commit->input, why, sizeof why) == 0)
+        return true;
+    return !world_host_undo_commit(ctx->world, why, commit);
+}
+
+/* A commit the world host made: the renderer takes it, then the sender and every client hear
+ * of it. */
+static bool announce_commit(struct render_context *ctx, struct session *session,
+                            const struct sky_msg_id *id, struct world_commit *commit)
+{
+    if (!renderer_takes(ctx, commit)) {
+        commit_refused(ctx, session, id, commit);
+        return false;
+    }
+    reply(ctx, session, id, sky_msg_build_ack(id, commit->revision, SKY_ROLE_NONE));
+    if (commit->event)
+        session_hub_broadcast(ctx->hub, commit->event);
+    free(commit->event);
+    return true;
+}
+
 /* Commits `next` through the world host and tells the sender and every client. */
 static bool commit_state(struct render_context *ctx, struct session *session,
                          const struct sky_msg_id *id, struct sky_world_state *next)
@@ -130,15 +156,11 @@ static bool commit_state(struct render_context *ctx, struct session *session,
     struct world_commit commit;
     char by[SKY_MSG_CLIENT_MAX + 1];
     changer(session, by, sizeof by);
-    if (!world_host_commit(ctx->world, ctx->renderer, next, NULL, by, &commit)) {
+    if (!world_host_commit(ctx->world, next, NULL, by, &commit)) {
         commit_refused(ctx, session, id, &commit);
         return false;
     }
-    reply(ctx, session, id, sky_msg_build_ack(id, commit.revision, SKY_ROLE_NONE));
-    if (commit.event)
-        session_hub_broadcast(ctx->hub, commit.event);
-    free(commit.event);
-    return true;
+    return announce_commit(ctx, session, id, &commit);
 }
 
 static void handle_set(struct render_context *ctx, struct session *session,
@@ -227,22 +249,19 @@ static void handle_apply_preset(struct render_context *ctx, struct session *sess
     commit_state(ctx, session, &msg->id, &next);
 }
 
-/* The map is written to disk first, then handed to the renderer, then selected by the state
- * (weather.map_source "client") in one revision whose event names "/weather/map". */
+/* The map is written to disk first, then selected by the state (weather.map_source "client")
+ * in one revision whose event names "/weather/map", which the renderer then takes. */
 static void handle_set_weather_map(struct render_context *ctx, struct session *session,
                                    const struct sky_client_msg *msg)
 {
     struct world_commit commit;
     char by[SKY_MSG_CLIENT_MAX + 1];
     changer(session, by, sizeof by);
-    if (!world_host_set_weather_map(ctx->world, ctx->renderer, &msg->weather_map, by, &commit)) {
+    if (!world_host_set_weather_map(ctx->world, &msg->weather_map, by, &commit)) {
         commit_refused(ctx, session, &msg->id, &commit);
         return;
     }
-    reply(ctx, session, &msg->id, sky_msg_build_ack(&msg->id, commit.revision, SKY_ROLE_NONE));
-    if (commit.event)
-        session_hub_broadcast(ctx->hub, commit.event);
-    free(commit.event);
+    announce_commit(ctx, session, &msg->id, &commit);
 }
 
 static void handle_list_presets(struct render_context *ctx, struct session *session,
@@ -324,7 +343,8 @@ static void handle_probe(struct render_context *ctx, struct session *session,
                          const struct sky_client_msg *msg)
 {
     struct sky_msg_probe_result result;
-    if (renderer_host_probe(ctx->renderer, world_host_state(ctx->world), &msg->probe, &result) != 0) {
+    if (renderer_host_probe(ctx->renderer, world_host_render_input(ctx->world), &msg->probe,
+                            &result) != 0) {
         char why[512];
         renderer_host_describe_failure(ctx->renderer, "the probe", why, sizeof why);
         reply_error(ctx, session, &msg->id, SKY_MSG_ERR_INTERNAL, "%s", why);

@@ -180,14 +180,14 @@ static bool renderer_usable(struct render_loop *loop)
 {
     struct render_context *ctx = &loop->ctx;
     char why[384];
-    switch (renderer_host_check(ctx->renderer, world_host_state(ctx->world),
-                                world_host_atmosphere(ctx->world), why, sizeof why)) {
+    switch (renderer_host_check(ctx->renderer, world_host_render_input(ctx->world), why,
+                                sizeof why)) {
     case RENDERER_HOST_OK:
         return true;
     case RENDERER_HOST_REBUILT:
         service_metrics_device_lost(loop->ctx.metrics);
-        /* The LUTs were built at once for the atmosphere frames are asked to show. */
-        world_host_renderer_rebuilt(ctx->world);
+        /* The LUTs were built at once for the input's frame atmosphere. */
+        world_host_atmosphere_shown(ctx->world);
         return true;
     case RENDERER_HOST_FAILED:
         service_metrics_device_lost(loop->ctx.metrics);
@@ -256,6 +256,17 @@ static void report_tick(struct render_loop *loop, double now)
     service_metrics_subscriptions(loop->ctx.metrics, loop->traffic, count);
 }
 
+/* The world's input outside a client's commit (another node's): a renderer that cannot take
+ * it is said in the log; frames fail until it can, or a renderer made again takes it. */
+static void take_input(struct render_loop *loop)
+{
+    const struct render_input *input = world_host_render_input(loop->ctx.world);
+    char why[448];
+    if (renderer_host_take(loop->ctx.renderer, input, why, sizeof why) != 0)
+        skyd_log(SKYD_LOG_ERROR, "the renderer did not take revision %llu: %s",
+                 (unsigned long long)input->state.revision, why);
+}
+
 static void *thread_main(void *arg)
 {
     struct render_loop *loop = arg;
@@ -288,12 +299,14 @@ static void *thread_main(void *arg)
         pthread_mutex_unlock(&loop->lock);
 
         const struct sky_render_stats *last = frame_scheduler_last_stats(ctx->frames);
-        world_host_advance(ctx->world, ctx->renderer, wall_clock_seconds(),
+        world_host_advance(ctx->world, wall_clock_seconds(),
                            frame_scheduler_subscription_count(ctx->frames) > 0,
                            !last || last->atmosphere_settled);
         announce_simulation(loop);
-        if (ctx->cluster) /* the shared world's changes from other nodes, in order */
-            cluster_sync_apply(ctx->cluster, ctx->world, ctx->renderer, ctx->hub);
+        if (ctx->cluster) { /* the shared world's changes from other nodes, in order */
+            cluster_sync_apply(ctx->cluster, ctx->world, ctx->hub);
+            take_input(loop);
+        }
 
         /* The tick: every queued command in arrival order, then the frames that are due. */
         bool replied = commands != NULL;
@@ -310,7 +323,12 @@ static void *thread_main(void *arg)
         if (stopping || !renderer_usable(loop))
             break;
         double now = monotonic_seconds();
-        wake_at = frame_scheduler_render_due(ctx->frames, ctx->world, ctx->renderer, now);
+        bool atmosphere_shown = false;
+        wake_at = frame_scheduler_render_due(ctx->frames, ctx->renderer,
+                                             world_host_render_input(ctx->world), now,
+                                             &atmosphere_shown);
+        if (atmosphere_shown)
+            world_host_atmosphere_shown(ctx->world);
         if (!renderer_usable(loop))
             break;
         now = monotonic_seconds();
@@ -387,21 +405,19 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         .lut_budget_fraction = params->config->lut_budget_fraction,
         .lut_blend_frames = params->config->lut_blend_frames,
     };
-    ctx->renderer = renderer_host_create(&host, world_host_state(ctx->world),
-                                         world_host_atmosphere(ctx->world), err, errlen);
+    ctx->renderer = renderer_host_create(&host, world_host_render_input(ctx->world), err, errlen);
     if (!ctx->renderer) {
         render_loop_destroy(&loop);
         return NULL;
     }
-    world_host_restore_weather_map(ctx->world, ctx->renderer);
     if (shared && !(ctx->cluster = cluster_sync_create(shared_world_store(shared),
                                                        shared_world_start(shared), encoder_done,
                                                        loop, err, errlen))) {
         render_loop_destroy(&loop);
         return NULL;
     }
-    if (renderer_host_prepare(ctx->renderer, world_host_state(ctx->world),
-                              world_host_atmosphere(ctx->world), err, errlen) != 0) {
+    if (renderer_host_prepare(ctx->renderer, world_host_render_input(ctx->world), err,
+                              errlen) != 0) {
         render_loop_destroy(&loop);
         return NULL;
     }

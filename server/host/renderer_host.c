@@ -19,11 +19,16 @@ struct renderer_host {
     struct sky_renderer *renderer;
     struct sky_render_lut_sizes lut_sizes;
     /* The clouds the renderer holds: the simulation moves them every tick (wind, transitions,
-     * autopilot), and a frame hands them over only when they changed. */
+     * autopilot), and an input hands them over only when they changed. */
     struct sky_render_clouds clouds;
     bool clouds_set;
-    /* The client weather map the renderer holds (no texels: none), for a rebuild. */
+    /* The client weather map the renderer holds (no texels: none) and the input's generation
+     * it came with (0: none taken since the renderer was made). */
     struct sky_weather_map map;
+    uint64_t map_generation;
+    /* The atmosphere of the last frame or at-once build; built: its LUTs are complete. */
+    struct sky_render_atmosphere atmosphere;
+    bool built;
     /* When the last losses were, newest first. */
     double losses_s[LOSSES_KEPT];
     int loss_count;
@@ -53,9 +58,8 @@ static void log_render_line(void *user, enum sky_render_log_level level, const c
     skyd_log((enum skyd_log_level)level, "%s", line);
 }
 
-static int open_renderer(struct renderer_host *h, const struct sky_world_state *state,
-                         const struct sky_render_atmosphere *atmosphere, bool quiet, char *err,
-                         size_t errlen)
+static int open_renderer(struct renderer_host *h, const struct render_input *input,
+                         bool build_atmosphere, bool quiet, char *err, size_t errlen)
 {
     struct sky_renderer_params rp = {
         .device_preference = h->params.device_preference,
@@ -63,8 +67,8 @@ static int open_renderer(struct renderer_host *h, const struct sky_world_state *
         .validation_message_counter = h->params.validation_message_counter,
         .quiet = quiet,
         .log = { .write = log_render_line },
+        .lut_sizes = input->lut_sizes,
     };
-    world_to_lut_sizes(state, &rp.lut_sizes);
     h->renderer = sky_renderer_create(&rp);
     if (!h->renderer) {
         snprintf(err, errlen, "cannot create the Vulkan renderer");
@@ -72,22 +76,25 @@ static int open_renderer(struct renderer_host *h, const struct sky_world_state *
     }
     h->lut_sizes = rp.lut_sizes;
     h->clouds_set = false;
+    h->map_generation = 0;
+    h->built = false;
     set_amortization(h, h->params.lut_budget_ms);
-    if (atmosphere) {
-        struct sky_render_atmosphere atm = *atmosphere;
+    if (build_atmosphere) {
+        struct sky_render_atmosphere atm = input->frame_atmosphere;
         if (sky_renderer_rebuild_atmosphere(h->renderer, &atm, NULL) != 0) {
             snprintf(err, errlen, "building the atmosphere LUTs failed");
             sky_renderer_destroy(&h->renderer);
             return -1;
         }
+        h->atmosphere = input->frame_atmosphere;
+        h->built = true;
     }
     return 0;
 }
 
 struct renderer_host *renderer_host_create(const struct renderer_host_params *params,
-                                           const struct sky_world_state *state,
-                                           const struct sky_render_atmosphere *atmosphere,
-                                           char *err, size_t errlen)
+                                           const struct render_input *input, char *err,
+                                           size_t errlen)
 {
     struct renderer_host *h = calloc(1, sizeof *h);
     if (!h) {
@@ -95,7 +102,7 @@ struct renderer_host *renderer_host_create(const struct renderer_host_params *pa
         return NULL;
     }
     h->params = *params;
-    if (open_renderer(h, state, atmosphere, params->quiet, err, errlen) != 0) {
+    if (open_renderer(h, input, input->atmosphere_at_once, params->quiet, err, errlen) != 0) {
         free(h);
         return NULL;
     }
@@ -123,108 +130,135 @@ const char *renderer_host_device_name(const struct renderer_host *h)
     return h->renderer ? sky_renderer_device_name(h->renderer) : "(no device)";
 }
 
-/* Hands the state's clouds over when they changed since the last time. */
-static int update_clouds(struct renderer_host *h, const struct sky_world_state *state)
+/* Hands the input's client weather map over when it is another; old: the one it replaced,
+ * which the caller frees or puts back (restore_map). */
+static int take_map(struct renderer_host *h, const struct render_input *input,
+                    struct sky_weather_map *old, char *why, size_t whylen)
 {
-    struct sky_render_clouds clouds;
-    world_to_render_clouds(state, &clouds);
-    clouds.reference_spp = h->params.cloud_reference_spp;
-    if (h->clouds_set && memcmp(&clouds, &h->clouds, sizeof clouds) == 0)
-        return 0;
-    if (sky_renderer_set_clouds(h->renderer, &clouds) != 0) {
-        h->clouds_set = false;
+    struct sky_weather_map copy;
+    if (!sky_weather_map_copy(input->client_map, &copy)) {
+        snprintf(why, whylen, "out of memory for the weather map");
         return -1;
     }
-    h->clouds = clouds;
-    h->clouds_set = true;
+    if (sky_renderer_set_weather_map(h->renderer, copy.rgba, copy.width, copy.height) != 0 &&
+        !renderer_host_lost(h)) {
+        renderer_host_describe_failure(h, "uploading the weather map", why, whylen);
+        sky_weather_map_free(&copy);
+        return -1;
+    }
+    *old = h->map;
+    h->map = copy;
+    h->map_generation = input->map_generation;
     return 0;
 }
 
-int renderer_host_render(struct renderer_host *h, const struct sky_world_state *state,
-                         const struct sky_render_atmosphere *atmosphere,
+static void restore_map(struct renderer_host *h, struct sky_weather_map *old, uint64_t generation)
+{
+    sky_renderer_set_weather_map(h->renderer, old->rgba, old->width, old->height);
+    sky_weather_map_free(&h->map);
+    h->map = *old;
+    h->map_generation = generation;
+    memset(old, 0, sizeof *old);
+}
+
+/* New LUT sizes; *resized: they changed. The renderer keeps the old ones when it fails. */
+static int take_lut_sizes(struct renderer_host *h, const struct render_input *input,
+                          bool *resized, char *why, size_t whylen)
+{
+    *resized = memcmp(&input->lut_sizes, &h->lut_sizes, sizeof h->lut_sizes) != 0;
+    if (!*resized)
+        return 0;
+    struct sky_render_lut_sizes sizes = input->lut_sizes;
+    if (sky_renderer_set_lut_sizes(h->renderer, &sizes) != 0 && !renderer_host_lost(h)) {
+        renderer_host_describe_failure(h, "allocating the new LUT sizes", why, whylen);
+        *resized = false;
+        return -1;
+    }
+    h->lut_sizes = sizes;
+    return 0;
+}
+
+/* The input's clouds when they are not those the renderer holds; on failure the renderer gets
+ * its old clouds back. */
+static int take_clouds(struct renderer_host *h, const struct render_input *input, char *why,
+                       size_t whylen)
+{
+    struct sky_render_clouds clouds = input->clouds;
+    clouds.reference_spp = h->params.cloud_reference_spp;
+    if (h->clouds_set && memcmp(&clouds, &h->clouds, sizeof clouds) == 0)
+        return 0;
+    if (sky_renderer_set_clouds(h->renderer, &clouds) == 0) {
+        h->clouds = clouds;
+        h->clouds_set = true;
+        return 0;
+    }
+    if (renderer_host_lost(h)) {
+        h->clouds_set = false;
+        return 0;
+    }
+    renderer_host_describe_failure(h, "generating the cloud noise", why, whylen);
+    if (h->clouds_set && sky_renderer_set_clouds(h->renderer, &h->clouds) != 0)
+        h->clouds_set = false;
+    return -1;
+}
+
+int renderer_host_take(struct renderer_host *h, const struct render_input *input, char *why,
+                       size_t whylen)
+{
+    if (!h->renderer)
+        return 0; /* the rebuild after the tick takes the input */
+    struct sky_weather_map old_map = { 0 };
+    uint64_t old_generation = h->map_generation;
+    bool new_map = input->map_generation != h->map_generation;
+    if (new_map && take_map(h, input, &old_map, why, whylen) != 0)
+        return -1;
+    struct sky_render_lut_sizes old_sizes = h->lut_sizes;
+    bool resized = false;
+    if (take_lut_sizes(h, input, &resized, why, whylen) != 0 ||
+        take_clouds(h, input, why, whylen) != 0) {
+        if (resized && sky_renderer_set_lut_sizes(h->renderer, &old_sizes) == 0)
+            h->lut_sizes = old_sizes;
+        if (new_map)
+            restore_map(h, &old_map, old_generation);
+        return -1;
+    }
+    sky_weather_map_free(&old_map);
+    bool built = h->built &&
+                 memcmp(&h->atmosphere, &input->frame_atmosphere, sizeof h->atmosphere) == 0;
+    if (input->atmosphere_at_once && !built) {
+        struct sky_render_atmosphere atm = input->frame_atmosphere;
+        if (sky_renderer_rebuild_atmosphere(h->renderer, &atm, NULL) == 0) {
+            h->atmosphere = input->frame_atmosphere;
+            h->built = true;
+        }
+    }
+    return 0;
+}
+
+int renderer_host_render(struct renderer_host *h, const struct render_input *input,
                          const struct sky_render_view *view, bool at_once, void *pixels,
                          size_t bytes, struct sky_render_stats *stats)
 {
-    if (!h->renderer)
+    char why[256];
+    /* A frame that cannot show the input's clouds fails rather than show others. */
+    if (!h->renderer || renderer_host_take(h, input, why, sizeof why) != 0)
         return -1;
-    struct sky_render_night night;
-    world_to_render_night(state, &night);
-    sky_renderer_set_night(h->renderer, &night);
-    /* A frame that cannot show the state's clouds fails rather than show others. */
-    if (update_clouds(h, state) != 0)
-        return -1;
-    struct sky_render_atmosphere atm;
-    if (atmosphere)
-        atm = *atmosphere;
-    else
-        world_to_render_atmosphere(state, &atm);
+    sky_renderer_set_night(h->renderer, &input->night);
+    struct sky_render_atmosphere atm = input->frame_atmosphere;
     if (at_once)
         set_amortization(h, 0.0);
     int status = sky_renderer_render(h->renderer, &atm, view, pixels, bytes, stats);
     if (at_once)
         set_amortization(h, h->params.lut_budget_ms);
-    return status;
-}
-
-int renderer_host_apply_change(struct renderer_host *h, const struct sky_world_state *before,
-                               const struct sky_world_state *next, char *why, size_t whylen)
-{
-    if (!h->renderer)
-        return 0; /* the rebuild after the tick takes the whole state */
-    struct sky_render_lut_sizes sizes;
-    world_to_lut_sizes(next, &sizes);
-    bool resized = memcmp(&sizes, &h->lut_sizes, sizeof sizes) != 0;
-    struct sky_render_lut_sizes old_sizes = h->lut_sizes;
-    if (resized) {
-        if (sky_renderer_set_lut_sizes(h->renderer, &sizes) != 0 && !renderer_host_lost(h)) {
-            /* The renderer keeps the old LUTs and sizes. */
-            renderer_host_describe_failure(h, "allocating the new LUT sizes", why, whylen);
-            return -1;
-        }
-        h->lut_sizes = sizes;
+    if (status != 0)
+        return status;
+    bool settled = stats && stats->atmosphere_settled;
+    if (memcmp(&h->atmosphere, &input->frame_atmosphere, sizeof h->atmosphere) != 0) {
+        h->atmosphere = input->frame_atmosphere;
+        h->built = settled;
+    } else {
+        h->built = h->built || settled;
     }
-    struct sky_render_clouds clouds_before, clouds_after;
-    world_to_render_clouds(before, &clouds_before);
-    world_to_render_clouds(next, &clouds_after);
-    if (memcmp(&clouds_before, &clouds_after, sizeof clouds_before) == 0)
-        return 0;
-    if (sky_renderer_set_clouds(h->renderer, &clouds_after) == 0) {
-        h->clouds = clouds_after; /* the renderer has them: the next frame need not */
-        h->clouds_set = true;
-        return 0;
-    }
-    h->clouds_set = false;
-    if (renderer_host_lost(h))
-        return 0;
-    renderer_host_describe_failure(h, "generating the cloud noise", why, whylen);
-    sky_renderer_set_clouds(h->renderer, &clouds_before);
-    if (resized && sky_renderer_set_lut_sizes(h->renderer, &old_sizes) == 0)
-        h->lut_sizes = old_sizes;
-    return -1;
-}
-
-int renderer_host_rebuild_atmosphere(struct renderer_host *h,
-                                     const struct sky_render_atmosphere *atmosphere)
-{
-    if (!h->renderer)
-        return -1;
-    struct sky_render_atmosphere atm = *atmosphere;
-    return sky_renderer_rebuild_atmosphere(h->renderer, &atm, NULL);
-}
-
-int renderer_host_set_weather_map(struct renderer_host *h, const struct sky_weather_map *map)
-{
-    struct sky_weather_map copy;
-    if (!sky_weather_map_copy(map, &copy))
-        return -1;
-    if (h->renderer &&
-        sky_renderer_set_weather_map(h->renderer, copy.rgba, copy.width, copy.height) != 0 &&
-        !renderer_host_lost(h)) {
-        sky_weather_map_free(&copy);
-        return -1;
-    }
-    sky_weather_map_free(&h->map);
-    h->map = copy;
     return 0;
 }
 
@@ -234,60 +268,66 @@ void renderer_host_converged_probes(struct renderer_host *h)
         sky_renderer_set_probe_multiple_scattering(h->renderer, SKY_RENDER_PROBE_MS_CONVERGED);
 }
 
-int renderer_host_probe(struct renderer_host *h, const struct sky_world_state *state,
+int renderer_host_probe(struct renderer_host *h, const struct render_input *input,
                         const struct sky_msg_probe *query, struct sky_msg_probe_result *result)
 {
     if (!h->renderer)
         return -1;
-    return probe_query_run(h->renderer, state, query, result);
+    return probe_query_run(h->renderer, input, query, result);
 }
 
 /* The CPU driver (lavapipe) compiles a shader variant at its first dispatch: a second or more
  * for each cloud pass on two cores, which stalled every stream the first time clouds showed.
  * A few small frames with clouds, by day (both halves of the reconstruction's ping-pong) and
  * by night, then one clear, dispatch those passes now, before the first client. */
-static int warm_up_pipelines(struct renderer_host *h, const struct sky_world_state *state,
-                             const struct sky_render_atmosphere *atmosphere)
+static int warm_up_pipelines(struct renderer_host *h, const struct render_input *input)
 {
     enum { WARM_W = 64, WARM_H = 36, WARM_BYTES = WARM_W * WARM_H * 4 };
     uint8_t *rgba = malloc(WARM_BYTES);
-    if (!rgba)
+    struct render_input *warm = malloc(sizeof *warm);
+    if (!rgba || !warm) {
+        free(rgba);
+        free(warm);
         return -1;
-    struct sky_world_state s = *state;
-    s.clouds.low.coverage = fmax(s.clouds.low.coverage, 0.5);
-    s.clouds.high.coverage = fmax(s.clouds.high.coverage, 0.3);
+    }
+    *warm = *input;
+    warm->clouds.low.coverage = fmax(warm->clouds.low.coverage, 0.5);
+    warm->clouds.high.coverage = fmax(warm->clouds.high.coverage, 0.3);
     static const double sun_elevation_deg[4] = { 30.0, 30.0, -20.0, 30.0 };
+    const struct sky_msg_view small = { .width = WARM_W, .height = WARM_H,
+                                        .format = SKY_FRAME_FORMAT_PNG };
     int status = 0;
     for (int k = 0; k < 4 && status == 0; k++) {
-        s.sun.elevation_deg = sun_elevation_deg[k];
         if (k == 3) /* the clear sky's composite pipelines are others */
-            s.clouds.low.coverage = s.clouds.high.coverage = 0.0;
+            warm->clouds.low.coverage = warm->clouds.high.coverage = 0.0;
         struct sky_render_view view;
-        world_to_render_view(&s, WARM_W, WARM_H, SKY_RENDER_OUTPUT_SRGB8, &view);
+        world_render_view(warm, &small, &view);
+        view.sun_elevation_deg = sun_elevation_deg[k];
         view.history_key = UINT64_MAX;
         view.live = true;
         /* at once: the weather and shadow maps within the frame */
-        status = renderer_host_render(h, &s, atmosphere, &view, true, rgba, WARM_BYTES, NULL);
+        status = renderer_host_render(h, warm, &view, true, rgba, WARM_BYTES, NULL);
     }
+    free(warm);
     free(rgba);
     return status;
 }
 
-int renderer_host_prepare(struct renderer_host *h, const struct sky_world_state *state,
-                          const struct sky_render_atmosphere *atmosphere, char *err,
+int renderer_host_prepare(struct renderer_host *h, const struct render_input *input, char *err,
                           size_t errlen)
 {
     if (!h->renderer ||
-        sky_renderer_prepare_cloud_noise(h->renderer, (uint32_t)state->clouds.noise_seed) != 0) {
+        sky_renderer_prepare_cloud_noise(h->renderer, input->clouds.noise_seed) != 0) {
         snprintf(err, errlen, "generating the cloud noise failed");
         return -1;
     }
-    if (warm_up_pipelines(h, state, atmosphere) != 0) {
+    if (warm_up_pipelines(h, input) != 0) {
         snprintf(err, errlen, "rendering the start-up frames failed");
         return -1;
     }
-    if (update_clouds(h, state) != 0 && !renderer_host_lost(h))
-        skyd_log(SKYD_LOG_ERROR, "the cloud noise could not be generated");
+    char why[256];
+    if (renderer_host_take(h, input, why, sizeof why) != 0 && !renderer_host_lost(h))
+        skyd_log(SKYD_LOG_ERROR, "%s", why);
     return 0;
 }
 
@@ -304,26 +344,9 @@ static int count_recent_losses(struct renderer_host *h, double now)
     return recent;
 }
 
-/* The new renderer, made like the first one, takes what the old one held that is not in the
- * state: the client weather map. */
-static int rebuild(struct renderer_host *h, const struct sky_world_state *state,
-                   const struct sky_render_atmosphere *atmosphere, char *err, size_t errlen)
-{
-    if (open_renderer(h, state, atmosphere, true, err, errlen) != 0)
-        return -1;
-    if (h->map.rgba &&
-        sky_renderer_set_weather_map(h->renderer, h->map.rgba, h->map.width, h->map.height) !=
-            0) {
-        snprintf(err, errlen, "the new renderer could not take the client weather map");
-        return -1;
-    }
-    return renderer_host_prepare(h, state, atmosphere, err, errlen);
-}
-
 enum renderer_host_check renderer_host_check(struct renderer_host *h,
-                                             const struct sky_world_state *state,
-                                             const struct sky_render_atmosphere *atmosphere,
-                                             char *err, size_t errlen)
+                                             const struct render_input *input, char *err,
+                                             size_t errlen)
 {
     const char *detail = "";
     if (!h->renderer || sky_renderer_status(h->renderer, &detail) != SKY_RENDER_DEVICE_LOST)
@@ -338,8 +361,11 @@ enum renderer_host_check renderer_host_check(struct renderer_host *h,
                  RENDERER_HOST_LOSS_WINDOW_S);
         return RENDERER_HOST_FAILED;
     }
+    /* The new renderer, made like the first one, takes the whole input, its client weather
+     * map included. */
     char why[256];
-    if (rebuild(h, state, atmosphere, why, sizeof why) != 0) {
+    if (open_renderer(h, input, true, true, why, sizeof why) != 0 ||
+        renderer_host_prepare(h, input, why, sizeof why) != 0) {
         sky_renderer_destroy(&h->renderer);
         snprintf(err, errlen, "the Vulkan device was lost and the renderer could not be "
                  "rebuilt: %s", why);
@@ -347,7 +373,7 @@ enum renderer_host_check renderer_host_check(struct renderer_host *h,
     }
     skyd_log(SKYD_LOG_INFO, "renderer rebuilt on %s in %.0f ms; frames resume at revision %llu",
             sky_renderer_device_name(h->renderer), (monotonic_seconds() - start) * 1e3,
-            (unsigned long long)state->revision);
+            (unsigned long long)input->state.revision);
     return RENDERER_HOST_REBUILT;
 }
 

@@ -18,13 +18,31 @@
 
 enum { MAX_CHANGED = 192 };
 
+/* What the last commit replaced, until the next tick: a renderer that cannot take it undoes
+ * it (world_host_undo_commit). */
+struct world_undo {
+    bool valid;
+    struct sky_world_state state, announced;
+    struct sky_render_atmosphere atmosphere;
+    bool atmosphere_pending;
+    uint64_t settled_revision;
+    bool map_replaced;
+    struct sky_weather_map map;
+    uint64_t map_generation;
+};
+
 struct world_host {
     char state_file[SKYD_CONFIG_STRING];
     struct sky_world_state state;
     struct sky_weather_map client_map;
+    uint64_t map_generation;   /* counts the client maps: 0 none yet */
+    /* The render input of the live state; atmosphere is its frame atmosphere. */
+    struct render_input input;
     struct sky_render_atmosphere atmosphere;
-    bool atmosphere_pending;   /* the atmosphere changed and frames do not show it fully yet */
-    uint64_t settled_revision;
+    bool atmosphere_pending;   /* a client's atmosphere change frames do not show fully yet */
+    uint64_t settled_revision; /* what frames carry meanwhile */
+    bool watched;              /* as the last advance was told */
+    struct world_undo undo;
     double save_delay_s;
     bool dirty;                /* a write the daemon owes itself (retried after save_delay_s) */
     double last_change_s;      /* when that write was last due */
@@ -42,6 +60,9 @@ struct world_host {
      * thread's stack); each fills and uses it within one call. */
     char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
 };
+
+static void restore_weather_map(struct world_host *h);
+static void refresh_input(struct world_host *h, bool adopt);
 
 struct world_host *world_host_create(const struct world_host_params *params)
 {
@@ -62,8 +83,6 @@ struct world_host *world_host_create(const struct world_host_params *params)
         h->sim_dirty = true; /* written, so that a restart or another node reads this epoch */
     }
     world_sim_run_to(&h->state, h->wall_s, h->drift); /* the clock its epoch gives now */
-    world_to_render_atmosphere(&h->state, &h->atmosphere);
-    h->settled_revision = h->state.revision;
     h->save_delay_s = params->save_delay_s;
     h->last_save_s = params->now_s;
     h->announced = h->state;
@@ -74,6 +93,8 @@ struct world_host *world_host_create(const struct world_host_params *params)
         world_host_destroy(&h);
         return NULL;
     }
+    restore_weather_map(h);
+    refresh_input(h, true);
     return h;
 }
 
@@ -83,6 +104,7 @@ void world_host_destroy(struct world_host **host)
     if (!h)
         return;
     sky_weather_map_free(&h->client_map);
+    sky_weather_map_free(&h->undo.map);
     wind_drift_destroy(&h->drift);
     free(h);
     *host = NULL;
@@ -93,19 +115,9 @@ const struct sky_world_state *world_host_state(const struct world_host *h)
     return &h->state;
 }
 
-const struct sky_render_atmosphere *world_host_atmosphere(const struct world_host *h)
+const struct render_input *world_host_render_input(const struct world_host *h)
 {
-    return &h->atmosphere;
-}
-
-uint64_t world_host_settled_revision(const struct world_host *h)
-{
-    return h->settled_revision;
-}
-
-const struct sky_weather_map *world_host_client_map(const struct world_host *h)
-{
-    return &h->client_map;
+    return &h->input;
 }
 
 /* Writes `state` before anything acknowledges it, so that a restart, even after kill -9, comes
@@ -187,29 +199,64 @@ static bool commit_to_cluster(struct world_host *h, const struct sky_world_state
     return false;
 }
 
-/* `next` (settled, with its revision) becomes the live state: the renderer takes it, frames
- * show it, and the event names `pointers`. The renderer's refusal is returned in why. */
-static int install(struct world_host *h, struct renderer_host *renderer,
-                   struct sky_world_state *next, const char *const *pointers, size_t count,
-                   const char *by, char **event, char *why, size_t whylen)
+/* The render input's flags and map after the state or the frame atmosphere changed. Nobody
+ * watching, the renderer builds the frame atmosphere at once: nothing stays pending. */
+static void finish_input(struct world_host *h)
 {
-    if (renderer_host_apply_change(renderer, &h->state, next, why, whylen) != 0)
-        return -1;
-    struct sky_render_atmosphere before, after;
-    world_to_render_atmosphere(&h->state, &before);
-    world_to_render_atmosphere(next, &after);
-    if (memcmp(&before, &after, sizeof before) != 0)
-        h->atmosphere_pending = true;
-    h->state = *next;
-    h->announced = h->state; /* this commit's event tells everything up to here */
-    h->atmosphere = after; /* a client's change is shown at once, not paced like the sim's */
-    *event = sky_msg_build_state_changed(h->state.revision, pointers, count, &h->state, by);
-    return 0;
+    if (!h->watched)
+        h->atmosphere_pending = false;
+    h->input.frame_atmosphere = h->atmosphere;
+    h->input.atmosphere_at_once = !h->watched;
+    h->input.atmosphere_pending = h->atmosphere_pending;
+    h->input.settled_revision = h->atmosphere_pending ? h->settled_revision : h->state.revision;
+    h->input.client_map = &h->client_map;
+    h->input.map_generation = h->map_generation;
 }
 
-bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
-                       struct sky_world_state *next, const char *also_changed, const char *by,
-                       struct world_commit *out)
+/* The live state's render input; adopt: the frame atmosphere may follow the state's own (a
+ * client's change waits for nothing; the simulation's haze, watched, for frames to show the
+ * previous one). */
+static void refresh_input(struct world_host *h, bool adopt)
+{
+    world_render_input(&h->state, &h->input);
+    if (adopt && !h->atmosphere_pending)
+        h->atmosphere = h->input.atmosphere;
+    finish_input(h);
+}
+
+static void drop_undo(struct world_host *h)
+{
+    sky_weather_map_free(&h->undo.map);
+    h->undo.valid = h->undo.map_replaced = false;
+}
+
+/* `next` (settled, with its revision) becomes the live state: its render input is made, and
+ * the event names `pointers`. What it replaces is kept for world_host_undo_commit. */
+static void install(struct world_host *h, struct sky_world_state *next,
+                    const char *const *pointers, size_t count, const char *by, char **event)
+{
+    drop_undo(h);
+    h->undo = (struct world_undo){ .valid = true,
+                                   .state = h->state,
+                                   .announced = h->announced,
+                                   .atmosphere = h->atmosphere,
+                                   .atmosphere_pending = h->atmosphere_pending,
+                                   .settled_revision = h->settled_revision };
+    struct sky_render_atmosphere before = h->input.atmosphere;
+    if (!h->atmosphere_pending)
+        h->settled_revision = h->state.revision;
+    h->state = *next;
+    h->announced = h->state; /* this commit's event tells everything up to here */
+    world_render_input(&h->state, &h->input);
+    if (memcmp(&before, &h->input.atmosphere, sizeof before) != 0)
+        h->atmosphere_pending = true;
+    h->atmosphere = h->input.atmosphere; /* a client's change is shown at once */
+    finish_input(h);
+    *event = sky_msg_build_state_changed(h->state.revision, pointers, count, &h->state, by);
+}
+
+bool world_host_commit(struct world_host *h, struct sky_world_state *next,
+                       const char *also_changed, const char *by, struct world_commit *out)
 {
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
@@ -225,37 +272,58 @@ bool world_host_commit(struct world_host *h, struct renderer_host *renderer,
     for (size_t i = 0; i < count; i++)
         pointers[i] = h->changed[i];
     next->revision = h->state.revision + 1;
-    char why[448];
     if (h->cluster) {
-        /* Redis has it before anything acknowledges it; it is the world's now, so a renderer
-         * that cannot take it is made again from the state (renderer_host.h). */
+        /* Redis has it before anything acknowledges it. */
         if (!commit_to_cluster(h, next, pointers, count, by, out))
             return false;
-        if (install(h, renderer, next, pointers, count, by, &out->event, why, sizeof why) != 0) {
-            fprintf(stderr, "skyd: the renderer did not take revision %llu: %s\n",
-                    (unsigned long long)next->revision, why);
-            h->state = *next;
-        }
-        out->revision = h->state.revision;
-        return true;
-    }
-    if (!persist(h, next, out->error, sizeof out->error)) {
+    } else if (!persist(h, next, out->error, sizeof out->error)) {
         out->status = WORLD_COMMIT_FAILED;
         return false;
     }
-    if (install(h, renderer, next, pointers, count, by, &out->event, why, sizeof why) != 0) {
-        out->status = WORLD_COMMIT_FAILED;
-        snprintf(out->error, sizeof out->error, "%s; the state is unchanged", why);
-        unpersist(h);
-        return false;
-    }
+    install(h, next, pointers, count, by, &out->event);
     out->revision = h->state.revision;
+    out->input = &h->input;
     return true;
 }
 
-/* An entry's map to the renderer and the host; false when it is not a map. */
-static bool adopt_map(struct world_host *h, struct renderer_host *renderer,
-                      const struct cluster_entry *e)
+bool world_host_undo_commit(struct world_host *h, const char *why, struct world_commit *out)
+{
+    if (h->cluster || !h->undo.valid) {
+        /* A shared world's revision is the world's: a renderer made again takes it. */
+        fprintf(stderr, "skyd: the renderer did not take revision %llu: %s\n",
+                (unsigned long long)h->state.revision, why);
+        return false;
+    }
+    struct world_undo *u = &h->undo;
+    h->state = u->state;
+    h->announced = u->announced;
+    h->atmosphere = u->atmosphere;
+    h->atmosphere_pending = u->atmosphere_pending;
+    h->settled_revision = u->settled_revision;
+    if (u->map_replaced) {
+        char err[448];
+        if (h->state_file[0] &&
+            state_store_save_weather_map(h->state_file, &u->map, err, sizeof err) != 0)
+            fprintf(stderr, "skyd: cannot restore the saved weather map: %s\n", err);
+        sky_weather_map_free(&h->client_map);
+        h->client_map = u->map;
+        h->map_generation = u->map_generation;
+        memset(&u->map, 0, sizeof u->map);
+    }
+    drop_undo(h);
+    unpersist(h);
+    refresh_input(h, false);
+    free(out->event);
+    out->event = NULL;
+    out->status = WORLD_COMMIT_FAILED;
+    out->revision = h->state.revision;
+    out->input = NULL;
+    snprintf(out->error, sizeof out->error, "%s; the state is unchanged", why);
+    return true;
+}
+
+/* An entry's map becomes the client map; false when it is not a map. */
+static bool adopt_map(struct world_host *h, const struct cluster_entry *e)
 {
     struct sky_weather_map map;
     if (!world_codec_parse_map(e->map, e->map_length, &map)) {
@@ -263,16 +331,13 @@ static bool adopt_map(struct world_host *h, struct renderer_host *renderer,
                 (unsigned long long)e->revision);
         return false;
     }
-    if (renderer_host_set_weather_map(renderer, &map) != 0)
-        fprintf(stderr, "skyd: the renderer did not take the weather map of revision %llu\n",
-                (unsigned long long)e->revision);
     sky_weather_map_free(&h->client_map);
     h->client_map = map;
+    h->map_generation++;
     return true;
 }
 
-bool world_host_apply_entry(struct world_host *h, struct renderer_host *renderer,
-                            const struct cluster_entry *e, char **event)
+bool world_host_apply_entry(struct world_host *h, const struct cluster_entry *e, char **event)
 {
     *event = NULL;
     if (e->revision <= h->state.revision && !(e->snapshot && e->revision < h->state.revision))
@@ -293,7 +358,7 @@ bool world_host_apply_entry(struct world_host *h, struct renderer_host *renderer
      * is the instant every node computes. The wind's running sum was the old state's. */
     wind_drift_forget(h->drift);
     world_sim_run_to(&next, wall_clock_seconds(), h->drift);
-    bool map_changed = e->map && adopt_map(h, renderer, e);
+    bool map_changed = e->map && adopt_map(h, e);
     size_t count = 0;
     if (e->snapshot) {
         count = sky_msg_state_diff(&h->state, &next, h->changed, MAX_CHANGED - 1);
@@ -314,12 +379,7 @@ bool world_host_apply_entry(struct world_host *h, struct renderer_host *renderer
     const char *pointers[MAX_CHANGED];
     for (size_t i = 0; i < count; i++)
         pointers[i] = h->changed[i];
-    if (install(h, renderer, &next, pointers, count, e->snapshot ? "cluster" : e->by, event, why,
-                sizeof why) != 0) {
-        fprintf(stderr, "skyd: the renderer did not take revision %llu: %s\n",
-                (unsigned long long)e->revision, why);
-        h->state = next;
-    }
+    install(h, &next, pointers, count, e->snapshot ? "cluster" : e->by, event);
     return true;
 }
 
@@ -335,9 +395,8 @@ bool world_host_client_map_missing(const struct world_host *h,
     return true;
 }
 
-bool world_host_set_weather_map(struct world_host *h, struct renderer_host *renderer,
-                                 const struct sky_weather_map *map, const char *by,
-                                 struct world_commit *out)
+bool world_host_set_weather_map(struct world_host *h, const struct sky_weather_map *map,
+                                const char *by, struct world_commit *out)
 {
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
@@ -355,57 +414,49 @@ bool world_host_set_weather_map(struct world_host *h, struct renderer_host *rend
         sky_weather_map_free(&kept);
         return false;
     }
-    /* A renderer whose device is lost is made again with this map after the tick. */
-    if (renderer_host_set_weather_map(renderer, map) != 0) {
-        if (h->state_file[0] &&
-            state_store_save_weather_map(h->state_file, &h->client_map, err, sizeof err) != 0)
-            fprintf(stderr, "skyd: cannot restore the saved weather map: %s\n", err);
-        char why[448];
-        renderer_host_describe_failure(renderer, "uploading the weather map", why, sizeof why);
-        snprintf(out->error, sizeof out->error, "%s; the state is unchanged", why);
-        sky_weather_map_free(&kept);
-        return false;
-    }
+    struct sky_weather_map old = h->client_map;
+    uint64_t old_generation = h->map_generation;
+    h->client_map = kept;
+    h->map_generation++;
     struct sky_world_state next = h->state;
     next.weather.map_source = SKY_WEATHER_MAP_CLIENT;
     h->pending_map = map;
-    bool committed = world_host_commit(h, renderer, &next, "/weather/map", by, out);
+    bool committed = world_host_commit(h, &next, "/weather/map", by, out);
     h->pending_map = NULL;
     if (!committed) {
-        /* The state was not saved: the old map goes back on disk and to the renderer. */
+        /* The state was not saved: the old map goes back on disk and to the input. */
         if (h->state_file[0])
-            state_store_save_weather_map(h->state_file, &h->client_map, err, sizeof err);
-        renderer_host_set_weather_map(renderer, &h->client_map);
-        sky_weather_map_free(&kept);
+            state_store_save_weather_map(h->state_file, &old, err, sizeof err);
+        sky_weather_map_free(&h->client_map);
+        h->client_map = old;
+        h->map_generation = old_generation;
+        finish_input(h);
         return false;
     }
-    sky_weather_map_free(&h->client_map);
-    h->client_map = kept;
+    h->undo.map_replaced = true;
+    h->undo.map = old;
+    h->undo.map_generation = old_generation;
     return true;
 }
 
-void world_host_restore_weather_map(struct world_host *h, struct renderer_host *renderer)
+/* At creation: the client weather map of the shared world, or the one saved beside the state.
+ * A state that selects it without one falls back to the procedural map (said on stderr). */
+static void restore_weather_map(struct world_host *h)
 {
     char msg[640];
     enum state_load_result result = STATE_LOAD_ABSENT;
     if (h->cluster && h->client_map.rgba) {
-        if (renderer_host_set_weather_map(renderer, &h->client_map) == 0) {
-            fprintf(stderr, "skyd: the shared world's client weather map (%ux%u)\n",
-                    h->client_map.width, h->client_map.height);
-            return;
-        }
-        sky_weather_map_free(&h->client_map);
+        fprintf(stderr, "skyd: the shared world's client weather map (%ux%u)\n",
+                h->client_map.width, h->client_map.height);
+        h->map_generation++;
+        return;
     }
     if (h->state_file[0])
         result = state_store_load_weather_map(h->state_file, &h->client_map, msg, sizeof msg);
-    if (result == STATE_LOAD_RESTORED && renderer_host_set_weather_map(renderer, &h->client_map) != 0) {
-        snprintf(msg, sizeof msg, "the renderer could not take the saved weather map");
-        sky_weather_map_free(&h->client_map);
-        result = STATE_LOAD_FAILED;
-    }
     if (result == STATE_LOAD_RESTORED) {
         fprintf(stderr, "skyd: restored the client weather map (%ux%u)\n", h->client_map.width,
                 h->client_map.height);
+        h->map_generation++;
     } else if (h->state.weather.map_source == SKY_WEATHER_MAP_CLIENT) {
         fprintf(stderr, "skyd: %s; weather.map_source is procedural\n",
                 h->state_file[0] ? msg : "no state file keeps a client weather map");
@@ -416,25 +467,17 @@ void world_host_restore_weather_map(struct world_host *h, struct renderer_host *
     }
 }
 
-void world_host_advance(struct world_host *h, struct renderer_host *renderer, double wall_s,
-                        bool watched, bool frames_settled)
+void world_host_advance(struct world_host *h, double wall_s, bool watched, bool frames_settled)
 {
     h->wall_s = wall_s;
+    h->watched = watched;
+    drop_undo(h);
     struct sky_world_state before;
     memcpy(&before, &h->state, sizeof before);
     world_sim_run_to(&h->state, wall_s, h->drift);
     if (memcmp(&before, &h->state, sizeof before) != 0)
         h->sim_dirty = true;
-    struct sky_render_atmosphere fresh;
-    world_to_render_atmosphere(&h->state, &fresh);
-    if (memcmp(&fresh, &h->atmosphere, sizeof fresh) == 0 || h->atmosphere_pending)
-        return;
-    if (!watched) {
-        if (renderer_host_rebuild_atmosphere(renderer, &fresh) == 0)
-            h->atmosphere = fresh;
-    } else if (frames_settled) {
-        h->atmosphere = fresh;
-    }
+    refresh_input(h, !watched || frames_settled);
 }
 
 char *world_host_simulation_event(struct world_host *h, double now_s, double period_s)
@@ -457,29 +500,11 @@ char *world_host_simulation_event(struct world_host *h, double now_s, double per
     return event;
 }
 
-void world_host_settle_unwatched(struct world_host *h, struct renderer_host *renderer,
-                                 bool watched)
-{
-    if (!h->atmosphere_pending || watched)
-        return;
-    if (renderer_host_rebuild_atmosphere(renderer, &h->atmosphere) == 0)
-        world_host_renderer_rebuilt(h);
-}
-
-uint64_t world_host_frame_rendered(struct world_host *h, bool atmosphere_settled)
-{
-    /* While an atmosphere change is still being rebuilt, a frame shows the state of the last
-     * revision whose atmosphere was on screen: a client waiting for its revision then knows
-     * its change is visible when a frame carries it. */
-    if (atmosphere_settled || !h->atmosphere_pending)
-        world_host_renderer_rebuilt(h);
-    return h->settled_revision;
-}
-
-void world_host_renderer_rebuilt(struct world_host *h)
+void world_host_atmosphere_shown(struct world_host *h)
 {
     h->atmosphere_pending = false;
     h->settled_revision = h->state.revision;
+    finish_input(h);
 }
 
 void world_host_save(struct world_host *h, double now_s)

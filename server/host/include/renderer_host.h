@@ -1,9 +1,9 @@
-/* The renderer host: the renderer (render/) for a world state, and the one path from a world
- * state to a frame. The daemon's frames and its start-up warm-up, `skyd render`, `skyd probe`
- * and the protocol's probes all render through it: the state's night (moon, stars, airglow)
- * and clouds are handed to the renderer here, and nowhere else. It owns the renderer, the
- * device it was made on (made again the same way when that device is lost), the clouds and
- * the client weather map the renderer holds. One thread uses it. */
+/* The renderer host: the renderer (render/), and the one path from a render input
+ * (render_input.h) to a frame. The daemon's frames and its start-up warm-up, `skyd render`,
+ * `skyd probe` and the protocol's probes all render through it: an input's client weather
+ * map, LUT sizes, clouds, night and atmosphere are handed to the renderer here, and nowhere
+ * else. It owns the renderer, the device it was made on (made again the same way when that
+ * device is lost), and copies of what the renderer holds. One thread uses it. */
 #ifndef SKYD_RENDERER_HOST_H
 #define SKYD_RENDERER_HOST_H
 
@@ -11,6 +11,7 @@
 #include <stddef.h>
 
 #include "messages.h"
+#include "render_input.h"
 #include "sky_renderer.h"
 #include "weather_map.h"
 #include "world_state.h"
@@ -35,48 +36,39 @@ struct renderer_host_params {
 
 struct renderer_host;
 
-/* Makes the renderer with the state's LUT sizes. atmosphere: its LUTs are built at once (NULL:
- * on the first frame). NULL with err filled when no renderer can be made. */
+/* Makes the renderer with the input's LUT sizes; its frame atmosphere's LUTs are built at
+ * once when input->atmosphere_at_once (else on the first frame). NULL with err filled when no
+ * renderer can be made. */
 struct renderer_host *renderer_host_create(const struct renderer_host_params *params,
-                                           const struct sky_world_state *state,
-                                           const struct sky_render_atmosphere *atmosphere,
-                                           char *err, size_t errlen);
+                                           const struct render_input *input, char *err,
+                                           size_t errlen);
 void renderer_host_destroy(struct renderer_host **host);
 
-/* Generates the cloud noise, dispatches every pipeline once with a few small frames and hands
- * the state's clouds over: after it no client waits for a shader to compile. 0 or -1 (err). */
-int renderer_host_prepare(struct renderer_host *host, const struct sky_world_state *state,
-                          const struct sky_render_atmosphere *atmosphere, char *err,
-                          size_t errlen);
+/* Generates the cloud noise, dispatches every pipeline once with a few small frames and takes
+ * the input: after it no client waits for a shader to compile. 0 or -1 (err). */
+int renderer_host_prepare(struct renderer_host *host, const struct render_input *input,
+                          char *err, size_t errlen);
 
-/* The one world-to-frame path: the state's night and clouds (the clouds only when they
- * changed), then the frame of `view` under `atmosphere` (NULL: the state's own). at_once:
- * rebuild the cloud maps within this frame instead of amortized (a snapshot nobody streams).
- * 0, or -1 (renderer_host_describe_failure says why), also when the clouds could not be
- * handed over: a frame never shows other clouds than the state's. */
-int renderer_host_render(struct renderer_host *host, const struct sky_world_state *state,
-                         const struct sky_render_atmosphere *atmosphere,
+/* Takes what changed in the input since the last one, all or nothing: the client weather map,
+ * the LUT sizes and the clouds; then, when input->atmosphere_at_once, builds the frame
+ * atmosphere's LUTs unless they are built. 0, or -1 with `why` filled and the renderer holding
+ * what it held. A lost device counts as success: the rebuild after the tick takes the input. */
+int renderer_host_take(struct renderer_host *host, const struct render_input *input, char *why,
+                       size_t whylen);
+
+/* The one world-to-frame path: takes the input (renderer_host_take), hands over its night,
+ * then renders `view` under its frame atmosphere. at_once: rebuild the cloud maps within this
+ * frame instead of amortized (a snapshot nobody streams). 0, or -1
+ * (renderer_host_describe_failure says why), also when the input could not be taken: a frame
+ * never shows other clouds than the input's. */
+int renderer_host_render(struct renderer_host *host, const struct render_input *input,
                          const struct sky_render_view *view, bool at_once, void *pixels,
                          size_t bytes, struct sky_render_stats *stats);
 
-/* The renderer's share of a state change from `before` to `next`, all or nothing: new LUT
- * sizes and clouds. 0, or -1 with `why` filled and the renderer as it was. A lost device
- * counts as success: the rebuild after the tick takes the whole state. */
-int renderer_host_apply_change(struct renderer_host *host, const struct sky_world_state *before,
-                               const struct sky_world_state *next, char *why, size_t whylen);
-
-/* Builds the LUTs of `atmosphere` at once. 0 or -1. */
-int renderer_host_rebuild_atmosphere(struct renderer_host *host,
-                                     const struct sky_render_atmosphere *atmosphere);
-
-/* Hands the renderer a client weather map (no texels: none) and keeps a copy for a rebuild.
- * 0, or -1 with the renderer's map as it was; a lost device counts as success. */
-int renderer_host_set_weather_map(struct renderer_host *host, const struct sky_weather_map *map);
-
-/* A physical query (protocol probe, skyd probe) under the state. 0 or -1. */
 /* Probes from now on build and answer with the converged multiple scattering (skyd probe). */
 void renderer_host_converged_probes(struct renderer_host *host);
-int renderer_host_probe(struct renderer_host *host, const struct sky_world_state *state,
+/* A physical query (protocol probe, skyd probe) under the input's state. 0 or -1. */
+int renderer_host_probe(struct renderer_host *host, const struct render_input *input,
                         const struct sky_msg_probe *query, struct sky_msg_probe_result *result);
 
 enum renderer_host_check {
@@ -84,15 +76,14 @@ enum renderer_host_check {
     RENDERER_HOST_REBUILT, /* its device was lost; a new renderer shows the same state */
     RENDERER_HOST_FAILED,  /* lost, and no usable renderer could be made: see err */
 };
-/* After work that used the renderer: when it reports its device lost, says so on stderr and
- * makes it again (renderer_host_create's way, the client weather map, then
- * renderer_host_prepare with the state and atmosphere). FAILED when that fails, or at the
+/* After work that used the renderer: when it reports its device lost, says so in the log and
+ * makes it again (renderer_host_create's way with the frame atmosphere built at once, then
+ * renderer_host_prepare with the input). FAILED when that fails, or at the
  * RENDERER_HOST_MAX_LOSSES-th loss within RENDERER_HOST_LOSS_WINDOW_S: the host then has no
  * renderer and every call fails. */
 enum renderer_host_check renderer_host_check(struct renderer_host *host,
-                                             const struct sky_world_state *state,
-                                             const struct sky_render_atmosphere *atmosphere,
-                                             char *err, size_t errlen);
+                                             const struct render_input *input, char *err,
+                                             size_t errlen);
 
 bool renderer_host_lost(const struct renderer_host *host);
 const char *renderer_host_device_name(const struct renderer_host *host);
