@@ -23,6 +23,7 @@ _Static_assert(sizeof(enum sky_weather_map_format) == sizeof(int), "enum field s
 static const char *const weather_map_format_names[] = {[SKY_WEATHER_MAP_RGBA8] = "rgba8",
                                                         [SKY_WEATHER_MAP_PNG] = "png"};
 
+/* clang-format off */
 #define MSG(member) offsetof(struct sky_client_msg, member)
 #define NAMES(array) .enum_names = array, .enum_count = (int)COUNT_OF(array), \
                      .max = (double)COUNT_OF(array) - 1
@@ -123,6 +124,7 @@ static const struct sky_field_desc rgba8_map_rows[] = {
     MAP_FORMAT, MAP_SIDE("width", weather_map_width, true, "texels per row"),
     MAP_SIDE("height", weather_map_height, true, "rows of texels"),
 };
+/* clang-format on */
 
 /* ---- the tables as schemas --------------------------------------------------------------- */
 
@@ -132,11 +134,13 @@ static const char *const with_view[] = {"type", "id", "view"};
 static const char *const with_name[] = {"type", "id", "name"};
 static const char *const with_data[] = {"type", "id", "data"};
 
+/* clang-format off */
 #define SCHEMA(rows, callers)                                                                    \
     {.fields = rows, .count = COUNT_OF(rows), .caller_members = callers,                        \
      .caller_member_count = COUNT_OF(callers), .unique_members = true}
 #define NO_ROWS(callers)                                                                         \
     {.caller_members = callers, .caller_member_count = COUNT_OF(callers), .unique_members = true}
+/* clang-format on */
 
 static const struct sky_schema hello_schema = SCHEMA(hello_rows, envelope);
 static const struct sky_schema auth_schema = SCHEMA(auth_rows, envelope);
@@ -162,6 +166,7 @@ _Static_assert(COUNT_OF(probe_variants) == SKY_MSG_QUANTITY_NAMES, "a table per 
 _Static_assert(COUNT_OF(weather_map_variants) == COUNT_OF(weather_map_format_names),
                "a table per format");
 
+/* clang-format off */
 static const struct msg_schema message_schemas[] = {
     [SKY_MSG_HELLO] = {&hello_schema, NULL, NULL, 0},
     [SKY_MSG_AUTH] = {&auth_schema, NULL, NULL, 0},
@@ -178,6 +183,7 @@ static const struct msg_schema message_schemas[] = {
                                  COUNT_OF(weather_map_variants)},
     [SKY_MSG_DESCRIBE] = {&envelope_schema, NULL, NULL, 0},
 };
+/* clang-format on */
 
 const struct msg_schema *msg_schema_of(enum sky_msg_type type)
 {
@@ -206,6 +212,7 @@ const struct sky_schema *msg_schema_variant(const struct msg_schema *kind, const
 #define VIEW(member) offsetof(struct sky_msg_view, member)
 /* A camera or exposure member: its range, names and description are the world state's row of
  * the same path (filled in by msg_view_schema). */
+/* clang-format off */
 #define TWIN(path_, type_, member)                                                               \
     {.path = path_, .type = type_, .offset = VIEW(member)}
 
@@ -243,6 +250,7 @@ static const struct sky_field_desc view_rows[MSG_VIEW_ROWS] = {
                              .description = "perspective: the camera's; equirectangular: the "
                                             "whole sphere, 2:1"},
 };
+/* clang-format on */
 
 void msg_view_schema(const struct sky_msg_limits *limits, struct msg_view_schema *out)
 {

@@ -32,6 +32,7 @@ static const char *const weather_map_source_names[] = {"procedural", "client"};
 #define COUNT_OF(array) ((int)(sizeof(array) / sizeof((array)[0])))
 #define OFFSET(member) offsetof(struct sky_world_state, member)
 /* One row; the members a macro leaves out are zero (not required, inclusive ranges). */
+/* clang-format off */
 #define ROW(path_, type_, member, lo, hi, names, count, doc, ro) \
     {.path = path_, .type = type_, .offset = OFFSET(member), .min = lo, .max = hi, \
      .enum_names = names, .enum_count = count, .description = doc, .read_only = ro}
@@ -90,6 +91,7 @@ static const char *const weather_map_source_names[] = {"procedural", "client"};
     RO_NUMBER("weather.transition." #end ".weather.wind.direction_deg",                           \
               weather.transition.end.wind_direction_deg, 0, 360,                                 \
               "wind direction (from) " what ", degrees")
+/* clang-format on */
 
 /* Rows sharing a group stay together: serialization and error messages follow this order. */
 const struct sky_field_desc sky_world_field_table[] = {

@@ -124,6 +124,7 @@ static int run_pass(struct vk_context *ctx, struct compute_pass *pass,
 
 static VkResult create_passes(struct vk_context *ctx, struct cloud_noise *n)
 {
+    /* clang-format off */
     const struct compute_pass_desc descs[3] = {
         { .name = "cloud_noise_base", SPIRV(cloud_noise_base_spv),
           SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_NOISE_VOLUME), NOISE_PUSH },
@@ -132,6 +133,7 @@ static VkResult create_passes(struct vk_context *ctx, struct cloud_noise *n)
         { .name = "cloud_noise_curl", SPIRV(cloud_noise_curl_spv),
           SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_NOISE_CURL), NOISE_PUSH },
     };
+    /* clang-format on */
     struct compute_pass *passes[3] = { &n->base_pass, &n->detail_pass, &n->curl_pass };
     for (int i = 0; i < 3; i++)
         VK_CHECK_RETURN(compute_pass_create(ctx, &descs[i], passes[i]));

@@ -22,9 +22,11 @@ static inline int moonlit(const struct cloud_frame *f)
 }
 
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
+/* clang-format off */
 #define MARCH_SPEC(moonlit, towering)                                                      \
     .spec_count = SKY_CLOUD_CONST_TOWERING + 1,                                            \
     .spec_values = { [SKY_CLOUD_CONST_MOONLIT] = moonlit, [SKY_CLOUD_CONST_TOWERING] = towering }
+/* clang-format on */
 #define ROWS_PUSH .push_constant_bytes = sizeof(struct sky_cloud_rows_push)
 
 /* The workgroup of the 2D passes. */

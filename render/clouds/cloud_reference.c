@@ -21,6 +21,7 @@ struct cloud_reference {
     struct gpu_buffer stats;
 };
 
+/* clang-format off */
 #define PATHTRACE_DESC(moonlit)                                                            \
     { .name = "cloud_pathtrace", .spirv = cloud_pathtrace_spv,                             \
       .spirv_bytes = sizeof(cloud_pathtrace_spv), SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_PATHTRACE), \
@@ -33,6 +34,7 @@ static const struct compute_pass_desc majorant_desc = {
     .name = "cloud_majorant", .spirv = cloud_majorant_spv,
     .spirv_bytes = sizeof(cloud_majorant_spv), SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_MAJORANT)
 };
+/* clang-format on */
 
 struct cloud_reference *cloud_reference_create(struct vk_context *ctx)
 {

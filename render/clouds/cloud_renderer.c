@@ -117,6 +117,7 @@ static int march_variant(const struct cloud_renderer *cr, const struct cloud_fra
     return moonlit(f) + (towering ? 2 : 0);
 }
 
+/* clang-format off */
 static const struct compute_pass_desc descs[P_COUNT] = {
     [P_WEATHER] = { .name = "cloud_weather", SPIRV(cloud_weather_spv),
                     SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_WEATHER), ROWS_PUSH },
@@ -134,6 +135,7 @@ static const struct compute_pass_desc descs[P_COUNT] = {
                                         SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_HEMISPHERE),
                                         MARCH_SPEC(1, 1) },
 };
+/* clang-format on */
 
 static int map_create(struct vk_context *ctx, struct cloud_map *m, VkFormat format, uint32_t size,
                       const char *name, double ms_per_row)

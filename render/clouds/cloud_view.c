@@ -15,6 +15,7 @@
 #include "clouds_shaders.h"
 
 #define VIEW_PUSH .push_constant_bytes = sizeof(struct sky_cloud_view_push)
+/* clang-format off */
 #define RESOLVE_SPEC(ground)                                                               \
     .spec_count = SKY_CLOUD_RESOLVE_CONST_GROUND + 1,                                      \
     .spec_values = { [SKY_CLOUD_RESOLVE_CONST_GROUND] = ground }
@@ -53,6 +54,7 @@ static const struct compute_pass_desc descs[V_COUNT] = {
                            SKY_PASS_LAYOUT(SKY_LAYOUT_CLOUD_RESOLVE), ROWS_PUSH,
                            RESOLVE_SPEC(1) },
 };
+/* clang-format on */
 
 struct cloud_views {
     struct compute_pass pass[V_COUNT];

@@ -11,6 +11,7 @@ struct star_catalogue_entry {
     double temperature_k;   /* from the spectral class */
 };
 
+/* clang-format off */
 static const struct star_catalogue_entry star_catalogue[] = {
     { "Sirius", 101.287155, -16.716116, -1.44, 9700 }, /* A0 */
     { "Canopus", 95.987958, -52.695660, -0.62, 7200 }, /* F0 */
@@ -128,6 +129,7 @@ static const struct star_catalogue_entry star_catalogue[] = {
     { "Arkab Posterior", 290.804737, -44.799778, 4.27, 6933 }, /* F2 */
     { "Taygeta", 56.302060, 24.467278, 4.30, 17467 }, /* B6 */
 };
+/* clang-format on */
 
 #define STAR_CATALOGUE_COUNT (sizeof star_catalogue / sizeof star_catalogue[0])
 

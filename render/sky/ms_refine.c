@@ -60,6 +60,7 @@ struct ms_refine {
     uint32_t pending[STEP_KINDS][8], pending_head[STEP_KINDS], pending_count[STEP_KINDS];
 };
 
+/* clang-format off */
 static const struct compute_pass_desc descs[STEP_KINDS] = {
     [STEP_DENSITY] = { .name = "ms_density", .spirv = ms_density_spv,
                        .spirv_bytes = sizeof ms_density_spv,
@@ -76,6 +77,7 @@ static const struct compute_pass_desc descs[STEP_KINDS] = {
                        SKY_PASS_LAYOUT(SKY_LAYOUT_MS_MOMENTS),
                        .push_constant_bytes = sizeof(struct sky_ms_push) },
 };
+/* clang-format on */
 
 /* The pipeline variant an order takes (SKY_MS_CONST_HIGHER). */
 static uint32_t variant_of(enum step_kind kind, uint32_t order)

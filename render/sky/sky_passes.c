@@ -16,6 +16,7 @@
 
 #define SPIRV(name) .spirv = name, .spirv_bytes = sizeof(name)
 /* The camera inside the atmosphere, and above it (FROM_SPACE). */
+/* clang-format off */
 #define SHADING_PAIR(id, label, code, layout, push)                                       \
     [id] = { .name = label, SPIRV(code), SKY_PASS_LAYOUT(layout),                         \
              .push_constant_bytes = push },                                               \
@@ -58,6 +59,7 @@ static const struct compute_pass_desc pass_descs[PASS_COUNT] = {
                          .spec_count = SKY_CONST_NIGHT_SKY + 1,
                          .spec_values = { [SKY_CONST_NIGHT_SKY] = 0 } },
 };
+/* clang-format on */
 
 static bool format_supports(struct vk_context *ctx, VkFormat format, VkFormatFeatureFlags need)
 {

@@ -15,6 +15,7 @@
 
 const char *vk_result_name(VkResult result)
 {
+    /* clang-format off */
     switch (result) {
     case VK_SUCCESS: return "VK_SUCCESS";
     case VK_NOT_READY: return "VK_NOT_READY";
@@ -36,6 +37,7 @@ const char *vk_result_name(VkResult result)
     case VK_ERROR_UNKNOWN: return "VK_ERROR_UNKNOWN";
     default: return "VkResult(other)";
     }
+    /* clang-format on */
 }
 
 static void write_line(const struct vk_context *ctx, enum vk_log_level level, const char *line)

@@ -40,11 +40,13 @@ struct cluster_feed {
 };
 
 /* One line about the world, through the sink (or on stderr). */
+/* clang-format off */
 #if defined(__GNUC__)
 __attribute__((format(printf, 3, 4)))
 #endif
 static void feed_log(const struct cluster_feed *f, enum cluster_log_level level,
                      const char *format, ...)
+/* clang-format on */
 {
     char line[1024];
     int prefix = snprintf(line, sizeof line, "cluster world \"%s\": ", f->world);

@@ -464,10 +464,12 @@ static bool reserve_one(void **items, size_t *capacity, size_t count, size_t ite
     return true;
 }
 
+/* clang-format off */
 #if defined(__GNUC__)
 __attribute__((format(printf, 2, 3)))
 #endif
 static struct frame_refusal refusal(enum sky_msg_error_code code, const char *format, ...)
+/* clang-format on */
 {
     struct frame_refusal r = { .code = code };
     va_list args;

@@ -62,12 +62,14 @@ static void log_refusal(const struct render_context *ctx, struct session *sessio
              name[0] ? name : "client without a name", name[0] ? "\"" : "", message);
 }
 
+/* clang-format off */
 #if defined(__GNUC__)
 __attribute__((format(printf, 5, 6)))
 #endif
 static void reply_error(struct render_context *ctx, struct session *session,
                         const struct sky_msg_id *id, enum sky_msg_error_code code,
                         const char *format, ...)
+/* clang-format on */
 {
     char message[512];
     va_list args;

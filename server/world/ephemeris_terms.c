@@ -3,6 +3,7 @@
  * tables 22.A, 47.A and 47.B. */
 #include "ephemeris_terms.h"
 
+/* clang-format off */
 #define SERIES(t) { t, (int)(sizeof t / sizeof t[0]) }
 
 static const struct eph_vsop_term l0[] = {
@@ -219,3 +220,4 @@ const struct eph_moon_b_term eph_moon_b_terms[EPH_MOON_TERMS] = {
     { { 4, -1, -1, -1 }, 166 }, { { 1, 0, 1, -1 }, -164 }, { { 4, 0, 1, -1 }, 132 },
     { { 1, 0, -1, -1 }, -119 }, { { 4, -1, 0, -1 }, 115 }, { { 2, -2, 0, 1 }, 107 },
 };
+/* clang-format on */

@@ -54,7 +54,9 @@ struct option_spec {
     size_t offset;
     double lo, hi;
 };
+/* clang-format off */
 #define OPT(name, kind, field, lo, hi) { name, kind, offsetof(struct options, field), lo, hi }
+/* clang-format on */
 static const struct option_spec option_specs[] = {
     OPT("--a", OPT_LIST, a, 0, 1),
     OPT("--b", OPT_LIST, b, 0, 1),

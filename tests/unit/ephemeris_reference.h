@@ -15,6 +15,7 @@ struct ephemeris_reference {
     double moon_illuminated_fraction, moon_distance_km;
 };
 
+/* clang-format off */
 static const struct ephemeris_reference ephemeris_reference[] = {
     { "Greenwich", "2005-06-04T21:06:39Z", 1117919199.000, 51.476900, -0.000500, 46.0, 1007.7, 27.2,
       320.663311, -6.986873, -6.934327, 342.809435, -17.421912, -17.421912, 0.042242, 393324.3 },
@@ -209,5 +210,6 @@ static const struct ephemeris_reference ephemeris_reference[] = {
     { "Longyearbyen", "2087-06-09T16:35:41.884-07:00", 3706040141.884, 78.223200, 15.626700, 20.0, 1010.8, 6.9,
       9.064962, 11.379333, 11.457420, 258.844963, -6.211111, -6.069151, 0.678876, 403313.5 },
 };
+/* clang-format on */
 
 #endif

@@ -12,6 +12,7 @@ struct parse_case {
     const char *pointer;     /* first field error's pointer; checked when not NULL */
 };
 
+/* clang-format off */
 #define OK(name, text, type) {name, text, SKY_MSG_OK, type, NULL}
 #define BAD(name, text, code, pointer) {name, text, SKY_MSG_ERR_##code, SKY_MSG_NONE, pointer}
 
@@ -269,6 +270,7 @@ static const struct parse_case parse_cases[] = {
         "\"name\":3}", WRONG_TYPE, "/name"),
     BAD("stats with field", "{\"type\":\"stats\",\"reset\":true}", UNKNOWN_FIELD, "/reset"),
 };
+/* clang-format on */
 
 void test_parse_table(void)
 {

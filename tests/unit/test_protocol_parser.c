@@ -263,6 +263,7 @@ void test_parsed_values(void)
     CHECK(sky_msg_type_name(SKY_MSG_NONE) == NULL);
 
     check_case_name = "error names";
+    /* clang-format off */
     static const struct {
         int code;
         const char *name;
@@ -281,6 +282,7 @@ void test_parsed_values(void)
         {SKY_MSG_ERR_UNAVAILABLE, "unavailable"},
         {SKY_FIELD_UNKNOWN, "unknown_field"}, {SKY_FIELD_INCONSISTENT, "inconsistent"},
     };
+    /* clang-format on */
     for (size_t i = 0; i < COUNT_OF(names); i++) {
         CHECK_STR(sky_msg_error_name(names[i].code), names[i].name);
         CHECK_INT(sky_msg_error_code_named(names[i].name, strlen(names[i].name)), names[i].code);

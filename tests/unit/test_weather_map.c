@@ -44,6 +44,7 @@ static void test_base64(void)
         free(bytes);
         free(text);
     }
+    /* clang-format off */
     static const struct {
         const char *text;
         const char *reason;
@@ -55,6 +56,7 @@ static void test_base64(void)
         {"Zm9 ", "offset 3"},
         {"====", "offset 0"},
     };
+    /* clang-format on */
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         uint8_t *bytes = (uint8_t *)"untouched";
         size_t length = 1;
@@ -244,6 +246,7 @@ static void test_message(void)
     free(text);
     free(png);
 
+    /* clang-format off */
     static const struct {
         const char *text;
         enum sky_msg_error_code code;
@@ -266,6 +269,7 @@ static void test_message(void)
         {"{\"type\":\"set_weather_map\",\"format\":\"rgba8\",\"width\":1,\"height\":1,"
          "\"data\":\"AAAAAA==\",\"tile\":true}", SKY_MSG_ERR_UNKNOWN_FIELD, "/tile"},
     };
+    /* clang-format on */
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         enum sky_msg_error_code code =
             sky_msg_parse(bad[i].text, strlen(bad[i].text), &limits, &msg, &error);

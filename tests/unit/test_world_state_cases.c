@@ -23,11 +23,13 @@ struct state_case {
     struct value_check check;
 };
 
+/* clang-format off */
 #define ERR(code_, pointer_, reason_) {.code = (code_), .pointer = (pointer_), .reason_part = (reason_)}
 #define APPLIES(input_, path_, ...) \
     {.input = (input_), .applied = true, .check = {.path = (path_), .values = {__VA_ARGS__}}}
 #define REJECTS(input_, total_, ...) \
     {.input = (input_), .applied = false, .total = (total_), .errors = {__VA_ARGS__}}
+/* clang-format on */
 
 static const struct state_case patch_cases[] = {
     /* valid partial patches */
