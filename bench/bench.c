@@ -58,8 +58,7 @@ static void print_series(const char *label, struct series *s, int n)
                percentile(s->pass_ms[p], n, 0.0));
 }
 
-static void record_sample(struct series *s, int i, const struct sky_render_stats *st,
-                          double cpu_ms)
+static void record_sample(struct series *s, int i, const struct sky_render_stats *st, double cpu_ms)
 {
     s->cpu_ms[i] = cpu_ms;
     s->pass_count = st->pass_count;
@@ -71,8 +70,8 @@ static void record_sample(struct series *s, int i, const struct sky_render_stats
     s->wall_ms[i] = st->wall_ms;
 }
 
-static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosphere *atm,
-                         int n, struct series *s)
+static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosphere *atm, int n,
+                         struct series *s)
 {
     for (int i = 0; i < n; i++) {
         struct sky_render_stats st;
@@ -89,9 +88,9 @@ static enum sky_render_projection projection = SKY_RENDER_PROJECTION_PERSPECTIVE
 
 /* The state's atmosphere and an sRGB view of w x h, with a pixel buffer for it (NULL when
  * out of memory; the caller frees it). */
-static void *frame_setup(struct sky_renderer *r, const struct cli_common *c, unsigned w,
-                         unsigned h, struct sky_render_atmosphere *atm,
-                         struct sky_render_view *view, size_t *bytes)
+static void *frame_setup(struct sky_renderer *r, const struct cli_common *c, unsigned w, unsigned h,
+                         struct sky_render_atmosphere *atm, struct sky_render_view *view,
+                         size_t *bytes)
 {
     struct sky_render_clouds clouds;
     world_to_render_clouds(&c->state, &clouds);
@@ -104,8 +103,8 @@ static void *frame_setup(struct sky_renderer *r, const struct cli_common *c, uns
     return malloc(*bytes);
 }
 
-static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsigned w,
-                        unsigned h, int n, int warmup, struct series *s)
+static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsigned w, unsigned h,
+                        int n, int warmup, struct series *s)
 {
     double trivial = trivial_write_ms(c->device, w, h, 15);
     struct sky_render_atmosphere atm;
@@ -164,10 +163,10 @@ static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsign
         return -1;
     const double budgets[2] = { budget_ms, 0.0 };
     for (int b = 0; b < 2; b++) {
-        sky_renderer_set_amortization(r, &(struct sky_render_amortization){
-                                              .budget_ms = budgets[b],
-                                              .budget_fraction = budget_fraction,
-                                              .blend_frames = 4 });
+        sky_renderer_set_amortization(
+            r, &(struct sky_render_amortization){ .budget_ms = budgets[b],
+                                                  .budget_fraction = budget_fraction,
+                                                  .blend_frames = 4 });
         double g0 = atm.mie_g[0];
         for (int phase = 0; phase < 2; phase++) {
             struct series *s = phase == 0 ? steady : drag;
@@ -199,10 +198,9 @@ static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsign
         printf("drag %ux%u, %s: steady median wall %.2f gpu %.2f cpu %.2f ms, steady p99 wall "
                "%.2f | drag median wall %.2f, p99 wall %.2f (%.2fx) gpu %.2f (%.2fx) cpu %.2f "
                "(%.2fx) ms\n",
-               w, h, budgets[b] > 0 ? "amortized" : "one-shot", steady_wall, steady_gpu,
-               steady_cpu, percentile(steady->wall_ms, n, 0.99),
-               percentile(drag->wall_ms, n, 0.5), percentile(drag->wall_ms, n, 0.99),
-               percentile(drag->wall_ms, n, 0.99) / steady_wall,
+               w, h, budgets[b] > 0 ? "amortized" : "one-shot", steady_wall, steady_gpu, steady_cpu,
+               percentile(steady->wall_ms, n, 0.99), percentile(drag->wall_ms, n, 0.5),
+               percentile(drag->wall_ms, n, 0.99), percentile(drag->wall_ms, n, 0.99) / steady_wall,
                percentile(drag->gpu_ms, n, 0.99), percentile(drag->gpu_ms, n, 0.99) / steady_gpu,
                percentile(drag->cpu_ms, n, 0.99), percentile(drag->cpu_ms, n, 0.99) / steady_cpu);
         printf("    atmosphere LUT passes per drag frame: median %.2f ms, p99 %.2f ms = %.3fx the "
@@ -237,10 +235,9 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
     void *pixels = frame_setup(r, c, w, h, &atm, &view, &bytes);
     if (!pixels)
         return -1;
-    sky_renderer_set_amortization(r, &(struct sky_render_amortization){
-                                          .budget_ms = budget_ms,
-                                          .budget_fraction = budget_fraction,
-                                          .blend_frames = 4 });
+    sky_renderer_set_amortization(
+        r, &(struct sky_render_amortization){
+               .budget_ms = budget_ms, .budget_fraction = budget_fraction, .blend_frames = 4 });
     struct sky_render_stats st;
     for (int i = 0; i < 3; i++)
         if (sky_renderer_render(r, &atm, &view, pixels, bytes, &st) != 0)
@@ -294,10 +291,11 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
            "refining\n",
            w, h, budget_ms, budget_fraction, settled_s, complete_s, faded_s, n_during);
     if (n_during > 0 && n_after > 0) {
-        printf("    refinement passes per frame: median %.2f ms, p99 %.2f ms; in all: moments %.0f, "
-               "density %.0f, radiance %.0f, ground %.0f ms gpu\n",
-               percentile(ms_passes, n_during, 0.5), percentile(ms_passes, n_during, 0.99),
-               kind_total[3], kind_total[0], kind_total[1], kind_total[2]);
+        printf(
+            "    refinement passes per frame: median %.2f ms, p99 %.2f ms; in all: moments %.0f, "
+            "density %.0f, radiance %.0f, ground %.0f ms gpu\n",
+            percentile(ms_passes, n_during, 0.5), percentile(ms_passes, n_during, 0.99),
+            kind_total[3], kind_total[0], kind_total[1], kind_total[2]);
         double p99_during = percentile(during->wall_ms, n_during, 0.99);
         double p99_after = percentile(after->wall_ms, n_after, 0.99);
         printf("    frame wall while refining: median %.2f p99 %.2f ms | after: median %.2f p99 "
@@ -381,7 +379,8 @@ int main(int argc, char **argv)
             size_count++;
         } else {
             fprintf(stderr, "usage: skyd_bench [--frames N] [--rebuilds N] [--size WxH]... "
-                            "[--drag BUDGET_MS] [--drag-fraction F] [--converge] [--clouds] [--projection NAME] "
+                            "[--drag BUDGET_MS] [--drag-fraction F] [--converge] [--clouds] "
+                            "[--projection NAME] "
                             "[--preset NAME] "
                             "[--set PATH=VALUE] [--device NAME]\n");
             return 2;
@@ -402,8 +401,7 @@ int main(int argc, char **argv)
         return 1;
     }
     printf("device: %s; projection %s\n", sky_renderer_device_name(r),
-           projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR ? "equirectangular"
-                                                                : "perspective");
+           projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR ? "equirectangular" : "perspective");
     struct series *s = calloc(1, sizeof *s);
     struct sky_render_atmosphere atm;
     world_to_render_atmosphere(&common.state, &atm);
@@ -421,7 +419,9 @@ int main(int argc, char **argv)
     struct series *drag = drag_budget_ms > 0 ? calloc(1, sizeof *drag) : NULL;
     for (int k = 0; k < size_count && status == 0 && drag; k++)
         status = bench_drag(r, &common, sizes[k][0], sizes[k][1], frames, drag_budget_ms,
-                            drag_fraction, s, drag) == 0 ? 0 : 1;
+                            drag_fraction, s, drag) == 0
+                     ? 0
+                     : 1;
     /* --converge: the table's convergence under the drag's budget (2 ms when not given). */
     struct series *after = converge ? calloc(1, sizeof *after) : NULL;
     struct series *during = converge ? calloc(1, sizeof *during) : NULL;
@@ -430,7 +430,9 @@ int main(int argc, char **argv)
     for (int k = 0; k < size_count && status == 0 && converge; k++)
         status = bench_converge(r, &common, sizes[k][0], sizes[k][1],
                                 drag_budget_ms > 0 ? drag_budget_ms : 2.0, drag_fraction, during,
-                                after) == 0 ? 0 : 1;
+                                after) == 0
+                     ? 0
+                     : 1;
     free(after);
     free(during);
     free(drag);

@@ -59,7 +59,7 @@ static void sleep_until(double t)
 {
     double left;
     while ((left = t - now_s()) > 0) {
-        struct timespec ts = {(time_t)left, (long)((left - (double)(time_t)left) * 1e9)};
+        struct timespec ts = { (time_t)left, (long)((left - (double)(time_t)left) * 1e9) };
         nanosleep(&ts, NULL);
     }
 }
@@ -87,10 +87,9 @@ static bool parse_list(const char *option, const char *text, int *out, int *coun
     for (const char *p = text; *p;) {
         char *end;
         long n = strtol(p, &end, 10);
-        if (end == p || n < 1 || n > MAX_CLIENTS || (*end && *end != ',') ||
-            *count == MAX_COUNTS) {
-            fprintf(stderr, "skyd_bench_serve: bad %s '%s' (at most %d of 1..%d)\n", option,
-                    text, MAX_COUNTS, MAX_CLIENTS);
+        if (end == p || n < 1 || n > MAX_CLIENTS || (*end && *end != ',') || *count == MAX_COUNTS) {
+            fprintf(stderr, "skyd_bench_serve: bad %s '%s' (at most %d of 1..%d)\n", option, text,
+                    MAX_COUNTS, MAX_CLIENTS);
             return false;
         }
         out[(*count)++] = (int)n;
@@ -101,18 +100,24 @@ static bool parse_list(const char *option, const char *text, int *out, int *coun
 
 static bool parse_args(int argc, char **argv, struct options *o)
 {
-    *o = (struct options){.skyd = SKYD_BINARY, .counts = {1, 8, 32}, .count_n = 3,
-                          .views = {1}, .view_n = 1,
-                          .width = 640, .height = 360, .fps = 60, .warmup_s = 3,
-                          .seconds = 10};
+    *o = (struct options){ .skyd = SKYD_BINARY,
+                           .counts = { 1, 8, 32 },
+                           .count_n = 3,
+                           .views = { 1 },
+                           .view_n = 1,
+                           .width = 640,
+                           .height = 360,
+                           .fps = 60,
+                           .warmup_s = 3,
+                           .seconds = 10 };
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
             exit(0);
         }
-        static const char *const known[] = {"--skyd", "--url",    "--clients", "--views",
-                                            "--size", "--fps",    "--warmup",  "--seconds"};
+        static const char *const known[] = { "--skyd", "--url", "--clients", "--views",
+                                             "--size", "--fps", "--warmup",  "--seconds" };
         bool is_known = false;
         for (size_t k = 0; k < sizeof known / sizeof known[0]; k++)
             is_known |= strcmp(a, known[k]) == 0;
@@ -131,8 +136,7 @@ static bool parse_args(int argc, char **argv, struct options *o)
             if (!parse_list(a, v, views ? o->views : o->counts, views ? &o->view_n : &o->count_n))
                 return false;
         } else if (strcmp(a, "--size") == 0) {
-            if (sscanf(v, "%dx%d", &o->width, &o->height) != 2 || o->width < 1 ||
-                o->height < 1) {
+            if (sscanf(v, "%dx%d", &o->width, &o->height) != 2 || o->width < 1 || o->height < 1) {
                 fprintf(stderr, "skyd_bench_serve: bad --size '%s'\n", v);
                 return false;
             }
@@ -266,8 +270,8 @@ static bool run_count(const char *url, const struct options *o, int n, int views
     for (int i = 0; i < started; i++)
         pthread_join(readers[i].thread, NULL);
 
-    *res = (struct result){.clients = n, .views = views, .min_fps = 1e30,
-                           .server_fps = server_fps};
+    *res =
+        (struct result){ .clients = n, .views = views, .min_fps = 1e30, .server_fps = server_fps };
     for (int i = 0; ok && i < n; i++) {
         double fps = readers[i].frames / o->seconds;
         res->min_fps = fps < res->min_fps ? fps : res->min_fps;
@@ -292,18 +296,19 @@ static void print_summary(const struct options *o, const struct result *results,
            "max fps", "total fps", "ratio", "server fps");
     for (int i = 0; i < count; i++) {
         const struct result *r = &results[i];
-        printf("%6d %8d %10.2f %10.2f %10.2f %10.2f %8.3f %10.2f\n", r->views, r->clients, r->min_fps,
-               r->mean_fps, r->max_fps, r->total_fps, r->ratio, r->server_fps);
+        printf("%6d %8d %10.2f %10.2f %10.2f %10.2f %8.3f %10.2f\n", r->views, r->clients,
+               r->min_fps, r->mean_fps, r->max_fps, r->total_fps, r->ratio, r->server_fps);
     }
     printf("{\"bench\":\"serve\",\"width\":%d,\"height\":%d,\"fps\":%g,\"warmup_s\":%g,"
            "\"seconds\":%g,\"results\":[",
            o->width, o->height, o->fps, o->warmup_s, o->seconds);
     for (int i = 0; i < count; i++) {
         const struct result *r = &results[i];
-        printf("%s{\"views\":%d,\"clients\":%d,\"min_fps\":%.3f,\"mean_fps\":%.3f,\"total_fps\":%.3f,"
-               "\"ratio\":%.4f,\"server_fps\":%.3f,\"errors\":%ld}",
-               i ? "," : "", r->views, r->clients, r->min_fps, r->mean_fps, r->total_fps, r->ratio,
-               r->server_fps, r->errors);
+        printf(
+            "%s{\"views\":%d,\"clients\":%d,\"min_fps\":%.3f,\"mean_fps\":%.3f,\"total_fps\":%.3f,"
+            "\"ratio\":%.4f,\"server_fps\":%.3f,\"errors\":%ld}",
+            i ? "," : "", r->views, r->clients, r->min_fps, r->mean_fps, r->total_fps, r->ratio,
+            r->server_fps, r->errors);
     }
     printf("]}\n");
 }
@@ -346,8 +351,8 @@ int main(int argc, char **argv)
         ok = run_count(url, &o, clients, views, &results[done]);
         if (ok) {
             const struct result *r = &results[done];
-            printf("  per client min %.2f mean %.2f fps, total %.2f fps\n", r->min_fps,
-                   r->mean_fps, r->total_fps);
+            printf("  per client min %.2f mean %.2f fps, total %.2f fps\n", r->min_fps, r->mean_fps,
+                   r->total_fps);
             done++;
         }
     }
@@ -371,7 +376,7 @@ int main(int argc, char **argv)
                     status, log);
         } else if (ok) { /* nothing worth keeping */
             char path[600];
-            const char *files[] = {"config.json", "state.json", "skyd.log"};
+            const char *files[] = { "config.json", "state.json", "skyd.log" };
             for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
                 snprintf(path, sizeof path, "%s/%s", dir, files[i]);
                 remove(path);

@@ -46,8 +46,7 @@ static uint8_t *read_rgba(const char *path, uint32_t *width, uint32_t *height)
 }
 
 /* Median milliseconds of RUNS encodes; *bytes the encoded size. quality 0: PNG. */
-static double time_encode(const uint8_t *rgba, uint32_t w, uint32_t h, int quality,
-                          size_t *bytes)
+static double time_encode(const uint8_t *rgba, uint32_t w, uint32_t h, int quality, size_t *bytes)
 {
     double ms[RUNS];
     for (int i = 0; i < RUNS; i++) {
@@ -76,7 +75,8 @@ int main(int argc, char **argv)
         first = 3;
     }
     printf("| frame | size | PNG bytes | PNG ms | JPEG q%d bytes | JPEG ms | bytes ratio | "
-           "time ratio |\n| --- | --- | --- | --- | --- | --- | --- | --- |\n", quality);
+           "time ratio |\n| --- | --- | --- | --- | --- | --- | --- | --- |\n",
+           quality);
     for (int i = first; i < argc; i++) {
         uint32_t w, h;
         uint8_t *rgba = read_rgba(argv[i], &w, &h);
@@ -88,8 +88,8 @@ int main(int argc, char **argv)
         double png_ms = time_encode(rgba, w, h, 0, &png_bytes);
         double jpeg_ms = time_encode(rgba, w, h, quality, &jpeg_bytes);
         const char *name = strrchr(argv[i], '/') ? strrchr(argv[i], '/') + 1 : argv[i];
-        printf("| %s | %ux%u | %zu | %.2f | %zu | %.2f | %.1fx | %.1fx |\n", name, w, h,
-               png_bytes, png_ms, jpeg_bytes, jpeg_ms, (double)png_bytes / (double)jpeg_bytes,
+        printf("| %s | %ux%u | %zu | %.2f | %zu | %.2f | %.1fx | %.1fx |\n", name, w, h, png_bytes,
+               png_ms, jpeg_bytes, jpeg_ms, (double)png_bytes / (double)jpeg_bytes,
                png_ms / jpeg_ms);
         free(rgba);
     }

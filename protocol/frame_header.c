@@ -7,8 +7,8 @@
 _Static_assert(sizeof(double) == sizeof(uint64_t), "double must be 64 bits");
 
 static const char *const status_names[] = {
-    "ok", "too_short", "bad_magic", "bad_version", "bad_format", "bad_length", "bad_reserved",
-    "bad_value",
+    "ok",         "too_short",  "bad_magic",    "bad_version",
+    "bad_format", "bad_length", "bad_reserved", "bad_value",
 };
 
 const char *sky_frame_header_status_name(int status)
@@ -87,8 +87,7 @@ enum sky_frame_header_status sky_frame_header_pack(const struct sky_frame_header
     return SKY_FRAME_HEADER_OK;
 }
 
-enum sky_frame_header_status sky_frame_header_unpack(const uint8_t *message,
-                                                     size_t message_length,
+enum sky_frame_header_status sky_frame_header_unpack(const uint8_t *message, size_t message_length,
                                                      struct sky_frame_header *header)
 {
     if (!message || message_length < SKY_FRAME_HEADER_SIZE)

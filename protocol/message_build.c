@@ -135,12 +135,13 @@ char *sky_msg_build_hello(const char *server_version, enum sky_msg_role role,
     begin(&b, "hello", NULL);
     put_number(&b, b.root, "protocol", SKY_PROTOCOL_VERSION);
     char server[96];
-    if (!server_version || (size_t)snprintf(server, sizeof server, "skyd %s", server_version) >=
-                               sizeof server)
+    if (!server_version ||
+        (size_t)snprintf(server, sizeof server, "skyd %s", server_version) >= sizeof server)
         b.ok = false;
     else
         put_string(&b, b.root, "server", server);
-    put_string(&b, b.root, "role", name_of(sky_msg_role_names, COUNT_OF(sky_msg_role_names), (int)role));
+    put_string(&b, b.root, "role",
+               name_of(sky_msg_role_names, COUNT_OF(sky_msg_role_names), (int)role));
     cJSON *list = put(&b, b.root, "capabilities", cJSON_CreateArray());
     for (size_t i = 0; i < capability_count; i++)
         put_string(&b, list, NULL, caps ? caps[i] : NULL);
@@ -184,7 +185,8 @@ char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky
     begin(&b, "ack", id);
     put_count(&b, b.root, "revision", revision);
     if (role != SKY_ROLE_NONE)
-        put_string(&b, b.root, "role", name_of(sky_msg_role_names, COUNT_OF(sky_msg_role_names), (int)role));
+        put_string(&b, b.root, "role",
+                   name_of(sky_msg_role_names, COUNT_OF(sky_msg_role_names), (int)role));
     return finish(&b);
 }
 
@@ -204,12 +206,12 @@ char *sky_msg_build_error(const struct sky_msg_id *id, enum sky_msg_error_code c
     for (int i = 0; i < count; i++) {
         const struct sky_field_error *item = &fields->items[i];
         cJSON *entry = put(&b, list, NULL, cJSON_CreateObject());
-        put_string(&b, entry, "pointer", memchr(item->pointer, '\0', sizeof item->pointer)
-                                             ? item->pointer : NULL);
-        put_string(&b, entry, "reason", memchr(item->reason, '\0', sizeof item->reason)
-                                            ? item->reason : NULL);
-        put_string(&b, entry, "code", item->code != SKY_MSG_OK ? sky_msg_error_name(item->code)
-                                                               : NULL);
+        put_string(&b, entry, "pointer",
+                   memchr(item->pointer, '\0', sizeof item->pointer) ? item->pointer : NULL);
+        put_string(&b, entry, "reason",
+                   memchr(item->reason, '\0', sizeof item->reason) ? item->reason : NULL);
+        put_string(&b, entry, "code",
+                   item->code != SKY_MSG_OK ? sky_msg_error_name(item->code) : NULL);
     }
     if (fields && fields->total > count)
         put_count(&b, b.root, "fields_omitted", (uint64_t)(fields->total - count));
@@ -221,8 +223,7 @@ char *sky_msg_build_parse_error(const struct sky_client_msg *msg,
 {
     if (!error)
         return NULL;
-    return sky_msg_build_error(msg ? &msg->id : NULL, error->code, error->message,
-                               &error->fields);
+    return sky_msg_build_error(msg ? &msg->id : NULL, error->code, error->message, &error->fields);
 }
 
 char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscription,
@@ -252,26 +253,25 @@ char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscriptio
     const struct sky_field_desc *mode = sky_world_state_find_field("exposure.mode");
     if (v->has_exposure_mode)
         put_string(&b, exposure, "mode",
-                   mode ? name_of(mode->enum_names, (size_t)mode->enum_count,
-                                  (int)v->exposure_mode)
+                   mode ? name_of(mode->enum_names, (size_t)mode->enum_count, (int)v->exposure_mode)
                         : NULL);
     if (v->has_ev100)
         put_number(&b, exposure, "ev100", v->ev100);
     if (v->has_compensation_ev)
         put_number(&b, exposure, "compensation_ev", v->compensation_ev);
-    put_string(&b, view, "format", name_of(sky_msg_format_names, COUNT_OF(sky_msg_format_names), (int)v->format));
+    put_string(&b, view, "format",
+               name_of(sky_msg_format_names, COUNT_OF(sky_msg_format_names), (int)v->format));
     if (v->format == SKY_FRAME_FORMAT_JPEG)
         put_count(&b, view, "quality", (uint64_t)v->quality);
     if (v->max_kbps > 0)
         put_number(&b, view, "max_kbps", v->max_kbps);
-    put_string(&b, view, "projection", name_of(sky_msg_projection_names,
-                                               COUNT_OF(sky_msg_projection_names),
-                                               (int)v->projection));
+    put_string(
+        &b, view, "projection",
+        name_of(sky_msg_projection_names, COUNT_OF(sky_msg_projection_names), (int)v->projection));
     return finish(&b);
 }
 
-char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription,
-                          uint64_t frame_number)
+char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription, uint64_t frame_number)
 {
     struct builder b;
     bool snapshot = id && id->kind != SKY_MSG_ID_NONE;
@@ -325,8 +325,8 @@ char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers
     return finish(&b);
 }
 
-char *sky_msg_build_simulation_event(uint64_t revision, const char *const *pointers,
-                                     size_t count, const struct sky_world_state *state)
+char *sky_msg_build_simulation_event(uint64_t revision, const char *const *pointers, size_t count,
+                                     const struct sky_world_state *state)
 {
     struct builder b;
     begin(&b, "event", NULL);
@@ -382,10 +382,11 @@ char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stat
 {
     struct builder b;
     begin(&b, "stats", id);
-    if (!stats || !(stats->fps >= 0) || stats->clients < 0 || stats->pass_count > SKY_MSG_MAX_PASSES ||
-        (stats->pass_count > 0 && !stats->passes) ||
-        (stats->subscription_count > 0 && !stats->subscriptions) || !(stats->lut_rebuild_progress >= 0) ||
-        !(stats->lut_rebuild_progress <= 1) || !isfinite(stats->simulation_time_s)) {
+    if (!stats || !(stats->fps >= 0) || stats->clients < 0 ||
+        stats->pass_count > SKY_MSG_MAX_PASSES || (stats->pass_count > 0 && !stats->passes) ||
+        (stats->subscription_count > 0 && !stats->subscriptions) ||
+        !(stats->lut_rebuild_progress >= 0) || !(stats->lut_rebuild_progress <= 1) ||
+        !isfinite(stats->simulation_time_s)) {
         b.ok = false;
         return finish(&b);
     }

@@ -20,8 +20,9 @@ _Static_assert(sizeof(enum sky_probe_quantity) == sizeof(int), "enum field size"
 _Static_assert(sizeof(enum sky_preset_kind) == sizeof(int), "enum field size");
 _Static_assert(sizeof(enum sky_weather_map_format) == sizeof(int), "enum field size");
 
-static const char *const weather_map_format_names[] = {[SKY_WEATHER_MAP_RGBA8] = "rgba8",
-                                                        [SKY_WEATHER_MAP_PNG] = "png"};
+static const char *const weather_map_format_names[] = {
+    [SKY_WEATHER_MAP_RGBA8] = "rgba8", [SKY_WEATHER_MAP_PNG] = "png"
+};
 
 /* clang-format off */
 #define MSG(member) offsetof(struct sky_client_msg, member)
@@ -128,11 +129,11 @@ static const struct sky_field_desc rgba8_map_rows[] = {
 
 /* ---- the tables as schemas --------------------------------------------------------------- */
 
-static const char *const envelope[] = {"type", "id"};
-static const char *const with_patch[] = {"type", "id", "patch"};
-static const char *const with_view[] = {"type", "id", "view"};
-static const char *const with_name[] = {"type", "id", "name"};
-static const char *const with_data[] = {"type", "id", "data"};
+static const char *const envelope[] = { "type", "id" };
+static const char *const with_patch[] = { "type", "id", "patch" };
+static const char *const with_view[] = { "type", "id", "view" };
+static const char *const with_name[] = { "type", "id", "name" };
+static const char *const with_data[] = { "type", "id", "data" };
 
 /* clang-format off */
 #define SCHEMA(rows, callers)                                                                    \
@@ -257,8 +258,9 @@ void msg_view_schema(const struct sky_msg_limits *limits, struct msg_view_schema
     memcpy(out->rows, view_rows, sizeof view_rows);
     for (size_t i = 0; i < MSG_VIEW_ROWS; i++) {
         struct sky_field_desc *row = &out->rows[i];
-        const struct sky_field_desc *twin =
-            row->description ? NULL : sky_world_state_find_field(row->path);
+        const struct sky_field_desc *twin = row->description
+                                                ? NULL
+                                                : sky_world_state_find_field(row->path);
         if (twin) {
             row->min = twin->min;
             row->max = twin->max;
@@ -270,6 +272,6 @@ void msg_view_schema(const struct sky_msg_limits *limits, struct msg_view_schema
     out->rows[MSG_VIEW_WIDTH].max = limits->max_width;
     out->rows[MSG_VIEW_HEIGHT].max = limits->max_height;
     out->rows[MSG_VIEW_FPS].max = limits->max_fps;
-    out->schema = (struct sky_schema){.fields = out->rows, .count = MSG_VIEW_ROWS,
-                                      .unique_members = true};
+    out->schema =
+        (struct sky_schema){ .fields = out->rows, .count = MSG_VIEW_ROWS, .unique_members = true };
 }

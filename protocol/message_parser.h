@@ -15,7 +15,8 @@
 #include "messages.h"
 
 #if defined(__GNUC__)
-#define PRINTF_LIKE(format_index, first_arg) __attribute__((format(printf, format_index, first_arg)))
+#define PRINTF_LIKE(format_index, first_arg)                                                       \
+    __attribute__((format(printf, format_index, first_arg)))
 #else
 #define PRINTF_LIKE(format_index, first_arg)
 #endif
@@ -67,9 +68,21 @@ const struct sky_schema *msg_schema_variant(const struct msg_schema *kind, const
 
 /* The view object's rows, in order. */
 enum msg_view_row {
-    MSG_VIEW_ALTITUDE, MSG_VIEW_YAW, MSG_VIEW_PITCH, MSG_VIEW_FOV, MSG_VIEW_WIDTH,
-    MSG_VIEW_HEIGHT, MSG_VIEW_FPS, MSG_VIEW_EXPOSURE_MODE, MSG_VIEW_EV100, MSG_VIEW_COMPENSATION,
-    MSG_VIEW_FORMAT, MSG_VIEW_QUALITY, MSG_VIEW_MAX_KBPS, MSG_VIEW_PROJECTION, MSG_VIEW_ROWS
+    MSG_VIEW_ALTITUDE,
+    MSG_VIEW_YAW,
+    MSG_VIEW_PITCH,
+    MSG_VIEW_FOV,
+    MSG_VIEW_WIDTH,
+    MSG_VIEW_HEIGHT,
+    MSG_VIEW_FPS,
+    MSG_VIEW_EXPOSURE_MODE,
+    MSG_VIEW_EV100,
+    MSG_VIEW_COMPENSATION,
+    MSG_VIEW_FORMAT,
+    MSG_VIEW_QUALITY,
+    MSG_VIEW_MAX_KBPS,
+    MSG_VIEW_PROJECTION,
+    MSG_VIEW_ROWS
 };
 
 struct msg_view_schema {

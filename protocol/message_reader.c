@@ -68,8 +68,8 @@ bool parser_require(struct parser *p, const cJSON *item, const char *pointer)
     return false;
 }
 
-static bool parser_read_number(struct parser *p, const cJSON *item, const char *pointer,
-                               double min, double max, double *out)
+static bool parser_read_number(struct parser *p, const cJSON *item, const char *pointer, double min,
+                               double max, double *out)
 {
     if (!cJSON_IsNumber(item)) {
         parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a number, got %s",

@@ -78,9 +78,9 @@ static cJSON *id_schema(void)
 {
     cJSON *text = with_number(with_number(typed("string"), "minLength", 1), "maxLength",
                               SKY_MSG_ID_MAX);
-    cJSON *number = with_number(with_number(typed("integer"), "minimum",
-                                            -(double)SKY_MSG_MAX_SAFE_INTEGER),
-                                "maximum", (double)SKY_MSG_MAX_SAFE_INTEGER);
+    cJSON *number =
+        with_number(with_number(typed("integer"), "minimum", -(double)SKY_MSG_MAX_SAFE_INTEGER),
+                    "maximum", (double)SKY_MSG_MAX_SAFE_INTEGER);
     cJSON *options = cJSON_CreateArray();
     bool ok = attach(options, NULL, text);
     ok = attach(ok ? options : NULL, NULL, number) && ok;
@@ -94,8 +94,8 @@ static cJSON *id_schema(void)
 
 static cJSON *preset_name_schema(void)
 {
-    return with_string(with_string(typed("string"), "pattern", "^[a-z0-9_-]{1,64}$"),
-                       "description", "the preset's name, as list_presets gives it");
+    return with_string(with_string(typed("string"), "pattern", "^[a-z0-9_-]{1,64}$"), "description",
+                       "the preset's name, as list_presets gives it");
 }
 
 static cJSON *map_data_schema(void)
@@ -112,12 +112,12 @@ static const struct {
     const char *def;
     bool required;
 } caller_members[] = {
-    {"type", NULL, NULL, true},
-    {"id", NULL, "id", false},
-    {"patch", NULL, "patch", true},
-    {"view", NULL, "view", true},
-    {"name", preset_name_schema, NULL, true},
-    {"data", map_data_schema, NULL, true},
+    { "type", NULL, NULL, true },
+    { "id", NULL, "id", false },
+    { "patch", NULL, "patch", true },
+    { "view", NULL, "view", true },
+    { "name", preset_name_schema, NULL, true },
+    { "data", map_data_schema, NULL, true },
 };
 
 /* A table's schema as a subschema: no "$schema" of its own. */
@@ -195,8 +195,8 @@ static cJSON *view_schema(const struct sky_msg_limits *limits)
     msg_view_schema(limits, &view);
     cJSON *defaults = cJSON_CreateObject();
     bool ok = defaults &&
-              cJSON_AddNumberToObject(defaults, "fps", limits->max_fps < 10 ? limits->max_fps
-                                                                              : 10) &&
+              cJSON_AddNumberToObject(defaults, "fps",
+                                      limits->max_fps < 10 ? limits->max_fps : 10) &&
               cJSON_AddStringToObject(defaults, "format", "png") &&
               cJSON_AddStringToObject(defaults, "projection", "perspective");
     cJSON *root = ok ? subschema(&view.schema, defaults, "view") : NULL;
@@ -234,8 +234,8 @@ cJSON *sky_msg_json_schema(const struct sky_msg_limits *limits)
               cJSON_AddStringToObject(root, "title", "skyd client messages");
     ok = attach(ok ? root : NULL, "oneOf", options) && ok;
     ok = attach(ok ? root : NULL, "$defs", defs) && ok;
-    ok = ok && attach(defs, "id", id_schema()) &&
-         attach(defs, "view", view_schema(limits)) && attach(defs, "patch", patch_schema());
+    ok = ok && attach(defs, "id", id_schema()) && attach(defs, "view", view_schema(limits)) &&
+         attach(defs, "patch", patch_schema());
     for (int type = SKY_MSG_HELLO; ok && msg_schema_of((enum sky_msg_type)type); type++) {
         const char *name = sky_msg_type_name((enum sky_msg_type)type);
         const struct msg_schema *kind = msg_schema_of((enum sky_msg_type)type);

@@ -19,7 +19,7 @@ void msg_parse_view(struct parser *p, const cJSON *object, const char *pointer,
     view->fps = p->limits->max_fps < 10 ? p->limits->max_fps : 10;
     view->format = SKY_FRAME_FORMAT_PNG;
     view->projection = SKY_VIEW_PROJECTION_PERSPECTIVE;
-    bool named[MSG_VIEW_ROWS] = {false};
+    bool named[MSG_VIEW_ROWS] = { false };
     sky_schema_apply_json(&schema.schema, view, object, pointer, &p->error->fields, named);
     view->has_altitude_km = named[MSG_VIEW_ALTITUDE];
     view->has_yaw_deg = named[MSG_VIEW_YAW];
@@ -36,8 +36,8 @@ void msg_parse_view(struct parser *p, const cJSON *object, const char *pointer,
         parser_fail(p, SKY_MSG_ERR_INCONSISTENT, at, "quality is for format jpeg only");
     }
     /* A panorama covers 360 x 180 degrees with square pixels. */
-    if (view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR && view->width &&
-        view->height && view->width != 2 * view->height) {
+    if (view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR && view->width && view->height &&
+        view->width != 2 * view->height) {
         char at[SKY_MSG_POINTER_MAX];
         msg_child_pointer(at, pointer, "width");
         parser_fail(p, SKY_MSG_ERR_INCONSISTENT, at,
@@ -69,9 +69,8 @@ void msg_parse_weather_map(struct parser *p, struct sky_client_msg *msg)
         return;
     }
     if (!sky_weather_map_decode(msg->weather_map_format, bytes, length,
-                                (uint32_t)msg->weather_map_width,
-                                (uint32_t)msg->weather_map_height, &msg->weather_map, reason,
-                                sizeof reason))
+                                (uint32_t)msg->weather_map_width, (uint32_t)msg->weather_map_height,
+                                &msg->weather_map, reason, sizeof reason))
         parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/data", "%s", reason);
     free(bytes);
 }

@@ -13,7 +13,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 _Static_assert((int)SKY_MSG_ERR_UNKNOWN_FIELD == (int)SKY_FIELD_UNKNOWN, "shared code");
 _Static_assert((int)SKY_MSG_ERR_WRONG_TYPE == (int)SKY_FIELD_WRONG_TYPE, "shared code");
 _Static_assert((int)SKY_MSG_ERR_OUT_OF_RANGE == (int)SKY_FIELD_OUT_OF_RANGE, "shared code");
@@ -22,7 +21,6 @@ _Static_assert((int)SKY_MSG_ERR_INCONSISTENT == (int)SKY_FIELD_INCONSISTENT, "sh
 _Static_assert((int)SKY_MSG_ERR_MISSING_FIELD == (int)SKY_FIELD_MISSING, "shared code");
 _Static_assert(SKY_MSG_POINTER_MAX == sizeof(((struct sky_field_error *)NULL)->pointer),
                "pointer capacity");
-
 
 /* ---- constant tables -------------------------------------------------------------------- */
 
@@ -50,31 +48,41 @@ static const char *const error_names[] = {
 };
 
 static const char *const type_names[] = {
-    [SKY_MSG_HELLO] = "hello",         [SKY_MSG_AUTH] = "auth",
-    [SKY_MSG_GET_STATE] = "get_state", [SKY_MSG_SET] = "set",
-    [SKY_MSG_SUBSCRIBE] = "subscribe", [SKY_MSG_UNSUBSCRIBE] = "unsubscribe",
-    [SKY_MSG_SNAPSHOT] = "snapshot",   [SKY_MSG_PROBE] = "probe",
-    [SKY_MSG_LIST_PRESETS] = "list_presets", [SKY_MSG_APPLY_PRESET] = "apply_preset",
-    [SKY_MSG_STATS] = "stats",         [SKY_MSG_SET_WEATHER_MAP] = "set_weather_map",
+    [SKY_MSG_HELLO] = "hello",
+    [SKY_MSG_AUTH] = "auth",
+    [SKY_MSG_GET_STATE] = "get_state",
+    [SKY_MSG_SET] = "set",
+    [SKY_MSG_SUBSCRIBE] = "subscribe",
+    [SKY_MSG_UNSUBSCRIBE] = "unsubscribe",
+    [SKY_MSG_SNAPSHOT] = "snapshot",
+    [SKY_MSG_PROBE] = "probe",
+    [SKY_MSG_LIST_PRESETS] = "list_presets",
+    [SKY_MSG_APPLY_PRESET] = "apply_preset",
+    [SKY_MSG_STATS] = "stats",
+    [SKY_MSG_SET_WEATHER_MAP] = "set_weather_map",
     [SKY_MSG_DESCRIBE] = "describe",
 };
 
 static const char *const capabilities[] = {
-    "hello", "auth",  "get_state",    "set",          "subscribe", "unsubscribe",
-    "snapshot", "probe", "list_presets", "apply_preset", "stats",     "set_weather_map",
-    "describe", "png", "png16", "jpeg", "equirectangular",
+    "hello",    "auth",  "get_state",    "set",          "subscribe",       "unsubscribe",
+    "snapshot", "probe", "list_presets", "apply_preset", "stats",           "set_weather_map",
+    "describe", "png",   "png16",        "jpeg",         "equirectangular",
 };
 
-const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {[SKY_ROLE_VIEWER] = "viewer",
-                                         [SKY_ROLE_CONTROLLER] = "controller"};
-const char *const sky_msg_quantity_names[SKY_MSG_QUANTITY_NAMES] = {"transmittance", "luminance", "illuminance"};
-const char *const sky_msg_preset_kind_names[SKY_MSG_PRESET_KIND_NAMES] = {"atmosphere", "weather"};
-const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES] = {[SKY_FRAME_FORMAT_PNG] = "png",
-                                                                [SKY_FRAME_FORMAT_PNG16] = "png16",
-                                                                [SKY_FRAME_FORMAT_JPEG] = "jpeg"};
+const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {
+    [SKY_ROLE_VIEWER] = "viewer", [SKY_ROLE_CONTROLLER] = "controller"
+};
+const char *const sky_msg_quantity_names[SKY_MSG_QUANTITY_NAMES] = { "transmittance", "luminance",
+                                                                     "illuminance" };
+const char *const sky_msg_preset_kind_names[SKY_MSG_PRESET_KIND_NAMES] = { "atmosphere",
+                                                                           "weather" };
+const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES] = { [SKY_FRAME_FORMAT_PNG] = "png",
+                                                                 [SKY_FRAME_FORMAT_PNG16] = "png16",
+                                                                 [SKY_FRAME_FORMAT_JPEG] = "jpeg" };
 const char *const sky_msg_projection_names[SKY_MSG_PROJECTION_NAMES] = {
     [SKY_VIEW_PROJECTION_PERSPECTIVE] = "perspective",
-    [SKY_VIEW_PROJECTION_EQUIRECTANGULAR] = "equirectangular"};
+    [SKY_VIEW_PROJECTION_EQUIRECTANGULAR] = "equirectangular"
+};
 
 /* ---- small helpers ---------------------------------------------------------------------- */
 
@@ -123,8 +131,6 @@ const char *const *sky_msg_default_capabilities(size_t *count)
         *count = COUNT_OF(capabilities);
     return capabilities;
 }
-
-
 
 bool sky_msg_preset_name_is_valid(const char *name)
 {
@@ -196,7 +202,6 @@ static size_t nul_offset(const char *text, size_t length)
     const char *nul = memchr(text, '\0', length);
     return nul ? (size_t)(nul - text) : length;
 }
-
 
 /* ---- parsing ---------------------------------------------------------------------------- */
 
@@ -270,12 +275,12 @@ static void check_members(struct parser *p, struct sky_client_msg *msg)
     case SKY_MSG_APPLY_PRESET:
         parse_preset_name(p, msg);
         item = cJSON_GetObjectItemCaseSensitive(p->root, "kind");
-        kind = cJSON_IsString(item) ? msg_find_name(sky_msg_preset_kind_names,
-                                                    COUNT_OF(sky_msg_preset_kind_names),
-                                                    item->valuestring)
-                                    : -1;
-        msg->preset.has_transition =
-            cJSON_GetObjectItemCaseSensitive(p->root, "transition_s") != NULL;
+        kind = cJSON_IsString(item)
+                   ? msg_find_name(sky_msg_preset_kind_names, COUNT_OF(sky_msg_preset_kind_names),
+                                   item->valuestring)
+                   : -1;
+        msg->preset.has_transition = cJSON_GetObjectItemCaseSensitive(p->root, "transition_s") !=
+                                     NULL;
         if (msg->preset.has_transition && kind >= 0 && kind != SKY_PRESET_WEATHER)
             parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/transition_s",
                         "only weather presets have a transition");
@@ -360,12 +365,11 @@ static void summarize(struct sky_msg_parse_error *error)
 
 enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
                                       const struct sky_msg_limits *limits,
-                                      struct sky_client_msg *msg,
-                                      struct sky_msg_parse_error *error)
+                                      struct sky_client_msg *msg, struct sky_msg_parse_error *error)
 {
     memset(msg, 0, sizeof *msg);
     memset(error, 0, sizeof *error);
-    struct parser parser = {limits, error, NULL, length};
+    struct parser parser = { limits, error, NULL, length };
     struct parser *p = &parser;
     size_t offset;
     char *copy = NULL;
@@ -445,8 +449,7 @@ void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_worl
         exposure->compensation_ev = view->compensation_ev;
 }
 
-size_t sky_msg_state_diff(const struct sky_world_state *before,
-                          const struct sky_world_state *after,
+size_t sky_msg_state_diff(const struct sky_world_state *before, const struct sky_world_state *after,
                           char pointers[][SKY_MSG_POINTER_MAX], size_t max)
 {
     size_t field_count, changed = 0;

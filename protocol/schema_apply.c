@@ -13,7 +13,7 @@ struct patch_context {
     const struct sky_schema *schema;
     void *target; /* a scratch copy: written freely, discarded on error */
     struct sky_field_errors *errors;
-    bool *named;  /* per row: the object names it */
+    bool *named; /* per row: the object names it */
 };
 
 static void *field_address(void *target, const struct sky_field_desc *field)
@@ -187,8 +187,7 @@ static void apply_string(struct patch_context *context, const struct sky_field_d
         sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
                               "longer than %zu characters", field->capacity - 1);
     else
-        snprintf(field_address(context->target, field), field->capacity, "%s",
-                 value->valuestring);
+        snprintf(field_address(context->target, field), field->capacity, "%s", value->valuestring);
 }
 
 static void apply_bool(struct patch_context *context, const struct sky_field_desc *field,
@@ -332,8 +331,7 @@ static void report_missing(const struct sky_schema *schema, const bool *named,
 }
 
 bool sky_schema_apply_json(const struct sky_schema *schema, void *target, const cJSON *json,
-                           const char *pointer_prefix, struct sky_field_errors *errors,
-                           bool *named)
+                           const char *pointer_prefix, struct sky_field_errors *errors, bool *named)
 {
     int before = errors->total;
     if (!cJSON_IsObject(json)) {

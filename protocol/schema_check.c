@@ -31,8 +31,8 @@ bool schema_check_number(struct sky_field_errors *errors, const struct sky_field
     }
     if (value < field->min || value > field->max) {
         sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "must be in %s%s, %s], got %s", field->exclusive_min ? "(" : "[",
-                              min, max, got);
+                              "must be in %s%s, %s], got %s", field->exclusive_min ? "(" : "[", min,
+                              max, got);
         return false;
     }
     return true;

@@ -125,12 +125,17 @@ static cJSON *type_schema(const struct sky_field_desc *field)
     cJSON *schema = NULL;
     bool ok = false;
     switch (field->type) {
-    case SKY_FIELD_TYPE_NUMBER: return scalar_schema(field, "number");
+    case SKY_FIELD_TYPE_NUMBER:
+        return scalar_schema(field, "number");
     case SKY_FIELD_TYPE_INT:
-    case SKY_FIELD_TYPE_INT64: return scalar_schema(field, "integer");
-    case SKY_FIELD_TYPE_INT_PAIR: return array_schema(scalar_schema(field, "integer"), 2);
-    case SKY_FIELD_TYPE_INT_TRIPLE: return array_schema(scalar_schema(field, "integer"), 3);
-    case SKY_FIELD_TYPE_BOOL: return typed("boolean");
+    case SKY_FIELD_TYPE_INT64:
+        return scalar_schema(field, "integer");
+    case SKY_FIELD_TYPE_INT_PAIR:
+        return array_schema(scalar_schema(field, "integer"), 2);
+    case SKY_FIELD_TYPE_INT_TRIPLE:
+        return array_schema(scalar_schema(field, "integer"), 3);
+    case SKY_FIELD_TYPE_BOOL:
+        return typed("boolean");
     case SKY_FIELD_TYPE_RGB: {
         /* Three numbers, or one for all three. */
         schema = cJSON_CreateObject();
@@ -204,7 +209,7 @@ static bool add_leaf(cJSON *root, const cJSON *defaults, const struct sky_field_
 }
 
 cJSON *sky_schema_json_schema(const struct sky_schema *schema, const cJSON *defaults,
-                             const char *title)
+                              const char *title)
 {
     cJSON *root = cJSON_CreateObject();
     bool ok = root && cJSON_AddStringToObject(root, "$schema", JSON_SCHEMA_DIALECT) &&

@@ -19,15 +19,23 @@ size_t sky_field_size(const struct sky_field_desc *field)
 {
     switch (field->type) {
     case SKY_FIELD_TYPE_NUMBER:
-    case SKY_FIELD_TYPE_TIME: return sizeof(double);
-    case SKY_FIELD_TYPE_RGB: return 3 * sizeof(double);
-    case SKY_FIELD_TYPE_INT_PAIR: return 2 * sizeof(int);
-    case SKY_FIELD_TYPE_INT_TRIPLE: return 3 * sizeof(int);
-    case SKY_FIELD_TYPE_STRING: return field->capacity;
-    case SKY_FIELD_TYPE_BOOL: return sizeof(bool);
-    case SKY_FIELD_TYPE_INT64: return sizeof(int64_t);
+    case SKY_FIELD_TYPE_TIME:
+        return sizeof(double);
+    case SKY_FIELD_TYPE_RGB:
+        return 3 * sizeof(double);
+    case SKY_FIELD_TYPE_INT_PAIR:
+        return 2 * sizeof(int);
+    case SKY_FIELD_TYPE_INT_TRIPLE:
+        return 3 * sizeof(int);
+    case SKY_FIELD_TYPE_STRING:
+        return field->capacity;
+    case SKY_FIELD_TYPE_BOOL:
+        return sizeof(bool);
+    case SKY_FIELD_TYPE_INT64:
+        return sizeof(int64_t);
     case SKY_FIELD_TYPE_ENUM:
-    case SKY_FIELD_TYPE_INT: break;
+    case SKY_FIELD_TYPE_INT:
+        break;
     }
     return sizeof(int);
 }

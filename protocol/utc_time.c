@@ -157,8 +157,8 @@ void sky_time_format_iso8601(double unix_seconds, char *out, size_t outlen)
     civil_from_days(days, &year, &month, &day);
     int hh = of_day / 3600, mm = of_day / 60 % 60, ss = of_day % 60;
     if (milli)
-        snprintf(out, outlen, "%04lld-%02d-%02dT%02d:%02d:%02d.%03dZ", year, month, day, hh, mm,
-                 ss, milli);
+        snprintf(out, outlen, "%04lld-%02d-%02dT%02d:%02d:%02d.%03dZ", year, month, day, hh, mm, ss,
+                 milli);
     else
         snprintf(out, outlen, "%04lld-%02d-%02dT%02d:%02d:%02dZ", year, month, day, hh, mm, ss);
 }

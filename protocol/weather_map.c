@@ -210,9 +210,9 @@ static bool decode_png(const uint8_t *bytes, size_t length, uint32_t want_width,
     return true;
 }
 
-bool sky_weather_map_decode(enum sky_weather_map_format format, const uint8_t *bytes,
-                            size_t length, uint32_t width, uint32_t height,
-                            struct sky_weather_map *map, char *reason, size_t reason_size)
+bool sky_weather_map_decode(enum sky_weather_map_format format, const uint8_t *bytes, size_t length,
+                            uint32_t width, uint32_t height, struct sky_weather_map *map,
+                            char *reason, size_t reason_size)
 {
     memset(map, 0, sizeof *map);
     if (format == SKY_WEATHER_MAP_PNG)
@@ -228,8 +228,8 @@ bool sky_weather_map_decode(enum sky_weather_map_format format, const uint8_t *b
     }
     size_t expected = (size_t)width * height * 4;
     if (length != expected) {
-        snprintf(reason, reason_size, "%ux%u RGBA8 texels are %zu bytes, got %zu", width,
-                 height, expected, length);
+        snprintf(reason, reason_size, "%ux%u RGBA8 texels are %zu bytes, got %zu", width, height,
+                 expected, length);
         return false;
     }
     if (!(map->rgba = malloc(expected))) {

@@ -15,14 +15,14 @@ _Static_assert(sizeof(enum sky_switch) == sizeof(int), "enum field size");
 _Static_assert(sizeof(enum sky_cloud_resolution) == sizeof(int), "enum field size");
 _Static_assert(sizeof(enum sky_weather_map_source) == sizeof(int), "enum field size");
 
-static const char *const limb_darkening_names[] = {"none", "neckel96", "hm98"};
-static const char *const exposure_mode_names[] = {"auto", "manual"};
-static const char *const tonemap_names[] = {"aces", "reinhard", "clamp"};
-static const char *const bodies_names[] = {"manual", "ephemeris"};
-static const char *const switch_names[] = {"off", "on"};
-static const char *const cloud_resolution_names[] = {"full", "quarter", "sixteenth",
-                                                       "sixtyfourth"};
-static const char *const weather_map_source_names[] = {"procedural", "client"};
+static const char *const limb_darkening_names[] = { "none", "neckel96", "hm98" };
+static const char *const exposure_mode_names[] = { "auto", "manual" };
+static const char *const tonemap_names[] = { "aces", "reinhard", "clamp" };
+static const char *const bodies_names[] = { "manual", "ephemeris" };
+static const char *const switch_names[] = { "off", "on" };
+static const char *const cloud_resolution_names[] = { "full", "quarter", "sixteenth",
+                                                      "sixtyfourth" };
+static const char *const weather_map_source_names[] = { "procedural", "client" };
 
 /* clock.utc spans the ephemeris' validity: 1900-01-01T00:00:00Z to 2100-12-31T23:59:59Z. */
 #define UTC_MIN_S -2208988800.0
@@ -169,8 +169,7 @@ const struct sky_field_desc sky_world_field_table[] = {
            "low layer density, multiplier of clouds.extinction_per_km"),
     NUMBER("clouds.low.bottom_km", clouds.low.bottom_km, 0, 20,
            "low layer cloud base above the ground, km"),
-    NUMBER("clouds.low.thickness_km", clouds.low.thickness_km, 0.05, 15,
-           "low layer thickness, km"),
+    NUMBER("clouds.low.thickness_km", clouds.low.thickness_km, 0.05, 15, "low layer thickness, km"),
     NUMBER("clouds.high.coverage", clouds.high.coverage, 0, 1,
            "high thin layer: fraction of the sky covered, 0..1"),
     NUMBER("clouds.high.type", clouds.high.type, 0, 1,
@@ -206,8 +205,7 @@ const struct sky_field_desc sky_world_field_table[] = {
            "depth (the powder darkening of sun-facing creases); 0: no build-up"),
     NUMBER("clouds.ambient_scale", clouds.ambient_scale, 0, 1,
            "scale of the sky's ambient light on the clouds, unitless"),
-    INT("clouds.noise_seed", clouds.noise_seed, 0, SEED_MAX,
-        "seed of the cloud noise volumes"),
+    INT("clouds.noise_seed", clouds.noise_seed, 0, SEED_MAX, "seed of the cloud noise volumes"),
     INT("clouds.quality.primary_steps", clouds.primary_steps, 4, 512,
         "ray-march steps through a cloud layer"),
     INT("clouds.quality.light_steps", clouds.light_steps, 1, 32,
@@ -434,7 +432,6 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->render.aerial_perspective_lut[2] = 32;
     state->render.aerial_perspective_max_km = 64.0;
 }
-
 
 void sky_weather_params_get(const struct sky_world_state *state, struct sky_weather_params *out)
 {

@@ -12,8 +12,7 @@
 
 static const double MAX_ATMOSPHERE_THICKNESS_KM = 1000.0;
 
-static void check_consistency(const struct sky_world_state *state,
-                              struct sky_field_errors *errors)
+static void check_consistency(const struct sky_world_state *state, struct sky_field_errors *errors)
 {
     double bottom = state->atmosphere.bottom_radius_km;
     double top = state->atmosphere.top_radius_km;

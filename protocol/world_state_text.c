@@ -90,9 +90,9 @@ cJSON *sky_world_state_json_schema(void)
     struct sky_world_state state;
     sky_world_state_defaults(&state);
     cJSON *defaults = sky_world_state_to_json(&state);
-    cJSON *root = defaults ? sky_schema_json_schema(sky_world_schema(), defaults,
-                                                    "skyd world state")
-                           : NULL;
+    cJSON *root = defaults
+                      ? sky_schema_json_schema(sky_world_schema(), defaults, "skyd world state")
+                      : NULL;
     cJSON_Delete(defaults);
     cJSON *properties = cJSON_GetObjectItemCaseSensitive(root, "properties");
     cJSON *revision = properties ? cJSON_CreateObject() : NULL;

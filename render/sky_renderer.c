@@ -45,7 +45,7 @@ static bool directions_close(const float a[3], const float b[3])
 }
 
 static struct skyview_inputs skyview_inputs_of(const struct sky_frame_uniforms *fu, bool moonlit,
-                                              uint64_t luts_generation)
+                                               uint64_t luts_generation)
 {
     const sky_vec4 *c = &fu->camera_position;
     return (struct skyview_inputs){
@@ -81,8 +81,8 @@ struct sky_renderer {
     struct cloud_renderer *clouds;
     struct sky_render_night night;
     struct skyview_inputs skyview_shown; /* what the sky-view LUTs were last built for */
-    enum sky_render_probe_ms probe_ms; /* which multiple scattering probes answer with */
-    struct sky_render_log log;         /* the caller's sink, which the context's forwards to */
+    enum sky_render_probe_ms probe_ms;   /* which multiple scattering probes answer with */
+    struct sky_render_log log;           /* the caller's sink, which the context's forwards to */
 };
 
 /* After a failed submission or recreated images nothing the LUTs hold can be trusted. */
@@ -231,17 +231,20 @@ enum sky_render_status sky_renderer_status(const struct sky_renderer *r, const c
         return SKY_RENDER_DEVICE_LOST;
     if (ctx->failure == VK_SUCCESS)
         return SKY_RENDER_OK;
-    return vk_result_is_out_of_memory(ctx->failure) ? SKY_RENDER_OUT_OF_MEMORY
-                                                    : SKY_RENDER_FAILED;
+    return vk_result_is_out_of_memory(ctx->failure) ? SKY_RENDER_OUT_OF_MEMORY : SKY_RENDER_FAILED;
 }
 
 const char *sky_render_status_name(enum sky_render_status status)
 {
     switch (status) {
-    case SKY_RENDER_OK: return "ok";
-    case SKY_RENDER_FAILED: return "failed";
-    case SKY_RENDER_OUT_OF_MEMORY: return "out of memory";
-    case SKY_RENDER_DEVICE_LOST: return "device lost";
+    case SKY_RENDER_OK:
+        return "ok";
+    case SKY_RENDER_FAILED:
+        return "failed";
+    case SKY_RENDER_OUT_OF_MEMORY:
+        return "out of memory";
+    case SKY_RENDER_DEVICE_LOST:
+        return "device lost";
     }
     return "unknown";
 }
@@ -315,7 +318,6 @@ int sky_renderer_rebuild_atmosphere(struct sky_renderer *r, const struct sky_ren
     return 0;
 }
 
-
 static bool camera_in_atmosphere(const struct sky_render_atmosphere *a,
                                  const struct sky_render_view *v)
 {
@@ -326,9 +328,9 @@ static bool camera_in_atmosphere(const struct sky_render_atmosphere *a,
  * of an amortized rebuild for frames, an exact rebuild for probes), the frame uniforms, and
  * the per-view LUTs when the camera is inside the atmosphere and they are wanted. */
 static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_atmosphere *a,
-                                const struct sky_render_view *v, bool want_view_luts,
-                                bool exact, VkCommandBuffer *cmd, bool *from_space,
-                                bool *rebuilt, struct sky_frame_uniforms *fu)
+                                const struct sky_render_view *v, bool want_view_luts, bool exact,
+                                VkCommandBuffer *cmd, bool *from_space, bool *rebuilt,
+                                struct sky_frame_uniforms *fu)
 {
     if (vk_context_begin_commands(r->ctx, cmd) != VK_SUCCESS)
         return false;
@@ -353,13 +355,12 @@ static bool begin_view_commands(struct sky_renderer *r, const struct sky_render_
     bool none = exact && r->probe_ms == SKY_RENDER_PROBE_MS_NONE;
     double weight = fast ? 0.0 : none ? 1.0 : ms_refine_weight_for(ms, a);
     fu->multiple_scattering = (sky_vec4){ (float)weight, none ? 0.0f : 1.0f, 0.0f, 0.0f };
-    bool moonlit = night_fill_uniforms(&r->night, v, sky_passes_brightest_star_lux(r->passes),
-                                       fu);
+    bool moonlit = night_fill_uniforms(&r->night, v, sky_passes_brightest_star_lux(r->passes), fu);
     sky_passes_upload_frame(r->passes, fu);
     *from_space = !camera_in_atmosphere(a, v);
     if (want_view_luts && !*from_space) {
-        struct skyview_inputs now =
-            skyview_inputs_of(fu, moonlit, atmosphere_luts_display_generation(r->luts));
+        struct skyview_inputs now = skyview_inputs_of(fu, moonlit,
+                                                      atmosphere_luts_display_generation(r->luts));
         bool keep = skyview_still_valid(&r->skyview_shown, &now);
         sky_passes_record_view_luts(r->passes, *cmd, r->timer, !keep, moonlit);
         if (!keep)
@@ -496,15 +497,15 @@ int sky_renderer_probe_transmittance(struct sky_renderer *r, const struct sky_re
                                      const double *altitude_km, const double *mu, size_t count,
                                      double (*out_rgb)[3])
 {
-    float (*in)[4] = calloc(count ? count : 1, sizeof *in);
+    float(*in)[4] = calloc(count ? count : 1, sizeof *in);
     if (!in)
         return -1;
     for (size_t i = 0; i < count; i++) {
         in[i][0] = (float)(a->bottom_radius_km + altitude_km[i]);
         in[i][1] = (float)mu[i];
     }
-    int rc = run_probe(r, a, &probe_view_defaults, SKY_PROBE_TRANSMITTANCE,
-                       (const float (*)[4])in, count, out_rgb);
+    int rc = run_probe(r, a, &probe_view_defaults, SKY_PROBE_TRANSMITTANCE, (const float(*)[4])in,
+                       count, out_rgb);
     free(in);
     return rc;
 }
@@ -513,7 +514,7 @@ int sky_renderer_probe_luminance(struct sky_renderer *r, const struct sky_render
                                  const struct sky_render_view *v, const double (*dirs)[3],
                                  size_t count, bool include_sun, double (*out_rgb)[3])
 {
-    float (*in)[4] = calloc(count ? count : 1, sizeof *in);
+    float(*in)[4] = calloc(count ? count : 1, sizeof *in);
     if (!in)
         return -1;
     for (size_t i = 0; i < count; i++)
@@ -522,7 +523,7 @@ int sky_renderer_probe_luminance(struct sky_renderer *r, const struct sky_render
     struct sky_render_view view = *v;
     view.width = view.height = 1;
     uint32_t mode = include_sun ? SKY_PROBE_LUMINANCE : SKY_PROBE_SKY_LUMINANCE;
-    int rc = run_probe(r, a, &view, mode, (const float (*)[4])in, count, out_rgb);
+    int rc = run_probe(r, a, &view, mode, (const float(*)[4])in, count, out_rgb);
     free(in);
     return rc;
 }
@@ -547,8 +548,7 @@ void sky_renderer_set_amortization(struct sky_renderer *r,
                                    const struct sky_render_amortization *amortization)
 {
     atmosphere_luts_set_amortization(r->luts, amortization->budget_ms,
-                                     amortization->budget_fraction,
-                                     amortization->blend_frames);
+                                     amortization->budget_fraction, amortization->blend_frames);
     cloud_renderer_set_budget(r->clouds, amortization->budget_ms);
 }
 

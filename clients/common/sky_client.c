@@ -287,8 +287,8 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
 }
 
 static const struct lws_protocols protocols[] = {
-    {"skyd-client", callback, 0, RX_CHUNK, 0, NULL, 0},
-    {NULL, NULL, 0, 0, 0, NULL, 0},
+    { "skyd-client", callback, 0, RX_CHUNK, 0, NULL, 0 },
+    { NULL, NULL, 0, 0, 0, NULL, 0 },
 };
 
 static void quiet_lws(void)
@@ -319,8 +319,8 @@ static void client_free(struct sky_client *c)
 
 /* Splits "ws://host:port/path" or "wss://..." (port 80 or 443 when absent); parsed holds the
  * pieces. */
-static bool parse_url(const char *url, char *parsed, size_t size, const char **address,
-                      int *port, char *path, size_t path_size, bool *tls)
+static bool parse_url(const char *url, char *parsed, size_t size, const char **address, int *port,
+                      char *path, size_t path_size, bool *tls)
 {
     const char *prot = NULL, *rest = NULL;
     if (!url || strlen(url) >= size)
@@ -329,8 +329,8 @@ static bool parse_url(const char *url, char *parsed, size_t size, const char **a
     if (!*tls && strncmp(url, "ws://", 5) != 0)
         return false;
     snprintf(parsed, size, "%s", url);
-    if (lws_parse_uri(parsed, &prot, address, port, &rest) != 0 || !(*address)[0] ||
-        *port <= 0 || *port > 65535)
+    if (lws_parse_uri(parsed, &prot, address, port, &rest) != 0 || !(*address)[0] || *port <= 0 ||
+        *port > 65535)
         return false;
     /* lws drops the path's leading '/', except for a bare "/" */
     snprintf(path, path_size, "%s%s", rest[0] == '/' ? "" : "/", rest);
@@ -474,14 +474,12 @@ static int send_message(struct sky_client *c, const void *data, size_t len, bool
     }
 }
 
-int sky_client_send_text(struct sky_client *client, const char *text, size_t len,
-                         int timeout_ms)
+int sky_client_send_text(struct sky_client *client, const char *text, size_t len, int timeout_ms)
 {
     return send_message(client, text, len, false, timeout_ms);
 }
 
-int sky_client_send_binary(struct sky_client *client, const void *data, size_t len,
-                           int timeout_ms)
+int sky_client_send_binary(struct sky_client *client, const void *data, size_t len, int timeout_ms)
 {
     return send_message(client, data, len, true, timeout_ms);
 }

@@ -59,10 +59,8 @@ struct sky_client *sky_client_connect_tls(const char *url, const char *origin,
 
 /* Queues one message and services the connection until it has been handed to the kernel.
  * On timeout (1) the message stays queued and goes out during later calls. */
-int sky_client_send_text(struct sky_client *client, const char *text, size_t len,
-                         int timeout_ms);
-int sky_client_send_binary(struct sky_client *client, const void *data, size_t len,
-                           int timeout_ms);
+int sky_client_send_text(struct sky_client *client, const char *text, size_t len, int timeout_ms);
+int sky_client_send_binary(struct sky_client *client, const void *data, size_t len, int timeout_ms);
 
 /* The next whole message the server sent, in order. Messages received before the close are
  * all delivered before -1 is returned. timeout_ms 0 only takes what has already arrived. On

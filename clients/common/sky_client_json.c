@@ -30,8 +30,8 @@ int sky_client_send_json(struct sky_client *client, const cJSON *msg, int timeou
     return rc;
 }
 
-int sky_client_recv_json(struct sky_client *client, const char *type, int timeout_ms,
-                         cJSON **out, char *err, size_t errlen)
+int sky_client_recv_json(struct sky_client *client, const char *type, int timeout_ms, cJSON **out,
+                         char *err, size_t errlen)
 {
     *out = NULL;
     int64_t deadline = now_ms() + timeout_ms;
@@ -49,7 +49,8 @@ int sky_client_recv_json(struct sky_client *client, const char *type, int timeou
         cJSON *json = cJSON_ParseWithLength((const char *)msg.data, msg.len);
         const cJSON *t = cJSON_GetObjectItemCaseSensitive(json, "type");
         if (!cJSON_IsObject(json) || !cJSON_IsString(t)) {
-            snprintf(err, errlen, "server sent a text message that is not a typed JSON object: %.200s",
+            snprintf(err, errlen,
+                     "server sent a text message that is not a typed JSON object: %.200s",
                      (const char *)msg.data);
             cJSON_Delete(json);
             sky_client_message_free(&msg);
@@ -64,8 +65,8 @@ int sky_client_recv_json(struct sky_client *client, const char *type, int timeou
     }
 }
 
-int sky_client_recv_frame(struct sky_client *client, int timeout_ms,
-                          struct sky_client_frame *out, char *err, size_t errlen)
+int sky_client_recv_frame(struct sky_client *client, int timeout_ms, struct sky_client_frame *out,
+                          char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
     int64_t deadline = now_ms() + timeout_ms;

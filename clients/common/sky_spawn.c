@@ -33,7 +33,7 @@ static int64_t now_ms(void)
 
 static void sleep_ms(int ms)
 {
-    struct timespec ts = {ms / 1000, (long)(ms % 1000) * 1000000L};
+    struct timespec ts = { ms / 1000, (long)(ms % 1000) * 1000000L };
     nanosleep(&ts, NULL);
 }
 
@@ -91,8 +91,7 @@ static int read_port(struct skyd_process *p, int timeout_ms, char *err, size_t e
             return -1;
         }
         if (used >= sizeof line - 1) {
-            snprintf(err, errlen, "skyd's first stdout line is longer than %zu bytes",
-                     sizeof line);
+            snprintf(err, errlen, "skyd's first stdout line is longer than %zu bytes", sizeof line);
             return -1;
         }
         int64_t left = deadline - now_ms();
@@ -100,7 +99,7 @@ static int read_port(struct skyd_process *p, int timeout_ms, char *err, size_t e
             snprintf(err, errlen, "skyd printed no listening line within %d ms", timeout_ms);
             return -1;
         }
-        struct pollfd pfd = {p->stdout_fd, POLLIN, 0};
+        struct pollfd pfd = { p->stdout_fd, POLLIN, 0 };
         int n = poll(&pfd, 1, (int)(left > 1000 ? 1000 : left));
         if (n < 0 && errno != EINTR) {
             snprintf(err, errlen, "poll: %s", strerror(errno));
@@ -127,7 +126,7 @@ struct skyd_process *skyd_process_start(const char *skyd, const char *config_pat
                                         const char *const *extra_args, const char *log_path,
                                         int timeout_ms, char *err, size_t errlen)
 {
-    const char *argv[5 + MAX_EXTRA_ARGS] = {skyd, "serve", "--config", config_path};
+    const char *argv[5 + MAX_EXTRA_ARGS] = { skyd, "serve", "--config", config_path };
     size_t argc = 4;
     for (size_t i = 0; extra_args && extra_args[i]; i++) {
         if (i == MAX_EXTRA_ARGS) {

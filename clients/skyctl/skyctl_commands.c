@@ -152,7 +152,8 @@ int skyctl_preset(const struct skyctl_options *options, int argc, char **argv)
         skyctl_print_reply_json(reply);
     } else if (rc == SKYCTL_OK && list) {
         const cJSON *entry;
-        cJSON_ArrayForEach(entry, cJSON_GetObjectItemCaseSensitive(reply, "names")) {
+        cJSON_ArrayForEach(entry, cJSON_GetObjectItemCaseSensitive(reply, "names"))
+        {
             if (cJSON_IsString(entry))
                 printf("%s\n", entry->valuestring);
         }
@@ -177,7 +178,9 @@ static unsigned char *read_file(const char *path, size_t max_bytes, size_t *leng
     fclose(f);
     if (failed) {
         fprintf(stderr, "skyctl weather-map: %s: %s\n", path,
-                !bytes ? "out of memory" : n > max_bytes ? "too large" : "read error");
+                !bytes          ? "out of memory"
+                : n > max_bytes ? "too large"
+                                : "read error");
         free(bytes);
         return NULL;
     }

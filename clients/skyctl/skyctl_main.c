@@ -66,7 +66,8 @@ static const char usage_text[] =
     "exit status:\n"
     "  0  done\n"
     "  1  the server refused the request; stderr names each offending field\n"
-    "     (\"skyctl: set: /patch/location/latitude_deg: must be in [-90, 90] ... [out_of_range]\")\n"
+    "     (\"skyctl: set: /patch/location/latitude_deg: must be in [-90, 90] ... "
+    "[out_of_range]\")\n"
     "  2  bad command line (or get of a field that does not exist), or a local file\n"
     "     that cannot be read or written (--out, --token-file, --ca-file, weather-map)\n"
     "  3  cannot connect (wss: the server's certificate was not accepted, and stderr\n"
@@ -118,8 +119,8 @@ static int read_token_file(const char *path, char *token, size_t tokenlen)
     if (length == 0)
         return skyctl_usage_error(NULL, "--token-file %s: no token on its first line", path);
     if (length >= tokenlen)
-        return skyctl_usage_error(NULL, "--token-file %s: the token is longer than %zu bytes",
-                                  path, tokenlen - 1);
+        return skyctl_usage_error(NULL, "--token-file %s: the token is longer than %zu bytes", path,
+                                  tokenlen - 1);
     memcpy(token, start, length);
     token[length] = '\0';
     return SKYCTL_OK;
@@ -147,9 +148,10 @@ struct command {
 };
 
 static const struct command commands[] = {
-    {"get", skyctl_get},           {"set", skyctl_set},     {"preset", skyctl_preset},
-    {"snapshot", skyctl_snapshot}, {"watch", skyctl_watch}, {"probe", skyctl_probe},
-    {"stats", skyctl_stats},       {"weather-map", skyctl_weather_map},
+    { "get", skyctl_get },       { "set", skyctl_set },
+    { "preset", skyctl_preset }, { "snapshot", skyctl_snapshot },
+    { "watch", skyctl_watch },   { "probe", skyctl_probe },
+    { "stats", skyctl_stats },   { "weather-map", skyctl_weather_map },
 };
 
 int main(int argc, char **argv)

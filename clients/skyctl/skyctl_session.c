@@ -24,7 +24,8 @@ void skyctl_print_error(const char *what, const cJSON *error)
         return;
     }
     const cJSON *field;
-    cJSON_ArrayForEach(field, fields) {
+    cJSON_ArrayForEach(field, fields)
+    {
         fprintf(stderr, "skyctl: %s: %s: %s [%s]\n", what, string_at(field, "pointer"),
                 string_at(field, "reason"), string_at(field, "code"));
     }
@@ -76,8 +77,8 @@ int skyctl_request(struct skyctl_session *session, const char *what, cJSON *msg,
     cJSON_AddNumberToObject(msg, "id", (double)id);
     int rc = sky_client_send_json(session->client, msg, session->timeout_ms);
     if (rc)
-        return connection_failure(session, what, rc == 1 ? "could not send in time"
-                                                         : sky_client_error(session->client));
+        return connection_failure(
+            session, what, rc == 1 ? "could not send in time" : sky_client_error(session->client));
     return reply_of(session, what, id, reply);
 }
 
@@ -98,7 +99,8 @@ int skyctl_connect(const struct skyctl_options *options, struct skyctl_session *
         fprintf(stderr, "skyctl: cannot connect to %s: %s\n", options->url, err);
         if (tls.certificate_rejected)
             fputs("skyctl: --ca-file FILE trusts a PEM certificate (e.g. the server's own), "
-                  "--insecure skips the certificate check\n", stderr);
+                  "--insecure skips the certificate check\n",
+                  stderr);
         return SKYCTL_CONNECTION;
     }
     cJSON *hello = NULL;

@@ -72,8 +72,7 @@ static int parse_view_args(const char *command, int argc, char **argv, struct vi
     return SKYCTL_OK;
 }
 
-static bool write_file(const char *what, const char *path, const unsigned char *data,
-                       size_t len)
+static bool write_file(const char *what, const char *path, const unsigned char *data, size_t len)
 {
     FILE *f = fopen(path, "wb");
     if (!f) {
@@ -250,8 +249,7 @@ static int take_snapshot(struct skyctl_session *session, const struct view_args 
                    header.format == SKY_FRAME_FORMAT_PNG16  ? "PNG16"
                    : header.format == SKY_FRAME_FORMAT_JPEG ? "JPEG"
                                                             : "PNG",
-                   header.payload_length,
-                   (unsigned long long)header.state_revision,
+                   header.payload_length, (unsigned long long)header.state_revision,
                    (unsigned long long)header.frame_number);
         sky_client_message_free(&binary);
         return ok ? SKYCTL_OK : SKYCTL_USAGE;
@@ -347,7 +345,8 @@ static int watch_loop(struct skyctl_session *session, const struct view_args *a)
             printf("event %s revision %.0f", cJSON_IsString(event) ? event->valuestring : "?",
                    number_at(json, "revision"));
             const cJSON *changed;
-            cJSON_ArrayForEach(changed, cJSON_GetObjectItemCaseSensitive(json, "changed")) {
+            cJSON_ArrayForEach(changed, cJSON_GetObjectItemCaseSensitive(json, "changed"))
+            {
                 if (cJSON_IsString(changed))
                     printf(" %s", changed->valuestring);
             }

@@ -29,8 +29,8 @@ enum sky_field_error_code {
 #define SKY_MAX_FIELD_ERRORS 32
 
 struct sky_field_errors {
-    int count;                  /* number of entries filled (at most SKY_MAX_FIELD_ERRORS) */
-    int total;                  /* number of failures found, may exceed count */
+    int count; /* number of entries filled (at most SKY_MAX_FIELD_ERRORS) */
+    int total; /* number of failures found, may exceed count */
     struct sky_field_error items[SKY_MAX_FIELD_ERRORS];
 };
 

@@ -27,7 +27,7 @@ enum sky_field_type {
 };
 
 struct sky_field_desc {
-    const char *path;              /* dotted, "atmosphere.mie.g" */
+    const char *path; /* dotted, "atmosphere.mie.g" */
     enum sky_field_type type;
     size_t offset;                 /* into the struct the table describes */
     double min, max;               /* inclusive; for a number and for each array element;
@@ -35,12 +35,12 @@ struct sky_field_desc {
     const char *const *enum_names; /* ENUM only: names indexed by value; a NULL name is no
                                       value (a value 0 that means "none") */
     int enum_count;
-    const char *description;       /* short, with the unit */
-    bool read_only;                /* kept by the simulation: a client `set` is refused; a saved
+    const char *description; /* short, with the unit */
+    bool read_only;          /* kept by the simulation: a client `set` is refused; a saved
                                       state restores it */
-    size_t capacity;               /* STRING only: the buffer's bytes */
-    bool required;                 /* an absent member is SKY_FIELD_MISSING */
-    bool exclusive_min;            /* min itself is out of range: the value must exceed it */
+    size_t capacity;         /* STRING only: the buffer's bytes */
+    bool required;           /* an absent member is SKY_FIELD_MISSING */
+    bool exclusive_min;      /* min itself is out of range: the value must exceed it */
 };
 
 /* A table of field rows over one struct: the world state's (sky_world_schema), the service
@@ -53,7 +53,7 @@ struct sky_schema {
      * among the expected names when a member is unknown. */
     const char *const *caller_members;
     size_t caller_member_count;
-    bool unique_members;          /* a member given twice is SKY_FIELD_BAD_VALUE (messages) */
+    bool unique_members; /* a member given twice is SKY_FIELD_BAD_VALUE (messages) */
 };
 
 /* The most rows a table may have. */
@@ -109,8 +109,7 @@ const char *sky_field_unit(const struct sky_field_desc *field);
 /* The rows of `schema` read from `base` as nested JSON ({"listen": {"port": 8080}}). */
 struct cJSON *sky_schema_to_json(const struct sky_schema *schema, const void *base);
 /* The same added to `root`, after the members it has; false when memory is out. */
-bool sky_schema_add_to_json(const struct sky_schema *schema, const void *base,
-                            struct cJSON *root);
+bool sky_schema_add_to_json(const struct sky_schema *schema, const void *base, struct cJSON *root);
 
 /* The JSON Schema of any table: `defaults` (from sky_schema_to_json) gives the defaults, NULL
  * none. The caller adds what has no row (properties of its own) and deletes it. */

@@ -26,9 +26,10 @@
 #define SKY_FRAME_MAGIC "SKYF"
 
 enum sky_frame_format {
-    SKY_FRAME_FORMAT_PNG = 1,   /* 8-bit sRGB RGBA, exposed and tonemapped */
-    SKY_FRAME_FORMAT_PNG16 = 2, /* 16-bit linear-light RGB before the tonemap (server/frames/include/png_write.h) */
-    SKY_FRAME_FORMAT_JPEG = 3,  /* baseline JPEG of the same pixels as PNG, 4:2:0 */
+    SKY_FRAME_FORMAT_PNG = 1, /* 8-bit sRGB RGBA, exposed and tonemapped */
+    SKY_FRAME_FORMAT_PNG16 =
+        2, /* 16-bit linear-light RGB before the tonemap (server/frames/include/png_write.h) */
+    SKY_FRAME_FORMAT_JPEG = 3, /* baseline JPEG of the same pixels as PNG, 4:2:0 */
 };
 
 struct sky_frame_header {
@@ -43,13 +44,13 @@ struct sky_frame_header {
 /* Stable codes. */
 enum sky_frame_header_status {
     SKY_FRAME_HEADER_OK = 0,
-    SKY_FRAME_HEADER_TOO_SHORT = 1,   /* fewer than 48 bytes */
+    SKY_FRAME_HEADER_TOO_SHORT = 1, /* fewer than 48 bytes */
     SKY_FRAME_HEADER_BAD_MAGIC = 2,
     SKY_FRAME_HEADER_BAD_VERSION = 3,
-    SKY_FRAME_HEADER_BAD_FORMAT = 4,  /* not a known enum sky_frame_format */
-    SKY_FRAME_HEADER_BAD_LENGTH = 5,  /* 48 + payload_length != the message's length */
+    SKY_FRAME_HEADER_BAD_FORMAT = 4, /* not a known enum sky_frame_format */
+    SKY_FRAME_HEADER_BAD_LENGTH = 5, /* 48 + payload_length != the message's length */
     SKY_FRAME_HEADER_BAD_RESERVED = 6,
-    SKY_FRAME_HEADER_BAD_VALUE = 7,   /* zero width or height, non-finite time */
+    SKY_FRAME_HEADER_BAD_VALUE = 7, /* zero width or height, non-finite time */
 };
 
 /* "ok", "too_short", "bad_magic", ...; NULL for values that are not codes. */
@@ -62,8 +63,7 @@ enum sky_frame_header_status sky_frame_header_pack(const struct sky_frame_header
 
 /* Reads and validates the header at the start of a whole binary message of message_length
  * bytes; the payload is message + SKY_FRAME_HEADER_SIZE. On error *header is left untouched. */
-enum sky_frame_header_status sky_frame_header_unpack(const uint8_t *message,
-                                                     size_t message_length,
+enum sky_frame_header_status sky_frame_header_unpack(const uint8_t *message, size_t message_length,
                                                      struct sky_frame_header *header);
 
 #endif

@@ -30,8 +30,8 @@ struct cJSON;
 #define SKY_MSG_POINTER_MAX 128    /* a JSON Pointer, as in struct sky_field_error */
 #define SKY_MSG_JPEG_QUALITY_DEFAULT 85
 #define SKY_MSG_MAX_KBPS 1e6
-#define SKY_MSG_MAX_PASSES 32      /* entries in a stats message's "passes" */
-#define SKY_MSG_MAX_PRESETS 256    /* names in a presets message */
+#define SKY_MSG_MAX_PASSES 32   /* entries in a stats message's "passes" */
+#define SKY_MSG_MAX_PRESETS 256 /* names in a presets message */
 /* Integers on the wire stay exactly representable in an IEEE double (JavaScript's limit). */
 #define SKY_MSG_MAX_SAFE_INTEGER 9007199254740991LL /* 2^53 - 1 */
 
@@ -39,26 +39,26 @@ struct cJSON;
  * too. 1..6 equal enum sky_field_error_code, so sky_field_error.code holds either. */
 enum sky_msg_error_code {
     SKY_MSG_OK = 0,
-    SKY_MSG_ERR_UNKNOWN_FIELD = 1,       /* "unknown_field" */
-    SKY_MSG_ERR_WRONG_TYPE = 2,          /* "wrong_type" */
-    SKY_MSG_ERR_OUT_OF_RANGE = 3,        /* "out_of_range" */
-    SKY_MSG_ERR_BAD_VALUE = 4,           /* "bad_value": bad enum name, pattern, duplicate */
-    SKY_MSG_ERR_INCONSISTENT = 5,        /* "inconsistent": patch clashes with the live state */
-    SKY_MSG_ERR_MISSING_FIELD = 6,       /* "missing_field" */
-    SKY_MSG_ERR_MALFORMED_JSON = 7,      /* "malformed_json": syntax, trailing bytes, NUL byte */
-    SKY_MSG_ERR_MESSAGE_TOO_LARGE = 8,   /* "message_too_large" */
-    SKY_MSG_ERR_NOT_AN_OBJECT = 9,       /* "not_an_object" */
-    SKY_MSG_ERR_UNKNOWN_TYPE = 10,       /* "unknown_type" */
-    SKY_MSG_ERR_INVALID_ENCODING = 11,   /* "invalid_encoding": not UTF-8, or a binary message */
+    SKY_MSG_ERR_UNKNOWN_FIELD = 1,         /* "unknown_field" */
+    SKY_MSG_ERR_WRONG_TYPE = 2,            /* "wrong_type" */
+    SKY_MSG_ERR_OUT_OF_RANGE = 3,          /* "out_of_range" */
+    SKY_MSG_ERR_BAD_VALUE = 4,             /* "bad_value": bad enum name, pattern, duplicate */
+    SKY_MSG_ERR_INCONSISTENT = 5,          /* "inconsistent": patch clashes with the live state */
+    SKY_MSG_ERR_MISSING_FIELD = 6,         /* "missing_field" */
+    SKY_MSG_ERR_MALFORMED_JSON = 7,        /* "malformed_json": syntax, trailing bytes, NUL byte */
+    SKY_MSG_ERR_MESSAGE_TOO_LARGE = 8,     /* "message_too_large" */
+    SKY_MSG_ERR_NOT_AN_OBJECT = 9,         /* "not_an_object" */
+    SKY_MSG_ERR_UNKNOWN_TYPE = 10,         /* "unknown_type" */
+    SKY_MSG_ERR_INVALID_ENCODING = 11,     /* "invalid_encoding": not UTF-8, or a binary message */
     SKY_MSG_ERR_UNSUPPORTED_PROTOCOL = 12, /* "unsupported_protocol" */
     /* Produced by the server, never by the parser. */
-    SKY_MSG_ERR_FORBIDDEN = 20,          /* "forbidden": needs the controller role */
-    SKY_MSG_ERR_AUTH_FAILED = 21,        /* "auth_failed" */
-    SKY_MSG_ERR_RATE_LIMITED = 22,       /* "rate_limited" */
-    SKY_MSG_ERR_NOT_FOUND = 23,          /* "not_found": subscription or preset */
-    SKY_MSG_ERR_LIMIT_REACHED = 24,      /* "limit_reached": too many clients, subscriptions */
-    SKY_MSG_ERR_INTERNAL = 25,           /* "internal" */
-    SKY_MSG_ERR_UNAVAILABLE = 26,        /* "unavailable": a shared world's store is unreachable */
+    SKY_MSG_ERR_FORBIDDEN = 20,     /* "forbidden": needs the controller role */
+    SKY_MSG_ERR_AUTH_FAILED = 21,   /* "auth_failed" */
+    SKY_MSG_ERR_RATE_LIMITED = 22,  /* "rate_limited" */
+    SKY_MSG_ERR_NOT_FOUND = 23,     /* "not_found": subscription or preset */
+    SKY_MSG_ERR_LIMIT_REACHED = 24, /* "limit_reached": too many clients, subscriptions */
+    SKY_MSG_ERR_INTERNAL = 25,      /* "internal" */
+    SKY_MSG_ERR_UNAVAILABLE = 26,   /* "unavailable": a shared world's store is unreachable */
 };
 
 /* The wire name of a code, or NULL for a value that is not a code. */
@@ -154,7 +154,7 @@ struct sky_msg_view {
     enum sky_exposure_mode exposure_mode;
     double ev100, compensation_ev;
     uint32_t width, height;
-    double fps;                     /* default min(10, max_fps) already applied */
+    double fps; /* default min(10, max_fps) already applied */
     enum sky_frame_format format;
     int quality;     /* JPEG quality 1..100 (SKY_MSG_JPEG_QUALITY_DEFAULT when absent); 0 else */
     double max_kbps; /* a subscription's bandwidth bound, kilobits per second; 0: none */
@@ -176,7 +176,7 @@ struct sky_client_msg {
         struct {
             bool has_client;
             char client[SKY_MSG_CLIENT_MAX + 1];
-            int protocol; /* 0 when absent */
+            int protocol;           /* 0 when absent */
             bool simulation_events; /* wants `simulation` events (false when absent) */
         } hello;
         struct {
@@ -196,8 +196,8 @@ struct sky_client_msg {
         struct {
             enum sky_preset_kind kind;
             char name[SKY_MSG_PRESET_NAME_MAX + 1]; /* apply_preset only */
-            bool has_transition;  /* apply_preset of a weather preset: "transition_s" given */
-            double transition_s;  /* simulated seconds, [0, SKY_MSG_MAX_TRANSITION_S] */
+            bool has_transition; /* apply_preset of a weather preset: "transition_s" given */
+            double transition_s; /* simulated seconds, [0, SKY_MSG_MAX_TRANSITION_S] */
         } preset;
         struct {
             /* Owned, decoded and validated; sky_client_msg_free frees it. */
@@ -210,9 +210,9 @@ struct sky_client_msg {
 };
 
 struct sky_msg_parse_error {
-    enum sky_msg_error_code code;  /* SKY_MSG_OK on success; else the first failure's code */
-    size_t offset;                 /* byte offset for malformed_json and invalid_encoding */
-    char message[320];             /* one line for people; do not match on it */
+    enum sky_msg_error_code code;   /* SKY_MSG_OK on success; else the first failure's code */
+    size_t offset;                  /* byte offset for malformed_json and invalid_encoding */
+    char message[320];              /* one line for people; do not match on it */
     struct sky_field_errors fields; /* {JSON Pointer, reason, code} per failure */
 };
 
@@ -243,8 +243,7 @@ void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_worl
 
 /* JSON Pointers of the schema fields that differ between two states, in schema order. Fills
  * at most `max` and returns how many differ. */
-size_t sky_msg_state_diff(const struct sky_world_state *before,
-                          const struct sky_world_state *after,
+size_t sky_msg_state_diff(const struct sky_world_state *before, const struct sky_world_state *after,
                           char pointers[][SKY_MSG_POINTER_MAX], size_t max);
 
 /* ---- server messages ---------------------------------------------------------------------
@@ -304,15 +303,15 @@ char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers
  * moon from the ephemeris, a transition's progress), as "changed" and "values" are in
  * state_changed, with the revision they belong to and the simulated time. Sent only to
  * clients whose hello asked for simulation_events. */
-char *sky_msg_build_simulation_event(uint64_t revision, const char *const *pointers,
-                                     size_t count, const struct sky_world_state *state);
+char *sky_msg_build_simulation_event(uint64_t revision, const char *const *pointers, size_t count,
+                                     const struct sky_world_state *state);
 
 char *sky_msg_build_presets(const struct sky_msg_id *id, enum sky_preset_kind kind,
                             const char *const *names, size_t count);
 
 struct sky_msg_probe_result {
     enum sky_probe_quantity quantity;
-    double rgb[3];          /* transmittance (unitless) or luminance (cd/m^2) */
+    double rgb[3];           /* transmittance (unitless) or luminance (cd/m^2) */
     double sun_lux, sky_lux; /* illuminance */
     /* Luminance and illuminance: the multiple scattering they were computed with, "fast",
      * "blending" or "converged" (NULL: left out). */
@@ -330,11 +329,11 @@ struct sky_msg_pass_time {
 /* One of the asking connection's subscriptions: what its frames cost and the rate and JPEG
  * quality they are made at now (lowered under max_kbps). */
 struct sky_msg_subscription_stats {
-    uint64_t subscription;  /* >= 1 */
-    uint64_t bytes_sent;    /* binary messages, headers included */
-    double fps;             /* > 0: the effective rate */
-    int quality;            /* the effective JPEG quality; 0 for other formats */
-    double max_kbps;        /* 0: none */
+    uint64_t subscription; /* >= 1 */
+    uint64_t bytes_sent;   /* binary messages, headers included */
+    double fps;            /* > 0: the effective rate */
+    int quality;           /* the effective JPEG quality; 0 for other formats */
+    double max_kbps;       /* 0: none */
 };
 
 /* Where the converged multiple scattering stands: its weight in frames [0, 1], the progress of
@@ -345,12 +344,12 @@ struct sky_msg_multiple_scattering {
 };
 
 struct sky_msg_stats {
-    double fps;                          /* >= 0 */
-    int clients;                         /* >= 0 */
+    double fps;  /* >= 0 */
+    int clients; /* >= 0 */
     const struct sky_msg_pass_time *passes;
-    size_t pass_count;                   /* <= SKY_MSG_MAX_PASSES */
-    double lut_rebuild_progress;         /* [0, 1]; 1 when no rebuild is under way */
-    double simulation_time_s;            /* the simulated clock, seconds since 1970 UTC */
+    size_t pass_count;           /* <= SKY_MSG_MAX_PASSES */
+    double lut_rebuild_progress; /* [0, 1]; 1 when no rebuild is under way */
+    double simulation_time_s;    /* the simulated clock, seconds since 1970 UTC */
     const struct sky_msg_subscription_stats *subscriptions;
     size_t subscription_count;
     /* The converged multiple scattering's refinement (NULL: left out). */

@@ -36,9 +36,9 @@ char *sky_base64_encode(const uint8_t *bytes, size_t length);
 /* Turns `bytes` of `format` into a map. width and height are required for RGBA8 (1 ..
  * SKY_WEATHER_MAP_MAX_SIDE); for PNG they are the file's own, and 0 accepts any size in that
  * range. Returns false with a reason and *map zeroed. */
-bool sky_weather_map_decode(enum sky_weather_map_format format, const uint8_t *bytes,
-                            size_t length, uint32_t width, uint32_t height,
-                            struct sky_weather_map *map, char *reason, size_t reason_size);
+bool sky_weather_map_decode(enum sky_weather_map_format format, const uint8_t *bytes, size_t length,
+                            uint32_t width, uint32_t height, struct sky_weather_map *map,
+                            char *reason, size_t reason_size);
 
 void sky_weather_map_free(struct sky_weather_map *map);
 /* A deep copy into *to (a map without texels copies as one); false when memory is out. */

@@ -40,9 +40,9 @@ enum sky_switch {
 /* How many of the cloud pixels are ray-marched each frame; the rest come from the
  * reprojected history. */
 enum sky_cloud_resolution {
-    SKY_CLOUD_RESOLUTION_FULL = 0,      /* every pixel every frame */
-    SKY_CLOUD_RESOLUTION_QUARTER = 1,   /* one pixel of each 2x2 block per frame */
-    SKY_CLOUD_RESOLUTION_SIXTEENTH = 2, /* one pixel of each 4x4 block per frame */
+    SKY_CLOUD_RESOLUTION_FULL = 0,        /* every pixel every frame */
+    SKY_CLOUD_RESOLUTION_QUARTER = 1,     /* one pixel of each 2x2 block per frame */
+    SKY_CLOUD_RESOLUTION_SIXTEENTH = 2,   /* one pixel of each 4x4 block per frame */
     SKY_CLOUD_RESOLUTION_SIXTYFOURTH = 3, /* half-size clouds, one of each 4x4 per frame */
 };
 
@@ -64,41 +64,41 @@ enum sky_tonemap {
 };
 
 struct sky_atmosphere_state {
-    double bottom_radius_km;          /* planet radius */
-    double top_radius_km;             /* radius of the top of the atmosphere, > bottom */
+    double bottom_radius_km; /* planet radius */
+    double top_radius_km;    /* radius of the top of the atmosphere, > bottom */
     double rayleigh_scattering_per_km[3];
     double rayleigh_scale_height_km;
     double mie_scattering_per_km[3];
     double mie_absorption_per_km[3];
     double mie_scale_height_km;
-    double mie_g[3];                  /* Cornette-Shanks asymmetry per channel */
+    double mie_g[3]; /* Cornette-Shanks asymmetry per channel */
     double ozone_absorption_per_km[3];
-    double ozone_peak_altitude_km;    /* centre of the tent layer */
-    double ozone_width_km;            /* full width of the tent layer */
+    double ozone_peak_altitude_km; /* centre of the tent layer */
+    double ozone_width_km;         /* full width of the tent layer */
     double ground_albedo[3];
-    double fog_density_per_km;        /* height fog: grey extra aerosol scattering at the ground */
-    double fog_scale_height_km;       /* its exponential falloff */
+    double fog_density_per_km;  /* height fog: grey extra aerosol scattering at the ground */
+    double fog_scale_height_km; /* its exponential falloff */
 };
 
 struct sky_sun_state {
-    double illuminance_lux;           /* ground illuminance with the sun at zenith (seed 001, 4.1) */
+    double illuminance_lux; /* ground illuminance with the sun at zenith (seed 001, 4.1) */
     double angular_diameter_deg;
-    double azimuth_deg;               /* from north through east */
+    double azimuth_deg; /* from north through east */
     double elevation_deg;
     enum sky_limb_darkening limb_darkening;
 };
 
 struct sky_camera_state {
-    double altitude_km;               /* above the planet surface; may be above the atmosphere */
-    double yaw_deg;                   /* view azimuth from north through east */
-    double pitch_deg;                 /* view elevation above the local horizon */
-    double fov_deg;                   /* vertical field of view */
+    double altitude_km; /* above the planet surface; may be above the atmosphere */
+    double yaw_deg;     /* view azimuth from north through east */
+    double pitch_deg;   /* view elevation above the local horizon */
+    double fov_deg;     /* vertical field of view */
 };
 
 struct sky_exposure_state {
     enum sky_exposure_mode mode;
-    double ev100;                     /* used when mode is manual */
-    double compensation_ev;           /* added to the automatic exposure */
+    double ev100;           /* used when mode is manual */
+    double compensation_ev; /* added to the automatic exposure */
     enum sky_tonemap tonemap;
     enum sky_switch night_adaptation; /* auto exposure leaves dark scenes dark, as eyes see them */
 };
@@ -109,83 +109,83 @@ struct sky_exposure_state {
  * clock. Read-only for clients; moved when a change sets clock.utc or clock.time_scale. Both
  * are whole milliseconds, what their ISO 8601 text keeps. wall_unix_s 0: not anchored yet. */
 struct sky_clock_epoch {
-    double wall_unix_s;               /* "clock.epoch.wall" */
-    double utc_unix_s;                /* "clock.epoch.utc" */
+    double wall_unix_s; /* "clock.epoch.wall" */
+    double utc_unix_s;  /* "clock.epoch.utc" */
 };
 
 struct sky_clock_state {
-    double utc_unix_s;                /* "clock.utc": ISO 8601 text in JSON */
-    double time_scale;                /* simulated seconds per real second; 0 pauses */
-    enum sky_bodies_mode sky_bodies;  /* ephemeris: sun and moon follow clock and location */
+    double utc_unix_s;               /* "clock.utc": ISO 8601 text in JSON */
+    double time_scale;               /* simulated seconds per real second; 0 pauses */
+    enum sky_bodies_mode sky_bodies; /* ephemeris: sun and moon follow clock and location */
     struct sky_clock_epoch epoch;
 };
 
 struct sky_location_state {
-    double latitude_deg;              /* north positive */
-    double longitude_deg;             /* east positive */
-    double altitude_m;                /* of the site above sea level, for the ephemeris */
+    double latitude_deg;  /* north positive */
+    double longitude_deg; /* east positive */
+    double altitude_m;    /* of the site above sea level, for the ephemeris */
 };
 
 struct sky_moon_state {
-    double azimuth_deg;               /* from north through east */
+    double azimuth_deg; /* from north through east */
     double elevation_deg;
     double angular_diameter_deg;
 };
 
 struct sky_night_state {
-    double airglow_luminance_cd_m2;   /* natural night-sky background at the zenith */
-    double star_brightness;           /* multiplier of the catalogue's star illuminance */
+    double airglow_luminance_cd_m2; /* natural night-sky background at the zenith */
+    double star_brightness;         /* multiplier of the catalogue's star illuminance */
 };
 
 /* One cloud layer between bottom_km and bottom_km + thickness_km above the ground. */
 struct sky_cloud_layer_state {
-    double coverage;                  /* 0..1, fraction of the sky covered */
-    double type;                      /* 0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus */
-    double density;                   /* multiplier of clouds.extinction_per_km */
+    double coverage; /* 0..1, fraction of the sky covered */
+    double type;     /* 0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus */
+    double density;  /* multiplier of clouds.extinction_per_km */
     double bottom_km;
     double thickness_km;
 };
 
 struct sky_cloud_state {
-    struct sky_cloud_layer_state low;  /* cumulus-type layer */
-    struct sky_cloud_layer_state high; /* thin high layer (cirrus, cirrostratus) */
-    double extinction_per_km;         /* at density 1 */
-    double albedo;                    /* single-scattering albedo */
-    double precipitation;             /* 0..1: darkens and thickens cloud bases */
+    struct sky_cloud_layer_state low;   /* cumulus-type layer */
+    struct sky_cloud_layer_state high;  /* thin high layer (cirrus, cirrostratus) */
+    double extinction_per_km;           /* at density 1 */
+    double albedo;                      /* single-scattering albedo */
+    double precipitation;               /* 0..1: darkens and thickens cloud bases */
     double phase_g0, phase_g1, phase_w; /* dual-lobe Henyey-Greenstein (seed 000 eq. 14.17) */
     double multiscatter_a, multiscatter_b, multiscatter_c; /* octaves (seed 000 eq. 14.18) */
     int multiscatter_octaves;
-    double multiscatter_powder;       /* the octaves' build-up below a lit surface, 1/depth */
-    double ambient_scale;             /* sky ambient on the clouds, 0..1 */
-    int noise_seed;                   /* seeds the noise volumes */
-    int primary_steps;                /* ray-march steps through a layer */
-    int light_steps;                  /* secondary march toward the sun */
+    double multiscatter_powder; /* the octaves' build-up below a lit surface, 1/depth */
+    double ambient_scale;       /* sky ambient on the clouds, 0..1 */
+    int noise_seed;             /* seeds the noise volumes */
+    int primary_steps;          /* ray-march steps through a layer */
+    int light_steps;            /* secondary march toward the sun */
     enum sky_cloud_resolution resolution;
-    enum sky_switch temporal;         /* temporal reprojection of the history */
+    enum sky_switch temporal; /* temporal reprojection of the history */
 };
 
 /* The weather parameters that transitions interpolate and the autopilot drives. */
 struct sky_weather_params {
     struct sky_cloud_layer_state low, high;
-    double precipitation;             /* clouds.precipitation */
-    double humidity;                  /* weather.humidity */
-    double wind_speed_m_s;            /* weather.wind.speed_m_s */
-    double wind_direction_deg;        /* weather.wind.direction_deg, along the shorter arc */
+    double precipitation;      /* clouds.precipitation */
+    double humidity;           /* weather.humidity */
+    double wind_speed_m_s;     /* weather.wind.speed_m_s */
+    double wind_direction_deg; /* weather.wind.direction_deg, along the shorter arc */
 };
 
 /* A weather transition: the parameters move from `from` to `to` along a smoothstep of the
  * simulated time from start over duration. Read-only for clients (apply_preset starts one);
  * persisted with the state. Active while duration_s > 0 and progress < 1. */
 struct sky_transition_state {
-    double start_unix_s;              /* "weather.transition.start": ISO 8601 text in JSON */
-    double duration_s;                /* simulated seconds; 0: no transition */
-    double progress;                  /* 0..1, the time fraction elapsed */
+    double start_unix_s; /* "weather.transition.start": ISO 8601 text in JSON */
+    double duration_s;   /* simulated seconds; 0: no transition */
+    double progress;     /* 0..1, the time fraction elapsed */
     struct sky_weather_params from, to;
 };
 
 struct sky_wind_state {
     double speed_m_s;
-    double direction_deg;             /* where the wind blows from, north through east */
+    double direction_deg; /* where the wind blows from, north through east */
 };
 
 /* Where the wind's integral starts: weather.offset_* at simulated time utc_unix_s (whole
@@ -193,27 +193,27 @@ struct sky_wind_state {
  * (world_sim.h). Read-only for clients; moved by a change to the wind, the weather that drives
  * it, the offsets or the clock. */
 struct sky_wind_anchor {
-    double utc_unix_s;                /* "weather.anchor.utc" */
+    double utc_unix_s; /* "weather.anchor.utc" */
     double offset_east_km;
     double offset_north_km;
 };
 
 struct sky_weather_state {
-    double humidity;                  /* 0..1; haze and fog grow with it */
+    double humidity; /* 0..1; haze and fog grow with it */
     struct sky_wind_state wind;
-    double offset_east_km;            /* weather map advected by the wind so far */
+    double offset_east_km; /* weather map advected by the wind so far */
     double offset_north_km;
     struct sky_wind_anchor anchor;
-    int seed;                         /* of the procedural weather map */
-    double map_extent_km;             /* side of the square weather map around the camera */
+    int seed;             /* of the procedural weather map */
+    double map_extent_km; /* side of the square weather map around the camera */
     enum sky_weather_map_source map_source;
-    enum sky_switch autopilot;        /* stochastic, deterministic weather evolution */
+    enum sky_switch autopilot; /* stochastic, deterministic weather evolution */
     int autopilot_seed;
     struct sky_transition_state transition;
 };
 
 struct sky_render_settings {
-    int transmittance_lut[2];         /* width, height */
+    int transmittance_lut[2]; /* width, height */
     int multiscattering_lut[2];
     int skyview_lut[2];
     int aerial_perspective_lut[3];    /* width, height, depth slices */

@@ -15,7 +15,7 @@ struct cloud_frame {
     uint32_t width, height;
     uint64_t history_key;
     double now_s; /* monotonic: histories idle for CLOUD_HISTORY_IDLE_S are released */
-    bool live; /* a stream: a new history starts converging from its first frame */
+    bool live;    /* a stream: a new history starts converging from its first frame */
     /* Output rows [first, end) that may see the ground, or NULL: none (sky_uniforms.h). */
     const uint32_t *ground_rows;
 };

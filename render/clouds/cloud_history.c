@@ -80,8 +80,8 @@ struct cloud_history_entry *cloud_history_acquire(struct vk_context *ctx, struct
 {
     const struct entry_key k = { key, width, height, block };
     bool found;
-    struct cloud_history_entry *e = lru_slots_acquire(ctx, &kind, h->entries, &h->clock, &k,
-                                                      now_s, &found);
+    struct cloud_history_entry *e = lru_slots_acquire(ctx, &kind, h->entries, &h->clock, &k, now_s,
+                                                      &found);
     if (!found && entry_create(ctx, e, key, width, height, block) != 0)
         return NULL;
     return e;

@@ -31,12 +31,12 @@ struct cloud_history_entry {
     struct gpu_image trace_color, trace_depth;
     struct gpu_image color[2], aux[2];
     struct gpu_image over_sky, over_ground; /* cloud_resolve.comp's outputs */
-    int latest;            /* index of the pair holding the last result */
-    bool valid;            /* latest holds a frame of this view */
-    uint32_t frame;        /* frames rendered into this history */
+    int latest;                             /* index of the pair holding the last result */
+    bool valid;                             /* latest holds a frame of this view */
+    uint32_t frame;                         /* frames rendered into this history */
     float prev_forward[4], prev_right[4], prev_up[4]; /* camera of the latest frame */
-    double prev_wind[2];   /* wind displacement of the latest frame */
-    uint32_t look;         /* the cloud renderer's parameter and map generations it shows */
+    double prev_wind[2];                              /* wind displacement of the latest frame */
+    uint32_t look; /* the cloud renderer's parameter and map generations it shows */
 };
 
 struct cloud_history {

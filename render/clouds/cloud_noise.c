@@ -206,13 +206,17 @@ int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *n)
 {
     memset(n, 0, sizeof *n);
     VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, BASE_SIZE, BASE_SIZE, BASE_SIZE,
-                                   "cloud_base_noise", &n->base), destroy_partial);
+                                   "cloud_base_noise", &n->base),
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, DETAIL_SIZE, DETAIL_SIZE,
-                                   DETAIL_SIZE, "cloud_detail_noise", &n->detail), destroy_partial);
+                                   DETAIL_SIZE, "cloud_detail_noise", &n->detail),
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, CURL_SIZE, CURL_SIZE, 1,
-                                   "cloud_curl_noise", &n->curl), destroy_partial);
+                                   "cloud_curl_noise", &n->curl),
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, VC_N * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                    "cloud_blue_noise", &n->blue), destroy_partial);
+                                    "cloud_blue_noise", &n->blue),
+                  destroy_partial);
     if (create_passes(ctx, n) != VK_SUCCESS)
         goto destroy_partial;
     return 0;
@@ -233,8 +237,7 @@ void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *n)
     n->generated = false;
 }
 
-int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed,
-                         bool quiet)
+int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed, bool quiet)
 {
     n->generated = false;
     if (generate_volumes(ctx, n, seed, quiet) != 0 || generate_curl(ctx, n, seed) != 0) {

@@ -50,9 +50,12 @@ void cloud_params_weather_periods(const struct sky_render_clouds *c, float perio
 int cloud_params_block(enum sky_render_cloud_resolution resolution)
 {
     switch (resolution) {
-    case SKY_RENDER_CLOUDS_FULL: return 1;
-    case SKY_RENDER_CLOUDS_QUARTER: return 2;
-    default: return 4;
+    case SKY_RENDER_CLOUDS_FULL:
+        return 1;
+    case SKY_RENDER_CLOUDS_QUARTER:
+        return 2;
+    default:
+        return 4;
     }
 }
 
@@ -90,7 +93,8 @@ void cloud_params_fill(const struct sky_render_clouds *c, double R, struct sky_c
                     c->multiscatter_c, c->light_steps);
     double extent = c->map_extent_km > 0.0 ? c->map_extent_km : 60.0;
     /* The wind's displacement only matters modulo the tiled pattern: keep floats small. */
-    double east = fmod(c->wind_offset_east_km, extent), north = fmod(c->wind_offset_north_km, extent);
+    double east = fmod(c->wind_offset_east_km, extent),
+           north = fmod(c->wind_offset_north_km, extent);
     u->weather = V4(east, north, 1.0 / extent, extent);
     u->march = V4(c->primary_steps, LONGEST_MARCH_KM, cloud_params_any_layer(c) ? 1 : 0, 0);
     for (int i = 0; i < CLOUD_PROFILE_COUNT; i++)

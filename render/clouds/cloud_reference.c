@@ -74,8 +74,8 @@ void cloud_reference_destroy(struct vk_context *ctx, struct cloud_reference **pr
 
 int cloud_reference_record(struct vk_context *ctx, struct cloud_reference *ref,
                            const struct compute_resource *march, VkCommandBuffer cmd,
-                           const struct cloud_frame *f, struct cloud_history_entry *e,
-                           uint32_t spp, uint32_t seed, float precipitation_ceiling)
+                           const struct cloud_frame *f, struct cloud_history_entry *e, uint32_t spp,
+                           uint32_t seed, float precipitation_ceiling)
 {
     if (spp == 0 || e->block != 1)
         return -1;

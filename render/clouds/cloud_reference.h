@@ -24,8 +24,8 @@ void cloud_reference_destroy(struct vk_context *ctx, struct cloud_reference **re
  * `precipitation_ceiling`: the largest precipitation of the weather map. Returns 0 or -1. */
 int cloud_reference_record(struct vk_context *ctx, struct cloud_reference *ref,
                            const struct compute_resource *march, VkCommandBuffer cmd,
-                           const struct cloud_frame *f, struct cloud_history_entry *e,
-                           uint32_t spp, uint32_t seed, float precipitation_ceiling);
+                           const struct cloud_frame *f, struct cloud_history_entry *e, uint32_t spp,
+                           uint32_t seed, float precipitation_ceiling);
 
 /* The counters of the last recorded reference, once its frame has completed. */
 void cloud_reference_stats(const struct cloud_reference *ref,

@@ -95,7 +95,7 @@ struct cloud_renderer {
     float shown_shadow_sun[3]; /* the sun of the shown shadow map and sun-depth volume */
     bool shadow_has_sun, env_dirty;
     double budget_ms;
-    double last_frame_ms; /* GPU time of the last frame, for the relative map budget */
+    double last_frame_ms;       /* GPU time of the last frame, for the relative map budget */
     uint32_t params_generation; /* counts changes of the clouds other than the wind's drift */
     float client_max_rain;      /* the largest precipitation of the client map */
     float client_max_type;      /* the largest cloud type of the client map */
@@ -175,9 +175,9 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
                       destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, FLOAT_FORMAT, 1, 1, 1, "cloud_none", &cr->dummy),
                   destroy_partial);
-    VK_CHECK_GOTO(gpu_image_create(ctx, SUN_DEPTH_FORMAT, 1, 1, 2, "cloud_none_volume",
-                                   &cr->dummy_volume),
-                  destroy_partial);
+    VK_CHECK_GOTO(
+        gpu_image_create(ctx, SUN_DEPTH_FORMAT, 1, 1, 2, "cloud_none_volume", &cr->dummy_volume),
+        destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_cloud_uniforms),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "cloud_params",
                                     &cr->params),
@@ -344,8 +344,8 @@ static void map_start(struct cloud_map *m)
     m->next_row = 0;
 }
 
-static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr,
-                           VkCommandBuffer cmd, struct gpu_timer *timer, double *budget)
+static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr, VkCommandBuffer cmd,
+                           struct gpu_timer *timer, double *budget)
 {
     const struct sky_render_clouds *c = &cr->clouds;
     bool client = c->use_client_map && cr->has_client_map;
@@ -398,7 +398,7 @@ static float angle_between(const float a[3], const float b[3])
 
 /* The bindings that the marching passes share (SKY_LAYOUT_CLOUD_MARCH), at the front of `r`. */
 static void cloud_march_resources(const struct cloud_renderer *cr, const struct cloud_frame *f,
-                           struct compute_resource *r)
+                                  struct compute_resource *r)
 {
     const struct sky_pass_resources *s = &f->sky;
     r[SKY_CLOUD_MARCH_ATMOSPHERE] = buf(s->atmosphere_params);
@@ -485,7 +485,6 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
         memcpy(cr->shown_shadow_sun, cr->shadow_sun, sizeof cr->shown_shadow_sun);
     }
 }
-
 
 /* The hemisphere averages (seed 001 eq. 22) follow each completed shadow map: same inputs. */
 static void record_hemisphere(struct vk_context *ctx, struct cloud_renderer *cr,

@@ -97,7 +97,6 @@ int cloud_views_reference_stats(const struct cloud_views *views,
     return 0;
 }
 
-
 /* ---- per-view trace and reconstruction ---- */
 
 /* Order in which the pixels of a block are traced: a 4x4 Bayer matrix (and its 2x2 corner),
@@ -129,10 +128,14 @@ static sky_vec4 vec4_of(const float v[4])
 static int frames_for_new_history(enum sky_render_cloud_resolution resolution)
 {
     switch (resolution) {
-    case SKY_RENDER_CLOUDS_FULL: return 4;
-    case SKY_RENDER_CLOUDS_QUARTER: return 8;
-    case SKY_RENDER_CLOUDS_SIXTEENTH: return 32;
-    default: return 64;
+    case SKY_RENDER_CLOUDS_FULL:
+        return 4;
+    case SKY_RENDER_CLOUDS_QUARTER:
+        return 8;
+    case SKY_RENDER_CLOUDS_SIXTEENTH:
+        return 32;
+    default:
+        return 64;
     }
 }
 
@@ -199,15 +202,13 @@ static void record_resolve(struct vk_context *ctx, struct cloud_views *views, Vk
 
 /* The path-traced reference in place of trace and reconstruction, at the output's size, then
  * the same resolve. */
-static int record_reference(struct vk_context *ctx, struct cloud_views *views,
-                            VkCommandBuffer cmd, struct gpu_timer *timer,
-                            const struct cloud_frame *f, const struct cloud_view_inputs *in,
-                            struct sky_cloud_bindings *out)
+static int record_reference(struct vk_context *ctx, struct cloud_views *views, VkCommandBuffer cmd,
+                            struct gpu_timer *timer, const struct cloud_frame *f,
+                            const struct cloud_view_inputs *in, struct sky_cloud_bindings *out)
 {
     const struct sky_render_clouds *c = in->clouds;
-    struct cloud_history_entry *e =
-        cloud_history_acquire(ctx, &views->history, f->history_key ^ REFERENCE_KEY_BIT,
-                              f->width, f->height, 1, f->now_s);
+    struct cloud_history_entry *e = cloud_history_acquire(
+        ctx, &views->history, f->history_key ^ REFERENCE_KEY_BIT, f->width, f->height, 1, f->now_s);
     if (!e)
         return -1;
     if (!views->reference && !(views->reference = cloud_reference_create(ctx)))
@@ -242,9 +243,8 @@ int cloud_views_record(struct vk_context *ctx, struct cloud_views *views, VkComm
     int block = cloud_params_block(c->resolution);
     uint32_t scale = (uint32_t)cloud_params_downscale(c->resolution);
     uint32_t width = (f->width + scale - 1) / scale, height = (f->height + scale - 1) / scale;
-    struct cloud_history_entry *e =
-        cloud_history_acquire(ctx, &views->history, f->history_key, width, height, block,
-                              f->now_s);
+    struct cloud_history_entry *e = cloud_history_acquire(ctx, &views->history, f->history_key,
+                                                          width, height, block, f->now_s);
     if (!e)
         return -1;
     struct compute_pass *trace = &views->pass[V_TRACE + in->march_variant];
@@ -275,8 +275,7 @@ int cloud_views_record(struct vk_context *ctx, struct cloud_views *views, VkComm
          !same_direction(e->prev_forward, f->frame->camera_forward)))
         e->valid = false;
     e->look = in->look;
-    int frames = (!e->valid && c->temporal && !f->live) ? frames_for_new_history(c->resolution)
-                                                         : 1;
+    int frames = (!e->valid && c->temporal && !f->live) ? frames_for_new_history(c->resolution) : 1;
     static const float min_weight[5] = { 0, 0.08f, 0.15f, 0, 0.25f };
     const uint32_t tsize[3] = { e->trace_color.width, e->trace_color.height, 1 };
     const uint32_t size[3] = { width, height, 1 };
@@ -300,8 +299,7 @@ int cloud_views_record(struct vk_context *ctx, struct cloud_views *views, VkComm
         compute_pass_record(cmd, trace, &push, tsize, local_2d);
         if (frames == 1)
             gpu_timer_mark(timer, cmd, "cloud_trace");
-        compute_pass_record(cmd, &views->pass[V_RECONSTRUCT_0 + e->latest], &push, size,
-                            local_2d);
+        compute_pass_record(cmd, &views->pass[V_RECONSTRUCT_0 + e->latest], &push, size, local_2d);
         if (frames == 1)
             gpu_timer_mark(timer, cmd, "cloud_reconstruct");
         e->latest = 1 - e->latest;

@@ -29,8 +29,8 @@ struct sky_render_lut_sizes {
 };
 
 enum sky_render_output_kind {
-    SKY_RENDER_OUTPUT_SRGB8 = 0,   /* exposed, tonemapped, sRGB-encoded RGBA8 */
-    SKY_RENDER_OUTPUT_LINEAR = 1,  /* luminance in cd/m2 as RGBA float32, before exposure */
+    SKY_RENDER_OUTPUT_SRGB8 = 0,  /* exposed, tonemapped, sRGB-encoded RGBA8 */
+    SKY_RENDER_OUTPUT_LINEAR = 1, /* luminance in cd/m2 as RGBA float32, before exposure */
 };
 
 /* The sun disk's limb darkening; the values are the shaders' SKY_LIMB_* (checked in
@@ -50,7 +50,7 @@ enum sky_render_tonemap {
 
 /* How pixels map to directions. */
 enum sky_render_projection {
-    SKY_RENDER_PROJECTION_PERSPECTIVE = 0,     /* pinhole: yaw, pitch, vertical fov */
+    SKY_RENDER_PROJECTION_PERSPECTIVE = 0, /* pinhole: yaw, pitch, vertical fov */
     /* The whole sphere, 2:1: column u = (x + 0.5) / width is the azimuth yaw + (u - 0.5) 360
      * deg (the camera's yaw at the centre, increasing to the right: north through east), row
      * v = (y + 0.5) / height the elevation 90 - 180 v deg. Pitch and fov play no part. */
@@ -62,13 +62,13 @@ struct sky_render_view {
     enum sky_render_projection projection;
     double camera_altitude_km, camera_yaw_deg, camera_pitch_deg, camera_fov_deg;
     double sun_azimuth_deg, sun_elevation_deg;
-    double sun_illuminance_lux;       /* ground illuminance with the sun at zenith */
+    double sun_illuminance_lux; /* ground illuminance with the sun at zenith */
     double sun_angular_diameter_deg;
     enum sky_render_limb limb_darkening;
     bool auto_exposure;
-    bool night_adaptation;            /* auto exposure darkens dim scenes (exposure_resolve.comp) */
-    double ev100;                     /* manual exposure */
-    double exposure_compensation_ev;  /* for auto exposure */
+    bool night_adaptation;           /* auto exposure darkens dim scenes (exposure_resolve.comp) */
+    double ev100;                    /* manual exposure */
+    double exposure_compensation_ev; /* for auto exposure */
     enum sky_render_tonemap tonemap;
     double aerial_perspective_max_km;
     enum sky_render_output_kind output;
@@ -100,8 +100,8 @@ struct sky_render_log {
 };
 
 struct sky_renderer_params {
-    const char *device_preference;    /* see vk_context_params; NULL = auto */
-    bool validation;                  /* Khronos validation layer, messages counted */
+    const char *device_preference; /* see vk_context_params; NULL = auto */
+    bool validation;               /* Khronos validation layer, messages counted */
     bool quiet;
     struct sky_render_lut_sizes lut_sizes; /* zero fields take the defaults above */
     /* Optional: incremented for every validation warning or error, including those raised
@@ -209,8 +209,8 @@ int sky_renderer_probe_luminance(struct sky_renderer *renderer,
 
 /* Which multiple scattering luminance probes answer with. */
 enum sky_render_probe_ms {
-    SKY_RENDER_PROBE_MS_CURRENT = 0,   /* what frames show now (the default) */
-    SKY_RENDER_PROBE_MS_FAST = 1,      /* Hillaire's approximation alone */
+    SKY_RENDER_PROBE_MS_CURRENT = 0, /* what frames show now (the default) */
+    SKY_RENDER_PROBE_MS_FAST = 1,    /* Hillaire's approximation alone */
     /* the converged table, built first for the atmosphere when it does not hold it (about a
      * second on lavapipe, once per atmosphere) */
     SKY_RENDER_PROBE_MS_CONVERGED = 2,
@@ -262,19 +262,19 @@ enum sky_render_cloud_resolution {
 };
 
 struct sky_render_cloud_layer {
-    double coverage;     /* 0..1 */
-    double type;         /* 0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus; for the
+    double coverage; /* 0..1 */
+    double type;     /* 0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus; for the
                             high layer 0 smooth sheet .. 1 fibrous */
-    double density;      /* multiplier of extinction_per_km */
+    double density;  /* multiplier of extinction_per_km */
     double bottom_km, thickness_km;
 };
 
 struct sky_render_clouds {
     struct sky_render_cloud_layer low, high;
-    double extinction_per_km;   /* at density 1 */
-    double albedo;              /* single-scattering albedo */
-    double precipitation;       /* 0..1 */
-    double phase_g0, phase_g1, phase_w; /* seed 000 eq. 14.17 */
+    double extinction_per_km;                              /* at density 1 */
+    double albedo;                                         /* single-scattering albedo */
+    double precipitation;                                  /* 0..1 */
+    double phase_g0, phase_g1, phase_w;                    /* seed 000 eq. 14.17 */
     double multiscatter_a, multiscatter_b, multiscatter_c; /* seed 000 eq. 14.18; a <= b */
     int multiscatter_octaves;
     double multiscatter_powder; /* build-up rate per optical depth below a lit surface; 0 none */
@@ -287,7 +287,7 @@ struct sky_render_clouds {
     double wind_offset_east_km, wind_offset_north_km;
     uint32_t weather_seed;
     double map_extent_km;
-    bool use_client_map;        /* sample the map given to sky_renderer_set_weather_map */
+    bool use_client_map; /* sample the map given to sky_renderer_set_weather_map */
     /* The path-traced reference instead of the real-time clouds (shaders/cloud_pathtrace.comp):
      * samples per pixel of every view, 0 off; every pixel traced, no temporal history, the
      * frame as slow as the samples make it. reference_seed varies its random numbers. */
@@ -297,10 +297,11 @@ struct sky_render_clouds {
 
 /* What the last reference frame's path tracer counted (once sky_renderer_render returned). */
 struct sky_render_reference_stats {
-    double density_samples;    /* evaluations of the cloud density */
-    uint32_t bound_violations; /* of them, above the majorant (0 unless the density's bound broke) */
-    double max_bound_ratio;    /* the largest density / majorant among those */
-    uint32_t overflows;        /* ray segments cut short by the step limit */
+    double density_samples; /* evaluations of the cloud density */
+    uint32_t
+        bound_violations;   /* of them, above the majorant (0 unless the density's bound broke) */
+    double max_bound_ratio; /* the largest density / majorant among those */
+    uint32_t overflows;     /* ray segments cut short by the step limit */
 };
 /* Returns 0, or -1 when no reference frame has been rendered. */
 int sky_renderer_cloud_reference_stats(const struct sky_renderer *renderer,

@@ -74,8 +74,7 @@ double night_moon_reflectance(double qx, double qy, const double sun[3])
 }
 
 /* The disc's basis: right and up as seen (up toward the celestial pole), z toward us. */
-static void disc_basis(const double moon[3], const double pole[3], double right[3],
-                       double up[3])
+static void disc_basis(const double moon[3], const double pole[3], double right[3], double up[3])
 {
     double along = dot3(pole, moon);
     for (int i = 0; i < 3; i++)
@@ -201,8 +200,8 @@ static double star_sigma(const struct sky_render_view *v)
     return fmin(sigma, NIGHT_STAR_MAX_SIGMA_DEG * DEG);
 }
 
-static double star_peak_luminance(const struct sky_render_night *n,
-                                  const struct sky_render_view *v, double brightest_star_lux)
+static double star_peak_luminance(const struct sky_render_night *n, const struct sky_render_view *v,
+                                  double brightest_star_lux)
 {
     double sigma = star_sigma(v);
     return n->star_brightness * brightest_star_lux / (2.0 * M_PI * sigma * sigma);

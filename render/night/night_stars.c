@@ -123,8 +123,10 @@ static struct star *make_stars(size_t *count)
             duplicate |= stars[j].ra_deg == e->ra_deg && stars[j].dec_deg == e->dec_deg;
         if (duplicate)
             continue;
-        stars[n] = (struct star){ .ra_deg = e->ra_deg, .dec_deg = e->dec_deg,
-                                  .magnitude = e->v_magnitude, .temperature_k = e->temperature_k };
+        stars[n] = (struct star){ .ra_deg = e->ra_deg,
+                                  .dec_deg = e->dec_deg,
+                                  .magnitude = e->v_magnitude,
+                                  .temperature_k = e->temperature_k };
         set_direction(&stars[n++]);
     }
     uint64_t rng = 0x5eed5a11d5ca1e5ull;
@@ -230,7 +232,7 @@ struct night_stars *night_stars_create(void)
     header[2] = (uint32_t)count;
     header[3] = NIGHT_STAR_CELL_CAPACITY;
     memset(ns->words + 1, 0xFF, cell_words * sizeof *ns->words);
-    uint32_t (*star_words)[4] = ns->words + 1 + cell_words;
+    uint32_t(*star_words)[4] = ns->words + 1 + cell_words;
     for (size_t i = 0; i < count; i++) {
         const struct star *s = &stars[i];
         insert_star(ns->words + 1, s, (uint32_t)i);
@@ -265,7 +267,7 @@ void night_stars_destroy(struct night_stars **pns)
 const uint32_t (*night_stars_words(const struct night_stars *ns, size_t *words))[4]
 {
     *words = ns->word_count;
-    return (const uint32_t (*)[4])ns->words;
+    return (const uint32_t(*)[4])ns->words;
 }
 
 size_t night_stars_count(const struct night_stars *ns)

@@ -8,7 +8,7 @@ struct star_catalogue_entry {
     const char *name;
     double ra_deg, dec_deg; /* J2000 */
     double v_magnitude;
-    double temperature_k;   /* from the spectral class */
+    double temperature_k; /* from the spectral class */
 };
 
 /* clang-format off */

@@ -136,7 +136,8 @@ static void start_rebuild(struct atmosphere_luts *luts, struct sky_passes *passe
     luts->target = *a;
     sky_uniforms_fill_atmosphere_media(a, &luts->target_u);
     sky_passes_upload_build_atmosphere(passes, &luts->target_u);
-    sky_passes_atmosphere_slices(passes, &luts->transmittance_slices, &luts->multiscattering_slices);
+    sky_passes_atmosphere_slices(passes, &luts->transmittance_slices,
+                                 &luts->multiscattering_slices);
     luts->step = SKY_BUILD_TRANSMITTANCE;
     luts->next_slice = 0;
     luts->phase = PHASE_BUILDING;
@@ -269,9 +270,8 @@ double atmosphere_luts_progress(const struct atmosphere_luts *luts)
 bool sky_render_pass_is_atmosphere_lut(const char *name)
 {
     static const char *const names[] = { "transmittance", "multiscattering", "irradiance",
-                                         "lut_blend", "lut_save",
-                                         "ms_moments", "ms_density", "ms_radiance",
-                                         "ms_ground" };
+                                         "lut_blend",     "lut_save",        "ms_moments",
+                                         "ms_density",    "ms_radiance",     "ms_ground" };
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (strcmp(name, names[i]) == 0)
             return true;

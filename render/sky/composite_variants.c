@@ -61,8 +61,7 @@ void composite_variants_bind(struct composite_variants *cv,
     cv->generation++;
 }
 
-static const struct compute_pass *bound_pass(struct vk_context *ctx,
-                                             struct composite_variants *cv,
+static const struct compute_pass *bound_pass(struct vk_context *ctx, struct composite_variants *cv,
                                              struct composite_variant *v)
 {
     if (v->bound_generation != cv->generation) {
@@ -73,8 +72,7 @@ static const struct compute_pass *bound_pass(struct vk_context *ctx,
 }
 
 const struct compute_pass *composite_variants_get(struct vk_context *ctx,
-                                                  struct composite_variants *cv,
-                                                  unsigned flags)
+                                                  struct composite_variants *cv, unsigned flags)
 {
     flags = normalized(flags);
     struct composite_variant *v = &cv->variant[flags];

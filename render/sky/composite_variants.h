@@ -37,7 +37,6 @@ void composite_variants_bind(struct composite_variants *cv,
 /* The pipeline for `flags` (combinations that change nothing share one), created and bound
  * at first use; NULL when it cannot be created. */
 const struct compute_pass *composite_variants_get(struct vk_context *ctx,
-                                                  struct composite_variants *cv,
-                                                  unsigned flags);
+                                                  struct composite_variants *cv, unsigned flags);
 
 #endif

@@ -33,7 +33,8 @@ static void ray_transfer(const struct sky_render_atmosphere *a, double mu, doubl
         double fog = a->fog_density_per_km * exp(-h / a->fog_scale_height_km);
         double ozone = ozone_tent(h, a->ozone_peak_km, a->ozone_width_km);
         for (int c = 0; c < 3; c++) {
-            double scattering = a->rayleigh_scattering[c] * rayleigh + a->mie_scattering[c] * mie + fog;
+            double scattering = a->rayleigh_scattering[c] * rayleigh + a->mie_scattering[c] * mie +
+                                fog;
             double extinction = scattering + a->mie_absorption[c] * mie +
                                 a->ozone_absorption[c] * ozone;
             /* Energy-conserving step (seed 001 eq. 23). */

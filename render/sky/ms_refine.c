@@ -54,7 +54,7 @@ struct ms_refine {
     uint32_t step, next_slice;
     double weight, last_now, build_start, build_seconds;
     double ms_per_slice[STEP_KINDS]; /* per slice; ground: per dispatch */
-    bool warmed; /* every pipeline has run once */
+    bool warmed;                     /* every pipeline has run once */
     /* Slices of each dispatch recorded this frame, per kind in recording order: the timer's
      * marks come back in that order, one per dispatch. */
     uint32_t pending[STEP_KINDS][8], pending_head[STEP_KINDS], pending_count[STEP_KINDS];
@@ -127,17 +127,21 @@ struct ms_refine *ms_refine_create(struct vk_context *ctx)
     }
     const VkFormat f = VK_FORMAT_R32G32B32A32_SFLOAT;
     VK_CHECK_GOTO(gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_radiance_even",
-                                   &m->radiance[0]), destroy_partial);
+                                   &m->radiance[0]),
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_radiance_odd",
-                                   &m->radiance[1]), destroy_partial);
-    VK_CHECK_GOTO(gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_density",
-                                   &m->density), destroy_partial);
+                                   &m->radiance[1]),
+                  destroy_partial);
+    VK_CHECK_GOTO(
+        gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_density", &m->density),
+        destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, TABLE_WIDTH, SKY_MS_MU, SKY_MS_R, "ms_sum", &m->sum),
                   destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, SKY_MS_GROUND, 1, 1, "ms_ground", &m->ground),
                   destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, f, SKY_MS_MOMENTS * SKY_MS_MU_S, SKY_MS_R, 1, "ms_moments",
-                                   &m->moments), destroy_partial);
+                                   &m->moments),
+                  destroy_partial);
     for (int k = 0; k < STEP_KINDS; k++)
         for (uint32_t v = 0; v < variant_count(k); v++) {
             struct compute_pass_desc desc = descs[k];
@@ -221,7 +225,7 @@ const struct gpu_image *ms_refine_table(const struct ms_refine *m)
 
 const struct gpu_image *ms_refine_image(const struct ms_refine *m, const char *name)
 {
-    const struct gpu_image *images[] = { &m->sum,          &m->density,     &m->ground,
+    const struct gpu_image *images[] = { &m->sum,         &m->density,     &m->ground,
                                          &m->radiance[0], &m->radiance[1], &m->moments };
     const char *const names[] = { "ms_sum",           "ms_density",      "ms_ground",
                                   "ms_radiance_even", "ms_radiance_odd", "ms_moments" };
@@ -269,8 +273,8 @@ static void record_step(struct ms_refine *m, VkCommandBuffer cmd, struct gpu_tim
     const uint32_t size[3] = { s->kind == STEP_GROUND ? SKY_MS_GROUND : slices * SKY_MS_LOCAL, 1,
                                1 };
     const uint32_t local[3] = { SKY_MS_LOCAL, 1, 1 };
-    compute_pass_record(cmd, &m->pass[s->kind][parity][variant_of(s->kind, s->order)], &push,
-                        size, local);
+    compute_pass_record(cmd, &m->pass[s->kind][parity][variant_of(s->kind, s->order)], &push, size,
+                        local);
     gpu_timer_mark(timer, cmd, pass_names[s->kind]);
     uint32_t k = s->kind;
     if (m->pending_head[k] + m->pending_count[k] < 8)

@@ -43,8 +43,7 @@ const struct gpu_image *ms_refine_image(const struct ms_refine *refine, const ch
  * the atmosphere LUTs show exactly the one asked for; records work worth about budget_ms (at
  * least one slice) while the table is being built, and moves the fade by the wall time since
  * the last call (now_s, a monotonic clock). Returns true when any work was recorded. */
-bool ms_refine_record_frame(struct ms_refine *refine, VkCommandBuffer cmd,
-                            struct gpu_timer *timer,
+bool ms_refine_record_frame(struct ms_refine *refine, VkCommandBuffer cmd, struct gpu_timer *timer,
                             const struct sky_render_atmosphere *displayed, bool settled,
                             double budget_ms, double now_s);
 /* Builds the whole table for `displayed` now (unless it holds it) and shows it fully. */

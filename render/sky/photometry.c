@@ -37,7 +37,8 @@ void sky_zenith_transmittance(const struct sky_render_atmosphere *a, double out[
         for (int c = 0; c < 3; c++) {
             depth[c] += (a->rayleigh_scattering[c] * rayleigh +
                          (a->mie_scattering[c] + a->mie_absorption[c]) * mie + fog +
-                         a->ozone_absorption[c] * ozone) * dh;
+                         a->ozone_absorption[c] * ozone) *
+                        dh;
         }
     }
     for (int c = 0; c < 3; c++)

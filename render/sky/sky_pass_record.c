@@ -17,10 +17,11 @@ static void record(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *
 }
 
 void sky_passes_atmosphere_slices(const struct sky_passes *p, uint32_t *transmittance_slices,
-                                 uint32_t *multiscattering_slices)
+                                  uint32_t *multiscattering_slices)
 {
-    *transmittance_slices = (p->transmittance.width * p->transmittance.height +
-                             SKY_TRANSMITTANCE_LOCAL - 1) / SKY_TRANSMITTANCE_LOCAL;
+    *transmittance_slices =
+        (p->transmittance.width * p->transmittance.height + SKY_TRANSMITTANCE_LOCAL - 1) /
+        SKY_TRANSMITTANCE_LOCAL;
     *multiscattering_slices = p->multiscattering.width * p->multiscattering.height; /* texels */
 }
 
@@ -38,7 +39,8 @@ void sky_passes_record_build(struct sky_passes *p, VkCommandBuffer cmd, struct g
         record(p, cmd, timer, PASS_MULTISCATTERING, &rows, slice_count, 1, 1, 1, 1);
         break;
     case SKY_BUILD_IRRADIANCE:
-        record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, SKY_IRRADIANCE_LOCAL, 1);
+        record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, SKY_IRRADIANCE_LOCAL,
+               1);
         break;
     }
 }
@@ -76,8 +78,8 @@ void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
     sky_passes_record_blend(p, cmd, timer, 1.0f);
 }
 
-void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer, bool skyview, bool moonlit_sky)
+void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                                 bool skyview, bool moonlit_sky)
 {
     if (skyview)
         record(p, cmd, timer, PASS_SKYVIEW, NULL, p->skyview.width, p->skyview.height, 1,
@@ -103,9 +105,8 @@ void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_pas
            p->ap_inscatter.height, 1, SKY_AP_LOCAL, SKY_AP_LOCAL);
 }
 
-void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
-                                struct gpu_timer *timer, uint32_t width, uint32_t height,
-                                bool from_space, bool night_sky)
+void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                                uint32_t width, uint32_t height, bool from_space, bool night_sky)
 {
     /* About one sample per 16x16 pixels (a log average of a smooth sky needs few), at most
      * METER_MAX_GRID^2 so the partials fit. */
@@ -120,8 +121,8 @@ void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
         .group_count = ((gw + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL) *
                        ((gh + SKY_METER_LOCAL - 1) / SKY_METER_LOCAL),
     };
-    enum pass_id meter =
-        night_sky || from_space ? sky_pass_variant(PASS_METER, from_space) : PASS_METER_DAY;
+    enum pass_id meter = night_sky || from_space ? sky_pass_variant(PASS_METER, from_space)
+                                                 : PASS_METER_DAY;
     record(p, cmd, timer, meter, &p->meter, gw, gh, 1, SKY_METER_LOCAL, SKY_METER_LOCAL);
     record(p, cmd, timer, PASS_EXPOSURE_RESOLVE, &p->meter, 1, 1, 1, 1, 1);
 }
@@ -144,9 +145,8 @@ static bool record_region(struct vk_context *ctx, struct sky_passes *p, VkComman
     return true;
 }
 
-int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p,
-                                VkCommandBuffer cmd, struct gpu_timer *timer,
-                                const struct sky_composite_job *job)
+int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p, VkCommandBuffer cmd,
+                                struct gpu_timer *timer, const struct sky_composite_job *job)
 {
     unsigned base = (job->kind == SKY_RENDER_OUTPUT_LINEAR ? COMPOSITE_LINEAR : 0) |
                     (job->clouds ? COMPOSITE_CLOUDS : 0);

@@ -144,16 +144,21 @@ static int create_luts(struct vk_context *ctx, struct sky_passes *p,
             VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, sizes[which][0], sizes[which][1], 1,
                                            names[copy][which], atmosphere_lut(p, copy, which)),
                           destroy_partial);
-    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1, "skyview",
-                                   &p->skyview), destroy_partial);
-    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1,
-                                   "moon_skyview", &p->moon_skyview), destroy_partial);
-    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_inscatter",
-                                   &p->ap_inscatter), destroy_partial);
+    VK_CHECK_GOTO(
+        gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1, "skyview", &p->skyview),
+        destroy_partial);
+    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, s->skyview[0], s->skyview[1], 1, "moon_skyview",
+                                   &p->moon_skyview),
+                  destroy_partial);
+    VK_CHECK_GOTO(
+        gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_inscatter", &p->ap_inscatter),
+        destroy_partial);
     VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_transmittance",
-                                   &p->ap_transmittance), destroy_partial);
-    VK_CHECK_GOTO(gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_shafts",
-                                   &p->ap_shafts), destroy_partial);
+                                   &p->ap_transmittance),
+                  destroy_partial);
+    VK_CHECK_GOTO(
+        gpu_image_create(ctx, LUT_FORMAT, ap[0], ap[1], ap[2], "ap_shafts", &p->ap_shafts),
+        destroy_partial);
     return 0;
 destroy_partial:
     destroy_luts(ctx, p);
@@ -346,16 +351,19 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
     VkBufferUsageFlags params = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), params,
-                                    "atmosphere_params", &p->atmosphere_params), destroy_partial);
+                                    "atmosphere_params", &p->atmosphere_params),
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms), params,
                                     "build_atmosphere_params", &p->build_atmosphere_params),
                   destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, sizeof(struct sky_frame_uniforms), params, "frame_params",
-                                    &p->frame_params), destroy_partial);
+                                    &p->frame_params),
+                  destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, 4 * sizeof(float), storage, "exposure", &p->exposure),
                   destroy_partial);
     VK_CHECK_GOTO(gpu_buffer_create(ctx, SKY_METER_MAX_GROUPS * 2 * sizeof(float), storage,
-                                    "meter_partials", &p->meter_partials), destroy_partial);
+                                    "meter_partials", &p->meter_partials),
+                  destroy_partial);
     memset(p->exposure.mapped, 0, 4 * sizeof(float));
     if (create_stars(ctx, p, stars) != 0)
         goto destroy_partial;
@@ -529,8 +537,8 @@ float *sky_passes_read_lut(struct vk_context *ctx, struct sky_passes *p, const c
         return NULL;
     size_t bytes = (size_t)image->width * image->height * image->depth * 16;
     struct gpu_buffer staging;
-    if (gpu_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "lut_readback",
-                          &staging) != VK_SUCCESS)
+    if (gpu_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, "lut_readback", &staging) !=
+        VK_SUCCESS)
         return NULL;
     float *out = NULL;
     VkCommandBuffer cmd;

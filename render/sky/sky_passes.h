@@ -74,7 +74,7 @@ enum sky_build_step {
 
 /* The slices of each step: transmittance blocks of 64 texels, multiple-scattering texels. */
 void sky_passes_atmosphere_slices(const struct sky_passes *p, uint32_t *transmittance_slices,
-                                uint32_t *multiscattering_slices);
+                                  uint32_t *multiscattering_slices);
 void sky_passes_record_build(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
                              enum sky_build_step step, uint32_t first_slice, uint32_t slice_count);
 /* previous = display, before a rebuild whose result the display will blend toward. */
@@ -88,31 +88,29 @@ void sky_passes_record_atmosphere(struct sky_passes *p, VkCommandBuffer cmd,
                                   struct gpu_timer *timer);
 /* The sky-view LUTs (skyview false: they still hold this view's, nothing is recorded);
  * moonlit_sky: also the one lit by the moon (night sky). */
-void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd,
-                                 struct gpu_timer *timer, bool skyview, bool moonlit_sky);
+void sky_passes_record_view_luts(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                                 bool skyview, bool moonlit_sky);
 /* The view's aerial-perspective volume, shadowed by `clouds`' shadow map (light shafts). */
 void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_passes *p,
                                           VkCommandBuffer cmd, struct gpu_timer *timer,
                                           const struct sky_cloud_bindings *clouds);
 /* from_space: the camera is above the atmosphere (selects the specialized pipelines);
  * night_sky false: pipelines without the night sky (night_sky_visible). */
-void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd,
-                                struct gpu_timer *timer, uint32_t width, uint32_t height,
-                                bool from_space, bool night_sky);
+void sky_passes_record_metering(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
+                                uint32_t width, uint32_t height, bool from_space, bool night_sky);
 /* What a frame's composite needs. */
 struct sky_composite_job {
     enum sky_render_output_kind kind;
-    bool from_space; /* the camera above the atmosphere */
-    bool night_sky;  /* night_sky_visible */
-    bool clouds;     /* a cloud layer is shown */
+    bool from_space;             /* the camera above the atmosphere */
+    bool night_sky;              /* night_sky_visible */
+    bool clouds;                 /* a cloud layer is shown */
     const uint32_t *ground_rows; /* rows that may see the ground [first, end), or NULL: none */
     const int32_t *sun_rect, *moon_rect; /* x0, y0, w, h of each disc's box, or NULL */
 };
 /* Composite into the output image (then the sun-disk pass over the sun's and the moon's boxes),
  * then copy it into the readback buffer; -1 when a pipeline cannot be created. */
-int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p,
-                                VkCommandBuffer cmd, struct gpu_timer *timer,
-                                const struct sky_composite_job *job);
+int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p, VkCommandBuffer cmd,
+                                struct gpu_timer *timer, const struct sky_composite_job *job);
 void sky_passes_record_probe(struct sky_passes *p, VkCommandBuffer cmd, struct gpu_timer *timer,
                              uint32_t mode, uint32_t count, bool from_space);
 
@@ -134,7 +132,7 @@ struct sky_pass_resources {
     const struct gpu_image *transmittance, *multiscattering, *irradiance, *skyview;
     const struct gpu_image *ap_inscatter, *ap_transmittance; /* this view's froxel volume */
     const struct gpu_image *ap_shafts; /* in-scattering the cloud shadows take (light shafts) */
-    VkSampler sampler; /* linear, clamp to edge */
+    VkSampler sampler;                 /* linear, clamp to edge */
 };
 void sky_passes_resources(const struct sky_passes *p, struct sky_pass_resources *out);
 /* Points the composite at the clouds (rebinding only when they change). */

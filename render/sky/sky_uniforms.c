@@ -11,7 +11,8 @@
 #endif
 #define DEG (M_PI / 180.0)
 /* The public enums are the shaders' constants. */
-_Static_assert(SKY_RENDER_LIMB_NONE == SKY_LIMB_NONE && SKY_RENDER_LIMB_NECKEL96 == SKY_LIMB_NECKEL96 &&
+_Static_assert(SKY_RENDER_LIMB_NONE == SKY_LIMB_NONE &&
+                   SKY_RENDER_LIMB_NECKEL96 == SKY_LIMB_NECKEL96 &&
                    SKY_RENDER_LIMB_HM98 == SKY_LIMB_HM98,
                "limb darkening models");
 _Static_assert(SKY_RENDER_TONEMAP_ACES == SKY_TONEMAP_OP_ACES &&
@@ -21,7 +22,7 @@ _Static_assert(SKY_RENDER_TONEMAP_ACES == SKY_TONEMAP_OP_ACES &&
 #define V4(x_, y_, z_, w_) ((sky_vec4){ (float)(x_), (float)(y_), (float)(z_), (float)(w_) })
 
 void sky_uniforms_fill_atmosphere(const struct sky_render_atmosphere *a,
-                                     struct sky_atmosphere_uniforms *u)
+                                  struct sky_atmosphere_uniforms *u)
 {
     sky_uniforms_fill_atmosphere_media(a, u);
     double transfer[3];
@@ -44,8 +45,8 @@ void sky_uniforms_fill_atmosphere_media(const struct sky_render_atmosphere *a,
                            a->mie_scattering[1] + a->mie_absorption[1],
                            a->mie_scattering[2] + a->mie_absorption[2], a->fog_scale_height_km);
     u->mie_g = V4(a->mie_g[0], a->mie_g[1], a->mie_g[2], 0);
-    u->ozone_absorption = V4(a->ozone_absorption[0], a->ozone_absorption[1],
-                             a->ozone_absorption[2], 0);
+    u->ozone_absorption = V4(a->ozone_absorption[0], a->ozone_absorption[1], a->ozone_absorption[2],
+                             0);
     u->ground_albedo = V4(a->ground_albedo[0], a->ground_albedo[1], a->ground_albedo[2], 0);
     u->ground_transfer = V4(0, 0, 0, 0);
 }
@@ -108,8 +109,7 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-bool sky_uniforms_ground_rows(const struct sky_render_view *v, double horizon_cos,
-                              uint32_t rows[2])
+bool sky_uniforms_ground_rows(const struct sky_render_view *v, double horizon_cos, uint32_t rows[2])
 {
     if (v->width == 0 || v->height == 0)
         return false;
@@ -166,7 +166,8 @@ bool sky_uniforms_disk_rect(const struct sky_render_view *v, const double dir[3]
     double helper[3] = { 0, 0, 1 };
     if (fabs(dir[2]) > 0.9)
         helper[0] = 1, helper[2] = 0;
-    double e1[3] = { dir[1] * helper[2] - dir[2] * helper[1], dir[2] * helper[0] - dir[0] * helper[2],
+    double e1[3] = { dir[1] * helper[2] - dir[2] * helper[1],
+                     dir[2] * helper[0] - dir[0] * helper[2],
                      dir[0] * helper[1] - dir[1] * helper[0] };
     double n1 = sqrt(dot3(e1, e1));
     for (int i = 0; i < 3; i++)
@@ -204,9 +205,8 @@ bool sky_uniforms_disk_rect(const struct sky_render_view *v, const double dir[3]
     return true;
 }
 
-void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
-                             const struct sky_render_view *v, const double zenith_transmittance[3],
-                             struct sky_frame_uniforms *u)
+void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a, const struct sky_render_view *v,
+                             const double zenith_transmittance[3], struct sky_frame_uniforms *u)
 {
     memset(u, 0, sizeof *u);
     double altitude = v->camera_altitude_km;
@@ -218,7 +218,8 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     u->camera_forward = V4(b.forward[0], b.forward[1], b.forward[2], b.tan_half);
     u->camera_right = V4(b.right[0], b.right[1], b.right[2], b.aspect);
     u->camera_up = V4(b.up[0], b.up[1], b.up[2],
-                      b.equirectangular ? SKY_PROJECTION_EQUIRECTANGULAR : SKY_PROJECTION_PERSPECTIVE);
+                      b.equirectangular ? SKY_PROJECTION_EQUIRECTANGULAR
+                                        : SKY_PROJECTION_PERSPECTIVE);
 
     sky_direction_from_angles(v->sun_azimuth_deg, v->sun_elevation_deg, sun);
     double radius = 0.5 * v->sun_angular_diameter_deg * DEG;
@@ -226,7 +227,8 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     /* Extraterrestrial illuminance E_top = E_zenith / T_zenith (seed 001 section 4.1). */
     double e_top[3];
     for (int c = 0; c < 3; c++)
-        e_top[c] = v->sun_illuminance_lux / fmax(zenith_transmittance[c], SKY_MIN_ZENITH_TRANSMITTANCE);
+        e_top[c] = v->sun_illuminance_lux /
+                   fmax(zenith_transmittance[c], SKY_MIN_ZENITH_TRANSMITTANCE);
     u->sun_illuminance = V4(e_top[0], e_top[1], e_top[2], v->limb_darkening);
     u->sun_disk = V4(sky_disk_solid_angle(v->sun_angular_diameter_deg), sin(radius), 0, 0);
     u->exposure = V4(sky_ev100_to_exposure(v->ev100),
@@ -245,4 +247,3 @@ void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
     double beta = acos(sqrt(fmax(0.0, r * r - a->bottom_radius_km * a->bottom_radius_km)) / r);
     u->horizon = V4(beta, M_PI - beta, cos(M_PI - beta), 0);
 }
-

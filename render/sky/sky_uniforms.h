@@ -17,9 +17,8 @@ void sky_uniforms_fill_atmosphere_media(const struct sky_render_atmosphere *a,
                                         struct sky_atmosphere_uniforms *u);
 /* zenith_transmittance: sky_zenith_transmittance() of the same atmosphere; it depends on the
  * atmosphere alone, so callers compute it once per atmosphere rather than per frame. */
-void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a,
-                             const struct sky_render_view *v, const double zenith_transmittance[3],
-                             struct sky_frame_uniforms *u);
+void sky_uniforms_fill_frame(const struct sky_render_atmosphere *a, const struct sky_render_view *v,
+                             const double zenith_transmittance[3], struct sky_frame_uniforms *u);
 
 /* The rows [rows[0], rows[1]) holding every pixel whose ray may meet the ground (below the
  * horizon, cos zenith < horizon_cos, frame uniforms' horizon.z); false when none may. */

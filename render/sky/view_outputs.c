@@ -40,8 +40,7 @@ struct view_output *view_outputs_acquire(struct vk_context *ctx, struct view_out
 {
     const struct output_key key = { width, height, format };
     bool found;
-    struct view_output *s = lru_slots_acquire(ctx, &kind, o->slot, &o->clock, &key, now_s,
-                                              &found);
+    struct view_output *s = lru_slots_acquire(ctx, &kind, o->slot, &o->clock, &key, now_s, &found);
     *created = false;
     if (found)
         return s;

@@ -18,7 +18,7 @@ static VkResult create_pipeline(struct vk_context *ctx, const struct compute_pas
     VkShaderModule module;
     VK_CHECK_RETURN(vkCreateShaderModule(ctx->device, &module_info, NULL, &module));
     uint32_t spec_count = desc->spec_count < COMPUTE_PASS_MAX_SPEC ? desc->spec_count
-                                                               : COMPUTE_PASS_MAX_SPEC;
+                                                                   : COMPUTE_PASS_MAX_SPEC;
     VkSpecializationMapEntry entries[COMPUTE_PASS_MAX_SPEC];
     for (uint32_t i = 0; i < spec_count; i++)
         entries[i] = (VkSpecializationMapEntry){ i, i * sizeof(uint32_t), sizeof(uint32_t) };
@@ -40,9 +40,9 @@ static VkResult create_pipeline(struct vk_context *ctx, const struct compute_pas
         .layout = layout,
     };
     VkResult result;
-    VK_CHECK_KEEP_GOTO(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &pipeline_info,
-                                                NULL, out),
-                       result, destroy_module);
+    VK_CHECK_KEEP_GOTO(
+        vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &pipeline_info, NULL, out), result,
+        destroy_module);
     vk_context_name_object(ctx, VK_OBJECT_TYPE_PIPELINE, (uint64_t)*out, desc->name);
 destroy_module:
     vkDestroyShaderModule(ctx->device, module, NULL);
@@ -75,8 +75,7 @@ VkResult compute_pass_create(struct vk_context *ctx, const struct compute_pass_d
         .bindingCount = desc->binding_count,
         .pBindings = bindings,
     };
-    VK_CHECK_KEEP_GOTO(vkCreateDescriptorSetLayout(ctx->device, &set_info, NULL,
-                                                   &out->set_layout),
+    VK_CHECK_KEEP_GOTO(vkCreateDescriptorSetLayout(ctx->device, &set_info, NULL, &out->set_layout),
                        result, report);
     VkPushConstantRange range = {
         .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
@@ -182,8 +181,8 @@ void compute_pass_record(VkCommandBuffer cmd, const struct compute_pass *pass, c
                          const uint32_t size[3], const uint32_t local[3])
 {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass->pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass->layout, 0, 1, &pass->set,
-                            0, NULL);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass->layout, 0, 1, &pass->set, 0,
+                            NULL);
     if (pass->push_constant_bytes)
         vkCmdPushConstants(cmd, pass->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                            pass->push_constant_bytes, push);

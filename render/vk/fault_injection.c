@@ -20,10 +20,10 @@ static struct {
     unsigned after_frames, times;
     bool permanent;
     pthread_mutex_t lock;
-    uint64_t frames;     /* frames rendered so far */
-    uint64_t due_frame;  /* the next fault fires once `frames` reaches this */
-    unsigned injected;   /* faults injected so far */
-    bool lost_for_good;  /* a permanent loss happened */
+    uint64_t frames;    /* frames rendered so far */
+    uint64_t due_frame; /* the next fault fires once `frames` reaches this */
+    unsigned injected;  /* faults injected so far */
+    bool lost_for_good; /* a permanent loss happened */
 } fault = { .lock = PTHREAD_MUTEX_INITIALIZER };
 
 static pthread_once_t fault_once = PTHREAD_ONCE_INIT;
@@ -91,8 +91,10 @@ static void read_environment(void)
     if (!spec || !*spec)
         return;
     if (!parse(spec)) {
-        fprintf(stderr, "skyd: SKYD_FAULT=\"%s\" is not understood; no fault is injected "
-                        "(render/vk/fault_injection.h describes the forms)\n", spec);
+        fprintf(stderr,
+                "skyd: SKYD_FAULT=\"%s\" is not understood; no fault is injected "
+                "(render/vk/fault_injection.h describes the forms)\n",
+                spec);
         return;
     }
     fault.due_frame = fault.after_frames;
@@ -129,9 +131,9 @@ static bool fire(enum fault_kind kind)
             fault.due_frame = fault.frames + fault.after_frames;
         fault.lost_for_good = fault.permanent;
         fprintf(stderr, "skyd: fault injection: %s (%u of %u, after %llu frames)\n",
-                kind == FAULT_DEVICE_LOST    ? "the device is lost"
-                : kind == FAULT_TIMEOUT      ? "the wait for a submission times out"
-                                             : "out of device memory",
+                kind == FAULT_DEVICE_LOST ? "the device is lost"
+                : kind == FAULT_TIMEOUT   ? "the wait for a submission times out"
+                                          : "out of device memory",
                 fault.injected, fault.times, (unsigned long long)fault.frames);
     }
     pthread_mutex_unlock(&fault.lock);

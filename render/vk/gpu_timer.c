@@ -65,8 +65,7 @@ void gpu_timer_mark(struct gpu_timer *timer, VkCommandBuffer cmd, const char *pa
                         (uint32_t)timer->marks);
 }
 
-bool gpu_timer_read(struct vk_context *ctx, struct gpu_timer *timer,
-                    struct gpu_timer_result *out)
+bool gpu_timer_read(struct vk_context *ctx, struct gpu_timer *timer, struct gpu_timer_result *out)
 {
     memset(out, 0, sizeof *out);
     if (!timer || timer->marks == 0)

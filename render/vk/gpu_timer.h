@@ -29,7 +29,6 @@ void gpu_timer_destroy(struct vk_context *ctx, struct gpu_timer **timer);
 void gpu_timer_begin(struct gpu_timer *timer, VkCommandBuffer cmd);
 void gpu_timer_mark(struct gpu_timer *timer, VkCommandBuffer cmd, const char *pass_name);
 /* Reads the results of the last completed submission; false when none are available. */
-bool gpu_timer_read(struct vk_context *ctx, struct gpu_timer *timer,
-                    struct gpu_timer_result *out);
+bool gpu_timer_read(struct vk_context *ctx, struct gpu_timer *timer, struct gpu_timer_result *out);
 
 #endif

@@ -39,8 +39,7 @@ int lru_slots_in_use(const struct lru_slots_kind *kind, const void *slots)
     return n;
 }
 
-void lru_slots_release_all(struct vk_context *ctx, const struct lru_slots_kind *kind,
-                           void *slots)
+void lru_slots_release_all(struct vk_context *ctx, const struct lru_slots_kind *kind, void *slots)
 {
     for (int i = 0; i < kind->count; i++)
         kind->release(ctx, slot_at(kind, slots, i));

@@ -38,7 +38,6 @@ void *lru_slots_acquire(struct vk_context *ctx, const struct lru_slots_kind *kin
                         uint64_t *clock, const void *key, double now_s, bool *found);
 /* Slots in use. */
 int lru_slots_in_use(const struct lru_slots_kind *kind, const void *slots);
-void lru_slots_release_all(struct vk_context *ctx, const struct lru_slots_kind *kind,
-                           void *slots);
+void lru_slots_release_all(struct vk_context *ctx, const struct lru_slots_kind *kind, void *slots);
 
 #endif

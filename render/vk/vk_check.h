@@ -14,36 +14,36 @@
 
 const char *vk_result_name(VkResult result);
 
-#define VK_CHECK_GOTO(call, label)                                                         \
-    do {                                                                                   \
-        VkResult vk_check_result_ = (call);                                                \
-        if (vk_check_result_ != VK_SUCCESS) {                                              \
-            vk_log(ctx, VK_LOG_ERROR, "vulkan: %s failed: %s (%s:%d)", #call,              \
-                   vk_result_name(vk_check_result_), __FILE__, __LINE__);                  \
-            goto label;                                                                    \
-        }                                                                                  \
+#define VK_CHECK_GOTO(call, label)                                                                 \
+    do {                                                                                           \
+        VkResult vk_check_result_ = (call);                                                        \
+        if (vk_check_result_ != VK_SUCCESS) {                                                      \
+            vk_log(ctx, VK_LOG_ERROR, "vulkan: %s failed: %s (%s:%d)", #call,                      \
+                   vk_result_name(vk_check_result_), __FILE__, __LINE__);                          \
+            goto label;                                                                            \
+        }                                                                                          \
     } while (0)
 
 /* The same, keeping the failed result in `result` for the cleanup to report or return. */
-#define VK_CHECK_KEEP_GOTO(call, result, label)                                            \
-    do {                                                                                   \
-        (result) = (call);                                                                 \
-        if ((result) != VK_SUCCESS) {                                                      \
-            vk_log(ctx, VK_LOG_ERROR, "vulkan: %s failed: %s (%s:%d)", #call,              \
-                   vk_result_name(result), __FILE__, __LINE__);                            \
-            goto label;                                                                    \
-        }                                                                                  \
+#define VK_CHECK_KEEP_GOTO(call, result, label)                                                    \
+    do {                                                                                           \
+        (result) = (call);                                                                         \
+        if ((result) != VK_SUCCESS) {                                                              \
+            vk_log(ctx, VK_LOG_ERROR, "vulkan: %s failed: %s (%s:%d)", #call,                      \
+                   vk_result_name(result), __FILE__, __LINE__);                                    \
+            goto label;                                                                            \
+        }                                                                                          \
     } while (0)
 
 /* For functions returning VkResult themselves: log and return the failure. */
-#define VK_CHECK_RETURN(call)                                                              \
-    do {                                                                                   \
-        VkResult vk_check_result_ = (call);                                                \
-        if (vk_check_result_ != VK_SUCCESS) {                                              \
-            vk_log(ctx, VK_LOG_ERROR, "vulkan: %s failed: %s (%s:%d)", #call,              \
-                   vk_result_name(vk_check_result_), __FILE__, __LINE__);                  \
-            return vk_check_result_;                                                       \
-        }                                                                                  \
+#define VK_CHECK_RETURN(call)                                                                      \
+    do {                                                                                           \
+        VkResult vk_check_result_ = (call);                                                        \
+        if (vk_check_result_ != VK_SUCCESS) {                                                      \
+            vk_log(ctx, VK_LOG_ERROR, "vulkan: %s failed: %s (%s:%d)", #call,                      \
+                   vk_result_name(vk_check_result_), __FILE__, __LINE__);                          \
+            return vk_check_result_;                                                               \
+        }                                                                                          \
     } while (0)
 
 #endif

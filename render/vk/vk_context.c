@@ -129,11 +129,16 @@ static bool instance_has_extension(const char *name)
 static int device_kind_rank(VkPhysicalDeviceType type)
 {
     switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
-    default: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+        return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+        return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+        return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+        return 1;
+    default:
+        return 0;
     }
 }
 
@@ -282,9 +287,8 @@ static VkResult create_instance(struct vk_context *ctx, bool validation)
     VK_CHECK_RETURN(vkCreateInstance(&info, NULL, &ctx->instance));
 
     if (validation) {
-        PFN_vkCreateDebugUtilsMessengerEXT create_messenger =
-            (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
-                ctx->instance, "vkCreateDebugUtilsMessengerEXT");
+        PFN_vkCreateDebugUtilsMessengerEXT create_messenger = (PFN_vkCreateDebugUtilsMessengerEXT)
+            vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT");
         if (!create_messenger)
             return VK_ERROR_EXTENSION_NOT_PRESENT;
         VK_CHECK_RETURN(create_messenger(ctx->instance, &messenger_info, NULL, &ctx->messenger));
@@ -510,8 +514,8 @@ VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd
         if (res == VK_SUCCESS)
             res = vkQueueSubmit(ctx->queue, 1, &submit, ctx->fence);
     }
-    unsigned timeout_s =
-        ctx->long_submission ? VK_CONTEXT_LONG_SUBMIT_TIMEOUT_S : VK_CONTEXT_SUBMIT_TIMEOUT_S;
+    unsigned timeout_s = ctx->long_submission ? VK_CONTEXT_LONG_SUBMIT_TIMEOUT_S
+                                              : VK_CONTEXT_SUBMIT_TIMEOUT_S;
     ctx->long_submission = false;
     char waiting[64];
     if (res == VK_SUCCESS) {
@@ -527,8 +531,9 @@ VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd
         vk_context_note_failure(ctx, res, "%s", step);
     }
     if (res == VK_TIMEOUT) {
-        vk_log(ctx, VK_LOG_ERROR, "vulkan: the device is taken as lost; waiting for the "
-                                  "submission to end before its commands are freed");
+        vk_log(ctx, VK_LOG_ERROR,
+               "vulkan: the device is taken as lost; waiting for the "
+               "submission to end before its commands are freed");
         vkQueueWaitIdle(ctx->queue);
     }
     vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, cmd);

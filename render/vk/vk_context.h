@@ -53,8 +53,8 @@ struct vk_context {
     VkQueue queue;
     VkCommandPool command_pool;
     VkFence fence;
-    float timestamp_period_ns;     /* 0 when the queue has no timestamps */
-    uint64_t timestamp_mask;       /* valid bits of a timestamp */
+    float timestamp_period_ns; /* 0 when the queue has no timestamps */
+    uint64_t timestamp_mask;   /* valid bits of a timestamp */
     bool validation_enabled;
     /* Lost for good (see above): every submission and wait fails at once. */
     bool device_lost;

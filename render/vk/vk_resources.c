@@ -117,9 +117,8 @@ report:
     return result;
 }
 
-VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t width,
-                          uint32_t height, uint32_t depth, const char *name,
-                          struct gpu_image *out)
+VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t width, uint32_t height,
+                          uint32_t depth, const char *name, struct gpu_image *out)
 {
     return image_create(ctx, format, width, height, depth, width, height, name, out);
 }
@@ -175,9 +174,9 @@ VkResult gpu_buffer_create(struct vk_context *ctx, VkDeviceSize size, VkBufferUs
     vkGetBufferMemoryRequirements(ctx->device, out->buffer, &req);
     VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
                                  VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    VK_CHECK_KEEP_GOTO(bind_new_memory(ctx, req, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT, host,
-                                       &out->memory),
-                       result, destroy_buffer);
+    VK_CHECK_KEEP_GOTO(
+        bind_new_memory(ctx, req, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT, host, &out->memory),
+        result, destroy_buffer);
     VK_CHECK_KEEP_GOTO(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0), result,
                        free_memory);
     VK_CHECK_KEEP_GOTO(vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped),
@@ -224,8 +223,8 @@ VkResult gpu_linear_sampler_create(struct vk_context *ctx, VkSamplerAddressMode 
     return vkCreateSampler(ctx->device, &info, NULL, out);
 }
 
-static void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage,
-                           VkAccessFlags src, VkPipelineStageFlags dst_stage, VkAccessFlags dst)
+static void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAccessFlags src,
+                           VkPipelineStageFlags dst_stage, VkAccessFlags dst)
 {
     VkMemoryBarrier barrier = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
@@ -264,6 +263,5 @@ void gpu_copy_image_to_buffer(VkCommandBuffer cmd, const struct gpu_image *image
         .imageSubresource = { VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1 },
         .imageExtent = { image->width, image->height, image->depth },
     };
-    vkCmdCopyImageToBuffer(cmd, image->image, VK_IMAGE_LAYOUT_GENERAL, buffer->buffer, 1,
-                           &region);
+    vkCmdCopyImageToBuffer(cmd, image->image, VK_IMAGE_LAYOUT_GENERAL, buffer->buffer, 1, &region);
 }

@@ -35,9 +35,8 @@ struct gpu_buffer {
 
 /* Creates a 2D (depth 1) or 3D image usable as storage image, sampled image and copy source,
  * and transitions it to VK_IMAGE_LAYOUT_GENERAL. */
-VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t width,
-                          uint32_t height, uint32_t depth, const char *name,
-                          struct gpu_image *out);
+VkResult gpu_image_create(struct vk_context *ctx, VkFormat format, uint32_t width, uint32_t height,
+                          uint32_t depth, const char *name, struct gpu_image *out);
 /* A 2D image of a view's size (width x height texels used) whose extent is never a power of
  * two: the smallest one at least as large. lavapipe compiles a variant of every compute
  * pipeline for each combination of power-of-two-or-not sizes among the images it binds, so

@@ -71,8 +71,7 @@ static int apply_preset(struct cli_common *c, const char *name)
 {
     struct sky_field_errors errors = { 0 };
     char msg[1024] = "";
-    if (!sky_preset_apply(c->config_dir, "atmosphere", name, &c->state, &errors, msg,
-                          sizeof msg)) {
+    if (!sky_preset_apply(c->config_dir, "atmosphere", name, &c->state, &errors, msg, sizeof msg)) {
         fprintf(stderr, "skyd: --preset %s: %s\n", name, msg);
         if (errors.count > 0)
             print_field_errors("preset fields", &errors);
@@ -95,7 +94,9 @@ static int set_field(struct cli_common *c, const char *option, const char *path,
 
 int cli_parse_sim_option(int argc, char **argv, int *i, struct cli_common *c)
 {
-    static const struct { const char *option, *path; } fields[] = {
+    static const struct {
+        const char *option, *path;
+    } fields[] = {
         { "--time", "clock.utc" },
         { "--lat", "location.latitude_deg" },
         { "--lon", "location.longitude_deg" },
@@ -185,8 +186,7 @@ int cli_parse_common(int argc, char **argv, int *i, struct cli_common *c)
     return 0;
 }
 
-bool cli_parse_double(const char *option, const char *text, double min, double max,
-                      double *out)
+bool cli_parse_double(const char *option, const char *text, double min, double max, double *out)
 {
     char *end = NULL;
     errno = 0;
@@ -203,8 +203,7 @@ bool cli_parse_double(const char *option, const char *text, double min, double m
     return true;
 }
 
-bool cli_parse_uint(const char *option, const char *text, unsigned min, unsigned max,
-                    unsigned *out)
+bool cli_parse_uint(const char *option, const char *text, unsigned min, unsigned max, unsigned *out)
 {
     char *end = NULL;
     errno = 0;
@@ -257,8 +256,8 @@ int cli_parse_number_option(int argc, char **argv, int *i, const struct cli_numb
             continue;
         const char *value = cli_take_value(argc, argv, i);
         double *number = (double *)((char *)target + options[k].value_offset);
-        if (!value || !cli_parse_double(options[k].name, value, options[k].min, options[k].max,
-                                        number))
+        if (!value ||
+            !cli_parse_double(options[k].name, value, options[k].min, options[k].max, number))
             return -1;
         *(bool *)((char *)target + options[k].flag_offset) = true;
         return 1;

@@ -11,15 +11,15 @@
 #include "world_state.h"
 
 struct cli_common {
-    const char *config_dir;   /* --config-dir, $SKYD_CONFIG_DIR, else the source tree's config/ */
+    const char *config_dir; /* --config-dir, $SKYD_CONFIG_DIR, else the source tree's config/ */
     /* Device: --device, else $SKYD_DEVICE, else the config file's render.device (--config). */
     const char *device;
-    bool device_given;        /* by --device or the environment: a config file does not override */
+    bool device_given; /* by --device or the environment: a config file does not override */
     char config_device[64];
-    bool validation;          /* --validation, $SKYD_VALIDATION=1 */
+    bool validation;              /* --validation, $SKYD_VALIDATION=1 */
     unsigned validation_messages; /* counted by the renderer, through its destruction */
     struct sky_world_state state;
-    unsigned reference_spp;   /* skyd render --reference: path-traced clouds (0: off) */
+    unsigned reference_spp; /* skyd render --reference: path-traced clouds (0: off) */
 };
 
 void cli_common_init(struct cli_common *c);
@@ -39,8 +39,7 @@ int cli_parse_sim_option(int argc, char **argv, int *i, struct cli_common *c);
 const char *cli_take_value(int argc, char **argv, int *i);
 
 /* Parses a finite number within [min, max]; prints "OPTION: ..." and returns false if not. */
-bool cli_parse_double(const char *option, const char *text, double min, double max,
-                      double *out);
+bool cli_parse_double(const char *option, const char *text, double min, double max, double *out);
 bool cli_parse_uint(const char *option, const char *text, unsigned min, unsigned max,
                     unsigned *out);
 

@@ -20,28 +20,29 @@ struct probe_args {
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage:\n"
-            "  skyd probe transmittance --altitude KM --mu COS\n"
-            "      prints {\"transmittance\":[r,g,b]} to the top of the atmosphere\n"
-            "  skyd probe luminance --altitude KM --view-zenith DEG --view-azimuth DEG"
-            " --sun-zenith DEG\n"
-            "      prints {\"luminance\":[r,g,b]} in cd/m2 before exposure; azimuth from the sun's\n"
-            "  skyd probe illuminance --sun-zenith DEG\n"
-            "      prints {\"sun_lux\":S,\"sky_lux\":K}, horizontal illuminance at the ground\n"
-            "  skyd probe sun --time ISO8601 --lat DEG --lon DEG [--altitude M] [--refraction]\n"
-            "      prints {\"azimuth_deg\":A,\"elevation_deg\":E}, azimuth from north through"
-            " east,\n"
-            "      elevation without refraction unless --refraction (1010 mbar, 10 C); the time is"
-            " UTC\n"
-            "      (2026-06-21T12:00:00Z) or has an offset (2026-06-21T14:00+02:00); longitude"
-            " east positive\n"
-            "  skyd probe moon (the same options)\n"
-            "      prints {\"azimuth_deg\":A,\"elevation_deg\":E,\"phase\":F}, F the illuminated"
-            " fraction 0..1\n"
-            "options of transmittance, luminance and illuminance: --preset NAME,"
-            " --set PATH=VALUE,\n"
-            "  --config FILE, --config-dir DIR, --device NAME, --validation\n");
+    fprintf(
+        out,
+        "usage:\n"
+        "  skyd probe transmittance --altitude KM --mu COS\n"
+        "      prints {\"transmittance\":[r,g,b]} to the top of the atmosphere\n"
+        "  skyd probe luminance --altitude KM --view-zenith DEG --view-azimuth DEG"
+        " --sun-zenith DEG\n"
+        "      prints {\"luminance\":[r,g,b]} in cd/m2 before exposure; azimuth from the sun's\n"
+        "  skyd probe illuminance --sun-zenith DEG\n"
+        "      prints {\"sun_lux\":S,\"sky_lux\":K}, horizontal illuminance at the ground\n"
+        "  skyd probe sun --time ISO8601 --lat DEG --lon DEG [--altitude M] [--refraction]\n"
+        "      prints {\"azimuth_deg\":A,\"elevation_deg\":E}, azimuth from north through"
+        " east,\n"
+        "      elevation without refraction unless --refraction (1010 mbar, 10 C); the time is"
+        " UTC\n"
+        "      (2026-06-21T12:00:00Z) or has an offset (2026-06-21T14:00+02:00); longitude"
+        " east positive\n"
+        "  skyd probe moon (the same options)\n"
+        "      prints {\"azimuth_deg\":A,\"elevation_deg\":E,\"phase\":F}, F the illuminated"
+        " fraction 0..1\n"
+        "options of transmittance, luminance and illuminance: --preset NAME,"
+        " --set PATH=VALUE,\n"
+        "  --config FILE, --config-dir DIR, --device NAME, --validation\n");
 }
 
 struct body_args {
@@ -139,8 +140,8 @@ static int probe_body(int argc, char **argv)
           require(a.has_longitude, "--lon", body)))
         return SKYD_EXIT_USAGE;
 
-    struct sky_site site = { a.latitude_deg, a.longitude_deg, a.altitude_m,
-                             SKY_SITE_PRESSURE_MBAR, SKY_SITE_TEMPERATURE_C };
+    struct sky_site site = { a.latitude_deg, a.longitude_deg, a.altitude_m, SKY_SITE_PRESSURE_MBAR,
+                             SKY_SITE_TEMPERATURE_C };
     struct sky_body_position p;
     double fraction = 0.0;
     if (strcmp(body, "moon") == 0)
@@ -159,7 +160,8 @@ static int probe_body(int argc, char **argv)
 }
 
 /* Runs the query and prints exactly the members `skyd probe` promises. */
-static int run_probe(struct renderer_host *r, const struct cli_common *c, const struct probe_args *a)
+static int run_probe(struct renderer_host *r, const struct cli_common *c,
+                     const struct probe_args *a)
 {
     static const enum sky_probe_quantity quantities[] = {
         [PROBE_TRANSMITTANCE] = SKY_PROBE_TRANSMITTANCE,
@@ -203,8 +205,10 @@ int skyd_cmd_probe(int argc, char **argv)
     else if (strcmp(argv[0], "illuminance") == 0)
         a.kind = PROBE_ILLUMINANCE;
     else {
-        fprintf(stderr, "skyd probe: unknown quantity \"%s\" (transmittance, luminance, "
-                        "illuminance, sun, moon)\n", argv[0]);
+        fprintf(stderr,
+                "skyd probe: unknown quantity \"%s\" (transmittance, luminance, "
+                "illuminance, sun, moon)\n",
+                argv[0]);
         return SKYD_EXIT_USAGE;
     }
     struct cli_common common;

@@ -96,8 +96,8 @@ static bool split_pattern(const char *pattern, bool need_number, char *prefix, s
     return true;
 }
 
-static void frame_path(const char *prefix, int width, const char *suffix, unsigned frame,
-                       char *out, size_t capacity)
+static void frame_path(const char *prefix, int width, const char *suffix, unsigned frame, char *out,
+                       size_t capacity)
 {
     if (width < 0)
         snprintf(out, capacity, "%s", prefix);
@@ -127,8 +127,8 @@ static int parse_lapse_option(int argc, char **argv, int *i, struct lapse_args *
     static const struct cli_number_option options[] = {
         { "--step-s", 0.0, MAX_STEP_S, offsetof(struct lapse_args, step_s),
           offsetof(struct lapse_args, has_step) },
-        { "--transition-s", 0.0, SKY_MSG_MAX_TRANSITION_S, offsetof(struct lapse_args, transition_s),
-          offsetof(struct lapse_args, has_transition) },
+        { "--transition-s", 0.0, SKY_MSG_MAX_TRANSITION_S,
+          offsetof(struct lapse_args, transition_s), offsetof(struct lapse_args, has_transition) },
     };
     return cli_parse_number_option(argc, argv, i, options, sizeof options / sizeof options[0], a);
 }
@@ -172,8 +172,7 @@ static bool has_suffix(const char *s, const char *suffix)
 /* An 8-bit PNG, a JPEG when quality is 1..100, or a 16-bit linear PNG when rgb16 (its buffer)
  * is given. */
 static int write_frame(const char *path, const void *pixels, uint16_t *rgb16, int quality,
-                       uint32_t width, uint32_t height, double exposure, char *err,
-                       size_t errlen)
+                       uint32_t width, uint32_t height, double exposure, char *err, size_t errlen)
 {
     if (quality > 0)
         return jpeg_write_rgba8_file(path, pixels, width, height, quality, err, errlen);
@@ -238,8 +237,10 @@ int skyd_cmd_render(int argc, char **argv)
             if (!(value = cli_take_value(argc, argv, &i)))
                 return SKYD_EXIT_USAGE;
             if (strcmp(value, "perspective") != 0 && strcmp(value, "equirectangular") != 0) {
-                fprintf(stderr, "skyd render: --projection: expected perspective or "
-                                "equirectangular, got \"%s\"\n", value);
+                fprintf(stderr,
+                        "skyd render: --projection: expected perspective or "
+                        "equirectangular, got \"%s\"\n",
+                        value);
                 return SKYD_EXIT_USAGE;
             }
             projection = value[0] == 'e' ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
@@ -249,8 +250,10 @@ int skyd_cmd_render(int argc, char **argv)
                 return SKYD_EXIT_USAGE;
             if (strcmp(value, "png") != 0 && strcmp(value, "png16") != 0 &&
                 strcmp(value, "jpeg") != 0) {
-                fprintf(stderr, "skyd render: --format: expected png, png16 or jpeg, got "
-                                "\"%s\"\n", value);
+                fprintf(stderr,
+                        "skyd render: --format: expected png, png16 or jpeg, got "
+                        "\"%s\"\n",
+                        value);
                 return SKYD_EXIT_USAGE;
             }
             format = value;
@@ -306,8 +309,10 @@ int skyd_cmd_render(int argc, char **argv)
     if (jpeg && !quality)
         quality = JPEG_QUALITY_DEFAULT;
     if (projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR && width != 2 * height) {
-        fprintf(stderr, "skyd render: an equirectangular image is 2:1: --width must be twice "
-                        "--height (%u), got %u\n", height, width);
+        fprintf(stderr,
+                "skyd render: an equirectangular image is 2:1: --width must be twice "
+                "--height (%u), got %u\n",
+                height, width);
         return SKYD_EXIT_USAGE;
     }
     if (lapse.has_transition && !lapse.weather_to) {
@@ -317,8 +322,7 @@ int skyd_cmd_render(int argc, char **argv)
     char prefix[1024];
     const char *suffix;
     int number_width;
-    if (!split_pattern(out_path, lapse.frames > 1, prefix, sizeof prefix, &number_width,
-                       &suffix)) {
+    if (!split_pattern(out_path, lapse.frames > 1, prefix, sizeof prefix, &number_width, &suffix)) {
         fprintf(stderr, "skyd render: --out \"%s\": %s\n", out_path,
                 lapse.frames > 1 ? "a time-lapse needs one %d or %0Nd for the frame number"
                                  : "only one %d or %0Nd may appear");
@@ -377,8 +381,8 @@ int skyd_cmd_render(int argc, char **argv)
         if (renderer_host_render(renderer, input, &view, false, pixels, bytes, &stats) != 0) {
             fprintf(stderr, "skyd render: rendering failed\n");
             status = SKYD_EXIT_FAILURE;
-        } else if (write_frame(path, pixels, rgb16, (int)quality, width, height,
-                               stats.exposure, err, sizeof err) != 0) {
+        } else if (write_frame(path, pixels, rgb16, (int)quality, width, height, stats.exposure,
+                               err, sizeof err) != 0) {
             fprintf(stderr, "skyd render: %s\n", err);
             status = SKYD_EXIT_FAILURE;
         } else {
@@ -386,8 +390,8 @@ int skyd_cmd_render(int argc, char **argv)
                 print_stats(&stats);
             else
                 printf("%s\n", path);
-            fprintf(stderr, "skyd render: %ux%u in %.1f ms (GPU %.1f ms), sun at %.2f deg\n",
-                    width, height, stats.wall_ms, stats.gpu_ms, common.state.sun.elevation_deg);
+            fprintf(stderr, "skyd render: %ux%u in %.1f ms (GPU %.1f ms), sun at %.2f deg\n", width,
+                    height, stats.wall_ms, stats.gpu_ms, common.state.sun.elevation_deg);
         }
     }
     status = cli_finish(&common, &renderer, status);

@@ -14,10 +14,11 @@
 
 static void usage(FILE *out)
 {
-    fprintf(out, "usage: skyd schema [state|config|messages]\n"
-                 "Prints the JSON Schema (draft 2020-12) of the world state (the default), of\n"
-                 "the configuration file or of the client messages (with the default limits):\n"
-                 "every field's type, range, enum names, unit (x-unit), default and description.\n");
+    fprintf(out,
+            "usage: skyd schema [state|config|messages]\n"
+            "Prints the JSON Schema (draft 2020-12) of the world state (the default), of\n"
+            "the configuration file or of the client messages (with the default limits):\n"
+            "every field's type, range, enum names, unit (x-unit), default and description.\n");
 }
 
 int skyd_cmd_schema(int argc, char **argv)

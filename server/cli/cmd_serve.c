@@ -105,8 +105,10 @@ static int parse_options(int argc, char **argv, struct serve_options *o)
     }
     enum skyd_log_level level = SKYD_LOG_INFO;
     if (o->log_level && !skyd_log_parse_level(o->log_level, &level)) {
-        fprintf(stderr, "skyd serve: --log-level: expected error, warning, info or debug, got "
-                        "\"%s\"\n", o->log_level);
+        fprintf(stderr,
+                "skyd serve: --log-level: expected error, warning, info or debug, got "
+                "\"%s\"\n",
+                o->log_level);
         return -1;
     }
     skyd_log_set_level(level);
@@ -273,8 +275,7 @@ int skyd_cmd_serve(int argc, char **argv)
     if (!load_config(&options, &config))
         return SKYD_EXIT_USAGE;
     char token_note[1536];
-    enum control_token_source token = control_token_settle(&config, token_note,
-                                                           sizeof token_note);
+    enum control_token_source token = control_token_settle(&config, token_note, sizeof token_note);
     if (token_note[0])
         skyd_log(SKYD_LOG_INFO, "%s", token_note);
     if (token == CONTROL_TOKEN_FAILED)
@@ -283,7 +284,7 @@ int skyd_cmd_serve(int argc, char **argv)
     char web_root[PATH_MAX];
     if (!realpath(config.web_root, web_root)) {
         skyd_log(SKYD_LOG_INFO, "web root %s: %s (HTTP requests will get 404)", config.web_root,
-                strerror(errno));
+                 strerror(errno));
         snprintf(web_root, sizeof web_root, "%s", config.web_root);
     }
     struct cli_common common;
@@ -333,8 +334,10 @@ int skyd_cmd_serve(int argc, char **argv)
     loop_params.failure_user = &parts.failure_watch;
     if (!(parts.loop = render_loop_create(&loop_params, err, sizeof err)))
         return serve_fail(&parts, err);
-    struct ws_server_params server_params = { .config = &config, .web_root = web_root,
-                                              .hub = parts.hub, .loop = parts.loop,
+    struct ws_server_params server_params = { .config = &config,
+                                              .web_root = web_root,
+                                              .hub = parts.hub,
+                                              .loop = parts.loop,
                                               .metrics = parts.metrics,
                                               .settings = parts.settings };
     if (!(parts.server = ws_server_create(&server_params, err, sizeof err)))
@@ -343,9 +346,12 @@ int skyd_cmd_serve(int argc, char **argv)
     parts.watch.server = parts.server;
     if (!(parts.notify = service_notify_create(serve_healthy, &parts)))
         return serve_fail(&parts, "cannot start the watchdog thread");
-    parts.reload = (struct serve_reload){ .load = load_config, .options = &options,
-                                          .running = config, .token_source = token,
-                                          .settings = parts.settings, .notify = parts.notify,
+    parts.reload = (struct serve_reload){ .load = load_config,
+                                          .options = &options,
+                                          .running = config,
+                                          .token_source = token,
+                                          .settings = parts.settings,
+                                          .notify = parts.notify,
                                           .config_dir = config_dir,
                                           .url = ws_server_url(parts.server) };
     serve_reload_init(&parts.reload);

@@ -108,8 +108,7 @@ static bool settle_token(struct serve_reload *r, struct skyd_config *next)
     bool keep_unsaved = r->token_source == CONTROL_TOKEN_UNSAVED && !next->read_only &&
                         !next->controller_token[0];
     if (keep_unsaved) {
-        memcpy(next->controller_token, r->running.controller_token,
-               sizeof next->controller_token);
+        memcpy(next->controller_token, r->running.controller_token, sizeof next->controller_token);
         return true;
     }
     char note[1536];
@@ -143,8 +142,7 @@ void serve_reload_run(struct serve_reload *r)
     note_restart_fields(&r->running, &next, &t);
     check_presets(r, &t);
     skyd_log(SKYD_LOG_INFO, "reloaded the configuration: %s%s", changes, extra);
-    memcpy(r->running.controller_token, next.controller_token,
-           sizeof r->running.controller_token);
+    memcpy(r->running.controller_token, next.controller_token, sizeof r->running.controller_token);
     r->running.read_only = next.read_only;
     service_notify_ready(r->notify, "serving");
 }

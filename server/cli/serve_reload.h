@@ -22,12 +22,12 @@ struct serve_reload {
      * printing why. */
     bool (*load)(const void *options, struct skyd_config *config);
     const void *options;
-    struct skyd_config running;        /* as the daemon started, token settled */
+    struct skyd_config running; /* as the daemon started, token settled */
     enum control_token_source token_source;
     struct live_settings *settings;
     struct service_notify *notify;
     const char *config_dir;
-    const char *url;                   /* for a control line when the token file is new */
+    const char *url; /* for a control line when the token file is new */
     int preset_count[2];
     char presets[2][SERVE_RELOAD_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
 };

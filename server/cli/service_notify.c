@@ -113,7 +113,8 @@ void service_notify_reloading(struct service_notify *n)
     clock_gettime(CLOCK_MONOTONIC, &now);
     /* systemd 253 and later expect the reload's monotonic time beside RELOADING=1. */
     sd_notifyf(0, "RELOADING=1\nMONOTONIC_USEC=%llu\nSTATUS=reloading the configuration",
-               (unsigned long long)now.tv_sec * 1000000ull + (unsigned long long)now.tv_nsec / 1000);
+               (unsigned long long)now.tv_sec * 1000000ull +
+                   (unsigned long long)now.tv_nsec / 1000);
 }
 
 void service_notify_stopping(struct service_notify *n)

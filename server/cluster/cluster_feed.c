@@ -14,7 +14,7 @@
 
 static const double CONNECT_TIMEOUT_S = 1.0;
 static const double COMMAND_TIMEOUT_S = 3.0; /* longer than a blocked read */
-static const int BLOCK_MS = 500;              /* how long destroy may wait for the thread */
+static const int BLOCK_MS = 500;             /* how long destroy may wait for the thread */
 static const double RETRY_MIN_S = 0.05, RETRY_MAX_S = 2.0;
 
 struct cluster_feed {
@@ -135,8 +135,7 @@ static bool read_once(struct cluster_feed *f, redisContext *c, int block_ms)
         const redisReply *items = r->element[0]->element[1];
         for (size_t i = 0; ok && items->type == REDIS_REPLY_ARRAY && i < items->elements; i++) {
             char why[320];
-            struct cluster_entry *e = cluster_redis_parse_entry(items->element[i], why,
-                                                                sizeof why);
+            struct cluster_entry *e = cluster_redis_parse_entry(items->element[i], why, sizeof why);
             if (!e) {
                 feed_log(f, CLUSTER_LOG_ERROR, "%s", why);
                 ok = false;
@@ -145,8 +144,8 @@ static bool read_once(struct cluster_feed *f, redisContext *c, int block_ms)
                 cluster_entry_free(e);
             } else if (e->revision != f->last_revision + 1) {
                 feed_log(f, CLUSTER_LOG_WARNING,
-                         "the stream jumps from revision %" PRIu64 " to %" PRIu64,
-                         f->last_revision, e->revision);
+                         "the stream jumps from revision %" PRIu64 " to %" PRIu64, f->last_revision,
+                         e->revision);
                 cluster_entry_free(e);
                 ok = queue_snapshot(f, c);
                 woke = true;
@@ -195,8 +194,8 @@ static void *feed_main(void *arg)
     unsigned failures = 0; /* connection attempts failed in a row: the first is logged */
     while (!stopping(f)) {
         char why[320];
-        redisContext *c = cluster_redis_connect(&f->address, CONNECT_TIMEOUT_S,
-                                                COMMAND_TIMEOUT_S, why, sizeof why);
+        redisContext *c = cluster_redis_connect(&f->address, CONNECT_TIMEOUT_S, COMMAND_TIMEOUT_S,
+                                                why, sizeof why);
         if (c && catch_up(f, c)) {
             if (failures > 0)
                 feed_log(f, CLUSTER_LOG_INFO,
@@ -218,8 +217,7 @@ static void *feed_main(void *arg)
         /* The back-off, cut short by destroy. */
         struct timespec until = monotonic_deadline(retry);
         pthread_mutex_lock(&f->lock);
-        while (!f->stopping &&
-               pthread_cond_timedwait(&f->changed, &f->lock, &until) == 0) {
+        while (!f->stopping && pthread_cond_timedwait(&f->changed, &f->lock, &until) == 0) {
         }
         pthread_mutex_unlock(&f->lock);
         retry = fmin(retry * 2, RETRY_MAX_S);

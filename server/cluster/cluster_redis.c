@@ -128,15 +128,15 @@ static bool parse_revision(const char *text, size_t length, uint64_t *out)
 }
 
 struct cluster_entry *cluster_redis_snapshot(redisContext *c, const struct cluster_keys *k,
-                                             uint64_t initial_revision,
-                                             const char *initial_state, bool *absent, char *why,
-                                             size_t whylen)
+                                             uint64_t initial_revision, const char *initial_state,
+                                             bool *absent, char *why, size_t whylen)
 {
     *absent = false;
     char revision[24];
     snprintf(revision, sizeof revision, "%" PRIu64, initial_revision);
-    const char *argv[] = { "EVAL", SNAPSHOT_SCRIPT, "4", k->rev, k->state, k->map, k->stream,
-                           revision, initial_state ? initial_state : "" };
+    const char *argv[] = { "EVAL",    SNAPSHOT_SCRIPT, "4",
+                           k->rev,    k->state,        k->map,
+                           k->stream, revision,        initial_state ? initial_state : "" };
     size_t lengths[9];
     for (int i = 0; i < 9; i++)
         lengths[i] = strlen(argv[i]);
@@ -185,8 +185,7 @@ struct cluster_entry *cluster_redis_snapshot(redisContext *c, const struct clust
 struct cluster_entry *cluster_redis_parse_entry(const redisReply *item, char *why, size_t whylen)
 {
     if (item->type != REDIS_REPLY_ARRAY || item->elements != 2 ||
-        item->element[0]->type != REDIS_REPLY_STRING ||
-        item->element[0]->len >= CLUSTER_ID_MAX ||
+        item->element[0]->type != REDIS_REPLY_STRING || item->element[0]->len >= CLUSTER_ID_MAX ||
         item->element[1]->type != REDIS_REPLY_ARRAY) {
         snprintf(why, whylen, "a stream entry of unexpected shape");
         return NULL;

@@ -30,13 +30,11 @@ redisContext *cluster_redis_connect(const struct cluster_address *address, doubl
  * does not exist yet and initial_state is not NULL, it is made first from that state at
  * initial_revision. Returns a snapshot entry, or NULL with `why` (*absent: no such world). */
 struct cluster_entry *cluster_redis_snapshot(redisContext *c, const struct cluster_keys *keys,
-                                             uint64_t initial_revision,
-                                             const char *initial_state, bool *absent, char *why,
-                                             size_t whylen);
+                                             uint64_t initial_revision, const char *initial_state,
+                                             bool *absent, char *why, size_t whylen);
 
 /* A stream entry ([id, [field, value, ...]]) as an entry; NULL with `why`. */
-struct cluster_entry *cluster_redis_parse_entry(const redisReply *item, char *why,
-                                                size_t whylen);
+struct cluster_entry *cluster_redis_parse_entry(const redisReply *item, char *why, size_t whylen);
 
 /* Why a command failed: the context's error, or the reply's. */
 void cluster_redis_describe(const redisContext *c, const redisReply *reply, char *why,

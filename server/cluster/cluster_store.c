@@ -23,7 +23,7 @@ struct cluster_store {
     char world[CLUSTER_WORLD_MAX + 1];
     char name[CLUSTER_HOST_MAX + CLUSTER_WORLD_MAX + 64];
     redisContext *redis;
-    double retry_at, retry_delay;  /* when a lost connection is tried again, and the back-off */
+    double retry_at, retry_delay; /* when a lost connection is tried again, and the back-off */
     char last_error[320];
 };
 
@@ -44,8 +44,8 @@ static bool connected(struct cluster_store *s, double timeout_s, char *why, size
         snprintf(why, whylen, "%.300s (trying again in %.1f s)", s->last_error, s->retry_at - now);
         return false;
     }
-    s->redis = cluster_redis_connect(&s->address, timeout_s, COMMAND_TIMEOUT_S,
-                                     s->last_error, sizeof s->last_error);
+    s->redis = cluster_redis_connect(&s->address, timeout_s, COMMAND_TIMEOUT_S, s->last_error,
+                                     sizeof s->last_error);
     if (s->redis) {
         s->retry_delay = RETRY_MIN_S;
         return true;
@@ -106,9 +106,18 @@ void cluster_store_destroy(struct cluster_store **store)
     *store = NULL;
 }
 
-const char *cluster_store_name(const struct cluster_store *s) { return s->name; }
-const char *cluster_store_url(const struct cluster_store *s) { return s->url; }
-const char *cluster_store_world(const struct cluster_store *s) { return s->world; }
+const char *cluster_store_name(const struct cluster_store *s)
+{
+    return s->name;
+}
+const char *cluster_store_url(const struct cluster_store *s)
+{
+    return s->url;
+}
+const char *cluster_store_world(const struct cluster_store *s)
+{
+    return s->world;
+}
 
 struct cluster_entry *cluster_store_open(struct cluster_store *s, uint64_t initial_revision,
                                          const char *initial_state, char *err, size_t errlen)
@@ -149,8 +158,7 @@ enum cluster_commit_result cluster_store_commit(struct cluster_store *s, uint64_
                                                 const char *state, const char *by,
                                                 const char *changed, const unsigned char *map,
                                                 size_t map_length, uint64_t *current,
-                                                char id[CLUSTER_ID_MAX], char *err,
-                                                size_t errlen)
+                                                char id[CLUSTER_ID_MAX], char *err, size_t errlen)
 {
     *current = expected;
     id[0] = '\0';
@@ -163,9 +171,20 @@ enum cluster_commit_result cluster_store_commit(struct cluster_store *s, uint64_
     snprintf(expected_text, sizeof expected_text, "%" PRIu64, expected);
     snprintf(revision_text, sizeof revision_text, "%" PRIu64, expected + 1);
     snprintf(keep, sizeof keep, "%d", CLUSTER_STREAM_KEEP);
-    const char *argv[] = { "EVAL", COMMIT_SCRIPT, "4", s->keys.rev, s->keys.state, s->keys.map,
-                           s->keys.stream, expected_text, revision_text, state, by, changed,
-                           keep, map ? (const char *)map : "" };
+    const char *argv[] = { "EVAL",
+                           COMMIT_SCRIPT,
+                           "4",
+                           s->keys.rev,
+                           s->keys.state,
+                           s->keys.map,
+                           s->keys.stream,
+                           expected_text,
+                           revision_text,
+                           state,
+                           by,
+                           changed,
+                           keep,
+                           map ? (const char *)map : "" };
     size_t lengths[14];
     for (int i = 0; i < 13; i++)
         lengths[i] = strlen(argv[i]);
@@ -193,8 +212,10 @@ enum cluster_commit_result cluster_store_commit(struct cluster_store *s, uint64_
         *current = (uint64_t)second->integer;
         result = CLUSTER_CONFLICT;
     } else {
-        snprintf(err, errlen, "the cluster %s is unavailable: the world is gone from Redis "
-                 "(was it flushed, or restarted without its append-only file?)", s->name);
+        snprintf(err, errlen,
+                 "the cluster %s is unavailable: the world is gone from Redis "
+                 "(was it flushed, or restarted without its append-only file?)",
+                 s->name);
     }
     freeReplyObject(r);
     return result;

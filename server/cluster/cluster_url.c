@@ -52,8 +52,10 @@ bool cluster_url_parse(const char *url, struct cluster_address *out, char *why, 
         bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
                   c == '.' || c == '-' || c == ':' || c == '_';
         if (!ok) {
-            snprintf(why, whylen, "the host has a '%c' (user names and passwords are not "
-                     "supported)", c);
+            snprintf(why, whylen,
+                     "the host has a '%c' (user names and passwords are not "
+                     "supported)",
+                     c);
             return false;
         }
     }
@@ -96,8 +98,8 @@ bool cluster_world_name_check(const char *name, char *why, size_t whylen)
         char c = name[i];
         if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
               c == '-' || c == '_')) {
-            snprintf(why, whylen, "character %zu ('%c') is not a letter, digit, '-' or '_'",
-                     i, c >= 0x20 && c < 0x7f ? c : '?');
+            snprintf(why, whylen, "character %zu ('%c') is not a letter, digit, '-' or '_'", i,
+                     c >= 0x20 && c < 0x7f ? c : '?');
             return false;
         }
     }

@@ -25,8 +25,7 @@ struct encoder_pool {
     pthread_t threads[];
 };
 
-static void deliver(struct encoder_pool *pool, struct encode_job *job,
-                    struct encoded_frame *frame)
+static void deliver(struct encoder_pool *pool, struct encode_job *job, struct encoded_frame *frame)
 {
     for (size_t i = 0; i < job->target_count; i++) {
         struct encode_target *t = &job->targets[i];
@@ -57,8 +56,8 @@ static void run_job(struct encoder_pool *pool, struct encode_job *job)
         uint16_t *rgb = malloc((size_t)width * height * 3 * sizeof *rgb);
         if (rgb) {
             png_linear16_quantize(job->pixels, (size_t)width * height, job->full_scale_cd_m2, rgb);
-            encoded = png_encode_linear16(rgb, width, height, job->full_scale_cd_m2,
-                                          &encoded_bytes, &length);
+            encoded = png_encode_linear16(rgb, width, height, job->full_scale_cd_m2, &encoded_bytes,
+                                          &length);
         }
         free(rgb);
     } else if (job->meta.format == SKY_FRAME_FORMAT_JPEG) {

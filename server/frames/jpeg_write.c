@@ -40,8 +40,8 @@ int jpeg_encode_rgba8(const uint8_t *rgba, uint32_t width, uint32_t height, int 
     return rc == 0 ? 0 : -1;
 }
 
-int jpeg_write_rgba8_file(const char *path, const uint8_t *rgba, uint32_t width,
-                          uint32_t height, int quality, char *err, size_t errlen)
+int jpeg_write_rgba8_file(const char *path, const uint8_t *rgba, uint32_t width, uint32_t height,
+                          int quality, char *err, size_t errlen)
 {
     uint8_t *jpeg;
     size_t jpeg_len;

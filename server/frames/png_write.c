@@ -73,7 +73,8 @@ static int encode(const struct png_source *src, FILE *file, struct memory_sink *
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     char full_scale[64];
     png_text text = { .compression = PNG_TEXT_COMPRESSION_NONE,
-                      .key = (png_charp)PNG_LINEAR16_FULL_SCALE_KEY, .text = full_scale };
+                      .key = (png_charp)PNG_LINEAR16_FULL_SCALE_KEY,
+                      .text = full_scale };
     if (src->linear16) {
         png_set_gAMA_fixed(png, info, PNG_GAMMA_LINEAR);
         /* sRGB (Rec. 709) primaries and D65 white, as the renderer's channels */
@@ -122,7 +123,10 @@ int png_encode_rgba8(const uint8_t *rgba, uint32_t width, uint32_t height, uint8
 int png_encode_linear16(const uint16_t *rgb, uint32_t width, uint32_t height,
                         double full_scale_cd_m2, uint8_t **out, size_t *out_len)
 {
-    struct png_source src = { .pixels = rgb, .width = width, .height = height, .linear16 = true,
+    struct png_source src = { .pixels = rgb,
+                              .width = width,
+                              .height = height,
+                              .linear16 = true,
                               .full_scale_cd_m2 = full_scale_cd_m2 };
     return encode_to_memory(&src, out, out_len);
 }
@@ -186,10 +190,13 @@ int png_write_rgba8_file(const char *path, const uint8_t *rgba, uint32_t width, 
     return write_file(path, &src, err, errlen);
 }
 
-int png_write_linear16_file(const char *path, const uint16_t *rgb, uint32_t width,
-                            uint32_t height, double full_scale_cd_m2, char *err, size_t errlen)
+int png_write_linear16_file(const char *path, const uint16_t *rgb, uint32_t width, uint32_t height,
+                            double full_scale_cd_m2, char *err, size_t errlen)
 {
-    struct png_source src = { .pixels = rgb, .width = width, .height = height, .linear16 = true,
+    struct png_source src = { .pixels = rgb,
+                              .width = width,
+                              .height = height,
+                              .linear16 = true,
                               .full_scale_cd_m2 = full_scale_cd_m2 };
     return write_file(path, &src, err, errlen);
 }

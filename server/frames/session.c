@@ -158,8 +158,7 @@ void session_set_simulation_events(struct session *s, bool wanted)
     pthread_mutex_unlock(&s->lock);
 }
 
-static void request_close_locked(struct session *s, int code, const char *reason,
-                                 bool after_output)
+static void request_close_locked(struct session *s, int code, const char *reason, bool after_output)
 {
     if (s->close_code)
         return;
@@ -284,8 +283,9 @@ void session_slot_deliver(struct session *s, uint64_t subscription, struct encod
     if (slot) {
         if (slot->encoding > 0)
             slot->encoding--;
-        bool newer = !slot->pending || (frame && encoded_frame_meta(frame)->render_sequence >
-                                                     encoded_frame_meta(slot->pending)->render_sequence);
+        bool newer = !slot->pending ||
+                     (frame && encoded_frame_meta(frame)->render_sequence >
+                                   encoded_frame_meta(slot->pending)->render_sequence);
         if (frame) {
             slot->traffic.frames_delivered++;
             slot->traffic.last_frame_bytes = encoded_frame_message_length(frame);
@@ -293,7 +293,8 @@ void session_slot_deliver(struct session *s, uint64_t subscription, struct encod
         }
         if (frame && newer) {
             if (!slot->pending)
-                slot->pending_since = monotonic_seconds(); /* kept by replacements: stall detection */
+                slot->pending_since =
+                    monotonic_seconds(); /* kept by replacements: stall detection */
             encoded_frame_unref(&slot->pending);
             slot->pending = encoded_frame_ref(frame);
         }
@@ -442,8 +443,8 @@ void session_output_release(struct session_output *out)
 bool session_has_output(struct session *s)
 {
     pthread_mutex_lock(&s->lock);
-    bool has = !s->closed && (s->close_code || s->frame_in_flight || s->text_head ||
-                              s->snapshots_ready > 0);
+    bool has = !s->closed &&
+               (s->close_code || s->frame_in_flight || s->text_head || s->snapshots_ready > 0);
     for (int i = 0; i < SESSION_MAX_SUBSCRIPTIONS && !has; i++)
         has = s->slots[i].in_use && s->slots[i].pending;
     pthread_mutex_unlock(&s->lock);
@@ -549,8 +550,7 @@ void session_hub_broadcast(struct session_hub *hub, const char *text)
     session_hub_wake(hub);
 }
 
-void session_hub_for_each(struct session_hub *hub, void (*fn)(struct session *, void *),
-                          void *user)
+void session_hub_for_each(struct session_hub *hub, void (*fn)(struct session *, void *), void *user)
 {
     pthread_mutex_lock(&hub->lock);
     for (int i = 0; i < hub->count; i++)

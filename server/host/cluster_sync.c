@@ -58,8 +58,7 @@ void cluster_sync_destroy(struct cluster_sync **sync)
     *sync = NULL;
 }
 
-void cluster_sync_apply(struct cluster_sync *s, struct world_host *world,
-                        struct session_hub *hub)
+void cluster_sync_apply(struct cluster_sync *s, struct world_host *world, struct session_hub *hub)
 {
     struct cluster_entry *list = cluster_feed_take(s->feed);
     bool told = false;

@@ -22,18 +22,26 @@
  * row: the engine leaves them to apply_origins and apply_initial_state. */
 #define OFFSET(member) offsetof(struct skyd_config, member)
 #define CAPACITY(member) sizeof(((struct skyd_config *)0)->member)
-#define STRING(path_, member, doc)                                                              \
-    { .path = path_, .type = SKY_FIELD_TYPE_STRING, .offset = OFFSET(member),                  \
-      .description = doc, .capacity = CAPACITY(member) }
-#define INT(path_, member, lo, hi, doc)                                                         \
-    { .path = path_, .type = SKY_FIELD_TYPE_INT, .offset = OFFSET(member), .min = lo, .max = hi, \
-      .description = doc }
-#define NUMBER(path_, member, lo, hi, doc)                                                      \
-    { .path = path_, .type = SKY_FIELD_TYPE_NUMBER, .offset = OFFSET(member), .min = lo,       \
-      .max = hi, .description = doc }
-#define BOOL(path_, member, doc)                                                                \
-    { .path = path_, .type = SKY_FIELD_TYPE_BOOL, .offset = OFFSET(member), .max = 1,          \
-      .description = doc }
+#define STRING(path_, member, doc)                                                                 \
+    {                                                                                              \
+        .path = path_, .type = SKY_FIELD_TYPE_STRING, .offset = OFFSET(member),                    \
+        .description = doc, .capacity = CAPACITY(member)                                           \
+    }
+#define INT(path_, member, lo, hi, doc)                                                            \
+    {                                                                                              \
+        .path = path_, .type = SKY_FIELD_TYPE_INT, .offset = OFFSET(member), .min = lo, .max = hi, \
+        .description = doc                                                                         \
+    }
+#define NUMBER(path_, member, lo, hi, doc)                                                         \
+    {                                                                                              \
+        .path = path_, .type = SKY_FIELD_TYPE_NUMBER, .offset = OFFSET(member), .min = lo,         \
+        .max = hi, .description = doc                                                              \
+    }
+#define BOOL(path_, member, doc)                                                                   \
+    {                                                                                              \
+        .path = path_, .type = SKY_FIELD_TYPE_BOOL, .offset = OFFSET(member), .max = 1,            \
+        .description = doc                                                                         \
+    }
 
 static const struct sky_field_desc config_fields[] = {
     STRING("listen.address", listen_address, "address to listen on"),
@@ -179,8 +187,7 @@ static void check_cluster(const struct skyd_config *c, struct sky_field_errors *
     if (!c->cluster_redis[0])
         sky_field_errors_addf(errors, SKY_FIELD_MISSING, "/cluster/redis",
                               "a cluster needs its Redis: redis://HOST:PORT[/DB]");
-    else if (!cluster_url_parse(c->cluster_redis, &(struct cluster_address){ 0 }, why,
-                                sizeof why))
+    else if (!cluster_url_parse(c->cluster_redis, &(struct cluster_address){ 0 }, why, sizeof why))
         sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "/cluster/redis", "%s", why);
     if (!c->cluster_world[0])
         sky_field_errors_addf(errors, SKY_FIELD_MISSING, "/cluster/world",
@@ -213,8 +220,8 @@ void skyd_config_limits(const struct skyd_config *c, struct sky_msg_limits *limi
     limits->max_upload_bytes = (size_t)c->max_upload_bytes;
 }
 
-bool skyd_config_load(const char *path, struct skyd_config *config,
-                      struct sky_field_errors *errors, char *msg, size_t msglen)
+bool skyd_config_load(const char *path, struct skyd_config *config, struct sky_field_errors *errors,
+                      char *msg, size_t msglen)
 {
     size_t length = 0;
     char *text = text_file_read(path, MAX_CONFIG_BYTES, &length);
@@ -250,8 +257,7 @@ bool skyd_config_parse(const char *text, size_t length, const char *name,
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(copy, &end, true);
     if (!root) {
-        snprintf(msg, msglen, "%s: invalid JSON at byte %ld", name,
-                 end ? (long)(end - copy) : 0L);
+        snprintf(msg, msglen, "%s: invalid JSON at byte %ld", name, end ? (long)(end - copy) : 0L);
         free(copy);
         return false;
     }

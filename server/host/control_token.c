@@ -12,8 +12,7 @@
 #define TOKEN_HEX_LENGTH (2 * CONTROL_TOKEN_RANDOM_BYTES)
 /* A token file whose first line is not 32..127 of these is not ours: at least 128 bits. */
 #define TOKEN_MIN_LENGTH 32
-#define TOKEN_CHARACTERS                                                                      \
-    "0123456789abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ-._~"
+#define TOKEN_CHARACTERS "0123456789abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ-._~"
 
 static bool random_bytes(unsigned char *out, size_t length, char *err, size_t errlen)
 {
@@ -75,8 +74,8 @@ bool control_token_shown(enum control_token_source source)
 enum file_verdict { FILE_ABSENT, FILE_GOOD, FILE_REPLACE };
 
 /* Reads the token file's first line into token. FILE_REPLACE comes with why in note. */
-static enum file_verdict read_token_file(const char *path, char *token, size_t tokenlen,
-                                         char *note, size_t notelen)
+static enum file_verdict read_token_file(const char *path, char *token, size_t tokenlen, char *note,
+                                         size_t notelen)
 {
     int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
     if (fd < 0 && errno == ENOENT)
@@ -91,8 +90,10 @@ static enum file_verdict read_token_file(const char *path, char *token, size_t t
     if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         snprintf(note, notelen, "%s is not a regular file", path);
     } else if (st.st_mode & (S_IRWXG | S_IRWXO)) {
-        snprintf(note, notelen, "%s was open to group or others (mode %04o), so its token may "
-                 "have leaked", path, (unsigned)(st.st_mode & 07777));
+        snprintf(note, notelen,
+                 "%s was open to group or others (mode %04o), so its token may "
+                 "have leaked",
+                 path, (unsigned)(st.st_mode & 07777));
     } else {
         do
             n = read(fd, text, sizeof text - 1);
@@ -108,8 +109,10 @@ static enum file_verdict read_token_file(const char *path, char *token, size_t t
     size_t length = strspn(start, TOKEN_CHARACTERS);
     const char *rest = start + length + strspn(start + length, " \t\r");
     if (length < TOKEN_MIN_LENGTH || length >= tokenlen || (*rest != '\n' && *rest != '\0')) {
-        snprintf(note, notelen, "%s holds no usable token (one line of %d to %zu letters, "
-                 "digits and -._~)", path, TOKEN_MIN_LENGTH, tokenlen - 1);
+        snprintf(note, notelen,
+                 "%s holds no usable token (one line of %d to %zu letters, "
+                 "digits and -._~)",
+                 path, TOKEN_MIN_LENGTH, tokenlen - 1);
         return FILE_REPLACE;
     }
     memcpy(token, start, length);
@@ -123,8 +126,10 @@ enum control_token_source control_token_settle(struct skyd_config *config, char 
     note[0] = '\0';
     char *token = config->controller_token;
     if (config->read_only) {
-        snprintf(note, notelen, "read-only (read_only in the configuration)%s: nobody can "
-                 "control this server", token[0] ? ", controller_token ignored" : "");
+        snprintf(note, notelen,
+                 "read-only (read_only in the configuration)%s: nobody can "
+                 "control this server",
+                 token[0] ? ", controller_token ignored" : "");
         memset(token, 0, sizeof config->controller_token);
         return CONTROL_TOKEN_READ_ONLY;
     }
@@ -156,8 +161,10 @@ enum control_token_source control_token_settle(struct skyd_config *config, char 
     char line[sizeof config->controller_token + 1];
     int length = snprintf(line, sizeof line, "%s\n", token);
     if (state_store_write_file(path, line, (size_t)length, 0600, err, sizeof err) != 0) {
-        snprintf(note, notelen, "%s%scannot keep the controller token (%s): it lasts until "
-                 "this process ends", why, why[0] ? "; " : "", err);
+        snprintf(note, notelen,
+                 "%s%scannot keep the controller token (%s): it lasts until "
+                 "this process ends",
+                 why, why[0] ? "; " : "", err);
         return CONTROL_TOKEN_UNSAVED;
     }
     if (why[0])

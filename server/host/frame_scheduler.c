@@ -66,8 +66,7 @@ struct frame_scheduler {
 
 /* world_render_view zero-fills the struct first, so equal views compare equal bytewise. */
 static struct render_group *group_for(struct render_group **groups, size_t *count,
-                                      const struct sky_render_view *view,
-                                      struct encoding encoding)
+                                      const struct sky_render_view *view, struct encoding encoding)
 {
     for (size_t i = 0; i < *count; i++)
         if (memcmp(&(*groups)[i].view, view, sizeof *view) == 0 &&
@@ -228,10 +227,12 @@ static void fit_bandwidth(struct subscription *s)
                                                               : BANDWIDTH_QUALITY_FLOOR;
         if (wanted_bytes_s > budget_bytes_s && s->quality > floor)
             s->quality = s->quality - BANDWIDTH_QUALITY_STEP > floor
-                             ? s->quality - BANDWIDTH_QUALITY_STEP : floor;
+                             ? s->quality - BANDWIDTH_QUALITY_STEP
+                             : floor;
         else if (wanted_bytes_s < 0.5 * budget_bytes_s && s->quality < s->view.quality)
             s->quality = s->quality + BANDWIDTH_QUALITY_STEP < s->view.quality
-                             ? s->quality + BANDWIDTH_QUALITY_STEP : s->view.quality;
+                             ? s->quality + BANDWIDTH_QUALITY_STEP
+                             : s->view.quality;
     }
     double period = fmax(1.0 / s->view.fps, (double)traffic.last_frame_bytes / budget_bytes_s);
     s->next_due += period - s->period_s;
@@ -298,8 +299,8 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct renderer_ho
         struct pending_snapshot *p = &fs->snapshots[i];
         struct sky_render_view view;
         world_render_view(input, &p->view, &view);
-        struct render_group *g =
-            group_for(&groups, &group_count, &view, encoding_of(&p->view, p->view.quality));
+        struct render_group *g = group_for(&groups, &group_count, &view,
+                                           encoding_of(&p->view, p->view.quality));
         if (!g || !group_add(g, p->session, 0, &p->id))
             session_snapshot_deliver(p->session, &p->id, NULL);
         session_unref(&p->session);

@@ -50,8 +50,7 @@ bool frame_scheduler_unsubscribe(struct frame_scheduler *scheduler, struct sessi
                                  uint64_t id);
 /* One frame of `view` at the next tick, answered as a reply to `id`. */
 struct frame_refusal frame_scheduler_snapshot(struct frame_scheduler *scheduler,
-                                              struct session *session,
-                                              const struct sky_msg_id *id,
+                                              struct session *session, const struct sky_msg_id *id,
                                               const struct sky_msg_view *view);
 /* The session's connection is gone: its subscriptions and snapshots end. */
 void frame_scheduler_session_closed(struct frame_scheduler *scheduler, struct session *session);
@@ -71,8 +70,7 @@ size_t frame_scheduler_session_stats(const struct frame_scheduler *scheduler,
  * to the encoders. *atmosphere_shown: a frame showed the input's frame atmosphere fully (from
  * then on frames carry the input's revision; world_host_atmosphere_shown). Returns when it
  * should next be called (CLOCK_MONOTONIC seconds). */
-double frame_scheduler_render_due(struct frame_scheduler *scheduler,
-                                  struct renderer_host *renderer,
+double frame_scheduler_render_due(struct frame_scheduler *scheduler, struct renderer_host *renderer,
                                   const struct render_input *input, double now_s,
                                   bool *atmosphere_shown);
 

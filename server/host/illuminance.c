@@ -36,8 +36,8 @@ int sky_ground_illuminance(struct sky_renderer *r, const struct sky_render_atmos
 
     /* Sky: E = sum of L cos(theta) sin(theta) dtheta dphi over the upper hemisphere. */
     size_t n = SKY_ZENITH_STEPS * SKY_AZIMUTH_STEPS;
-    double (*dirs)[3] = malloc(n * sizeof *dirs);
-    double (*lum)[3] = malloc(n * sizeof *lum);
+    double(*dirs)[3] = malloc(n * sizeof *dirs);
+    double(*lum)[3] = malloc(n * sizeof *lum);
     int status = -1;
     if (!dirs || !lum)
         goto done;
@@ -46,7 +46,7 @@ int sky_ground_illuminance(struct sky_renderer *r, const struct sky_render_atmos
         for (int j = 0; j < SKY_AZIMUTH_STEPS; j++)
             local_direction((i + 0.5) * d_theta, (j + 0.5) * d_phi,
                             dirs[i * SKY_AZIMUTH_STEPS + j]);
-    if (sky_renderer_probe_luminance(r, atm, &view, (const double (*)[3])dirs, n, false, lum) != 0)
+    if (sky_renderer_probe_luminance(r, atm, &view, (const double(*)[3])dirs, n, false, lum) != 0)
         goto done;
     double sky_rgb[3] = { 0, 0, 0 };
     for (int i = 0; i < SKY_ZENITH_STEPS; i++) {

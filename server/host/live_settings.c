@@ -102,8 +102,8 @@ static void note(struct change_text *t, const char *format, ...)
     va_end(args);
 }
 
-void live_settings_update(struct live_settings *s, const struct skyd_config *next,
-                          char *changes, size_t changes_size)
+void live_settings_update(struct live_settings *s, const struct skyd_config *next, char *changes,
+                          size_t changes_size)
 {
     struct live_settings fresh;
     memset(&fresh, 0, sizeof fresh);
@@ -113,8 +113,8 @@ void live_settings_update(struct live_settings *s, const struct skyd_config *nex
         changes[0] = '\0';
     pthread_mutex_lock(&s->lock);
     const struct sky_msg_limits *a = &s->limits, *b = &fresh.limits;
-#define LIMIT(member, format, cast)                                                            \
-    if (a->member != b->member)                                                                \
+#define LIMIT(member, format, cast)                                                                \
+    if (a->member != b->member)                                                                    \
         note(&t, "limits.%s " format " -> " format, #member, (cast)a->member, (cast)b->member);
     LIMIT(max_message_bytes, "%zu", size_t)
     LIMIT(max_clients, "%d", int)
@@ -128,8 +128,10 @@ void live_settings_update(struct live_settings *s, const struct skyd_config *nex
         note(&t, "read_only %s -> %s", s->read_only ? "true" : "false",
              fresh.read_only ? "true" : "false");
     else if (strcmp(s->token, fresh.token) != 0)
-        note(&t, "controller token %s", !fresh.token[0] ? "removed"
-                                        : !s->token[0]  ? "set" : "changed");
+        note(&t, "controller token %s",
+             !fresh.token[0] ? "removed"
+             : !s->token[0]  ? "set"
+                             : "changed");
     bool origins_differ = s->origin_count != fresh.origin_count;
     for (int i = 0; i < s->origin_count && !origins_differ; i++)
         origins_differ = strcmp(s->origins[i], fresh.origins[i]) != 0;

@@ -24,8 +24,7 @@ int probe_query_run(struct sky_renderer *renderer, const struct render_input *in
     /* The state's own atmosphere, not the one frames are still being moved to. */
     struct sky_render_atmosphere atm = input->atmosphere;
     struct sky_render_view view;
-    const struct sky_msg_view pixel = { .width = 1, .height = 1,
-                                        .format = SKY_FRAME_FORMAT_PNG16 };
+    const struct sky_msg_view pixel = { .width = 1, .height = 1, .format = SKY_FRAME_FORMAT_PNG16 };
     world_render_view(input, &pixel, &view);
     sky_renderer_set_night(renderer, &input->night);
     memset(result, 0, sizeof *result);
@@ -33,27 +32,28 @@ int probe_query_run(struct sky_renderer *renderer, const struct render_input *in
     int rc = -1;
     switch (query->quantity) {
     case SKY_PROBE_TRANSMITTANCE:
-        return sky_renderer_probe_transmittance(renderer, &atm, &query->altitude_km, &query->mu,
-                                                1, &result->rgb);
+        return sky_renderer_probe_transmittance(renderer, &atm, &query->altitude_km, &query->mu, 1,
+                                                &result->rgb);
     case SKY_PROBE_LUMINANCE: {
         view.camera_altitude_km = query->altitude_km;
         view.sun_elevation_deg = 90.0 - query->sun_zenith_deg;
         double dir[1][3];
         local_direction(query->view_zenith_deg, view.sun_azimuth_deg + query->view_azimuth_deg,
                         dir[0]);
-        rc = sky_renderer_probe_luminance(renderer, &atm, &view, (const double (*)[3])dir, 1,
-                                          true, &result->rgb);
+        rc = sky_renderer_probe_luminance(renderer, &atm, &view, (const double(*)[3])dir, 1, true,
+                                          &result->rgb);
         break;
     }
     case SKY_PROBE_ILLUMINANCE:
-        rc = sky_ground_illuminance(renderer, &atm, &view, query->sun_zenith_deg,
-                                    &result->sun_lux, &result->sky_lux);
+        rc = sky_ground_illuminance(renderer, &atm, &view, query->sun_zenith_deg, &result->sun_lux,
+                                    &result->sky_lux);
         break;
     }
     /* Which multiple scattering answered (ms_refine.h): the best there is now. */
     struct sky_render_multiple_scattering ms;
     sky_renderer_multiple_scattering(renderer, &ms);
-    result->multiple_scattering = ms.weight >= 1.0 ? "converged" : ms.weight > 0.0 ? "blending"
-                                                                                  : "fast";
+    result->multiple_scattering = ms.weight >= 1.0  ? "converged"
+                                  : ms.weight > 0.0 ? "blending"
+                                                    : "fast";
     return rc;
 }

@@ -36,8 +36,8 @@ static void send_error(struct render_context *ctx, struct session *session,
 }
 
 /* Queues a built message (NULL only when building failed, which the client hears of). */
-static void reply(struct render_context *ctx, struct session *session,
-                  const struct sky_msg_id *id, char *text)
+static void reply(struct render_context *ctx, struct session *session, const struct sky_msg_id *id,
+                  char *text)
 {
     if (!text) {
         send_error(ctx, session, id, SKY_MSG_ERR_INTERNAL, "the reply could not be built", NULL);
@@ -52,8 +52,8 @@ static void log_refusal(const struct render_context *ctx, struct session *sessio
                         const char *message)
 {
     const struct sky_client_msg *handling = ctx->handling;
-    if (!handling || (handling->type != SKY_MSG_AUTH &&
-                      !protocol_message_needs_controller(handling->type)))
+    if (!handling ||
+        (handling->type != SKY_MSG_AUTH && !protocol_message_needs_controller(handling->type)))
         return;
     char name[SKY_MSG_CLIENT_MAX + 1];
     session_client_name(session, name, sizeof name);
@@ -121,7 +121,7 @@ static void commit_refused(struct render_context *ctx, struct session *session,
     }
     reply_error(ctx, session, id,
                 commit->status == WORLD_COMMIT_UNAVAILABLE ? SKY_MSG_ERR_UNAVAILABLE
-                                                            : SKY_MSG_ERR_INTERNAL,
+                                                           : SKY_MSG_ERR_INTERNAL,
                 "%s", commit->error);
 }
 
@@ -230,8 +230,8 @@ static void handle_apply_preset(struct render_context *ctx, struct session *sess
     struct sky_field_errors errors;
     char why[320];
     json_guard_lock();
-    bool applied = sky_preset_apply(ctx->config_dir, folder, msg->preset.name, &next, &errors,
-                                    why, sizeof why);
+    bool applied = sky_preset_apply(ctx->config_dir, folder, msg->preset.name, &next, &errors, why,
+                                    sizeof why);
     json_guard_unlock();
     if (!applied) {
         fprintf(stderr, "skyd: preset %s: %s\n", msg->preset.name, why);
@@ -303,8 +303,7 @@ static void handle_auth(struct render_context *ctx, struct session *session,
     }
     session_set_role(session, SKY_ROLE_CONTROLLER);
     reply(ctx, session, &msg->id,
-          sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision,
-                            SKY_ROLE_CONTROLLER));
+          sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision, SKY_ROLE_CONTROLLER));
 }
 
 static void handle_subscribe(struct render_context *ctx, struct session *session,
@@ -416,20 +415,42 @@ static void dispatch(struct render_context *ctx, struct session *session,
         reply(ctx, session, &msg->id,
               sky_msg_build_ack(&msg->id, world_host_state(ctx->world)->revision, SKY_ROLE_NONE));
         break;
-    case SKY_MSG_AUTH: handle_auth(ctx, session, msg); break;
+    case SKY_MSG_AUTH:
+        handle_auth(ctx, session, msg);
+        break;
     case SKY_MSG_GET_STATE:
         reply(ctx, session, &msg->id, sky_msg_build_state(&msg->id, world_host_state(ctx->world)));
         break;
-    case SKY_MSG_SET: handle_set(ctx, session, msg); break;
-    case SKY_MSG_SUBSCRIBE: handle_subscribe(ctx, session, msg); break;
-    case SKY_MSG_UNSUBSCRIBE: handle_unsubscribe(ctx, session, msg); break;
-    case SKY_MSG_SNAPSHOT: handle_snapshot(ctx, session, msg); break;
-    case SKY_MSG_PROBE: handle_probe(ctx, session, msg); break;
-    case SKY_MSG_LIST_PRESETS: handle_list_presets(ctx, session, msg); break;
-    case SKY_MSG_APPLY_PRESET: handle_apply_preset(ctx, session, msg); break;
-    case SKY_MSG_STATS: handle_stats(ctx, session, msg); break;
-    case SKY_MSG_SET_WEATHER_MAP: handle_set_weather_map(ctx, session, msg); break;
-    case SKY_MSG_DESCRIBE: handle_describe(ctx, session, msg); break;
+    case SKY_MSG_SET:
+        handle_set(ctx, session, msg);
+        break;
+    case SKY_MSG_SUBSCRIBE:
+        handle_subscribe(ctx, session, msg);
+        break;
+    case SKY_MSG_UNSUBSCRIBE:
+        handle_unsubscribe(ctx, session, msg);
+        break;
+    case SKY_MSG_SNAPSHOT:
+        handle_snapshot(ctx, session, msg);
+        break;
+    case SKY_MSG_PROBE:
+        handle_probe(ctx, session, msg);
+        break;
+    case SKY_MSG_LIST_PRESETS:
+        handle_list_presets(ctx, session, msg);
+        break;
+    case SKY_MSG_APPLY_PRESET:
+        handle_apply_preset(ctx, session, msg);
+        break;
+    case SKY_MSG_STATS:
+        handle_stats(ctx, session, msg);
+        break;
+    case SKY_MSG_SET_WEATHER_MAP:
+        handle_set_weather_map(ctx, session, msg);
+        break;
+    case SKY_MSG_DESCRIBE:
+        handle_describe(ctx, session, msg);
+        break;
     }
 }
 

@@ -180,8 +180,8 @@ static bool renderer_usable(struct render_loop *loop)
 {
     struct render_context *ctx = &loop->ctx;
     char why[384];
-    switch (renderer_host_check(ctx->renderer, world_host_render_input(ctx->world), why,
-                                sizeof why)) {
+    switch (
+        renderer_host_check(ctx->renderer, world_host_render_input(ctx->world), why, sizeof why)) {
     case RENDERER_HOST_OK:
         return true;
     case RENDERER_HOST_REBUILT:
@@ -410,14 +410,14 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         render_loop_destroy(&loop);
         return NULL;
     }
-    if (shared && !(ctx->cluster = cluster_sync_create(shared_world_store(shared),
-                                                       shared_world_start(shared), encoder_done,
-                                                       loop, err, errlen))) {
+    if (shared &&
+        !(ctx->cluster = cluster_sync_create(shared_world_store(shared), shared_world_start(shared),
+                                             encoder_done, loop, err, errlen))) {
         render_loop_destroy(&loop);
         return NULL;
     }
-    if (renderer_host_prepare(ctx->renderer, world_host_render_input(ctx->world), err,
-                              errlen) != 0) {
+    if (renderer_host_prepare(ctx->renderer, world_host_render_input(ctx->world), err, errlen) !=
+        0) {
         render_loop_destroy(&loop);
         return NULL;
     }

@@ -38,11 +38,10 @@ static void set_amortization(struct renderer_host *h, double budget_ms)
 {
     if (!h->params.amortize)
         return;
-    sky_renderer_set_amortization(
-        h->renderer, &(struct sky_render_amortization){
-                         .budget_ms = budget_ms,
-                         .budget_fraction = h->params.lut_budget_fraction,
-                         .blend_frames = h->params.lut_blend_frames });
+    sky_renderer_set_amortization(h->renderer, &(struct sky_render_amortization){
+                                                   .budget_ms = budget_ms,
+                                                   .budget_fraction = h->params.lut_budget_fraction,
+                                                   .blend_frames = h->params.lut_blend_frames });
 }
 
 _Static_assert(SKY_RENDER_LOG_ERROR == (int)SKYD_LOG_ERROR &&
@@ -162,8 +161,8 @@ static void restore_map(struct renderer_host *h, struct sky_weather_map *old, ui
 }
 
 /* New LUT sizes; *resized: they changed. The renderer keeps the old ones when it fails. */
-static int take_lut_sizes(struct renderer_host *h, const struct render_input *input,
-                          bool *resized, char *why, size_t whylen)
+static int take_lut_sizes(struct renderer_host *h, const struct render_input *input, bool *resized,
+                          char *why, size_t whylen)
 {
     *resized = memcmp(&input->lut_sizes, &h->lut_sizes, sizeof h->lut_sizes) != 0;
     if (!*resized)
@@ -294,7 +293,8 @@ static int warm_up_pipelines(struct renderer_host *h, const struct render_input 
     warm->clouds.low.coverage = fmax(warm->clouds.low.coverage, 0.5);
     warm->clouds.high.coverage = fmax(warm->clouds.high.coverage, 0.3);
     static const double sun_elevation_deg[4] = { 30.0, 30.0, -20.0, 30.0 };
-    const struct sky_msg_view small = { .width = WARM_W, .height = WARM_H,
+    const struct sky_msg_view small = { .width = WARM_W,
+                                        .height = WARM_H,
                                         .format = SKY_FRAME_FORMAT_PNG };
     int status = 0;
     for (int k = 0; k < 4 && status == 0; k++) {
@@ -354,7 +354,7 @@ enum renderer_host_check renderer_host_check(struct renderer_host *h,
     double start = monotonic_seconds();
     int recent = count_recent_losses(h, start);
     skyd_log(SKYD_LOG_ERROR, "the Vulkan device was lost (%s)%s", detail,
-            recent < RENDERER_HOST_MAX_LOSSES ? "; rebuilding the renderer" : "");
+             recent < RENDERER_HOST_MAX_LOSSES ? "; rebuilding the renderer" : "");
     sky_renderer_destroy(&h->renderer);
     if (recent >= RENDERER_HOST_MAX_LOSSES) {
         snprintf(err, errlen, "the Vulkan device was lost %d times within %.0f s", recent,
@@ -367,13 +367,15 @@ enum renderer_host_check renderer_host_check(struct renderer_host *h,
     if (open_renderer(h, input, true, true, why, sizeof why) != 0 ||
         renderer_host_prepare(h, input, why, sizeof why) != 0) {
         sky_renderer_destroy(&h->renderer);
-        snprintf(err, errlen, "the Vulkan device was lost and the renderer could not be "
-                 "rebuilt: %s", why);
+        snprintf(err, errlen,
+                 "the Vulkan device was lost and the renderer could not be "
+                 "rebuilt: %s",
+                 why);
         return RENDERER_HOST_FAILED;
     }
     skyd_log(SKYD_LOG_INFO, "renderer rebuilt on %s in %.0f ms; frames resume at revision %llu",
-            sky_renderer_device_name(h->renderer), (monotonic_seconds() - start) * 1e3,
-            (unsigned long long)input->state.revision);
+             sky_renderer_device_name(h->renderer), (monotonic_seconds() - start) * 1e3,
+             (unsigned long long)input->state.revision);
     return RENDERER_HOST_REBUILT;
 }
 
@@ -381,13 +383,14 @@ void renderer_host_describe_failure(const struct renderer_host *h, const char *w
                                     size_t outlen)
 {
     const char *detail = "";
-    enum sky_render_status status =
-        h->renderer ? sky_renderer_status(h->renderer, &detail) : SKY_RENDER_DEVICE_LOST;
+    enum sky_render_status status = h->renderer ? sky_renderer_status(h->renderer, &detail)
+                                                : SKY_RENDER_DEVICE_LOST;
     switch (status) {
     case SKY_RENDER_DEVICE_LOST:
-        snprintf(out, outlen, "%s failed: the rendering device was lost%s%s%s; the renderer is "
-                 "being rebuilt, ask again", what, *detail ? " (" : "", detail,
-                 *detail ? ")" : "");
+        snprintf(out, outlen,
+                 "%s failed: the rendering device was lost%s%s%s; the renderer is "
+                 "being rebuilt, ask again",
+                 what, *detail ? " (" : "", detail, *detail ? ")" : "");
         break;
     case SKY_RENDER_OUT_OF_MEMORY:
         snprintf(out, outlen, "%s failed: out of memory (%s)", what, detail);

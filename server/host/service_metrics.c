@@ -54,13 +54,13 @@ void service_metrics_destroy(struct service_metrics **metrics)
     free(m);
 }
 
-#define LOCKED(m, statement)                                                                   \
-    do {                                                                                       \
-        if (!(m))                                                                              \
-            break;                                                                             \
-        pthread_mutex_lock(&(m)->lock);                                                        \
-        statement;                                                                             \
-        pthread_mutex_unlock(&(m)->lock);                                                      \
+#define LOCKED(m, statement)                                                                       \
+    do {                                                                                           \
+        if (!(m))                                                                                  \
+            break;                                                                                 \
+        pthread_mutex_lock(&(m)->lock);                                                            \
+        statement;                                                                                 \
+        pthread_mutex_unlock(&(m)->lock);                                                          \
     } while (0)
 
 void service_metrics_frame_rendered(struct service_metrics *m, double render_seconds)
@@ -204,14 +204,21 @@ char *service_metrics_exposition(struct service_metrics *m, int clients)
         return NULL;
     }
     t.bytes[0] = '\0';
-    counter(&t, "skyd_frames_rendered_total", "Views rendered (one render serves every "
-            "subscriber of the view).", copy.frames_rendered);
+    counter(&t, "skyd_frames_rendered_total",
+            "Views rendered (one render serves every "
+            "subscriber of the view).",
+            copy.frames_rendered);
     counter(&t, "skyd_frames_sent_total", "Frames written to clients.", copy.frames_sent);
-    counter(&t, "skyd_bytes_sent_total", "Bytes of frames written to clients (WebSocket "
-            "messages with their 48-byte header, HTTP bodies).", copy.bytes_sent);
-    counter(&t, "skyd_frames_skipped_total", "Subscription frames that were due but not "
-            "rendered because the client had not taken the previous one.", copy.frames_skipped);
-    family(&t, "skyd_messages_total", "counter", "Client messages received, by type "
+    counter(&t, "skyd_bytes_sent_total",
+            "Bytes of frames written to clients (WebSocket "
+            "messages with their 48-byte header, HTTP bodies).",
+            copy.bytes_sent);
+    counter(&t, "skyd_frames_skipped_total",
+            "Subscription frames that were due but not "
+            "rendered because the client had not taken the previous one.",
+            copy.frames_skipped);
+    family(&t, "skyd_messages_total", "counter",
+           "Client messages received, by type "
            "(\"invalid\": not parsed far enough to know it).");
     for (size_t i = 0; i < MAX_KINDS; i++) {
         const char *name = i == 0 ? "invalid" : sky_msg_type_name((enum sky_msg_type)i);
@@ -232,22 +239,29 @@ char *service_metrics_exposition(struct service_metrics *m, int clients)
     gauge(&t, "skyd_subscriptions", "Frame subscriptions.", (double)copy.tick.subscriptions);
     gauge(&t, "skyd_state_revision", "Revision of the world state.",
           (double)copy.tick.state_revision);
-    gauge(&t, "skyd_lut_rebuild_progress", "Progress of the look-up-table rebuild under way, "
-          "0 to 1 (1: none).", copy.tick.lut_rebuild_progress);
+    gauge(&t, "skyd_lut_rebuild_progress",
+          "Progress of the look-up-table rebuild under way, "
+          "0 to 1 (1: none).",
+          copy.tick.lut_rebuild_progress);
     if (copy.tick.cluster_connected >= 0) { /* only in cluster mode (docs/SCALING.md) */
-        gauge(&t, "skyd_cluster_connected", "Whether the shared world's stream is read from "
-              "Redis now (1) or not (0).", copy.tick.cluster_connected);
-        counter(&t, "skyd_cluster_connections_total", "Connections of the stream reader to "
+        gauge(&t, "skyd_cluster_connected",
+              "Whether the shared world's stream is read from "
+              "Redis now (1) or not (0).",
+              copy.tick.cluster_connected);
+        counter(&t, "skyd_cluster_connections_total",
+                "Connections of the stream reader to "
                 "Redis since start (more than 1: it reconnected).",
                 copy.tick.cluster_connections);
     }
-    family(&t, "skyd_subscription_bytes_sent_total", "counter", "Bytes of frames sent to each "
+    family(&t, "skyd_subscription_bytes_sent_total", "counter",
+           "Bytes of frames sent to each "
            "current subscription (its number), headers included.");
     for (size_t i = 0; i < subscription_count; i++)
         append(&t, "skyd_subscription_bytes_sent_total{subscription=\"%llu\"} %llu\n",
                (unsigned long long)subscriptions[i].subscription,
                (unsigned long long)subscriptions[i].bytes_sent);
-    family(&t, "skyd_subscription_fps", "gauge", "Each current subscription's effective frame "
+    family(&t, "skyd_subscription_fps", "gauge",
+           "Each current subscription's effective frame "
            "rate (lowered to keep within its max_kbps).");
     for (size_t i = 0; i < subscription_count; i++)
         append(&t, "skyd_subscription_fps{subscription=\"%llu\"} %.17g\n",

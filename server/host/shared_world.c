@@ -46,8 +46,7 @@ static bool read_world(struct shared_world *w, const struct skyd_config *config,
 }
 
 struct shared_world *shared_world_open(const struct skyd_config *config,
-                                       struct sky_world_state *state, char *err,
-                                       size_t errlen)
+                                       struct sky_world_state *state, char *err, size_t errlen)
 {
     struct shared_world *w = calloc(1, sizeof *w);
     if (!w) {

@@ -95,8 +95,8 @@ void state_store_remove_temporaries(const char *path)
     free(copy);
 }
 
-enum state_load_result state_store_load(const char *path, struct sky_world_state *state,
-                                        char *msg, size_t msglen)
+enum state_load_result state_store_load(const char *path, struct sky_world_state *state, char *msg,
+                                        size_t msglen)
 {
     char stem[4096];
     state_store_weather_map_path(path, stem, sizeof stem);
@@ -124,8 +124,10 @@ enum state_load_result state_store_load(const char *path, struct sky_world_state
     snprintf(aside, n, "%s.corrupt-%lld", path, (long long)time(NULL));
     enum state_load_result result = STATE_LOAD_CORRUPT;
     if (rename(path, aside) == 0) {
-        snprintf(msg, msglen, "state file %s unusable (%s); moved to %s, starting from the "
-                 "defaults", path, reason, aside);
+        snprintf(msg, msglen,
+                 "state file %s unusable (%s); moved to %s, starting from the "
+                 "defaults",
+                 path, reason, aside);
     } else {
         snprintf(msg, msglen, "state file %s unusable (%s) and cannot be moved aside: %s", path,
                  reason, strerror(errno));
@@ -302,8 +304,8 @@ enum state_load_result state_store_read_weather_map(const char *path, size_t max
         return STATE_LOAD_FAILED;
     }
     char reason[256];
-    bool ok = sky_weather_map_decode(SKY_WEATHER_MAP_PNG, (const uint8_t *)bytes, length, 0, 0,
-                                     map, reason, sizeof reason);
+    bool ok = sky_weather_map_decode(SKY_WEATHER_MAP_PNG, (const uint8_t *)bytes, length, 0, 0, map,
+                                     reason, sizeof reason);
     free(bytes);
     if (!ok) {
         snprintf(msg, msglen, "%s: %s", path, reason);

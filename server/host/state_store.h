@@ -18,13 +18,13 @@ enum state_load_result {
 };
 
 /* msg says what happened (the reason and where the file went) for anything but RESTORED. */
-enum state_load_result state_store_load(const char *path, struct sky_world_state *state,
-                                        char *msg, size_t msglen);
+enum state_load_result state_store_load(const char *path, struct sky_world_state *state, char *msg,
+                                        size_t msglen);
 
 /* A state's JSON text (as saved: the `state` tree plus "revision") onto a copy of the
  * defaults; false with a reason and *state untouched. The cluster's entries carry the same. */
-bool state_store_parse(const char *text, size_t length, struct sky_world_state *state,
-                       char *msg, size_t msglen);
+bool state_store_parse(const char *text, size_t length, struct sky_world_state *state, char *msg,
+                       size_t msglen);
 
 /* Creates missing parent directories. Returns 0, or -1 with a message. */
 int state_store_save(const char *path, const struct sky_world_state *state, char *err,

@@ -54,7 +54,8 @@ bool world_codec_parse_map(const unsigned char *bytes, size_t length, struct sky
     if (width == 0 || height == 0 || width > 16384 || height > 16384 ||
         (size_t)width * height * 4 != length - 8)
         return false;
-    struct sky_weather_map view = { .width = width, .height = height,
+    struct sky_weather_map view = { .width = width,
+                                    .height = height,
                                     .rgba = (uint8_t *)(bytes + 8) };
     return sky_weather_map_copy(&view, map);
 }

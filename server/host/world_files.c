@@ -25,9 +25,8 @@ void world_files_resume_state(const char *state_file, const struct sky_world_sta
     }
 }
 
-bool world_files_read_weather_map(const char *path, size_t max_bytes,
-                                  struct sky_weather_map *map, char *msg, size_t msglen)
+bool world_files_read_weather_map(const char *path, size_t max_bytes, struct sky_weather_map *map,
+                                  char *msg, size_t msglen)
 {
-    return state_store_read_weather_map(path, max_bytes, map, msg, msglen) ==
-           STATE_LOAD_RESTORED;
+    return state_store_read_weather_map(path, max_bytes, map, msg, msglen) == STATE_LOAD_RESTORED;
 }

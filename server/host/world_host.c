@@ -35,7 +35,7 @@ struct world_host {
     char state_file[SKYD_CONFIG_STRING];
     struct sky_world_state state;
     struct sky_weather_map client_map;
-    uint64_t map_generation;   /* counts the client maps: 0 none yet */
+    uint64_t map_generation; /* counts the client maps: 0 none yet */
     /* The render input of the live state; atmosphere is its frame atmosphere. */
     struct render_input input;
     struct sky_render_atmosphere atmosphere;
@@ -44,12 +44,12 @@ struct world_host {
     bool watched;              /* as the last advance was told */
     struct world_undo undo;
     double save_delay_s;
-    bool dirty;                /* a write the daemon owes itself (retried after save_delay_s) */
-    double last_change_s;      /* when that write was last due */
-    bool sim_dirty;            /* the simulation changed the state since the last write */
+    bool dirty;           /* a write the daemon owes itself (retried after save_delay_s) */
+    double last_change_s; /* when that write was last due */
+    bool sim_dirty;       /* the simulation changed the state since the last write */
     double last_save_s;
-    double wall_s;             /* the wall instant the state was last brought to */
-    struct wind_drift *drift;  /* the wind's running sum for the live state */
+    double wall_s;            /* the wall instant the state was last brought to */
+    struct wind_drift *drift; /* the wind's running sum for the live state */
     /* The state as clients last heard of it (events), and when a simulation event went. */
     struct sky_world_state announced;
     double announced_at_s;
@@ -160,8 +160,7 @@ static bool commit_to_cluster(struct world_host *h, const struct sky_world_state
     char *joined = malloc(joined_length);
     char *text = world_codec_state_text(next);
     size_t map_length = 0;
-    unsigned char *map = h->pending_map ? world_codec_map_bytes(h->pending_map, &map_length)
-                                        : NULL;
+    unsigned char *map = h->pending_map ? world_codec_map_bytes(h->pending_map, &map_length) : NULL;
     if (!joined || !text || (h->pending_map && !map)) {
         free(joined);
         free(text);
@@ -177,9 +176,9 @@ static bool commit_to_cluster(struct world_host *h, const struct sky_world_state
             strcat(joined, "\n");
     }
     char id[CLUSTER_ID_MAX], why[448];
-    enum cluster_commit_result result =
-        cluster_store_commit(h->cluster, h->state.revision, text, by ? by : "", joined, map,
-                             map_length, &out->current, id, why, sizeof why);
+    enum cluster_commit_result result = cluster_store_commit(h->cluster, h->state.revision, text,
+                                                             by ? by : "", joined, map, map_length,
+                                                             &out->current, id, why, sizeof why);
     free(joined);
     free(text);
     free(map);
@@ -232,8 +231,8 @@ static void drop_undo(struct world_host *h)
 
 /* `next` (settled, with its revision) becomes the live state: its render input is made, and
  * the event names `pointers`. What it replaces is kept for world_host_undo_commit. */
-static void install(struct world_host *h, struct sky_world_state *next,
-                    const char *const *pointers, size_t count, const char *by, char **event)
+static void install(struct world_host *h, struct sky_world_state *next, const char *const *pointers,
+                    size_t count, const char *by, char **event)
 {
     drop_undo(h);
     h->undo = (struct world_undo){ .valid = true,
@@ -255,8 +254,8 @@ static void install(struct world_host *h, struct sky_world_state *next,
     *event = sky_msg_build_state_changed(h->state.revision, pointers, count, &h->state, by);
 }
 
-bool world_host_commit(struct world_host *h, struct sky_world_state *next,
-                       const char *also_changed, const char *by, struct world_commit *out)
+bool world_host_commit(struct world_host *h, struct sky_world_state *next, const char *also_changed,
+                       const char *by, struct world_commit *out)
 {
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
@@ -350,9 +349,10 @@ bool world_host_apply_entry(struct world_host *h, const struct cluster_entry *e,
         return false;
     }
     if (e->snapshot && e->revision < h->state.revision)
-        fprintf(stderr, "skyd: the shared world went back from revision %llu to %llu (Redis "
-                "lost changes)\n", (unsigned long long)h->state.revision,
-                (unsigned long long)e->revision);
+        fprintf(stderr,
+                "skyd: the shared world went back from revision %llu to %llu (Redis "
+                "lost changes)\n",
+                (unsigned long long)h->state.revision, (unsigned long long)e->revision);
     next.revision = e->revision;
     /* The entry's state holds its epoch and anchors: brought to this node's wall instant, it
      * is the instant every node computes. The wind's running sum was the old state's. */
@@ -383,8 +383,7 @@ bool world_host_apply_entry(struct world_host *h, const struct cluster_entry *e,
     return true;
 }
 
-bool world_host_client_map_missing(const struct world_host *h,
-                                   const struct sky_world_state *next,
+bool world_host_client_map_missing(const struct world_host *h, const struct sky_world_state *next,
                                    struct sky_field_errors *errors)
 {
     if (next->weather.map_source != SKY_WEATHER_MAP_CLIENT || h->client_map.rgba)
@@ -407,7 +406,8 @@ bool world_host_set_weather_map(struct world_host *h, const struct sky_weather_m
         return false;
     }
     char err[448];
-    if (h->state_file[0] && state_store_save_weather_map(h->state_file, map, err, sizeof err) != 0) {
+    if (h->state_file[0] &&
+        state_store_save_weather_map(h->state_file, map, err, sizeof err) != 0) {
         fprintf(stderr, "skyd: cannot save the weather map: %s\n", err);
         snprintf(out->error, sizeof out->error,
                  "the weather map cannot be saved (%s); the state is unchanged", err);

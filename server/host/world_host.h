@@ -16,11 +16,11 @@
 #include "world_state.h"
 
 struct world_host_params {
-    const char *state_file;      /* "" or NULL: no persistence */
+    const char *state_file; /* "" or NULL: no persistence */
     struct sky_world_state initial_state;
-    double save_delay_s;         /* a failed write is tried again after this */
-    double now_s;                /* CLOCK_MONOTONIC seconds at start (save schedule) */
-    double wall_s;               /* CLOCK_REALTIME seconds at start: the clock is brought there */
+    double save_delay_s; /* a failed write is tried again after this */
+    double now_s;        /* CLOCK_MONOTONIC seconds at start (save schedule) */
+    double wall_s;       /* CLOCK_REALTIME seconds at start: the clock is brought there */
     /* A shared world (server/cluster/): changes are committed to Redis instead of the state
      * file (then ""), and the world's client weather map at start is `client_map`. NULL: the
      * state file. Borrowed: it outlives the host. */
@@ -57,7 +57,7 @@ struct world_commit {
     char *event;       /* the state_changed event for every client (malloc'd); NULL: none */
     /* The new render input when something changed (else NULL): for the renderer host. */
     const struct render_input *input;
-    char error[512];   /* why it failed */
+    char error[512]; /* why it failed */
 };
 
 /* Makes `next` (validated) the live state: re-anchored where its clock or wind changed and
@@ -107,8 +107,7 @@ char *world_host_simulation_event(struct world_host *host, double now_s, double 
  * atmosphere_settled), so a humidity that changes every tick cannot keep restarting the
  * amortized rebuild. Unwatched, it reaches it at once, and inputs ask for their atmosphere
  * to be built at once (a snapshot, or the first frames of a new subscription, show it). */
-void world_host_advance(struct world_host *host, double wall_s, bool watched,
-                        bool frames_settled);
+void world_host_advance(struct world_host *host, double wall_s, bool watched, bool frames_settled);
 
 /* Frames fully show the input's frame atmosphere: a frame said so (atmosphere_settled), or a
  * renderer made again built it at once. Frames carry the live revision from now on. */

@@ -33,8 +33,8 @@ double world_haze_growth_factor(double humidity)
  * definition). */
 double world_humidity_fog_per_km(double humidity)
 {
-    double t = fmin(fmax((humidity - WORLD_FOG_ONSET_HUMIDITY) /
-                         (1.0 - WORLD_FOG_ONSET_HUMIDITY), 0.0), 1.0);
+    double t = fmin(
+        fmax((humidity - WORLD_FOG_ONSET_HUMIDITY) / (1.0 - WORLD_FOG_ONSET_HUMIDITY), 0.0), 1.0);
     return 3.912 * t * t * (3.0 - 2.0 * t);
 }
 
@@ -57,25 +57,32 @@ void world_to_render_atmosphere(const struct sky_world_state *state,
     out->ozone_peak_km = a->ozone_peak_altitude_km;
     out->ozone_width_km = a->ozone_width_km;
     copy3(out->ground_albedo, a->ground_albedo);
-    out->fog_density_per_km = a->fog_density_per_km + world_humidity_fog_per_km(state->weather.humidity);
+    out->fog_density_per_km = a->fog_density_per_km +
+                              world_humidity_fog_per_km(state->weather.humidity);
     out->fog_scale_height_km = a->fog_scale_height_km;
 }
 
 static enum sky_render_limb limb_model(enum sky_limb_darkening model)
 {
     switch (model) {
-    case SKY_LIMB_DARKENING_NECKEL96: return SKY_RENDER_LIMB_NECKEL96;
-    case SKY_LIMB_DARKENING_HM98: return SKY_RENDER_LIMB_HM98;
-    default: return SKY_RENDER_LIMB_NONE;
+    case SKY_LIMB_DARKENING_NECKEL96:
+        return SKY_RENDER_LIMB_NECKEL96;
+    case SKY_LIMB_DARKENING_HM98:
+        return SKY_RENDER_LIMB_HM98;
+    default:
+        return SKY_RENDER_LIMB_NONE;
     }
 }
 
 static enum sky_render_tonemap tonemap_op(enum sky_tonemap tonemap)
 {
     switch (tonemap) {
-    case SKY_TONEMAP_REINHARD: return SKY_RENDER_TONEMAP_REINHARD;
-    case SKY_TONEMAP_CLAMP: return SKY_RENDER_TONEMAP_CLAMP;
-    default: return SKY_RENDER_TONEMAP_ACES;
+    case SKY_TONEMAP_REINHARD:
+        return SKY_RENDER_TONEMAP_REINHARD;
+    case SKY_TONEMAP_CLAMP:
+        return SKY_RENDER_TONEMAP_CLAMP;
+    default:
+        return SKY_RENDER_TONEMAP_ACES;
     }
 }
 
@@ -147,10 +154,18 @@ void world_to_render_clouds(const struct sky_world_state *state, struct sky_rend
     out->primary_steps = c->primary_steps;
     out->light_steps = c->light_steps;
     switch (c->resolution) {
-    case SKY_CLOUD_RESOLUTION_FULL: out->resolution = SKY_RENDER_CLOUDS_FULL; break;
-    case SKY_CLOUD_RESOLUTION_QUARTER: out->resolution = SKY_RENDER_CLOUDS_QUARTER; break;
-    case SKY_CLOUD_RESOLUTION_SIXTEENTH: out->resolution = SKY_RENDER_CLOUDS_SIXTEENTH; break;
-    default: out->resolution = SKY_RENDER_CLOUDS_SIXTYFOURTH; break;
+    case SKY_CLOUD_RESOLUTION_FULL:
+        out->resolution = SKY_RENDER_CLOUDS_FULL;
+        break;
+    case SKY_CLOUD_RESOLUTION_QUARTER:
+        out->resolution = SKY_RENDER_CLOUDS_QUARTER;
+        break;
+    case SKY_CLOUD_RESOLUTION_SIXTEENTH:
+        out->resolution = SKY_RENDER_CLOUDS_SIXTEENTH;
+        break;
+    default:
+        out->resolution = SKY_RENDER_CLOUDS_SIXTYFOURTH;
+        break;
     }
     out->temporal = c->temporal == SKY_SWITCH_ON;
     out->wind_offset_east_km = w->offset_east_km;
@@ -215,7 +230,8 @@ double world_moon_phase_angle_deg(const double sun[3], const double moon[3],
     double elongation = acos(fmin(1.0, fmax(-1.0, c)));
     /* Meeus 48.3: tan i = R sin psi / (Delta - R cos psi). */
     return atan2(SUN_DISTANCE_KM * sin(elongation),
-                 moon_distance_km - SUN_DISTANCE_KM * cos(elongation)) / DEG;
+                 moon_distance_km - SUN_DISTANCE_KM * cos(elongation)) /
+           DEG;
 }
 
 void world_to_render_night(const struct sky_world_state *state, struct sky_render_night *out)

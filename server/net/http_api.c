@@ -25,7 +25,7 @@ enum endpoint {
     ENDPOINT_NONE = 0,
     ENDPOINT_HEALTH,
     ENDPOINT_METRICS,
-    ENDPOINT_STATE,    /* GET: the state; PATCH: a patch */
+    ENDPOINT_STATE, /* GET: the state; PATCH: a patch */
     ENDPOINT_SNAPSHOT,
     ENDPOINT_SCHEMA,
 };
@@ -36,19 +36,19 @@ struct http_request {
     struct http_request *next_pending; /* in api->pending while its session may answer */
     struct lws *wsi;
     enum endpoint endpoint;
-    bool patch;                        /* PATCH rather than GET */
+    bool patch; /* PATCH rather than GET */
     bool pending;
-    struct session *session;           /* the message's sender, until its reply is written */
-    char *body;                        /* a PATCH's body as it arrives */
+    struct session *session; /* the message's sender, until its reply is written */
+    char *body;              /* a PATCH's body as it arrives */
     size_t body_length, body_capacity;
     bool body_too_large;
     /* The response once known. */
     bool ready;
     unsigned status;
     const char *content_type;
-    char *response;                    /* LWS_PRE bytes, then response_length bytes */
+    char *response; /* LWS_PRE bytes, then response_length bytes */
     size_t response_length;
-    struct encoded_frame *frame;       /* a snapshot's image instead of `response` */
+    struct encoded_frame *frame; /* a snapshot's image instead of `response` */
 };
 
 struct rate_peer {
@@ -63,7 +63,7 @@ struct http_api {
     struct render_loop *loop;
     struct service_metrics *metrics;
     struct http_request *pending;
-    int pending_count;               /* bounded by max_clients */
+    int pending_count; /* bounded by max_clients */
     struct rate_peer peers[RATE_PEERS];
     struct lws_http_mount mounts[3];
 };
@@ -185,16 +185,23 @@ static unsigned status_of_error(enum sky_msg_error_code code)
     case SKY_MSG_ERR_INVALID_ENCODING:
     case SKY_MSG_ERR_UNSUPPORTED_PROTOCOL:
         return HTTP_STATUS_BAD_REQUEST;
-    case SKY_MSG_ERR_MESSAGE_TOO_LARGE: return HTTP_STATUS_REQ_ENTITY_TOO_LARGE;
-    case SKY_MSG_ERR_AUTH_FAILED: return HTTP_STATUS_UNAUTHORIZED;
-    case SKY_MSG_ERR_FORBIDDEN: return HTTP_STATUS_FORBIDDEN;
-    case SKY_MSG_ERR_NOT_FOUND: return HTTP_STATUS_NOT_FOUND;
+    case SKY_MSG_ERR_MESSAGE_TOO_LARGE:
+        return HTTP_STATUS_REQ_ENTITY_TOO_LARGE;
+    case SKY_MSG_ERR_AUTH_FAILED:
+        return HTTP_STATUS_UNAUTHORIZED;
+    case SKY_MSG_ERR_FORBIDDEN:
+        return HTTP_STATUS_FORBIDDEN;
+    case SKY_MSG_ERR_NOT_FOUND:
+        return HTTP_STATUS_NOT_FOUND;
     case SKY_MSG_ERR_RATE_LIMITED:
     case SKY_MSG_ERR_LIMIT_REACHED:
         return 429;
-    case SKY_MSG_ERR_INTERNAL: return HTTP_STATUS_INTERNAL_SERVER_ERROR;
-    case SKY_MSG_ERR_UNAVAILABLE: return HTTP_STATUS_SERVICE_UNAVAILABLE;
-    default: return 422; /* the message was understood, its fields were not acceptable */
+    case SKY_MSG_ERR_INTERNAL:
+        return HTTP_STATUS_INTERNAL_SERVER_ERROR;
+    case SKY_MSG_ERR_UNAVAILABLE:
+        return HTTP_STATUS_SERVICE_UNAVAILABLE;
+    default:
+        return 422; /* the message was understood, its fields were not acceptable */
     }
 }
 
@@ -208,8 +215,8 @@ static void respond_error(struct http_api *api, struct http_request *r, unsigned
     char *text = sky_msg_build_error(NULL, code, message, fields);
     json_guard_unlock();
     service_metrics_error(api->metrics, code);
-    respond(r, status ? status : status_of_error(code), "application/json",
-            text ? text : "{}", text ? strlen(text) : 2);
+    respond(r, status ? status : status_of_error(code), "application/json", text ? text : "{}",
+            text ? strlen(text) : 2);
     free(text);
 }
 
@@ -243,10 +250,10 @@ static int write_response(struct http_api *api, struct http_request *r)
                                     (const unsigned char *)"Bearer", 6, &p, end))
         return -1;
     if (r->status == HTTP_STATUS_METHOD_NOT_ALLOWED &&
-        lws_add_http_header_by_name(r->wsi, (const unsigned char *)"allow:",
-                                    (const unsigned char *)(r->endpoint == ENDPOINT_STATE
-                                                                ? "GET, PATCH" : "GET"),
-                                    r->endpoint == ENDPOINT_STATE ? 10 : 3, &p, end))
+        lws_add_http_header_by_name(
+            r->wsi, (const unsigned char *)"allow:",
+            (const unsigned char *)(r->endpoint == ENDPOINT_STATE ? "GET, PATCH" : "GET"),
+            r->endpoint == ENDPOINT_STATE ? 10 : 3, &p, end))
         return -1;
     if (lws_finalize_write_http_header(r->wsi, start, &p, end))
         return -1;
@@ -350,17 +357,18 @@ static void submit(struct http_api *api, struct http_request *r, struct sky_clie
     if (api->pending_count >= api->limits->max_clients) {
         sky_client_msg_free(msg);
         char message[128];
-        snprintf(message, sizeof message, "too many HTTP requests waiting for a reply: at most %d "
-                 "(max_clients)", api->limits->max_clients);
+        snprintf(message, sizeof message,
+                 "too many HTTP requests waiting for a reply: at most %d "
+                 "(max_clients)",
+                 api->limits->max_clients);
         respond_error(api, r, 0, SKY_MSG_ERR_LIMIT_REACHED, message, NULL);
         return;
     }
     r->session = session_create();
     if (!r->session || !api->loop) {
         sky_client_msg_free(msg);
-        respond_error(api, r, api->loop ? 0 : HTTP_STATUS_SERVICE_UNAVAILABLE,
-                      SKY_MSG_ERR_INTERNAL, api->loop ? "out of memory" : "skyd is shutting down",
-                      NULL);
+        respond_error(api, r, api->loop ? 0 : HTTP_STATUS_SERVICE_UNAVAILABLE, SKY_MSG_ERR_INTERNAL,
+                      api->loop ? "out of memory" : "skyd is shutting down", NULL);
         return;
     }
     session_set_transport(r->session, r->wsi);
@@ -398,8 +406,7 @@ static void submit_json(struct http_api *api, struct http_request *r, cJSON *jso
         if (protocol_message_needs_controller(msg.type)) {
             char peer[64] = "";
             net_peer_address(r->wsi, peer, sizeof peer);
-            skyd_log(SKYD_LOG_WARNING, "PATCH /api/state from %s refused: %s", peer,
-                     error.message);
+            skyd_log(SKYD_LOG_WARNING, "PATCH /api/state from %s refused: %s", peer, error.message);
         }
         respond_error(api, r, 0, code, error.message, &error.fields);
         return;
@@ -481,8 +488,8 @@ static enum endpoint endpoint_of(const char *path)
         const char *path;
         enum endpoint endpoint;
     } routes[] = {
-        { "/healthz", ENDPOINT_HEALTH },   { "/metrics", ENDPOINT_METRICS },
-        { "/api/state", ENDPOINT_STATE },  { "/api/snapshot", ENDPOINT_SNAPSHOT },
+        { "/healthz", ENDPOINT_HEALTH },    { "/metrics", ENDPOINT_METRICS },
+        { "/api/state", ENDPOINT_STATE },   { "/api/snapshot", ENDPOINT_SNAPSHOT },
         { "/api/schema", ENDPOINT_SCHEMA },
     };
     for (size_t i = 0; i < sizeof routes / sizeof routes[0]; i++)
@@ -505,8 +512,8 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
 {
     release_request(api, r);
     r->wsi = wsi;
-    static const enum lws_token_indexes methods[] = { WSI_TOKEN_GET_URI, WSI_TOKEN_PATCH_URI,
-                                                      WSI_TOKEN_POST_URI, WSI_TOKEN_PUT_URI,
+    static const enum lws_token_indexes methods[] = { WSI_TOKEN_GET_URI,    WSI_TOKEN_PATCH_URI,
+                                                      WSI_TOKEN_POST_URI,   WSI_TOKEN_PUT_URI,
                                                       WSI_TOKEN_DELETE_URI, WSI_TOKEN_OPTIONS_URI,
                                                       WSI_TOKEN_HEAD_URI };
     char path[256] = "";
@@ -528,8 +535,7 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
         char message[320];
         snprintf(message, sizeof message, "%s allows only %s", path,
                  r->endpoint == ENDPOINT_STATE ? "GET and PATCH" : "GET");
-        respond_error(api, r, HTTP_STATUS_METHOD_NOT_ALLOWED, SKY_MSG_ERR_BAD_VALUE, message,
-                      NULL);
+        respond_error(api, r, HTTP_STATUS_METHOD_NOT_ALLOWED, SKY_MSG_ERR_BAD_VALUE, message, NULL);
         return 0;
     }
     bool limited = r->endpoint != ENDPOINT_HEALTH && r->endpoint != ENDPOINT_METRICS;
@@ -558,10 +564,18 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
     }
     struct http_answer answer;
     switch (r->endpoint) {
-    case ENDPOINT_HEALTH: http_endpoint_health(&answer, api->metrics, api->loop, api->hub); break;
-    case ENDPOINT_METRICS: http_endpoint_metrics(&answer, api->metrics, api->hub); break;
-    case ENDPOINT_SCHEMA: http_endpoint_schema(&answer); break;
-    case ENDPOINT_SNAPSHOT: http_endpoint_snapshot(&answer, wsi); break;
+    case ENDPOINT_HEALTH:
+        http_endpoint_health(&answer, api->metrics, api->loop, api->hub);
+        break;
+    case ENDPOINT_METRICS:
+        http_endpoint_metrics(&answer, api->metrics, api->hub);
+        break;
+    case ENDPOINT_SCHEMA:
+        http_endpoint_schema(&answer);
+        break;
+    case ENDPOINT_SNAPSHOT:
+        http_endpoint_snapshot(&answer, wsi);
+        break;
     case ENDPOINT_STATE:
         if (r->patch) {
             if (!body_follows(wsi))
@@ -570,7 +584,8 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
         }
         http_endpoint_state(&answer);
         break;
-    case ENDPOINT_NONE: return 0;
+    case ENDPOINT_NONE:
+        return 0;
     }
     carry_out(api, r, &answer);
     return 0;

@@ -31,8 +31,10 @@ void http_answer_release(struct http_answer *answer)
 static void answer_text(struct http_answer *out, unsigned status, const char *content_type,
                         char *body)
 {
-    *out = (struct http_answer){ .kind = HTTP_ANSWER_RESPONSE, .status = status,
-                                 .content_type = content_type, .body = body,
+    *out = (struct http_answer){ .kind = HTTP_ANSWER_RESPONSE,
+                                 .status = status,
+                                 .content_type = content_type,
+                                 .body = body,
                                  .body_length = body ? strlen(body) : 0 };
 }
 
@@ -43,8 +45,7 @@ static void answer_json(struct http_answer *out, unsigned status, const cJSON *j
     answer_text(out, text ? status : HTTP_STATUS_INTERNAL_SERVER_ERROR, "application/json", text);
 }
 
-static void answer_error(struct http_answer *out, enum sky_msg_error_code code,
-                         const char *message)
+static void answer_error(struct http_answer *out, enum sky_msg_error_code code, const char *message)
 {
     *out = (struct http_answer){ .kind = HTTP_ANSWER_ERROR, .code = code };
     snprintf(out->message, sizeof out->message, "%s", message);
@@ -127,12 +128,17 @@ static cJSON *query_value(const char *text)
 static const struct {
     const char *name, *group, *member;
 } snapshot_params[] = {
-    { "width", NULL, "width" },           { "height", NULL, "height" },
-    { "format", NULL, "format" },         { "quality", NULL, "quality" },
+    { "width", NULL, "width" },
+    { "height", NULL, "height" },
+    { "format", NULL, "format" },
+    { "quality", NULL, "quality" },
     { "projection", NULL, "projection" },
-    { "yaw_deg", "camera", "yaw_deg" },   { "pitch_deg", "camera", "pitch_deg" },
-    { "fov_deg", "camera", "fov_deg" },   { "altitude_km", "camera", "altitude_km" },
-    { "exposure_mode", "exposure", "mode" }, { "ev100", "exposure", "ev100" },
+    { "yaw_deg", "camera", "yaw_deg" },
+    { "pitch_deg", "camera", "pitch_deg" },
+    { "fov_deg", "camera", "fov_deg" },
+    { "altitude_km", "camera", "altitude_km" },
+    { "exposure_mode", "exposure", "mode" },
+    { "ev100", "exposure", "ev100" },
     { "compensation_ev", "exposure", "compensation_ev" },
 };
 #define SNAPSHOT_PARAM_COUNT (sizeof snapshot_params / sizeof snapshot_params[0])
@@ -144,9 +150,9 @@ void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi)
     cJSON_AddStringToObject(message, "type", "snapshot");
     cJSON *view = cJSON_AddObjectToObject(message, "view");
     char fragment[256], problem[HTTP_ANSWER_MESSAGE_MAX] = "";
-    for (int n = 0; !problem[0] &&
-                    lws_hdr_copy_fragment(wsi, fragment, sizeof fragment,
-                                          WSI_TOKEN_HTTP_URI_ARGS, n) > 0; n++) {
+    for (int n = 0; !problem[0] && lws_hdr_copy_fragment(wsi, fragment, sizeof fragment,
+                                                         WSI_TOKEN_HTTP_URI_ARGS, n) > 0;
+         n++) {
         char *equals = strchr(fragment, '=');
         const char *value = equals ? equals + 1 : "";
         if (equals)
@@ -155,9 +161,12 @@ void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi)
         while (i < SNAPSHOT_PARAM_COUNT && strcmp(snapshot_params[i].name, fragment) != 0)
             i++;
         if (i == SNAPSHOT_PARAM_COUNT) {
-            snprintf(problem, sizeof problem, "unknown query parameter '%.64s'; expected: width, "
-                     "height, format, quality, projection, yaw_deg, pitch_deg, fov_deg, altitude_km, "
-                     "exposure_mode, ev100, compensation_ev", fragment);
+            snprintf(
+                problem, sizeof problem,
+                "unknown query parameter '%.64s'; expected: width, "
+                "height, format, quality, projection, yaw_deg, pitch_deg, fov_deg, altitude_km, "
+                "exposure_mode, ev100, compensation_ev",
+                fragment);
             break;
         }
         cJSON *parent = view;
@@ -181,8 +190,8 @@ void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi)
     }
 }
 
-void http_endpoint_patch(struct http_answer *out, const char *body, size_t length,
-                         bool too_large, size_t max_message_bytes)
+void http_endpoint_patch(struct http_answer *out, const char *body, size_t length, bool too_large,
+                         size_t max_message_bytes)
 {
     char message[160];
     if (too_large) {

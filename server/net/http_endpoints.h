@@ -30,7 +30,7 @@ struct http_answer {
     enum http_answer_kind kind;
     unsigned status;
     const char *content_type;
-    char *body;                   /* malloc'd; NULL: the JSON text "{}" */
+    char *body; /* malloc'd; NULL: the JSON text "{}" */
     size_t body_length;
     enum sky_msg_error_code code;
     char message[HTTP_ANSWER_MESSAGE_MAX];
@@ -56,7 +56,7 @@ void http_endpoint_state(struct http_answer *out);
  * fill. */
 void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi);
 /* PATCH /api/state once its body is in: a set message with the body as its patch. */
-void http_endpoint_patch(struct http_answer *out, const char *body, size_t length,
-                         bool too_large, size_t max_message_bytes);
+void http_endpoint_patch(struct http_answer *out, const char *body, size_t length, bool too_large,
+                         size_t max_message_bytes);
 
 #endif

@@ -22,14 +22,14 @@
 /* Per-connection data, owned by the service thread (lws allocates it zeroed). */
 struct connection {
     struct session *session;
-    unsigned long long number;  /* for the log: "connection 12" */
+    unsigned long long number; /* for the log: "connection 12" */
     char peer[64];
-    bool rejected;              /* over max_clients: gets an error and a close, nothing else */
-    char *rx;                   /* the message being received */
-    size_t rx_capacity;         /* bytes rx holds, terminator included */
-    size_t rx_length;           /* bytes received so far (may exceed what is stored) */
-    size_t rx_limit;            /* the largest message this one may be */
-    bool rx_out_of_memory;      /* the message did not fit in memory */
+    bool rejected;         /* over max_clients: gets an error and a close, nothing else */
+    char *rx;              /* the message being received */
+    size_t rx_capacity;    /* bytes rx holds, terminator included */
+    size_t rx_length;      /* bytes received so far (may exceed what is stored) */
+    size_t rx_limit;       /* the largest message this one may be */
+    bool rx_out_of_memory; /* the message did not fit in memory */
     bool rx_binary;
     double tokens, refilled_at; /* rate limit: a token bucket */
 };
@@ -67,8 +67,8 @@ static int confirm_upgrade(struct ws_server *srv, struct lws *wsi)
     int length = lws_hdr_total_length(wsi, WSI_TOKEN_ORIGIN);
     if (length <= 0)
         return 0;
-    if (length >= (int)sizeof origin || lws_hdr_copy(wsi, origin, sizeof origin,
-                                                     WSI_TOKEN_ORIGIN) < 0 ||
+    if (length >= (int)sizeof origin ||
+        lws_hdr_copy(wsi, origin, sizeof origin, WSI_TOKEN_ORIGIN) < 0 ||
         !origin_allowed(srv, origin)) {
         char peer[64] = "";
         net_peer_address(wsi, peer, sizeof peer);
@@ -127,8 +127,7 @@ static int on_established(struct ws_server *srv, struct lws *wsi, struct connect
     if (session_hub_count(srv->hub) >= srv->limits.max_clients) {
         c->rejected = true;
         char message[96];
-        snprintf(message, sizeof message, "too many clients: at most %d",
-                 srv->limits.max_clients);
+        snprintf(message, sizeof message, "too many clients: at most %d", srv->limits.max_clients);
         skyd_log(SKYD_LOG_WARNING, "connection %llu refused: %s", c->number, message);
         queue_and_wake(wsi, c->session,
                        build_error(srv, NULL, SKY_MSG_ERR_LIMIT_REACHED, message, NULL));
@@ -194,20 +193,23 @@ static void on_message(struct ws_server *srv, struct connection *c)
         error = build_error(srv, NULL, SKY_MSG_ERR_INTERNAL,
                             "out of memory while receiving this message", NULL);
     } else if (c->rx_length > c->rx_limit) {
-        snprintf(message, sizeof message, "message of %zu bytes is larger than %s (%zu)",
-                 c->rx_length, c->rx_limit > srv->limits.max_message_bytes ? "max_upload_bytes"
-                 : "max_message_bytes", c->rx_limit);
+        snprintf(
+            message, sizeof message, "message of %zu bytes is larger than %s (%zu)", c->rx_length,
+            c->rx_limit > srv->limits.max_message_bytes ? "max_upload_bytes" : "max_message_bytes",
+            c->rx_limit);
         error = build_error(srv, NULL, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message, NULL);
     } else {
         struct sky_msg_parse_error parse_error;
         json_guard_lock();
-        enum sky_msg_error_code code = sky_msg_parse(c->rx ? c->rx : "", c->rx_length,
-                                                     &srv->limits, &msg, &parse_error);
+        enum sky_msg_error_code code = sky_msg_parse(c->rx ? c->rx : "", c->rx_length, &srv->limits,
+                                                     &msg, &parse_error);
         json_guard_unlock();
         service_metrics_message(srv->metrics, msg.type);
         if (!allowed) {
-            snprintf(message, sizeof message, "more than %g messages per second; this one was "
-                     "dropped", srv->limits.control_messages_per_second);
+            snprintf(message, sizeof message,
+                     "more than %g messages per second; this one was "
+                     "dropped",
+                     srv->limits.control_messages_per_second);
             error = build_error(srv, &msg.id, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
         } else if (code == SKY_MSG_OK) {
             render_loop_submit_message(srv->loop, c->session, &msg);
@@ -254,8 +256,8 @@ static size_t message_limit(const struct ws_server *srv, const struct connection
     return srv->limits.max_message_bytes;
 }
 
-static void on_receive(struct ws_server *srv, struct lws *wsi, struct connection *c,
-                       const void *in, size_t len)
+static void on_receive(struct ws_server *srv, struct lws *wsi, struct connection *c, const void *in,
+                       size_t len)
 {
     if (c->rejected || !srv->loop)
         return;
@@ -291,8 +293,7 @@ static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connectio
     case SESSION_OUTPUT_NONE:
         break;
     case SESSION_OUTPUT_TEXT:
-        if (lws_write(wsi, (unsigned char *)out.text, out.length, LWS_WRITE_TEXT) <
-            (int)out.length)
+        if (lws_write(wsi, (unsigned char *)out.text, out.length, LWS_WRITE_TEXT) < (int)out.length)
             rc = -1;
         break;
     case SESSION_OUTPUT_FRAME: {
@@ -370,8 +371,8 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
     }
 }
 
-static int http_callback(struct lws *wsi, enum lws_callback_reasons reason, void *user,
-                         void *in, size_t len)
+static int http_callback(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
+                         size_t len)
 {
     struct ws_server *srv = lws_context_user(lws_get_context(wsi));
     if (!srv || !srv->api)
@@ -383,12 +384,13 @@ static int http_callback(struct lws *wsi, enum lws_callback_reasons reason, void
 
 static void log_line(int level, const char *line)
 {
-    skyd_log(level & LLL_ERR ? SKYD_LOG_ERROR : level & LLL_WARN ? SKYD_LOG_WARNING : SKYD_LOG_INFO,
+    skyd_log(level & LLL_ERR    ? SKYD_LOG_ERROR
+             : level & LLL_WARN ? SKYD_LOG_WARNING
+                                : SKYD_LOG_INFO,
              "lws: %s", line);
 }
 
-struct ws_server *ws_server_create(const struct ws_server_params *params, char *err,
-                                   size_t errlen)
+struct ws_server *ws_server_create(const struct ws_server_params *params, char *err, size_t errlen)
 {
     struct ws_server *srv = calloc(1, sizeof *srv);
     if (!srv) {
@@ -402,8 +404,10 @@ struct ws_server *ws_server_create(const struct ws_server_params *params, char *
     srv->metrics = params->metrics;
     srv->settings = params->settings;
     live_settings_limits(params->settings, &srv->limits);
-    struct http_api_params api = { .settings = params->settings, .limits = &srv->limits,
-                                   .hub = params->hub, .loop = params->loop,
+    struct http_api_params api = { .settings = params->settings,
+                                   .limits = &srv->limits,
+                                   .hub = params->hub,
+                                   .loop = params->loop,
                                    .metrics = params->metrics };
     srv->api = http_api_create(&api);
     if (!srv->api) {
@@ -460,8 +464,7 @@ struct ws_server *ws_server_create(const struct ws_server_params *params, char *
     snprintf(srv->url, sizeof srv->url, "%s://%s:%d/", scheme, cfg->listen_address, port);
     snprintf(srv->own_origins[0], sizeof srv->own_origins[0], "%s://%s:%d", scheme,
              cfg->listen_address, port);
-    snprintf(srv->own_origins[1], sizeof srv->own_origins[1], "%s://localhost:%d", scheme,
-             port);
+    snprintf(srv->own_origins[1], sizeof srv->own_origins[1], "%s://localhost:%d", scheme, port);
     return srv;
 }
 
@@ -502,8 +505,8 @@ static void close_session(struct session *session, void *user)
     session_request_close(session, request->code, request->reason, request->after_output);
 }
 
-void ws_server_close_all(struct ws_server *server, int code, const char *reason,
-                         bool after_output, double timeout_s)
+void ws_server_close_all(struct ws_server *server, int code, const char *reason, bool after_output,
+                         double timeout_s)
 {
     struct close_request request = { code, reason, after_output };
     session_hub_for_each(server->hub, close_session, &request);

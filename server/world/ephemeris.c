@@ -118,7 +118,7 @@ void eph_sun_geocentric(double jde, const struct eph_nutation *n, struct eph_sun
     eph_ecliptic_to_equatorial(lambda, beta, n->obliquity_deg, &out->ra_deg, &out->dec_deg);
     out->distance_au = r;
     /* The sun's mean longitude, SPA eq. A2. */
-    static const double mean_longitude[6] = { 280.4664567, 360007.6982779, 0.03032028,
+    static const double mean_longitude[6] = { 280.4664567,   360007.6982779, 0.03032028,
                                               1.0 / 49931.0, -1.0 / 15300.0, -1.0 / 2000000.0 };
     out->mean_longitude_deg = eph_wrap360(polynomial(mean_longitude, 6, jme));
 }
@@ -134,8 +134,7 @@ void eph_site_geocentric(const struct sky_site *site, double *rho_cos, double *r
 }
 
 void eph_topocentric(double hour_angle_deg, double dec_deg, double sin_parallax,
-                     const struct sky_site *site, double *topo_hour_angle_deg,
-                     double *topo_dec_deg)
+                     const struct sky_site *site, double *topo_hour_angle_deg, double *topo_dec_deg)
 {
     double h = hour_angle_deg * EPH_RAD, dec = dec_deg * EPH_RAD, x, y;
     eph_site_geocentric(site, &x, &y);
@@ -172,9 +171,8 @@ void eph_horizontal(double hour_angle_deg, double dec_deg, const struct sky_site
         *elevation_deg += sky_refraction_deg(e0, site->pressure_mbar, site->temperature_c);
 }
 
-void sky_sun_position_delta_t(double unix_seconds, double delta_t_s,
-                              const struct sky_site *site, bool refraction,
-                              struct sky_body_position *out)
+void sky_sun_position_delta_t(double unix_seconds, double delta_t_s, const struct sky_site *site,
+                              bool refraction, struct sky_body_position *out)
 {
     double jd = sky_julian_day(unix_seconds), jde = jd + delta_t_s / 86400.0;
     struct eph_nutation n;

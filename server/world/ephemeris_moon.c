@@ -59,8 +59,8 @@ void sky_moon_geocentric(double jde, double *lambda_deg, double *beta_deg, doubl
     *distance_km = 385000.56 + sum_r / 1000.0;
 }
 
-static void moon_apparent(double jde, const struct eph_nutation *n, double *ra_deg,
-                          double *dec_deg, double *distance_km)
+static void moon_apparent(double jde, const struct eph_nutation *n, double *ra_deg, double *dec_deg,
+                          double *distance_km)
 {
     double lambda, beta;
     sky_moon_geocentric(jde, &lambda, &beta, distance_km);
@@ -105,8 +105,7 @@ void sky_moon_position(double unix_seconds, const struct sky_site *site, bool re
         double h = eph_apparent_sidereal_deg(jd, &n) + site->longitude_deg - ra;
         double topo_h, topo_dec;
         eph_topocentric(h, dec, EPH_EARTH_RADIUS_KM / distance, site, &topo_h, &topo_dec);
-        eph_horizontal(topo_h, topo_dec, site, refraction, &out->azimuth_deg,
-                       &out->elevation_deg);
+        eph_horizontal(topo_h, topo_dec, site, refraction, &out->azimuth_deg, &out->elevation_deg);
         out->distance_km = topocentric_distance_km(h, dec, distance, site);
     }
     if (illuminated_fraction || phase_angle_deg) {

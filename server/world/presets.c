@@ -13,7 +13,8 @@
 #include <sys/stat.h>
 
 #if defined(__GNUC__)
-#define PRINTF_LIKE(format_index, first_arg) __attribute__((format(printf, format_index, first_arg)))
+#define PRINTF_LIKE(format_index, first_arg)                                                       \
+    __attribute__((format(printf, format_index, first_arg)))
 #else
 #define PRINTF_LIKE(format_index, first_arg)
 #endif
@@ -97,8 +98,8 @@ static char *join_path(const char *directory, const char *kind, const char *file
     return path;
 }
 
-int sky_preset_list(const char *config_dir, const char *kind,
-                    char names[][SKY_PRESET_NAME_MAX + 1], int max_names)
+int sky_preset_list(const char *config_dir, const char *kind, char names[][SKY_PRESET_NAME_MAX + 1],
+                    int max_names)
 {
     if (!config_dir || !sky_preset_name_is_valid(kind) || max_names < 0 || (!names && max_names))
         return -1;
@@ -224,8 +225,7 @@ static bool strip_description(cJSON *patch, struct sky_field_errors *errors)
     cJSON *description;
     while ((description = cJSON_GetObjectItemCaseSensitive(patch, "description")) != NULL) {
         if (!cJSON_IsString(description)) {
-            sky_field_errors_add(errors, SKY_FIELD_WRONG_TYPE, "/description",
-                                 "expected a string");
+            sky_field_errors_add(errors, SKY_FIELD_WRONG_TYPE, "/description", "expected a string");
             return false;
         }
         cJSON_DeleteItemFromObjectCaseSensitive(patch, "description");
@@ -233,8 +233,8 @@ static bool strip_description(cJSON *patch, struct sky_field_errors *errors)
     return true;
 }
 
-static void summarize_rejection(const char *path, const struct sky_field_errors *errors,
-                                char *msg, size_t msglen)
+static void summarize_rejection(const char *path, const struct sky_field_errors *errors, char *msg,
+                                size_t msglen)
 {
     if (errors->count == 0) {
         set_message(msg, msglen, "%s: preset rejected", path);

@@ -8,8 +8,14 @@
 
 /* Independent noise channels. */
 enum channel {
-    CH_FRONT_SLOW, CH_FRONT_FAST, CH_INSTABILITY, CH_CIRRUS, CH_CIRRUS_BASE, CH_GUSTS,
-    CH_WIND_BASE, CH_WIND_VEER,
+    CH_FRONT_SLOW,
+    CH_FRONT_FAST,
+    CH_INSTABILITY,
+    CH_CIRRUS,
+    CH_CIRRUS_BASE,
+    CH_GUSTS,
+    CH_WIND_BASE,
+    CH_WIND_VEER,
 };
 
 /* Hours after which a front's wetness looks ahead to draw cirrus before it. */
@@ -111,14 +117,16 @@ void weather_autopilot_sample(int seed, double unix_s, double longitude_deg,
     out->low.bottom_km = clamp(0.125 * (100.0 - 100.0 * out->humidity) / 5.0, 0.2, 3.0);
     out->low.thickness_km = 0.6 + 1.6 * wet + 1.5 * cumulus + 7.0 * storm;
     /* Cirrus runs ahead of a wetter spell. */
-    out->high.coverage = clamp(1.8 * fmax(0.0, ahead - wet) +
-                               0.25 * value_noise(seed, CH_CIRRUS, h / 12.0) - 0.05, 0.0, 1.0);
+    out->high.coverage =
+        clamp(1.8 * fmax(0.0, ahead - wet) + 0.25 * value_noise(seed, CH_CIRRUS, h / 12.0) - 0.05,
+              0.0, 1.0);
     out->high.type = 0.0;
     out->high.density = 0.2 + 0.2 * wet;
     out->high.bottom_km = 8.0 + 1.5 * value_noise(seed, CH_CIRRUS_BASE, h / 24.0);
     out->high.thickness_km = 0.6;
     out->precipitation = clamp(0.6 * smoothstep(0.72, 0.95, wet) + 0.4 * storm, 0.0, 1.0);
-    out->wind_speed_m_s = 2.0 + 9.0 * wet + 10.0 * storm + 4.0 * value_noise(seed, CH_GUSTS, h / 6.0);
+    out->wind_speed_m_s = 2.0 + 9.0 * wet + 10.0 * storm +
+                          4.0 * value_noise(seed, CH_GUSTS, h / 6.0);
     /* A prevailing direction for the seed, veering as fronts pass. */
     double base = 360.0 * lattice(seed, CH_WIND_BASE, 0);
     double veer = 150.0 * (value_noise(seed, CH_WIND_VEER, h / 30.0) - 0.5) + 60.0 * (wet - 0.5);

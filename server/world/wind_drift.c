@@ -43,8 +43,8 @@ long wind_drift_cells_summed(const struct wind_drift *drift)
 static double wrap_offset(double km)
 {
     if (km > WIND_DRIFT_OFFSET_LIMIT_KM || km < -WIND_DRIFT_OFFSET_LIMIT_KM)
-        km -= 2.0 * WIND_DRIFT_OFFSET_LIMIT_KM * floor((km + WIND_DRIFT_OFFSET_LIMIT_KM) /
-                                                       (2.0 * WIND_DRIFT_OFFSET_LIMIT_KM));
+        km -= 2.0 * WIND_DRIFT_OFFSET_LIMIT_KM *
+              floor((km + WIND_DRIFT_OFFSET_LIMIT_KM) / (2.0 * WIND_DRIFT_OFFSET_LIMIT_KM));
     return km;
 }
 
@@ -88,8 +88,8 @@ static bool same_anchor(const struct sky_wind_anchor *a, const struct sky_wind_a
            a->offset_north_km == b->offset_north_km;
 }
 
-void wind_drift_offsets(struct wind_drift *drift, const struct sky_world_state *state,
-                        double utc_s, double *east_km, double *north_km)
+void wind_drift_offsets(struct wind_drift *drift, const struct sky_world_state *state, double utc_s,
+                        double *east_km, double *north_km)
 {
     const struct sky_wind_anchor *anchor = &state->weather.anchor;
     double at = anchor->utc_unix_s;
@@ -101,8 +101,7 @@ void wind_drift_offsets(struct wind_drift *drift, const struct sky_world_state *
             at = b;
         }
     } else {
-        if (drift && drift->valid && same_anchor(&drift->anchor, anchor) &&
-            drift->at_s <= utc_s) {
+        if (drift && drift->valid && same_anchor(&drift->anchor, anchor) && drift->at_s <= utc_s) {
             at = drift->at_s;
             east = drift->east_km;
             north = drift->north_km;

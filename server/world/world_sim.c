@@ -68,8 +68,8 @@ double world_sim_clock_at(const struct sky_world_state *state, double wall_s)
     const struct sky_clock_state *c = &state->clock;
     if (!world_sim_anchored(state))
         return c->utc_unix_s;
-    return clamp(c->epoch.utc_unix_s + (wall_s - c->epoch.wall_unix_s) * c->time_scale,
-                 UTC_MIN_S, UTC_MAX_S);
+    return clamp(c->epoch.utc_unix_s + (wall_s - c->epoch.wall_unix_s) * c->time_scale, UTC_MIN_S,
+                 UTC_MAX_S);
 }
 
 void world_sim_anchor_wind(struct sky_world_state *state)
@@ -174,16 +174,21 @@ void world_sim_start_transition(struct sky_world_state *state,
 /* ---- client changes ----------------------------------------------------------------------- */
 
 static const char *const ephemeris_fields[] = {
-    "sun.azimuth_deg", "sun.elevation_deg", "moon.azimuth_deg", "moon.elevation_deg",
+    "sun.azimuth_deg",
+    "sun.elevation_deg",
+    "moon.azimuth_deg",
+    "moon.elevation_deg",
 };
 
 /* The schema paths of struct sky_weather_params, in its member order. */
 static const char *const weather_fields[] = {
-    "clouds.low.coverage",  "clouds.low.type",         "clouds.low.density",
-    "clouds.low.bottom_km", "clouds.low.thickness_km", "clouds.high.coverage",
-    "clouds.high.type",     "clouds.high.density",     "clouds.high.bottom_km",
-    "clouds.high.thickness_km", "clouds.precipitation", "weather.humidity",
-    "weather.wind.speed_m_s",   "weather.wind.direction_deg",
+    "clouds.low.coverage",     "clouds.low.type",
+    "clouds.low.density",      "clouds.low.bottom_km",
+    "clouds.low.thickness_km", "clouds.high.coverage",
+    "clouds.high.type",        "clouds.high.density",
+    "clouds.high.bottom_km",   "clouds.high.thickness_km",
+    "clouds.precipitation",    "weather.humidity",
+    "weather.wind.speed_m_s",  "weather.wind.direction_deg",
 };
 _Static_assert(sizeof weather_fields / sizeof weather_fields[0] == WEATHER_PARAM_COUNT,
                "one path per weather parameter");
@@ -207,7 +212,8 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
     for (size_t i = 0; i < count; i++) {
         const struct sky_field_desc *f = &fields[i];
         if (memcmp((const char *)before + f->offset, (const char *)after + f->offset,
-                   sky_field_size(f)) == 0 || !sky_world_patch_names(patch, f))
+                   sky_field_size(f)) == 0 ||
+            !sky_world_patch_names(patch, f))
             continue;
         char pointer[128];
         sky_field_pointer(f, pointer, sizeof pointer);
@@ -216,7 +222,8 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
                                  "read-only: kept by the simulation (apply_preset with "
                                  "transition_s starts a weather transition)");
         } else if (after->clock.sky_bodies == SKY_BODIES_EPHEMERIS &&
-                   listed(f->path, ephemeris_fields, sizeof ephemeris_fields / sizeof *ephemeris_fields)) {
+                   listed(f->path, ephemeris_fields,
+                          sizeof ephemeris_fields / sizeof *ephemeris_fields)) {
             sky_field_errors_add(errors, SKY_FIELD_INCONSISTENT, pointer,
                                  "follows the ephemeris while clock.sky_bodies is \"ephemeris\"; "
                                  "set clock.sky_bodies to \"manual\" in the same patch");
@@ -233,8 +240,7 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
     return failures == 0;
 }
 
-void world_sim_client_changed(const struct sky_world_state *before,
-                              struct sky_world_state *after)
+void world_sim_client_changed(const struct sky_world_state *before, struct sky_world_state *after)
 {
     struct sky_transition_state *t = &after->weather.transition;
     bool was_on = before->weather.autopilot == SKY_SWITCH_ON;
@@ -250,8 +256,8 @@ void world_sim_client_changed(const struct sky_world_state *before,
         sky_weather_params_get(after, &t->to);
         t->duration_s = fmax(after->clock.utc_unix_s - t->start_unix_s, 0.0);
         t->progress = 1.0;
-    } else if (!weather_timeline_mid_blend(before) &&
-               before->weather.transition.duration_s > 0.0 && weather_timeline_active(after)) {
+    } else if (!weather_timeline_mid_blend(before) && before->weather.transition.duration_s > 0.0 &&
+               weather_timeline_active(after)) {
         /* The clock set back into a transition that had ended: the weather stays. */
         t->duration_s = 0.0;
         t->progress = 1.0;

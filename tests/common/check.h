@@ -28,45 +28,44 @@ static inline bool check_record(bool ok, const char *file, int line)
     return false;
 }
 
-#define CHECK(cond)                                                                       \
-    do {                                                                                  \
-        if (!check_record((cond), __FILE__, __LINE__))                                    \
-            printf("%s\n", #cond);                                                        \
+#define CHECK(cond)                                                                                \
+    do {                                                                                           \
+        if (!check_record((cond), __FILE__, __LINE__))                                             \
+            printf("%s\n", #cond);                                                                 \
     } while (0)
 
 /* |a - b| <= tol, printing both values on failure. */
-#define CHECK_NEAR(a, b, tol)                                                             \
-    do {                                                                                  \
-        double check_a_ = (a), check_b_ = (b), check_t_ = (tol);                          \
-        if (!check_record(fabs(check_a_ - check_b_) <= check_t_, __FILE__, __LINE__))     \
-            printf("%s = %.9g, %s = %.9g, |diff| %.3g > %.3g\n", #a, check_a_, #b,        \
-                   check_b_, fabs(check_a_ - check_b_), check_t_);                        \
+#define CHECK_NEAR(a, b, tol)                                                                      \
+    do {                                                                                           \
+        double check_a_ = (a), check_b_ = (b), check_t_ = (tol);                                   \
+        if (!check_record(fabs(check_a_ - check_b_) <= check_t_, __FILE__, __LINE__))              \
+            printf("%s = %.9g, %s = %.9g, |diff| %.3g > %.3g\n", #a, check_a_, #b, check_b_,       \
+                   fabs(check_a_ - check_b_), check_t_);                                           \
     } while (0)
 
 /* a <= b, printing both on failure. */
-#define CHECK_LE(a, b)                                                                    \
-    do {                                                                                  \
-        double check_a_ = (a), check_b_ = (b);                                            \
-        if (!check_record(check_a_ <= check_b_, __FILE__, __LINE__))                      \
-            printf("%s = %.9g > %s = %.9g\n", #a, check_a_, #b, check_b_);                \
+#define CHECK_LE(a, b)                                                                             \
+    do {                                                                                           \
+        double check_a_ = (a), check_b_ = (b);                                                     \
+        if (!check_record(check_a_ <= check_b_, __FILE__, __LINE__))                               \
+            printf("%s = %.9g > %s = %.9g\n", #a, check_a_, #b, check_b_);                         \
     } while (0)
 
 /* CHECK with a printf-style explanation on failure. */
-#define CHECK_MSG(cond, ...)                                                              \
-    do {                                                                                  \
-        if (!check_record((cond), __FILE__, __LINE__)) {                                  \
-            printf("%s: ", #cond);                                                        \
-            printf(__VA_ARGS__);                                                          \
-            printf("\n");                                                                 \
-        }                                                                                 \
+#define CHECK_MSG(cond, ...)                                                                       \
+    do {                                                                                           \
+        if (!check_record((cond), __FILE__, __LINE__)) {                                           \
+            printf("%s: ", #cond);                                                                 \
+            printf(__VA_ARGS__);                                                                   \
+            printf("\n");                                                                          \
+        }                                                                                          \
     } while (0)
 
 static inline void check_int(long long actual, long long expected, const char *actual_text,
                              const char *expected_text, const char *file, int line)
 {
     if (!check_record(actual == expected, file, line))
-        printf("CHECK_INT(%s, %s): %lld != %lld\n", actual_text, expected_text, actual,
-               expected);
+        printf("CHECK_INT(%s, %s): %lld != %lld\n", actual_text, expected_text, actual, expected);
 }
 
 static inline void check_double(double actual, double expected, const char *actual_text,

@@ -15,9 +15,8 @@ double cloud_compare_relative_error(const float *a, const float *b, const unsign
     return sum > 0.0 ? diff / sum : NAN;
 }
 
-double cloud_compare_block_relative_error(const float *a, const float *b,
-                                          const unsigned char *mask, int width, int height,
-                                          int block)
+double cloud_compare_block_relative_error(const float *a, const float *b, const unsigned char *mask,
+                                          int width, int height, int block)
 {
     double diff = 0.0, sum = 0.0;
     for (int by = 0; by + block <= height; by += block)

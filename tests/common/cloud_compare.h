@@ -11,9 +11,8 @@ double cloud_compare_relative_error(const float *a, const float *b, const unsign
 
 /* The same over block x block blocks: each block at least half masked compares the means of
  * its masked pixels, weighted by their count (a reference's pixel noise averages out). */
-double cloud_compare_block_relative_error(const float *a, const float *b,
-                                          const unsigned char *mask, int width, int height,
-                                          int block);
+double cloud_compare_block_relative_error(const float *a, const float *b, const unsigned char *mask,
+                                          int width, int height, int block);
 
 /* Masked pixels within `band` px (Chebyshev distance) of an unmasked pixel or of the image's
  * border: the outline band (out[i] = 1); the other masked pixels are the interior (2);

@@ -56,8 +56,8 @@ static int compare_double(const void *a, const void *b)
 /* The likelihood of an exponential family in ln x: its maximum is where the model's mean of
  * ln(x / lo) equals the samples' (Aban, Meerschaert & Panorska 2006, JASA 101, for the
  * truncated Pareto); the model's mean falls monotonically with t, so bisection finds it. */
-double cloud_field_truncated_power_law(const double *x, int n, double lo, double hi,
-                                       double *sigma, int *used)
+double cloud_field_truncated_power_law(const double *x, int n, double lo, double hi, double *sigma,
+                                       int *used)
 {
     double U = log(hi / lo), sum = 0.0;
     int k = 0;
@@ -131,9 +131,8 @@ static double binned_exponent(const double *l, int n, double lo, double hi)
     return var > 0 ? -(sxy - sx * sy / sw) / var : NAN;
 }
 
-struct cloud_size_fit cloud_field_size_distribution(const struct cloud_object *objects,
-                                                    int count, double pixel_km,
-                                                    int min_area_px)
+struct cloud_size_fit cloud_field_size_distribution(const struct cloud_object *objects, int count,
+                                                    double pixel_km, int min_area_px)
 {
     struct cloud_size_fit fit = { NAN, NAN, NAN, NAN, NAN, NAN, NAN, 0, 0 };
     size_t cap = count > 0 ? (size_t)count : 1;
@@ -161,8 +160,7 @@ struct cloud_size_fit cloud_field_size_distribution(const struct cloud_object *o
     /* The largest cloud's area, like every other, stands for a bin half a pixel either side. */
     double hi = sqrt(4.0 * (max_area + 0.5) / M_PI) * pixel_km;
     if (fit.used >= 3 && l[0] < l[fit.used - 1]) {
-        fit.b = cloud_field_truncated_power_law(l, fit.used, fit.l_min_km, hi, &fit.b_sigma,
-                                                NULL);
+        fit.b = cloud_field_truncated_power_law(l, fit.used, fit.l_min_km, hi, &fit.b_sigma, NULL);
         double sum = 0;
         for (int i = 0; i < fit.used; i++) {
             u[i] = log(l[i] / fit.l_min_km);
@@ -195,8 +193,12 @@ static void dft_line(double *re, double *im, int n, double sign, double *tmp)
                 j ^= bit;
             j |= bit;
             if (i < j) {
-                double t = re[i]; re[i] = re[j]; re[j] = t;
-                t = im[i]; im[i] = im[j]; im[j] = t;
+                double t = re[i];
+                re[i] = re[j];
+                re[j] = t;
+                t = im[i];
+                im[i] = im[j];
+                im[j] = t;
             }
         }
         for (int len = 2; len <= n; len <<= 1) {
@@ -274,9 +276,13 @@ static bool solve6(double a[6][6], double b[6])
         if (!(fabs(a[p][c]) > 1e-300))
             return false;
         for (int k = 0; k < 6; k++) {
-            double t = a[c][k]; a[c][k] = a[p][k]; a[p][k] = t;
+            double t = a[c][k];
+            a[c][k] = a[p][k];
+            a[p][k] = t;
         }
-        double t = b[c]; b[c] = b[p]; b[p] = t;
+        double t = b[c];
+        b[c] = b[p];
+        b[p] = t;
         for (int r = c + 1; r < 6; r++) {
             double f = a[r][c] / a[c][c];
             for (int k = c; k < 6; k++)
@@ -341,8 +347,8 @@ static double hann(int i, int n)
  * there (by 0.1 over rings 4-24 of a k^-2 field). The differences along x and y have a
  * spectrum flatter by k^2, which leaks little; each mode of the image is then their power over
  * the differences' response |e^(2 pi i f) - 1|^2 = 4 sin^2(pi f). */
-int cloud_field_spectrum(const float *luma, int w, int h, double pixel_km, double *k,
-                         double *e, int max_rings)
+int cloud_field_spectrum(const float *luma, int w, int h, double pixel_km, double *k, double *e,
+                         int max_rings)
 {
     if (w < 8 || h < 8)
         return -1;
@@ -398,8 +404,8 @@ int cloud_field_spectrum(const float *luma, int w, int h, double pixel_km, doubl
     return rings;
 }
 
-double cloud_field_spectral_slope(const double *k, const double *e, int rings,
-                                  double lambda_min_km, double lambda_max_km, int *used)
+double cloud_field_spectral_slope(const double *k, const double *e, int rings, double lambda_min_km,
+                                  double lambda_max_km, int *used)
 {
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     int n = 0;

@@ -42,7 +42,7 @@ int cloud_metrics_objects(const unsigned char *mask, int w, int h, struct cloud_
     for (size_t start = 0; start < n; start++) {
         if (!mask[start] || seen[start])
             continue;
-        struct cloud_object o = {0, 0, w, h, -1, -1, false};
+        struct cloud_object o = { 0, 0, w, h, -1, -1, false };
         size_t top = 0;
         stack[top++] = start;
         seen[start] = 1;
@@ -50,10 +50,14 @@ int cloud_metrics_objects(const unsigned char *mask, int w, int h, struct cloud_
             size_t i = stack[--top];
             int x = (int)(i % (size_t)w), y = (int)(i / (size_t)w);
             o.area++;
-            if (x < o.x0) o.x0 = x;
-            if (x > o.x1) o.x1 = x;
-            if (y < o.y0) o.y0 = y;
-            if (y > o.y1) o.y1 = y;
+            if (x < o.x0)
+                o.x0 = x;
+            if (x > o.x1)
+                o.x1 = x;
+            if (y < o.y0)
+                o.y0 = y;
+            if (y > o.y1)
+                o.y1 = y;
             /* Edges to the four sides: outside the image or a pixel not in the mask. */
             o.perimeter += (x == 0 || !mask[i - 1]) + (x == w - 1 || !mask[i + 1]) +
                            (y == 0 || !mask[i - (size_t)w]) + (y == h - 1 || !mask[i + (size_t)w]);
@@ -85,8 +89,8 @@ int cloud_metrics_objects(const unsigned char *mask, int w, int h, struct cloud_
 }
 
 /* Lovejoy 1982 (Science 216, 185-187): the area-perimeter relation P ~ A^(D/2). */
-double cloud_metrics_fractal_dimension(const struct cloud_object *objects, int count,
-                                       int min_area, int *used)
+double cloud_metrics_fractal_dimension(const struct cloud_object *objects, int count, int min_area,
+                                       int *used)
 {
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     int k = 0;
@@ -176,8 +180,8 @@ double cloud_metrics_sun_contrast(const float *luma, int w, int h, const double 
                                   const double ring_deg[2])
 {
     const double deg = 3.14159265358979323846 / 180.0;
-    double sun_len = sqrt(sun_dir[0] * sun_dir[0] + sun_dir[1] * sun_dir[1] +
-                          sun_dir[2] * sun_dir[2]);
+    double sun_len =
+        sqrt(sun_dir[0] * sun_dir[0] + sun_dir[1] * sun_dir[1] + sun_dir[2] * sun_dir[2]);
     if (w <= 0 || h <= 0 || !(sun_len > 0))
         return NAN;
     double aspect = (double)w / h;
@@ -189,8 +193,7 @@ double cloud_metrics_sun_contrast(const float *luma, int w, int h, const double 
             double ndc_x = 2.0 * ((x + 0.5) / w) - 1.0;
             double d[3], len2 = 0, dot = 0;
             for (int c = 0; c < 3; c++) {
-                d[c] = forward[c] + right[c] * ndc_x * tan_half * aspect +
-                       up[c] * ndc_y * tan_half;
+                d[c] = forward[c] + right[c] * ndc_x * tan_half * aspect + up[c] * ndc_y * tan_half;
                 len2 += d[c] * d[c];
                 dot += d[c] * sun_dir[c];
             }

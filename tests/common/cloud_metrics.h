@@ -19,8 +19,8 @@ void cloud_metrics_mask_from_pair(const float *cloudy_luma, const float *clear_l
 
 /* One connected cloud object (8-connected pixels of the mask). */
 struct cloud_object {
-    int area;          /* pixels */
-    int perimeter;     /* pixel edges between the object and anything outside it */
+    int area;           /* pixels */
+    int perimeter;      /* pixel edges between the object and anything outside it */
     int x0, y0, x1, y1; /* bounding box, inclusive */
     bool touches_border;
 };
@@ -39,8 +39,8 @@ int cloud_metrics_objects(const unsigned char *mask, int w, int h, struct cloud_
  * than 3 or when their areas are all the same. Pixel perimeters bias small objects: specks of
  * a few pixels give D near 1.6 to 2 (a diagonal chain of n pixels has P = 4n), so use a
  * min_area of 30 to 100 pixels, and trust the fit only over a decade or more of areas. */
-double cloud_metrics_fractal_dimension(const struct cloud_object *objects, int count,
-                                       int min_area, int *used);
+double cloud_metrics_fractal_dimension(const struct cloud_object *objects, int count, int min_area,
+                                       int *used);
 
 /* Median bounding-box height / width of the whole objects (not touching the border) at least
  * min_width pixels wide (the mean of the middle two for an even count); *used (when not NULL)

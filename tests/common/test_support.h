@@ -104,10 +104,9 @@ static inline int test_set_cell_map(struct sky_renderer *renderer, const struct 
 /* Renders the world state `s` as the daemon does (atmosphere, clouds, night, view) at w x h
  * into `out` (`bytes` long) with the view's history `key`; `live` asks for a stream's frames
  * (see sky_render_view.live). Returns sky_renderer_render's result. */
-static inline int test_render_world(struct sky_renderer *renderer,
-                                    const struct sky_world_state *s, uint32_t w, uint32_t h,
-                                    enum sky_render_output_kind output, uint64_t key, bool live,
-                                    void *out, size_t bytes)
+static inline int test_render_world(struct sky_renderer *renderer, const struct sky_world_state *s,
+                                    uint32_t w, uint32_t h, enum sky_render_output_kind output,
+                                    uint64_t key, bool live, void *out, size_t bytes)
 {
     struct sky_render_atmosphere atm;
     struct sky_render_view view;

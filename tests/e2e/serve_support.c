@@ -48,8 +48,8 @@ cJSON *serve_expect(struct sky_client *client, const char *type, int timeout_ms)
     char err[320];
     int rc = sky_client_recv_json(client, type, timeout_ms, &msg, err, sizeof err);
     if (rc) {
-        printf("waiting for a %s message: %s (close code %d '%s')\n", type ? type : "text",
-               err, sky_client_close_code(client), sky_client_close_reason(client));
+        printf("waiting for a %s message: %s (close code %d '%s')\n", type ? type : "text", err,
+               sky_client_close_code(client), sky_client_close_reason(client));
         return NULL;
     }
     return msg;
@@ -128,12 +128,12 @@ static bool response_complete(char *response, size_t used)
     return false;
 }
 
-int http_status(int port, const char *path, const char *extra_headers, char *body,
-                size_t body_size)
+int http_status(int port, const char *path, const char *extra_headers, char *body, size_t body_size)
 {
     int fd = socket(AF_INET, SOCK_STREAM, 0);
-    struct sockaddr_in addr = {.sin_family = AF_INET, .sin_port = htons((uint16_t)port),
-                               .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
+    struct sockaddr_in addr = { .sin_family = AF_INET,
+                                .sin_port = htons((uint16_t)port),
+                                .sin_addr.s_addr = htonl(INADDR_LOOPBACK) };
     if (fd < 0 || connect(fd, (struct sockaddr *)&addr, sizeof addr) != 0) {
         printf("http: cannot connect to port %d: %s\n", port, strerror(errno));
         if (fd >= 0)
@@ -149,7 +149,7 @@ int http_status(int port, const char *path, const char *extra_headers, char *bod
     /* Read until the peer closes, the buffer is full, the headers and Content-Length bytes
      * have come (a 101 has no body and keeps the connection open), or 2 s pass in silence. */
     while (used < sizeof response - 1 && !response_complete(response, used)) {
-        struct pollfd pfd = {fd, POLLIN, 0};
+        struct pollfd pfd = { fd, POLLIN, 0 };
         if (poll(&pfd, 1, 2000) <= 0)
             break;
         ssize_t got = read(fd, response + used, sizeof response - 1 - used);
@@ -308,6 +308,6 @@ double now_s(void)
 
 void sleep_s(double seconds)
 {
-    struct timespec ts = {(time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9)};
+    struct timespec ts = { (time_t)seconds, (long)((seconds - (double)(time_t)seconds) * 1e9) };
     nanosleep(&ts, NULL);
 }

@@ -36,8 +36,8 @@ long serve_subscribe(struct sky_client *client, const char *view_json);
  * body bytes go to body when it is not NULL. */
 int http_status(int port, const char *path, const char *extra_headers, char *body,
                 size_t body_size);
-#define WS_UPGRADE_HEADERS                                                              \
-    "Connection: Upgrade\r\nUpgrade: websocket\r\nSec-WebSocket-Version: 13\r\n"          \
+#define WS_UPGRADE_HEADERS                                                                         \
+    "Connection: Upgrade\r\nUpgrade: websocket\r\nSec-WebSocket-Version: 13\r\n"                   \
     "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
 
 /* Value at a JSON Pointer ("/state/sun/elevation_deg", "/changed/0"): numbers (NAN when absent

@@ -34,8 +34,7 @@ struct saved {
 
 static char scratch[1024], state_file[1200];
 
-static struct skyd_process *start_daemon(const char *skyd, const char *name,
-                                         struct limits limits)
+static struct skyd_process *start_daemon(const char *skyd, const char *name, struct limits limits)
 {
     char config[1200], log[1200], err[512];
     snprintf(config, sizeof config, "%s/%s.json", scratch, name);
@@ -67,8 +66,8 @@ static struct skyd_process *start_daemon(const char *skyd, const char *name,
     if (!p)
         printf("starting skyd (%s): %s; its stderr is in %s\n", name, err, log);
     else
-        printf("%s: skyd listening on port %d after %.1f s (log %s)\n", name,
-               skyd_process_port(p), now_s() - t0, log);
+        printf("%s: skyd listening on port %d after %.1f s (log %s)\n", name, skyd_process_port(p),
+               now_s() - t0, log);
     return p;
 }
 
@@ -244,7 +243,7 @@ static void test_frames(const char *url, struct sky_client *ctl, struct saved *s
     sky_client_frame_free(&f);
 
     cJSON *ack = ctl ? serve_request(ctl, "{\"type\":\"set\",\"patch\":{\"sun\":{\"azimuth_deg\":"
-                                           "200}}}")
+                                          "200}}}")
                      : NULL;
     double new_rev = jnum(ack, "/revision");
     CHECK(strcmp(jstr(ack, "/type"), "ack") == 0 && new_rev > (double)rev);
@@ -557,10 +556,10 @@ int main(int argc, char **argv)
         return 1;
     double t0 = now_s();
 
-    struct limits first = {16, 1000};
+    struct limits first = { 16, 1000 };
     struct skyd_process *daemon = start_daemon(argv[1], "first", first);
     CHECK(daemon != NULL);
-    struct saved saved = {0};
+    struct saved saved = { 0 };
     if (daemon) {
         const char *url = skyd_process_url(daemon);
         test_hello(url, first);
@@ -571,8 +570,8 @@ int main(int argc, char **argv)
         test_views(url);
         test_stalled_client(url);
         test_origins(url, skyd_process_port(daemon));
-        struct sky_client *clients[3] = {ctl, serve_connect(url, NULL, NULL),
-                                         serve_connect(url, NULL, NULL)};
+        struct sky_client *clients[3] = { ctl, serve_connect(url, NULL, NULL),
+                                          serve_connect(url, NULL, NULL) };
         if (clients[2])
             serve_subscribe(clients[2], "{\"width\":32,\"height\":18,\"fps\":5}");
         CHECK(ctl && clients[1] && clients[2]);
@@ -584,7 +583,7 @@ int main(int argc, char **argv)
         printf("first run: %.1f s\n", now_s() - t0);
     }
 
-    struct limits second = {2, 5};
+    struct limits second = { 2, 5 };
     daemon = start_daemon(argv[1], "second", second);
     CHECK(daemon != NULL);
     if (daemon) {

@@ -30,8 +30,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint32_t height = format == SKY_WEATHER_MAP_PNG ? 0 : data[2] + 1u;
     if (sky_weather_map_decode(format, data + 3, size - 3, width, height, &map, reason,
                                sizeof reason)) {
-        if (!map.rgba || map.width < 1 || map.width > SKY_WEATHER_MAP_MAX_SIDE ||
-            map.height < 1 || map.height > SKY_WEATHER_MAP_MAX_SIDE)
+        if (!map.rgba || map.width < 1 || map.width > SKY_WEATHER_MAP_MAX_SIDE || map.height < 1 ||
+            map.height > SKY_WEATHER_MAP_MAX_SIDE)
             abort();
         volatile uint8_t last = map.rgba[(size_t)map.width * map.height * 4 - 1];
         (void)last;

@@ -74,8 +74,7 @@ int ref_ray_sphere(const double o[3], const double d[3], double radius, double *
  * Gauss-Legendre on pieces between spherical shells spaced by step_scale * 2 scale heights
  * (plus the ozone kinks); the optical depth is accurate to ~1e-11 relative at the default
  * step_scale 0.5, ~3e-7 at 3 (the value the Monte Carlo uses). */
-void ref_transmittance(const struct ref_atmosphere *a, double altitude, double mu,
-                       double out[3]);
+void ref_transmittance(const struct ref_atmosphere *a, double altitude, double mu, double out[3]);
 void ref_transmittance_ex(const struct ref_atmosphere *a, double altitude, double mu,
                           double step_scale, double out[3]);
 
@@ -93,8 +92,8 @@ void ref_transmittance_segment(const struct ref_atmosphere *a, const double p0[3
 void ref_single_scattering(const struct ref_atmosphere *a, double altitude,
                            const double view_dir[3], const double sun_dir[3], double out[3]);
 void ref_single_scattering_ex(const struct ref_atmosphere *a, double altitude,
-                              const double view_dir[3], const double sun_dir[3],
-                              double step_scale, double rel_tol, double out[3]);
+                              const double view_dir[3], const double sun_dir[3], double step_scale,
+                              double rel_tol, double out[3]);
 
 /* Monte Carlo estimate of the radiance carried by scattering orders min_order..max_order
  * (min_order >= 1), by path tracing from the camera with next-event estimation toward the
@@ -120,8 +119,7 @@ enum ref_mc_estimator { REF_MC_SUNLIT_SEGMENTS, REF_MC_COLLISION_ONLY };
 void ref_radiance_mc_estimator(const struct ref_atmosphere *a, double altitude,
                                const double view_dir[3], const double sun_dir[3], int min_order,
                                int max_order, int paths, uint64_t seed, int threads,
-                               enum ref_mc_estimator estimator, double out[3],
-                               double std_error[3]);
+                               enum ref_mc_estimator estimator, double out[3], double std_error[3]);
 
 /* Total radiance of orders 1..max_order: order 1 from ref_single_scattering, orders
  * 2..max_order from ref_radiance_mc (same paths, seeds and result as that call).
@@ -129,8 +127,8 @@ void ref_radiance_mc_estimator(const struct ref_atmosphere *a, double altitude,
  * orders <= 10: ~15-30 us per path; ~20k paths reach 0.3% for most sky views with the sun
  * at 10-90 deg (near-horizon views up to ~50k; twilight needs several times more). */
 void ref_radiance(const struct ref_atmosphere *a, double altitude, const double view_dir[3],
-                  const double sun_dir[3], int max_order, int paths, uint64_t seed,
-                  int threads, double out[3], double std_error[3]);
+                  const double sun_dir[3], int max_order, int paths, uint64_t seed, int threads,
+                  double out[3], double std_error[3]);
 
 /* A uniform double in [0, 1) from a splitmix64 stream (Steele et al. 2014) whose state is
  * *state: the generator of the Monte Carlo's paths, for tests that draw their own samples. */
@@ -152,12 +150,11 @@ void ref_radiance_adaptive(const struct ref_atmosphere *a, double altitude,
  * flux from the lower hemisphere (e.g. at the top of the atmosphere). Cosine-weighted
  * directions, one path per direction. */
 void ref_irradiance(const struct ref_atmosphere *a, double altitude, int facing_up,
-                    const double sun_dir[3], int max_order, int paths, uint64_t seed,
-                    int threads, double out[3], double std_error[3]);
+                    const double sun_dir[3], int max_order, int paths, uint64_t seed, int threads,
+                    double out[3], double std_error[3]);
 
 /* ref_irradiance on the ground (altitude 0, normal up). */
 void ref_sky_irradiance(const struct ref_atmosphere *a, const double sun_dir[3], int max_order,
-                        int paths, uint64_t seed, int threads, double out[3],
-                        double std_error[3]);
+                        int paths, uint64_t seed, int threads, double out[3], double std_error[3]);
 
 #endif

@@ -35,12 +35,14 @@ static inline double dot3(const double a[3], const double b[3])
 static inline void normalize3(const double in[3], double out[3])
 {
     double l = sqrt(dot3(in, in));
-    for (int i = 0; i < 3; ++i) out[i] = l > 0 ? in[i] / l : (double)(i == 2);
+    for (int i = 0; i < 3; ++i)
+        out[i] = l > 0 ? in[i] / l : (double)(i == 2);
 }
 
 static inline void along(const double o[3], const double d[3], double t, double out[3])
 {
-    for (int i = 0; i < 3; ++i) out[i] = o[i] + t * d[i];
+    for (int i = 0; i < 3; ++i)
+        out[i] = o[i] + t * d[i];
 }
 
 /* ---------------------------------------------------------------- medium and quadrature */
@@ -77,9 +79,9 @@ static inline void densities(const struct ctx *c, double radius, double dn[4])
     dn[0] = c->active[0] ? exp(-h * c->inv_h[0]) : 0.0;
     dn[1] = c->active[1] ? exp(-h * c->inv_h[1]) : 0.0;
     dn[2] = c->active[2] ? exp(-h * c->inv_h[2]) : 0.0;
-    dn[3] = c->active[3] ? fmax(0.0, 1.0 - fabs(h - c->a->ozone_peak_altitude) /
-                                               (0.5 * c->a->ozone_width))
-                         : 0.0;
+    dn[3] = c->active[3]
+                ? fmax(0.0, 1.0 - fabs(h - c->a->ozone_peak_altitude) / (0.5 * c->a->ozone_width))
+                : 0.0;
 }
 
 static inline double tau_ch(const struct ctx *c, int ch, const double col[4])
@@ -111,12 +113,10 @@ struct march {
 
 /* atmosphere_reference.c: see there. */
 void ref_medium_ctx_init(struct ctx *c, const struct ref_atmosphere *a, double q);
-void ref_medium_gl5(const struct ctx *c, const struct ray *r, double ta, double tb,
-                    double acc[4]);
+void ref_medium_gl5(const struct ctx *c, const struct ray *r, double ta, double tb, double acc[4]);
 void ref_medium_march_ray(const struct ctx *c, const struct ray *r, double tmax,
-                          const double *extra, int nextra, int stop_on_ground,
-                          struct march *m);
-void ref_medium_transmittance_to_top(const struct ctx *c, const double x[3],
-                                     const double s[3], struct march *m, double T[3]);
+                          const double *extra, int nextra, int stop_on_ground, struct march *m);
+void ref_medium_transmittance_to_top(const struct ctx *c, const double x[3], const double s[3],
+                                     struct march *m, double T[3]);
 
 #endif

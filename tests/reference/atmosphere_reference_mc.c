@@ -18,10 +18,11 @@
 static void dir_about(const double axis[3], double cos_t, double phi, double out[3])
 {
     double sign = copysign(1.0, axis[2]), a = -1.0 / (sign + axis[2]), b = axis[0] * axis[1] * a;
-    double t[3] = {1.0 + sign * axis[0] * axis[0] * a, sign * b, -sign * axis[0]};
-    double u[3] = {b, sign + axis[1] * axis[1] * a, -axis[1]};
+    double t[3] = { 1.0 + sign * axis[0] * axis[0] * a, sign * b, -sign * axis[0] };
+    double u[3] = { b, sign + axis[1] * axis[1] * a, -axis[1] };
     double s = sqrt(fmax(0.0, 1.0 - cos_t * cos_t)), cp = cos(phi) * s, sp = sin(phi) * s;
-    for (int i = 0; i < 3; ++i) out[i] = cp * t[i] + sp * u[i] + cos_t * axis[i];
+    for (int i = 0; i < 3; ++i)
+        out[i] = cp * t[i] + sp * u[i] + cos_t * axis[i];
     normalize3(out, out);
 }
 
@@ -33,8 +34,10 @@ static double march_sample(const struct ctx *c, const struct march *m, int ch, d
     int k = 0, hi_k = m->n - 1;
     while (k < hi_k) {
         int mid = (k + hi_k + 1) / 2;
-        if (tau_ch(c, ch, m->col[mid]) <= target) k = mid;
-        else hi_k = mid - 1;
+        if (tau_ch(c, ch, m->col[mid]) <= target)
+            k = mid;
+        else
+            hi_k = mid - 1;
     }
     double a = m->t[k], lo = a, hi = m->t[k + 1], acc[4], dn[4];
     double base = tau_ch(c, ch, m->col[k]), rem = target - base;
@@ -43,14 +46,18 @@ static double march_sample(const struct ctx *c, const struct march *m, int ch, d
     for (int it = 0;; ++it) {
         ref_medium_gl5(c, &m->r, a, t, acc);
         double f = tau_ch(c, ch, acc) - rem;
-        if (fabs(f) <= 1e-12 * target || it == 100 || hi - lo <= 1e-13 * hi) break;
-        if (f > 0) hi = t;
-        else lo = t;
+        if (fabs(f) <= 1e-12 * target || it == 100 || hi - lo <= 1e-13 * hi)
+            break;
+        if (f > 0)
+            hi = t;
+        else
+            lo = t;
         densities(c, ray_radius(&m->r, t), dn);
         double sigma = tau_ch(c, ch, dn), tn = sigma > 0 ? t - f / sigma : lo;
         t = tn > lo && tn < hi ? tn : 0.5 * (lo + hi);
     }
-    for (int q = 0; q < 4; ++q) col_out[q] = m->col[k][q] + acc[q];
+    for (int q = 0; q < 4; ++q)
+        col_out[q] = m->col[k][q] + acc[q];
     return t;
 }
 
@@ -85,7 +92,8 @@ static double sample_cs(double g, uint64_t *rg)
             double sq = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
             c = fmax(-1.0, fmin(1.0, (1.0 + g * g - sq * sq) / (2.0 * g)));
         }
-        if (2.0 * ref_uniform(rg) < 1.0 + c * c) return c;
+        if (2.0 * ref_uniform(rg) < 1.0 + c * c)
+            return c;
     }
 }
 
@@ -95,7 +103,7 @@ struct mc_setup {
     double sun[3], cam[3], view[3];
     int mode; /* 0 radiance along view; +1/-1 cosine-weighted about +z / -z, times pi */
     int min_order, max_order;
-    int estimator; /* enum ref_mc_estimator */
+    int estimator;              /* enum ref_mc_estimator */
     long first, count, nblocks; /* the batch being run */
     uint64_t seed;
     double (*blocks)[6];
@@ -106,14 +114,16 @@ static void nee(const struct mc_setup *S, const double x[3], const double w[3], 
                 double out[3])
 {
     double Ts[3];
-    if (!(w[0] > 0 || w[1] > 0 || w[2] > 0)) return;
+    if (!(w[0] > 0 || w[1] > 0 || w[2] > 0))
+        return;
     ref_medium_transmittance_to_top(&S->seg, x, S->sun, m, Ts);
-    for (int ch = 0; ch < 3; ++ch) out[ch] += w[ch] * Ts[ch];
+    for (int ch = 0; ch < 3; ++ch)
+        out[ch] += w[ch] * Ts[ch];
 }
 
 /* sigma_s * phase for channel ch (1/km/sr). */
-static double kernel(const struct ref_atmosphere *a, int ch, const double sr[3],
-                     const double sm[3], double c)
+static double kernel(const struct ref_atmosphere *a, int ch, const double sr[3], const double sm[3],
+                     double c)
 {
     return sr[ch] * ref_phase_rayleigh(c) + sm[ch] * ref_phase_mie(c, a->mie_g[ch]);
 }
@@ -130,17 +140,22 @@ static int shadow_interval(const double o[3], const double d[3], const double s[
     double lo = -HUGE_VAL, hi = HUGE_VAL;
     if (qa > 1e-15) {
         double disc = qb * qb - qa * qc;
-        if (disc <= 0) return 0;
+        if (disc <= 0)
+            return 0;
         double q = -(qb + copysign(sqrt(disc), qb)); /* the roots without cancellation */
         double r1 = q / qa, r2 = q != 0 ? qc / q : r1;
         lo = fmin(r1, r2), hi = fmax(r1, r2);
     } else if (qc >= 0) {
         return 0;
     }
-    if (ds > 0) hi = fmin(hi, -os / ds);
-    else if (ds < 0) lo = fmax(lo, -os / ds);
-    else if (os >= 0) return 0;
-    if (!(lo < hi)) return 0;
+    if (ds > 0)
+        hi = fmin(hi, -os / ds);
+    else if (ds < 0)
+        lo = fmax(lo, -os / ds);
+    else if (os >= 0)
+        return 0;
+    if (!(lo < hi))
+        return 0;
     *t0 = lo, *t1 = hi;
     return 1;
 }
@@ -151,12 +166,15 @@ static void march_column_at(const struct ctx *c, const struct march *m, double t
     int k = 0, hi_k = m->n - 1;
     while (k < hi_k) {
         int mid = (k + hi_k + 1) / 2;
-        if (m->t[mid] <= t) k = mid;
-        else hi_k = mid - 1;
+        if (m->t[mid] <= t)
+            k = mid;
+        else
+            hi_k = mid - 1;
     }
     double acc[4];
     ref_medium_gl5(c, &m->r, m->t[k], fmin(fmax(t, m->t[k]), m->t[k + 1]), acc);
-    for (int q = 0; q < 4; ++q) col[q] = m->col[k][q] + acc[q];
+    for (int q = 0; q < 4; ++q)
+        col[q] = m->col[k][q] + acc[q];
 }
 
 /* Next-event estimation over a whole segment whose line crosses the planet's shadow: its
@@ -176,10 +194,12 @@ static int sunlit_segment_nee(const struct mc_setup *S, const struct march *m, c
     double t0, t1, ta = m->t[0], tb = m->t[m->n];
     if (!shadow_interval(m->r.o, m->r.d, S->sun, c->R, &t0, &t1) || t1 <= ta || t0 >= tb)
         return 0;
-    double iv[2][2], mass[3][2], top[3][2], width[3][2], total[3] = {0, 0, 0};
+    double iv[2][2], mass[3][2], top[3][2], width[3][2], total[3] = { 0, 0, 0 };
     int ni = 0;
-    if (t0 > ta) iv[ni][0] = ta, iv[ni][1] = t0, ++ni;
-    if (t1 < tb) iv[ni][0] = t1, iv[ni][1] = tb, ++ni;
+    if (t0 > ta)
+        iv[ni][0] = ta, iv[ni][1] = t0, ++ni;
+    if (t1 < tb)
+        iv[ni][0] = t1, iv[ni][1] = tb, ++ni;
     for (int i = 0; i < ni; ++i) {
         double ca[4], cb[4];
         march_column_at(c, m, iv[i][0], ca);
@@ -194,7 +214,8 @@ static int sunlit_segment_nee(const struct mc_setup *S, const struct march *m, c
     }
     int lit[3], nlit = 0;
     for (int i = 0; i < nact; ++i)
-        if (total[act[i]] > 0) lit[nlit++] = act[i];
+        if (total[act[i]] > 0)
+            lit[nlit++] = act[i];
     double cos_sun = dot3(m->r.d, S->sun);
     for (int i = 0; i < nlit; ++i) {
         int j = lit[i];
@@ -208,11 +229,12 @@ static int sunlit_segment_nee(const struct mc_setup *S, const struct march *m, c
             local_coefs(c, ray_radius(&m->r, t), st, sr, sm);
             for (int q = 0; q < nlit; ++q) /* the balance heuristic's summed densities */
                 pdf += SUNLIT_SAMPLES * st[lit[q]] * exp(-tau_ch(c, lit[q], col)) / total[lit[q]];
-            if (!(pdf > 0)) continue;
+            if (!(pdf > 0))
+                continue;
             ref_medium_transmittance_to_top(c, x, S->sun, ms, Ts);
             for (int ch = 0; ch < 3; ++ch)
-                out[ch] += beta[ch] * exp(-tau_ch(c, ch, col)) *
-                           kernel(S->a, ch, sr, sm, cos_sun) * Ts[ch] / pdf;
+                out[ch] += beta[ch] * exp(-tau_ch(c, ch, col)) * kernel(S->a, ch, sr, sm, cos_sun) *
+                           Ts[ch] / pdf;
         }
     }
     return 1;
@@ -249,28 +271,31 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
 {
     const struct ctx *c = &S->seg;
     const struct ref_atmosphere *a = S->a;
-    double x[3], d[3], beta[3] = {1, 1, 1};
+    double x[3], d[3], beta[3] = { 1, 1, 1 };
     memcpy(x, S->cam, sizeof x);
     memcpy(d, dir, sizeof d);
     out[0] = out[1] = out[2] = 0.0;
     for (int k = 1; k <= S->max_order; ++k) {
-        double col[4], st[3], sr[3], sm[3], tau[3], pe[3], bg[3] = {0, 0, 0}, bv[3] = {0, 0, 0};
-        double xg[3], xv[3], ng[3] = {0, 0, 1}, w[3], wg = 0.0, wv = 0.0, nd[3];
+        double col[4], st[3], sr[3], sm[3], tau[3], pe[3], bg[3] = { 0, 0, 0 }, bv[3] = { 0, 0, 0 };
+        double xg[3], xv[3], ng[3] = { 0, 0, 1 }, w[3], wg = 0.0, wv = 0.0, nd[3];
         int act[3], nact = 0, has_v = 0;
         struct ray r;
         ray_set(&r, x, d);
         ref_medium_march_ray(c, &r, HUGE_VAL, NULL, 0, 0, m);
-        if (!m->in_medium) break;
+        if (!m->in_medium)
+            break;
         for (int ch = 0; ch < 3; ++ch) {
             tau[ch] = tau_ch(c, ch, m->col[m->n]);
             pe[ch] = -expm1(-tau[ch]);
-            if (pe[ch] > 0) act[nact++] = ch;
+            if (pe[ch] > 0)
+                act[nact++] = ch;
             bg[ch] = m->ground ? beta[ch] * exp(-tau[ch]) : 0.0;
         }
         if (m->ground) {
             along(r.o, r.d, m->t[m->n], xg);
             normalize3(xg, ng);
-            for (int i = 0; i < 3; ++i) xg[i] = a->bottom_radius * ng[i];
+            for (int i = 0; i < 3; ++i)
+                xg[i] = a->bottom_radius * ng[i];
         }
         if (nact > 0) {
             int j = act[(int)(ref_uniform(g) * nact)];
@@ -282,7 +307,8 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
             for (int ch = 0; ch < 3 && p > 0; ++ch) /* sigma_s enters through the kernel */
                 bv[ch] = beta[ch] * exp(-tau_ch(c, ch, col)) / p, has_v = 1;
         }
-        if (!has_v && !m->ground) break;
+        if (!has_v && !m->ground)
+            break;
         if (k >= S->min_order) {
             /* its own random stream, so that the path itself is drawn as without it */
             uint64_t h = *g ^ 0x5851F42D4C957F2Dull, gn = splitmix64(&h);
@@ -297,10 +323,12 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
                                                : 0.0;
             nee(S, xv, w, ms, out);
         }
-        if (k == S->max_order) break;
+        if (k == S->max_order)
+            break;
         for (int ch = 0; ch < 3; ++ch)
             wg += bg[ch] * a->ground_albedo[ch], wv += has_v ? bv[ch] * (sr[ch] + sm[ch]) : 0.0;
-        if (!(wg + wv > 0)) break;
+        if (!(wg + wv > 0))
+            break;
         double pg = wg / (wg + wv);
         int on_ground = pg > 0 && (pg >= 1 || ref_uniform(g) < pg);
         const double *xn = on_ground ? xg : xv;
@@ -309,7 +337,8 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
         int guided = S->estimator == REF_MC_SUNLIT_SEGMENTS && in_shadow(xn, S->sun, c->R);
         int to_guide = guided && ref_uniform(g) < GUIDE_SHARE;
         if (to_guide) {
-            double u = ref_uniform(g), sq = (1.0 - GUIDE_G * GUIDE_G) / (1.0 - GUIDE_G + 2.0 * GUIDE_G * u);
+            double u = ref_uniform(g),
+                   sq = (1.0 - GUIDE_G * GUIDE_G) / (1.0 - GUIDE_G + 2.0 * GUIDE_G * u);
             dir_about(S->sun, (1.0 + GUIDE_G * GUIDE_G - sq * sq) / (2.0 * GUIDE_G),
                       2.0 * REF_PI * ref_uniform(g), nd);
         }
@@ -319,7 +348,8 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
                 dir_about(ng, sqrt(1.0 - u1), 2.0 * REF_PI * u2, nd); /* cosine-weighted */
             }
             double cos_n = fmax(0.0, dot3(ng, nd)), pdf = cos_n / REF_PI;
-            if (guided) pdf = (1.0 - GUIDE_SHARE) * pdf + GUIDE_SHARE * guide_pdf(S->sun, nd);
+            if (guided)
+                pdf = (1.0 - GUIDE_SHARE) * pdf + GUIDE_SHARE * guide_pdf(S->sun, nd);
             for (int ch = 0; ch < 3; ++ch) /* albedo/pi * cos / pdf: the albedo without guiding */
                 beta[ch] = cos_n > 0 ? bg[ch] * a->ground_albedo[ch] / REF_PI * cos_n / pdf / pg
                                      : 0.0;
@@ -329,24 +359,29 @@ static void trace(const struct mc_setup *S, const double dir[3], uint64_t *g, st
              * Mie by their share of that channel's scattering */
             int sc[3], ns = 0;
             for (int ch = 0; ch < 3; ++ch)
-                if (sr[ch] + sm[ch] > 0) sc[ns++] = ch;
+                if (sr[ch] + sm[ch] > 0)
+                    sc[ns++] = ch;
             if (!to_guide) {
                 int j = sc[(int)(ref_uniform(g) * ns)];
-                double ct = ref_uniform(g) * (sr[j] + sm[j]) < sr[j] ? sample_rayleigh(ref_uniform(g))
-                                                               : sample_cs(a->mie_g[j], g);
+                double ct = ref_uniform(g) * (sr[j] + sm[j]) < sr[j]
+                                ? sample_rayleigh(ref_uniform(g))
+                                : sample_cs(a->mie_g[j], g);
                 dir_about(d, ct, 2.0 * REF_PI * ref_uniform(g), nd);
             }
             double ct = fmax(-1.0, fmin(1.0, dot3(d, nd))), pdf = 0.0;
             for (int i = 0; i < ns; ++i)
                 pdf += kernel(a, sc[i], sr, sm, ct) / (sr[sc[i]] + sm[sc[i]]) / ns;
-            if (guided) pdf = (1.0 - GUIDE_SHARE) * pdf + GUIDE_SHARE * guide_pdf(S->sun, nd);
+            if (guided)
+                pdf = (1.0 - GUIDE_SHARE) * pdf + GUIDE_SHARE * guide_pdf(S->sun, nd);
             for (int ch = 0; ch < 3; ++ch)
                 beta[ch] = bv[ch] / (1.0 - pg) * kernel(a, ch, sr, sm, ct) / pdf;
             memcpy(x, xv, sizeof x);
         }
         double mb = fmax(beta[0], fmax(beta[1], beta[2]));
-        if (!(mb > 0) || (k >= 2 && mb < RR_LEVEL && ref_uniform(g) * RR_LEVEL >= mb)) break;
-        for (int ch = 0; ch < 3 && k >= 2 && mb < RR_LEVEL; ++ch) beta[ch] *= RR_LEVEL / mb;
+        if (!(mb > 0) || (k >= 2 && mb < RR_LEVEL && ref_uniform(g) * RR_LEVEL >= mb))
+            break;
+        for (int ch = 0; ch < 3 && k >= 2 && mb < RR_LEVEL; ++ch)
+            beta[ch] *= RR_LEVEL / mb;
         memcpy(d, nd, sizeof d);
     }
 }
@@ -362,12 +397,12 @@ static void *worker_main(void *arg)
     const struct mc_setup *S = w->S;
     struct march *m = malloc(2 * sizeof *m), *ms = m ? m + 1 : NULL;
     for (long b = w->id; m && b < S->nblocks; b += w->nthreads) {
-        double sums[6] = {0, 0, 0, 0, 0, 0};
+        double sums[6] = { 0, 0, 0, 0, 0, 0 };
         long begin = S->first + b * PATH_BLOCK, end = begin + PATH_BLOCK;
         for (long i = begin; i < end && i < S->first + S->count; ++i) {
             uint64_t h = (uint64_t)i ^ 0xD1B54A32D192ED03ull;
             uint64_t g = S->seed ^ splitmix64(&h);
-            double dir[3], v[3], scale = 1.0, axis[3] = {0, 0, S->mode > 0 ? 1.0 : -1.0};
+            double dir[3], v[3], scale = 1.0, axis[3] = { 0, 0, S->mode > 0 ? 1.0 : -1.0 };
             if (S->mode == 0) {
                 memcpy(dir, S->view, sizeof dir);
             } else {
@@ -389,9 +424,10 @@ static void *worker_main(void *arg)
 static void mc_batch(struct mc_setup *S, int threads, long first, long count, double sums[6])
 {
     pthread_t tid[MAX_THREADS];
-    int started[MAX_THREADS] = {0};
+    int started[MAX_THREADS] = { 0 };
     struct worker w[MAX_THREADS];
-    if (count <= 0 || S->max_order < S->min_order) return;
+    if (count <= 0 || S->max_order < S->min_order)
+        return;
     S->first = first, S->count = count, S->nblocks = (count + PATH_BLOCK - 1) / PATH_BLOCK;
     S->blocks = malloc((size_t)S->nblocks * sizeof *S->blocks);
     if (!S->blocks) {
@@ -399,19 +435,24 @@ static void mc_batch(struct mc_setup *S, int threads, long first, long count, do
         return;
     }
     for (long b = 0; b < S->nblocks; ++b)
-        for (int q = 0; q < 6; ++q) S->blocks[b][q] = NAN;
+        for (int q = 0; q < 6; ++q)
+            S->blocks[b][q] = NAN;
     threads = threads < 1 ? 1 : threads > MAX_THREADS ? MAX_THREADS : threads;
     threads = threads > S->nblocks ? (int)S->nblocks : threads;
     for (int i = 0; i < threads; ++i) {
-        w[i] = (struct worker){S, i, threads};
-        if (i > 0) started[i] = pthread_create(&tid[i], NULL, worker_main, &w[i]) == 0;
+        w[i] = (struct worker){ S, i, threads };
+        if (i > 0)
+            started[i] = pthread_create(&tid[i], NULL, worker_main, &w[i]) == 0;
     }
     worker_main(&w[0]);
     for (int i = 1; i < threads; ++i)
-        if (started[i]) pthread_join(tid[i], NULL);
-        else worker_main(&w[i]);
+        if (started[i])
+            pthread_join(tid[i], NULL);
+        else
+            worker_main(&w[i]);
     for (long b = 0; b < S->nblocks; ++b) /* fixed order: independent of scheduling */
-        for (int q = 0; q < 6; ++q) sums[q] += S->blocks[b][q];
+        for (int q = 0; q < 6; ++q)
+            sums[q] += S->blocks[b][q];
     free(S->blocks);
     S->blocks = NULL;
 }
@@ -421,7 +462,8 @@ static void mc_finish(const double sums[6], double N, double out[3], double se[3
     for (int ch = 0; ch < 3; ++ch) {
         out[ch] = N > 0 ? sums[ch] / N : 0.0;
         double var = N > 1 ? (sums[3 + ch] - N * out[ch] * out[ch]) / (N - 1.0) : 0.0;
-        if (se) se[ch] = N > 0 ? sqrt(fmax(var, 0.0) / N) : 0.0;
+        if (se)
+            se[ch] = N > 0 ? sqrt(fmax(var, 0.0) / N) : 0.0;
     }
 }
 
@@ -430,7 +472,8 @@ static struct mc_setup *mc_setup_new(const struct ref_atmosphere *a, double alti
                                      uint64_t seed)
 {
     struct mc_setup *S = calloc(1, sizeof *S);
-    if (!S) return NULL;
+    if (!S)
+        return NULL;
     ref_medium_ctx_init(&S->seg, a, Q_MC);
     S->a = a, S->cam[2] = a->bottom_radius + altitude, S->seed = seed;
     S->min_order = min_order < 1 ? 1 : min_order, S->max_order = max_order;
@@ -440,7 +483,7 @@ static struct mc_setup *mc_setup_new(const struct ref_atmosphere *a, double alti
 
 static void mc_run(struct mc_setup *S, int paths, int threads, double out[3], double se[3])
 {
-    double sums[6] = {0, 0, 0, 0, 0, 0};
+    double sums[6] = { 0, 0, 0, 0, 0, 0 };
     if (!S) {
         out[0] = out[1] = out[2] = NAN;
         return;
@@ -453,11 +496,11 @@ static void mc_run(struct mc_setup *S, int paths, int threads, double out[3], do
 void ref_radiance_mc_estimator(const struct ref_atmosphere *a, double altitude,
                                const double view_dir[3], const double sun_dir[3], int min_order,
                                int max_order, int paths, uint64_t seed, int threads,
-                               enum ref_mc_estimator estimator, double out[3],
-                               double std_error[3])
+                               enum ref_mc_estimator estimator, double out[3], double std_error[3])
 {
     struct mc_setup *S = mc_setup_new(a, altitude, sun_dir, min_order, max_order, seed);
-    if (S) normalize3(view_dir, S->view), S->estimator = estimator;
+    if (S)
+        normalize3(view_dir, S->view), S->estimator = estimator;
     mc_run(S, paths, threads, out, std_error);
 }
 
@@ -474,12 +517,15 @@ void ref_radiance_adaptive(const struct ref_atmosphere *a, double altitude,
                            double rel_error, int min_paths, int max_paths, uint64_t seed,
                            int threads, double out[3], double std_error[3], int *paths_used)
 {
-    double ss[3] = {0, 0, 0}, ms[3] = {0, 0, 0}, se[3] = {0, 0, 0}, sums[6] = {0};
+    double ss[3] = { 0, 0, 0 }, ms[3] = { 0, 0, 0 }, se[3] = { 0, 0, 0 }, sums[6] = { 0 };
     long n = 0, batch = min_paths > PATH_BLOCK ? min_paths : PATH_BLOCK;
     struct mc_setup *S = mc_setup_new(a, altitude, sun_dir, 2, max_order, seed);
-    if (max_order >= 1) ref_single_scattering(a, altitude, view_dir, sun_dir, ss);
-    if (!S) ss[0] = ss[1] = ss[2] = NAN;
-    else normalize3(view_dir, S->view);
+    if (max_order >= 1)
+        ref_single_scattering(a, altitude, view_dir, sun_dir, ss);
+    if (!S)
+        ss[0] = ss[1] = ss[2] = NAN;
+    else
+        normalize3(view_dir, S->view);
     while (S && max_order >= 2 && n < max_paths) {
         batch = batch < max_paths - n ? batch : max_paths - n;
         mc_batch(S, threads, n, batch, sums);
@@ -488,40 +534,44 @@ void ref_radiance_adaptive(const struct ref_atmosphere *a, double altitude,
         double worst = 0.0;
         for (int ch = 0; ch < 3; ++ch)
             worst = fmax(worst, ss[ch] + ms[ch] > 0 ? se[ch] / (ss[ch] + ms[ch]) : 0.0);
-        if (!(worst > rel_error)) break;
+        if (!(worst > rel_error))
+            break;
         /* SE ~ 1/sqrt(n): aim 10% past the paths the target needs, but at most 4 times the
          * paths so far: in twilight one rare path can inflate the measured error for a while */
         batch = (long)fmin(1.1 * (double)n * (worst / rel_error) * (worst / rel_error),
-                           fmin(4.0 * (double)n, 1e9)) - n + PATH_BLOCK;
+                           fmin(4.0 * (double)n, 1e9)) -
+                n + PATH_BLOCK;
     }
     free(S);
     for (int ch = 0; ch < 3; ++ch) {
         out[ch] = ss[ch] + ms[ch];
-        if (std_error) std_error[ch] = se[ch];
+        if (std_error)
+            std_error[ch] = se[ch];
     }
-    if (paths_used) *paths_used = (int)n;
+    if (paths_used)
+        *paths_used = (int)n;
 }
 
 void ref_radiance(const struct ref_atmosphere *a, double altitude, const double view_dir[3],
-                  const double sun_dir[3], int max_order, int paths, uint64_t seed,
-                  int threads, double out[3], double std_error[3])
+                  const double sun_dir[3], int max_order, int paths, uint64_t seed, int threads,
+                  double out[3], double std_error[3])
 {
     ref_radiance_adaptive(a, altitude, view_dir, sun_dir, max_order, 0.0, paths, paths, seed,
                           threads, out, std_error, NULL);
 }
 
 void ref_irradiance(const struct ref_atmosphere *a, double altitude, int facing_up,
-                    const double sun_dir[3], int max_order, int paths, uint64_t seed,
-                    int threads, double out[3], double std_error[3])
+                    const double sun_dir[3], int max_order, int paths, uint64_t seed, int threads,
+                    double out[3], double std_error[3])
 {
     struct mc_setup *S = mc_setup_new(a, altitude, sun_dir, 1, max_order, seed);
-    if (S) S->mode = facing_up ? 1 : -1;
+    if (S)
+        S->mode = facing_up ? 1 : -1;
     mc_run(S, paths, threads, out, std_error);
 }
 
 void ref_sky_irradiance(const struct ref_atmosphere *a, const double sun_dir[3], int max_order,
-                        int paths, uint64_t seed, int threads, double out[3],
-                        double std_error[3])
+                        int paths, uint64_t seed, int threads, double out[3], double std_error[3])
 {
     ref_irradiance(a, 0.0, 1, sun_dir, max_order, paths, seed, threads, out, std_error);
 }

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #define PI 3.14159265358979323846
-#define CHUNK 4096     /* photons per RNG stream / partial sum */
+#define CHUNK 4096 /* photons per RNG stream / partial sum */
 #define MAX_THREADS 64
 #define RR_LEVEL 1e-2  /* Russian roulette below this fraction of the starting weight */
 #define RR_SURVIVE 0.1 /* survival probability in the roulette */
@@ -216,9 +216,9 @@ static double std_error(double sum, double sum2, double n)
 
 static int valid(const struct cloud_mc_slab *s)
 {
-    return isfinite(s->tau) && s->tau > 0.0 && s->omega > 0.0 && s->omega <= 1.0 &&
-           s->mu0 > 0.0 && s->mu0 <= 1.0 && fabs(s->g0) < 1.0 && fabs(s->g1) < 1.0 &&
-           s->w >= 0.0 && s->w <= 1.0 && s->photons >= 2 && s->threads >= 1;
+    return isfinite(s->tau) && s->tau > 0.0 && s->omega > 0.0 && s->omega <= 1.0 && s->mu0 > 0.0 &&
+           s->mu0 <= 1.0 && fabs(s->g0) < 1.0 && fabs(s->g1) < 1.0 && s->w >= 0.0 && s->w <= 1.0 &&
+           s->photons >= 2 && s->threads >= 1;
 }
 
 int cloud_mc_slab_run(const struct cloud_mc_slab *in, struct cloud_mc_result *out)
@@ -235,9 +235,9 @@ int cloud_mc_slab_run(const struct cloud_mc_slab *in, struct cloud_mc_result *ou
         threads = (int)n_chunks;
     struct job jobs[MAX_THREADS];
     pthread_t tid[MAX_THREADS];
-    int started[MAX_THREADS] = {0};
+    int started[MAX_THREADS] = { 0 };
     for (int i = 0; i < threads; ++i) {
-        jobs[i] = (struct job){in, chunks, n_chunks, i, threads};
+        jobs[i] = (struct job){ in, chunks, n_chunks, i, threads };
         if (i > 0)
             started[i] = pthread_create(&tid[i], NULL, worker, &jobs[i]) == 0;
     }
@@ -249,7 +249,7 @@ int cloud_mc_slab_run(const struct cloud_mc_slab *in, struct cloud_mc_result *ou
             worker(&jobs[i]);
     }
 
-    struct tally sum = {0};
+    struct tally sum = { 0 };
     for (long c = 0; c < n_chunks; ++c) {
         const struct tally *t = &chunks[c];
         sum.r += t->r, sum.r2 += t->r2, sum.t += t->t, sum.t2 += t->t2;

@@ -87,8 +87,8 @@ static void test_transmittance(const struct sky_render_atmosphere *atm,
         for (size_t j = 0; j < sizeof mus / sizeof *mus; j++) {
             double r = ref->bottom_radius + altitudes[i];
             /* Only rays that reach the top: the LUT holds nothing else. */
-            double mu_horizon = -sqrt(fmax(0.0, 1.0 - (ref->bottom_radius / r) *
-                                                          (ref->bottom_radius / r)));
+            double mu_horizon =
+                -sqrt(fmax(0.0, 1.0 - (ref->bottom_radius / r) * (ref->bottom_radius / r)));
             if (mus[j] < mu_horizon + 0.005)
                 continue;
             alt[n] = altitudes[i];
@@ -107,8 +107,8 @@ static void test_transmittance(const struct sky_render_atmosphere *atm,
                                      : fabs(log(fmax(gpu[k][c], 1e-30)) / log(t[c]) - 1.0);
             add_error(&st, rel);
             if (rel > TRANSMITTANCE_MAX_REL)
-                printf("transmittance alt %g mu %g ch %d: gpu %.6g ref %.6g rel %.4f\n",
-                       alt[k], mu[k], c, gpu[k][c], t[c], rel);
+                printf("transmittance alt %g mu %g ch %d: gpu %.6g ref %.6g rel %.4f\n", alt[k],
+                       mu[k], c, gpu[k][c], t[c], rel);
         }
     }
     printf("transmittance: %d samples x 3 channels, mean rel error %.4f%%, max %.4f%%\n", n,
@@ -167,9 +167,8 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
 {
     const double sun_elevations[] = { -6, -4, -2, 0, 2, 5, 10, 20, 45, 90 };
     const struct view_sample views[] = {
-        { 0, 0 },   { 30, 90 },  { 30, 180 }, { 60, 45 },  { 60, 135 }, { 75, 90 },
-        { 80, 180 }, { 85, 30 }, { 85, 90 },  { 88, 180 }, { 89, 60 },  { 105, 90 },
-        { 135, 0 }, { 180, 0 },
+        { 0, 0 },   { 30, 90 }, { 30, 180 }, { 60, 45 }, { 60, 135 }, { 75, 90 }, { 80, 180 },
+        { 85, 30 }, { 85, 90 }, { 88, 180 }, { 89, 60 }, { 105, 90 }, { 135, 0 }, { 180, 0 },
     };
     const int nv = (int)(sizeof views / sizeof *views);
     struct error_stats sky = { 0 }, sky_high = { 0 }, ground = { 0 };
@@ -190,13 +189,13 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
             direction(views[v].zenith, views[v].azimuth, dirs[v]);
         direction(90.0 - elevation, 0.0, sun);
         sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_FAST);
-        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double (*)[3])dirs,
+        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double(*)[3])dirs,
                                            (size_t)nv, false, gpu) == 0);
         sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_CONVERGED);
-        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double (*)[3])dirs,
+        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double(*)[3])dirs,
                                            (size_t)nv, false, conv) == 0);
         sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_NONE);
-        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double (*)[3])dirs,
+        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double(*)[3])dirs,
                                            (size_t)nv, false, single) == 0);
         sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_CURRENT);
         sky_sun_illuminance_top(atm, view.sun_illuminance_lux, e_top);
@@ -238,8 +237,7 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
                         add_band(&single_bands[band], single[v][c] / ref_1 - 1.0);
                     if (ref_ms > 1e-3 * ref_L) {
                         add_band(&fast_ms_bands[band], (gpu[v][c] - single[v][c]) / ref_ms - 1.0);
-                        add_band(&conv_ms_bands[band],
-                                 (conv[v][c] - single[v][c]) / ref_ms - 1.0);
+                        add_band(&conv_ms_bands[band], (conv[v][c] - single[v][c]) / ref_ms - 1.0);
                     }
                 }
                 if (today) {
@@ -282,8 +280,7 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
            c_sky.n, 100 * c_sky.sum / c_sky.n, 100 * c_sky.max, 100 * noise_sky.max);
     printf("converged: ground luminance, sun -4 to 90: %d values, mean rel error %.2f%%, max "
            "%.2f%% (reference standard error at most %.2f%%)\n",
-           c_ground.n, 100 * c_ground.sum / c_ground.n, 100 * c_ground.max,
-           100 * noise_ground.max);
+           c_ground.n, 100 * c_ground.sum / c_ground.n, 100 * c_ground.max, 100 * noise_ground.max);
     printf("converged: twilight, sun -2 to -6, all views: %d values, mean rel error %.2f%%, max "
            "%.2f%% (reference standard error at most %.2f%%)\n",
            c_twilight.n, 100 * c_twilight.sum / c_twilight.n, 100 * c_twilight.max,
@@ -340,8 +337,7 @@ static void test_illuminance(const struct sky_render_atmosphere *atm,
             printf("illuminance (%s), sun zenith %4.1f: sun %9.1f lx (ref %9.1f, %+.2f%%), sky "
                    "%8.1f lx (ref %8.1f, %+.2f%%)\n",
                    m == 0 ? "fast" : "converged", sun_zeniths[k], sun_lux, ref_sun,
-                   100 * (sun_lux / ref_sun - 1), sky_lux, ref_sky,
-                   100 * (sky_lux / ref_sky - 1));
+                   100 * (sun_lux / ref_sun - 1), sky_lux, ref_sky, 100 * (sky_lux / ref_sky - 1));
             CHECK_LE(fabs(sun_lux / ref_sun - 1), 0.005);
             CHECK_LE(fabs(sky_lux / ref_sky - 1), bounds[m]);
         }
@@ -386,7 +382,8 @@ static void test_aerial_perspective(const struct sky_render_atmosphere *atm,
     direction(90.0 - state.sun.elevation_deg, state.sun.azimuth_deg, sun);
     const double cam[3] = { 0, 0, atm->bottom_radius_km + state.camera.altitude_km };
     struct error_stats t_err = { 0 }, l_err = { 0 };
-    const uint32_t columns[3][2] = { { size[0] / 2, size[1] / 2 }, { 2, 2 },
+    const uint32_t columns[3][2] = { { size[0] / 2, size[1] / 2 },
+                                     { 2, 2 },
                                      { size[0] - 3, size[1] - 3 } };
     for (int k = 0; k < 3; k++) {
         uint32_t x = columns[k][0], y = columns[k][1];
@@ -471,21 +468,21 @@ static void test_random_samples(const struct sky_render_atmosphere *atm,
         double dir[1][3], conv[1][3], sun[3], e_top[3], L[3], se[3];
         direction(zenith, azimuth, dir[0]);
         direction(90.0 - elevation, 0.0, sun);
-        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double (*)[3])dir, 1,
-                                           false, conv) == 0);
+        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double(*)[3])dir, 1, false,
+                                           conv) == 0);
         /* and single scattering alone, to tell where an error comes from */
         double single[1][3], L1[3];
         sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_NONE);
-        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double (*)[3])dir, 1,
-                                           false, single) == 0);
+        CHECK(sky_renderer_probe_luminance(renderer, atm, &view, (const double(*)[3])dir, 1, false,
+                                           single) == 0);
         sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_CONVERGED);
         ref_single_scattering(ref, random_run.altitude_km, dir[0], sun, L1);
         sky_sun_illuminance_top(atm, view.sun_illuminance_lux, e_top);
         int paths = 0;
         ref_radiance_adaptive(ref, random_run.altitude_km, dir[0], sun, REF_ORDERS,
                               elevation < -5 ? REF_REL_ERROR_DEEP_TWILIGHT : REF_REL_ERROR, 2000,
-                              REF_MAX_PATHS, random_run.seed * 1000 + (uint64_t)k, REF_THREADS,
-                              L, se, &paths);
+                              REF_MAX_PATHS, random_run.seed * 1000 + (uint64_t)k, REF_THREADS, L,
+                              se, &paths);
         double bound = elevation >= -4 ? CONVERGED_SKY_MAX_REL : CONVERGED_TWILIGHT_MAX_REL;
         double worst = 0, noise = 0, signed_rel[3], single_rel[3], ms_rel[3];
         for (int c = 0; c < 3; c++) {

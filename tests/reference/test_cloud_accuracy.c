@@ -190,8 +190,8 @@ static void print_table(const struct options *o, const struct slab_answer mc[NCA
     for (int ci = 0; ci < NCASE; ci++) {
         double tau = slab_taus[ci / NMU0], mu0 = slab_mu0s[ci % NMU0];
         printf("| %g | %.1f | %.4f | %.4f | %+.1f%% | %.4f | %.4f | %+.1f%% | %.3f |\n", tau, mu0,
-               mc[ci].R, model[ci].R, 100.0 * rel_error(model[ci].R, mc[ci].R, o->floor),
-               mc[ci].T, model[ci].T, 100.0 * rel_error(model[ci].T, mc[ci].T, o->floor),
+               mc[ci].R, model[ci].R, 100.0 * rel_error(model[ci].R, mc[ci].R, o->floor), mc[ci].T,
+               model[ci].T, 100.0 * rel_error(model[ci].T, mc[ci].T, o->floor),
                model[ci].R + model[ci].T);
         if (o->verbose) {
             const struct slab_answer *rows[2] = { &mc[ci], &model[ci] };
@@ -222,8 +222,9 @@ int main(int argc, char **argv)
         return 2;
     printf("deck: %s, planet radius %g km, base %g km; rays per case %u (%d cosines per bin x "
            "%d azimuths x %d jitters, up and down); Monte Carlo %ld photons\n",
-           o.thickness_km > 0 ? "fixed thickness" : "the default extinction (thickness tau / "
-                                                    "extinction)",
+           o.thickness_km > 0 ? "fixed thickness"
+                              : "the default extinction (thickness tau / "
+                                "extinction)",
            o.radius_km, state.clouds.low.bottom_km, rays_per_case(&o), o.nodes, o.azimuths,
            o.jitters, o.photons);
     if (o.thickness_km > 0)
@@ -290,10 +291,9 @@ int main(int argc, char **argv)
                                            "   T mean %5.1f%% (signed %+5.1f%%) worst %5.1f%%"
                                            "  R + T <= %.3f\n",
                                            ph.g0, ph.g1, ph.w, os.a, os.b, os.c, os.octaves,
-                                           os.powder,
-                                           100 * s.mean_R, 100 * s.signed_R, 100 * s.worst_R,
-                                           100 * s.mean_T, 100 * s.signed_T, 100 * s.worst_T,
-                                           s.energy);
+                                           os.powder, 100 * s.mean_R, 100 * s.signed_R,
+                                           100 * s.worst_R, 100 * s.mean_T, 100 * s.signed_T,
+                                           100 * s.worst_T, s.energy);
                                 double score = fmax(s.mean_R, s.mean_T);
                                 if (score < best_score) {
                                     best_score = score;
@@ -337,8 +337,8 @@ int main(int argc, char **argv)
         if (!o.single)
             printf("Monte Carlo standard errors: R <= %.4f, T <= %.4f\n", se_R, se_T);
         printf("energy: R + T <= %.3f\n", best.energy);
-        printf("time: Monte Carlo %.1f s, device %.1f s (%d runs of %u rays), total %.1f s\n",
-               mc_s, gpu_s, runs, h.ray_count, now_s() - t_start);
+        printf("time: Monte Carlo %.1f s, device %.1f s (%d runs of %u rays), total %.1f s\n", mc_s,
+               gpu_s, runs, h.ray_count, now_s() - t_start);
         if (o.single)
             printf("(one octave against exact single scattering)\n");
         if (!o.sweep && !o.single) {

@@ -77,8 +77,8 @@ struct harness {
     struct vk_context *ctx;
     struct compute_pass pass;
     struct gpu_buffer atmo, frame, cloud, cases, rays, results;
-    struct gpu_image transmittance, multiscattering, irradiance, base, detail, curl, weather, sun_depth,
-        skyview;
+    struct gpu_image transmittance, multiscattering, irradiance, base, detail, curl, weather,
+        sun_depth, skyview;
     VkSampler sampler;
     uint32_t ray_count;
 };

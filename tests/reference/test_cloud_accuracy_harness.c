@@ -63,9 +63,9 @@ bool slab_harness_create(struct vk_context *ctx, const struct options *o, struct
     const VkFormat f = VK_FORMAT_R32G32B32A32_SFLOAT;
     h->ray_count = NCASE * rays_per_case(o);
     bool ok = compute_pass_create(ctx, &desc, &h->pass) == VK_SUCCESS;
-    ok = ok && gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_atmo",
-                                 &h->atmo) == VK_SUCCESS;
+    ok = ok &&
+         gpu_buffer_create(ctx, sizeof(struct sky_atmosphere_uniforms),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_atmo", &h->atmo) == VK_SUCCESS;
     ok = ok && gpu_buffer_create(ctx, sizeof(struct sky_frame_uniforms),
                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_frame",
                                  &h->frame) == VK_SUCCESS;
@@ -75,26 +75,25 @@ bool slab_harness_create(struct vk_context *ctx, const struct options *o, struct
     ok = ok && gpu_buffer_create(ctx, NCASE * sizeof(struct slab_case_gpu),
                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_cases",
                                  &h->cases) == VK_SUCCESS;
-    ok = ok && gpu_buffer_create(ctx, 16 + (VkDeviceSize)h->ray_count * sizeof(struct slab_ray_gpu),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_rays",
-                                 &h->rays) == VK_SUCCESS;
+    ok = ok &&
+         gpu_buffer_create(ctx, 16 + (VkDeviceSize)h->ray_count * sizeof(struct slab_ray_gpu),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_rays", &h->rays) == VK_SUCCESS;
     ok = ok && gpu_buffer_create(ctx, (VkDeviceSize)h->ray_count * sizeof(float),
                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slab_results",
                                  &h->results) == VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 8, 8, 1, "slab_transmittance", &h->transmittance) ==
+    ok = ok &&
+         gpu_image_create(ctx, f, 8, 8, 1, "slab_transmittance", &h->transmittance) == VK_SUCCESS;
+    ok = ok && gpu_image_create(ctx, f, 8, 8, 1, "slab_multiscattering", &h->multiscattering) ==
                    VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 8, 8, 1, "slab_multiscattering",
-                                &h->multiscattering) == VK_SUCCESS;
-    ok = ok && gpu_image_create(ctx, f, 8, 2, 1, "slab_irradiance", &h->irradiance) ==
-                   VK_SUCCESS;
+    ok = ok && gpu_image_create(ctx, f, 8, 2, 1, "slab_irradiance", &h->irradiance) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 4, 4, 4, "slab_base", &h->base) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 4, 4, 4, "slab_detail", &h->detail) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 4, 4, 1, "slab_curl", &h->curl) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 4, 4, 1, "slab_weather", &h->weather) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 8, 8, 1, "slab_skyview", &h->skyview) == VK_SUCCESS;
     ok = ok && gpu_image_create(ctx, f, 4, 4, 4, "slab_sun_depth", &h->sun_depth) == VK_SUCCESS;
-    ok = ok && gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-                                         &h->sampler) == VK_SUCCESS;
+    ok = ok && gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, &h->sampler) ==
+                   VK_SUCCESS;
     CHECK(ok);
     if (!ok)
         return false;

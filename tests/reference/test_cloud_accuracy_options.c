@@ -143,8 +143,8 @@ bool slab_parse_options(int argc, char **argv, const struct sky_world_state *sta
         }
         if (i + 1 >= argc || !parse_value(spec, argv[i + 1], o)) {
             fprintf(stderr, "%s: a %s in [%g, %g] expected\n", k,
-                    spec->kind == OPT_LIST ? "comma-separated list of numbers" : "number",
-                    spec->lo, spec->hi);
+                    spec->kind == OPT_LIST ? "comma-separated list of numbers" : "number", spec->lo,
+                    spec->hi);
             return false;
         }
         i++;

@@ -38,7 +38,7 @@ struct slab {
 static const struct slab slabs[] = {
     { 2.0, 1.0, 1.0, 0.8, -0.3, 0.25 }, /* the renderer's phase, no absorption */
     { 8.0, 0.5, 0.99, 0.8, -0.3, 0.25 },
-    { 1.0, 0.7, 0.9, 0.0, 0.0, 0.0 },   /* isotropic */
+    { 1.0, 0.7, 0.9, 0.0, 0.0, 0.0 }, /* isotropic */
 };
 #define NCASE ((int)(sizeof slabs / sizeof slabs[0]))
 
@@ -53,8 +53,8 @@ struct device {
 static void device_destroy(struct device *d)
 {
     compute_pass_destroy(d->ctx, &d->pass);
-    struct gpu_buffer *b[] = { &d->atmo, &d->frame, &d->cloud, &d->cases, &d->counts,
-                               &d->results, &d->stats };
+    struct gpu_buffer *b[] = { &d->atmo,   &d->frame,   &d->cloud, &d->cases,
+                               &d->counts, &d->results, &d->stats };
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++)
         gpu_buffer_destroy(d->ctx, b[i]);
     gpu_image_destroy(d->ctx, &d->empty2d);
@@ -136,8 +136,8 @@ static bool device_run(struct device *d)
         const struct slab *s = &slabs[c];
         double bottom = RADIUS_KM + 1.0;
         cases[c] = (struct pt_case_gpu){
-            .low = { (float)bottom, (float)(bottom + THICKNESS_KM),
-                     (float)(s->tau / THICKNESS_KM), 1.0f },
+            .low = { (float)bottom, (float)(bottom + THICKNESS_KM), (float)(s->tau / THICKNESS_KM),
+                     1.0f },
             .sun = { (float)sqrt(1.0 - s->mu0 * s->mu0), 0.0f, (float)s->mu0, 0.0f },
             .phase = { (float)s->g0, (float)s->g1, (float)s->w, 0.0f },
             .media = { (float)s->albedo, 0.0f, 0.0f, 0.0f },
@@ -171,8 +171,14 @@ static void mean_se(const float *x, int n, double *mean, double *se)
 static void compare_case(int c, const float *results)
 {
     const struct slab *s = &slabs[c];
-    struct cloud_mc_slab in = { .tau = s->tau, .omega = s->albedo, .mu0 = s->mu0, .g0 = s->g0,
-                                .g1 = s->g1, .w = s->w, .photons = MC_PHOTONS, .seed = 7 + c,
+    struct cloud_mc_slab in = { .tau = s->tau,
+                                .omega = s->albedo,
+                                .mu0 = s->mu0,
+                                .g0 = s->g0,
+                                .g1 = s->g1,
+                                .w = s->w,
+                                .photons = MC_PHOTONS,
+                                .seed = 7 + c,
                                 .threads = 2 };
     struct cloud_mc_result mc;
     CHECK(cloud_mc_slab_run(&in, &mc) == 0);
@@ -211,8 +217,8 @@ static void compare_case(int c, const float *results)
     mean_se(tr, NBIN * SAMPLES, &t, &t_se);
     double exact = exp(-s->tau / s->mu0);
     printf("  transmittance %.5f +- %.5f, exp(-tau/mu0) %.5f\n", t, t_se, exact);
-    CHECK_MSG(fabs(t - exact) <= 4.0 * t_se + 2e-4, "tau %g: transmittance %.5f vs %.5f",
-              s->tau, t, exact);
+    CHECK_MSG(fabs(t - exact) <= 4.0 * t_se + 2e-4, "tau %g: transmittance %.5f vs %.5f", s->tau, t,
+              exact);
     if (s->albedo == 1.0) {
         double sum = total[0] + total[1] + exact;
         printf("  energy: R + T_diffuse + T_direct = %.4f +- %.4f\n", sum, hypot(R_se, T_se));
@@ -232,8 +238,8 @@ int main(void)
         return check_summary();
     if (device_run(&d)) {
         const struct sky_cloud_reference_stats *st = d.stats.mapped;
-        printf("density samples above the majorant %u, segments cut short %u\n",
-               st->violations, st->overflows);
+        printf("density samples above the majorant %u, segments cut short %u\n", st->violations,
+               st->overflows);
         CHECK(st->violations == 0 && st->overflows == 0);
         for (int c = 0; c < NCASE; c++)
             compare_case(c, d.results.mapped);

@@ -21,13 +21,15 @@
 #define NB CLOUD_MC_BINS
 /* Doubling resolution: going to 14 Gauss points per bin, 600 azimuth panels or a 1e-9
  * starting layer changes R and T by < 2e-5 for the default phase at tau 1..64. */
-#define NG 6                  /* Gauss points per radiance bin */
+#define NG 6 /* Gauss points per radiance bin */
 #define NQ (NB * NG)
-#define NN (NQ + 1)           /* + the sun's direction as a zero-weight node */
-#define NPHI 240              /* trapezoid panels in azimuth over [0, pi] */
-#define DELTA 1e-7            /* optical depth of the starting layer */
+#define NN (NQ + 1) /* + the sun's direction as a zero-weight node */
+#define NPHI 240    /* trapezoid panels in azimuth over [0, pi] */
+#define DELTA 1e-7  /* optical depth of the starting layer */
 
-struct phase { double g0, g1, w; };
+struct phase {
+    double g0, g1, w;
+};
 
 static double now(void)
 {
@@ -86,8 +88,12 @@ static void solve(void)
             if (fabs(m[i][k]) > fabs(m[p][k]))
                 p = i;
         for (int j = 0; j < NN; ++j) {
-            double s = m[k][j]; m[k][j] = m[p][j]; m[p][j] = s;
-            s = Q[k][j]; Q[k][j] = Q[p][j]; Q[p][j] = s;
+            double s = m[k][j];
+            m[k][j] = m[p][j];
+            m[p][j] = s;
+            s = Q[k][j];
+            Q[k][j] = Q[p][j];
+            Q[p][j] = s;
         }
         for (int i = 0; i < NN; ++i) {
             if (i == k || m[i][k] == 0.0)
@@ -140,9 +146,9 @@ static void doubling(double tau, double omega, double mu0, const struct phase *p
     }
     for (int n = 0; n < doublings; ++n) { /* two equal halves: top and bottom */
         mul(A, r, r, NULL, NULL);
-        solve();                /* Q: all the round trips between the halves */
-        mul(d, Q, t, t, Q);     /* d = t + Q E + Q W t: diffuse light down at the interface */
-        mul(u, r, d, NULL, r);  /* u = r E + r W d: light up at the interface */
+        solve();               /* Q: all the round trips between the halves */
+        mul(d, Q, t, t, Q);    /* d = t + Q E + Q W t: diffuse light down at the interface */
+        mul(u, r, d, NULL, r); /* u = r E + r W d: light up at the interface */
         mul(A, t, u, NULL, NULL);
         mul(Q, t, d, NULL, t);
         for (int i = 0; i < NN; ++i)
@@ -181,7 +187,7 @@ static double h_eval(double omega, double mu)
 
 static void h_solve(double omega)
 {
-    static const double edges[7] = {0, 1e-4, 1e-3, 1e-2, 0.1, 0.5, 1};
+    static const double edges[7] = { 0, 1e-4, 1e-3, 1e-2, 0.1, 0.5, 1 };
     for (int p = 0; p < 6; ++p)
         cloud_gauss_legendre(NH / 6, edges[p], edges[p + 1], hx + p * NH / 6, hw + p * NH / 6);
     double next[NH];
@@ -201,7 +207,10 @@ static void h_solve(double omega)
 
 /* ------------------------------------------------------------ closed forms per bin */
 
-struct closed { double tau, omega, mu0; const struct phase *ph; /* NULL: isotropic */ };
+struct closed {
+    double tau, omega, mu0;
+    const struct phase *ph; /* NULL: isotropic */
+};
 
 /* Semi-infinite isotropic slab: rho(mu) = omega/4 H(mu) H(mu0) / (mu + mu0). */
 static double rho_semi(double mu, const struct closed *f)
@@ -235,18 +244,17 @@ static double bin_average(int b, double (*rho)(double, const struct closed *),
 static struct cloud_mc_result mc(double tau, double omega, double mu0, const struct phase *ph,
                                  long photons, unsigned long long seed)
 {
-    struct cloud_mc_slab s = {tau, omega, mu0, ph->g0, ph->g1, ph->w, photons, seed, THREADS};
+    struct cloud_mc_slab s = { tau, omega, mu0, ph->g0, ph->g1, ph->w, photons, seed, THREADS };
     struct cloud_mc_result res;
     CHECK(cloud_mc_slab_run(&s, &res) == 0);
     return res;
 }
 
 /* MC within 4.5 sigma (+ a small allowance for the quadrature) of the doubling. */
-static void compare_da(const char *what, const struct cloud_mc_result *m,
-                       const struct da_result *a)
+static void compare_da(const char *what, const struct cloud_mc_result *m, const struct da_result *a)
 {
-    CHECK_MSG(fabs(m->R - a->R) <= 4.5 * m->R_stderr + 2e-4, "%s: R MC %.5f DA %.5f", what,
-              m->R, a->R);
+    CHECK_MSG(fabs(m->R - a->R) <= 4.5 * m->R_stderr + 2e-4, "%s: R MC %.5f DA %.5f", what, m->R,
+              a->R);
     CHECK_MSG(fabs(m->T_diffuse - a->T) <= 4.5 * m->T_stderr + 2e-4,
               "%s: T_diffuse MC %.5f DA %.5f", what, m->T_diffuse, a->T);
     for (int k = 0; k < 2 * NB; ++k) {
@@ -254,8 +262,10 @@ static void compare_da(const char *what, const struct cloud_mc_result *m,
         double v = up ? m->reflect_factor[b] : m->transmit_factor[b];
         double se = up ? m->reflect_factor_stderr[b] : m->transmit_factor_stderr[b];
         double ref = up ? a->reflect[b] : a->transmit[b];
-        CHECK_MSG(fabs(v - ref) <= 4.5 * se + 2e-3 * ref, "%s: rho_%c bin %d MC %.5f +- %.5f "
-                  "DA %.5f", what, up ? 'R' : 'T', b, v, se, ref);
+        CHECK_MSG(fabs(v - ref) <= 4.5 * se + 2e-3 * ref,
+                  "%s: rho_%c bin %d MC %.5f +- %.5f "
+                  "DA %.5f",
+                  what, up ? 'R' : 'T', b, v, se, ref);
     }
 }
 
@@ -270,21 +280,22 @@ static void print_bins(const char *label, const double *v)
 int main(void)
 {
     double t_start = now();
-    const struct phase iso = {0.0, 0.0, 0.0}, forward = {0.8, -0.5, 0.2};
+    const struct phase iso = { 0.0, 0.0, 0.0 }, forward = { 0.8, -0.5, 0.2 };
     struct sky_world_state ws;
     sky_world_state_defaults(&ws);
-    const struct phase cloud = {ws.clouds.phase_g0, ws.clouds.phase_g1, ws.clouds.phase_w};
+    const struct phase cloud = { ws.clouds.phase_g0, ws.clouds.phase_g1, ws.clouds.phase_w };
     const double albedo = ws.clouds.albedo;
     const double g_cloud = (1.0 - cloud.w) * cloud.g0 + cloud.w * cloud.g1;
     printf("renderer defaults: clouds.phase.g0 %.3f g1 %.3f w %.3f (mean cosine %.3f), "
-           "clouds.albedo %.3f\n", cloud.g0, cloud.g1, cloud.w, g_cloud, albedo);
+           "clouds.albedo %.3f\n",
+           cloud.g0, cloud.g1, cloud.w, g_cloud, albedo);
 
     /* Arguments, determinism, bookkeeping. */
-    struct cloud_mc_slab bad = {1, 1, 0, 0, 0, 0, 100, 1, 1};
+    struct cloud_mc_slab bad = { 1, 1, 0, 0, 0, 0, 100, 1, 1 };
     struct cloud_mc_result res, res1, res2;
     struct da_result da;
     CHECK(cloud_mc_slab_run(&bad, &res) == -1);
-    struct cloud_mc_slab s = {4, 0.9, 0.6, cloud.g0, cloud.g1, cloud.w, 30000, 7, 1};
+    struct cloud_mc_slab s = { 4, 0.9, 0.6, cloud.g0, cloud.g1, cloud.w, 30000, 7, 1 };
     CHECK(cloud_mc_slab_run(&s, &res1) == 0);
     s.threads = 2;
     CHECK(cloud_mc_slab_run(&s, &res2) == 0);
@@ -302,8 +313,8 @@ int main(void)
     CHECK_NEAR(res.T_direct, exp(-128.0), 1e-60);
     res1 = mc(4, 0.9, 0.6, &cloud, 20000, 10);
     res2 = mc(4, 0.9, 0.6, &cloud, 80000, 11);
-    printf("stderr(R) 20k %.5f 80k %.5f ratio %.3f (expect 2)\n", res1.R_stderr,
-           res2.R_stderr, res1.R_stderr / res2.R_stderr);
+    printf("stderr(R) 20k %.5f 80k %.5f ratio %.3f (expect 2)\n", res1.R_stderr, res2.R_stderr,
+           res1.R_stderr / res2.R_stderr);
     CHECK_NEAR(res1.R_stderr / res2.R_stderr, 2.0, 0.15);
     CHECK_NEAR(res1.T_stderr / res2.T_stderr, 2.0, 0.15);
 
@@ -312,19 +323,20 @@ int main(void)
     double alpha0 = 0.0;
     for (int k = 0; k < NH; ++k)
         alpha0 += hw[k] * hv[k];
-    printf("H(1) omega=1: %.5f (Chandrasekhar 2.9078), int H = %.6f (exact 2)\n",
-           h_eval(1.0, 1.0), alpha0);
+    printf("H(1) omega=1: %.5f (Chandrasekhar 2.9078), int H = %.6f (exact 2)\n", h_eval(1.0, 1.0),
+           alpha0);
     CHECK_NEAR(h_eval(1.0, 1.0), 2.9078, 2e-4);
     CHECK_NEAR(alpha0, 2.0, 1e-4);
     const double om = 0.9;
     h_solve(om);
     for (int m = 0; m < 2; ++m) {
-        const struct closed f = {64, om, m ? 0.5 : 1.0, NULL};
+        const struct closed f = { 64, om, m ? 0.5 : 1.0, NULL };
         double rho[NB], R_h = 1.0 - h_eval(om, f.mu0) * sqrt(1.0 - om);
         res = mc(64, om, f.mu0, &iso, 100000, 20 + m);
         doubling(64, om, f.mu0, &iso, &da);
         printf("semi-infinite isotropic omega %.1f mu0 %.1f: R MC %.5f +- %.5f, DA %.5f, "
-               "1 - H sqrt(1-omega) %.5f\n", om, f.mu0, res.R, res.R_stderr, da.R, R_h);
+               "1 - H sqrt(1-omega) %.5f\n",
+               om, f.mu0, res.R, res.R_stderr, da.R, R_h);
         CHECK_NEAR(res.R, R_h, 4.5 * res.R_stderr);
         CHECK_NEAR(da.R, R_h, 1e-4);
         for (int b = 0; b < NB; ++b) {
@@ -338,7 +350,7 @@ int main(void)
 
     /* Thin slab: single scattering (rho_single), isotropic and the cloud phase. */
     for (int m = 0; m < 2; ++m) {
-        const struct closed f = {0.01, 0.8, 0.5, m ? &cloud : NULL};
+        const struct closed f = { 0.01, 0.8, 0.5, m ? &cloud : NULL };
         double rho1[NB];
         res = mc(f.tau, f.omega, f.mu0, m ? &cloud : &iso, 400000, 30 + m);
         for (int b = 0; b < NB; ++b) {
@@ -353,7 +365,11 @@ int main(void)
     }
 
     /* Doubling-adding against the tracer: isotropic, strongly forward, and the defaults. */
-    struct { double tau, omega, mu0; const struct phase *ph; const char *name; } cases[] = {
+    struct {
+        double tau, omega, mu0;
+        const struct phase *ph;
+        const char *name;
+    } cases[] = {
         { 1, 1.0, 1.0, &iso, "isotropic tau 1 mu0 1" },
         { 4, 0.9, 0.3, &iso, "isotropic tau 4 omega .9 mu0 .3" },
         { 16, 1.0, 0.2, &forward, "g .8/-.5 w .2 tau 16 mu0 .2" },
@@ -363,8 +379,9 @@ int main(void)
         doubling(cases[k].tau, cases[k].omega, cases[k].mu0, cases[k].ph, &da);
         res = mc(cases[k].tau, cases[k].omega, cases[k].mu0, cases[k].ph, 100000, 40 + k);
         printf("%s: R MC %.5f +- %.5f DA %.5f, T_diffuse MC %.5f +- %.5f DA %.5f "
-               "(phase quadrature %.1e)\n", cases[k].name, res.R, res.R_stderr, da.R,
-               res.T_diffuse, res.T_stderr, da.T, da.norm_error);
+               "(phase quadrature %.1e)\n",
+               cases[k].name, res.R, res.R_stderr, da.R, res.T_diffuse, res.T_stderr, da.T,
+               da.norm_error);
         CHECK_LE(da.norm_error, 1e-4);
         compare_da(cases[k].name, &res, &da);
         if (k == 0) { /* conservative: the doubling conserves energy too */
@@ -397,17 +414,18 @@ int main(void)
 
     /* The table for the renderer's defaults, each entry checked against the doubling. */
     printf("\nclouds defaults: g0 %.2f g1 %.2f w %.2f, omega %.2f; MC 40000 photons; DA = "
-           "doubling\n", cloud.g0, cloud.g1, cloud.w, albedo);
+           "doubling\n",
+           cloud.g0, cloud.g1, cloud.w, albedo);
     printf("  tau  mu0   R (MC)   +-       R (DA)   T_diff   +-       T_d (DA) T_direct  "
            "absorbed scatt.\n");
-    const double mus[3] = {1.0, 0.5, 0.2};
+    const double mus[3] = { 1.0, 0.5, 0.2 };
     for (int k = 0; k < 7; ++k)
         for (int m = 0; m < 3; ++m) {
             double tau = (double)(1 << k);
             res = mc(tau, albedo, mus[m], &cloud, 40000, 100 + 3 * k + m);
             doubling(tau, albedo, mus[m], &cloud, &da);
-            printf("  %3.0f  %.1f  %.5f  %.5f  %.5f  %.5f  %.5f  %.5f  %.2e %.5f  %5.1f\n",
-                   tau, mus[m], res.R, res.R_stderr, da.R, res.T_diffuse, res.T_stderr, da.T,
+            printf("  %3.0f  %.1f  %.5f  %.5f  %.5f  %.5f  %.5f  %.5f  %.2e %.5f  %5.1f\n", tau,
+                   mus[m], res.R, res.R_stderr, da.R, res.T_diffuse, res.T_stderr, da.T,
                    res.T_direct, res.absorbed, res.mean_scatterings);
             CHECK_NEAR(res.R, da.R, 4.5 * res.R_stderr + 2e-4);
             CHECK_NEAR(res.T_diffuse, da.T, 4.5 * res.T_stderr + 2e-4);

@@ -66,7 +66,7 @@ static void bf_extinction(const struct ref_atmosphere *a, double h, double e[3])
 static double bf_altitude(const struct ref_atmosphere *a, const double p[3], const double d[3],
                           double t)
 {
-    double q[3] = {p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]};
+    double q[3] = { p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2] };
     return sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]) - a->bottom_radius;
 }
 
@@ -98,7 +98,7 @@ static void bf_tau(const struct ref_atmosphere *a, const double p[3], const doub
 static double tent_column(const struct ref_atmosphere *a, double z0, double z1)
 {
     double p = a->ozone_peak_altitude, hw = 0.5 * a->ozone_width;
-    double F[2], z[2] = {z0, z1};
+    double F[2], z[2] = { z0, z1 };
     for (int i = 0; i < 2; ++i) {
         double x = z[i];
         if (x <= p - hw)
@@ -130,7 +130,7 @@ static struct ref_atmosphere slab(double thickness)
 
 static void test_phase(void)
 {
-    const double gs[] = {0.0, 0.5, 0.8, 0.95, -0.6};
+    const double gs[] = { 0.0, 0.5, 0.8, 0.95, -0.6 };
     const int n = 1 << 18; /* Simpson intervals in cos(theta) */
     double h = 2.0 / n, norm = 0, first = 0;
     for (int i = 0; i <= n; ++i) {
@@ -166,7 +166,7 @@ static void test_transmittance(void)
     a.bottom_radius = 6360, a.top_radius = 6460, a.rayleigh_scale_height = 8;
     a.rayleigh_scattering[0] = 5.802e-3, a.rayleigh_scattering[1] = 13.558e-3;
     a.rayleigh_scattering[2] = 33.1e-3;
-    const double hs[] = {0.0, 5.0, 60.0};
+    const double hs[] = { 0.0, 5.0, 60.0 };
     for (int i = 0; i < 3; ++i) {
         double T[3], want[3];
         ref_transmittance(&a, hs[i], 1.0, T);
@@ -174,7 +174,8 @@ static void test_transmittance(void)
             want[c] = exp(-a.rayleigh_scattering[c] * 8 * (exp(-hs[i] / 8) - exp(-100.0 / 8)));
         check(max_rel(T, want) < 1e-10,
               "exponential atmosphere, vertical from h=%g: T=(%.9f %.9f %.9f), rel err %.1e vs "
-              "exp(-sigma H (e^-h/H - e^-100/H))", hs[i], T[0], T[1], T[2], max_rel(T, want));
+              "exp(-sigma H (e^-h/H - e^-100/H))",
+              hs[i], T[0], T[1], T[2], max_rel(T, want));
     }
     /* Earth, vertical: Rayleigh + Mie exponentials and the ozone tent in closed form */
     for (int i = 0; i < 3; ++i) {
@@ -186,29 +187,31 @@ static void test_transmittance(void)
                               (exp(-h / 1.2) - exp(-100.0 / 1.2)) -
                           e.ozone_absorption[c] * tent_column(&e, h, 100.0));
         check(max_rel(T, want) < 1e-9,
-              "Earth zenith transmittance from h=%g: (%.6f %.6f %.6f), rel err %.1e", h, T[0],
-              T[1], T[2], max_rel(T, want));
+              "Earth zenith transmittance from h=%g: (%.6f %.6f %.6f), rel err %.1e", h, T[0], T[1],
+              T[2], max_rel(T, want));
     }
     /* slanted paths: independent composite Simpson with 2^20 intervals */
-    const double alts[] = {0.0, 10.0};
-    const double mus[] = {0.5, 0.1, 0.02, 0.0, -0.03};
+    const double alts[] = { 0.0, 10.0 };
+    const double mus[] = { 0.5, 0.1, 0.02, 0.0, -0.03 };
     double worst = 0;
     for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 5; ++j) {
-            double T[3], tau[3], want[3], p[3] = {0, 0, e.bottom_radius + alts[i]};
+            double T[3], tau[3], want[3], p[3] = { 0, 0, e.bottom_radius + alts[i] };
             if (alts[i] == 0 && mus[j] < 0)
                 continue;
-            double d[3] = {sqrt(1 - mus[j] * mus[j]), 0, mus[j]};
+            double d[3] = { sqrt(1 - mus[j] * mus[j]), 0, mus[j] };
             ref_transmittance(&e, alts[i], mus[j], T);
             bf_tau(&e, p, d, bf_exit(&e, p, d), 1 << 20, tau);
             for (int c = 0; c < 3; ++c)
                 want[c] = exp(-tau[c]);
             worst = fmax(worst, max_rel(T, want));
         }
-    check(worst < 1e-8, "slanted transmittance (h 0/10 km, mu 0.5..-0.03) vs brute-force "
-                        "Simpson: max rel err %.1e", worst);
+    check(worst < 1e-8,
+          "slanted transmittance (h 0/10 km, mu 0.5..-0.03) vs brute-force "
+          "Simpson: max rel err %.1e",
+          worst);
     /* convergence under shell refinement */
-    const double qs[] = {3.0, 2.0, 1.0, 0.5, 0.25};
+    const double qs[] = { 3.0, 2.0, 1.0, 0.5, 0.25 };
     for (int k = 0; k < 5; ++k) {
         double e_max = 0;
         for (int j = 0; j < 5; ++j) {
@@ -217,7 +220,9 @@ static void test_transmittance(void)
             ref_transmittance_ex(&e, 2.0, mus[j], 0.0625, R);
             e_max = fmax(e_max, max_rel(T, R));
         }
-        check(e_max < (qs[k] > 2 ? 1e-5 : qs[k] > 1 ? 1e-6 : 1e-9),
+        check(e_max < (qs[k] > 2   ? 1e-5
+                       : qs[k] > 1 ? 1e-6
+                                   : 1e-9),
               "transmittance step scale %.2f vs 0.0625: max rel diff %.1e", qs[k], e_max);
     }
     double T[3];
@@ -226,7 +231,8 @@ static void test_transmittance(void)
     ref_transmittance(&e, 150.0, 0.3, T);
     check(T[0] == 1 && T[1] == 1 && T[2] == 1, "upward ray above the atmosphere: T = 1");
     /* segments: multiplicative along a ray, symmetric, zero through the planet */
-    double p0[3] = {0, 0, 6361}, d[3] = {0.8, 0, 0.6}, p1[3], top[3], Ta[3], Tb[3], Tc[3], Tr[3];
+    double p0[3] = { 0, 0, 6361 }, d[3] = { 0.8, 0, 0.6 }, p1[3], top[3], Ta[3], Tb[3], Tc[3],
+           Tr[3];
     double L = bf_exit(&e, p0, d);
     for (int i = 0; i < 3; ++i)
         p1[i] = p0[i] + 0.3 * L * d[i], top[i] = p0[i] + L * d[i];
@@ -234,16 +240,15 @@ static void test_transmittance(void)
     ref_transmittance_segment(&e, p1, top, Tb);
     ref_transmittance_segment(&e, p0, top, Tc);
     ref_transmittance_segment(&e, p1, p0, Tr);
-    double prod[3] = {Ta[0] * Tb[0], Ta[1] * Tb[1], Ta[2] * Tb[2]};
+    double prod[3] = { Ta[0] * Tb[0], Ta[1] * Tb[1], Ta[2] * Tb[2] };
     check(max_rel(prod, Tc) < 1e-10 && max_rel(Tr, Ta) < 1e-10,
           "segments: T(a,b) T(b,c) = T(a,c) (%.1e), T(a,b) = T(b,a) (%.1e)", max_rel(prod, Tc),
           max_rel(Tr, Ta));
-    double q0[3] = {0, -4000, 5500}, q1[3] = {0, 4000, 5500};
+    double q0[3] = { 0, -4000, 5500 }, q1[3] = { 0, 4000, 5500 };
     ref_transmittance_segment(&e, q0, q1, T);
     check(T[0] == 0 && T[2] == 0, "segment through the planet: T = 0");
     ref_transmittance(&e, 0, 1, T);
-    printf("INFO Earth zenith transmittance at the ground: (%.4f, %.4f, %.4f)\n", T[0], T[1],
-           T[2]);
+    printf("INFO Earth zenith transmittance at the ground: (%.4f, %.4f, %.4f)\n", T[0], T[1], T[2]);
 }
 
 /* ------------------------------------------------ single scattering */
@@ -253,11 +258,11 @@ static void test_transmittance(void)
 static void bf_single(const struct ref_atmosphere *a, double alt, const double v[3],
                       const double s[3], int n, int n_sun, double out[3])
 {
-    double p[3] = {0, 0, a->bottom_radius + alt}, L = bf_exit(a, p, v), h = L / n;
-    double cs = v[0] * s[0] + v[1] * s[1] + v[2] * s[2], tau_v[3] = {0, 0, 0};
+    double p[3] = { 0, 0, a->bottom_radius + alt }, L = bf_exit(a, p, v), h = L / n;
+    double cs = v[0] * s[0] + v[1] * s[1] + v[2] * s[2], tau_v[3] = { 0, 0, 0 };
     out[0] = out[1] = out[2] = 0;
     for (int i = 0; i <= n; ++i) {
-        double t = i * h, x[3] = {p[0] + t * v[0], p[1] + t * v[1], p[2] + t * v[2]};
+        double t = i * h, x[3] = { p[0] + t * v[0], p[1] + t * v[1], p[2] + t * v[2] };
         double hx = bf_altitude(a, p, v, t), ts[3], e0[3], e1[3], e2[3];
         if (i > 0) {
             bf_extinction(a, bf_altitude(a, p, v, t - h), e0);
@@ -285,9 +290,9 @@ static void test_single_scattering(void)
     struct {
         double alt, vel, vaz, sel, saz;
     } cases[] = {
-        {0, 90, 0, 30, 0},  {0, 5, 0, 10, 0},     {0, 5, 180, 10, 0},  {0, 20, 90, 60, 0},
-        {0, 1, 30, 0, 0},   {0, 90, 0, -2, 0},    {0, 10, 0, -4, 0},   {0, 30, 180, -6, 0},
-        {1, -10, 0, 30, 0}, {5, -1, 90, 20, 0},   {0, 0, 0, 45, 180},  {300, -30, 0, 40, 0},
+        { 0, 90, 0, 30, 0 },  { 0, 5, 0, 10, 0 },   { 0, 5, 180, 10, 0 }, { 0, 20, 90, 60, 0 },
+        { 0, 1, 30, 0, 0 },   { 0, 90, 0, -2, 0 },  { 0, 10, 0, -4, 0 },  { 0, 30, 180, -6, 0 },
+        { 1, -10, 0, 30, 0 }, { 5, -1, 90, 20, 0 }, { 0, 0, 0, 45, 180 }, { 300, -30, 0, 40, 0 },
     };
     int nc = (int)(sizeof cases / sizeof cases[0]);
     double worst_default = 0, worst_coarse = 0, t_total = 0;
@@ -305,16 +310,18 @@ static void test_single_scattering(void)
     }
     check(worst_default < 1e-6,
           "single scattering converged: %d views (twilight, ground, space) default vs refined "
-          "max rel diff %.1e (coarse %.1e), %.1f ms per call", nc, worst_default, worst_coarse,
-          1e3 * t_total / nc);
+          "max rel diff %.1e (coarse %.1e), %.1f ms per call",
+          nc, worst_default, worst_coarse, 1e3 * t_total / nc);
 
     double v[3], s[3], ss[3], bf[3];
     dir_from(5, 70, v);
     dir_from(20, 0, s);
     ref_single_scattering(&e, 0, v, s, ss);
     bf_single(&e, 0, v, s, 4000, 4000, bf);
-    check(max_rel(ss, bf) < 2e-6, "single scattering vs independent brute-force Simpson "
-                                  "(view 5 deg, sun 20 deg): rel diff %.1e", max_rel(ss, bf));
+    check(max_rel(ss, bf) < 2e-6,
+          "single scattering vs independent brute-force Simpson "
+          "(view 5 deg, sun 20 deg): rel diff %.1e",
+          max_rel(ss, bf));
 
     /* homogeneous slab on a huge planet: exact plane-parallel single scattering */
     struct ref_atmosphere a = slab(10);
@@ -326,8 +333,8 @@ static void test_single_scattering(void)
     }
     a.fog_density = 0.004;
     double mv = 0.6, ms = 0.8, worst_up = 0, worst_down = 0;
-    double vu[3] = {sqrt(1 - mv * mv), 0, mv}, vd[3] = {sqrt(1 - mv * mv), 0, -mv};
-    double sd[3] = {-sqrt(1 - ms * ms) * 0.6, sqrt(1 - ms * ms) * 0.8, ms}, up[3], down[3];
+    double vu[3] = { sqrt(1 - mv * mv), 0, mv }, vd[3] = { sqrt(1 - mv * mv), 0, -mv };
+    double sd[3] = { -sqrt(1 - ms * ms) * 0.6, sqrt(1 - ms * ms) * 0.8, ms }, up[3], down[3];
     ref_single_scattering(&a, 0, vu, sd, up);
     ref_single_scattering(&a, 10, vd, sd, down);
     for (int c = 0; c < 3; ++c) {
@@ -346,7 +353,8 @@ static void test_single_scattering(void)
     }
     check(worst_up < 1e-5 && worst_down < 1e-5,
           "homogeneous slab (tau 0.2-0.5, Rayleigh+Mie+fog+ozone): exact plane-parallel single "
-          "scattering, rel err up %.1e, down incl. ground %.1e", worst_up, worst_down);
+          "scattering, rel err up %.1e, down incl. ground %.1e",
+          worst_up, worst_down);
 
     /* optically thin layer: L = sigma_s d p(theta) / mu_v to first order */
     struct ref_atmosphere t = slab(1);
@@ -374,11 +382,11 @@ static void slab_irradiance_order1(const struct ref_atmosphere *a, const double 
         double mu = (i + 0.5) / nm, sin_t = sqrt(1 - mu * mu);
         for (int j = 0; j < np; ++j) {
             double phi = 2 * PI * (j + 0.5) / np;
-            double v[3] = {sin_t * cos(phi), sin_t * sin(phi), down ? -mu : mu};
+            double v[3] = { sin_t * cos(phi), sin_t * sin(phi), down ? -mu : mu };
             double cs = v[0] * s[0] + v[1] * s[1] + v[2] * s[2];
             for (int c = 0; c < 3; ++c) {
-                double st = a->rayleigh_scattering[c] + a->mie_scattering[c] +
-                            a->mie_absorption[c], tau = st * d, f;
+                double st = a->rayleigh_scattering[c] + a->mie_scattering[c] + a->mie_absorption[c],
+                       tau = st * d, f;
                 double k = a->rayleigh_scattering[c] * ref_phase_rayleigh(cs) +
                            a->mie_scattering[c] * ref_phase_mie(cs, a->mie_g[c]);
                 if (down)
@@ -399,7 +407,9 @@ static void test_monte_carlo(void)
     ref_atmosphere_earth(&e);
     struct {
         double alt, vel, vaz, sel;
-    } cases[] = {{0, 90, 0, 30}, {0, 5, 0, 10}, {1, -10, 30, 30}, {0, 10, 0, -2}, {0, 40, 180, 5}};
+    } cases[] = {
+        { 0, 90, 0, 30 }, { 0, 5, 0, 10 }, { 1, -10, 30, 30 }, { 0, 10, 0, -2 }, { 0, 40, 180, 5 }
+    };
     for (int i = 0; i < 5; ++i) {
         double v[3], s[3], ss[3], mc[3], se[3], z = 0;
         dir_from(cases[i].vel, cases[i].vaz, v);
@@ -408,9 +418,10 @@ static void test_monte_carlo(void)
         ref_radiance_mc(&e, cases[i].alt, v, s, 1, 1, 20000, 11 + i, THREADS, mc, se);
         for (int c = 0; c < 3; ++c)
             z = fmax(z, fabs(mc[c] - ss[c]) / se[c]);
-        check(z < 4, "MC order 1 vs deterministic (h %g, view %g/%g, sun %g): max |diff|/SE = "
-                     "%.2f, SE %.2f%%", cases[i].alt, cases[i].vel, cases[i].vaz, cases[i].sel, z,
-              100 * se[2] / ss[2]);
+        check(z < 4,
+              "MC order 1 vs deterministic (h %g, view %g/%g, sun %g): max |diff|/SE = "
+              "%.2f, SE %.2f%%",
+              cases[i].alt, cases[i].vel, cases[i].vaz, cases[i].sel, z, 100 * se[2] / ss[2]);
     }
 
     /* slab irradiance, order 1, against direction quadrature of the exact slab radiance */
@@ -427,10 +438,11 @@ static void test_monte_carlo(void)
         z = 0;
         for (int c = 0; c < 3; ++c)
             z = fmax(z, fabs(mc[c] - want[c]) / se[c]);
-        check(z < 4, "slab order-1 irradiance %s: MC (%.5f %.5f %.5f) vs quadrature (%.5f %.5f "
-                     "%.5f), max |diff|/SE %.2f",
-              down ? "upward at the top" : "downward at the bottom", mc[0], mc[1], mc[2],
-              want[0], want[1], want[2], z);
+        check(z < 4,
+              "slab order-1 irradiance %s: MC (%.5f %.5f %.5f) vs quadrature (%.5f %.5f "
+              "%.5f), max |diff|/SE %.2f",
+              down ? "upward at the top" : "downward at the bottom", mc[0], mc[1], mc[2], want[0],
+              want[1], want[2], z);
     }
 
     /* conservative slab over a white ground reflects everything: E_up(top) = mu_s */
@@ -446,9 +458,10 @@ static void test_monte_carlo(void)
     z = 0;
     for (int c = 0; c < 3; ++c)
         z = fmax(z, fabs(mc[c] - s[2]) / se[c]);
-    check(z < 4, "energy conservation (no absorption, albedo 1, orders <= 60): E_up(top) = "
-                 "(%.5f %.5f %.5f) vs mu_s %.5f, SE %.2f%%, max |diff|/SE %.2f (%.1f s)", mc[0],
-          mc[1], mc[2], s[2], 100 * se[2] / s[2], z, now() - t0);
+    check(z < 4,
+          "energy conservation (no absorption, albedo 1, orders <= 60): E_up(top) = "
+          "(%.5f %.5f %.5f) vs mu_s %.5f, SE %.2f%%, max |diff|/SE %.2f (%.1f s)",
+          mc[0], mc[1], mc[2], s[2], 100 * se[2] / s[2], z, now() - t0);
 
     /* determinism across thread counts, monotonicity in max_order, ground albedo */
     double v[3], r1[3], e1[3], r2[3], e2[3], r3[3], e3[3];
@@ -461,7 +474,7 @@ static void test_monte_carlo(void)
               !memcmp(e1, e3, sizeof e1),
           "MC bit-identical for 1, 2 and 7 threads");
     int mono = 1;
-    double prev[3] = {0, 0, 0};
+    double prev[3] = { 0, 0, 0 };
     for (int k = 1; k <= 10; ++k) {
         ref_radiance(&e, 0, v, s, k, 3000, 99, THREADS, r1, NULL);
         for (int c = 0; c < 3; ++c)
@@ -496,7 +509,7 @@ static void test_twilight_estimators(void)
     ref_atmosphere_earth(&e);
     struct {
         double vel, vaz, sel;
-    } cases[] = {{90, 0, -6}, {-90, 0, -6}, {3, 0, -6}, {10, 150, -4}, {1, 60, -2}};
+    } cases[] = { { 90, 0, -6 }, { -90, 0, -6 }, { 3, 0, -6 }, { 10, 150, -4 }, { 1, 60, -2 } };
     const int paths = 20000, simple_paths = 8 * paths;
     for (int i = 0; i < 5; ++i) {
         double v[3], s[3], a[3], ea[3], b[3], eb[3], z = 0, gain = HUGE_VAL;
@@ -538,7 +551,7 @@ static void report_earth(void)
 {
     struct ref_atmosphere e;
     ref_atmosphere_earth(&e);
-    const double sels[] = {30, 0, -2};
+    const double sels[] = { 30, 0, -2 };
     double v[3], s[3], L[3], se[3];
     dir_from(90, 0, v);
     for (int i = 0; i < 3; ++i) {
@@ -559,9 +572,10 @@ static void report_earth(void)
     }
     dir_from(30, 0, s);
     ref_sky_irradiance(&e, s, 10, 8000, 7, THREADS, L, se);
-    check(L[0] > 0 && L[2] > L[0], "Earth sky irradiance, sun 30 deg: (%.5f %.5f %.5f) +- (%.5f "
-                                   "%.5f %.5f) per unit solar irradiance", L[0], L[1], L[2],
-          se[0], se[1], se[2]);
+    check(L[0] > 0 && L[2] > L[0],
+          "Earth sky irradiance, sun 30 deg: (%.5f %.5f %.5f) +- (%.5f "
+          "%.5f %.5f) per unit solar irradiance",
+          L[0], L[1], L[2], se[0], se[1], se[2]);
 }
 
 int main(void)

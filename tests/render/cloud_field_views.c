@@ -31,20 +31,32 @@ static uint64_t next_history_key = 1;
 
 struct field_view field_cumulus_view(double coverage, int seed, double sun_elevation_deg)
 {
-    struct field_view view = { "fair_cumulus", coverage, true, seed, sun_elevation_deg, 135.0,
-                               { 0.0, 0.0 }, 90.0 };
+    struct field_view view = { "fair_cumulus",    coverage, true,         seed,
+                               sun_elevation_deg, 135.0,    { 0.0, 0.0 }, 90.0 };
     return view;
 }
 
 struct field_view field_deck_view(const char *preset, int i, bool narrow)
 {
-    static const struct { int seed; double sun, offset_km; } views[FIELD_DECK_VIEWS] = {
-        { 1, 40.0, 0.0 }, { 1, 65.0, 30.0 }, { 7, 65.0, 0.0 }, { 7, 40.0, 30.0 },
+    static const struct {
+        int seed;
+        double sun, offset_km;
+    } views[FIELD_DECK_VIEWS] = {
+        { 1, 40.0, 0.0 },
+        { 1, 65.0, 30.0 },
+        { 7, 65.0, 0.0 },
+        { 7, 40.0, 30.0 },
     };
     i %= FIELD_DECK_VIEWS;
     double offset = narrow ? 0.0 : views[i].offset_km;
-    struct field_view view = { preset, NAN, false, views[i].seed, views[i].sun, 135.0,
-                               { offset, offset }, narrow ? 60.0 : 90.0 };
+    struct field_view view = { preset,
+                               NAN,
+                               false,
+                               views[i].seed,
+                               views[i].sun,
+                               135.0,
+                               { offset, offset },
+                               narrow ? 60.0 : 90.0 };
     return view;
 }
 
@@ -144,9 +156,8 @@ static bool render(const struct field_views *v, const struct sky_world_state *s,
         return false;
     /* A one-off view, converged from scratch. */
     size_t pixels = (size_t)side * (size_t)side;
-    if (test_render_world(v->renderer, s, (uint32_t)side, (uint32_t)side,
-                          SKY_RENDER_OUTPUT_LINEAR, next_history_key++, false, rgba,
-                          pixels * 4 * sizeof rgba[0]) != 0) {
+    if (test_render_world(v->renderer, s, (uint32_t)side, (uint32_t)side, SKY_RENDER_OUTPUT_LINEAR,
+                          next_history_key++, false, rgba, pixels * 4 * sizeof rgba[0]) != 0) {
         printf("render failed\n");
         return false;
     }
@@ -184,8 +195,8 @@ static bool measured_field_object(const struct cloud_object *o, const void *ctx)
 }
 
 /* A side x side mask, with the boxes of objects[0, count) when side is FIELD_SIDE. */
-static void save_mask(const struct field_views *v, const char *name,
-                      const unsigned char *m, int side, int count)
+static void save_mask(const struct field_views *v, const char *name, const unsigned char *m,
+                      int side, int count)
 {
     static uint8_t pixels[N_PIXELS * 4];
     if (!v->out_dir)
@@ -200,8 +211,8 @@ static void save_mask(const struct field_views *v, const char *name,
 bool field_sum_spectra(struct field_spectrum *sum, const struct field_spectrum *one)
 {
     if (sum->views > 0 && fabs(sum->pixel_km - one->pixel_km) > 1e-9 * one->pixel_km) {
-        printf("views of different pixel sizes (%.5f, %.5f km) in one spectrum\n",
-               sum->pixel_km, one->pixel_km);
+        printf("views of different pixel sizes (%.5f, %.5f km) in one spectrum\n", sum->pixel_km,
+               one->pixel_km);
         return false;
     }
     for (int r = 0; r < one->rings; r++) {
@@ -232,8 +243,7 @@ static void black_ground(struct sky_world_state *s)
 
 /* Cloud where the cloudy render is brighter than the clear one by more than 10 % of it.
  * Brighter only: what a cloud darkens below it is its shadow on the air, not cloud. */
-static void mask_clouds(const float *cloudy_luma, const float *clear_luma, int n,
-                        unsigned char *m)
+static void mask_clouds(const float *cloudy_luma, const float *clear_luma, int n, unsigned char *m)
 {
     for (int i = 0; i < n; i++)
         m[i] = cloudy_luma[i] - clear_luma[i] > 0.10f * clear_luma[i];
@@ -297,8 +307,7 @@ static bool moved_fraction(const struct field_views *v, const struct field_view 
     double offset_km[2];
     field_fraction_offset_km(i, offset_km);
     char moved_name[256];
-    snprintf(moved_name, sizeof moved_name, "%s_at%.0f_%.0f", name, offset_km[0],
-             offset_km[1]);
+    snprintf(moved_name, sizeof moved_name, "%s_at%.0f_%.0f", name, offset_km[0], offset_km[1]);
     save_render(v, moved_name, FIELD_FRACTION_SIDE);
     mask_clouds(moved_cloudy, moved_clear[i - 1], N_FRACTION_PIXELS, moved_mask);
     save_mask(v, moved_name, moved_mask, FIELD_FRACTION_SIDE, 0);
@@ -372,9 +381,9 @@ void field_print_cumulus(const char *name, const struct cumulus_figures *f)
     printf("), %.3f in this view (%+.3f), %.3f of its image; %d objects, %d whole, %d >= L_min "
            "%.0f m (largest %.2f km): b %.2f +- %.2f (untruncated %.2f, binned %.2f, KS %.3f); "
            "D %.3f over %d >= %d px\n",
-           f->fraction, f->fraction - f->coverage, f->image_fraction, f->objects, z->whole,
-           z->used, 1000.0 * z->l_min_km, z->l_max_km, z->b, z->b_sigma, z->b_clauset,
-           z->b_binned, z->ks, f->dimension, f->dimension_used, FIELD_D_MIN_AREA_PX);
+           f->fraction, f->fraction - f->coverage, f->image_fraction, f->objects, z->whole, z->used,
+           1000.0 * z->l_min_km, z->l_max_km, z->b, z->b_sigma, z->b_clauset, z->b_binned, z->ks,
+           f->dimension, f->dimension_used, FIELD_D_MIN_AREA_PX);
 }
 
 void field_print_octaves(const char *name, const struct field_spectrum *spectrum)

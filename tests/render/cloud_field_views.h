@@ -55,26 +55,26 @@ struct field_views {
 };
 
 struct field_view {
-    const char *preset;      /* config/weather/<preset>.json */
-    double low_coverage;     /* clouds.low.coverage; NAN: the preset's */
-    bool keep_high;          /* false: clouds.high.coverage 0, the low layer alone */
-    int seed;                /* weather.seed */
+    const char *preset;  /* config/weather/<preset>.json */
+    double low_coverage; /* clouds.low.coverage; NAN: the preset's */
+    bool keep_high;      /* false: clouds.high.coverage 0, the low layer alone */
+    int seed;            /* weather.seed */
     double sun_elevation_deg, sun_azimuth_deg;
-    double offset_km[2];     /* weather.offset_east_km, _north_km: which part of the map */
+    double offset_km[2]; /* weather.offset_east_km, _north_km: which part of the map */
     double fov_deg;
 };
 
 struct cumulus_figures {
     double pixel_km;
-    double coverage;         /* the low layer's, as set */
-    double fraction;         /* the view's: of its pixels within FIELD_NADIR_DEG of the nadir
+    double coverage; /* the low layer's, as set */
+    double fraction; /* the view's: of its pixels within FIELD_NADIR_DEG of the nadir
                               * in the mask */
     double view_fractions[FIELD_FRACTION_VIEWS]; /* the same, view by view: [0] the view's */
-    double mean_fraction;    /* their mean: the configuration's cloud fraction */
-    double image_fraction;   /* of the whole image */
-    int objects;             /* in the mask, all */
+    double mean_fraction;  /* their mean: the configuration's cloud fraction */
+    double image_fraction; /* of the whole image */
+    int objects;           /* in the mask, all */
     struct cloud_size_fit size;
-    double dimension;        /* area-perimeter, whole objects >= FIELD_D_MIN_AREA_PX */
+    double dimension; /* area-perimeter, whole objects >= FIELD_D_MIN_AREA_PX */
     int dimension_used;
 };
 

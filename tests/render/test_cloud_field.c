@@ -40,8 +40,8 @@ static void test_cumulus(void)
             CHECK(field_render_clear(&views, &view));
             for (int c = 0; c < 2; c++) {
                 char name[64];
-                snprintf(name, sizeof name, "cumulus_%02.0f_seed%d_sun%02.0f",
-                         100.0 * coverages[c], seeds[i], suns[j]);
+                snprintf(name, sizeof name, "cumulus_%02.0f_seed%d_sun%02.0f", 100.0 * coverages[c],
+                         seeds[i], suns[j]);
                 check_case_name = name;
                 view.low_coverage = coverages[c];
                 struct cumulus_figures f;
@@ -54,10 +54,11 @@ static void test_cumulus(void)
                           "cloud fraction %.3f over %d views, coverage %.2f", f.mean_fraction,
                           FIELD_FRACTION_VIEWS, f.coverage);
                 CHECK_MSG(f.size.used >= 50, "%d clouds above L_min, want >= 50", f.size.used);
-                CHECK_MSG(f.size.b >= 1.6 && f.size.b <= 2.9, "b = %.2f, want 1.6..2.9",
-                          f.size.b);
-                CHECK_MSG(f.dimension >= 1.22 && f.dimension <= 1.42, "D = %.3f, want "
-                          "1.22..1.42", f.dimension);
+                CHECK_MSG(f.size.b >= 1.6 && f.size.b <= 2.9, "b = %.2f, want 1.6..2.9", f.size.b);
+                CHECK_MSG(f.dimension >= 1.22 && f.dimension <= 1.42,
+                          "D = %.3f, want "
+                          "1.22..1.42",
+                          f.dimension);
             }
         }
     check_case_name = "";

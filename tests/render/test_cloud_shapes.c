@@ -93,8 +93,7 @@ void shapes_save_mask(const char *name, int count, int min_area, int min_width)
 }
 
 /* The camera's basis as render/sky/sky_uniforms.c builds it, and tan(fov / 2). */
-double shapes_camera_basis(const struct sky_world_state *s, double f[3], double r[3],
-                           double u[3])
+double shapes_camera_basis(const struct sky_world_state *s, double f[3], double r[3], double u[3])
 {
     double yaw = s->camera.yaw_deg * DEG;
     sky_direction_from_angles(s->camera.yaw_deg, s->camera.pitch_deg, f);
@@ -163,8 +162,8 @@ int shapes_label(const struct sky_world_state *s, enum below_horizon below, doub
 }
 
 /* test_set_cell_map with the shapes' renderer. */
-void shapes_set_cell_map(const struct sky_world_state *s, double radius, double north,
-                         uint8_t type, uint8_t rain)
+void shapes_set_cell_map(const struct sky_world_state *s, double radius, double north, uint8_t type,
+                         uint8_t rain)
 {
     CHECK(test_set_cell_map(shapes_renderer, s, radius, north, type, rain) == 0);
 }

@@ -64,8 +64,7 @@ void test_silver_lining(void)
     }
     CHECK(sky_renderer_set_weather_map(shapes_renderer, NULL, 0, 0) == 0);
     CHECK_MSG(ratio[0] > 1.2, "silver lining: outline / core %.3f", ratio[0]);
-    CHECK_MSG(ratio[0] > 1.5 * ratio[1], "silver lining: %.3f, isotropic %.3f", ratio[0],
-              ratio[1]);
+    CHECK_MSG(ratio[0] > 1.5 * ratio[1], "silver lining: %.3f, isotropic %.3f", ratio[0], ratio[1]);
 }
 
 /* The overcast deck alone (no high layer, no rain), the camera 200 m over its top. */
@@ -120,8 +119,8 @@ void test_powder(void)
     CHECK_MSG(defaults.clouds.multiscatter_powder > 0.0, "powder is on by default");
     /* 1.244 against 1.330 when written: the build-up is fitted to the Monte Carlo decks, which
      * leave room for no more (docs/ACCURACY.md). */
-    CHECK_MSG(with < 0.96 * without, "powder: grazing / down %.3f, without the build-up %.3f",
-              with, without);
+    CHECK_MSG(with < 0.96 * without, "powder: grazing / down %.3f, without the build-up %.3f", with,
+              without);
 }
 
 /* Sky ambient from the sky-view LUT: an overcast deck seen from 200 m over its top in the
@@ -158,8 +157,10 @@ static double deck_toward_over_away(bool isotropic)
 void test_sky_ambient(void)
 {
     double shaped = deck_toward_over_away(false), flat = deck_toward_over_away(true);
-    CHECK_MSG(shaped > 1.12 && shaped > flat + 0.08, "sky ambient: toward / away %.3f, "
-              "isotropic %.3f", shaped, flat);
+    CHECK_MSG(shaped > 1.12 && shaped > flat + 0.08,
+              "sky ambient: toward / away %.3f, "
+              "isotropic %.3f",
+              shaped, flat);
     CHECK_MSG(shaped < 2.0, "sky ambient: toward / away %.3f", shaped);
 }
 
@@ -227,8 +228,7 @@ void test_sun_through_clouds(void)
         printf("sun, %s (low layer's nominal optical depth along the sun's ray %.0f): "
                "contrast %.4g, disk peak %.4g cd/m2 (%.3g of the clear sky's)\n",
                decks[k], tau, contrast, peak, peak / clear_peak);
-        CHECK_MSG(contrast < 2.0, "%s: sun contrast %.4g, want < 2 (no disk)", decks[k],
-                  contrast);
+        CHECK_MSG(contrast < 2.0, "%s: sun contrast %.4g, want < 2 (no disk)", decks[k], contrast);
     }
 
     /* Cirrus alone, its density set for a nominal optical depth of 3 along the sun's ray: the
@@ -243,8 +243,7 @@ void test_sun_through_clouds(void)
     printf("sun, thin cirrus (density %.4f, nominal optical depth 3): contrast %.4g, disk peak "
            "%.4g cd/m2 (%.3g of the clear sky's: optical depth %.2f)\n",
            s.clouds.high.density, contrast, peak, peak / clear_peak, -log(peak / clear_peak));
-    CHECK_MSG(contrast > 10.0, "cirrus: sun contrast %.4g, want > 10 (a visible disk)",
-              contrast);
+    CHECK_MSG(contrast > 10.0, "cirrus: sun contrast %.4g, want > 10 (a visible disk)", contrast);
     CHECK_MSG(peak < 0.9 * clear_peak, "cirrus: disk peak %.4g of the clear sky's, want < 0.9",
               peak / clear_peak);
 }

@@ -14,8 +14,8 @@ static int compare_int(const void *a, const void *b)
  * outlines (test_cloud_field holds it to the observed 1.22-1.42 over more fields),
  * and many small clouds (ten blobs covering 0.3 of the view would be 3 % of the image each;
  * the median cloud must be a tenth of that or less). */
-void test_from_above(const char *name, int seed, double sun_azimuth_deg,
-                     double altitude_km, double fov_deg)
+void test_from_above(const char *name, int seed, double sun_azimuth_deg, double altitude_km,
+                     double fov_deg)
 {
     struct sky_world_state s;
     if (!shapes_weather_state("fair_cumulus", &s))
@@ -45,8 +45,7 @@ void test_from_above(const char *name, int seed, double sun_azimuth_deg,
            "the image, %d objects, %d whole of >= %d px (%d..%d px, median %.3f %% of the "
            "image); D = %.3f over %d\n",
            name, altitude_km, fov_deg, seed, sun_azimuth_deg, cover, n, whole, D_MIN_AREA,
-           whole ? areas[0] : 0, whole ? areas[whole - 1] : 0, 100.0 * median_fraction, d,
-           used);
+           whole ? areas[0] : 0, whole ? areas[whole - 1] : 0, 100.0 * median_fraction, d, used);
     CHECK_MSG(used >= 30, "%s: %d whole clouds in the fit, want >= 30", name, used);
     /* A regression bound, not the target: the rebuilt clouds read 1.49-1.57 by this mask (the
      * old ones 1.25) and 1.34-1.42 by test_cloud_field's, which holds the observed 1.22-1.42
@@ -91,7 +90,8 @@ void test_edge_on(void)
     int used = 0;
     double median = cloud_metrics_median_aspect(pooled, count, 8, &used, &largest);
     printf("edge-on, pooled: %d whole clouds >= 8 px wide; height/width median %.3f, largest "
-           "%.3f\n", used, median, largest);
+           "%.3f\n",
+           used, median, largest);
     CHECK_MSG(used >= 10, "edge-on: %d whole clouds, want >= 10", used);
     CHECK_MSG(median >= 0.35, "edge-on: median height/width %.3f, want >= 0.35", median);
 }
@@ -159,7 +159,10 @@ void test_smooth_outlines(void)
     }
     double along = 0.5 * (aligned[0] + aligned[2]), across = 0.5 * (aligned[1] + aligned[3]);
     printf("outlines overhead: edges within 10 deg of the image axes %.3f with the map's axes "
-           "there, %.3f with them diagonal (%.3f)\n", along, across, along / across);
-    CHECK_MSG(along < 1.4 * across, "stair-stepped outlines: %.3f along the map's axes, %.3f "
-              "across", along, across);
+           "there, %.3f with them diagonal (%.3f)\n",
+           along, across, along / across);
+    CHECK_MSG(along < 1.4 * across,
+              "stair-stepped outlines: %.3f along the map's axes, %.3f "
+              "across",
+              along, across);
 }

@@ -48,7 +48,8 @@ void test_storm_tower(void)
     const struct cloud_object *o = &shapes_objects[largest];
     double width = o->x1 - o->x0 + 1, height = o->y1 - o->y0 + 1;
     printf("storm cell: cloud cover %.3f, %d objects; the largest %d px, %.0f x %.0f px "
-           "(height/width %.2f)%s\n", cover, n, o->area, width, height, height / width,
+           "(height/width %.2f)%s\n",
+           cover, n, o->area, width, height, height / width,
            o->touches_border ? ", touches the border" : "");
     CHECK_MSG(!o->touches_border, "storm cell: the tower leaves the view");
     CHECK_MSG(height > width, "storm cell: %.0f px tall, %.0f px wide", height, width);
@@ -149,7 +150,7 @@ void test_storm_steps(void)
         diff += fabs(blurred[0][i] * mean[1] / mean[0] - blurred[1][i]);
     double relative = diff / mean[1];
     printf("storm towers: default steps against four times as many, blurred: mean relative "
-           "difference %.4f (means %.4g, %.4g cd/m2)\n", relative, mean[0] / (W * ROWS),
-           mean[1] / (W * ROWS));
+           "difference %.4f (means %.4g, %.4g cd/m2)\n",
+           relative, mean[0] / (W * ROWS), mean[1] / (W * ROWS));
     CHECK_MSG(relative < 0.12, "storm steps: %.4f", relative);
 }

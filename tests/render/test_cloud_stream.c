@@ -24,15 +24,15 @@
 
 #define W 320
 #define H 180
-#define PERIOD 8          /* trace block (4) x downscale (2): the grid a blocky frame shows */
-#define WARMUP 8          /* live frames before the transition: wind only */
-#define TRANSITION 40     /* live frames of the transition, each one measured */
-#define FPS 20.0          /* frames per real second of the stream */
-#define TIME_SCALE 600.0  /* simulated seconds per real second */
+#define PERIOD 8         /* trace block (4) x downscale (2): the grid a blocky frame shows */
+#define WARMUP 8         /* live frames before the transition: wind only */
+#define TRANSITION 40    /* live frames of the transition, each one measured */
+#define FPS 20.0         /* frames per real second of the stream */
+#define TIME_SCALE 600.0 /* simulated seconds per real second */
 #define WIND_M_S 6.0
 #define STREAM_KEY 900
-#define RESTART_KEY 901   /* a new stream that starts at the instant change */
-#define AFTER_CHANGE 16   /* live frames after the instant change: a cycle of the 4x4 pattern */
+#define RESTART_KEY 901 /* a new stream that starts at the instant change */
+#define AFTER_CHANGE 16 /* live frames after the instant change: a cycle of the 4x4 pattern */
 
 static const char *out_dir = ".";
 static struct sky_renderer *renderer;
@@ -150,8 +150,8 @@ static void test_transition(int *frame)
         conv_grid[k] = cloud_grid_blockiness(converged);
         ratio[k] = live_b[k] / conv_b[k];
         printf("transition frame %2d: coverage %.3f type %.3f: blockiness live %.3f, "
-               "converged %.3f (on the cloud grid %.3f), ratio %.3f\n", k,
-               s.clouds.low.coverage, s.clouds.low.type, live_b[k], conv_b[k], conv_grid[k],
+               "converged %.3f (on the cloud grid %.3f), ratio %.3f\n",
+               k, s.clouds.low.coverage, s.clouds.low.type, live_b[k], conv_b[k], conv_grid[k],
                ratio[k]);
         if (k == TRANSITION / 2) {
             save_png(live, "live");
@@ -196,7 +196,8 @@ static void test_instant_change(int *frame)
             double d_new = test_relative_difference(restarted, converged, (size_t)W * H);
             ratio[n++] = blockiness(live) / blockiness(converged);
             printf("instant change: frame %2d vs a converged render %.4f (a new stream %.4f), "
-                   "blockiness live / converged %.3f\n", k, d_live, d_new, ratio[n - 1]);
+                   "blockiness live / converged %.3f\n",
+                   k, d_live, d_new, ratio[n - 1]);
             /* A quarter of a cycle of the 4x4 pattern in, within twice the new stream's
              * difference; half a cycle in, within 1.5 times; after a cycle, within 1.25. */
             CHECK_LE(d_live, (k == 4 ? 2.0 : k == 8 ? 1.5 : 1.25) * d_new + 0.005);

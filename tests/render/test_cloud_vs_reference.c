@@ -240,8 +240,8 @@ static void compare_scene(const struct scene *sc)
     if (!scene_state(sc, &s))
         return;
     uint32_t spp = ref_spp_override ? ref_spp_override : sc->spp;
-    printf("%s: sun at azimuth %.0f, elevation %.0f deg; %dx%d, reference %d spp x 2\n",
-           sc->name, sc->sun_azimuth_deg, sc->sun_elevation_deg, W, H, spp);
+    printf("%s: sun at azimuth %.0f, elevation %.0f deg; %dx%d, reference %d spp x 2\n", sc->name,
+           sc->sun_azimuth_deg, sc->sun_elevation_deg, W, H, spp);
     CHECK(test_set_cell_map(renderer, &s, sc->radius_km, sc->north_km, sc->type, sc->rain) == 0);
     double t0 = seconds();
     render(&s, 0, 0, rt_rgba, rt);
@@ -273,8 +273,8 @@ static void compare_scene(const struct scene *sc)
     /* The reference's own noise: its two halves differ by twice the noise of their mean in
      * quadrature (sqrt 2 each way): relative error of one against the other / 2, and the
      * grain of their half difference over the mean luminance. */
-    double noise_err =
-        0.5 * cloud_compare_block_relative_error(ref[0], ref[1], mask, W, H, ERROR_BLOCK);
+    double noise_err = 0.5 *
+                       cloud_compare_block_relative_error(ref[0], ref[1], mask, W, H, ERROR_BLOCK);
     double noise_err_pixel = 0.5 * cloud_compare_relative_error(ref[0], ref[1], mask, W, H);
     double interior_mean = 0.0;
     {
@@ -302,29 +302,34 @@ static void compare_scene(const struct scene *sc)
     for (int i = 0; i < W * H; i++)
         if (mask[i])
             sum_rt += rt[i], sum_ref += ref_mean[i];
-    printf("  cloud pixels %d; renderer %.1f s, reference %.1f s (two renders)\n", pixels,
-           t1 - t0, t2 - t1);
+    printf("  cloud pixels %d; renderer %.1f s, reference %.1f s (two renders)\n", pixels, t1 - t0,
+           t2 - t1);
     printf("  mean luminance over the cloud: renderer / reference %.3f\n", sum_rt / sum_ref);
     printf("  mean relative luminance error over %dx%d blocks %.3f (target <= %.2f), per pixel "
-           "%.3f; the reference's own noise %.3f per block, %.3f per pixel\n", ERROR_BLOCK,
-           ERROR_BLOCK, err, MAX_RELATIVE_ERROR, err_pixel, noise_err, noise_err_pixel);
+           "%.3f; the reference's own noise %.3f per block, %.3f per pixel\n",
+           ERROR_BLOCK, ERROR_BLOCK, err, MAX_RELATIVE_ERROR, err_pixel, noise_err,
+           noise_err_pixel);
     printf("  outline / interior: renderer %.3f, reference %.3f (%+.1f %%, target within "
-           "%.0f %%)\n", outline_rt, outline_ref, 100.0 * outline_dev,
-           100.0 * MAX_OUTLINE_DEVIATION);
+           "%.0f %%)\n",
+           outline_rt, outline_ref, 100.0 * outline_dev, 100.0 * MAX_OUTLINE_DEVIATION);
     printf("  grain: renderer %.4f, reference %.4f with its noise %.4f, %.4f without it "
-           "(ratio %.2f, target <= %.1f)\n", grain_rt, grain_ref, noise_grain, grain_clean,
-           grain_rt / grain_clean, MAX_GRAIN_RATIO);
+           "(ratio %.2f, target <= %.1f)\n",
+           grain_rt, grain_ref, noise_grain, grain_clean, grain_rt / grain_clean, MAX_GRAIN_RATIO);
     CHECK_MSG(pixels > 100, "%s: only %d cloud pixels", sc->name, pixels);
-    CHECK_MSG(noise_err < MAX_RELATIVE_ERROR / 3.0, "%s: the reference's noise %.3f",
-              sc->name, noise_err);
+    CHECK_MSG(noise_err < MAX_RELATIVE_ERROR / 3.0, "%s: the reference's noise %.3f", sc->name,
+              noise_err);
     CHECK_MSG(err <= MAX_RELATIVE_ERROR, "%s: relative error %.3f", sc->name, err);
-    CHECK_MSG(fabs(outline_dev) <= MAX_OUTLINE_DEVIATION, "%s: outline / interior %.3f, "
-              "reference %.3f", sc->name, outline_rt, outline_ref);
+    CHECK_MSG(fabs(outline_dev) <= MAX_OUTLINE_DEVIATION,
+              "%s: outline / interior %.3f, "
+              "reference %.3f",
+              sc->name, outline_rt, outline_ref);
     /* A verdict on grain needs a reference whose own noise is below the grain it judges. */
-    CHECK_MSG(noise_grain < grain_clean, "%s: the reference's noise grain %.4f is not under its "
-              "grain %.4f: more samples per pixel", sc->name, noise_grain, grain_clean);
-    CHECK_MSG(grain_rt <= MAX_GRAIN_RATIO * grain_clean, "%s: grain %.4f, reference %.4f",
-              sc->name, grain_rt, grain_clean);
+    CHECK_MSG(noise_grain < grain_clean,
+              "%s: the reference's noise grain %.4f is not under its "
+              "grain %.4f: more samples per pixel",
+              sc->name, noise_grain, grain_clean);
+    CHECK_MSG(grain_rt <= MAX_GRAIN_RATIO * grain_clean, "%s: grain %.4f, reference %.4f", sc->name,
+              grain_rt, grain_clean);
 }
 
 static void run(void)

@@ -68,7 +68,10 @@ static void save_png(const struct sky_world_state *s, uint64_t key, const char *
  * and in a plausible daylight range. */
 static void test_views(void)
 {
-    static const struct { const char *name; double altitude, pitch, lo, hi; } views[] = {
+    static const struct {
+        const char *name;
+        double altitude, pitch, lo, hi;
+    } views[] = {
         { "ground", 0.2, 15, 100, 2e4 },
         { "inside", 2.5, 5, 100, 3e4 },
         { "above", 7.0, -25, 300, 3e4 },
@@ -173,7 +176,8 @@ static void test_thick_isotropic_cloud(void)
         double mu = sin(-pitches[k] * M_PI / 180.0);
         double reference = slab_single_scattering(e_cloud, 1.0, mu0, mu);
         printf("isotropic deck, view mu %.2f: %.5g cd/m2; single-scattering reference %.5g; "
-               "Lambertian bound %.5g\n", mu, measured[k], reference, lambert);
+               "Lambertian bound %.5g\n",
+               mu, measured[k], reference, lambert);
         CHECK_LE(measured[k], lambert);
         CHECK_NEAR(measured[k] / reference, 1.0, 0.35);
     }
@@ -278,7 +282,8 @@ static void test_sliced_shadow_map_sun(void)
     s.sun.azimuth_deg = 0;
     render(&s, 621, frame_b, NULL); /* then one for the opposite sun */
     s.sun.azimuth_deg = 180;
-    struct sky_render_amortization sliced = { .budget_ms = 2.0, .budget_fraction = 0.0,
+    struct sky_render_amortization sliced = { .budget_ms = 2.0,
+                                              .budget_fraction = 0.0,
                                               .blend_frames = 1 };
     sky_renderer_set_amortization(renderer, &sliced);
     live_views = true;
@@ -334,7 +339,8 @@ static void test_light_shafts(void)
                 total += u;
             }
         printf("light shafts: %.2f %% of the in-scattering shadowed; shadowed + shafts vs no "
-               "clouds, worst relative difference %.2e\n", 100.0 * lost / total, worst);
+               "clouds, worst relative difference %.2e\n",
+               100.0 * lost / total, worst);
         CHECK(bad == 0);
         CHECK(negative == 0);
         CHECK_LE(worst, 1e-3);
@@ -368,8 +374,7 @@ static void test_client_weather_map(void)
     render(&s, 502, clear, NULL);
     double empty_vs_clear = test_relative_difference(frame_a, clear, (size_t)W * H);
     double full_vs_clear = test_relative_difference(frame_b, clear, (size_t)W * H);
-    printf("client map: empty vs clear %.4f, full vs clear %.4f\n", empty_vs_clear,
-           full_vs_clear);
+    printf("client map: empty vs clear %.4f, full vs clear %.4f\n", empty_vs_clear, full_vs_clear);
     CHECK_LE(empty_vs_clear, 0.01);
     CHECK(full_vs_clear > 0.2);
     CHECK(sky_renderer_set_weather_map(renderer, map, 0, 16) != 0);
@@ -405,8 +410,8 @@ static void test_moonlit_clouds(void)
     printf("moonlit clouds: moon up %.4g, moon down %.4g, day %.4g cd/m2\n", moon_up, moon_down,
            day);
     CHECK(moon_up > 3.0 * moon_down);
-    CHECK(moon_up > 1e-3);           /* grey under the moon, not black */
-    CHECK(moon_up < 0.3 / M_PI);     /* never brighter than a white surface facing it */
+    CHECK(moon_up > 1e-3);       /* grey under the moon, not black */
+    CHECK(moon_up < 0.3 / M_PI); /* never brighter than a white surface facing it */
     CHECK(moon_up < 1e-3 * day);
 }
 

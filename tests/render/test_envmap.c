@@ -40,8 +40,8 @@ static void panorama_view(const struct sky_world_state *s, uint32_t width,
 
 /* The documented mapping, independently of the renderer's: azimuth yaw + (u - 0.5) 360,
  * elevation 90 - 180 v at the pixel's centre. */
-static void pixel_direction(double yaw_deg, uint32_t width, uint32_t height, uint32_t x,
-                            uint32_t y, double out[3])
+static void pixel_direction(double yaw_deg, uint32_t width, uint32_t height, uint32_t x, uint32_t y,
+                            double out[3])
 {
     double azimuth = yaw_deg + ((x + 0.5) / width - 0.5) * 360.0;
     double elevation = 90.0 - 180.0 * (y + 0.5) / height;
@@ -87,7 +87,7 @@ static void test_pixels_look_where_documented(void)
             where[n][0] = x, where[n][1] = y;
             n++;
         }
-    CHECK(sky_renderer_probe_luminance(renderer, &atm, &view, (const double (*)[3])dirs, n, false,
+    CHECK(sky_renderer_probe_luminance(renderer, &atm, &view, (const double(*)[3])dirs, n, false,
                                        probe) == 0);
     double worst_sky = 0.0, worst_ground = 0.0;
     for (size_t i = 0; i < n; i++) {
@@ -147,7 +147,7 @@ static double disk_illuminance(const struct sky_world_state *s, uint32_t width)
             }
         }
     CHECK(n > 0 && n < MAX_NEAR);
-    CHECK(sky_renderer_probe_luminance(renderer, &atm, &view, (const double (*)[3])dirs, n, false,
+    CHECK(sky_renderer_probe_luminance(renderer, &atm, &view, (const double(*)[3])dirs, n, false,
                                        sky) == 0);
     double e = 0.0;
     for (size_t i = 0; i < n; i++) {
@@ -175,7 +175,8 @@ static void test_sun_disk_whole_anywhere(void)
     s.sun.elevation_deg = 89.0; /* the disk covers the zenith: whole rows */
     double zenith = disk_illuminance(&s, W);
     printf("sun disk illuminance: centre %.5g, across the seam %.5g lux (30 deg); "
-           "83 deg %.5g, around the zenith %.5g lux\n", centre, seam, high, zenith);
+           "83 deg %.5g, around the zenith %.5g lux\n",
+           centre, seam, high, zenith);
     CHECK(centre > 0.0);
     CHECK_NEAR(seam / centre, 1.0, 0.03);
     CHECK_NEAR(zenith / high, 1.0, 0.03);
@@ -202,7 +203,7 @@ static void test_metering_weighs_solid_angle(void)
             sum += w * l, weight += w, flat += l;
         }
     }
-    double expected = sum / weight + log2(100.0 / 12.5);  /* EV100 = log2(L S / K) */
+    double expected = sum / weight + log2(100.0 / 12.5); /* EV100 = log2(L S / K) */
     double unweighted = flat / (W * H) + log2(100.0 / 12.5);
     printf("metered EV100 %.3f; weighted log-average of the frame %.3f, unweighted %.3f\n",
            stats.metered_ev100, expected, unweighted);
@@ -211,8 +212,8 @@ static void test_metering_weighs_solid_angle(void)
     free(px);
 }
 
-static void save_srgb(const struct sky_world_state *s, uint32_t width, const char *name,
-                      bool live, int frames)
+static void save_srgb(const struct sky_world_state *s, uint32_t width, const char *name, bool live,
+                      int frames)
 {
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
@@ -255,7 +256,8 @@ static void test_clouds_in_panorama(void)
         }
     }
     printf("clouds: %d non-finite values; %.0f%% of the sky changed, mean sky luminance %.4g -> "
-           "%.4g cd/m2\n", non_finite, 100.0 * changed / (W * H / 2), upper_clear / (W * H / 2),
+           "%.4g cd/m2\n",
+           non_finite, 100.0 * changed / (W * H / 2), upper_clear / (W * H / 2),
            upper_cloudy / (W * H / 2));
     CHECK(non_finite == 0);
     CHECK(changed > 0.2 * (W * H / 2));

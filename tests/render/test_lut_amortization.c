@@ -94,9 +94,8 @@ int main(void)
     if (!reference || !amortized)
         return check_summary();
     const int blend_frames = 3;
-    sky_renderer_set_amortization(amortized,
-                                  &(struct sky_render_amortization){ .budget_ms = 2.0,
-                                                                     .blend_frames = blend_frames });
+    sky_renderer_set_amortization(amortized, &(struct sky_render_amortization){
+                                                 .budget_ms = 2.0, .blend_frames = blend_frames });
     struct sky_render_atmosphere atm[3];
     for (int i = 0; i < 3; i++)
         atmosphere_variant(i, &atm[i]);
@@ -144,10 +143,10 @@ int main(void)
     CHECK(sky_renderer_render(amortized, &atm[1], &view, during, sizeof during, &stats) == 0);
     CHECK(stats.lut_rebuild_progress < 1.0);
     double altitude = 0.0, mu = 0.3, t_amortized[1][3], t_reference[1][3];
-    CHECK(sky_renderer_probe_transmittance(amortized, &atm[1], &altitude, &mu, 1,
-                                           t_amortized) == 0);
-    CHECK(sky_renderer_probe_transmittance(reference, &atm[1], &altitude, &mu, 1,
-                                           t_reference) == 0);
+    CHECK(sky_renderer_probe_transmittance(amortized, &atm[1], &altitude, &mu, 1, t_amortized) ==
+          0);
+    CHECK(sky_renderer_probe_transmittance(reference, &atm[1], &altitude, &mu, 1, t_reference) ==
+          0);
     for (int c = 0; c < 3; c++)
         CHECK_NEAR(t_amortized[0][c], t_reference[0][c], 1e-6);
 
@@ -155,12 +154,11 @@ int main(void)
      * the same rebuild over more frames, slices of the multiple-scattering LUT finer than a
      * row, and still ends exactly. */
     CHECK(render_until_settled(amortized, &atm[1], blend_frames, after) < MAX_FRAMES);
-    sky_renderer_set_amortization(amortized, &(struct sky_render_amortization){
-                                                 .budget_ms = 2.0, .budget_fraction = 0.02,
-                                                 .blend_frames = blend_frames });
+    sky_renderer_set_amortization(
+        amortized, &(struct sky_render_amortization){
+                       .budget_ms = 2.0, .budget_fraction = 0.02, .blend_frames = blend_frames });
     int relative = render_until_settled(amortized, &atm[0], blend_frames, after);
-    printf("with a 0.02 relative budget: %d frames (2 ms alone: %d)\n", relative + 1,
-           frames + 1);
+    printf("with a 0.02 relative budget: %d frames (2 ms alone: %d)\n", relative + 1, frames + 1);
     CHECK(relative > frames && relative < MAX_FRAMES);
     CHECK(sky_renderer_rebuild_atmosphere(reference, &atm[0], NULL) == 0);
     difference = max_lut_difference(reference, amortized);

@@ -36,8 +36,7 @@ static int max_pixel_change(const uint8_t *a, const uint8_t *b)
 /* Frames of `atm` until the table has faded in fully; checks the build's progress and the fade
  * on the way. Returns the frame count, or MAX_FRAMES. */
 static int render_until_converged(struct sky_renderer *r, const struct sky_render_atmosphere *atm,
-                                  const struct sky_render_view *view, uint8_t *first,
-                                  uint8_t *last)
+                                  const struct sky_render_view *view, uint8_t *first, uint8_t *last)
 {
     static uint8_t previous[W * H * 4], pixels[W * H * 4];
     double last_progress = 0.0, last_weight = 0.0;
@@ -99,8 +98,8 @@ int main(void)
     if (!r || !reference)
         return check_summary();
     /* A budget larger than the daemon's (2 ms, 5 % of the frame) keeps the test short. */
-    sky_renderer_set_amortization(r, &(struct sky_render_amortization){ .budget_ms = 40.0,
-                                                                         .blend_frames = 3 });
+    sky_renderer_set_amortization(
+        r, &(struct sky_render_amortization){ .budget_ms = 40.0, .blend_frames = 3 });
     struct sky_render_atmosphere atm, other;
     test_earth_atmosphere(&atm);
     other = atm;

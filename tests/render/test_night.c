@@ -38,8 +38,8 @@ void night_test_render(const struct sky_world_state *s, const struct sky_render_
 }
 
 /* Renders the state's exposed sRGB8 image of w x h into pixels; stats may be NULL. */
-static bool render_srgb8(const struct sky_world_state *s, unsigned w, unsigned h,
-                         uint8_t *pixels, struct sky_render_stats *stats)
+static bool render_srgb8(const struct sky_world_state *s, unsigned w, unsigned h, uint8_t *pixels,
+                         struct sky_render_stats *stats)
 {
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
@@ -48,8 +48,8 @@ static bool render_srgb8(const struct sky_world_state *s, unsigned w, unsigned h
     world_to_render_view(s, w, h, SKY_RENDER_OUTPUT_SRGB8, &view);
     world_to_render_night(s, &night);
     sky_renderer_set_night(renderer, &night);
-    return pixels && sky_renderer_render(renderer, &atm, &view, pixels, (size_t)w * h * 4,
-                                         stats) == 0;
+    return pixels &&
+           sky_renderer_render(renderer, &atm, &view, pixels, (size_t)w * h * 4, stats) == 0;
 }
 
 static void save_png(const struct sky_world_state *s, const char *name, unsigned w, unsigned h)
@@ -124,13 +124,13 @@ static void test_night_lighting(void)
     night_test_render(&s, NULL);
     double day = mean_sky();
     printf("mean sky luminance: moonless %.3g, full moon %.3g, day %.3g cd/m2; darkest moonless "
-           "pixel %.3g cd/m2; moonlit sky rgb %.3g %.3g %.3g\n", moonless, moonlit, day, darkest,
-           centre[0], centre[1], centre[2]);
+           "pixel %.3g cd/m2; moonlit sky rgb %.3g %.3g %.3g\n",
+           moonless, moonlit, day, darkest, centre[0], centre[1], centre[2]);
     CHECK(moonlit > 5.0 * moonless);
-    CHECK(centre[2] > centre[0]);               /* the moonlit sky is blue (Rayleigh) */
-    CHECK(day > 1e6 * moonless);                /* night darker than day by orders */
+    CHECK(centre[2] > centre[0]); /* the moonlit sky is blue (Rayleigh) */
+    CHECK(day > 1e6 * moonless);  /* night darker than day by orders */
     CHECK(day > 1e4 * moonlit);
-    CHECK(darkest > 1e-5);                      /* never black: airglow and starlight */
+    CHECK(darkest > 1e-5); /* never black: airglow and starlight */
     CHECK(moonless > 0.5 * s.night.airglow_luminance_cd_m2);
 
     /* Probes see the moonlit sky and, with the bodies, the disc. */
@@ -147,9 +147,9 @@ static void test_night_lighting(void)
     double dirs[2][3], out[2][3], sky[2][3];
     local_dir(180, 40, dirs[0]);
     local_dir(0, 90, dirs[1]);
-    CHECK(sky_renderer_probe_luminance(renderer, &atm, &view, (const double (*)[3])dirs, 2, true,
+    CHECK(sky_renderer_probe_luminance(renderer, &atm, &view, (const double(*)[3])dirs, 2, true,
                                        out) == 0);
-    CHECK(sky_renderer_probe_luminance(renderer, &atm, &view, (const double (*)[3])dirs, 2, false,
+    CHECK(sky_renderer_probe_luminance(renderer, &atm, &view, (const double(*)[3])dirs, 2, false,
                                        sky) == 0);
     printf("probe: moon direction %.4g cd/m2 (sky only %.4g), zenith %.4g cd/m2\n",
            sky_rgb_to_luminance(out[0]), sky_rgb_to_luminance(sky[0]),
@@ -182,7 +182,7 @@ static double key_value(double l_avg)
 static void test_night_adaptation(void)
 {
     struct sky_world_state s;
-    const double sun_elevations[3] = {45, -30, -8}; /* day, night, nautical twilight */
+    const double sun_elevations[3] = { 45, -30, -8 }; /* day, night, nautical twilight */
     double adapted[3], camera[3];
     for (int k = 0; k < 3; k++) {
         night_test_state(&s);
@@ -198,13 +198,13 @@ static void test_night_adaptation(void)
         double l_avg = exp2(ev_off) * 12.5 / 100.0;
         double expected = fmax(0.0, -log2(key_value(l_avg) / key_value(1000.0)));
         printf("night adaptation, sun at %g deg: metered %.3g cd/m2, EV100 %.2f -> %.2f "
-               "(expected +%.2f), mean sRGB %.1f -> %.1f\n", sun_elevations[k], l_avg, ev_off,
-               ev_on, expected, camera[k], adapted[k]);
+               "(expected +%.2f), mean sRGB %.1f -> %.1f\n",
+               sun_elevations[k], l_avg, ev_off, ev_on, expected, camera[k], adapted[k]);
         CHECK_NEAR(ev_on - ev_off, expected, 0.02);
     }
-    CHECK_NEAR(adapted[0], camera[0], 2.0);  /* daylight: as metered */
-    CHECK(camera[1] > 40.0);                 /* a camera lifts the night to mid grey ... */
-    CHECK(adapted[1] < 0.35 * camera[1]);    /* ... a dark-adapted eye does not */
+    CHECK_NEAR(adapted[0], camera[0], 2.0); /* daylight: as metered */
+    CHECK(camera[1] > 40.0);                /* a camera lifts the night to mid grey ... */
+    CHECK(adapted[1] < 0.35 * camera[1]);   /* ... a dark-adapted eye does not */
     CHECK(adapted[1] < adapted[2] && adapted[2] < adapted[0]); /* night < twilight < day */
 }
 

@@ -8,8 +8,8 @@
 
 struct disc_stats {
     int pixels, lit;
-    double flux;         /* sum of (L - sky) x pixel solid angle over the disc, lux */
-    double centroid[3];  /* mean direction of the lit pixels */
+    double flux;        /* sum of (L - sky) x pixel solid angle over the disc, lux */
+    double centroid[3]; /* mean direction of the lit pixels */
 };
 
 /* background: the same frame without the moon (NULL: none). */
@@ -95,15 +95,15 @@ void test_moon_phases(void)
         }
         double cos_limb = dot3(off, toward) / (sqrt(dot3(off, off) * dot3(toward, toward)) + 1e-30);
         printf("moon phase angle %.1f deg: lit fraction of the disc %.3f, illuminated fraction "
-               "%.3f, bright limb %.1f deg from the sun's direction\n", phase, lit, k,
-               acos(fmin(1.0, cos_limb)) / DEG);
+               "%.3f, bright limb %.1f deg from the sun's direction\n",
+               phase, lit, k, acos(fmin(1.0, cos_limb)) / DEG);
         CHECK_NEAR(lit, k, 0.03);
         if (phase > 5)
             CHECK(cos_limb > cos(3 * DEG));
         /* Illuminance: the disc delivers the phase law's illuminance through the atmosphere. */
         world_to_render_night(&s, &night);
-        double expected =
-            night.moon_illuminance_lux * night_test_transmittance_at(&s, s.moon.elevation_deg);
+        double expected = night.moon_illuminance_lux *
+                          night_test_transmittance_at(&s, s.moon.elevation_deg);
         printf("    disc %.4g lux, expected %.4g lux\n", d.flux, expected);
         CHECK_NEAR(d.flux / expected, 1.0, 0.03);
     }

@@ -67,8 +67,8 @@ void test_star_positions(void)
         star_centroid(&cx, &cy, &flux, &c);
         double off = hypot(cx - W / 2.0, cy - H / 2.0);
         printf("%s at %.4f, %.4f (lat %g, t %.0f): centroid %.2f px from the expected pixel "
-               "(1 px = %.3f deg)\n", k->name, k->az, k->el, k->lat, k->unix_s, off,
-               s.camera.fov_deg / H);
+               "(1 px = %.3f deg)\n",
+               k->name, k->az, k->el, k->lat, k->unix_s, off, s.camera.fov_deg / H);
         CHECK_LE(off, 1.5);
     }
     /* Polaris stands at about the latitude; after one sidereal day the sky is where it was. */
@@ -107,8 +107,7 @@ void test_star_photometry(void)
     night_test_render(&s, NULL);
     star_centroid(&cx, &cy, &flux, &c);
     double expected = night_star_illuminance_lux(-1.44) * night_test_transmittance_at(&s, 20.31);
-    printf("Sirius: %.3g lux through the atmosphere in the frame, %.3g expected\n", flux,
-           expected);
+    printf("Sirius: %.3g lux through the atmosphere in the frame, %.3g expected\n", flux, expected);
     CHECK_NEAR(flux / expected, 1.0, 0.1);
     s.night.star_brightness = 2;
     night_test_render(&s, NULL);
@@ -120,10 +119,9 @@ void test_star_photometry(void)
     s.night.star_brightness = 1;
     s.sun.azimuth_deg = 200, s.sun.elevation_deg = 30;
     night_test_render(&s, NULL);
-    double centre = lum_at(W / 2, H / 2), around = 0.25 * (lum_at(W / 2 - 8, H / 2) +
-                                                            lum_at(W / 2 + 8, H / 2) +
-                                                            lum_at(W / 2, H / 2 - 8) +
-                                                            lum_at(W / 2, H / 2 + 8));
+    double centre = lum_at(W / 2, H / 2),
+           around = 0.25 * (lum_at(W / 2 - 8, H / 2) + lum_at(W / 2 + 8, H / 2) +
+                            lum_at(W / 2, H / 2 - 8) + lum_at(W / 2, H / 2 + 8));
     printf("Sirius by day: centre %.6g cd/m2, around %.6g cd/m2\n", centre, around);
     CHECK_LE(fabs(centre / around - 1.0), 0.01);
 
@@ -135,7 +133,7 @@ void test_star_photometry(void)
     world_to_render_night(&s, &night);
     double brightest = night_star_illuminance_lux(-1.44);
     CHECK(!night_sky_visible(&night, &view, brightest)); /* 8 deg: Sirius peaks at ~7 cd/m2 */
-    view.camera_fov_deg = 2; /* about 100 cd/m2 */
+    view.camera_fov_deg = 2;                             /* about 100 cd/m2 */
     CHECK(night_sky_visible(&night, &view, brightest));
     view.camera_fov_deg = 60;
     CHECK(!night_sky_visible(&night, &view, brightest));

@@ -30,8 +30,8 @@ static void state_for(struct sky_world_state *s, const char *preset, double sun_
     if (preset) {
         struct sky_field_errors errors;
         char msg[512];
-        bool ok = sky_preset_apply(SKYD_SOURCE_DIR "/config", "atmosphere", preset, s, &errors,
-                                   msg, sizeof msg);
+        bool ok = sky_preset_apply(SKYD_SOURCE_DIR "/config", "atmosphere", preset, s, &errors, msg,
+                                   sizeof msg);
         if (!ok)
             printf("preset %s: %s\n", preset, msg);
         CHECK(ok);

@@ -79,7 +79,7 @@ static void out_of_memory(void)
     CHECK(render(r, W, H, again) == 0);
     CHECK(sky_renderer_status(r, NULL) == SKY_RENDER_OK); /* a call forgets the last failure */
     CHECK_MSG(memcmp(first, again, sizeof first) == 0, "the frame changed after the failed "
-              "resize: the old LUTs were not kept");
+                                                       "resize: the old LUTs were not kept");
 
     CHECK(render(r, W + 16, H + 9, other) != 0);
     CHECK(sky_renderer_status(r, &detail) == SKY_RENDER_OUT_OF_MEMORY);

@@ -92,7 +92,10 @@ static void test_shader_functions(struct vk_context *ctx)
     for (int k = 3; k <= 5; k++) {
         const float *p = r + 4 * k;
         printf("phase integrals (g = %.1f): rayleigh %.6f, mie %.6f %.6f %.6f\n",
-               k == 3 ? 0.8 : k == 4 ? 0.5 : 0.3, p[0], p[1], p[2], p[3]);
+               k == 3   ? 0.8
+               : k == 4 ? 0.5
+                        : 0.3,
+               p[0], p[1], p[2], p[3]);
         CHECK_NEAR(p[0], 1.0, 1e-3);
         CHECK_NEAR(p[1], 1.0, 1e-3);
         CHECK_NEAR(p[2], 1.0, 1e-3);
@@ -125,22 +128,22 @@ static void test_cloud_history(struct vk_context *ctx)
     uint64_t last = CLOUD_HISTORY_ENTRIES + 1;
     CHECK(cloud_history_acquire(ctx, &h, last, 16, 8, 4, t + CLOUD_HISTORY_IDLE_S) != NULL);
     CHECK(cloud_history_entries_in_use(&h) == CLOUD_HISTORY_ENTRIES);
-    struct cloud_history_entry *kept =
-        cloud_history_acquire(ctx, &h, last, 16, 8, 4, t + 1.5 + CLOUD_HISTORY_IDLE_S);
+    struct cloud_history_entry *kept = cloud_history_acquire(ctx, &h, last, 16, 8, 4,
+                                                             t + 1.5 + CLOUD_HISTORY_IDLE_S);
     CHECK(kept != NULL);
     CHECK(cloud_history_entries_in_use(&h) == 1);
     /* A slot filled again (here the idle entry's images released and a new key's made) has
      * a new `filled`: the composite knows the images by the entry's address, which a new
      * entry may share with the one before it. */
     uint64_t kept_filled = kept->use.filled;
-    struct cloud_history_entry *again =
-        cloud_history_acquire(ctx, &h, last + 1, 16, 8, 4, t + 3.0 + 2 * CLOUD_HISTORY_IDLE_S);
+    struct cloud_history_entry *again = cloud_history_acquire(ctx, &h, last + 1, 16, 8, 4,
+                                                              t + 3.0 + 2 * CLOUD_HISTORY_IDLE_S);
     CHECK(again != NULL && again->key == last + 1 && again->use.filled != kept_filled);
     CHECK(cloud_history_acquire(ctx, &h, last + 1, 16, 8, 4, t + 3.5 + 2 * CLOUD_HISTORY_IDLE_S)
               ->use.filled == again->use.filled); /* found again: the same occupant */
     /* A new size for the same key is a new history. */
-    CHECK(cloud_history_acquire(ctx, &h, last + 1, 32, 8, 4, t + 4.0 + 2 * CLOUD_HISTORY_IDLE_S)
-          != NULL);
+    CHECK(cloud_history_acquire(ctx, &h, last + 1, 32, 8, 4, t + 4.0 + 2 * CLOUD_HISTORY_IDLE_S) !=
+          NULL);
     CHECK(cloud_history_entries_in_use(&h) == 2);
     cloud_history_destroy(ctx, &h);
     CHECK(cloud_history_entries_in_use(&h) == 0);
@@ -175,8 +178,8 @@ static void test_view_outputs(struct vk_context *ctx)
                 o.slot[i].image.format == rgba8;
     CHECK(!kept);
     /* Only one size goes on being drawn: the others go once idle for long enough. */
-    CHECK(view_outputs_acquire(ctx, &o, 24, 12, rgba8, 4, t + 2.5 + VIEW_OUTPUT_IDLE_S,
-                               &created) != NULL);
+    CHECK(view_outputs_acquire(ctx, &o, 24, 12, rgba8, 4, t + 2.5 + VIEW_OUTPUT_IDLE_S, &created) !=
+          NULL);
     CHECK(view_outputs_in_use(&o) == 1);
     view_outputs_destroy(ctx, &o);
     CHECK(view_outputs_in_use(&o) == 0);

@@ -34,10 +34,9 @@ struct options {
 
 static int usage(void)
 {
-    fprintf(stderr,
-            "usage: cloud_field_probe PRESET [--coverage C] [--seed S] [--sun-elev E] "
-            "[--sun-az A] [--keep-high | --no-high] [--views N] [--what all|sizes|spectra] "
-            "[--set PATH=VALUE]... [--out DIR] [--config-dir DIR]\n");
+    fprintf(stderr, "usage: cloud_field_probe PRESET [--coverage C] [--seed S] [--sun-elev E] "
+                    "[--sun-az A] [--keep-high | --no-high] [--views N] [--what all|sizes|spectra] "
+                    "[--set PATH=VALUE]... [--out DIR] [--config-dir DIR]\n");
     return 2;
 }
 
@@ -60,8 +59,7 @@ static bool probe_sizes(const struct field_views *v, const struct options *o)
 {
     struct field_view view = customised(o, field_cumulus_view(NAN, 1, 40.0));
     struct cumulus_figures f;
-    if (!field_render_clear(v, &view) ||
-        !field_measure_cumulus(v, &view, "probe_sizes", &f, NULL))
+    if (!field_render_clear(v, &view) || !field_measure_cumulus(v, &view, "probe_sizes", &f, NULL))
         return false;
     field_print_cumulus("sizes (fov 90, black ground)", &f);
     return true;
@@ -79,7 +77,8 @@ static bool probe_spectra(const struct field_views *v, const struct options *o)
         if (!field_add_spectrum(v, &view, name, &one) || !field_sum_spectra(&wide, &one))
             return false;
         printf("wide view %d (seed %d, sun %.0f deg, map offset %.0f km): beta %.2f over 1-8 "
-               "km\n", i, view.seed, view.sun_elevation_deg, view.offset_km[0],
+               "km\n",
+               i, view.seed, view.sun_elevation_deg, view.offset_km[0],
                field_band_slope(&one, 1.0, 8.0, NULL));
     }
     for (int i = 0; i < o->views && i < 2; i++) {

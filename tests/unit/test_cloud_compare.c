@@ -36,8 +36,10 @@ int main(void)
             a[y * W + x] = 2.0f * ((x + y) % 2 ? 1.2f : 0.8f);
     double pixel = cloud_compare_relative_error(a, b, mask, W, H);
     double block = cloud_compare_block_relative_error(a, b, mask, W, H, 2);
-    CHECK_MSG(fabs(pixel - 0.2) < 1e-6 && block < 0.02, "checkerboard error %g per pixel, "
-              "%g per block", pixel, block);
+    CHECK_MSG(fabs(pixel - 0.2) < 1e-6 && block < 0.02,
+              "checkerboard error %g per pixel, "
+              "%g per block",
+              pixel, block);
 
     /* Bands: a 1 px band of a 3x3 square is its 8 outer pixels, its centre the interior. */
     memset(mask, 0, sizeof mask);

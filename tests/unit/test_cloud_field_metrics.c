@@ -165,9 +165,9 @@ static void test_fft(void)
         worst = 0.0;
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++)
-                worst = fmax(worst, hypot(re[y * w + x] -
-                                              cos(2.0 * PI * (3.0 * x / w + 2.0 * y / h)),
-                                          im[y * w + x]));
+                worst = fmax(worst,
+                             hypot(re[y * w + x] - cos(2.0 * PI * (3.0 * x / w + 2.0 * y / h)),
+                                   im[y * w + x]));
         CHECK(worst < 1e-12);
         free(re);
         free(im);
@@ -178,8 +178,7 @@ static void test_fft(void)
  * above `break_px` and continues as k^-beta_small below it (2D spectral amplitude
  * |k|^-(beta + 1) / 2), scaled to a standard deviation of 100 around 1000. */
 enum { BIG = 1024, CUT = 512 };
-static double *synthetic_field(uint64_t seed, double beta_large, double beta_small,
-                               double break_px)
+static double *synthetic_field(uint64_t seed, double beta_large, double beta_small, double break_px)
 {
     double *re = checked_calloc((size_t)BIG * BIG, sizeof *re);
     double *im = checked_calloc((size_t)BIG * BIG, sizeof *im);
@@ -271,8 +270,8 @@ static void test_spectral_slopes(void)
     free(field);
     double above = cloud_field_spectral_slope(k_small, large, rings, 0.5, 1.5, NULL);
     double below = cloud_field_spectral_slope(k_small, large, rings, 0.052, 0.2, NULL);
-    printf("broken spectrum 1.5 / 3 at 300 m: %.3f over 0.5-1.5 km, %.3f over 52-200 m\n",
-           above, below);
+    printf("broken spectrum 1.5 / 3 at 300 m: %.3f over 0.5-1.5 km, %.3f over 52-200 m\n", above,
+           below);
     CHECK_NEAR(above, 1.5, 0.1);
     CHECK_NEAR(below, 3.0, 0.1);
 }
@@ -292,8 +291,7 @@ static void test_white_noise(void)
     for (int r = 0; r < rings; r++)
         total += e[r] * (k[1] - k[0]);
     double slope = cloud_field_spectral_slope(k, e, rings, 0.2, 2.0, NULL);
-    printf("white noise: beta %.3f, variance in the rings %.3f (pi = %.3f)\n", slope, total,
-           PI);
+    printf("white noise: beta %.3f, variance in the rings %.3f (pi = %.3f)\n", slope, total, PI);
     CHECK_NEAR(slope, -1.0, 0.1);
     CHECK_NEAR(total, 4.0 * PI / 4.0, 0.1 * PI);
     CHECK_INT(cloud_field_spectrum(noise, 4, 4, 0.1, k, e, S), -1);

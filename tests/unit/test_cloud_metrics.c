@@ -35,7 +35,7 @@ static unsigned next_random(unsigned *state)
 
 static void test_luma_and_mask(void)
 {
-    const float rgba[16] = {1, 0, 0, 5, 0, 1, 0, 5, 0, 0, 1, 5, 2, 2, 2, 0};
+    const float rgba[16] = { 1, 0, 0, 5, 0, 1, 0, 5, 0, 0, 1, 5, 2, 2, 2, 0 };
     float luma[4];
     cloud_metrics_luma(rgba, 2, 2, luma);
     CHECK_NEAR(luma[0], 0.2126, 1e-6);
@@ -43,11 +43,11 @@ static void test_luma_and_mask(void)
     CHECK_NEAR(luma[2], 0.0722, 1e-6);
     CHECK_NEAR(luma[3], 2.0, 1e-6);
 
-    const float clear[6] = {4, 4, 4, 0, 0, 4};
-    const float cloudy[6] = {5, 3, 5.5f, 0.001f, 0, 2.5f};
+    const float clear[6] = { 4, 4, 4, 0, 0, 4 };
+    const float cloudy[6] = { 5, 3, 5.5f, 0.001f, 0, 2.5f };
     unsigned char mask[6];
     cloud_metrics_mask_from_pair(cloudy, clear, 3, 2, 0.25, mask);
-    const unsigned char expected[6] = {0, 0, 1, 1, 0, 1}; /* strictly more than 1 = 0.25 * 4 */
+    const unsigned char expected[6] = { 0, 0, 1, 1, 0, 1 }; /* strictly more than 1 = 0.25 * 4 */
     CHECK(memcmp(mask, expected, sizeof mask) == 0);
 }
 
@@ -117,7 +117,7 @@ static void test_objects(void)
     m = new_mask(11, 3);
     for (int i = 0; i < 5; i++)
         m[11 + 1 + 2 * i] = 1;
-    struct cloud_object sentinel = {-7, -7, 0, 0, 0, 0, false};
+    struct cloud_object sentinel = { -7, -7, 0, 0, 0, 0, false };
     for (int i = 0; i < 8; i++)
         o[i] = sentinel;
     CHECK(cloud_metrics_objects(m, 11, 3, o, 2) == 5);
@@ -160,8 +160,8 @@ static void test_objects(void)
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++)
                 if (m[y * w + x])
-                    perimeter += (x == 0 || !m[y * w + x - 1]) + (x == w - 1 || !m[y * w + x + 1])
-                                 + (y == 0 || !m[(y - 1) * w + x]) +
+                    perimeter += (x == 0 || !m[y * w + x - 1]) + (x == w - 1 || !m[y * w + x + 1]) +
+                                 (y == 0 || !m[(y - 1) * w + x]) +
                                  (y == h - 1 || !m[(y + 1) * w + x]);
         struct cloud_object *all = malloc((size_t)(w * h) * sizeof *all);
         int n = cloud_metrics_objects(m, w, h, all, w * h);
@@ -177,8 +177,8 @@ static void test_objects(void)
 }
 
 /* Labels `m` and appends its objects to list[*n ..]. */
-static void append_objects(const unsigned char *m, int w, int h, struct cloud_object *list,
-                           int *n, int capacity)
+static void append_objects(const unsigned char *m, int w, int h, struct cloud_object *list, int *n,
+                           int capacity)
 {
     int found = cloud_metrics_objects(m, w, h, list + *n, capacity - *n);
     CHECK(found >= 0 && found <= capacity - *n);
@@ -274,8 +274,9 @@ static void koch_side(struct turtle *t, int level, int length)
 static struct cloud_object koch_island(int level)
 {
     int side = 1 << (2 * level), corners = 4 << (3 * level);
-    struct turtle t = {0, 0, 1, 0, malloc(sizeof(int) * (size_t)corners),
-                       malloc(sizeof(int) * (size_t)corners), 0};
+    struct turtle t = {
+        0, 0, 1, 0, malloc(sizeof(int) * (size_t)corners), malloc(sizeof(int) * (size_t)corners), 0
+    };
     int *cross = malloc(sizeof(int) * (size_t)corners);
     if (!t.vx || !t.vy || !cross)
         abort();
@@ -312,7 +313,7 @@ static struct cloud_object koch_island(int level)
             memset(m + (size_t)(y - y0 + 1) * (size_t)w + (cross[a] - x0 + 1), 1,
                    (size_t)(cross[a + 1] - cross[a]));
     }
-    struct cloud_object o = {0};
+    struct cloud_object o = { 0 };
     CHECK(cloud_metrics_objects(m, w, h, &o, 1) == 1);
     CHECK(o.area == side * side);
     CHECK(o.perimeter == 4 << (3 * level));
@@ -336,8 +337,8 @@ static void test_dimension_of_fractal_outlines(void)
     struct cloud_object synthetic[40];
     for (int i = 0; i < 40; i++) {
         int area = (int)lround(20.0 * pow(10.0, i / 10.0));
-        synthetic[i] = (struct cloud_object){area, (int)lround(3.1 * pow(area, 0.7)), 10, 10,
-                                             20, 20, false};
+        synthetic[i] =
+            (struct cloud_object){ area, (int)lround(3.1 * pow(area, 0.7)), 10, 10, 20, 20, false };
     }
     CHECK_NEAR(cloud_metrics_fractal_dimension(synthetic, 40, 1, &used), 1.4, 0.005);
     CHECK(used == 40);
@@ -347,12 +348,12 @@ static void test_aspect(void)
 {
     const int w = 80, h = 40;
     unsigned char *m = new_mask(w, h);
-    fill_rect(m, w, 2, 2, 4, 2);   /* h/w 0.5 */
-    fill_rect(m, w, 10, 2, 5, 5);  /* 1 */
-    fill_rect(m, w, 20, 2, 3, 6);  /* 2 */
-    fill_rect(m, w, 30, 2, 4, 12); /* 3 */
-    fill_rect(m, w, 40, 2, 1, 7);  /* 7, one pixel wide */
-    fill_rect(m, w, 50, 0, 3, 30); /* 10, on the border */
+    fill_rect(m, w, 2, 2, 4, 2);                          /* h/w 0.5 */
+    fill_rect(m, w, 10, 2, 5, 5);                         /* 1 */
+    fill_rect(m, w, 20, 2, 3, 6);                         /* 2 */
+    fill_rect(m, w, 30, 2, 4, 12);                        /* 3 */
+    fill_rect(m, w, 40, 2, 1, 7);                         /* 7, one pixel wide */
+    fill_rect(m, w, 50, 0, 3, 30);                        /* 10, on the border */
     m[20 * w + 10] = m[21 * w + 11] = m[22 * w + 12] = 1; /* a diagonal: its bounding box, 1 */
     struct cloud_object list[16];
     int n = cloud_metrics_objects(m, w, h, list, 16), used = -1;
@@ -413,8 +414,8 @@ static void test_blockiness(void)
     CHECK(isnan(cloud_metrics_blockiness(l, w, h, 8)));
     for (int i = 0; i < w * h; i++)
         l[i] = (float)(i % w);
-    CHECK(isnan(cloud_metrics_blockiness(l, w, h, 1)));   /* no column off the grid */
-    CHECK(isnan(cloud_metrics_blockiness(l, 8, h, 8)));   /* no column on it */
+    CHECK(isnan(cloud_metrics_blockiness(l, w, h, 1))); /* no column off the grid */
+    CHECK(isnan(cloud_metrics_blockiness(l, 8, h, 8))); /* no column on it */
     for (int i = 0; i < 9 * h; i++)
         l[i] = (float)(i % 9);
     CHECK_NEAR(cloud_metrics_blockiness(l, 9, h, 8), 1.0, 1e-6);
@@ -434,56 +435,54 @@ static double angle_deg(const double a[3], const double b[3])
 static void test_sun_contrast(void)
 {
     const int w = 160, h = 120;
-    const double forward[3] = {0, 1, 0}, right[3] = {1, 0, 0}, up[3] = {0, 0, 1};
+    const double forward[3] = { 0, 1, 0 }, right[3] = { 1, 0, 0 }, up[3] = { 0, 0, 1 };
     const double tan_half = tan(30.0 * PI / 180.0), aspect = (double)w / h;
     float *l = malloc(sizeof(float) * w * h);
     if (!l)
         abort();
     /* Brightness by angle from the sun: 1000 within 1.5 degrees, 1 from 2.5 to 12, and values
      * that would spoil the answer between and beyond. */
-    const double sun[3] = {0.1, 1, 0.05};
+    const double sun[3] = { 0.1, 1, 0.05 };
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             double sx = (2.0 * (x + 0.5) / w - 1) * tan_half * aspect;
             double sy = (1 - 2.0 * (y + 0.5) / h) * tan_half;
-            double d[3] = {sx, 1, sy}, a = angle_deg(d, sun);
+            double d[3] = { sx, 1, sy }, a = angle_deg(d, sun);
             l[y * w + x] = a <= 1.5 ? 1000.0f : a < 2.5 ? 5.0f : a <= 12 ? 1.0f : 1e6f;
         }
-    const double ring[2] = {3, 10};
+    const double ring[2] = { 3, 10 };
     CHECK_NEAR(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, sun, 1, ring),
                1000.0, 1e-9);
-    const double sun3[3] = {0.3, 3, 0.15}; /* any length */
+    const double sun3[3] = { 0.3, 3, 0.15 }; /* any length */
     CHECK_NEAR(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, sun3, 2, ring),
                1000.0, 1e-9);
-    const double ring_with_halo[2] = {2, 10}, ring_too_wide[2] = {3, 20};
+    const double ring_with_halo[2] = { 2, 10 }, ring_too_wide[2] = { 3, 20 };
     CHECK(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, sun, 1,
                                      ring_with_halo) < 999.0);
-    CHECK(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, sun, 1,
-                                     ring_too_wide) < 1.0);
+    CHECK(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, sun, 1, ring_too_wide) <
+          1.0);
 
     /* Orientation: one bright pixel in the upper right (v = 0 at the top), the sun on its
      * centre, then in the lower left. */
-    const int px[2] = {130, 17}, py[2] = {11, 100};
+    const int px[2] = { 130, 17 }, py[2] = { 11, 100 };
     for (int k = 0; k < 2; k++) {
         for (int i = 0; i < w * h; i++)
             l[i] = 2.0f;
         l[py[k] * w + px[k]] = 2000.0f;
         double ndc_x = 2.0 * (px[k] + 0.5) / w - 1, ndc_y = 1 - 2.0 * (py[k] + 0.5) / h;
-        double at[3] = {ndc_x * tan_half * aspect, 1, ndc_y * tan_half};
-        CHECK_NEAR(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, at, 0.2,
-                                              ring),
+        double at[3] = { ndc_x * tan_half * aspect, 1, ndc_y * tan_half };
+        CHECK_NEAR(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, at, 0.2, ring),
                    1000.0, 1e-3);
     }
 
-    const double behind[3] = {0, -1, 0}, ahead[3] = {0, 1, 0}, outside[2] = {100, 120};
-    CHECK(isnan(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, behind, 1,
-                                           ring)));
-    CHECK(isnan(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, ahead, 1,
-                                           outside)));
+    const double behind[3] = { 0, -1, 0 }, ahead[3] = { 0, 1, 0 }, outside[2] = { 100, 120 };
+    CHECK(
+        isnan(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, behind, 1, ring)));
+    CHECK(isnan(
+        cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, ahead, 1, outside)));
     for (int i = 0; i < w * h; i++)
         l[i] = 0.0f;
-    CHECK(isnan(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, ahead, 1,
-                                           ring)));
+    CHECK(isnan(cloud_metrics_sun_contrast(l, w, h, forward, right, up, tan_half, ahead, 1, ring)));
     free(l);
 }
 

@@ -69,9 +69,19 @@ static void urls_and_names(void)
     CHECK(strcmp(a.host, "redis-1.internal") == 0 && a.port == 7000 && a.db == 5);
     CHECK(cluster_url_parse("redis://[::1]:6380/2", &a, why, sizeof why));
     CHECK(strcmp(a.host, "::1") == 0 && a.port == 6380 && a.db == 2);
-    const char *bad[] = { "", "redis://", "redis://:6379", "redis://h", "redis://h:",
-                          "redis://h:65536", "redis://h:-1", "redis://h:6379/", "redis://h:1/a",
-                          "redis://h:1x", "rediss://h:1", "redis://u:p@h:1", "redis://[::1:1",
+    const char *bad[] = { "",
+                          "redis://",
+                          "redis://:6379",
+                          "redis://h",
+                          "redis://h:",
+                          "redis://h:65536",
+                          "redis://h:-1",
+                          "redis://h:6379/",
+                          "redis://h:1/a",
+                          "redis://h:1x",
+                          "rediss://h:1",
+                          "redis://u:p@h:1",
+                          "redis://[::1:1",
                           "redis://h h:1" };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         why[0] = '\0';

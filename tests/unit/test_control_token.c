@@ -138,8 +138,8 @@ int main(void)
     for (size_t i = 0; i < sizeof junk / sizeof junk[0]; i++) {
         write_text(path, junk[i], 0600);
         c = with_state_file(state);
-        CHECK_MSG(control_token_settle(&c, note, sizeof note) == CONTROL_TOKEN_CREATED,
-                  "junk %zu", i);
+        CHECK_MSG(control_token_settle(&c, note, sizeof note) == CONTROL_TOKEN_CREATED, "junk %zu",
+                  i);
         CHECK_MSG(strstr(note, "no usable token") && file_holds(path, c.controller_token),
                   "junk %zu: %s", i, note);
     }

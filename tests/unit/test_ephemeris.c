@@ -142,8 +142,7 @@ static void test_sidereal_time(void)
     double hms = (13.0 + 10.0 / 60.0) * 15.0;
     CHECK_NEAR(sky_greenwich_mean_sidereal_time_deg(t), hms + 46.3668 / 240.0, 0.0001 / 240.0);
     CHECK_NEAR(sky_greenwich_sidereal_time_deg(t), hms + 46.1351 / 240.0, 0.001 / 240.0);
-    CHECK_NEAR(sky_local_sidereal_time_deg(t, -77.0), hms + 46.1351 / 240.0 - 77.0,
-               0.001 / 240.0);
+    CHECK_NEAR(sky_local_sidereal_time_deg(t, -77.0), hms + 46.1351 / 240.0 - 77.0, 0.001 / 240.0);
     CHECK_NEAR(sky_local_sidereal_time_deg(t, 170.0), hms + 46.1351 / 240.0 + 170.0 - 360.0,
                0.001 / 240.0);
 
@@ -167,10 +166,12 @@ static void test_sidereal_time(void)
 static void test_delta_t(void)
 {
     /* Observed ΔT (Meeus table 10.A) at the start of some years, within a second. */
-    static const struct { const char *time; double delta_t; } observed[] = {
-        { "1900-01-01T00:00Z", -2.7 }, { "1920-01-01T00:00Z", 21.2 },
-        { "1940-01-01T00:00Z", 24.3 }, { "1960-01-01T00:00Z", 33.2 },
-        { "1980-01-01T00:00Z", 50.5 }, { "2000-01-01T00:00Z", 63.8 },
+    static const struct {
+        const char *time;
+        double delta_t;
+    } observed[] = {
+        { "1900-01-01T00:00Z", -2.7 }, { "1920-01-01T00:00Z", 21.2 }, { "1940-01-01T00:00Z", 24.3 },
+        { "1960-01-01T00:00Z", 33.2 }, { "1980-01-01T00:00Z", 50.5 }, { "2000-01-01T00:00Z", 63.8 },
     };
     for (size_t i = 0; i < sizeof observed / sizeof observed[0]; i++)
         CHECK_NEAR(sky_delta_t_seconds(parse(observed[i].time)), observed[i].delta_t, 1.0);
@@ -205,8 +206,8 @@ static void check_case(const struct ephemeris_reference *c, const char *what, do
         return;
     }
     check_failed++;
-    printf("FAIL %s %s (%.4f, %.4f): %s error %.5f deg > %.3f\n", c->site, c->time,
-           c->latitude_deg, c->longitude_deg, what, error, tolerance);
+    printf("FAIL %s %s (%.4f, %.4f): %s error %.5f deg > %.3f\n", c->site, c->time, c->latitude_deg,
+           c->longitude_deg, what, error, tolerance);
 }
 
 static void test_reference_table(void)
@@ -217,8 +218,8 @@ static void test_reference_table(void)
     CHECK(REFERENCE_COUNT >= 60);
     for (size_t i = 0; i < REFERENCE_COUNT; i++) {
         const struct ephemeris_reference *c = &ephemeris_reference[i];
-        struct sky_site site = { c->latitude_deg, c->longitude_deg, c->altitude_m,
-                                 c->pressure_mbar, c->temperature_c };
+        struct sky_site site = { c->latitude_deg, c->longitude_deg, c->altitude_m, c->pressure_mbar,
+                                 c->temperature_c };
         struct sky_body_position p, pr;
         double e;
 
@@ -276,9 +277,8 @@ static void test_reference_table(void)
     printf("  moon           %.5f / %.5f\n", moon.max, moon.sum / moon.count);
     printf("  moon refracted %.5f / %.5f (%d cases)\n", moon_refracted.max,
            moon_refracted.sum / moon_refracted.count, moon_refracted.count);
-    printf("  moon illuminated fraction %.5f / %.5f, distance %.1f / %.1f km\n",
-           fraction.max, fraction.sum / fraction.count, distance.max,
-           distance.sum / distance.count);
+    printf("  moon illuminated fraction %.5f / %.5f, distance %.1f / %.1f km\n", fraction.max,
+           fraction.sum / fraction.count, distance.max, distance.sum / distance.count);
 }
 
 static void test_refraction(void)

@@ -37,7 +37,7 @@ static bool conforms_text(const cJSON *schema, const char *text)
 /* Every "```json client" block of PROTOCOL.md. */
 static void test_documented_examples(const cJSON *schema, const char *protocol_md)
 {
-    char *doc = text_file_read(protocol_md, 1 << 22, &(size_t){0});
+    char *doc = text_file_read(protocol_md, 1 << 22, &(size_t){ 0 });
     check_case_name = protocol_md;
     CHECK(doc != NULL);
     const char *fence = "```json client\n";

@@ -11,46 +11,47 @@
 /* ---- the documented examples (also in protocol/PROTOCOL.md, in this order) -------------- */
 
 const struct protocol_client_example protocol_client_examples[] = {
-    {"{\"type\":\"hello\",\"id\":1,\"client\":\"sky-web 0.1\",\"protocol\":1}", SKY_MSG_HELLO},
-    {"{\"type\":\"hello\",\"id\":2,\"client\":\"sky-web 0.1\",\"protocol\":1,"
-     "\"simulation_events\":true}",
-     SKY_MSG_HELLO},
-    {"{\"type\":\"auth\",\"id\":2,\"token\":\"s3cret-token\"}", SKY_MSG_AUTH},
-    {"{\"type\":\"get_state\",\"id\":3}", SKY_MSG_GET_STATE},
-    {"{\"type\":\"set\",\"id\":4,\"patch\":{\"sun\":{\"elevation_deg\":2,\"azimuth_deg\":250},"
-     "\"atmosphere\":{\"mie\":{\"g\":0.76}}}}",
-     SKY_MSG_SET},
-    {"{\"type\":\"subscribe\",\"id\":\"main-view\",\"view\":{\"camera\":{\"yaw_deg\":200,"
-     "\"fov_deg\":60},\"width\":1280,\"height\":720,\"fps\":30,\"exposure\":{\"mode\":"
-     "\"manual\",\"ev100\":12},\"format\":\"png\"}}",
-     SKY_MSG_SUBSCRIBE},
-    {"{\"type\":\"unsubscribe\",\"id\":6,\"subscription\":1}", SKY_MSG_UNSUBSCRIBE},
-    {"{\"type\":\"snapshot\",\"id\":7,\"view\":{\"width\":640,\"height\":360}}", SKY_MSG_SNAPSHOT},
-    {"{\"type\":\"probe\",\"id\":8,\"quantity\":\"transmittance\",\"altitude_km\":0,\"mu\":0.5}",
-     SKY_MSG_PROBE},
-    {"{\"type\":\"probe\",\"id\":9,\"quantity\":\"luminance\",\"altitude_km\":0,"
-     "\"view_zenith_deg\":45,\"view_azimuth_deg\":90,\"sun_zenith_deg\":30}",
-     SKY_MSG_PROBE},
-    {"{\"type\":\"probe\",\"id\":10,\"quantity\":\"illuminance\",\"sun_zenith_deg\":0}",
-     SKY_MSG_PROBE},
-    {"{\"type\":\"list_presets\",\"id\":11,\"kind\":\"atmosphere\"}", SKY_MSG_LIST_PRESETS},
-    {"{\"type\":\"apply_preset\",\"id\":12,\"kind\":\"atmosphere\",\"name\":\"mars\"}",
-     SKY_MSG_APPLY_PRESET},
-    {"{\"type\":\"list_presets\",\"id\":14,\"kind\":\"weather\"}", SKY_MSG_LIST_PRESETS},
-    {"{\"type\":\"apply_preset\",\"id\":15,\"kind\":\"weather\",\"name\":\"storm\","
-     "\"transition_s\":1200}",
-     SKY_MSG_APPLY_PRESET},
-    {"{\"type\":\"stats\",\"id\":13}", SKY_MSG_STATS},
-    {"{\"type\":\"set_weather_map\",\"id\":16,\"format\":\"rgba8\",\"width\":2,\"height\":1,"
-     "\"data\":\"/wCgAIBAoCg=\"}",
-     SKY_MSG_SET_WEATHER_MAP},
-    {"{\"type\":\"describe\",\"id\":18}", SKY_MSG_DESCRIBE},
-    {"{\"type\":\"snapshot\",\"id\":17,\"view\":{\"width\":1024,\"height\":512,"
-     "\"projection\":\"equirectangular\",\"format\":\"png16\"}}",
-     SKY_MSG_SNAPSHOT},
-    {"{\"type\":\"subscribe\",\"id\":\"phone\",\"view\":{\"width\":1280,\"height\":720,"
-     "\"fps\":30,\"format\":\"jpeg\",\"quality\":80,\"max_kbps\":2000}}",
-     SKY_MSG_SUBSCRIBE},
+    { "{\"type\":\"hello\",\"id\":1,\"client\":\"sky-web 0.1\",\"protocol\":1}", SKY_MSG_HELLO },
+    { "{\"type\":\"hello\",\"id\":2,\"client\":\"sky-web 0.1\",\"protocol\":1,"
+      "\"simulation_events\":true}",
+      SKY_MSG_HELLO },
+    { "{\"type\":\"auth\",\"id\":2,\"token\":\"s3cret-token\"}", SKY_MSG_AUTH },
+    { "{\"type\":\"get_state\",\"id\":3}", SKY_MSG_GET_STATE },
+    { "{\"type\":\"set\",\"id\":4,\"patch\":{\"sun\":{\"elevation_deg\":2,\"azimuth_deg\":250},"
+      "\"atmosphere\":{\"mie\":{\"g\":0.76}}}}",
+      SKY_MSG_SET },
+    { "{\"type\":\"subscribe\",\"id\":\"main-view\",\"view\":{\"camera\":{\"yaw_deg\":200,"
+      "\"fov_deg\":60},\"width\":1280,\"height\":720,\"fps\":30,\"exposure\":{\"mode\":"
+      "\"manual\",\"ev100\":12},\"format\":\"png\"}}",
+      SKY_MSG_SUBSCRIBE },
+    { "{\"type\":\"unsubscribe\",\"id\":6,\"subscription\":1}", SKY_MSG_UNSUBSCRIBE },
+    { "{\"type\":\"snapshot\",\"id\":7,\"view\":{\"width\":640,\"height\":360}}",
+      SKY_MSG_SNAPSHOT },
+    { "{\"type\":\"probe\",\"id\":8,\"quantity\":\"transmittance\",\"altitude_km\":0,\"mu\":0.5}",
+      SKY_MSG_PROBE },
+    { "{\"type\":\"probe\",\"id\":9,\"quantity\":\"luminance\",\"altitude_km\":0,"
+      "\"view_zenith_deg\":45,\"view_azimuth_deg\":90,\"sun_zenith_deg\":30}",
+      SKY_MSG_PROBE },
+    { "{\"type\":\"probe\",\"id\":10,\"quantity\":\"illuminance\",\"sun_zenith_deg\":0}",
+      SKY_MSG_PROBE },
+    { "{\"type\":\"list_presets\",\"id\":11,\"kind\":\"atmosphere\"}", SKY_MSG_LIST_PRESETS },
+    { "{\"type\":\"apply_preset\",\"id\":12,\"kind\":\"atmosphere\",\"name\":\"mars\"}",
+      SKY_MSG_APPLY_PRESET },
+    { "{\"type\":\"list_presets\",\"id\":14,\"kind\":\"weather\"}", SKY_MSG_LIST_PRESETS },
+    { "{\"type\":\"apply_preset\",\"id\":15,\"kind\":\"weather\",\"name\":\"storm\","
+      "\"transition_s\":1200}",
+      SKY_MSG_APPLY_PRESET },
+    { "{\"type\":\"stats\",\"id\":13}", SKY_MSG_STATS },
+    { "{\"type\":\"set_weather_map\",\"id\":16,\"format\":\"rgba8\",\"width\":2,\"height\":1,"
+      "\"data\":\"/wCgAIBAoCg=\"}",
+      SKY_MSG_SET_WEATHER_MAP },
+    { "{\"type\":\"describe\",\"id\":18}", SKY_MSG_DESCRIBE },
+    { "{\"type\":\"snapshot\",\"id\":17,\"view\":{\"width\":1024,\"height\":512,"
+      "\"projection\":\"equirectangular\",\"format\":\"png16\"}}",
+      SKY_MSG_SNAPSHOT },
+    { "{\"type\":\"subscribe\",\"id\":\"phone\",\"view\":{\"width\":1280,\"height\":720,"
+      "\"fps\":30,\"format\":\"jpeg\",\"quality\":80,\"max_kbps\":2000}}",
+      SKY_MSG_SUBSCRIBE },
 };
 const size_t protocol_client_example_count = COUNT_OF(protocol_client_examples);
 
@@ -69,11 +70,11 @@ static size_t build_server_examples(char **out, size_t max)
     struct sky_msg_id id8 = int_id(8), id9 = int_id(9), id10 = int_id(10), id11 = int_id(11);
     struct sky_msg_id id13 = int_id(13);
 
-#define ADD(expression)          \
-    do {                         \
-        if (n < max)             \
-            out[n] = expression; \
-        n++;                     \
+#define ADD(expression)                                                                            \
+    do {                                                                                           \
+        if (n < max)                                                                               \
+            out[n] = expression;                                                                   \
+        n++;                                                                                       \
     } while (0)
 
     ADD(sky_msg_build_hello("0.1.0", SKY_ROLE_VIEWER, caps, capability_count, &limits));
@@ -115,20 +116,25 @@ static size_t build_server_examples(char **out, size_t max)
         pointers[i] = changed[i];
     ADD(sky_msg_build_simulation_event(moved.revision, pointers, changed_count, &moved));
 
-    const char *presets[] = {"earth", "mars"};
+    const char *presets[] = { "earth", "mars" };
     ADD(sky_msg_build_presets(&id11, SKY_PRESET_ATMOSPHERE, presets, 2));
-    struct sky_msg_probe_result t = {SKY_PROBE_TRANSMITTANCE, {0.8, 0.67, 0.46}, 0, 0, NULL};
-    struct sky_msg_probe_result l = {SKY_PROBE_LUMINANCE, {3200, 4100, 6900}, 0, 0, "converged"};
-    struct sky_msg_probe_result e = {SKY_PROBE_ILLUMINANCE, {0, 0, 0}, 120014, 18700, NULL};
+    struct sky_msg_probe_result t = { SKY_PROBE_TRANSMITTANCE, { 0.8, 0.67, 0.46 }, 0, 0, NULL };
+    struct sky_msg_probe_result l = {
+        SKY_PROBE_LUMINANCE, { 3200, 4100, 6900 }, 0, 0, "converged"
+    };
+    struct sky_msg_probe_result e = { SKY_PROBE_ILLUMINANCE, { 0, 0, 0 }, 120014, 18700, NULL };
     ADD(sky_msg_build_probe_result(&id8, &t));
     ADD(sky_msg_build_probe_result(&id9, &l));
     ADD(sky_msg_build_probe_result(&id10, &e));
-    const struct sky_msg_pass_time passes[] = {
-        {"skyview", 0.42}, {"aerial_perspective", 0.31}, {"composite", 1.9}, {"sun_disk", 0.05}};
-    const struct sky_msg_subscription_stats subscriptions[] = {{1, 5242880, 12.5, 70, 2000}};
-    const struct sky_msg_multiple_scattering ms = {0.4, 1, 0};
-    struct sky_msg_stats stats = {29.8, 3, passes, COUNT_OF(passes), 1, 1782043200,
-                                  subscriptions, COUNT_OF(subscriptions), &ms};
+    const struct sky_msg_pass_time passes[] = { { "skyview", 0.42 },
+                                                { "aerial_perspective", 0.31 },
+                                                { "composite", 1.9 },
+                                                { "sun_disk", 0.05 } };
+    const struct sky_msg_subscription_stats subscriptions[] = { { 1, 5242880, 12.5, 70, 2000 } };
+    const struct sky_msg_multiple_scattering ms = { 0.4, 1, 0 };
+    struct sky_msg_stats stats = { 29.8, 3,          passes,        COUNT_OF(passes),
+                                   1,    1782043200, subscriptions, COUNT_OF(subscriptions),
+                                   &ms };
     ADD(sky_msg_build_stats(&id13, &stats));
 #undef ADD
     return n;
@@ -198,7 +204,7 @@ static void test_documented_examples(const char *doc_path)
         sky_client_msg_free(&msg);
     }
 
-    char *doc = text_file_read(doc_path, 1 << 22, &(size_t){0});
+    char *doc = text_file_read(doc_path, 1 << 22, &(size_t){ 0 });
     check_case_name = doc_path;
     CHECK(doc != NULL);
     if (!doc)

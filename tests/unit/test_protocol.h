@@ -97,13 +97,13 @@ static inline char *repeat(char c, size_t count)
 
 static inline struct sky_msg_id int_id(int64_t number)
 {
-    struct sky_msg_id id = {.kind = SKY_MSG_ID_INTEGER, .number = number};
+    struct sky_msg_id id = { .kind = SKY_MSG_ID_INTEGER, .number = number };
     return id;
 }
 
 static inline struct sky_msg_id string_id(const char *text)
 {
-    struct sky_msg_id id = {.kind = SKY_MSG_ID_STRING};
+    struct sky_msg_id id = { .kind = SKY_MSG_ID_STRING };
     snprintf(id.text, sizeof id.text, "%s", text);
     return id;
 }

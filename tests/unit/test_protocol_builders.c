@@ -14,7 +14,8 @@ void test_builders(void)
 
     check_case_name = "hello";
     cJSON *json = parse_built(
-        sky_msg_build_hello("1.2.3", SKY_ROLE_CONTROLLER, caps, capability_count, &limits), "hello");
+        sky_msg_build_hello("1.2.3", SKY_ROLE_CONTROLLER, caps, capability_count, &limits),
+        "hello");
     CHECK_DOUBLE(number_at(json, "protocol"), SKY_PROTOCOL_VERSION);
     CHECK_STR(string_at(json, "server"), "skyd 1.2.3");
     CHECK_STR(string_at(json, "role"), "controller");
@@ -134,7 +135,9 @@ void test_builders(void)
     cJSON_Delete(json);
     check_case_name = "subscribed round trip jpeg";
     CHECK_INT(parse("{\"type\":\"subscribe\",\"view\":{\"width\":2,\"height\":2,"
-                    "\"format\":\"jpeg\",\"max_kbps\":250}}", &msg, &error), SKY_MSG_OK);
+                    "\"format\":\"jpeg\",\"max_kbps\":250}}",
+                    &msg, &error),
+              SKY_MSG_OK);
     CHECK_INT(msg.view.format, SKY_FRAME_FORMAT_JPEG);
     CHECK_INT(msg.view.quality, SKY_MSG_JPEG_QUALITY_DEFAULT);
     CHECK_DOUBLE(msg.view.max_kbps, 250);
@@ -144,8 +147,8 @@ void test_builders(void)
     CHECK_DOUBLE(number_at(jpeg_view, "quality"), SKY_MSG_JPEG_QUALITY_DEFAULT);
     CHECK_DOUBLE(number_at(jpeg_view, "max_kbps"), 250);
     cJSON_Delete(json);
-    CHECK_INT(parse("{\"type\":\"snapshot\",\"view\":{\"width\":2,\"height\":2}}", &msg,
-                    &error), SKY_MSG_OK);
+    CHECK_INT(parse("{\"type\":\"snapshot\",\"view\":{\"width\":2,\"height\":2}}", &msg, &error),
+              SKY_MSG_OK);
     CHECK_INT(msg.view.quality, 0);
     CHECK_DOUBLE(msg.view.max_kbps, 0);
     json = parse_built(sky_msg_build_subscribed(&msg.id, 4, &msg.view), "subscribed");
@@ -184,8 +187,8 @@ void test_builders(void)
     CHECK_STR(changed[0], "/sun/elevation_deg");
     CHECK_STR(changed[1], "/camera/fov_deg");
     CHECK_INT(sky_msg_state_diff(&before, &before, changed, 2), 0);
-    const char *pointers[] = {changed[0], changed[1], "/render/skyview_lut", "/weather/map",
-                              "/clock/utc", "/exposure/mode"};
+    const char *pointers[] = { changed[0],     changed[1],   "/render/skyview_lut",
+                               "/weather/map", "/clock/utc", "/exposure/mode" };
     after.exposure.mode = SKY_EXPOSURE_MANUAL;
     json = parse_built(sky_msg_build_state_changed(8, pointers, 6, &after, "app 2"), "event");
     CHECK_STR(string_at(json, "event"), "state_changed");
@@ -205,7 +208,7 @@ void test_builders(void)
     CHECK(cJSON_Compare(get(values, "/clock/utc"), get(get(whole, "clock"), "utc"), true));
     cJSON_Delete(whole);
     cJSON_Delete(json);
-    const char *not_pointers[] = {"sun.elevation_deg"};
+    const char *not_pointers[] = { "sun.elevation_deg" };
     CHECK(sky_msg_build_state_changed(8, not_pointers, 1, &after, "x") == NULL);
     CHECK(sky_msg_build_state_changed(8, NULL, 1, &after, "x") == NULL);
     CHECK(sky_msg_build_state_changed(8, pointers, 2, NULL, "x") == NULL);
@@ -228,7 +231,7 @@ void test_builders(void)
     CHECK(sky_msg_build_schema(&id, NULL) == NULL);
 
     check_case_name = "presets";
-    const char *names[] = {"earth", "mars"};
+    const char *names[] = { "earth", "mars" };
     json = parse_built(sky_msg_build_presets(&id, SKY_PRESET_ATMOSPHERE, names, 2), "presets");
     CHECK_STR(string_at(json, "kind"), "atmosphere");
     CHECK_STR(cJSON_GetArrayItem(get(json, "names"), 1)->valuestring, "mars");
@@ -236,13 +239,14 @@ void test_builders(void)
     json = parse_built(sky_msg_build_presets(NULL, SKY_PRESET_ATMOSPHERE, NULL, 0), "presets");
     CHECK_INT(cJSON_GetArraySize(get(json, "names")), 0);
     cJSON_Delete(json);
-    const char *bad_names[] = {"earth", "Bad Name"};
+    const char *bad_names[] = { "earth", "Bad Name" };
     CHECK(sky_msg_build_presets(NULL, SKY_PRESET_ATMOSPHERE, bad_names, 2) == NULL);
     CHECK(sky_msg_build_presets(NULL, (enum sky_preset_kind)3, names, 2) == NULL);
 
     check_case_name = "probe_result";
-    struct sky_msg_probe_result result = {SKY_PROBE_TRANSMITTANCE, {0.5, 0.25, 0.125}, 0, 0,
-                                          "fast"};
+    struct sky_msg_probe_result result = {
+        SKY_PROBE_TRANSMITTANCE, { 0.5, 0.25, 0.125 }, 0, 0, "fast"
+    };
     json = parse_built(sky_msg_build_probe_result(&id5, &result), "probe_result");
     CHECK_STR(string_at(json, "quantity"), "transmittance");
     CHECK_DOUBLE(cJSON_GetArrayItem(get(json, "transmittance"), 2)->valuedouble, 0.125);
@@ -270,10 +274,10 @@ void test_builders(void)
     CHECK(sky_msg_build_probe_result(NULL, &result) == NULL);
 
     check_case_name = "stats";
-    struct sky_msg_pass_time passes[] = {{"skyview", 0.5}, {"composite", 1.25}};
-    struct sky_msg_subscription_stats subs[] = {{2, 1000, 10, 0, 0}, {3, 4096, 2.5, 55, 80}};
-    struct sky_msg_multiple_scattering ms = {0.25, 0.5, 3};
-    struct sky_msg_stats stats = {30, 2, passes, 2, 0.5, 1782043200.25, subs, 2, &ms};
+    struct sky_msg_pass_time passes[] = { { "skyview", 0.5 }, { "composite", 1.25 } };
+    struct sky_msg_subscription_stats subs[] = { { 2, 1000, 10, 0, 0 }, { 3, 4096, 2.5, 55, 80 } };
+    struct sky_msg_multiple_scattering ms = { 0.25, 0.5, 3 };
+    struct sky_msg_stats stats = { 30, 2, passes, 2, 0.5, 1782043200.25, subs, 2, &ms };
     json = parse_built(sky_msg_build_stats(NULL, &stats), "stats");
     const cJSON *sub_items = get(json, "subscriptions");
     CHECK_INT(cJSON_GetArraySize(sub_items), 2);
@@ -334,12 +338,12 @@ void test_frame_header(void)
         .payload_length = 1000,
     };
     static const uint8_t expected[SKY_FRAME_HEADER_SIZE] = {
-        'S', 'K', 'Y', 'F', 0x01, 0x00, 0x01, 0x00,                 /* magic, version, format */
-        0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02, 0x01,             /* frame_number */
-        0x18, 0x17, 0x16, 0x15, 0x14, 0x13, 0x12, 0x11,             /* state_revision */
-        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xF8, 0x3F,             /* simulation_time_s */
-        0x80, 0x02, 0x00, 0x00, 0x68, 0x01, 0x00, 0x00,             /* width, height */
-        0xE8, 0x03, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,             /* payload_length, reserved */
+        'S',  'K',  'Y',  'F',  0x01, 0x00, 0x01, 0x00, /* magic, version, format */
+        0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02, 0x01, /* frame_number */
+        0x18, 0x17, 0x16, 0x15, 0x14, 0x13, 0x12, 0x11, /* state_revision */
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xF8, 0x3F, /* simulation_time_s */
+        0x80, 0x02, 0x00, 0x00, 0x68, 0x01, 0x00, 0x00, /* width, height */
+        0xE8, 0x03, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, /* payload_length, reserved */
     };
     uint8_t message[SKY_FRAME_HEADER_SIZE + 1000];
     memset(message, 0xAB, sizeof message);
@@ -363,8 +367,9 @@ void test_frame_header(void)
     CHECK_INT(read.width, 640);
     CHECK_INT(read.height, 360);
     CHECK_INT(read.payload_length, 1000);
-    struct sky_frame_header extreme = {SKY_FRAME_FORMAT_PNG, UINT64_MAX, UINT64_MAX - 1,
-                                       -12345.678901234567, UINT32_MAX, 1, 0};
+    struct sky_frame_header extreme = {
+        SKY_FRAME_FORMAT_PNG, UINT64_MAX, UINT64_MAX - 1, -12345.678901234567, UINT32_MAX, 1, 0
+    };
     uint8_t bare[SKY_FRAME_HEADER_SIZE];
     CHECK_INT(sky_frame_header_pack(&extreme, bare), SKY_FRAME_HEADER_OK);
     CHECK_INT(sky_frame_header_unpack(bare, sizeof bare, &read), SKY_FRAME_HEADER_OK);
@@ -375,27 +380,27 @@ void test_frame_header(void)
 
     static const struct {
         const char *name;
-        int offset;     /* byte to change, or -1 */
+        int offset; /* byte to change, or -1 */
         uint8_t value;
-        size_t length;  /* message length given to unpack */
+        size_t length; /* message length given to unpack */
         enum sky_frame_header_status status;
     } rejections[] = {
-        {"too short", -1, 0, SKY_FRAME_HEADER_SIZE - 1, SKY_FRAME_HEADER_TOO_SHORT},
-        {"empty", -1, 0, 0, SKY_FRAME_HEADER_TOO_SHORT},
-        {"bad magic", 0, 's', sizeof message, SKY_FRAME_HEADER_BAD_MAGIC},
-        {"bad magic end", 3, 'G', sizeof message, SKY_FRAME_HEADER_BAD_MAGIC},
-        {"version 2", 4, 2, sizeof message, SKY_FRAME_HEADER_BAD_VERSION},
-        {"version 0x101", 5, 1, sizeof message, SKY_FRAME_HEADER_BAD_VERSION},
-        {"format 0", 6, 0, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
-        {"format 4", 6, 4, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
-        {"format 0x101", 7, 1, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT},
-        {"payload short by one", -1, 0, sizeof message - 1, SKY_FRAME_HEADER_BAD_LENGTH},
-        {"payload long by one", 40, 0xE7, sizeof message, SKY_FRAME_HEADER_BAD_LENGTH},
-        {"payload length high byte", 43, 1, sizeof message, SKY_FRAME_HEADER_BAD_LENGTH},
-        {"header only", -1, 0, SKY_FRAME_HEADER_SIZE, SKY_FRAME_HEADER_BAD_LENGTH},
-        {"reserved", 47, 1, sizeof message, SKY_FRAME_HEADER_BAD_RESERVED},
-        {"zero width", 32, 0, sizeof message, SKY_FRAME_HEADER_BAD_VALUE},
-        {"NaN time", 30, 0xFF, sizeof message, SKY_FRAME_HEADER_BAD_VALUE},
+        { "too short", -1, 0, SKY_FRAME_HEADER_SIZE - 1, SKY_FRAME_HEADER_TOO_SHORT },
+        { "empty", -1, 0, 0, SKY_FRAME_HEADER_TOO_SHORT },
+        { "bad magic", 0, 's', sizeof message, SKY_FRAME_HEADER_BAD_MAGIC },
+        { "bad magic end", 3, 'G', sizeof message, SKY_FRAME_HEADER_BAD_MAGIC },
+        { "version 2", 4, 2, sizeof message, SKY_FRAME_HEADER_BAD_VERSION },
+        { "version 0x101", 5, 1, sizeof message, SKY_FRAME_HEADER_BAD_VERSION },
+        { "format 0", 6, 0, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT },
+        { "format 4", 6, 4, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT },
+        { "format 0x101", 7, 1, sizeof message, SKY_FRAME_HEADER_BAD_FORMAT },
+        { "payload short by one", -1, 0, sizeof message - 1, SKY_FRAME_HEADER_BAD_LENGTH },
+        { "payload long by one", 40, 0xE7, sizeof message, SKY_FRAME_HEADER_BAD_LENGTH },
+        { "payload length high byte", 43, 1, sizeof message, SKY_FRAME_HEADER_BAD_LENGTH },
+        { "header only", -1, 0, SKY_FRAME_HEADER_SIZE, SKY_FRAME_HEADER_BAD_LENGTH },
+        { "reserved", 47, 1, sizeof message, SKY_FRAME_HEADER_BAD_RESERVED },
+        { "zero width", 32, 0, sizeof message, SKY_FRAME_HEADER_BAD_VALUE },
+        { "NaN time", 30, 0xFF, sizeof message, SKY_FRAME_HEADER_BAD_VALUE },
     };
     for (size_t i = 0; i < COUNT_OF(rejections); i++) {
         check_case_name = rejections[i].name;
@@ -408,8 +413,8 @@ void test_frame_header(void)
         if (rejections[i].offset == 32) /* 640 is 0x0280 */
             copy[33] = 0;
         struct sky_frame_header untouched = header;
-        enum sky_frame_header_status status =
-            sky_frame_header_unpack(copy, rejections[i].length, &untouched);
+        enum sky_frame_header_status status = sky_frame_header_unpack(copy, rejections[i].length,
+                                                                      &untouched);
         CHECK_STR(sky_frame_header_status_name(status),
                   sky_frame_header_status_name(rejections[i].status));
         CHECK(memcmp(&untouched, &header, sizeof header) == 0);

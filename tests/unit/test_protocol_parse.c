@@ -8,8 +8,8 @@ struct parse_case {
     const char *name;
     const char *text;
     enum sky_msg_error_code code;
-    enum sky_msg_type type;  /* checked when not SKY_MSG_NONE */
-    const char *pointer;     /* first field error's pointer; checked when not NULL */
+    enum sky_msg_type type; /* checked when not SKY_MSG_NONE */
+    const char *pointer;    /* first field error's pointer; checked when not NULL */
 };
 
 /* clang-format off */

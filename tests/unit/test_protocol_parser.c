@@ -46,7 +46,7 @@ void test_offsets_and_limits(void)
     check_case_name = "message over the size limit";
     struct sky_msg_limits no_uploads = limits;
     no_uploads.max_upload_bytes = 0; /* else a set_weather_map may be larger (test_weather_map) */
-    text[0] = '\x01'; /* never looked at: the size check comes first */
+    text[0] = '\x01';                /* never looked at: the size check comes first */
     CHECK_INT(parse_with(text, limits.max_message_bytes + 1, &no_uploads, &msg, &error),
               SKY_MSG_ERR_MESSAGE_TOO_LARGE);
     CHECK_STR(first_pointer(&error), "");
@@ -89,7 +89,9 @@ void test_offsets_and_limits(void)
 
     check_case_name = "every failure is listed";
     CHECK_INT(parse("{\"type\":\"subscribe\",\"id\":\"v\",\"view\":{\"width\":0,\"height\":0,"
-                    "\"fps\":100}}", &msg, &error), SKY_MSG_ERR_OUT_OF_RANGE);
+                    "\"fps\":100}}",
+                    &msg, &error),
+              SKY_MSG_ERR_OUT_OF_RANGE);
     CHECK_INT(error.fields.total, 3);
     CHECK_STR(error.fields.items[1].pointer, "/view/height");
     CHECK_STR(error.fields.items[2].pointer, "/view/fps");
@@ -173,12 +175,13 @@ void test_parsed_values(void)
 
     check_case_name = "inconsistency is left to the apply";
     CHECK_INT(parse("{\"type\":\"set\",\"patch\":{\"atmosphere\":{\"bottom_radius_km\":7000}}}",
-                    &msg, &error), SKY_MSG_OK);
+                    &msg, &error),
+              SKY_MSG_OK);
     struct sky_field_errors apply_errors;
     CHECK(!sky_world_state_apply_patch(&state, msg.set.patch, &apply_errors));
     CHECK_INT(apply_errors.items[0].code, SKY_MSG_ERR_INCONSISTENT);
-    json = parse_built(sky_msg_build_error(NULL, SKY_MSG_ERR_INCONSISTENT, "rejected",
-                                           &apply_errors), "error");
+    json = parse_built(
+        sky_msg_build_error(NULL, SKY_MSG_ERR_INCONSISTENT, "rejected", &apply_errors), "error");
     CHECK_STR(string_at(json, "code"), "inconsistent");
     CHECK_STR(string_at(cJSON_GetArrayItem(get(json, "fields"), 0), "code"), "inconsistent");
     cJSON_Delete(json);

@@ -15,9 +15,9 @@
 static void test_base64(void)
 {
     /* RFC 4648 section 10. */
-    static const char *const plain[] = {"", "f", "fo", "foo", "foob", "fooba", "foobar"};
-    static const char *const coded[] = {"", "Zg==", "Zm8=", "Zm9v", "Zm9vYg==", "Zm9vYmE=",
-                                        "Zm9vYmFy"};
+    static const char *const plain[] = { "", "f", "fo", "foo", "foob", "fooba", "foobar" };
+    static const char *const coded[] = { "",         "Zg==",     "Zm8=",    "Zm9v",
+                                         "Zm9vYg==", "Zm9vYmE=", "Zm9vYmFy" };
     char reason[128];
     for (int i = 0; i < 7; i++) {
         char *text = sky_base64_encode((const uint8_t *)plain[i], strlen(plain[i]));
@@ -25,8 +25,8 @@ static void test_base64(void)
         free(text);
         uint8_t *bytes;
         size_t length;
-        CHECK(sky_base64_decode(coded[i], strlen(coded[i]), &bytes, &length, reason,
-                                sizeof reason));
+        CHECK(
+            sky_base64_decode(coded[i], strlen(coded[i]), &bytes, &length, reason, sizeof reason));
         CHECK(length == strlen(plain[i]) && memcmp(bytes, plain[i], length) == 0);
         free(bytes);
     }
@@ -38,8 +38,8 @@ static void test_base64(void)
         char *text = sky_base64_encode(random_bytes, n);
         uint8_t *bytes;
         size_t length;
-        CHECK(text && sky_base64_decode(text, strlen(text), &bytes, &length, reason,
-                                        sizeof reason));
+        CHECK(text &&
+              sky_base64_decode(text, strlen(text), &bytes, &length, reason, sizeof reason));
         CHECK(length == n && memcmp(bytes, random_bytes, n) == 0);
         free(bytes);
         free(text);
@@ -95,8 +95,8 @@ static void test_png(void)
     struct sky_weather_map map;
     size_t length = 0;
 
-    const uint8_t rgba[3 * 2 * 4] = {0,  1,  2,  3,  40, 50, 60, 70, 255, 128, 7,  0,
-                                     9,  8,  7,  6,  99, 98, 97, 96, 200, 201, 202, 203};
+    const uint8_t rgba[3 * 2 * 4] = { 0, 1, 2, 3, 40, 50, 60, 70, 255, 128, 7,   0,
+                                      9, 8, 7, 6, 99, 98, 97, 96, 200, 201, 202, 203 };
     uint8_t *png = write_png(3, 2, PNG_FORMAT_RGBA, rgba, &length);
     CHECK(png != NULL);
     CHECK(sky_weather_map_decode(SKY_WEATHER_MAP_PNG, png, length, 0, 0, &map, reason,
@@ -118,18 +118,18 @@ static void test_png(void)
     free(png);
 
     /* RGB: no alpha channel means no precipitation. */
-    const uint8_t rgb[2 * 3] = {10, 20, 30, 250, 251, 252};
+    const uint8_t rgb[2 * 3] = { 10, 20, 30, 250, 251, 252 };
     png = write_png(2, 1, PNG_FORMAT_RGB, rgb, &length);
     CHECK(png && sky_weather_map_decode(SKY_WEATHER_MAP_PNG, png, length, 0, 0, &map, reason,
                                         sizeof reason));
-    const uint8_t rgb_expected[8] = {10, 20, 30, 0, 250, 251, 252, 0};
+    const uint8_t rgb_expected[8] = { 10, 20, 30, 0, 250, 251, 252, 0 };
     CHECK(map.rgba && memcmp(map.rgba, rgb_expected, 8) == 0);
     sky_weather_map_free(&map);
     free(png);
 
     /* 16-bit grey, written linear: the stored value, not an sRGB encoding of it (which
      * libpng's simplified reader would give: about 188 for half). */
-    const uint16_t grey16[2] = {32768, 65535};
+    const uint16_t grey16[2] = { 32768, 65535 };
     png = write_png(2, 1, PNG_FORMAT_GRAY | PNG_FORMAT_FLAG_LINEAR, grey16, &length);
     CHECK(png && sky_weather_map_decode(SKY_WEATHER_MAP_PNG, png, length, 0, 0, &map, reason,
                                         sizeof reason));
@@ -157,8 +157,8 @@ static void test_rgba8(void)
     uint8_t texels[2 * 3 * 4];
     for (size_t i = 0; i < sizeof texels; i++)
         texels[i] = (uint8_t)(i * 7);
-    CHECK(sky_weather_map_decode(SKY_WEATHER_MAP_RGBA8, texels, sizeof texels, 2, 3, &map,
-                                 reason, sizeof reason));
+    CHECK(sky_weather_map_decode(SKY_WEATHER_MAP_RGBA8, texels, sizeof texels, 2, 3, &map, reason,
+                                 sizeof reason));
     CHECK(map.width == 2 && map.height == 3 && memcmp(map.rgba, texels, sizeof texels) == 0);
     sky_weather_map_free(&map);
     CHECK(!sky_weather_map_decode(SKY_WEATHER_MAP_RGBA8, texels, sizeof texels, 3, 2 + 1, &map,
@@ -223,8 +223,7 @@ static void test_message(void)
     int n = snprintf(big, sizeof big, "{\"type\":\"get_state\",\"id\":5");
     memset(big + n, ' ', 1500);
     snprintf(big + n + 1500, sizeof big - (size_t)n - 1500, "}");
-    CHECK(sky_msg_parse(big, strlen(big), &limits, &msg, &error) ==
-          SKY_MSG_ERR_MESSAGE_TOO_LARGE);
+    CHECK(sky_msg_parse(big, strlen(big), &limits, &msg, &error) == SKY_MSG_ERR_MESSAGE_TOO_LARGE);
     CHECK(msg.id.number == 5);
     CHECK_MSG(strstr(error.message, "only set_weather_map") != NULL, "%s", error.message);
     sky_client_msg_free(&msg);
@@ -271,8 +270,8 @@ static void test_message(void)
     };
     /* clang-format on */
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        enum sky_msg_error_code code =
-            sky_msg_parse(bad[i].text, strlen(bad[i].text), &limits, &msg, &error);
+        enum sky_msg_error_code code = sky_msg_parse(bad[i].text, strlen(bad[i].text), &limits,
+                                                     &msg, &error);
         CHECK_MSG(code == bad[i].code && error.fields.count > 0 &&
                       strcmp(error.fields.items[0].pointer, bad[i].pointer) == 0,
                   "case %zu: code %d, %s", i, (int)code, error.message);

@@ -28,7 +28,7 @@ static const double W0 = 1795000000.123;
 struct node {
     struct sky_world_state state;
     struct wind_drift *drift;
-    double wall_s; /* the last tick */
+    double wall_s;    /* the last tick */
     unsigned step_ms; /* its tick pattern: every step_ms, or 0: irregular */
     unsigned rng;
 };
@@ -152,7 +152,7 @@ static void base_state(struct sky_world_state *s, const char *preset, double tim
  * it, E computing each instant from the anchors alone. */
 static void test_autopilot_nodes(void)
 {
-    struct sky_world_state s, changed, stored, mid_blend = {0}, after_blend = {0};
+    struct sky_world_state s, changed, stored, mid_blend = { 0 }, after_blend = { 0 };
     base_state(&s, "fair_cumulus", 120);
     struct node a, b, c, d;
     node_start(&a, &s, W0, 0);
@@ -228,7 +228,7 @@ static void test_autopilot_nodes(void)
  * mid-transition, so the cell where it ends is summed from a state that still blends. */
 static void test_transition_nodes(void)
 {
-    struct sky_world_state s, target, goal_state, stored, mid = {0};
+    struct sky_world_state s, target, goal_state, stored, mid = { 0 };
     base_state(&s, "clear", 60);
     base_state(&target, "storm", 60);
     struct sky_weather_params goal;

@@ -57,16 +57,23 @@ static int count_leaves(const cJSON *schema)
 static const char *expected_type(enum sky_field_type type)
 {
     switch (type) {
-    case SKY_FIELD_TYPE_NUMBER: return "number";
+    case SKY_FIELD_TYPE_NUMBER:
+        return "number";
     case SKY_FIELD_TYPE_INT:
-    case SKY_FIELD_TYPE_INT64: return "integer";
+    case SKY_FIELD_TYPE_INT64:
+        return "integer";
     case SKY_FIELD_TYPE_INT_PAIR:
-    case SKY_FIELD_TYPE_INT_TRIPLE: return "array";
+    case SKY_FIELD_TYPE_INT_TRIPLE:
+        return "array";
     case SKY_FIELD_TYPE_ENUM:
-    case SKY_FIELD_TYPE_TIME: return "string";
-    case SKY_FIELD_TYPE_RGB: return NULL; /* oneOf a number and three */
-    case SKY_FIELD_TYPE_STRING: return "string";
-    case SKY_FIELD_TYPE_BOOL: return "boolean";
+    case SKY_FIELD_TYPE_TIME:
+        return "string";
+    case SKY_FIELD_TYPE_RGB:
+        return NULL; /* oneOf a number and three */
+    case SKY_FIELD_TYPE_STRING:
+        return "string";
+    case SKY_FIELD_TYPE_BOOL:
+        return "boolean";
     }
     return NULL;
 }
@@ -254,10 +261,14 @@ static void test_config_schema(const char *shipped_path)
     cJSON_Delete(shipped);
 
     static const char *const refused[] = {
-        "{\"listen\":{\"port\":70000}}",      "{\"listen\":{\"portt\":1}}",
-        "{\"render\":{\"validation\":\"yes\"}}", "{\"limits\":{\"max_fps\":0}}",
-        "{\"allowed_origins\":\"*\"}",        "{\"allowed_origins\":[1]}",
-        "{\"bogus\":1}",                       "{\"listen\":7}",
+        "{\"listen\":{\"port\":70000}}",
+        "{\"listen\":{\"portt\":1}}",
+        "{\"render\":{\"validation\":\"yes\"}}",
+        "{\"limits\":{\"max_fps\":0}}",
+        "{\"allowed_origins\":\"*\"}",
+        "{\"allowed_origins\":[1]}",
+        "{\"bogus\":1}",
+        "{\"listen\":7}",
     };
     for (size_t i = 0; i < sizeof refused / sizeof refused[0]; i++) {
         check_case_name = refused[i];

@@ -275,7 +275,7 @@ static void test_set_during_transition(void)
     s.clouds.low.density = 3.0; /* a client's set */
     world_sim_client_changed(&before, &s);
     world_sim_advance(&s, 500);
-    CHECK_NEAR(s.clouds.low.density, 3.0, 0); /* holds */
+    CHECK_NEAR(s.clouds.low.density, 3.0, 0);                          /* holds */
     CHECK(s.clouds.low.coverage > 0.3 && s.clouds.low.coverage < 0.7); /* others go on */
     world_sim_advance(&s, 500);
     CHECK_NEAR(s.clouds.low.density, 3.0, 0);
@@ -418,8 +418,8 @@ static void test_autopilot_blend(void)
     world_sim_advance(&s, WORLD_SIM_AUTOPILOT_BLEND_S);
     CHECK(!weather_timeline_active(&s));
     struct sky_weather_params p;
-    weather_autopilot_sample(s.weather.autopilot_seed, s.clock.utc_unix_s,
-                             s.location.longitude_deg, &p);
+    weather_autopilot_sample(s.weather.autopilot_seed, s.clock.utc_unix_s, s.location.longitude_deg,
+                             &p);
     CHECK_NEAR(s.clouds.low.coverage, p.low.coverage, 0);
     CHECK_NEAR(s.weather.wind.speed_m_s, p.wind_speed_m_s, 0);
     /* Switched off: the weather stays. */
@@ -516,7 +516,8 @@ static void test_presets(void)
     CHECK(s.clouds.low.bottom_km >= 1.2 && s.clouds.low.bottom_km <= 1.5);
     CHECK(fabs(s.clouds.low.type - 0.67) < 0.1 && s.clouds.precipitation == 0);
     load_preset("overcast", &s);
-    CHECK(s.clouds.low.coverage >= 0.95 && s.clouds.low.type <= 0.2 && s.clouds.low.bottom_km <= 0.6);
+    CHECK(s.clouds.low.coverage >= 0.95 && s.clouds.low.type <= 0.2 &&
+          s.clouds.low.bottom_km <= 0.6);
     load_preset("storm", &s);
     CHECK(s.clouds.low.type >= 0.9 && s.clouds.low.thickness_km >= 6);
     CHECK(s.clouds.precipitation >= 0.5 && s.weather.wind.speed_m_s >= 15);

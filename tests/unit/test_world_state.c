@@ -129,7 +129,7 @@ static void test_format(void)
     char tiny[6];
     sky_field_errors_format(&errors, tiny, sizeof tiny);
     CHECK_STR(tiny, "/a...");
-    char one[1] = {'Z'};
+    char one[1] = { 'Z' };
     sky_field_errors_format(&errors, one, sizeof one);
     CHECK_INT(one[0], '\0');
 

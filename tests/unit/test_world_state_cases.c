@@ -55,7 +55,9 @@ static const struct state_case patch_cases[] = {
 
     /* unknown fields at each depth, and odd member names */
     REJECTS("{\"bogus\":1}", 1,
-            ERR(SKY_FIELD_UNKNOWN, "/bogus", "clock, location, atmosphere, sun, moon, night, clouds, weather, camera, exposure, render")),
+            ERR(SKY_FIELD_UNKNOWN, "/bogus",
+                "clock, location, atmosphere, sun, moon, night, clouds, weather, camera, exposure, "
+                "render")),
     REJECTS("{\"atmosphere\":{\"bogus\":{}}}", 1,
             ERR(SKY_FIELD_UNKNOWN, "/atmosphere/bogus", "rayleigh, mie, ozone")),
     REJECTS("{\"atmosphere\":{\"mie\":{\"bogus\":1}}}", 1,
@@ -79,7 +81,8 @@ static const struct state_case patch_cases[] = {
                 "expected a number or an array of 3 numbers, got an object")),
     REJECTS("{\"atmosphere\":{\"mie\":5}}", 1,
             ERR(SKY_FIELD_WRONG_TYPE, "/atmosphere/mie", "expected an object")),
-    REJECTS("{\"sun\":[]}", 1, ERR(SKY_FIELD_WRONG_TYPE, "/sun", "expected an object, got an array")),
+    REJECTS("{\"sun\":[]}", 1,
+            ERR(SKY_FIELD_WRONG_TYPE, "/sun", "expected an object, got an array")),
     REJECTS("{\"atmosphere\":{\"mie\":{\"g\":[0.1,0.2]}}}", 1,
             ERR(SKY_FIELD_BAD_VALUE, "/atmosphere/mie/g",
                 "expected an array of 3 numbers, got 2 elements")),
@@ -91,8 +94,9 @@ static const struct state_case patch_cases[] = {
             ERR(SKY_FIELD_WRONG_TYPE, "/render/skyview_lut", "expected an array of 2 integers")),
     REJECTS("{\"render\":{\"skyview_lut\":[192.5,108]}}", 1,
             ERR(SKY_FIELD_BAD_VALUE, "/render/skyview_lut/0", "must be an integer, got 192.5")),
-    REJECTS("{\"sun\":{\"limb_darkening\":2}}", 1,
-            ERR(SKY_FIELD_WRONG_TYPE, "/sun/limb_darkening", "expected one of: none, neckel96, hm98")),
+    REJECTS(
+        "{\"sun\":{\"limb_darkening\":2}}", 1,
+        ERR(SKY_FIELD_WRONG_TYPE, "/sun/limb_darkening", "expected one of: none, neckel96, hm98")),
     REJECTS("{\"sun\":{\"limb_darkening\":\"HM98\"}}", 1,
             ERR(SKY_FIELD_BAD_VALUE, "/sun/limb_darkening", "got \"HM98\"")),
     REJECTS("[1,2,3]", 1, ERR(SKY_FIELD_WRONG_TYPE, "", "expected a JSON object")),
@@ -165,8 +169,7 @@ static const struct state_case assignment_cases[] = {
             ERR(SKY_FIELD_OUT_OF_RANGE, "/camera/fov_deg", "must be a finite number, got nan")),
     REJECTS("camera.fov_deg=1e400", 1,
             ERR(SKY_FIELD_OUT_OF_RANGE, "/camera/fov_deg", "must be a finite number, got inf")),
-    REJECTS("camera.fov_deg=-inf", 1,
-            ERR(SKY_FIELD_OUT_OF_RANGE, "/camera/fov_deg", "got -inf")),
+    REJECTS("camera.fov_deg=-inf", 1, ERR(SKY_FIELD_OUT_OF_RANGE, "/camera/fov_deg", "got -inf")),
     REJECTS("camera.fov_deg=[70]", 1, ERR(SKY_FIELD_WRONG_TYPE, "/camera/fov_deg", "got an array")),
     REJECTS("atmosphere.mie.g=[0.1,0.2", 1,
             ERR(SKY_FIELD_BAD_VALUE, "/atmosphere/mie/g", "invalid JSON")),
@@ -195,7 +198,8 @@ static int expected_error_count(const struct state_case *test)
 static void check_errors(const struct sky_field_errors *errors, const struct state_case *test)
 {
     CHECK_INT(errors->total, test->total);
-    CHECK_INT(errors->count, test->total < SKY_MAX_FIELD_ERRORS ? test->total : SKY_MAX_FIELD_ERRORS);
+    CHECK_INT(errors->count,
+              test->total < SKY_MAX_FIELD_ERRORS ? test->total : SKY_MAX_FIELD_ERRORS);
     int expected = expected_error_count(test);
     for (int i = 0; i < expected && i < errors->count; i++) {
         const struct sky_field_error *item = &errors->items[i];

@@ -54,8 +54,10 @@ void test_real_presets(const char *config_dir)
     CHECK(memcmp(&state, &before, sizeof state) == 0);
 
     static const char *const invalid_names[] = {
-        "", "../earth", "Earth", "earth.json", "a b", "earth/", "é",
-        "a12345678901234567890123456789012345678901234567890123456789012345", /* 65 */
+        "",      "../earth",
+        "Earth", "earth.json",
+        "a b",   "earth/",
+        "é",     "a12345678901234567890123456789012345678901234567890123456789012345", /* 65 */
     };
     for (size_t i = 0; i < sizeof invalid_names / sizeof invalid_names[0]; i++) {
         check_case_name = invalid_names[i];
@@ -170,7 +172,7 @@ static void write_temp_presets(struct temp_tree *tree)
 
 void test_temp_presets(void)
 {
-    struct temp_tree tree = {.root = "/tmp/skyd-presets-XXXXXX", .count = 0};
+    struct temp_tree tree = { .root = "/tmp/skyd-presets-XXXXXX", .count = 0 };
     check_case_name = "temporary directory";
     CHECK(mkdtemp(tree.root) != NULL);
     write_temp_presets(&tree);
@@ -182,8 +184,10 @@ void test_temp_presets(void)
     expect_preset_failure(dir, "truncated", "truncated.json:1:", 0);
     expect_preset_failure(dir, "empty", "empty.json:1:1: invalid JSON", 0);
     expect_preset_failure(dir, "nul", "nul.json:1:3: invalid JSON", 0);
-    expect_preset_failure(dir, "badfield", "preset rejected, 2 invalid fields; first: "
-                                           "/atmosphere/mie/g: must be in", 2);
+    expect_preset_failure(dir, "badfield",
+                          "preset rejected, 2 invalid fields; first: "
+                          "/atmosphere/mie/g: must be in",
+                          2);
     expect_preset_failure(dir, "baddesc", "/description: expected a string", 1);
     expect_preset_failure(dir, "notobject", "(root): expected a JSON object", 1);
     expect_preset_failure(dir, "folder", "not a regular file", 0);

@@ -12,13 +12,13 @@
 
 struct cluster_entry {
     struct cluster_entry *next;
-    bool snapshot;             /* the whole world, not one change */
-    char id[CLUSTER_ID_MAX];   /* the stream id ("0-0": none yet) */
+    bool snapshot;           /* the whole world, not one change */
+    char id[CLUSTER_ID_MAX]; /* the stream id ("0-0": none yet) */
     uint64_t revision;
-    char *state;               /* the state's JSON text (malloc'd) */
-    char *by;                  /* who made the change (malloc'd, "" for a snapshot) */
-    char *changed;             /* JSON Pointers of the changed fields, '\n' between them */
-    unsigned char *map;        /* the client weather map set with it, NULL: none */
+    char *state;        /* the state's JSON text (malloc'd) */
+    char *by;           /* who made the change (malloc'd, "" for a snapshot) */
+    char *changed;      /* JSON Pointers of the changed fields, '\n' between them */
+    unsigned char *map; /* the client weather map set with it, NULL: none */
     size_t map_length;
 };
 

@@ -16,8 +16,8 @@
 struct cluster_feed_params {
     const char *url;
     const char *world;
-    const char *last_id;    /* the stream id the node's state is at ("0-0": the start) */
-    uint64_t last_revision; /* and its revision */
+    const char *last_id;      /* the stream id the node's state is at ("0-0": the start) */
+    uint64_t last_revision;   /* and its revision */
     void (*wake)(void *user); /* called from the feed's thread when entries were queued */
     void *user;
     struct cluster_log log; /* what the feed's thread has to say */

@@ -53,7 +53,6 @@ enum cluster_commit_result cluster_store_commit(struct cluster_store *store, uin
                                                 const char *state, const char *by,
                                                 const char *changed, const unsigned char *map,
                                                 size_t map_length, uint64_t *current,
-                                                char id[CLUSTER_ID_MAX], char *err,
-                                                size_t errlen);
+                                                char id[CLUSTER_ID_MAX], char *err, size_t errlen);
 
 #endif

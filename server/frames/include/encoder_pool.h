@@ -11,8 +11,8 @@
 #include "session.h"
 
 struct encode_target {
-    struct session *session;  /* a reference, released by the pool */
-    uint64_t subscription;    /* >= 1; 0 for a snapshot */
+    struct session *session; /* a reference, released by the pool */
+    uint64_t subscription;   /* >= 1; 0 for a snapshot */
     struct sky_msg_id snapshot_id;
 };
 
@@ -21,8 +21,8 @@ struct encode_job {
      * renderer's LINEAR RGBA floats (16 bytes) for PNG16 */
     void *pixels;
     struct encoded_frame_meta meta;
-    double full_scale_cd_m2; /* PNG16: the luminance of the largest sample */
-    int quality;             /* JPEG: 1..100 */
+    double full_scale_cd_m2;       /* PNG16: the luminance of the largest sample */
+    int quality;                   /* JPEG: 1..100 */
     struct encode_target *targets; /* owned by the job */
     size_t target_count;
 };

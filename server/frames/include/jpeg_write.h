@@ -17,7 +17,7 @@ int jpeg_encode_rgba8(const uint8_t *rgba, uint32_t width, uint32_t height, int 
 
 /* The same, written atomically to `path` (a temporary file beside it, then renamed). Returns 0,
  * or -1 with a message in err. */
-int jpeg_write_rgba8_file(const char *path, const uint8_t *rgba, uint32_t width,
-                          uint32_t height, int quality, char *err, size_t errlen);
+int jpeg_write_rgba8_file(const char *path, const uint8_t *rgba, uint32_t width, uint32_t height,
+                          int quality, char *err, size_t errlen);
 
 #endif

@@ -32,7 +32,7 @@ void png_linear16_quantize(const float *rgba_cd_m2, size_t texels, double full_s
 
 int png_encode_linear16(const uint16_t *rgb, uint32_t width, uint32_t height,
                         double full_scale_cd_m2, uint8_t **out, size_t *out_len);
-int png_write_linear16_file(const char *path, const uint16_t *rgb, uint32_t width,
-                            uint32_t height, double full_scale_cd_m2, char *err, size_t errlen);
+int png_write_linear16_file(const char *path, const uint16_t *rgb, uint32_t width, uint32_t height,
+                            double full_scale_cd_m2, char *err, size_t errlen);
 
 #endif

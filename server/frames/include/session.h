@@ -97,8 +97,7 @@ struct slot_traffic {
     int last_quality;
 };
 /* false when there is no such subscription. */
-bool session_slot_traffic(struct session *session, uint64_t subscription,
-                          struct slot_traffic *out);
+bool session_slot_traffic(struct session *session, uint64_t subscription, struct slot_traffic *out);
 
 /* Snapshots: reserve a place before rendering (false when SESSION_MAX_SNAPSHOTS are pending);
  * deliver the frame (or NULL after a failure, which frees the place). */
@@ -113,14 +112,14 @@ bool session_snapshot_fail(struct session *session, const struct sky_msg_id *id,
 
 enum session_output_kind {
     SESSION_OUTPUT_NONE = 0,
-    SESSION_OUTPUT_TEXT,   /* text .. text + length; preceded by LWS_PRE writable bytes */
-    SESSION_OUTPUT_FRAME,  /* the binary message of frame, numbered frame_number */
-    SESSION_OUTPUT_CLOSE,  /* close with code and reason */
+    SESSION_OUTPUT_TEXT,  /* text .. text + length; preceded by LWS_PRE writable bytes */
+    SESSION_OUTPUT_FRAME, /* the binary message of frame, numbered frame_number */
+    SESSION_OUTPUT_CLOSE, /* close with code and reason */
 };
 
 struct session_output {
     enum session_output_kind kind;
-    char *text_buffer;          /* TEXT: owned; free() it */
+    char *text_buffer; /* TEXT: owned; free() it */
     char *text;
     size_t length;
     struct encoded_frame *frame; /* FRAME: a reference; unref it */

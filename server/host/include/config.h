@@ -14,32 +14,32 @@
 #define SKYD_CONFIG_STRING 256
 
 struct skyd_config {
-    char listen_address[64];       /* "127.0.0.1" */
-    int listen_port;               /* 8080; 0 asks the kernel for a free port */
+    char listen_address[64]; /* "127.0.0.1" */
+    int listen_port;         /* 8080; 0 asks the kernel for a free port */
     /* TLS: both set = https/wss on the same port; both empty = plain http/ws. PEM files. */
     char tls_certificate[SKYD_CONFIG_STRING];
     char tls_private_key[SKYD_CONFIG_STRING];
     /* Relative paths resolve against the working directory skyd starts in. */
     char web_root[SKYD_CONFIG_STRING];   /* "clients/web" */
     char state_file[SKYD_CONFIG_STRING]; /* "var/skyd-state.json" */
-    double state_save_delay_s;     /* 1: retry delay of a state write the daemon owes itself
+    double state_save_delay_s;           /* 1: retry delay of a state write the daemon owes itself
                                       (client changes are written before their ack) */
-    char render_device[64];        /* "" = automatic (a GPU when present, else lavapipe) */
-    int encoder_threads;           /* 2: PNG encoder workers */
+    char render_device[64];              /* "" = automatic (a GPU when present, else lavapipe) */
+    int encoder_threads;                 /* 2: PNG encoder workers */
     /* Amortized atmosphere LUT rebuilds: GPU ms per frame (0 = at once) and blend frames. */
-    double lut_budget_ms;          /* 2 */
-    double lut_budget_fraction;    /* 0.05: and at most this share of the rest of a frame */
-    int lut_blend_frames;          /* 4 */
+    double lut_budget_ms;       /* 2 */
+    double lut_budget_fraction; /* 0.05: and at most this share of the rest of a frame */
+    int lut_blend_frames;       /* 4 */
     bool render_validation;
-    int max_message_bytes;         /* 65536 */
-    int max_clients;               /* 64 */
-    int max_width, max_height;     /* 3840 x 2160 */
-    double max_fps;                /* 60 */
+    int max_message_bytes;              /* 65536 */
+    int max_clients;                    /* 64 */
+    int max_width, max_height;          /* 3840 x 2160 */
+    double max_fps;                     /* 60 */
     double control_messages_per_second; /* 20 */
-    int max_upload_bytes;          /* 2 MiB: a controller's set_weather_map */
+    int max_upload_bytes;               /* 2 MiB: a controller's set_weather_map */
     /* "" = `skyd serve` makes one (control_token.h); it stays "" only when read_only */
     char controller_token[128];
-    bool read_only;                /* nobody may control: auth is always refused */
+    bool read_only; /* nobody may control: auth is always refused */
     int origin_count;
     char allowed_origins[SKYD_CONFIG_MAX_ORIGINS][128];
     /* The world state the daemon starts from when no state file can be restored: the
@@ -60,8 +60,8 @@ void skyd_config_limits(const struct skyd_config *config, struct sky_msg_limits 
 /* Reads and validates `path` over the defaults. On failure *config keeps the defaults, errors
  * lists every bad field as a JSON Pointer, and msg says what went wrong (file, parse
  * position). */
-bool skyd_config_load(const char *path, struct skyd_config *config,
-                      struct sky_field_errors *errors, char *msg, size_t msglen);
+bool skyd_config_load(const char *path, struct skyd_config *config, struct sky_field_errors *errors,
+                      char *msg, size_t msglen);
 
 /* The same for a configuration's text (`length` bytes, no terminator needed); `name` stands
  * for the file in messages. */

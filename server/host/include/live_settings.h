@@ -32,7 +32,7 @@ enum live_token_check live_settings_check_token(struct live_settings *s, const c
 /* Takes the reloadable fields of `next` and describes what changed ("limits.max_clients 64 ->
  * 8; controller token changed; ..."; "nothing" when none did) in `changes`. Tokens are never
  * written into it. */
-void live_settings_update(struct live_settings *s, const struct skyd_config *next,
-                          char *changes, size_t changes_size);
+void live_settings_update(struct live_settings *s, const struct skyd_config *next, char *changes,
+                          size_t changes_size);
 
 #endif

@@ -22,8 +22,8 @@ struct render_loop_params {
     const struct skyd_config *config; /* limits, token, state file, encoder threads */
     const char *device;               /* renderer device preference; NULL = automatic */
     bool validation;
-    const char *config_dir;           /* presets: <config_dir>/atmosphere/<name>.json */
-    const char *state_file;           /* "" = no persistence */
+    const char *config_dir; /* presets: <config_dir>/atmosphere/<name>.json */
+    const char *state_file; /* "" = no persistence */
     struct sky_world_state initial_state;
     /* A shared world initial_state was read from (shared_world.h): borrowed, used by the
      * render thread only, outliving the loop. NULL: the state file. */

@@ -46,8 +46,8 @@ void renderer_host_destroy(struct renderer_host **host);
 
 /* Generates the cloud noise, dispatches every pipeline once with a few small frames and takes
  * the input: after it no client waits for a shader to compile. 0 or -1 (err). */
-int renderer_host_prepare(struct renderer_host *host, const struct render_input *input,
-                          char *err, size_t errlen);
+int renderer_host_prepare(struct renderer_host *host, const struct render_input *input, char *err,
+                          size_t errlen);
 
 /* Takes what changed in the input since the last one, all or nothing: the client weather map,
  * the LUT sizes and the clouds; then, when input->atmosphere_at_once, builds the frame
@@ -91,7 +91,7 @@ const char *renderer_host_device_name(const struct renderer_host *host);
 /* A message for a client whose request failed in the renderer: `what` ("rendering the 64x36
  * view") failed, and why as the renderer tells it (a lost device, out of memory and what
  * could not be allocated, another Vulkan failure). */
-void renderer_host_describe_failure(const struct renderer_host *host, const char *what,
-                                    char *out, size_t outlen);
+void renderer_host_describe_failure(const struct renderer_host *host, const char *what, char *out,
+                                    size_t outlen);
 
 #endif

@@ -30,7 +30,7 @@ void service_metrics_device_lost(struct service_metrics *m);
 
 /* The render thread's view of the world, once per tick: also its heartbeat. */
 struct service_metrics_tick {
-    double at_s;                 /* CLOCK_MONOTONIC seconds */
+    double at_s; /* CLOCK_MONOTONIC seconds */
     uint64_t state_revision;
     size_t subscriptions;
     double lut_rebuild_progress; /* 0..1, 1 when no rebuild is under way */

@@ -17,7 +17,7 @@ void world_files_resume_state(const char *state_file, const struct sky_world_sta
 
 /* A weather map PNG of at most max_bytes at `path`, as a client would send it: false with msg
  * saying why it cannot be read or used. Free *map with sky_weather_map_free. */
-bool world_files_read_weather_map(const char *path, size_t max_bytes,
-                                  struct sky_weather_map *map, char *msg, size_t msglen);
+bool world_files_read_weather_map(const char *path, size_t max_bytes, struct sky_weather_map *map,
+                                  char *msg, size_t msglen);
 
 #endif

@@ -44,8 +44,8 @@ void world_to_lut_sizes(const struct sky_world_state *state, struct sky_render_l
  * world_haze_growth_factor(weather.humidity) (1 at the reference humidity), and the height fog
  * density gains world_humidity_fog_per_km(weather.humidity). */
 #define WORLD_HAZE_REFERENCE_HUMIDITY 0.5
-#define WORLD_HAZE_GAMMA 0.5          /* Hanel's exponent for continental aerosol scattering */
-#define WORLD_HAZE_MAX_HUMIDITY 0.99  /* f(RH) diverges at saturation */
+#define WORLD_HAZE_GAMMA 0.5         /* Hanel's exponent for continental aerosol scattering */
+#define WORLD_HAZE_MAX_HUMIDITY 0.99 /* f(RH) diverges at saturation */
 #define WORLD_FOG_ONSET_HUMIDITY 0.9
 double world_haze_growth_factor(double humidity);
 double world_humidity_fog_per_km(double humidity);

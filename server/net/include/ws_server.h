@@ -22,13 +22,12 @@ struct ws_server_params {
     struct session_hub *hub;
     struct render_loop *loop;
     struct service_metrics *metrics; /* messages, errors and frames sent; /metrics, /healthz */
-    struct live_settings *settings;   /* limits, origins, token: what a reload may change */
+    struct live_settings *settings;  /* limits, origins, token: what a reload may change */
 };
 
 struct ws_server;
 
-struct ws_server *ws_server_create(const struct ws_server_params *params, char *err,
-                                   size_t errlen);
+struct ws_server *ws_server_create(const struct ws_server_params *params, char *err, size_t errlen);
 void ws_server_destroy(struct ws_server **server);
 
 /* The base URL, with the port listened on (the kernel's pick when the config says 0). */
@@ -39,8 +38,8 @@ void ws_server_run(struct ws_server *server, volatile sig_atomic_t *stop);
 /* Closes every connection with `code` and `reason` (1001 "skyd shutting down" at a signal),
  * after what is queued for it when after_output, and serves until they are gone or timeout_s
  * passes. */
-void ws_server_close_all(struct ws_server *server, int code, const char *reason,
-                         bool after_output, double timeout_s);
+void ws_server_close_all(struct ws_server *server, int code, const char *reason, bool after_output,
+                         double timeout_s);
 /* The render loop is about to go: messages still arriving are dropped. */
 void ws_server_detach_loop(struct ws_server *server);
 

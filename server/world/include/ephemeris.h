@@ -57,9 +57,8 @@ double sky_delta_t_seconds(double unix_seconds); /* TT - UT */
 /* Apparent solar time minus mean solar time, minutes. */
 double sky_equation_of_time_min(double unix_seconds);
 /* sky_sun_position with an explicit ΔT instead of the polynomial. */
-void sky_sun_position_delta_t(double unix_seconds, double delta_t_s,
-                              const struct sky_site *site, bool refraction,
-                              struct sky_body_position *out);
+void sky_sun_position_delta_t(double unix_seconds, double delta_t_s, const struct sky_site *site,
+                              bool refraction, struct sky_body_position *out);
 /* Geocentric ecliptic longitude and latitude (mean equinox of date, without nutation) and
  * distance of the moon's centre at Julian Ephemeris Day jde. */
 void sky_moon_geocentric(double jde, double *lambda_deg, double *beta_deg, double *distance_km);

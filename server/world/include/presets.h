@@ -31,7 +31,7 @@ bool sky_preset_apply(const char *config_dir, const char *kind, const char *name
 /* Stores the names of the presets of a kind (files <name>.json with a valid name) in names,
  * sorted bytewise; when there are more than max_names, the first max_names in that order.
  * Returns how many were stored, or -1 when the directory cannot be read. */
-int sky_preset_list(const char *config_dir, const char *kind,
-                    char names[][SKY_PRESET_NAME_MAX + 1], int max_names);
+int sky_preset_list(const char *config_dir, const char *kind, char names[][SKY_PRESET_NAME_MAX + 1],
+                    int max_names);
 
 #endif

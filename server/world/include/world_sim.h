@@ -105,7 +105,6 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
  * under way ends there; a clock set back into a finished transition does not replay it. Then
  * the wind is re-anchored when world_sim_wind_changed says so, and the driven fields are
  * settled. */
-void world_sim_client_changed(const struct sky_world_state *before,
-                              struct sky_world_state *after);
+void world_sim_client_changed(const struct sky_world_state *before, struct sky_world_state *after);
 
 #endif
