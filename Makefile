@@ -9,7 +9,7 @@ CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=RelWithDebInfo
 
 FUZZ_SECONDS ?= 1800
 
-.PHONY: all deps configure build run cluster test test-asan fuzz bench soak clean
+.PHONY: all deps configure build run cluster test test-asan fuzz bench soak format format-check clean
 
 all: build
 
@@ -66,6 +66,14 @@ bench: build
 # SOAK_ARGS="--help" lists options.
 soak: build
 	@/usr/bin/python3 bench/soak.py --skyd $(BUILD)/skyd $(SOAK_ARGS)
+
+# The C sources in the style of .clang-format (clang-format 14 or later); format-check changes
+# nothing and fails when a file is not formatted.
+format:
+	@./scripts/format.sh
+
+format-check:
+	@./scripts/format.sh --check
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) build-fuzz out
