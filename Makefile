@@ -69,10 +69,10 @@ soak: build
 
 # The C sources in the style of .clang-format (clang-format 14 or later); format-check changes
 # nothing and fails when a file is not formatted.
-format:
+format: deps
 	@./scripts/format.sh
 
-format-check:
+format-check: deps
 	@./scripts/format.sh --check
 
 clean:

@@ -2,7 +2,7 @@
 # Formats the C sources with .clang-format: every *.c and *.h under protocol/, render/, server/,
 # clients/, tests/ and bench/ (shaders/ is GLSL and is left alone).
 #   scripts/format.sh           rewrite the files in place
-#   scripts/format.sh --check   change nothing; status 1 when a file is not formatted
+#   scripts/format.sh --check   change nothing; a non-zero status when a file is not formatted
 set -euo pipefail
 cd "$(dirname "$0")/.."
 clang_format=${CLANG_FORMAT:-clang-format}

@@ -10,7 +10,7 @@ packages=(
   libwebsockets-dev libcjson-dev libpng-dev libturbojpeg0-dev libsystemd-dev systemd
   python3 python3-websockets openssl
   redis-server libhiredis-dev haproxy
-  clang libclang-rt-dev
+  clang libclang-rt-dev clang-format
   chromium chromium-driver
 )
 if [ "${SKYD_DEPS_EXTRA:-}" != "" ]; then
