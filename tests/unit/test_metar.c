@@ -2,8 +2,8 @@
  * and reports in the WMO No. 306 FM 15 format, real-looking European and US reports, and edge
  * cases of every group; the derived numbers (coverage, base in metres, visibility and
  * Koschmieder extinction, wind in m/s, relative humidity against Buck's formula), the JSON and
- * the observation time. Refusals are in test_metar_refusals.c.
- * Usage: test_metar */
+ * the observation time; PROTOCOL.md's example. Refusals are in test_metar_refusals.c.
+ * Usage: test_metar [PROTOCOL_MD]   (default: protocol/PROTOCOL.md of this source tree) */
 #include "test_metar.h"
 
 #include <cjson/cJSON.h>
@@ -475,8 +475,63 @@ static void test_observation_time(void)
     CHECK(!sky_metar_observation_unix(&r, unix_time("2026-03-02T00:00:00Z"), &t));
 }
 
-int main(void)
+/* The text of the block fenced by "```FENCE" and "```" in doc, malloc'd; NULL when absent. */
+static char *fenced_block(const char *doc, const char *fence)
 {
+    char opening[64];
+    snprintf(opening, sizeof opening, "```%s\n", fence);
+    const char *start = strstr(doc, opening);
+    const char *end = start ? strstr(start + strlen(opening), "```") : NULL;
+    if (!end)
+        return NULL;
+    start += strlen(opening);
+    char *text = malloc((size_t)(end - start) + 1);
+    if (text) {
+        memcpy(text, start, (size_t)(end - start));
+        text[end - start] = '\0';
+    }
+    return text;
+}
+
+/* PROTOCOL.md's "METAR decoding" example: its report decodes to exactly its JSON. */
+static void test_protocol_example(const char *path)
+{
+    check_case_name = "PROTOCOL.md example";
+    FILE *file = fopen(path, "rb");
+    CHECK_MSG(file != NULL, "cannot open %s", path);
+    if (!file)
+        return;
+    static char doc[1 << 20];
+    size_t n = fread(doc, 1, sizeof doc - 1, file);
+    fclose(file);
+    doc[n] = '\0';
+    char *report_text = fenced_block(doc, "text metar-report");
+    char *json_text = fenced_block(doc, "json metar");
+    CHECK(report_text && json_text);
+    cJSON *documented = json_text ? cJSON_Parse(json_text) : NULL;
+    CHECK_MSG(documented != NULL, "the documented JSON does not parse");
+    struct sky_metar_report r;
+    size_t length = report_text ? strcspn(report_text, "\n") : 0;
+    if (report_text && documented) {
+        report_text[length] = '\0';
+        if (decode_ok(report_text, &r)) {
+            cJSON *decoded = sky_metar_to_json(&r);
+            bool same = decoded && cJSON_Compare(documented, decoded, true);
+            char *printed = decoded ? cJSON_PrintUnformatted(decoded) : NULL;
+            CHECK_MSG(same, "the decoder gives %s", printed ? printed : "(nothing)");
+            free(printed);
+            cJSON_Delete(decoded);
+        }
+    }
+    cJSON_Delete(documented);
+    free(report_text);
+    free(json_text);
+    check_case_name = "";
+}
+
+int main(int argc, char **argv)
+{
+    test_protocol_example(argc > 1 ? argv[1] : SKYD_SOURCE_DIR "/protocol/PROTOCOL.md");
     test_annex3_examples();
     test_real_reports();
     test_clouds();
