@@ -120,7 +120,6 @@ static bool split(struct decoder *d, const char *text, size_t length)
         }
         if (remarks)
             continue;
-        struct metar_group *g = &d->groups[d->count];
         if (i - start > SKY_METAR_MAX_GROUP_CHARS) {
             struct metar_group cut = { .offset = start, .index = index };
             memcpy(cut.text, text + start, SKY_METAR_MAX_GROUP_CHARS);
@@ -141,6 +140,7 @@ static bool split(struct decoder *d, const char *text, size_t length)
             d->error->offset = start;
             return false;
         }
+        struct metar_group *g = &d->groups[d->count];
         memset(g, 0, sizeof *g);
         memcpy(g->text, text + start, i - start);
         g->length = i - start;
