@@ -234,8 +234,8 @@ struct cluster_feed *cluster_feed_create(const struct cluster_feed_params *p, ch
         return NULL;
     }
     char why[320];
-    if (!cluster_url_parse(p->url, &f->address, why, sizeof why) ||
-        !cluster_world_name_check(p->world, why, sizeof why)) {
+    f->address = *p->address;
+    if (!cluster_world_name_check(p->world, why, sizeof why)) {
         snprintf(err, errlen, "cluster: %s", why);
         free(f);
         return NULL;
@@ -274,6 +274,7 @@ void cluster_feed_destroy(struct cluster_feed **feed)
     if (f->started)
         pthread_join(f->thread, NULL);
     cluster_entry_free_list(f->head);
+    memset(&f->address, 0, sizeof f->address); /* the password */
     pthread_cond_destroy(&f->changed);
     pthread_mutex_destroy(&f->lock);
     free(f);

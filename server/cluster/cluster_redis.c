@@ -55,6 +55,32 @@ void cluster_redis_describe(const redisContext *c, const redisReply *reply, char
         snprintf(why, whylen, "unexpected reply (type %d)", reply->type);
 }
 
+/* AUTH [USER] PASSWORD. Neither goes into `why`: Redis's own refusal does not quote them. */
+static bool authenticate(redisContext *c, const struct cluster_address *a, char *why, size_t whylen)
+{
+    const char *argv[3] = { "AUTH" };
+    size_t lengths[3] = { 4 };
+    int argc = 1;
+    if (a->user[0]) {
+        argv[argc] = a->user;
+        lengths[argc++] = strlen(a->user);
+    }
+    argv[argc] = a->password;
+    lengths[argc++] = strlen(a->password);
+    redisReply *r = redisCommandArgv(c, argc, argv, lengths);
+    bool ok = r && r->type == REDIS_REPLY_STATUS;
+    if (!ok) {
+        char reason[320];
+        cluster_redis_describe(c, r, reason, sizeof reason);
+        snprintf(why, whylen, "Redis refused AUTH as user \"%s\": %s%s",
+                 a->user[0] ? a->user : "default", reason,
+                 a->has_password ? "" : " (no password was given)");
+    }
+    if (r)
+        freeReplyObject(r);
+    return ok;
+}
+
 redisContext *cluster_redis_connect(const struct cluster_address *a, double timeout_s,
                                     double command_timeout_s, char *why, size_t whylen)
 {
@@ -73,9 +99,18 @@ redisContext *cluster_redis_connect(const struct cluster_address *a, double time
         redisFree(c);
         return NULL;
     }
+    if (cluster_address_authenticates(a) && !authenticate(c, a, why, whylen)) {
+        redisFree(c);
+        return NULL;
+    }
     redisReply *r = redisCommand(c, "SELECT %d", a->db);
     bool ok = r && r->type == REDIS_REPLY_STATUS;
-    if (!ok) {
+    if (!ok && r && r->type == REDIS_REPLY_ERROR && strncmp(r->str, "NOAUTH", 6) == 0) {
+        snprintf(why, whylen,
+                 "Redis asks for a user and password (%.200s): give them in the URL, "
+                 "redis://USER:PASSWORD@HOST:PORT, or the password in a file",
+                 r->str);
+    } else if (!ok) {
         char reason[320];
         cluster_redis_describe(c, r, reason, sizeof reason);
         snprintf(why, whylen, "SELECT %d: %s", a->db, reason);

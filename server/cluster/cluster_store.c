@@ -19,9 +19,9 @@ static const double RETRY_MIN_S = 0.1, RETRY_MAX_S = 2.0;
 struct cluster_store {
     struct cluster_address address;
     struct cluster_keys keys;
-    char url[CLUSTER_HOST_MAX + 32];
+    char url[CLUSTER_URL_TEXT_MAX]; /* without the password */
     char world[CLUSTER_WORLD_MAX + 1];
-    char name[CLUSTER_HOST_MAX + CLUSTER_WORLD_MAX + 64];
+    char name[CLUSTER_URL_TEXT_MAX + CLUSTER_WORLD_MAX + 16];
     redisContext *redis;
     double retry_at, retry_delay; /* when a lost connection is tried again, and the back-off */
     char last_error[320];
@@ -79,17 +79,34 @@ struct cluster_store *cluster_store_create(const struct cluster_store_params *p,
     if (!cluster_url_parse(p->url, &s->address, why, sizeof why) ||
         !cluster_world_name_check(p->world, why, sizeof why)) {
         snprintf(err, errlen, "cluster: %s", why);
-        free(s);
+        cluster_store_destroy(&s);
         return NULL;
     }
-    snprintf(s->url, sizeof s->url, "%s", p->url);
+    if (p->password && s->address.has_password) {
+        snprintf(err, errlen,
+                 "cluster: the URL has a password and a password file gives one too: give it "
+                 "once");
+        cluster_store_destroy(&s);
+        return NULL;
+    }
+    if (p->password) {
+        if (strlen(p->password) >= sizeof s->address.password) {
+            snprintf(err, errlen, "cluster: the password is longer than %zu bytes",
+                     sizeof s->address.password - 1);
+            cluster_store_destroy(&s);
+            return NULL;
+        }
+        snprintf(s->address.password, sizeof s->address.password, "%s", p->password);
+        s->address.has_password = true;
+    }
+    cluster_url_redacted(&s->address, s->url, sizeof s->url);
     snprintf(s->world, sizeof s->world, "%s", p->world);
-    snprintf(s->name, sizeof s->name, "%s world \"%s\"", p->url, p->world);
+    snprintf(s->name, sizeof s->name, "%s world \"%s\"", s->url, p->world);
     cluster_keys_make(p->world, &s->keys);
     s->retry_delay = RETRY_MIN_S;
     if (!connected(s, START_CONNECT_TIMEOUT_S, why, sizeof why)) {
         snprintf(err, errlen, "cannot reach the cluster's Redis at %s: %s", s->url, why);
-        free(s);
+        cluster_store_destroy(&s);
         return NULL;
     }
     return s;
@@ -102,6 +119,8 @@ void cluster_store_destroy(struct cluster_store **store)
         return;
     if (s->redis)
         redisFree(s->redis);
+    /* The password leaves no copy in freed memory. */
+    memset(&s->address, 0, sizeof s->address);
     free(s);
     *store = NULL;
 }
@@ -117,6 +136,10 @@ const char *cluster_store_url(const struct cluster_store *s)
 const char *cluster_store_world(const struct cluster_store *s)
 {
     return s->world;
+}
+const struct cluster_address *cluster_store_address(const struct cluster_store *s)
+{
+    return &s->address;
 }
 
 struct cluster_entry *cluster_store_open(struct cluster_store *s, uint64_t initial_revision,

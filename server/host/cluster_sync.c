@@ -33,7 +33,7 @@ struct cluster_sync *cluster_sync_create(const struct cluster_store *store,
         snprintf(err, errlen, "out of memory");
         return NULL;
     }
-    struct cluster_feed_params params = { .url = cluster_store_url(store),
+    struct cluster_feed_params params = { .address = cluster_store_address(store),
                                           .world = cluster_store_world(store),
                                           .last_id = start->id,
                                           .last_revision = start->revision,

@@ -1,7 +1,8 @@
 /* What a shared world's entries carry (server/host/world_codec.c, server/cluster/): a state
  * read back from its text is the state, revision included; a weather map read back from its
  * bytes is the map; bytes that are not a map, and bad URLs and world names, are refused with
- * a reason. No Redis here: tests/e2e/test_cluster.py runs the real thing. */
+ * a reason; a URL's user and password are read, and no message or redacted URL holds the
+ * password. No Redis here: tests/e2e/test_cluster.py runs the real thing. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -59,6 +60,61 @@ static void map_round_trip(void)
     free(bytes);
 }
 
+/* A user and password in the URL: percent-decoded, the last '@' ends them; messages and the
+ * redacted URL never hold the password. */
+static void credentials(void)
+{
+    struct cluster_address a;
+    char why[320], text[CLUSTER_URL_TEXT_MAX];
+    CHECK(cluster_url_parse("redis://127.0.0.1:6379", &a, why, sizeof why));
+    CHECK(!cluster_address_authenticates(&a) && !a.has_db);
+    cluster_url_redacted(&a, text, sizeof text);
+    CHECK_MSG(strcmp(text, "redis://127.0.0.1:6379") == 0, "%s", text);
+
+    CHECK(cluster_url_parse("redis://skyd:s3cret-Word@redis.internal:6380/2", &a, why, sizeof why));
+    CHECK(strcmp(a.user, "skyd") == 0 && strcmp(a.password, "s3cret-Word") == 0 && a.has_password &&
+          cluster_address_authenticates(&a));
+    CHECK(strcmp(a.host, "redis.internal") == 0 && a.port == 6380 && a.db == 2 && a.has_db);
+    cluster_url_redacted(&a, text, sizeof text);
+    CHECK_MSG(strcmp(text, "redis://skyd:***@redis.internal:6380/2") == 0, "%s", text);
+
+    /* Reserved characters, encoded or (for '@', ':' and '/' in the password) not. */
+    CHECK(cluster_url_parse("redis://sk%79d:p%40ss%3Aw%2Frd%25@[::1]:6379", &a, why, sizeof why));
+    CHECK(strcmp(a.user, "skyd") == 0 && strcmp(a.password, "p@ss:w/rd%") == 0);
+    cluster_url_redacted(&a, text, sizeof text);
+    CHECK_MSG(strcmp(text, "redis://skyd:***@[::1]:6379") == 0, "%s", text);
+    CHECK(cluster_url_parse("redis://skyd:p@ss:w/rd@h:1", &a, why, sizeof why));
+    CHECK(strcmp(a.password, "p@ss:w/rd") == 0 && strcmp(a.host, "h") == 0 && a.port == 1);
+
+    /* The default user with a password; a user whose password comes from a file. */
+    CHECK(cluster_url_parse("redis://:only-a-password@h:1/0", &a, why, sizeof why));
+    CHECK(a.user[0] == '\0' && strcmp(a.password, "only-a-password") == 0);
+    cluster_url_redacted(&a, text, sizeof text);
+    CHECK_MSG(strcmp(text, "redis://:***@h:1/0") == 0, "%s", text);
+    CHECK(cluster_url_parse("redis://skyd@h:1", &a, why, sizeof why));
+    CHECK(strcmp(a.user, "skyd") == 0 && !a.has_password && cluster_address_authenticates(&a));
+    cluster_url_redacted(&a, text, sizeof text);
+    CHECK_MSG(strcmp(text, "redis://skyd@h:1") == 0, "%s", text);
+
+    /* Refusals say why without the password. */
+    const char *secret_urls[] = { "rediss://skyd:TOPSECRET@h:1",  "http://skyd:TOPSECRET@h:1",
+                                  "redis://skyd:TOPSECRET%4@h:1", "redis://skyd:TOPSECRET@h",
+                                  "redis://skyd:TOPSECRET@h:0",   "skyd:TOPSECRET@h:1" };
+    for (size_t i = 0; i < sizeof secret_urls / sizeof secret_urls[0]; i++) {
+        why[0] = '\0';
+        CHECK_MSG(!cluster_url_parse(secret_urls[i], &a, why, sizeof why) && why[0] &&
+                      !strstr(why, "TOPSECRET"),
+                  "%s: %s", secret_urls[i], why);
+        CHECK(!strstr(a.password, "TOPSECRET"));
+    }
+    CHECK(cluster_url_parse("redis://skyd:x@h:1", &a, why, sizeof why));
+    CHECK(!cluster_url_parse("rediss://skyd:TOPSECRET@h:1", &a, why, sizeof why));
+    CHECK_MSG(strstr(why, "stunnel"), "%s", why);
+    char long_password[CLUSTER_PASSWORD_MAX + 40];
+    snprintf(long_password, sizeof long_password, "redis://u:%0*d@h:1", CLUSTER_PASSWORD_MAX, 7);
+    CHECK(!cluster_url_parse(long_password, &a, why, sizeof why) && strstr(why, "longer"));
+}
+
 static void urls_and_names(void)
 {
     struct cluster_address a;
@@ -80,13 +136,19 @@ static void urls_and_names(void)
                           "redis://h:1/a",
                           "redis://h:1x",
                           "rediss://h:1",
-                          "redis://u:p@h:1",
+                          "redis://@h:1",
+                          "redis://u%4:p@h:1",
+                          "redis://u:p%zz@h:1",
+                          "redis://u:p%00@h:1",
+                          "redis://a%20b:p@h:1",
+                          "redis://u:p@:1",
                           "redis://[::1:1",
                           "redis://h h:1" };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         why[0] = '\0';
         CHECK_MSG(!cluster_url_parse(bad[i], &a, why, sizeof why) && why[0], "\"%s\"", bad[i]);
     }
+    credentials();
     CHECK(cluster_world_name_check("classroom-3_b", why, sizeof why));
     char long_name[CLUSTER_WORLD_MAX + 2];
     memset(long_name, 'w', sizeof long_name - 1);

@@ -12,9 +12,10 @@
 
 #include "cluster_entry.h"
 #include "cluster_log.h"
+#include "cluster_url.h"
 
 struct cluster_feed_params {
-    const char *url;
+    const struct cluster_address *address; /* copied, password included */
     const char *world;
     const char *last_id;      /* the stream id the node's state is at ("0-0": the start) */
     uint64_t last_revision;   /* and its revision */

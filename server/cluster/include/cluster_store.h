@@ -12,14 +12,18 @@
 #include <stdint.h>
 
 #include "cluster_entry.h"
+#include "cluster_url.h"
 
 /* Stream entries kept (XADD MAXLEN ~): a node that falls further behind starts again from
  * the snapshot. */
 #define CLUSTER_STREAM_KEEP 1000
 
 struct cluster_store_params {
-    const char *url;   /* redis://HOST:PORT[/DB], checked by cluster_url_parse */
+    const char *url;   /* redis://[USER[:PASSWORD]@]HOST:PORT[/DB], see cluster_url_parse */
     const char *world; /* checked by cluster_world_name_check */
+    /* The password when it comes from elsewhere than the URL (a file); NULL: the URL's, if
+     * any. A URL with a password of its own and this one too is refused. */
+    const char *password;
 };
 
 struct cluster_store;
@@ -29,10 +33,13 @@ struct cluster_store *cluster_store_create(const struct cluster_store_params *pa
                                            size_t errlen);
 void cluster_store_destroy(struct cluster_store **store);
 
-/* "redis://127.0.0.1:6379 world \"demo\"", for messages. */
+/* "redis://127.0.0.1:6379 world \"demo\"", for messages; the URL without its password
+ * (cluster_url_redacted). */
 const char *cluster_store_name(const struct cluster_store *store);
 const char *cluster_store_url(const struct cluster_store *store);
 const char *cluster_store_world(const struct cluster_store *store);
+/* Where Redis is and who the node is there, password included, for the feed's connection. */
+const struct cluster_address *cluster_store_address(const struct cluster_store *store);
 
 /* The world's snapshot; a world that does not exist yet is made from initial_state (JSON) at
  * initial_revision first, atomically, so that the first of several nodes starting at once
