@@ -1,4 +1,5 @@
 #include "control_token.h"
+#include "secret_file.h"
 #include "state_store.h"
 
 #include <errno.h>
@@ -77,34 +78,17 @@ enum file_verdict { FILE_ABSENT, FILE_GOOD, FILE_REPLACE };
 static enum file_verdict read_token_file(const char *path, char *token, size_t tokenlen, char *note,
                                          size_t notelen)
 {
-    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
-    if (fd < 0 && errno == ENOENT)
-        return FILE_ABSENT;
-    if (fd < 0) {
-        snprintf(note, notelen, "cannot read %s (%s)", path, strerror(errno));
-        return FILE_REPLACE;
-    }
-    struct stat st;
     char text[256];
-    ssize_t n = -1;
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        snprintf(note, notelen, "%s is not a regular file", path);
-    } else if (st.st_mode & (S_IRWXG | S_IRWXO)) {
-        snprintf(note, notelen,
-                 "%s was open to group or others (mode %04o), so its token may "
-                 "have leaked",
-                 path, (unsigned)(st.st_mode & 07777));
-    } else {
-        do
-            n = read(fd, text, sizeof text - 1);
-        while (n < 0 && errno == EINTR);
-        if (n < 0)
-            snprintf(note, notelen, "cannot read %s (%s)", path, strerror(errno));
-    }
-    close(fd);
-    if (n < 0)
+    size_t n = 0;
+    switch (secret_file_read(path, text, sizeof text, &n, note, notelen)) {
+    case SECRET_FILE_ABSENT:
+        note[0] = '\0';
+        return FILE_ABSENT;
+    case SECRET_FILE_REFUSED:
         return FILE_REPLACE;
-    text[n] = '\0';
+    case SECRET_FILE_READ:
+        break;
+    }
     const char *start = text + strspn(text, " \t");
     size_t length = strspn(start, TOKEN_CHARACTERS);
     const char *rest = start + length + strspn(start + length, " \t\r");

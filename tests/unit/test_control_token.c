@@ -1,7 +1,8 @@
 /* The controller token of `skyd serve` (server/host/control_token.c): a configured token used
  * as it is, read_only, a token for the process alone without a state file, and the token file:
  * made with mode 0600 whatever the umask, read back, replaced when group or others may read it
- * or when it holds no token, and a token kept for the process when it cannot be written. */
+ * or when it holds no token, and a token kept for the process when it cannot be written; and
+ * the secret-file checks the cluster's Redis password file shares with it. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +12,7 @@
 #include "check.h"
 #include "config.h"
 #include "control_token.h"
+#include "secret_file.h"
 
 static char dir[] = "/tmp/skyd-control-token-XXXXXX";
 
@@ -55,6 +57,52 @@ static struct skyd_config with_state_file(const char *state_file)
     skyd_config_defaults(&c);
     snprintf(c.state_file, sizeof c.state_file, "%s", state_file);
     return c;
+}
+
+/* The same checks for any secret file (secret_file.h), as the cluster's Redis password file
+ * is read: mode, kind, first line; no reason quotes the secret. */
+static void secret_files(void)
+{
+    char path[300], text[64], why[512];
+    size_t length = 0;
+    snprintf(path, sizeof path, "%s/redis-password", dir);
+    CHECK(secret_file_read(path, text, sizeof text, &length, why, sizeof why) ==
+          SECRET_FILE_ABSENT);
+    write_text(path, "pa ss#word\r\nignored\n", 0600);
+    CHECK(secret_file_read(path, text, sizeof text, &length, why, sizeof why) == SECRET_FILE_READ);
+    CHECK(secret_file_first_line(text, length, sizeof text, why, sizeof why));
+    CHECK_MSG(strcmp(text, "pa ss#word") == 0, "\"%s\"", text);
+    write_text(path, "LEAKY-SECRET\n", 0640);
+    CHECK(secret_file_read(path, text, sizeof text, &length, why, sizeof why) ==
+          SECRET_FILE_REFUSED);
+    CHECK_MSG(strstr(why, "0640") && strstr(why, "group or others") && !strstr(why, "LEAKY") &&
+                  !strstr(text, "LEAKY"),
+              "%s", why);
+    write_text(path, "LEAKY-SECRET\n", 0604);
+    CHECK(secret_file_read(path, text, sizeof text, &length, why, sizeof why) ==
+          SECRET_FILE_REFUSED);
+    char link_path[320];
+    snprintf(link_path, sizeof link_path, "%s.link", path);
+    chmod(path, 0600);
+    CHECK(symlink(path, link_path) == 0);
+    CHECK(secret_file_read(link_path, text, sizeof text, &length, why, sizeof why) ==
+          SECRET_FILE_REFUSED);
+    CHECK_MSG(strstr(why, "symbolic link"), "%s", why);
+    const char *bad_lines[] = { "\n", "", "tab\there\n" };
+    for (size_t i = 0; i < sizeof bad_lines / sizeof bad_lines[0]; i++) {
+        write_text(path, bad_lines[i], 0600);
+        CHECK(secret_file_read(path, text, sizeof text, &length, why, sizeof why) ==
+              SECRET_FILE_READ);
+        CHECK_MSG(!secret_file_first_line(text, length, sizeof text, why, sizeof why), "line %zu",
+                  i);
+    }
+    char long_line[200];
+    memset(long_line, 'x', sizeof long_line - 1);
+    long_line[sizeof long_line - 1] = '\0';
+    write_text(path, long_line, 0600);
+    CHECK(secret_file_read(path, text, sizeof text, &length, why, sizeof why) == SECRET_FILE_READ);
+    CHECK(!secret_file_first_line(text, length, sizeof text, why, sizeof why) &&
+          strstr(why, "longer"));
 }
 
 int main(void)
@@ -158,6 +206,8 @@ int main(void)
     c = with_state_file(blocked_state);
     CHECK(control_token_settle(&c, note, sizeof note) == CONTROL_TOKEN_UNSAVED);
     CHECK(is_new_token(c.controller_token));
+
+    secret_files();
 
     char command[128];
     snprintf(command, sizeof command, "rm -rf %s", dir);
