@@ -89,8 +89,10 @@ static void note_restart_fields(const struct skyd_config *a, const struct skyd_c
                         a->lut_budget_fraction != b->lut_budget_fraction ||
                         a->lut_blend_frames != b->lut_blend_frames ||
                         a->render_validation != b->render_validation },
-        { "cluster", strcmp(a->cluster_redis, b->cluster_redis) != 0 ||
-                         strcmp(a->cluster_world, b->cluster_world) != 0 },
+        { "cluster",
+          strcmp(a->cluster_redis, b->cluster_redis) != 0 ||
+              strcmp(a->cluster_world, b->cluster_world) != 0 ||
+              strcmp(a->cluster_redis_password_file, b->cluster_redis_password_file) != 0 },
     };
     bool first = true;
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {

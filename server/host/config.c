@@ -75,7 +75,11 @@ static const struct sky_field_desc config_fields[] = {
            "the token auth asks for; empty: skyd serve makes one, kept in <state_file>.token"),
     BOOL("read_only", read_only, "nobody may control the server: no token, auth is refused"),
     STRING("cluster.redis", cluster_redis,
-           "redis://HOST:PORT[/DB] holding the shared world; empty: the state file"),
+           "redis://[USER[:PASSWORD]@]HOST:PORT[/DB] holding the shared world; empty: the "
+           "state file"),
+    STRING("cluster.redis_password_file", cluster_redis_password_file,
+           "a file (mode 0600 or stricter) whose first line is the Redis password, instead "
+           "of one in the URL"),
     STRING("cluster.world", cluster_world,
            "the shared world's name: 1 to 64 letters, digits, '-' or '_'"),
 };
@@ -181,14 +185,20 @@ static void apply_initial_state(struct skyd_config *c, const cJSON *value,
 /* "cluster": both members or neither, each well formed (nothing connects here). */
 static void check_cluster(const struct skyd_config *c, struct sky_field_errors *errors)
 {
-    if (!c->cluster_redis[0] && !c->cluster_world[0])
+    if (!c->cluster_redis[0] && !c->cluster_world[0] && !c->cluster_redis_password_file[0])
         return;
     char why[320];
-    if (!c->cluster_redis[0])
+    struct cluster_address address;
+    if (!c->cluster_redis[0]) {
         sky_field_errors_addf(errors, SKY_FIELD_MISSING, "/cluster/redis",
                               "a cluster needs its Redis: redis://HOST:PORT[/DB]");
-    else if (!cluster_url_parse(c->cluster_redis, &(struct cluster_address){ 0 }, why, sizeof why))
+    } else if (!cluster_url_parse(c->cluster_redis, &address, why, sizeof why)) {
         sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "/cluster/redis", "%s", why);
+    } else if (address.has_password && c->cluster_redis_password_file[0]) {
+        sky_field_errors_addf(errors, SKY_FIELD_INCONSISTENT, "/cluster/redis_password_file",
+                              "the URL in /cluster/redis has a password already: give it once");
+    }
+    memset(&address, 0, sizeof address); /* the password */
     if (!c->cluster_world[0])
         sky_field_errors_addf(errors, SKY_FIELD_MISSING, "/cluster/world",
                               "a cluster needs the name of the world its nodes share");

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "log.h"
+#include "secret_file.h"
 #include "shared_world_internal.h"
 #include "wall_clock.h"
 #include "world_codec.h"
@@ -45,6 +46,21 @@ static bool read_world(struct shared_world *w, const struct skyd_config *config,
     return true;
 }
 
+/* The password file's first line, checked as the controller token's file is (secret_file.h). */
+static bool read_password(const char *path, char *password, size_t size, char *why, size_t whylen)
+{
+    size_t length = 0;
+    if (secret_file_read(path, password, size, &length, why, whylen) != SECRET_FILE_READ)
+        return false;
+    char reason[160];
+    if (!secret_file_first_line(password, length, size, reason, sizeof reason)) {
+        memset(password, 0, size);
+        snprintf(why, whylen, "%s holds no password: %s", path, reason);
+        return false;
+    }
+    return true;
+}
+
 struct shared_world *shared_world_open(const struct skyd_config *config,
                                        struct sky_world_state *state, char *err, size_t errlen)
 {
@@ -56,7 +72,18 @@ struct shared_world *shared_world_open(const struct skyd_config *config,
     struct cluster_store_params params = { .url = config->cluster_redis,
                                            .world = config->cluster_world };
     char why[512];
+    char password[CLUSTER_PASSWORD_MAX + 2];
+    if (config->cluster_redis_password_file[0]) {
+        if (!read_password(config->cluster_redis_password_file, password, sizeof password, why,
+                           sizeof why)) {
+            snprintf(err, errlen, "/cluster/redis_password_file: %s", why);
+            shared_world_close(&w);
+            return NULL;
+        }
+        params.password = password;
+    }
     w->store = cluster_store_create(&params, why, sizeof why);
+    memset(password, 0, sizeof password);
     if (!w->store) {
         snprintf(err, errlen, "/cluster/redis: %s", why);
         shared_world_close(&w);

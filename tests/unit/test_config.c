@@ -75,6 +75,17 @@ int main(int argc, char **argv)
     CHECK(strcmp(c.cluster_redis, "redis://127.0.0.1:6380/2") == 0 &&
           strcmp(c.cluster_world, "class-7_b") == 0);
     CHECK(defaults.cluster_redis[0] == '\0' && defaults.cluster_world[0] == '\0');
+    /* With a user and password in the URL, or a user and a password file (read at start). */
+    cluster = write_temp("cluster.json",
+                         "{\"cluster\":{\"redis\":\"redis://skyd:p%40ss@127.0.0.1:6380\","
+                         "\"world\":\"w\"}}");
+    CHECK(skyd_config_load(cluster, &c, &errors, msg, sizeof msg));
+    CHECK(strcmp(c.cluster_redis, "redis://skyd:p%40ss@127.0.0.1:6380") == 0);
+    cluster = write_temp("cluster.json",
+                         "{\"cluster\":{\"redis\":\"redis://skyd@127.0.0.1:6380\","
+                         "\"world\":\"w\",\"redis_password_file\":\"/run/skyd/redis\"}}");
+    CHECK(skyd_config_load(cluster, &c, &errors, msg, sizeof msg));
+    CHECK(strcmp(c.cluster_redis_password_file, "/run/skyd/redis") == 0);
 
     const struct bad_case cases[] = {
         { "{\"cluster\":{\"redis\":\"redis://h:1\",\"world\":\"a b\"}}", "/cluster/world",
@@ -91,8 +102,13 @@ int main(int argc, char **argv)
           SKY_FIELD_BAD_VALUE },
         { "{\"cluster\":{\"redis\":\"redis://h:6379/x\",\"world\":\"w\"}}", "/cluster/redis",
           SKY_FIELD_BAD_VALUE },
-        { "{\"cluster\":{\"redis\":\"redis://u:p@h:6379\",\"world\":\"w\"}}", "/cluster/redis",
+        { "{\"cluster\":{\"redis\":\"redis://u:p%zz@h:6379\",\"world\":\"w\"}}", "/cluster/redis",
           SKY_FIELD_BAD_VALUE },
+        { "{\"cluster\":{\"redis\":\"redis://u:p@h:6379\",\"world\":\"w\","
+          "\"redis_password_file\":\"/run/p\"}}",
+          "/cluster/redis_password_file", SKY_FIELD_INCONSISTENT },
+        { "{\"cluster\":{\"redis_password_file\":\"/run/p\"}}", "/cluster/redis",
+          SKY_FIELD_MISSING },
         { "{\"cluster\":{\"redis\":\"redis://h:1\",\"world\":\"w\",\"x\":1}}", "/cluster/x",
           SKY_FIELD_UNKNOWN },
         { "{\"cluster\":{\"redis\":6379,\"world\":\"w\"}}", "/cluster/redis",

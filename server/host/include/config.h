@@ -48,8 +48,11 @@ struct skyd_config {
     struct sky_world_state initial_state;
     /* A world shared by many nodes (docs/SCALING.md): both set, or both empty (the state
      * file). The state file is then not used. */
-    char cluster_redis[SKYD_CONFIG_STRING]; /* "redis://HOST:PORT[/DB]" */
-    char cluster_world[72];                 /* [A-Za-z0-9_-]{1,64} */
+    char cluster_redis[SKYD_CONFIG_STRING]; /* "redis://[USER[:PASSWORD]@]HOST:PORT[/DB]" */
+    /* "" or a file (no group or other access) whose first line is the Redis password, read
+     * when the node connects (shared_world.c), not here. */
+    char cluster_redis_password_file[SKYD_CONFIG_STRING];
+    char cluster_world[72]; /* [A-Za-z0-9_-]{1,64} */
 };
 
 void skyd_config_defaults(struct skyd_config *config);
