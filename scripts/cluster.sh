@@ -24,6 +24,11 @@ node_ports=("$(free_port)" "$(free_port)" "$(free_port)")
 token_file="$dir/controller-token"
 [ -s "$token_file" ] || (umask 077; head -c 18 /dev/urandom | base64 | tr '+/' '-_' > "$token_file")
 token=$(cat "$token_file")
+# Redis's passwords (config/redis.conf's users): the nodes' and the operators' (redis-cli -a).
+for user in skyd default; do
+  [ -s "$dir/redis-$user-password" ] ||
+    (umask 077; head -c 24 /dev/urandom | base64 | tr '+/' '-_' > "$dir/redis-$user-password")
+done
 
 pids=()
 stop() {
@@ -34,14 +39,16 @@ stop() {
 }
 trap stop INT TERM EXIT
 
-redis-server config/redis.conf --port "$redis_port" --dir "$dir/redis" >"$dir/redis.log" 2>&1 &
+# The configuration, passwords filled in, through stdin: on no command line, in no other file.
+scripts/redis-conf.sh "$dir/redis-skyd-password" "$dir/redis-default-password" |
+  redis-server - --port "$redis_port" --dir "$dir/redis" >"$dir/redis.log" 2>&1 &
 pids+=($!)
 for _ in $(seq 100); do
   python3 - "$redis_port" <<'PY' 2>/dev/null && break
 import socket, sys
 s = socket.create_connection(("127.0.0.1", int(sys.argv[1])), timeout=1)
 s.sendall(b"PING\r\n")
-sys.exit(0 if s.recv(16).startswith(b"+PONG") else 1)
+sys.exit(0 if s.recv(16).startswith((b"+PONG", b"-NOAUTH")) else 1)
 PY
   sleep 0.1
 done
@@ -55,7 +62,8 @@ for i in 1 2 3; do
   "state_file": "$dir/node$i-state.json",
   "controller_token": "$token",
   "allowed_origins": ["http://127.0.0.1:$lb_port", "http://localhost:$lb_port"],
-  "cluster": { "redis": "redis://127.0.0.1:$redis_port", "world": "$world" },
+  "cluster": { "redis": "redis://skyd@127.0.0.1:$redis_port", "world": "$world",
+               "redis_password_file": "$dir/redis-skyd-password" },
   "initial_state": { "clock": { "utc": "now", "time_scale": 1, "sky_bodies": "ephemeris" } }
 }
 JSON
@@ -76,7 +84,7 @@ pids+=($!)
 sleep 0.5
 kill -0 "${pids[4]}" 2>/dev/null || { echo "cluster: haproxy failed:" >&2; tail -5 "$dir/haproxy.log" >&2; exit 1; }
 
-echo "cluster: redis on 127.0.0.1:$redis_port, nodes on ${node_ports[*]}, world \"$world\"; logs in $dir/"
+echo "cluster: redis on 127.0.0.1:$redis_port (redis-cli -p $redis_port -a \"\$(cat $dir/redis-default-password)\"), nodes on ${node_ports[*]}, world \"$world\"; logs in $dir/"
 echo "cluster: open http://127.0.0.1:$lb_port/#token=$token"
 echo "cluster: Ctrl-C stops it"
 wait -n "${pids[@]}" || true

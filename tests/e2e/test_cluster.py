@@ -4,9 +4,15 @@ loopback ports, started and stopped by this test (by their process ids).
 
 Usage: /usr/bin/python3 tests/e2e/test_cluster.py PATH_TO_SKYD SCRATCH_DIR
 
+Redis runs with config/redis.conf's users (scripts/redis-conf.sh gives them passwords): nobody
+is let in without AUTH, the nodes log in as "skyd", whose password node 1 and node 3 give in
+the URL (percent-encoded) and node 2 in a password file.
+
 1. Bad cluster configs fail at start with an error naming the field: a world name with a
    space, a URL that is not redis://HOST:PORT, a Redis nobody listens on, a world without
-   its Redis.
+   its Redis; a wrong password (in the URL or the file), none at all, a password file open to
+   others, missing, or given beside a password in the URL. No error holds the password.
+   The user "skyd" reaches only the world's keys and the commands skyd sends.
 2. Redis, two nodes and haproxy (three servers; the third starts later). A change through one
    node reaches a viewer of the other with the same revision within 200 ms.
 3. Controllers on both nodes send changes at once: every change is acknowledged with its own
@@ -24,6 +30,7 @@ Usage: /usr/bin/python3 tests/e2e/test_cluster.py PATH_TO_SKYD SCRATCH_DIR
    the others.
 8. That node, stopped while the world moves on by more changes than the stream keeps, takes
    the snapshot when it runs again.
+9. The password is in no node's log or output, nor in /metrics, /healthz, describe or stats.
 
 Prints "N passed, M failed".
 """
@@ -35,11 +42,13 @@ import signal
 import sys
 import time
 import urllib.error
+import urllib.parse
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cluster_harness import (Haproxy, Redis, free_port, resp, resp_pipeline,  # noqa: E402
-                             run_bad_config, start_node)
+from cluster_harness import (SKYD_PASSWORD, Haproxy, Redis, cluster_section,  # noqa: E402
+                             free_port, resp, resp_pipeline, run_bad_config, start_node,
+                             write_secret)
 from serve_harness import (FIRST_FRAME_TIMEOUT, HEADER, TOKEN, Client, check, decode_png, info,  # noqa: E402
                            json_diff, run_daemon_test, short, stable)
 
@@ -79,21 +88,47 @@ async def wait_revision(client, revision, timeout):
                                    and e.get("revision", 0) >= revision, timeout)
 
 
-async def bad_configs(skyd, scratch):
+def password_forms(password=SKYD_PASSWORD):
+    """The password as it may leak: as it is and percent-encoded."""
+    return {password, urllib.parse.quote(password, safe="")}
+
+
+async def bad_configs(skyd, scratch, redis):
     nobody = free_port()
+    port = redis.port
+    leaky = write_secret(os.path.join(scratch, "leaky-password"), SKYD_PASSWORD, 0o644)
+    wrong = write_secret(os.path.join(scratch, "wrong-password"), "not-" + SKYD_PASSWORD)
     cases = [
         ("bad world name", {"redis": f"redis://127.0.0.1:{nobody}", "world": "bad world"},
          "/cluster/world", "not a letter"),
         ("bad URL", {"redis": "http://127.0.0.1:6379", "world": "w"}, "/cluster/redis",
-         "redis://HOST:PORT"),
+         "redis://[USER[:PASSWORD]@]HOST:PORT"),
         ("no port", {"redis": "redis://127.0.0.1", "world": "w"}, "/cluster/redis", "port"),
         ("world without redis", {"world": "w"}, "/cluster/redis", "needs its Redis"),
         ("unreachable Redis", {"redis": f"redis://127.0.0.1:{nobody}", "world": "w"},
          "/cluster/redis", "cannot reach"),
+        ("wrong password in the URL", cluster_section(port, "w", password="not-" + SKYD_PASSWORD),
+         "/cluster/redis", 'Redis refused AUTH as user "skyd": Redis answered: WRONGPASS'),
+        ("wrong password in the file", cluster_section(port, "w", "file", password_file=wrong),
+         "/cluster/redis", 'Redis refused AUTH as user "skyd": Redis answered: WRONGPASS'),
+        ("no password", {"redis": f"redis://127.0.0.1:{port}", "world": "w"},
+         "/cluster/redis", "Redis asks for a user and password (NOAUTH"),
+        ("a user without a password", {"redis": f"redis://skyd@127.0.0.1:{port}", "world": "w"},
+         "/cluster/redis", "WRONGPASS invalid username-password pair or user is disabled. (no "
+         "password was given)"),
+        ("password file open to others", cluster_section(port, "w", "file", password_file=leaky),
+         "/cluster/redis_password_file", "open to group or others (mode 0644)"),
+        ("password file missing",
+         cluster_section(port, "w", "file", password_file=os.path.join(scratch, "nowhere")),
+         "/cluster/redis_password_file", "does not exist"),
+        ("password twice", dict(cluster_section(port, "w"), redis_password_file=wrong),
+         "/cluster/redis_password_file", "give it once"),
+        ("rediss", {"redis": f"rediss://skyd:{SKYD_PASSWORD}@127.0.0.1:{port}", "world": "w"},
+         "/cluster/redis", "stunnel"),
     ]
     for name, cluster, pointer, words in cases:
         t0 = time.monotonic()
-        code, err = await asyncio.get_running_loop().run_in_executor(
+        code, err, out = await asyncio.get_running_loop().run_in_executor(
             None, run_bad_config, skyd, scratch, "bad-" + name.replace(" ", "-"), cluster)
         check(f"bad config ({name}): skyd exits with an error", code not in (0, None),
               f"exit {code}")
@@ -101,6 +136,35 @@ async def bad_configs(skyd, scratch):
               pointer in err and words in err, err[-400:])
         check(f"bad config ({name}): at once", time.monotonic() - t0 < 20,
               f"{time.monotonic() - t0:.1f} s")
+        secrets = password_forms() | password_forms("not-" + SKYD_PASSWORD)
+        check(f"bad config ({name}): the password is in no output",
+              not any(p in err or p in out for p in secrets), err[-400:])
+
+
+def skyd_user_limits(redis):
+    """config/redis.conf's user "skyd": the world's keys and skyd's commands, nothing else."""
+    skyd = ("skyd", SKYD_PASSWORD)
+    key = f"skyd:{{{WORLD}}}:rev"
+    check("ACL: the user skyd reads the world's keys",
+          resp(redis.port, "EXISTS", key, auth=skyd) in (0, 1))
+    for args, words in [(["GET", "other:key"], "NOPERM"), (["SET", "skyd-not-a-world", "1"],
+                                                           "NOPERM"),
+                        (["KEYS", "*"], "NOPERM"), (["CONFIG", "GET", "*"], "NOPERM"),
+                        (["FLUSHALL"], "NOPERM"), (["PUBLISH", "c", "m"], "NOPERM"),
+                        (["EVAL", "return redis.call('FLUSHALL')", "0"], "can't run"),
+                        (["EVAL", "return redis.call('GET', 'other')", "0"], "can't access")]:
+        try:
+            reply = resp(redis.port, *args, auth=skyd)
+            refused = False
+        except RuntimeError as e:
+            reply, refused = str(e), words in str(e)
+        check(f"ACL: the user skyd may not {' '.join(args[:2])}", refused, short(reply))
+    try:
+        reply = resp(redis.port, "GET", key, auth=None)
+    except RuntimeError as e:
+        reply = str(e)
+    check("ACL: without AUTH nothing is read",
+          "NOAUTH" in str(reply), short(reply))
 
 
 async def propagation(n1, n2):
@@ -296,8 +360,9 @@ async def redis_faults(n1, n2, redis):
     message = r.get("message", "")
     check("faults: with Redis gone a change is refused as unavailable",
           r.get("type") == "error" and r.get("code") == "unavailable", short(r))
-    check("faults: the refusal names the cluster",
-          f"redis://127.0.0.1:{redis.port}" in message and WORLD in message, message)
+    check("faults: the refusal names the cluster, not the password",
+          f"redis://skyd:***@127.0.0.1:{redis.port}" in message and WORLD in message
+          and not any(p in message for p in password_forms()), message)
     before = viewer.frame_count.get(sub.get("subscription"), 0)
     await viewer.pump(1.5)
     after = viewer.frame_count.get(sub.get("subscription"), 0)
@@ -452,17 +517,59 @@ async def trimmed_stream(node, redis, extra=1100):
     await viewer.close()
 
 
+def http_text(node, path):
+    try:
+        with urllib.request.urlopen(f"http://127.0.0.1:{node.port}{path}", timeout=10) as r:
+            return r.read().decode("utf-8", "replace")
+    except urllib.error.HTTPError as e:
+        return e.read().decode("utf-8", "replace")
+
+
+async def password_outputs(nodes):
+    """What a node says to operators and clients, while it runs."""
+    texts = []
+    for n in nodes:
+        if n.proc is None or n.proc.poll() is not None:
+            continue
+        texts += [http_text(n, "/metrics"), http_text(n, "/healthz"),
+                  http_text(n, "/api/state")]
+        c = await connect(n.url(), f"viewer-secrets-{n.name}")
+        for kind in ("describe", "stats", "get_state"):
+            texts.append(json.dumps(await c.request({"type": kind, "id": kind})))
+        await c.close()
+    return texts
+
+
+def password_nowhere(nodes, outputs):
+    """After the nodes stopped: their logs, stdout lines and what they answered hold no form
+    of the password."""
+    texts = list(outputs)
+    for n in nodes:
+        texts.append(n.log_text())
+        while not n.lines.empty():
+            texts.append(n.lines.get_nowait() or "")
+    leaks = [t[:120] for t in texts if any(p in t for p in password_forms())]
+    check("secrets: the password is in no log line, stdout line, /metrics, /healthz, "
+          "describe or stats", not leaks and len(texts) > 10, short(leaks))
+    said = "".join(n.log_text() for n in nodes)
+    check("secrets: every node's log names the cluster with the password redacted",
+          all("redis://skyd:***@127.0.0.1" in n.log_text() for n in nodes), said[-300:])
+
+
 async def run(skyd, scratch):
-    await bad_configs(skyd, scratch)
     redis = Redis(scratch, free_port())
     nodes = []
     lb = None
+    outputs = []
     try:
         redis.start()
+        await bad_configs(skyd, scratch, redis)
+        skyd_user_limits(redis)
         ports = [free_port() for _ in range(3)]
         n1 = start_node(skyd, scratch, "node1", redis.port, WORLD, ports[0], PAUSED)
         nodes.append(n1)
-        n2 = start_node(skyd, scratch, "node2", redis.port, WORLD, ports[1], PAUSED)
+        n2 = start_node(skyd, scratch, "node2", redis.port, WORLD, ports[1], PAUSED,
+                        password_in="file")
         nodes.append(n2)
         lb = Haproxy(scratch, free_port(), ports)
         lb.start()
@@ -474,6 +581,7 @@ async def run(skyd, scratch):
         await killed_node(n1, n2, lb)
         nodes.append(await late_joiner(skyd, scratch, redis, n2, ports[2]))
         await trimmed_stream(nodes[-1], redis)
+        outputs = await password_outputs(nodes)
     finally:
         if lb:
             lb.stop()
@@ -482,6 +590,7 @@ async def run(skyd, scratch):
             if n.proc and n.proc.returncode not in (0, -9):
                 check(f"{n.name} stops cleanly", status == 0, f"exit {status}: {n.log_tail()}")
         redis.stop()
+    password_nowhere(nodes, outputs)
 
 
 if __name__ == "__main__":
