@@ -7,10 +7,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum fault_kind { FAULT_DEVICE_LOST, FAULT_OUT_OF_MEMORY, FAULT_TIMEOUT };
+enum fault_kind { FAULT_DEVICE_LOST, FAULT_OUT_OF_MEMORY, FAULT_TIMEOUT, FAULT_STALL };
 
 #define MAX_TIMES 1000u
 #define MAX_AFTER_FRAMES 1000000u
+#define MAX_STALL_SECONDS 600u
 
 /* The one fault of the process (see the header for why it is not per context). `active` is
  * written once, under pthread_once, before any hook can read it; the rest under `lock`. */
@@ -18,6 +19,7 @@ static struct {
     bool active;
     enum fault_kind kind;
     unsigned after_frames, times;
+    unsigned stall_seconds;
     bool permanent;
     pthread_mutex_t lock;
     uint64_t frames;    /* frames rendered so far */
@@ -56,6 +58,8 @@ static bool parse(const char *spec)
         fault.kind = FAULT_OUT_OF_MEMORY;
     else if (kind_length == strlen("timeout") && strncmp(spec, "timeout", kind_length) == 0)
         fault.kind = FAULT_TIMEOUT;
+    else if (kind_length == strlen("stall") && strncmp(spec, "stall", kind_length) == 0)
+        fault.kind = FAULT_STALL;
     else
         return false;
     fault.times = 1;
@@ -75,6 +79,11 @@ static bool parse(const char *spec)
         } else if (key_length == 5 && strncmp(start, "times", 5) == 0 && value) {
             if (!parse_count(value, value_length, MAX_TIMES, &fault.times) || fault.times == 0)
                 return false;
+        } else if (key_length == 7 && strncmp(start, "seconds", 7) == 0 && value &&
+                   fault.kind == FAULT_STALL) {
+            if (!parse_count(value, value_length, MAX_STALL_SECONDS, &fault.stall_seconds) ||
+                fault.stall_seconds == 0)
+                return false;
         } else if (length == 9 && strncmp(start, "permanent", 9) == 0 &&
                    fault.kind == FAULT_DEVICE_LOST) {
             fault.permanent = true;
@@ -82,7 +91,7 @@ static bool parse(const char *spec)
             return false;
         }
     }
-    return have_after;
+    return have_after && (fault.kind != FAULT_STALL || fault.stall_seconds > 0);
 }
 
 static void read_environment(void)
@@ -133,6 +142,7 @@ static bool fire(enum fault_kind kind)
         fprintf(stderr, "skyd: fault injection: %s (%u of %u, after %llu frames)\n",
                 kind == FAULT_DEVICE_LOST ? "the device is lost"
                 : kind == FAULT_TIMEOUT   ? "the wait for a submission times out"
+                : kind == FAULT_STALL     ? "a submission stalls"
                                           : "out of device memory",
                 fault.injected, fault.times, (unsigned long long)fault.frames);
     }
@@ -148,6 +158,11 @@ VkResult fault_injection_submit(void)
 bool fault_injection_wait_times_out(void)
 {
     return fire(FAULT_TIMEOUT);
+}
+
+unsigned fault_injection_stall_seconds(void)
+{
+    return fire(FAULT_STALL) ? fault.stall_seconds : 0;
 }
 
 VkResult fault_injection_allocate(void)

@@ -1,4 +1,5 @@
-/* Fault injection for tests: makes the Vulkan device look lost, or out of memory, on demand.
+/* Fault injection for tests: makes the Vulkan device look lost, out of memory or stalled, on
+ * demand.
  * A CPU device (lavapipe) is never lost and rarely runs out of memory, so the daemon's
  * recovery from those results could not be tested without it.
  *
@@ -18,6 +19,11 @@
  *       Once N frames have been rendered, the next queue submission runs, but the wait for it
  *       gives up at once with VK_TIMEOUT, as a bounded wait does on a device still running it
  *       (a CPU device slower than the bound).
+ *   stall:after_frames=N:seconds=S[:times=K]
+ *       Once N frames have been rendered, the next queue submission finishes S seconds late
+ *       (0 < S <= 600) and the thread that waits for it is held that long, as on a device that
+ *       stalls on one frame and recovers (a GPU busy with another process, a CPU device
+ *       starved by other work); the wait then succeeds. times=K: K stalls, N frames apart.
  *
  * The fault is process-wide, not per context, because a lost device outlives the renderer
  * that saw it: a renderer created after the loss must see it too. Unset (always, outside
@@ -41,6 +47,8 @@ void fault_injection_frame_rendered(void);
 VkResult fault_injection_submit(void);
 /* True when the wait for the submission just made must report VK_TIMEOUT at once. */
 bool fault_injection_wait_times_out(void);
+/* Seconds the submission just made is to finish late (0: on time). */
+unsigned fault_injection_stall_seconds(void);
 /* VK_SUCCESS, or the result a device memory allocation must report instead of allocating. */
 VkResult fault_injection_allocate(void);
 /* VK_SUCCESS, or the result creating a logical device must report. */

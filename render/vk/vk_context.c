@@ -1,9 +1,11 @@
 #include "vk_context.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "fault_injection.h"
 #include "vk_check.h"
@@ -490,6 +492,14 @@ void vk_context_expect_long_submission(struct vk_context *ctx)
     ctx->long_submission = true;
 }
 
+/* A submission that finishes late (fault_injection.h, "stall"): the waiting thread is held. */
+static void stall(unsigned seconds)
+{
+    struct timespec left = { .tv_sec = (time_t)seconds };
+    while (seconds > 0 && nanosleep(&left, &left) != 0 && errno == EINTR) {
+    }
+}
+
 VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd)
 {
     if (ctx->device_lost) { /* said when it was lost; the commands are dropped */
@@ -521,6 +531,7 @@ VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd
     if (res == VK_SUCCESS) {
         snprintf(waiting, sizeof waiting, "waiting for the queue (at most %u s)", timeout_s);
         step = waiting;
+        stall(fault_injection_stall_seconds());
         res = fault_injection_wait_times_out()
                   ? VK_TIMEOUT
                   : vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE,
