@@ -71,6 +71,8 @@ static const struct sky_field_desc config_fields[] = {
            "a controller's changes per second"),
     INT("limits.max_upload_bytes", max_upload_bytes, 256, 64 << 20,
         "largest set_weather_map message"),
+    INT("limits.max_queued_http_requests", max_queued_http_requests, 1, 4096,
+        "HTTP requests waiting for the render loop at once; more are answered 503"),
     STRING("controller_token", controller_token,
            "the token auth asks for; empty: skyd serve makes one, kept in <state_file>.token"),
     BOOL("read_only", read_only, "nobody may control the server: no token, auth is refused"),
@@ -116,6 +118,7 @@ void skyd_config_defaults(struct skyd_config *c)
     c->max_fps = limits.max_fps;
     c->control_messages_per_second = limits.control_messages_per_second;
     c->max_upload_bytes = (int)limits.max_upload_bytes;
+    c->max_queued_http_requests = 16;
     c->origin_count = 2;
     snprintf(c->allowed_origins[0], sizeof c->allowed_origins[0], "http://127.0.0.1:8080");
     snprintf(c->allowed_origins[1], sizeof c->allowed_origins[1], "http://localhost:8080");

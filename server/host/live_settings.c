@@ -10,6 +10,7 @@
 struct live_settings {
     pthread_mutex_t lock;
     struct sky_msg_limits limits;
+    int max_queued_http;
     char token[sizeof(((struct skyd_config *)NULL)->controller_token)];
     bool read_only;
     int origin_count;
@@ -19,6 +20,7 @@ struct live_settings {
 static void take(struct live_settings *s, const struct skyd_config *config)
 {
     skyd_config_limits(config, &s->limits);
+    s->max_queued_http = config->max_queued_http_requests;
     snprintf(s->token, sizeof s->token, "%s", config->read_only ? "" : config->controller_token);
     s->read_only = config->read_only;
     s->origin_count = config->origin_count;
@@ -51,6 +53,14 @@ void live_settings_limits(struct live_settings *s, struct sky_msg_limits *limits
     pthread_mutex_lock(&s->lock);
     *limits = s->limits;
     pthread_mutex_unlock(&s->lock);
+}
+
+int live_settings_max_queued_http(struct live_settings *s)
+{
+    pthread_mutex_lock(&s->lock);
+    int cap = s->max_queued_http;
+    pthread_mutex_unlock(&s->lock);
+    return cap;
 }
 
 bool live_settings_origin_allowed(struct live_settings *s, const char *origin)
@@ -124,6 +134,9 @@ void live_settings_update(struct live_settings *s, const struct skyd_config *nex
     LIMIT(control_messages_per_second, "%g", double)
     LIMIT(max_upload_bytes, "%zu", size_t)
 #undef LIMIT
+    if (s->max_queued_http != fresh.max_queued_http)
+        note(&t, "limits.max_queued_http_requests %d -> %d", s->max_queued_http,
+             fresh.max_queued_http);
     if (s->read_only != fresh.read_only)
         note(&t, "read_only %s -> %s", s->read_only ? "true" : "false",
              fresh.read_only ? "true" : "false");
@@ -138,6 +151,7 @@ void live_settings_update(struct live_settings *s, const struct skyd_config *nex
     if (origins_differ)
         note(&t, "allowed_origins: %d -> %d entries", s->origin_count, fresh.origin_count);
     s->limits = fresh.limits;
+    s->max_queued_http = fresh.max_queued_http;
     memcpy(s->token, fresh.token, sizeof s->token);
     s->read_only = fresh.read_only;
     s->origin_count = fresh.origin_count;

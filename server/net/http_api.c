@@ -18,6 +18,8 @@
 #define HTTP_MESSAGE_ID "http"
 /* How long a request may wait for the render loop's reply. */
 #define REPLY_TIMEOUT_S 120
+/* What Retry-After says to a request refused because the render loop's queue is full, s. */
+#define QUEUE_RETRY_AFTER_S 1
 /* Requests of one peer address kept for the rate limit; the least recent one gives way. */
 #define RATE_PEERS 64
 
@@ -45,6 +47,7 @@ struct http_request {
     /* The response once known. */
     bool ready;
     unsigned status;
+    unsigned retry_after_s; /* a Retry-After header when > 0 */
     const char *content_type;
     char *response; /* LWS_PRE bytes, then response_length bytes */
     size_t response_length;
@@ -63,7 +66,7 @@ struct http_api {
     struct render_loop *loop;
     struct service_metrics *metrics;
     struct http_request *pending;
-    int pending_count; /* bounded by max_clients */
+    int pending_count; /* bounded by limits.max_queued_http_requests */
     struct rate_peer peers[RATE_PEERS];
     struct lws_http_mount mounts[3];
 };
@@ -249,6 +252,12 @@ static int write_response(struct http_api *api, struct http_request *r)
         lws_add_http_header_by_name(r->wsi, (const unsigned char *)"www-authenticate:",
                                     (const unsigned char *)"Bearer", 6, &p, end))
         return -1;
+    char retry_after[16];
+    int retry_length = snprintf(retry_after, sizeof retry_after, "%u", r->retry_after_s);
+    if (r->retry_after_s > 0 &&
+        lws_add_http_header_by_name(r->wsi, (const unsigned char *)"retry-after:",
+                                    (const unsigned char *)retry_after, retry_length, &p, end))
+        return -1;
     if (r->status == HTTP_STATUS_METHOD_NOT_ALLOWED &&
         lws_add_http_header_by_name(
             r->wsi, (const unsigned char *)"allow:",
@@ -354,14 +363,17 @@ static void submit(struct http_api *api, struct http_request *r, struct sky_clie
                    enum sky_msg_role role)
 {
     service_metrics_message(api->metrics, msg->type);
-    if (api->pending_count >= api->limits->max_clients) {
+    int cap = live_settings_max_queued_http(api->settings);
+    if (api->pending_count >= cap) {
         sky_client_msg_free(msg);
-        char message[128];
+        char message[192];
         snprintf(message, sizeof message,
-                 "too many HTTP requests waiting for a reply: at most %d "
-                 "(max_clients)",
-                 api->limits->max_clients);
-        respond_error(api, r, 0, SKY_MSG_ERR_LIMIT_REACHED, message, NULL);
+                 "too many HTTP requests are waiting for the render loop: at most %d "
+                 "(limits.max_queued_http_requests); try again in %d s",
+                 cap, QUEUE_RETRY_AFTER_S);
+        respond_error(api, r, HTTP_STATUS_SERVICE_UNAVAILABLE, SKY_MSG_ERR_UNAVAILABLE, message,
+                      NULL);
+        r->retry_after_s = QUEUE_RETRY_AFTER_S;
         return;
     }
     r->session = session_create();

@@ -37,6 +37,9 @@ struct skyd_config {
     double max_fps;                     /* 60 */
     double control_messages_per_second; /* 20 */
     int max_upload_bytes;               /* 2 MiB: a controller's set_weather_map */
+    /* 16: HTTP API requests (state, patches, snapshots) waiting for the render loop at once;
+     * one more is answered 503 with Retry-After */
+    int max_queued_http_requests;
     /* "" = `skyd serve` makes one (control_token.h); it stays "" only when read_only */
     char controller_token[128];
     bool read_only; /* nobody may control: auth is always refused */

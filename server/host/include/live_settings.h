@@ -1,5 +1,5 @@
 /* The settings a running daemon can change without dropping anyone (SIGHUP): the protocol
- * limits, the controller token and read-only mode, and the allowed origins. The service
+ * limits and the HTTP API's queue, the controller token and read-only mode, and the allowed origins. The service
  * thread and the render thread read them through here, under one lock, so that a reload
  * takes effect for the next connection, message or auth at once and never half-way. */
 #ifndef SKYD_LIVE_SETTINGS_H
@@ -18,6 +18,8 @@ struct live_settings *live_settings_create(const struct skyd_config *config);
 void live_settings_destroy(struct live_settings **settings);
 
 void live_settings_limits(struct live_settings *s, struct sky_msg_limits *limits);
+/* limits.max_queued_http_requests: HTTP requests that may wait for the render loop at once. */
+int live_settings_max_queued_http(struct live_settings *s);
 bool live_settings_origin_allowed(struct live_settings *s, const char *origin);
 
 enum live_token_check {
