@@ -36,12 +36,20 @@ struct encoding {
     int quality;
 };
 
-/* Views that are due this tick, one entry per distinct render view and encoding. */
-struct render_group {
-    struct sky_render_view view;
+/* The sessions that get a rendered view in one encoding. */
+struct group_output {
     struct encoding encoding;
     struct encode_target *targets;
     size_t count, capacity;
+};
+
+/* Views that are due this tick, one entry per distinct render view: it is rendered once and
+ * encoded once per encoding its watchers asked for (a PNG and a JPEG subscription to the same
+ * view share the render). */
+struct render_group {
+    struct sky_render_view view;
+    struct group_output *outputs;
+    size_t output_count;
 };
 
 struct frame_scheduler {
@@ -66,12 +74,10 @@ struct frame_scheduler {
 
 /* world_render_view zero-fills the struct first, so equal views compare equal bytewise. */
 static struct render_group *group_for(struct render_group **groups, size_t *count,
-                                      const struct sky_render_view *view, struct encoding encoding)
+                                      const struct sky_render_view *view)
 {
     for (size_t i = 0; i < *count; i++)
-        if (memcmp(&(*groups)[i].view, view, sizeof *view) == 0 &&
-            (*groups)[i].encoding.format == encoding.format &&
-            (*groups)[i].encoding.quality == encoding.quality)
+        if (memcmp(&(*groups)[i].view, view, sizeof *view) == 0)
             return &(*groups)[i];
     struct render_group *grown = realloc(*groups, sizeof *grown * (*count + 1));
     if (!grown)
@@ -80,28 +86,55 @@ static struct render_group *group_for(struct render_group **groups, size_t *coun
     struct render_group *g = &grown[(*count)++];
     memset(g, 0, sizeof *g);
     g->view = *view;
-    g->encoding = encoding;
     return g;
 }
 
-static bool group_add(struct render_group *g, struct session *session, uint64_t subscription,
-                      const struct sky_msg_id *snapshot_id)
+static struct group_output *output_for(struct render_group *g, struct encoding encoding)
 {
-    if (g->count == g->capacity) {
-        size_t capacity = g->capacity ? g->capacity * 2 : 4;
-        struct encode_target *grown = realloc(g->targets, sizeof *grown * capacity);
+    for (size_t i = 0; i < g->output_count; i++)
+        if (g->outputs[i].encoding.format == encoding.format &&
+            g->outputs[i].encoding.quality == encoding.quality)
+            return &g->outputs[i];
+    struct group_output *grown = realloc(g->outputs, sizeof *grown * (g->output_count + 1));
+    if (!grown)
+        return NULL;
+    g->outputs = grown;
+    struct group_output *o = &grown[g->output_count++];
+    memset(o, 0, sizeof *o);
+    o->encoding = encoding;
+    return o;
+}
+
+/* Adds a target to the group's output in `encoding`; false when memory is out. */
+static bool group_add(struct render_group *g, struct encoding encoding, struct session *session,
+                      uint64_t subscription, const struct sky_msg_id *snapshot_id)
+{
+    struct group_output *o = output_for(g, encoding);
+    if (!o)
+        return false;
+    if (o->count == o->capacity) {
+        size_t capacity = o->capacity ? o->capacity * 2 : 4;
+        struct encode_target *grown = realloc(o->targets, sizeof *grown * capacity);
         if (!grown)
             return false;
-        g->targets = grown;
-        g->capacity = capacity;
+        o->targets = grown;
+        o->capacity = capacity;
     }
-    struct encode_target *t = &g->targets[g->count++];
+    struct encode_target *t = &o->targets[o->count++];
     memset(t, 0, sizeof *t);
     t->session = session_ref(session);
     t->subscription = subscription;
     if (snapshot_id)
         t->snapshot_id = *snapshot_id;
     return true;
+}
+
+static size_t group_target_count(const struct render_group *g)
+{
+    size_t count = 0;
+    for (size_t i = 0; i < g->output_count; i++)
+        count += g->outputs[i].count;
+    return count;
 }
 
 /* A snapshot answered with an error instead of its frame. The encoder workers call it too:
@@ -145,6 +178,16 @@ static uint64_t carried_revision(struct frame_scheduler *fs, const struct render
                                                               : input->settled_revision;
 }
 
+/* Frees what the group holds that no encoder job took. */
+static void free_group(struct render_group *g)
+{
+    for (size_t i = 0; i < g->output_count; i++)
+        free(g->outputs[i].targets);
+    free(g->outputs);
+    g->outputs = NULL;
+    g->output_count = 0;
+}
+
 static void render_group(struct frame_scheduler *fs, struct renderer_host *renderer,
                          const struct render_input *input, struct render_group *g)
 {
@@ -168,7 +211,11 @@ static void render_group(struct frame_scheduler *fs, struct renderer_host *rende
             snprintf(message, sizeof message, "%s failed: out of memory for its pixels", what);
         skyd_log(SKYD_LOG_ERROR, "%s", message);
         free(pixels);
-        fail_targets(fs, g->targets, g->count, message);
+        for (size_t i = 0; i < g->output_count; i++)
+            fail_targets(fs, g->outputs[i].targets, g->outputs[i].count, message);
+        free(g->outputs);
+        g->outputs = NULL;
+        g->output_count = 0;
         session_hub_wake(fs->hub);
         return;
     }
@@ -177,21 +224,47 @@ static void render_group(struct frame_scheduler *fs, struct renderer_host *rende
     fs->has_stats = true;
     uint64_t revision = carried_revision(fs, input, stats.atmosphere_settled);
     fs->fps_window_frames++;
-    struct encode_job job = {
-        .pixels = pixels,
-        .full_scale_cd_m2 = linear ? png_linear16_full_scale(stats.exposure) : 0.0,
-        .quality = g->encoding.quality,
-        .meta = { .render_sequence = ++fs->render_sequence,
-                  .state_revision = revision,
-                  .simulation_time_s = input->state.clock.utc_unix_s,
-                  .width = g->view.width,
-                  .height = g->view.height,
-                  .format = g->encoding.format,
-                  .quality = g->encoding.quality },
-        .targets = g->targets,
-        .target_count = g->count,
-    };
-    encoder_pool_submit(fs->encoder, &job);
+    uint64_t sequence = ++fs->render_sequence; /* every encoding of this render carries it */
+    /* One job per encoding; each owns its pixels, so all but the last get a copy. */
+    size_t last_used = g->output_count;
+    for (size_t i = 0; i < g->output_count; i++)
+        if (g->outputs[i].count > 0)
+            last_used = i;
+    for (size_t i = 0; i < g->output_count; i++) {
+        struct group_output *o = &g->outputs[i];
+        if (o->count == 0) {
+            free(o->targets);
+            continue;
+        }
+        bool last = i == last_used;
+        void *own = last ? pixels : malloc(bytes);
+        if (!own) {
+            fail_targets(fs, o->targets, o->count, "out of memory for an encoding's pixels");
+            continue;
+        }
+        if (!last)
+            memcpy(own, pixels, bytes);
+        struct encode_job job = {
+            .pixels = own,
+            .full_scale_cd_m2 = linear ? png_linear16_full_scale(stats.exposure) : 0.0,
+            .quality = o->encoding.quality,
+            .meta = { .render_sequence = sequence,
+                      .state_revision = revision,
+                      .simulation_time_s = input->state.clock.utc_unix_s,
+                      .width = g->view.width,
+                      .height = g->view.height,
+                      .format = o->encoding.format,
+                      .quality = o->encoding.quality },
+            .targets = o->targets,
+            .target_count = o->count,
+        };
+        encoder_pool_submit(fs->encoder, &job);
+    }
+    if (last_used == g->output_count)
+        free(pixels);
+    free(g->outputs);
+    g->outputs = NULL;
+    g->output_count = 0;
 }
 
 static struct encoding encoding_of(const struct sky_msg_view *view, int quality)
@@ -250,8 +323,8 @@ static double advance_due(double due, double period, double now)
  * has a frame in the encoder; it then serves every subscription within half a period of due.
  */
 static void schedule_view(struct frame_scheduler *fs, const size_t *members, size_t count,
-                          const struct sky_render_view *view, struct encoding encoding,
-                          struct render_group **groups, size_t *group_count, double now)
+                          const struct sky_render_view *view, struct render_group **groups,
+                          size_t *group_count, double now)
 {
     enum slot_state states[count];
     bool in_encoder = false, due = false;
@@ -269,13 +342,13 @@ static void schedule_view(struct frame_scheduler *fs, const size_t *members, siz
         fs->subscriptions[members[k]].waiting_for_encoder = in_encoder;
     if (in_encoder || !due)
         return;
-    struct render_group *g = group_for(groups, group_count, view, encoding);
+    struct render_group *g = group_for(groups, group_count, view);
     for (size_t k = 0; k < count && g; k++) {
         struct subscription *s = &fs->subscriptions[members[k]];
         if (states[k] != SLOT_READY || now < s->next_due - 0.5 * s->period_s ||
             !session_slot_begin_encode(s->session, s->id))
             continue;
-        if (!group_add(g, s->session, s->id, NULL)) {
+        if (!group_add(g, subscription_encoding(s), s->session, s->id, NULL)) {
             session_slot_deliver(s->session, s->id, NULL);
             continue;
         }
@@ -299,9 +372,8 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct renderer_ho
         struct pending_snapshot *p = &fs->snapshots[i];
         struct sky_render_view view;
         world_render_view(input, &p->view, &view);
-        struct render_group *g = group_for(&groups, &group_count, &view,
-                                           encoding_of(&p->view, p->view.quality));
-        if (!g || !group_add(g, p->session, 0, &p->id))
+        struct render_group *g = group_for(&groups, &group_count, &view);
+        if (!g || !group_add(g, encoding_of(&p->view, p->view.quality), p->session, 0, &p->id))
             session_snapshot_deliver(p->session, &p->id, NULL);
         session_unref(&p->session);
     }
@@ -323,11 +395,8 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct renderer_ho
         if (grouped[i])
             continue;
         size_t count = 0;
-        struct encoding encoding = subscription_encoding(&fs->subscriptions[i]);
         for (size_t j = i; j < n; j++) {
-            struct encoding other = subscription_encoding(&fs->subscriptions[j]);
-            if (!grouped[j] && memcmp(&views[i], &views[j], sizeof views[i]) == 0 &&
-                other.format == encoding.format && other.quality == encoding.quality) {
+            if (!grouped[j] && memcmp(&views[i], &views[j], sizeof views[i]) == 0) {
                 grouped[j] = true;
                 members[count++] = j;
             }
@@ -336,16 +405,16 @@ double frame_scheduler_render_due(struct frame_scheduler *fs, struct renderer_ho
          * camera moves (reprojection handles that); snapshots share key 0. */
         views[i].history_key = fs->subscriptions[members[0]].id;
         views[i].live = true; /* a new subscriber's clouds converge live, nobody waits */
-        schedule_view(fs, members, count, &views[i], encoding, &groups, &group_count, now);
+        schedule_view(fs, members, count, &views[i], &groups, &group_count, now);
     }
     free(views);
     free(members);
     free(grouped);
     for (size_t i = 0; i < group_count; i++) {
-        if (groups[i].count > 0)
+        if (group_target_count(&groups[i]) > 0)
             render_group(fs, renderer, input, &groups[i]);
         else
-            free(groups[i].targets);
+            free_group(&groups[i]);
     }
     free(groups);
 

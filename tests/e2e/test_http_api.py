@@ -9,7 +9,9 @@ counters that count what was done, a consistent histogram), GET and PATCH /api/s
 the protocol (a patch is announced to WebSocket clients; every bad input is refused with the
 right status and the state untouched), /api/snapshot (decoded PNGs of the asked size and
 format), /api/schema (the same as `skyd schema`), unknown endpoints and methods, the rate limit,
-and runs every example of PROTOCOL.md's "HTTP API" section. Exit 0 when every check passed.
+and runs every example of PROTOCOL.md's "HTTP API" section; and through /metrics, that a PNG and
+a JPEG subscription to the same view share one render per frame. Exit 0 when every check
+passed.
 """
 
 import asyncio
@@ -229,6 +231,34 @@ async def check_health_and_metrics(port, ws, viewer):
     await viewer.request({"type": "unsubscribe", "id": 7, "subscription": sub["subscription"]})
 
 
+async def check_shared_render(port, viewer):
+    """A PNG and a JPEG subscription to the same view: skyd_frames_rendered_total grows by one
+    per frame of the pair, not by one per frame sent (nothing else renders meanwhile)."""
+    view = {"width": 64, "height": 36, "fps": 8, "camera": {"yaw_deg": 200, "pitch_deg": 20}}
+    before, _ = await scrape(port)
+    rendered = metric(before, "skyd_frames_rendered_total") or 0
+    subs = []
+    for fmt in ("png", "jpeg"):
+        r = await viewer.request({"type": "subscribe", "id": f"pair-{fmt}",
+                                  "view": dict(view, format=fmt)})
+        check(f"shared render: {fmt} subscribed", r.get("type") == "subscribed", short(r))
+        subs.append(r.get("subscription"))
+    await viewer.pump(3.0)
+    for sub in subs:
+        await viewer.request({"type": "unsubscribe", "id": f"un-{sub}", "subscription": sub})
+    await viewer.pump(0.5)  # frames already in the encoder arrive
+    after, _ = await scrape(port)
+    counts = [viewer.frame_count.get(sub, 0) for sub in subs]
+    renders = (metric(after, "skyd_frames_rendered_total") or 0) - rendered
+    info(f"shared render: {counts[0]} PNG and {counts[1]} JPEG frames from {renders:.0f} renders")
+    check("shared render: both subscriptions get frames", min(counts) >= 5, str(counts))
+    check("shared render: one render per frame of the pair, not one per encoding",
+          max(counts) <= renders <= 1.2 * max(counts) + 2 and renders < 0.75 * sum(counts),
+          f"{renders:.0f} renders for {counts} frames")
+    subscriptions = metric(after, "skyd_subscriptions")
+    check("shared render: nothing else was subscribed", subscriptions == 0, str(subscriptions))
+
+
 async def check_state(port, ws):
     r = await call(port, "GET", "/api/state")
     body = r.json() or {}
@@ -426,6 +456,7 @@ async def run(skyd, scratch):
         await ws.auth()
         viewer = await Client.connect(daemon.url(), "viewer")
         await check_health_and_metrics(daemon.port, ws, viewer)
+        await check_shared_render(daemon.port, viewer)
         await check_state(daemon.port, ws)
         await check_snapshot(daemon.port)
         await check_schema_and_routes(daemon.port, skyd)
