@@ -338,6 +338,12 @@ static bool map_record(struct cloud_renderer *cr, struct cloud_map *m, VkCommand
     return true;
 }
 
+/* Whether this frame builds its maps whole (no map budget). */
+static bool at_once(const struct cloud_renderer *cr)
+{
+    return cr->budget_ms <= 0.0;
+}
+
 static void map_start(struct cloud_map *m)
 {
     m->building = true;
@@ -360,9 +366,11 @@ static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr, Vk
     cloud_params_weather_periods(c, key.periods);
     /* A build runs to the end with the inputs it started from, and the next one starts from the
      * newest inputs: parameters that change every tick (a weather transition) would otherwise
-     * restart it for ever. The shown map stays until a build completes. */
-    if (!cr->weather.building &&
-        (!cr->weather.ready || memcmp(&key, &cr->weather_target, sizeof key) != 0)) {
+     * restart it for ever. The shown map stays until a build completes. A frame that builds at
+     * once (budget 0: a snapshot nobody streams) starts a stale build over instead, or it
+     * would show the inputs that build started from rather than its own. */
+    bool differs = memcmp(&key, &cr->weather_target, sizeof key) != 0;
+    if (cr->weather.building ? at_once(cr) && differs : !cr->weather.ready || differs) {
         cr->weather_target = key;
         /* The type varies around the asked one by CLOUD_TYPE_VARIATION times a 2D gradient
          * noise, whose values stay within +-sqrt(1/2). */
@@ -451,9 +459,10 @@ static void record_shadow(struct vk_context *ctx, struct cloud_renderer *cr, VkC
     const float sun[3] = { f->frame->sun_direction.x, f->frame->sun_direction.y,
                            f->frame->sun_direction.z };
     bool moved = !cr->shadow_has_sun || angle_between(sun, cr->shadow_sun) > SHADOW_SUN_TOLERANCE;
-    /* As for the weather map: a build in progress finishes before the next one starts. */
-    if (!cr->shadow.building &&
-        (!cr->shadow.ready || moved || memcmp(&key, &cr->shadow_target, sizeof key) != 0)) {
+    /* As for the weather map: a build in progress finishes before the next one starts, but
+     * when the frame builds at once. */
+    bool differs = moved || memcmp(&key, &cr->shadow_target, sizeof key) != 0;
+    if (cr->shadow.building ? at_once(cr) && differs : !cr->shadow.ready || differs) {
         cr->shadow_target = key;
         memcpy(cr->shadow_sun, sun, sizeof sun);
         cr->shadow_has_sun = true;

@@ -3,8 +3,8 @@
  * step-count independence of the energy-conserving march (seed 001 eq. 17); a thick cloud with
  * an isotropic phase behaving as a diffuse surface within the energy bound, against a
  * double-precision single-scattering reference; overcast ground darker than clear; temporal
- * convergence of a static view and reprojection under camera motion; the client weather map;
- * clouds lit by the moon at night. */
+ * convergence of a static view and reprojection under camera motion; maps built in slices and
+ * at once; the client weather map; clouds lit by the moon at night. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -301,6 +301,44 @@ static void test_sliced_shadow_map_sun(void)
     CHECK_LE(sliced_vs_once, 0.11);
 }
 
+/* A frame built at once (no map budget: the daemon's snapshot with nobody streaming) shows
+ * its own clouds even when a sliced build of other clouds was under way: the stale build is
+ * started over, not finished and shown. Clear sky at once; overcast asked for under a budget
+ * for one frame (a build begins and the frame still shows clear); clear again at once: the
+ * frame is the clear one, not the overcast the interrupted build was for. */
+static void test_at_once_after_sliced_build(void)
+{
+    struct sky_world_state clear, overcast;
+    cloudy_state(&clear);
+    clear.camera.pitch_deg = 25;
+    clear.clouds.low.coverage = 0.05;
+    clear.clouds.high.coverage = 0.0;
+    overcast = clear;
+    overcast.clouds.low.coverage = 0.95;
+    overcast.clouds.low.type = 0.1;
+    overcast.clouds.precipitation = 0.6;
+    static float reference[W * H * 4], overcast_frame[W * H * 4];
+    render(&overcast, 700, overcast_frame, NULL); /* the overcast look, at once */
+    render(&clear, 701, reference, NULL);         /* the clear look, at once */
+    struct sky_render_amortization sliced = { .budget_ms = 0.5,
+                                              .budget_fraction = 0.0,
+                                              .blend_frames = 1 };
+    sky_renderer_set_amortization(renderer, &sliced);
+    render(&overcast, 702, frame_b, NULL); /* an overcast build begins */
+    struct sky_render_amortization at_once = { 0 };
+    sky_renderer_set_amortization(renderer, &at_once);
+    render(&clear, 703, frame_a, NULL);
+    double looks_apart = test_relative_difference(overcast_frame, reference, (size_t)W * H);
+    double during_build = test_relative_difference(frame_b, reference, (size_t)W * H);
+    double after = test_relative_difference(frame_a, reference, (size_t)W * H);
+    printf("at once after a sliced build: clear vs overcast %.4f; the budgeted frame vs clear "
+           "%.4f; the at-once frame vs clear %.4f\n",
+           looks_apart, during_build, after);
+    CHECK(looks_apart > 0.2);                 /* the two looks differ */
+    CHECK(during_build < 0.25 * looks_apart); /* the overcast build was not done in one frame */
+    CHECK_LE(after, 0.05 * looks_apart);      /* the at-once frame shows clear */
+}
+
 /* Light shafts: under broken clouds with a low sun the aerial-perspective volume loses the
  * single scattering the clouds shadow, and keeps it, to the float, in the shafts volume:
  * shadowed + shafts equals the same view's volume without clouds. The loss is real (a few
@@ -426,6 +464,7 @@ static void run_tests(void)
     test_temporal(SKY_CLOUD_RESOLUTION_SIXTYFOURTH, 410);
     test_live_convergence();
     test_sliced_shadow_map_sun();
+    test_at_once_after_sliced_build();
     test_light_shafts();
     test_client_weather_map();
     test_moonlit_clouds();
