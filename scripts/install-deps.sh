@@ -11,6 +11,7 @@ packages=(
   python3 python3-websockets openssl
   redis-server libhiredis-dev haproxy
   clang libclang-rt-dev clang-format
+  libeccodes-dev libeccodes-tools
   chromium chromium-driver
 )
 if [ "${SKYD_DEPS_EXTRA:-}" != "" ]; then
