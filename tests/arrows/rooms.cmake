@@ -3,7 +3,7 @@
 # public) and the rooms whose public headers it sees. A room sees a room it links, and through
 # that room's public headers the rooms they include (host's name protocol's, frames' and
 # render's types). Headers are paths from the source root; the probes include them by bare name.
-set(SKYD_ROOMS protocol base world frames cluster host net cli render)
+set(SKYD_ROOMS protocol base world frames cluster forecast host net cli render)
 
 set(SKYD_ROOM_protocol_TARGET skyd_protocol)
 set(SKYD_ROOM_protocol_PUBLIC protocol/include/world_state.h)
@@ -29,6 +29,11 @@ set(SKYD_ROOM_cluster_TARGET skyd_cluster)
 set(SKYD_ROOM_cluster_PUBLIC server/cluster/include/cluster_store.h)
 set(SKYD_ROOM_cluster_INTERNAL server/cluster/cluster_redis.h)
 set(SKYD_ROOM_cluster_SEES "")
+
+set(SKYD_ROOM_forecast_TARGET skyd_forecast)
+set(SKYD_ROOM_forecast_PUBLIC server/forecast/include/forecast.h)
+set(SKYD_ROOM_forecast_INTERNAL server/forecast/forecast_grid.h)
+set(SKYD_ROOM_forecast_SEES protocol)
 
 set(SKYD_ROOM_host_TARGET skyd_host)
 set(SKYD_ROOM_host_PUBLIC server/host/include/render_loop.h)
