@@ -14,6 +14,7 @@ static void usage(FILE *out)
             "  probe    print physical quantities      (skyd probe --help)\n"
             "  schema   print the world state's JSON Schema\n"
             "  metar    decode a METAR or SPECI report (skyd metar --help)\n"
+            "  forecast read a GRIB2 forecast at a place and time (skyd forecast --help)\n"
             "  version  print the version\n",
             SKYD_VERSION);
 }
@@ -38,6 +39,8 @@ int main(int argc, char **argv)
         return skyd_cmd_schema(argc - 2, argv + 2);
     if (strcmp(argv[1], "metar") == 0)
         return skyd_cmd_metar(argc - 2, argv + 2);
+    if (strcmp(argv[1], "forecast") == 0)
+        return skyd_cmd_forecast(argc - 2, argv + 2);
     if (strcmp(argv[1], "version") == 0 || strcmp(argv[1], "--version") == 0) {
         printf("skyd %s\n", SKYD_VERSION);
         return SKYD_EXIT_OK;

@@ -48,7 +48,7 @@ set(SKYD_ROOM_net_SEES protocol base frames host render)
 set(SKYD_ROOM_cli_TARGET skyd_cli)
 set(SKYD_ROOM_cli_PUBLIC server/cli/include/commands.h)
 set(SKYD_ROOM_cli_INTERNAL server/cli/cli_args.h)
-set(SKYD_ROOM_cli_SEES protocol base world frames host net render)
+set(SKYD_ROOM_cli_SEES protocol base world frames forecast host net render)
 
 set(SKYD_ROOM_render_TARGET skyd_render)
 set(SKYD_ROOM_render_PUBLIC render/include/sky_renderer.h)
