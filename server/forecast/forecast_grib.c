@@ -49,7 +49,8 @@ struct reader {
 
 /* Which field a message is, from its shortName and level; false for fields not read. GFS gives
  * its low, middle and high cloud cover as tcc on lowCloudLayer, middleCloudLayer and
- * highCloudLayer; ECMWF as lcc, mcc and hcc. */
+ * highCloudLayer, ECMWF as lcc, mcc and hcc; the total is tcc on entireAtmosphere (or surface),
+ * and tcc on other levels (GFS's boundary-layer and convective cloud) is not read. */
 static bool classify(const char *short_name, const char *level_type, long level,
                      enum forecast_field *field)
 {
@@ -71,7 +72,8 @@ static bool classify(const char *short_name, const char *level_type, long level,
                  : strcmp(level_type, "middleCloudLayer") == 0 ? FIELD_MCC
                  : strcmp(level_type, "highCloudLayer") == 0   ? FIELD_HCC
                                                                : FIELD_TCC;
-        return true;
+        return *field != FIELD_TCC || strcmp(level_type, "entireAtmosphere") == 0 ||
+               strcmp(level_type, "surface") == 0;
     }
     bool at_850 = strcmp(level_type, "isobaricInhPa") == 0 && level == 850;
     if (at_850 && (strcmp(short_name, "u") == 0 || strcmp(short_name, "v") == 0)) {
@@ -325,6 +327,35 @@ static bool keep_values(struct reader *r, codes_handle *h, enum forecast_field f
     return true;
 }
 
+/* Where a message's values go in its step, or NULL (*values) to skip it. A field comes once per
+ * step, but for two that GFS gives twice: prate as it is at the step and as a mean over the
+ * hours before it (the instantaneous one is kept), and tp over windows that end together (the
+ * one that starts first is kept). */
+static bool pick(struct reader *r, struct forecast_step *step, enum forecast_field field,
+                 bool instant, double start_unix_s, double **values)
+{
+    double *kept = step->values[field];
+    bool replace = kept && ((field == FIELD_PRATE && instant && !step->prate_instant) ||
+                            (field == FIELD_TP && start_unix_s < step->tp_start_unix_s));
+    bool skip = kept && ((field == FIELD_PRATE && !instant && step->prate_instant) ||
+                         (field == FIELD_TP && start_unix_s > step->tp_start_unix_s));
+    if (skip)
+        return true;
+    if (replace) {
+        step->message[field] = r->index;
+        *values = kept;
+    } else {
+        *values = forecast_series_field(r->forecast, step, field, r->index, r->error);
+        if (!*values)
+            return false;
+    }
+    if (field == FIELD_PRATE)
+        step->prate_instant = instant;
+    if (field == FIELD_TP)
+        step->tp_start_unix_s = start_unix_s;
+    return true;
+}
+
 /* One message: skipped when not a field read, else kept in its step. */
 static bool read_message(struct reader *r, codes_handle *h)
 {
@@ -364,12 +395,15 @@ static bool read_message(struct reader *r, codes_handle *h)
                                                       r->error);
     if (!step)
         return false;
-    double *values = forecast_series_field(r->forecast, step, field, r->index, r->error);
-    if (!values)
+    char step_type[32] = "";
+    if (field == FIELD_PRATE &&
+        !get_string(r, h, "stepType", step_type, sizeof step_type, SKY_FORECAST_ERR_NOT_GRIB))
         return false;
-    if (field == FIELD_TP)
-        step->tp_start_unix_s = reference + (double)start;
-    return keep_values(r, h, field, values);
+    double *values = NULL;
+    if (!pick(r, step, field, strcmp(step_type, "instant") == 0, reference + (double)start,
+              &values))
+        return false;
+    return !values || keep_values(r, h, field, values);
 }
 
 static bool check_request(const struct sky_forecast_request *q, struct sky_forecast_error *error)

@@ -36,6 +36,7 @@ struct forecast_step {
     int message[FIELD_COUNT];    /* 1-based message each field came from; 0: absent */
     double *values[FIELD_COUNT]; /* window rows x columns, row-major; NULL when absent */
     double tp_start_unix_s;      /* where the tp accumulation starts */
+    bool prate_instant;          /* prate is the rate at the step, not a mean before it */
 };
 
 struct sky_forecast {

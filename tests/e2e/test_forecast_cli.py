@@ -121,13 +121,37 @@ def ecmwf_parts(skip=(), grid=ECMWF_GRID):
 
 
 ecmwf = fg.concatenate(os.path.join(OUT, "ecmwf.grib2"), ecmwf_parts())
-gfs_parts = []
+
+
+def prate_mean(k, hours):
+    """GFS's second prate: the mean over the hours before the step (here 10 times the rate)."""
+    values = [10.0 * prate(lat, west_east(lon), k) for lat, lon in GFS_GRID.points()]
+    return fg.message(WORK, "gfs-prate-avg-%d" % hours, GFS_GRID, RUN, hours,
+                      fg.GFS["prate"] + [("typeOfStatisticalProcessing", 0)], values,
+                      accumulated_from=0)
+
+
+# As GFS's files have them: tcc also on the boundary-layer cloud layer (not read), prate twice
+# at +3 h, the mean before the rate at the step (which is kept).
+gfs_parts, gfs_mean_parts = [], []
 for k, hours in enumerate(GFS_STEPS):
-    for name in ["tcc", "lcc", "mcc", "hcc"]:
-        gfs_parts.append(field_message("gfs", GFS_GRID, name, k, hours, scale=100.0))
-    for name in ["2t", "2d", "u850", "v850", "prate"]:
-        gfs_parts.append(field_message("gfs", GFS_GRID, name, k, hours))
+    step = [field_message("gfs", GFS_GRID, name, k, hours, scale=100.0)
+            for name in ["tcc", "lcc", "mcc", "hcc"]]
+    step.append(fg.message(WORK, "gfs-tcc-boundary-%d" % hours, GFS_GRID, RUN, hours,
+                           fg.GFS_COVER + [("typeOfLevel", "boundaryLayerCloudLayer")],
+                           [100.0] * (GFS_GRID.ni * GFS_GRID.nj)))
+    step += [field_message("gfs", GFS_GRID, name, k, hours)
+             for name in ["2t", "2d", "u850", "v850"]]
+    rate = field_message("gfs", GFS_GRID, "prate", k, hours)
+    if k == 0:
+        gfs_parts += step + [rate]
+        gfs_mean_parts += step + [rate]
+    else:
+        gfs_parts += step + [prate_mean(k, hours), rate]
+        gfs_mean_parts += step + [prate_mean(k, hours)]
 gfs = fg.concatenate(os.path.join(OUT, "gfs.grib2"), gfs_parts)
+# Only the mean at +3 h: that one is read.
+gfs_mean = fg.concatenate(os.path.join(OUT, "gfs-mean.grib2"), gfs_mean_parts)
 
 
 # ---- expectations ----------------------------------------------------------------------------
@@ -270,6 +294,11 @@ if j:
     expect(j, "gfs 01Z", GFS_GRID, 45, 6, 1200, 0, 1, w,
            lambda pts: lerp(mean(prate, pts, 0), mean(prate, pts, 1), w) * 3600.0,
            wind="850hPa")
+j = decode("gfs, prate as a mean", [gfs_mean] + gfs_place + time_arg(RUN_UNIX + 3 * 3600))
+if j:
+    want = mean(prate, fg.inside_points(GFS_GRID, 45, 6, 1200), 1) * 10.0 * 3600.0
+    check(near(j["precipitation"]["rate_mm_h"], want, 1e-9),
+          "gfs, prate as a mean: %s vs %r" % (j["precipitation"], want))
 j = decode("gfs -174 E", [gfs, "--lat", "-30", "--lon", "-174", "--extent-km", "900"] +
            time_arg(RUN_UNIX))
 if j:
