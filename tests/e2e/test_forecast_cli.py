@@ -5,7 +5,8 @@ computed here from the same fields: the means over the points in the square, the
 grid, relative humidity, wind, precipitation rates, linear interpolation between steps, the
 0..360 and -180..180 longitudes. Then the refusals: GRIB1, text, a field missing, a place
 outside a limited-area grid, grids that differ, a field given twice, values in the wrong units,
-a cut file, a time outside the steps. Usage: test_forecast_cli.py SKYD OUTDIR"""
+a cut file, a time outside the steps; and PROTOCOL.md's example.
+Usage: test_forecast_cli.py SKYD OUTDIR [PROTOCOL_MD]"""
 import calendar
 import json
 import math
@@ -17,6 +18,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import forecast_grib as fg  # noqa: E402
 
 SKYD, OUT = sys.argv[1], sys.argv[2]
+PROTOCOL_MD = sys.argv[3] if len(sys.argv) > 3 else os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), "..", "..", "protocol", "PROTOCOL.md")
 os.makedirs(OUT, exist_ok=True)
 failures = []
 passed = 0
@@ -306,6 +309,20 @@ if j:
           "gfs -174 E: points %s" % j["points"])
     expect(j, "gfs -174 E", GFS_GRID, -30, -174, 900, 0, 0, 0.0,
            lambda pts: mean(prate, pts, 0) * 3600.0, wind="850hPa")
+
+# 7. PROTOCOL.md's example: its command on the ECMWF-style file prints exactly its JSON.
+def fenced(text, tag):
+    start = text.index("```" + tag + "\n") + len(tag) + 4
+    return text[start:text.index("```", start)]
+
+
+with open(PROTOCOL_MD) as f:
+    protocol = f.read()
+command = fenced(protocol, "text forecast-command").split()
+documented = json.loads(fenced(protocol, "json forecast"))
+check(command[:3] == ["skyd", "forecast", "ecmwf.grib2"], "PROTOCOL.md command %s" % command)
+j = decode("PROTOCOL.md example", [ecmwf] + command[3:])
+check(j == documented, "PROTOCOL.md example differs: %s" % json.dumps(j))
 
 # ---- refusals ---------------------------------------------------------------------------------
 at_6 = time_arg(RUN_UNIX + 6 * 3600)
