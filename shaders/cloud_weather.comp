@@ -84,6 +84,22 @@ const float CELL_HEIGHT_RATIO = 0.85;
 // Mean and deviation of cumulus_cells() before its normalisation (sampled at 40 000 points of
 // the same construction).
 const float CELLS_MEAN = 0.477, CELLS_SIGMA = 0.178;
+// A cell's rank among the cloud sizes, uniform on [0, 1): the cells of the largest level are
+// stratified in blocks of 2 x 2, each block holding one rank from each quarter (a hashed
+// permutation), so that a big cloud stands beside smaller ones and no neighbourhood is all big
+// or all empty. With independent draws an 8.6 km disc's cloud fraction scattered by 0.033
+// between seeds (tests/render/cloud_field_views.h's four discs, coverage 0.25-0.45), from the
+// few 2.4 km cells it holds; stratified, by 0.016. Ranks below 1 - presence hold no cloud.
+float cell_size_rank(ivec2 wrapped, int level, uint level_salt)
+{
+    vec2 draw = hash2(wrapped, level_salt + 1u);
+    if (level > 0)
+        return draw.x;
+    uint quarter = uint((wrapped.x & 1) + 2 * (wrapped.y & 1));
+    uint mask = uint(hash2(wrapped >> 1, level_salt + 2u).x * 4.0) & 3u;
+    return (float(quarter ^ mask) + draw.y) / 4.0;
+}
+
 float cumulus_cells(vec2 x, int period, uint salt)
 {
     float best = 0.0;
@@ -97,12 +113,13 @@ float cumulus_cells(vec2 x, int period, uint salt)
             for (int i = -1; i <= 1; i++) {
                 ivec2 c = cell + ivec2(i, j);
                 ivec2 wrapped = ((c % n) + n) % n;
-                vec2 kind = hash2(wrapped, level_salt + 1u);
-                if (kind.x >= presence)
+                float size = cell_size_rank(wrapped, k, level_salt);
+                if (size < 1.0 - presence)
                     continue;
+                size = (size - (1.0 - presence)) / presence;
                 vec2 centre = vec2(c) + 0.25 + 0.5 * hash2(wrapped, level_salt);
                 float d2 = dot(p - centre, p - centre) / (CELL_RADIUS * CELL_RADIUS);
-                float amp = mix(0.4, 1.0, kind.y) * pow(CELL_HEIGHT_RATIO, float(k));
+                float amp = mix(0.4, 1.0, size) * pow(CELL_HEIGHT_RATIO, float(k));
                 best = max(best, amp * (1.0 - d2));
             }
     }
@@ -159,8 +176,10 @@ const float CUMULUS_HURST = 0.3, TOWER_HURST = 0.6, DECK_HURST = 0.33, SC_DECK_H
 // clear or fill whole views, and a view's cloud fraction would stray from the coverage.
 const float CLUSTER_AMPLITUDE = 0.03;
 // The share of a fractional Brownian field (of cells of 1.6 km and less) in the cumulus cells:
-// the domes alone draw outlines smoother than observed (dimension 1.20 at coverage 0.2).
-const float CELL_ROUGHNESS = 0.3;
+// the domes alone draw outlines smoother than observed (dimension 1.20 at coverage 0.2). At 0.3
+// the dimension at coverage 0.2 was 1.20-1.25 over eight seeds; at 0.4 it is 1.25-1.32, and
+// 1.25-1.38 at coverage 0.35-0.5 (observed 1.3-1.4).
+const float CELL_ROUGHNESS = 0.4;
 // Stratus: the map holds the sheet's thickness, not a share of the shape (sheets keep a fraction
 // of its relief, cloud_density.glsl): a normal score around probit(coverage), at most
 // SHEET_MAX_COVERAGE's, spread by SHEET_SPREAD times the deck's field and at least SHEET_FLOOR
