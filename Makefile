@@ -4,12 +4,13 @@
 BUILD      ?= build
 MAKEFLAGS  += --no-print-directory
 ASAN_BUILD ?= build-asan
+RELEASE_BUILD ?= build-release
 JOBS       ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=RelWithDebInfo
 
 FUZZ_SECONDS ?= 1800
 
-.PHONY: all deps configure build run cluster test test-asan fuzz bench soak format format-check clean
+.PHONY: all deps configure build release run cluster test test-asan fuzz bench soak format format-check clean
 
 all: build
 
@@ -21,6 +22,11 @@ configure: deps
 
 build: configure
 	@cmake --build $(BUILD) -j$(JOBS)
+
+# Everything built as Debian builds packages (dpkg-buildflags, hardening on) in a Release
+# build, warnings as errors (scripts/build-release.sh; SKYD_BUILD_TYPE and CC pick others).
+release: deps
+	@./scripts/build-release.sh $(RELEASE_BUILD)
 
 run: build
 	@./scripts/run-default.sh $(BUILD)
@@ -78,4 +84,4 @@ format-check: deps
 	@./scripts/format.sh --check
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) build-fuzz out
+	rm -rf $(BUILD) $(ASAN_BUILD) $(RELEASE_BUILD) build-fuzz out
