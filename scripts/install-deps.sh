@@ -8,7 +8,7 @@ packages=(
   libvulkan-dev vulkan-tools mesa-vulkan-drivers vulkan-validationlayers
   glslang-tools
   libwebsockets-dev libcjson-dev libpng-dev libturbojpeg0-dev libsystemd-dev systemd
-  python3 python3-websockets openssl
+  python3 python3-websockets openssl curl
   redis-server libhiredis-dev haproxy
   clang libclang-rt-dev clang-format
   chromium chromium-driver
