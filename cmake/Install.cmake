@@ -31,17 +31,16 @@ skyd_install_destination("${SKYD_INSTALL_CONFDIR}" skyd_confdir_destination)
 skyd_install_destination("${SKYD_INSTALL_DATADIR}" skyd_datadir_destination)
 skyd_install_destination("${SKYD_INSTALL_STATEDIR}" skyd_statedir_destination)
 
-# The Python module goes where Debian's python3 finds it: /usr/lib/python3/dist-packages for
-# the /usr prefix, <prefix>/lib/python3.X/dist-packages for another (/usr/local).
-if(CMAKE_INSTALL_PREFIX MATCHES "^/usr/*$")
-  set(skyd_python_default "lib/python3/dist-packages")
-else()
-  find_package(Python3 COMPONENTS Interpreter)
-  if(Python3_FOUND)
-    set(skyd_python_default
-        "lib/python${Python3_VERSION_MAJOR}.${Python3_VERSION_MINOR}/dist-packages")
-  else()
-    set(skyd_python_default "lib/python3/dist-packages")
+# The Python module goes where Debian's python3 (/usr/bin/python3, not another one first in
+# PATH) finds it: /usr/lib/python3/dist-packages for the /usr prefix,
+# <prefix>/lib/python3.X/dist-packages for another (/usr/local).
+set(skyd_python_default "lib/python3/dist-packages")
+if(NOT CMAKE_INSTALL_PREFIX MATCHES "^/usr/*$" AND EXISTS /usr/bin/python3)
+  execute_process(COMMAND /usr/bin/python3 -c "import sys; print('%d.%d' % sys.version_info[:2])"
+                  OUTPUT_VARIABLE skyd_python_version OUTPUT_STRIP_TRAILING_WHITESPACE
+                  RESULT_VARIABLE skyd_python_result)
+  if(skyd_python_result EQUAL 0)
+    set(skyd_python_default "lib/python${skyd_python_version}/dist-packages")
   endif()
 endif()
 set(SKYD_INSTALL_PYTHONDIR "${skyd_python_default}" CACHE STRING
