@@ -86,21 +86,30 @@ if [ "$mode" = moved-presets ]; then
   echo "moved-presets: refused as it should be: $(tail -1 "$scratch/moved.err")"
   exit 0
 fi
-# Every preset renders: atmospheres paired with weathers, each used at least once.
+# Every preset renders. A process starts slowly (seconds for pipelines and cloud noise on a
+# CPU), so each renders two frames: weather A, then at the end of a transition to weather B
+# (--weather A --weather-to B), in one of the atmospheres; every preset is used at least once.
 set -- $atmospheres; atmosphere_list=("$@")
 set -- $weathers; weather_list=("$@")
-n=${#atmosphere_list[@]}; [ ${#weather_list[@]} -gt "$n" ] && n=${#weather_list[@]}
-for ((i = 0; i < n; i++)); do
+runs=$(( (${#weather_list[@]} + 1) / 2 ))
+[ ${#atmosphere_list[@]} -gt "$runs" ] && runs=${#atmosphere_list[@]}
+for ((i = 0; i < runs; i++)); do
   a=${atmosphere_list[i % ${#atmosphere_list[@]}]}
-  w=${weather_list[i % ${#weather_list[@]}]}
-  png="$scratch/$a-$w.png"
-  if ! skyd render --width 48 --height 27 --preset "$a" --weather "$w" --out "$png" \
-       >"$scratch/render.out" 2>"$scratch/render.err" || [ "$(cat "$scratch/render.out")" != "$png" ] ||
-     ! head -c 8 "$png" | od -An -tx1 | grep -q "89 50 4e 47"; then
-    echo "FAIL: render --preset $a --weather $w: $(cat "$scratch/render.err")"; status=1
-  else
-    echo "rendered --preset $a --weather $w"
+  w=${weather_list[(2 * i) % ${#weather_list[@]}]}
+  to=${weather_list[(2 * i + 1) % ${#weather_list[@]}]}
+  pattern="$scratch/$a-$w-$to-%d.png"
+  if ! skyd render --width 48 --height 27 --preset "$a" --weather "$w" --weather-to "$to" \
+       --frames 2 --step-s 600 --out "$pattern" >"$scratch/render.out" 2>"$scratch/render.err"; then
+    echo "FAIL: render --preset $a --weather $w --weather-to $to: $(cat "$scratch/render.err")"; status=1
+    continue
   fi
+  for frame in 0 1; do
+    png=${pattern/\%d/$frame}
+    if ! grep -qxF "$png" "$scratch/render.out" || ! head -c 8 "$png" | od -An -tx1 | grep -q "89 50 4e 47"; then
+      echo "FAIL: render --preset $a --weather $w --weather-to $to: no $png ($(cat "$scratch/render.out"))"; status=1
+    fi
+  done
+  echo "rendered --preset $a --weather $w --weather-to $to"
 done
 # The daemon without --config: the installed configuration, web client and presets.
 LD_PRELOAD="${SKYD_DAEMON_LD_PRELOAD:-}" "$bindir/skyd" serve --port 0 --state-file "$scratch/state.json" \
