@@ -77,7 +77,8 @@ static void usage(FILE *out)
     install_paths_describe(INSTALL_WEB, where[1], sizeof where[1]);
     install_paths_describe(INSTALL_PRESETS, where[2], sizeof where[2]);
     fprintf(out,
-            "Looked up when neither the command line nor the configuration says:\n"
+            "Looked up, in this order, when the command line (and for the web client and\n"
+            "presets, the configuration) names none:\n"
             "  configuration  %s\n"
             "  web client     %s\n"
             "  presets        %s\n",

@@ -30,6 +30,13 @@ fail() { failed=$((failed + 1)); echo "FAIL: $*"; }
 scratch=$(mktemp -d /tmp/skyd-install-test.XXXXXX)
 trap 'rm -rf "$scratch"' EXIT
 prefix=$scratch/prefix
+# The sanitizer build's LeakSanitizer reads its suppressions from the source tree, which the
+# checks hide: a copy goes with them.
+if [[ "${LSAN_OPTIONS:-}" =~ suppressions=([^:]+) ]]; then
+  supp=${BASH_REMATCH[1]}
+  cp "$supp" "$scratch/lsan.supp" || exit 1
+  export LSAN_OPTIONS=${LSAN_OPTIONS/"$supp"/"$scratch/lsan.supp"}
+fi
 if ! cmake --install "$build" --prefix "$prefix" >"$out/install.log" 2>&1; then
   echo "FAIL: cmake --install: $(tail -5 "$out/install.log")"
   exit 1
