@@ -46,8 +46,8 @@ cluster: build
 	@./scripts/cluster.sh $(BUILD)
 
 # Every suite: unit, reference, render (lavapipe with validation), command line; then a short
-# fuzzing run (about 60 s) of the protocol parser, weather maps and the configuration loader;
-# last, that the C sources are in the .clang-format style (a few seconds).
+# fuzzing run (about 60 s) of the protocol parser, weather maps, the METAR decoder and the
+# configuration loader; last, that the C sources are in the .clang-format style (a few seconds).
 test: build
 	@cd $(BUILD) && ctest --output-on-failure --timeout 900
 	@./scripts/fuzz.sh 60

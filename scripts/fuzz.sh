@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 build=${2:-build-fuzz}
-targets=(messages config weather_map)
+targets=(messages config weather_map metar)
 
 cmake -S tests/fuzz -B "$build" -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j"$(nproc)" >/dev/null
@@ -21,7 +21,8 @@ for t in "${targets[@]}"; do
   corpus="$build/corpus/$t"
   mkdir -p "$corpus"
   log="$build/fuzz_$t.log"
-  # -max_len: messages up to 64 KiB (max_message_bytes); the rest need less to reach their code.
+  # -max_len: messages up to 64 KiB (max_message_bytes); the rest need less to reach their code
+  # (4 KiB is four times the longest METAR the decoder reads).
   max_len=4096
   [ "$t" = messages ] && max_len=65536
   if UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \

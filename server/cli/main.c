@@ -13,6 +13,7 @@ static void usage(FILE *out)
             "  render   render one frame to a PNG      (skyd render --help)\n"
             "  probe    print physical quantities      (skyd probe --help)\n"
             "  schema   print the world state's JSON Schema\n"
+            "  metar    decode a METAR or SPECI report (skyd metar --help)\n"
             "  version  print the version\n",
             SKYD_VERSION);
 }
@@ -35,6 +36,8 @@ int main(int argc, char **argv)
         return skyd_cmd_probe(argc - 2, argv + 2);
     if (strcmp(argv[1], "schema") == 0)
         return skyd_cmd_schema(argc - 2, argv + 2);
+    if (strcmp(argv[1], "metar") == 0)
+        return skyd_cmd_metar(argc - 2, argv + 2);
     if (strcmp(argv[1], "version") == 0 || strcmp(argv[1], "--version") == 0) {
         printf("skyd %s\n", SKYD_VERSION);
         return SKYD_EXIT_OK;

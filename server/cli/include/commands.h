@@ -6,6 +6,7 @@ int skyd_cmd_serve(int argc, char **argv);
 int skyd_cmd_render(int argc, char **argv);
 int skyd_cmd_probe(int argc, char **argv);
 int skyd_cmd_schema(int argc, char **argv);
+int skyd_cmd_metar(int argc, char **argv);
 
 /* Exit statuses scripts can rely on. */
 #define SKYD_EXIT_OK 0
