@@ -4,12 +4,16 @@
 BUILD      ?= build
 MAKEFLAGS  += --no-print-directory
 ASAN_BUILD ?= build-asan
+RELEASE_BUILD ?= build-release
+DEB_BUILD ?= build-deb
+# What `make deb` needs besides the build's own packages (install-deps.sh, SKYD_DEPS_EXTRA).
+DEB_DEPS = debhelper dh-python dpkg-dev lintian
 JOBS       ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=RelWithDebInfo
 
 FUZZ_SECONDS ?= 1800
 
-.PHONY: all deps configure build run cluster test test-asan fuzz bench soak format format-check clean
+.PHONY: all deps configure build release deb run cluster test test-asan fuzz bench soak format format-check clean
 
 all: build
 
@@ -21,6 +25,17 @@ configure: deps
 
 build: configure
 	@cmake --build $(BUILD) -j$(JOBS)
+
+# Everything built as Debian builds packages (dpkg-buildflags, hardening on) in a Release
+# build, warnings as errors (scripts/build-release.sh; SKYD_BUILD_TYPE and CC pick others).
+release: deps
+	@./scripts/build-release.sh $(RELEASE_BUILD)
+
+# The Debian packages skyd and skyd-clients (debian/), built from a copy of the tree with
+# dpkg-buildpackage -us -uc -b and checked by lintian, in $(DEB_BUILD)/ (scripts/build-deb.sh).
+deb: deps
+	@SKYD_DEPS_EXTRA="$(DEB_DEPS)" ./scripts/install-deps.sh
+	@./scripts/build-deb.sh $(DEB_BUILD)
 
 run: build
 	@./scripts/run-default.sh $(BUILD)
@@ -78,4 +93,4 @@ format-check: deps
 	@./scripts/format.sh --check
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) build-fuzz out
+	rm -rf $(BUILD) $(ASAN_BUILD) $(RELEASE_BUILD) $(DEB_BUILD) build-fuzz out

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages skyd needs to build, run and test, when any is missing.
 # Called by `make` (deps target); safe to run repeatedly: it does nothing when all are present.
+# SKYD_DEPS_EXTRA adds packages a single target needs (make deb: debhelper, dh-python,
+# dpkg-dev and lintian, listed in the Makefile's DEB_DEPS).
 set -euo pipefail
 
 packages=(
@@ -8,7 +10,7 @@ packages=(
   libvulkan-dev vulkan-tools mesa-vulkan-drivers vulkan-validationlayers
   glslang-tools
   libwebsockets-dev libcjson-dev libpng-dev libturbojpeg0-dev libsystemd-dev systemd
-  python3 python3-websockets openssl
+  python3 python3-websockets openssl curl man-db
   redis-server libhiredis-dev haproxy
   clang libclang-rt-dev clang-format
   libeccodes-dev libeccodes-tools

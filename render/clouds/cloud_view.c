@@ -162,7 +162,7 @@ static void record_resolve_rows(VkCommandBuffer cmd, struct compute_pass *pass, 
     if (end <= first)
         return;
     struct sky_cloud_rows_push push = { .row_offset = first,
-                                        .size = { (float)width, (float)height } };
+                                        .size = { (float)width, (float)height, 0.0f, 0.0f } };
     const uint32_t size[3] = { width, end - first, 1 };
     compute_pass_record(cmd, pass, &push, size, local_2d);
 }

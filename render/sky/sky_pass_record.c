@@ -137,7 +137,8 @@ static bool record_region(struct vk_context *ctx, struct sky_passes *p, VkComman
     const struct gpu_image *clouds = p->clouds.over_sky;
     struct sky_region_push push = {
         .rect = { rect[0], rect[1], rect[2], rect[3] },
-        .clouds = { clouds ? (float)clouds->width : 1.0f, clouds ? (float)clouds->height : 1.0f },
+        .clouds = { clouds ? (float)clouds->width : 1.0f, clouds ? (float)clouds->height : 1.0f,
+                    0.0f, 0.0f },
     };
     const uint32_t size[3] = { (uint32_t)rect[2], (uint32_t)rect[3], 1 };
     const uint32_t local[3] = { SKY_COMPOSITE_LOCAL, SKY_COMPOSITE_LOCAL, 1 };

@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "config.h"
 #include "field_errors.h"
+#include "install_paths.h"
 #include "presets.h"
 #include "world_render.h"
 
@@ -17,12 +18,23 @@ void cli_common_init(struct cli_common *c)
     memset(c, 0, sizeof *c);
     sky_world_state_defaults(&c->state);
     const char *dir = getenv("SKYD_CONFIG_DIR");
-    c->config_dir = dir && *dir ? dir : SKYD_SOURCE_DIR "/config";
+    c->config_dir = dir && *dir ? dir : NULL;
     const char *device = getenv("SKYD_DEVICE");
     c->device = device && *device ? device : NULL;
     c->device_given = c->device != NULL;
     const char *validation = getenv("SKYD_VALIDATION");
     c->validation = validation && strcmp(validation, "1") == 0;
+}
+
+const char *cli_presets_dir(struct cli_common *c)
+{
+    if (c->config_dir)
+        return c->config_dir;
+    if (c->config_presets_dir[0])
+        return c->config_presets_dir;
+    if (!c->found_presets_dir[0]) /* found or not, a place to name */
+        install_paths_find(INSTALL_PRESETS, c->found_presets_dir, sizeof c->found_presets_dir);
+    return c->found_presets_dir;
 }
 
 const char *cli_take_value(int argc, char **argv, int *i)
@@ -71,7 +83,8 @@ static int apply_preset(struct cli_common *c, const char *name)
 {
     struct sky_field_errors errors = { 0 };
     char msg[1024] = "";
-    if (!sky_preset_apply(c->config_dir, "atmosphere", name, &c->state, &errors, msg, sizeof msg)) {
+    if (!sky_preset_apply(cli_presets_dir(c), "atmosphere", name, &c->state, &errors, msg,
+                          sizeof msg)) {
         fprintf(stderr, "skyd: --preset %s: %s\n", name, msg);
         if (errors.count > 0)
             print_field_errors("preset fields", &errors);
@@ -108,7 +121,7 @@ int cli_parse_sim_option(int argc, char **argv, int *i, struct cli_common *c)
             return -1;
         struct sky_field_errors errors = { 0 };
         char msg[1024] = "";
-        if (!sky_preset_apply(c->config_dir, "weather", value, &c->state, &errors, msg,
+        if (!sky_preset_apply(cli_presets_dir(c), "weather", value, &c->state, &errors, msg,
                               sizeof msg)) {
             fprintf(stderr, "skyd: --weather %s: %s\n", value, msg);
             return -1;
@@ -144,6 +157,7 @@ static int apply_config_file(struct cli_common *c, const char *path)
         c->device = c->config_device;
     }
     c->validation = c->validation || config.render_validation;
+    snprintf(c->config_presets_dir, sizeof c->config_presets_dir, "%s", config.presets_dir);
     return 0;
 }
 

@@ -11,7 +11,11 @@
 #include "world_state.h"
 
 struct cli_common {
-    const char *config_dir; /* --config-dir, $SKYD_CONFIG_DIR, else the source tree's config/ */
+    /* The presets' folder (atmosphere/, weather/): --config-dir or $SKYD_CONFIG_DIR, else the
+     * presets_dir of a --config given before, else install_paths.h's. Use cli_presets_dir. */
+    const char *config_dir;
+    char config_presets_dir[4096];
+    char found_presets_dir[4096];
     /* Device: --device, else $SKYD_DEVICE, else the config file's render.device (--config). */
     const char *device;
     bool device_given; /* by --device or the environment: a config file does not override */
@@ -23,6 +27,10 @@ struct cli_common {
 };
 
 void cli_common_init(struct cli_common *c);
+
+/* The folder presets are read from now (see config_dir above); where it is looked up and
+ * nothing is found, the installed folder, so that a missing preset's message names it. */
+const char *cli_presets_dir(struct cli_common *c);
 
 /* Tries the option at argv[*i] (--preset, --set, --config, --config-dir, --device,
  * --validation),

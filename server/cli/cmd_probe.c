@@ -74,17 +74,21 @@ static bool require(bool present, const char *option, const char *probe)
     return present;
 }
 
+/* Every missing option is named, not only the first: each require() runs. */
 static bool check_required(const struct probe_args *a)
 {
+    bool ok = true;
     switch (a->kind) {
     case PROBE_TRANSMITTANCE:
-        return require(a->has_altitude, "--altitude", "transmittance") &
-               require(a->has_mu, "--mu", "transmittance");
+        ok = require(a->has_altitude, "--altitude", "transmittance") && ok;
+        ok = require(a->has_mu, "--mu", "transmittance") && ok;
+        return ok;
     case PROBE_LUMINANCE:
-        return require(a->has_altitude, "--altitude", "luminance") &
-               require(a->has_view_zenith, "--view-zenith", "luminance") &
-               require(a->has_view_azimuth, "--view-azimuth", "luminance") &
-               require(a->has_sun_zenith, "--sun-zenith", "luminance");
+        ok = require(a->has_altitude, "--altitude", "luminance") && ok;
+        ok = require(a->has_view_zenith, "--view-zenith", "luminance") && ok;
+        ok = require(a->has_view_azimuth, "--view-azimuth", "luminance") && ok;
+        ok = require(a->has_sun_zenith, "--sun-zenith", "luminance") && ok;
+        return ok;
     case PROBE_ILLUMINANCE:
         return require(a->has_sun_zenith, "--sun-zenith", "illuminance");
     }
@@ -136,8 +140,10 @@ static int probe_body(int argc, char **argv)
             return SKYD_EXIT_USAGE;
         }
     }
-    if (!(require(a.has_time, "--time", body) & require(a.has_latitude, "--lat", body) &
-          require(a.has_longitude, "--lon", body)))
+    bool given = require(a.has_time, "--time", body); /* each missing option is named */
+    given = require(a.has_latitude, "--lat", body) && given;
+    given = require(a.has_longitude, "--lon", body) && given;
+    if (!given)
         return SKYD_EXIT_USAGE;
 
     struct sky_site site = { a.latitude_deg, a.longitude_deg, a.altitude_m, SKY_SITE_PRESSURE_MBAR,

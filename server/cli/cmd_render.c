@@ -38,13 +38,13 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: skyd render --width W --height H --out FILE.png|FILE.jpg [options]\n"
-            "  --preset NAME          apply config/atmosphere/NAME.json (earth, mars, ...)\n"
+            "  --preset NAME          apply atmosphere/NAME.json (earth, mars, ...)\n"
             "  --set PATH=VALUE       set a world-state field, e.g. sun.elevation_deg=5\n"
             "  --sun-azimuth DEG      shorthand for --set sun.azimuth_deg=DEG\n"
             "  --sun-elevation DEG    shorthand for --set sun.elevation_deg=DEG\n"
             "  --time ISO8601         simulated UTC time (2026-06-21T05:00:00Z); with --lat and\n"
             "  --lat DEG, --lon DEG   --lon the sun and moon follow the ephemeris (sky_bodies)\n"
-            "  --weather NAME         apply config/weather/NAME.json (clear, storm, ...)\n"
+            "  --weather NAME         apply weather/NAME.json (clear, storm, ...)\n"
             "  --projection NAME      perspective (default) or equirectangular: the whole sky,\n"
             "                         2:1, camera.yaw_deg at the centre (an environment map)\n"
             "  --format NAME          png (8-bit sRGB, default) or png16 (16-bit linear light;\n"
@@ -58,8 +58,10 @@ static void usage(FILE *out)
             "  --step-s S             simulated seconds between frames (default 60)\n"
             "  --weather-to NAME      a weather transition from the first frame to NAME ...\n"
             "  --transition-s S       ... over S simulated seconds (default: the whole lapse)\n"
-            "  --config FILE          read render.device and render.validation from a skyd.json\n"
-            "  --config-dir DIR       where presets live (default: the source tree's config/)\n"
+            "  --config FILE          read render.device, render.validation and presets_dir\n"
+            "                         from a skyd.json\n"
+            "  --config-dir DIR       where presets live ($SKYD_CONFIG_DIR; default: the\n"
+            "                         installed presets, else the source tree's config/)\n"
             "  --device NAME          cpu, gpu, an index or part of a device name\n"
             "  --validation           enable the Vulkan validation layer (exit 3 on messages)\n"
             "  --stats                print per-pass GPU times as JSON on stdout\n"
@@ -140,7 +142,7 @@ static bool start_lapse_transition(struct cli_common *common, const struct lapse
         return true;
     struct sky_world_state target = common->state;
     char msg[1024];
-    if (!sky_preset_apply(common->config_dir, "weather", a->weather_to, &target, NULL, msg,
+    if (!sky_preset_apply(cli_presets_dir(common), "weather", a->weather_to, &target, NULL, msg,
                           sizeof msg)) {
         fprintf(stderr, "skyd: --weather-to %s: %s\n", a->weather_to, msg);
         return false;

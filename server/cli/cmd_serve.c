@@ -21,6 +21,7 @@
 #include "config.h"
 #include "control_token.h"
 #include "field_errors.h"
+#include "install_paths.h"
 #include "log.h"
 #include "render_loop.h"
 #include "serve_reload.h"
@@ -40,6 +41,7 @@ struct serve_options {
     const char *device;
     const char *log_level;
     bool validation;
+    char found_config[PATH_MAX]; /* the config_path install_paths.h found */
 };
 
 static void usage(FILE *out)
@@ -60,14 +62,27 @@ static void usage(FILE *out)
             "origins and the presets without dropping anyone, and logs what changed. With\n"
             "NOTIFY_SOCKET set (systemd, config/skyd.service) it reports READY=1, RELOADING=1,\n"
             "STOPPING=1 and pings the watchdog while it is healthy.\n"
-            "  --config FILE      configuration (config/skyd.json when run from the source tree)\n"
+            "  --config FILE      configuration (default: the first that exists of the places\n"
+            "                     below)\n"
             "  --port N           listen port, 0 for any free one (overrides the config)\n"
             "  --state-file PATH  where the world state persists (overrides the config)\n"
-            "  --web-root DIR     static files to serve (overrides the config)\n"
-            "  --config-dir DIR   presets folder ($SKYD_CONFIG_DIR, else the source config/)\n"
+            "  --web-root DIR     static files to serve (overrides the config's web_root)\n"
+            "  --config-dir DIR   presets folder ($SKYD_CONFIG_DIR; overrides the config's\n"
+            "                     presets_dir)\n"
             "  --device NAME      Vulkan device ($SKYD_DEVICE; else the config's render.device)\n"
             "  --log-level LEVEL  error, warning, info (default: connections, reloads) or debug\n"
             "  --validation       Khronos validation layer on\n");
+    char where[3][2 * PATH_MAX + 16];
+    install_paths_describe(INSTALL_CONFIG, where[0], sizeof where[0]);
+    install_paths_describe(INSTALL_WEB, where[1], sizeof where[1]);
+    install_paths_describe(INSTALL_PRESETS, where[2], sizeof where[2]);
+    fprintf(out,
+            "Looked up, in this order, when the command line (and for the web client and\n"
+            "presets, the configuration) names none:\n"
+            "  configuration  %s\n"
+            "  web client     %s\n"
+            "  presets        %s\n",
+            where[0], where[1], where[2]);
 }
 
 static int parse_options(int argc, char **argv, struct serve_options *o)
@@ -271,9 +286,20 @@ int skyd_cmd_serve(int argc, char **argv)
     int rc = parse_options(argc, argv, &options);
     if (rc != 0)
         return rc > 0 ? SKYD_EXIT_OK : SKYD_EXIT_USAGE;
+    if (!options.config_path) {
+        if (install_paths_find(INSTALL_CONFIG, options.found_config, sizeof options.found_config)) {
+            options.config_path = options.found_config;
+        } else {
+            char where[2 * PATH_MAX + 16];
+            install_paths_describe(INSTALL_CONFIG, where, sizeof where);
+            skyd_log(SKYD_LOG_INFO, "no configuration file at %s: the built-in defaults", where);
+        }
+    }
     struct skyd_config config;
     if (!load_config(&options, &config))
         return SKYD_EXIT_USAGE;
+    if (options.config_path)
+        skyd_log(SKYD_LOG_INFO, "configuration %s", options.config_path);
     char token_note[1536];
     enum control_token_source token = control_token_settle(&config, token_note, sizeof token_note);
     if (token_note[0])
@@ -282,14 +308,29 @@ int skyd_cmd_serve(int argc, char **argv)
         return SKYD_EXIT_FAILURE;
 
     char web_root[PATH_MAX];
-    if (!realpath(config.web_root, web_root)) {
-        skyd_log(SKYD_LOG_INFO, "web root %s: %s (HTTP requests will get 404)", config.web_root,
-                 strerror(errno));
-        snprintf(web_root, sizeof web_root, "%s", config.web_root);
+    char web_found[PATH_MAX];
+    const char *web_wanted = config.web_root;
+    if (!web_wanted[0]) {
+        if (!install_paths_find(INSTALL_WEB, web_found, sizeof web_found)) {
+            char where[2 * PATH_MAX + 16];
+            install_paths_describe(INSTALL_WEB, where, sizeof where);
+            skyd_log(SKYD_LOG_INFO, "no web client at %s", where);
+        }
+        web_wanted = web_found;
     }
+    if (!realpath(web_wanted, web_root)) {
+        skyd_log(SKYD_LOG_INFO, "web root %s: %s (HTTP requests will get 404)", web_wanted,
+                 strerror(errno));
+        snprintf(web_root, sizeof web_root, "%s", web_wanted);
+    }
+    /* Presets: --config-dir, $SKYD_CONFIG_DIR, the config's presets_dir, install_paths.h. */
     struct cli_common common;
     cli_common_init(&common);
     const char *config_dir = options.config_dir ? options.config_dir : common.config_dir;
+    if (!config_dir && config.presets_dir[0])
+        config_dir = config.presets_dir;
+    if (!config_dir)
+        config_dir = cli_presets_dir(&common);
     const char *device = options.device ? options.device : getenv("SKYD_DEVICE");
     if (!device && config.render_device[0])
         device = config.render_device;

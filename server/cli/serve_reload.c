@@ -81,6 +81,7 @@ static void note_restart_fields(const struct skyd_config *a, const struct skyd_c
                         strcmp(a->tls_certificate, b->tls_certificate) != 0 ||
                         strcmp(a->tls_private_key, b->tls_private_key) != 0 },
         { "web_root", strcmp(a->web_root, b->web_root) != 0 },
+        { "presets_dir", strcmp(a->presets_dir, b->presets_dir) != 0 },
         { "state_file", strcmp(a->state_file, b->state_file) != 0 },
         { "state_save_delay_s", a->state_save_delay_s != b->state_save_delay_s },
         { "render", strcmp(a->render_device, b->render_device) != 0 ||

@@ -16,6 +16,12 @@ static const double START_CONNECT_TIMEOUT_S = 2.0, CONNECT_TIMEOUT_S = 0.25;
 static const double COMMAND_TIMEOUT_S = 2.0;
 static const double RETRY_MIN_S = 0.1, RETRY_MAX_S = 2.0;
 
+/* A reason kept from hiredis or from us (at most REASON_MAX characters), and the room a
+ * message built around one needs: the reason, what connected() adds (a retry delay) or what
+ * a caller adds (a host and port, a world's name). */
+#define REASON_MAX 300
+#define WHY_MAX (REASON_MAX + 100)
+
 struct cluster_store {
     struct cluster_address address;
     struct cluster_keys keys;
@@ -24,7 +30,7 @@ struct cluster_store {
     char name[CLUSTER_URL_TEXT_MAX + CLUSTER_WORLD_MAX + 16];
     redisContext *redis;
     double retry_at, retry_delay; /* when a lost connection is tried again, and the back-off */
-    char last_error[320];
+    char last_error[REASON_MAX + 1];
 };
 
 static double now_seconds(void)
@@ -41,7 +47,10 @@ static bool connected(struct cluster_store *s, double timeout_s, char *why, size
         return true;
     double now = now_seconds();
     if (now < s->retry_at) {
-        snprintf(why, whylen, "%.300s (trying again in %.1f s)", s->last_error, s->retry_at - now);
+        /* In tenths of a second: the back-off never exceeds RETRY_MAX_S. */
+        unsigned tenths = (unsigned)((s->retry_at - now) * 10.0 + 0.5);
+        snprintf(why, whylen, "%.300s (trying again in %u.%u s)", s->last_error, tenths / 10,
+                 tenths % 10);
         return false;
     }
     s->redis = cluster_redis_connect(&s->address, timeout_s, COMMAND_TIMEOUT_S, s->last_error,
@@ -75,7 +84,7 @@ struct cluster_store *cluster_store_create(const struct cluster_store_params *p,
         snprintf(err, errlen, "out of memory");
         return NULL;
     }
-    char why[320];
+    char why[WHY_MAX];
     if (!cluster_url_parse(p->url, &s->address, why, sizeof why) ||
         !cluster_world_name_check(p->world, why, sizeof why)) {
         snprintf(err, errlen, "cluster: %s", why);
@@ -145,7 +154,7 @@ const struct cluster_address *cluster_store_address(const struct cluster_store *
 struct cluster_entry *cluster_store_open(struct cluster_store *s, uint64_t initial_revision,
                                          const char *initial_state, char *err, size_t errlen)
 {
-    char why[320];
+    char why[WHY_MAX];
     if (!connected(s, CONNECT_TIMEOUT_S, why, sizeof why)) {
         snprintf(err, errlen, "cannot reach the cluster %s: %s", s->name, why);
         return NULL;
@@ -185,7 +194,7 @@ enum cluster_commit_result cluster_store_commit(struct cluster_store *s, uint64_
 {
     *current = expected;
     id[0] = '\0';
-    char why[400];
+    char why[WHY_MAX];
     if (!connected(s, CONNECT_TIMEOUT_S, why, sizeof why)) {
         snprintf(err, errlen, "the cluster %s is unavailable: %s", s->name, why);
         return CLUSTER_UNAVAILABLE;

@@ -48,7 +48,12 @@ static const struct sky_field_desc config_fields[] = {
     INT("listen.port", listen_port, 0, 65535, "port; 0 asks the kernel for a free one"),
     STRING("listen.tls_certificate", tls_certificate, "PEM certificate for https/wss"),
     STRING("listen.tls_private_key", tls_private_key, "PEM private key for https/wss"),
-    STRING("web_root", web_root, "folder of the web client's files"),
+    STRING("web_root", web_root,
+           "folder of the web client's files; empty: the installed web client (else the "
+           "source tree's clients/web)"),
+    STRING("presets_dir", presets_dir,
+           "folder of the atmosphere/ and weather/ presets; empty: the installed presets (else "
+           "the source tree's config/)"),
     STRING("state_file", state_file, "where the world state is kept; empty: nowhere"),
     STRING("render.device", render_device, "the Vulkan device; empty: a GPU, else lavapipe"),
     INT("render.encoder_threads", encoder_threads, 1, 64, "PNG encoder threads"),
@@ -101,7 +106,6 @@ void skyd_config_defaults(struct skyd_config *c)
     sky_world_state_defaults(&c->initial_state);
     snprintf(c->listen_address, sizeof c->listen_address, "127.0.0.1");
     c->listen_port = 8080;
-    snprintf(c->web_root, sizeof c->web_root, "clients/web");
     snprintf(c->state_file, sizeof c->state_file, "var/skyd-state.json");
     c->encoder_threads = 2;
     c->lut_budget_ms = 2.0;

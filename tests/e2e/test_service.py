@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """skyd as a service: the sd_notify protocol, SIGHUP reloads, log levels, the systemd unit.
 
-Usage: /usr/bin/python3 tests/e2e/test_service.py PATH_TO_SKYD SCRATCH_DIR UNIT_FILE
+Usage: /usr/bin/python3 tests/e2e/test_service.py PATH_TO_SKYD SCRATCH_DIR UNIT_FILE BINDIR
 
 - sd_notify: the test is the service manager (a datagram socket in NOTIFY_SOCKET, a 0.6 s
   WATCHDOG_USEC): READY=1 after the listening line, WATCHDOG=1 pings, RELOADING=1 then READY=1
@@ -16,7 +16,9 @@ Usage: /usr/bin/python3 tests/e2e/test_service.py PATH_TO_SKYD SCRATCH_DIR UNIT_
 - Logging: each connection is logged (opened and closed), an auth failure and a refused change
   are logged, tokens never are; --log-level warning hides the connections; --log-level error
   hides the renderer's "vulkan device" line, which the default level shows; a bad level exits 2.
-- config/skyd.service passes `systemd-analyze verify` (with the paths of this build).
+- The unit this build installs (config/skyd.service with the build's paths: UNIT_FILE) runs
+  BINDIR/skyd as the system user skyd and passes `systemd-analyze verify` (with the skyd
+  of this build in place of the installed one).
 Exit 0 when every check passed.
 """
 
@@ -41,6 +43,7 @@ from serve_harness import (ALLOWED_ORIGIN, TOKEN, Client, Daemon, check, info,  
 SOURCE_CONFIG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "config")
 NEW_TOKEN = "reloaded-controller-token-0123456789"
 UNIT_FILE = None
+BINDIR = None
 
 
 class NotifyListener:
@@ -335,11 +338,12 @@ def check_unit(skyd):
     check("unit: Type=notify, watchdog, reload, state directory, hardening",
           all(s in text for s in ("Type=notify", "WatchdogSec=", "ExecReload=", "StateDirectory=",
                                   "ProtectSystem=strict", "NoNewPrivileges=yes")))
-    root = os.path.abspath(os.path.join(os.path.dirname(skyd), ".."))
+    installed = os.path.join(BINDIR, "skyd")
+    check("unit: runs the installed skyd as the user skyd",
+          f"\nExecStart={installed} serve " in text and "\nUser=skyd\n" in text, installed)
     unit = os.path.join(os.path.dirname(os.path.abspath(skyd)), "skyd-verify.service")
     with open(unit, "w") as f:
-        f.write(text.replace("/opt/skyd/build/skyd", os.path.abspath(skyd))
-                .replace("/opt/skyd", root))
+        f.write(text.replace(f"ExecStart={installed} ", f"ExecStart={os.path.abspath(skyd)} "))
     r = subprocess.run([analyze, "verify", "--man=no", unit], capture_output=True, text=True,
                        timeout=60)
     problems = [line for line in (r.stdout + r.stderr).splitlines()
@@ -357,8 +361,9 @@ async def run(skyd, scratch):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 4:
+    if len(sys.argv) != 5:
         print(__doc__, file=sys.stderr)
         sys.exit(2)
+    BINDIR = sys.argv.pop(4)
     UNIT_FILE = sys.argv.pop(3)
     sys.exit(run_daemon_test(run, __doc__, 300))

@@ -36,8 +36,8 @@ static void test_base64(void)
         random_bytes[i] = (uint8_t)((state = state * 1103515245u + 12345u) >> 16);
     for (size_t n = 997; n <= 1000; n++) {
         char *text = sky_base64_encode(random_bytes, n);
-        uint8_t *bytes;
-        size_t length;
+        uint8_t *bytes = NULL; /* still NULL, and length 0, when encoding failed */
+        size_t length = 0;
         CHECK(text &&
               sky_base64_decode(text, strlen(text), &bytes, &length, reason, sizeof reason));
         CHECK(length == n && memcmp(bytes, random_bytes, n) == 0);

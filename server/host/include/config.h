@@ -19,13 +19,16 @@ struct skyd_config {
     /* TLS: both set = https/wss on the same port; both empty = plain http/ws. PEM files. */
     char tls_certificate[SKYD_CONFIG_STRING];
     char tls_private_key[SKYD_CONFIG_STRING];
-    /* Relative paths resolve against the working directory skyd starts in. */
-    char web_root[SKYD_CONFIG_STRING];   /* "clients/web" */
-    char state_file[SKYD_CONFIG_STRING]; /* "var/skyd-state.json" */
-    double state_save_delay_s;           /* 1: retry delay of a state write the daemon owes itself
+    /* Relative paths resolve against the working directory skyd starts in. Empty web_root and
+     * presets_dir: the installed ones, else a developer's source tree (server/cli's
+     * install_paths.h). */
+    char web_root[SKYD_CONFIG_STRING];    /* "" */
+    char presets_dir[SKYD_CONFIG_STRING]; /* "": atmosphere/NAME.json, weather/NAME.json */
+    char state_file[SKYD_CONFIG_STRING];  /* "var/skyd-state.json" */
+    double state_save_delay_s;            /* 1: retry delay of a state write the daemon owes itself
                                       (client changes are written before their ack) */
-    char render_device[64];              /* "" = automatic (a GPU when present, else lavapipe) */
-    int encoder_threads;                 /* 2: PNG encoder workers */
+    char render_device[64];               /* "" = automatic (a GPU when present, else lavapipe) */
+    int encoder_threads;                  /* 2: PNG encoder workers */
     /* Amortized atmosphere LUT rebuilds: GPU ms per frame (0 = at once) and blend frames. */
     double lut_budget_ms;       /* 2 */
     double lut_budget_fraction; /* 0.05: and at most this share of the rest of a frame */
