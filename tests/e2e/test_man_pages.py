@@ -4,8 +4,8 @@
 Usage: /usr/bin/python3 tests/e2e/test_man_pages.py SKYD SKYCTL MAN_DIR
 
 - Each page renders without a warning from man/groff (the check lintian makes).
-- skyd.1 names every option that `skyd --help`, `skyd serve|render|probe|metar --help` list, and
-  names no option that none of them lists; skyctl.1 the same for `skyctl --help`.
+- skyd.1 names every option that `skyd --help` and `skyd serve|render|probe|metar|forecast
+  --help` list, and names no option that none of them lists; skyctl.1 the same for `skyctl --help`.
 - skyd.json.5 names every member of the configuration's schema (`skyd schema config`), and
   every member it names as a dotted path is one.
 Exit 0 when every check passed.
@@ -69,7 +69,7 @@ def main():
 
     skyd_help = "".join(help_text([skyd] + args) for args in
                         (["--help"], ["serve", "--help"], ["render", "--help"],
-                         ["probe", "--help"], ["metar", "--help"]))
+                         ["probe", "--help"], ["metar", "--help"], ["forecast", "--help"]))
     for name, told in (("skyd.1", options_of(skyd_help)),
                        ("skyctl.1", options_of(help_text([skyctl, "--help"])))):
         documented = options_of(page_text(pages[name]))
