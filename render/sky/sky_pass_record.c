@@ -39,8 +39,8 @@ void sky_passes_record_build(struct sky_passes *p, VkCommandBuffer cmd, struct g
         record(p, cmd, timer, PASS_MULTISCATTERING, &rows, slice_count, 1, 1, 1, 1);
         break;
     case SKY_BUILD_IRRADIANCE:
-        record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, SKY_IRRADIANCE_LOCAL,
-               1);
+        /* a workgroup per texel (SKY_IRRADIANCE_DIRECTIONS lanes) */
+        record(p, cmd, timer, PASS_IRRADIANCE, NULL, IRRADIANCE_SIZE, 1, 1, 1, 1);
         break;
     }
 }

@@ -23,8 +23,9 @@
     X(SKY_MULTISCATTERING_ATMOSPHERE, BLOCK) X(SKY_MULTISCATTERING_TRANSMITTANCE, SAMPLED)  \
     X(SKY_MULTISCATTERING_OUT, IMAGE)
 
-/* irradiance.comp */
-#define SKY_IRRADIANCE_LOCAL 8
+/* irradiance.comp: a workgroup is one texel, SKY_IRRADIANCE_DIRECTIONS directions of the upper
+ * hemisphere (8 zenith angles x 8 azimuths, the sun's side mirrored). */
+#define SKY_IRRADIANCE_DIRECTIONS 64
 #define SKY_IRRADIANCE_ATMOSPHERE 0
 #define SKY_IRRADIANCE_TRANSMITTANCE 1
 #define SKY_IRRADIANCE_MULTISCATTERING 2

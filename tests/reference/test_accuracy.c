@@ -304,9 +304,25 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
 /* Horizontal illuminance at the ground: sun through the transmittance LUT, sky integrated
  * over the hemisphere of probe luminances, against the reference's transmittance and its
  * Monte Carlo sky irradiance. */
+/* The ground-irradiance LUT (horizontal sky irradiance per unit sun illuminance, against the
+ * sun's cosine mapped to texel centres as atmosphere.glsl's unit_to_sub_uv does) at mu_s,
+ * linearly between texels, as its luminance. */
+static double irradiance_lut_luminance(const float *lut, uint32_t size, double mu_s)
+{
+    double x = (mu_s + 1.0) / 2.0 * (size - 1.0); /* texel index, centres at whole numbers */
+    uint32_t i = (uint32_t)fmin(fmax(floor(x), 0.0), size - 2.0);
+    double f = x - i, rgb[3];
+    for (int c = 0; c < 3; c++)
+        rgb[c] = (1.0 - f) * lut[4 * i + c] + f * lut[4 * (i + 1) + c];
+    return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
+}
+
 static void test_illuminance(const struct sky_render_atmosphere *atm,
                              const struct ref_atmosphere *ref)
 {
+    uint32_t lut_size[3];
+    float *irradiance_lut = sky_renderer_read_lut(renderer, "irradiance", lut_size);
+    CHECK(irradiance_lut != NULL);
     const double sun_zeniths[] = { 0, 30, 60, 80, 88 };
     struct sky_world_state state;
     sky_world_state_defaults(&state);
@@ -325,6 +341,15 @@ static void test_illuminance(const struct sky_render_atmosphere *atm,
         }
         double ref_sun = 0.2126 * sun_rgb[0] + 0.7152 * sun_rgb[1] + 0.0722 * sun_rgb[2];
         double ref_sky = 0.2126 * sky_rgb[0] + 0.7152 * sky_rgb[1] + 0.0722 * sky_rgb[2];
+        /* The LUT the ground is shaded with, against the same all-orders irradiance: its
+         * multiple scattering is Hillaire's LUT, as the fast probe's is. */
+        if (irradiance_lut) {
+            double lut = irradiance_lut_luminance(irradiance_lut, lut_size[0], sun[2]);
+            double ref_irr = 0.2126 * irr[0] + 0.7152 * irr[1] + 0.0722 * irr[2];
+            printf("irradiance LUT, sun zenith %4.1f: %.5f per unit sun (ref %.5f, %+.2f%%)\n",
+                   sun_zeniths[k], lut, ref_irr, 100 * (lut / ref_irr - 1));
+            CHECK_LE(fabs(lut / ref_irr - 1), ILLUMINANCE_MAX_REL);
+        }
         /* Both multiple-scattering paths: Hillaire's LUT, then the converged table. */
         const enum sky_render_probe_ms modes[2] = { SKY_RENDER_PROBE_MS_FAST,
                                                     SKY_RENDER_PROBE_MS_CONVERGED };
@@ -343,6 +368,7 @@ static void test_illuminance(const struct sky_render_atmosphere *atm,
         }
         sky_renderer_set_probe_multiple_scattering(renderer, SKY_RENDER_PROBE_MS_CURRENT);
     }
+    free(irradiance_lut);
 }
 
 /* The aerial-perspective froxels: transmittance from the camera to the end of every slice
