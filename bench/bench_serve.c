@@ -30,6 +30,7 @@ struct options {
     int views[MAX_COUNTS], view_n;
     int width, height;
     double fps, warmup_s, seconds;
+    const char *format; /* png or jpeg */
 };
 
 struct reader {
@@ -75,6 +76,7 @@ static void usage(FILE *out)
             "                     each is run with every client count (default 1)\n"
             "  --size WxH         the shared view's size (default 640x360)\n"
             "  --fps N            the view's fps (default 60)\n"
+            "  --format NAME      png or jpeg, the frames' encoding (default png)\n"
             "  --warmup S         seconds before counting (default 3)\n"
             "  --seconds S        measurement window (default 10)\n",
             SKYD_BINARY);
@@ -109,7 +111,8 @@ static bool parse_args(int argc, char **argv, struct options *o)
                            .height = 360,
                            .fps = 60,
                            .warmup_s = 3,
-                           .seconds = 10 };
+                           .seconds = 10,
+                           .format = "png" };
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
@@ -117,7 +120,8 @@ static bool parse_args(int argc, char **argv, struct options *o)
             exit(0);
         }
         static const char *const known[] = { "--skyd", "--url", "--clients", "--views",
-                                             "--size", "--fps", "--warmup",  "--seconds" };
+                                             "--size", "--fps", "--warmup",  "--seconds",
+                                             "--format" };
         bool is_known = false;
         for (size_t k = 0; k < sizeof known / sizeof known[0]; k++)
             is_known |= strcmp(a, known[k]) == 0;
@@ -135,6 +139,12 @@ static bool parse_args(int argc, char **argv, struct options *o)
             bool views = a[2] == 'v';
             if (!parse_list(a, v, views ? o->views : o->counts, views ? &o->view_n : &o->count_n))
                 return false;
+        } else if (strcmp(a, "--format") == 0) {
+            if (strcmp(v, "png") != 0 && strcmp(v, "jpeg") != 0) {
+                fprintf(stderr, "skyd_bench_serve: --format: expected png or jpeg, got '%s'\n", v);
+                return false;
+            }
+            o->format = v;
         } else if (strcmp(a, "--size") == 0) {
             if (sscanf(v, "%dx%d", &o->width, &o->height) != 2 || o->width < 1 || o->height < 1) {
                 fprintf(stderr, "skyd_bench_serve: bad --size '%s'\n", v);
@@ -239,8 +249,8 @@ static bool run_count(const char *url, const struct options *o, int n, int views
         err[0] = '\0';
         snprintf(view, sizeof view,
                  "{\"type\":\"subscribe\",\"id\":1,\"view\":{\"width\":%d,\"height\":%d,"
-                 "\"fps\":%g,\"camera\":{\"yaw_deg\":%g}}}",
-                 o->width, o->height, o->fps, -180.0 + 360.0 * (i % views) / views);
+                 "\"fps\":%g,\"format\":\"%s\",\"camera\":{\"yaw_deg\":%g}}}",
+                 o->width, o->height, o->fps, o->format, -180.0 + 360.0 * (i % views) / views);
         readers[i].client = sky_client_connect(url, NULL, 10000, err, sizeof err);
         ok = readers[i].client &&
              sky_client_send_text(readers[i].client, view, strlen(view), 10000) == 0 &&
@@ -299,9 +309,9 @@ static void print_summary(const struct options *o, const struct result *results,
         printf("%6d %8d %10.2f %10.2f %10.2f %10.2f %8.3f %10.2f\n", r->views, r->clients,
                r->min_fps, r->mean_fps, r->max_fps, r->total_fps, r->ratio, r->server_fps);
     }
-    printf("{\"bench\":\"serve\",\"width\":%d,\"height\":%d,\"fps\":%g,\"warmup_s\":%g,"
-           "\"seconds\":%g,\"results\":[",
-           o->width, o->height, o->fps, o->warmup_s, o->seconds);
+    printf("{\"bench\":\"serve\",\"width\":%d,\"height\":%d,\"fps\":%g,\"format\":\"%s\","
+           "\"warmup_s\":%g,\"seconds\":%g,\"results\":[",
+           o->width, o->height, o->fps, o->format, o->warmup_s, o->seconds);
     for (int i = 0; i < count; i++) {
         const struct result *r = &results[i];
         printf(
