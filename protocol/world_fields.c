@@ -14,6 +14,7 @@ _Static_assert(sizeof(enum sky_bodies_mode) == sizeof(int), "enum field size");
 _Static_assert(sizeof(enum sky_switch) == sizeof(int), "enum field size");
 _Static_assert(sizeof(enum sky_cloud_resolution) == sizeof(int), "enum field size");
 _Static_assert(sizeof(enum sky_weather_map_source) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum sky_weather_source) == sizeof(int), "enum field size");
 
 static const char *const limb_darkening_names[] = { "none", "neckel96", "hm98" };
 static const char *const exposure_mode_names[] = { "auto", "manual" };
@@ -23,6 +24,7 @@ static const char *const switch_names[] = { "off", "on" };
 static const char *const cloud_resolution_names[] = { "full", "quarter", "sixteenth",
                                                       "sixtyfourth" };
 static const char *const weather_map_source_names[] = { "procedural", "client" };
+static const char *const weather_source_names[] = { "procedural", "client", "metar", "forecast" };
 
 /* clock.utc spans the ephemeris' validity: 1900-01-01T00:00:00Z to 2100-12-31T23:59:59Z. */
 #define UTC_MIN_S -2208988800.0
@@ -237,6 +239,9 @@ const struct sky_field_desc sky_world_field_table[] = {
            "side of the square weather map centred on the camera, km"),
     ENUM("weather.map_source", weather.map_source, weather_map_source_names,
          "procedural (from weather.* and clouds.*) or client (an uploaded map)"),
+    ENUM("weather.source", weather.source, weather_source_names,
+         "what the weather last came from: procedural (the daemon's, presets, autopilot), "
+         "client, metar (apply_observation sets it) or forecast"),
     ENUM("weather.autopilot", weather.autopilot, switch_names,
          "evolve the weather stochastically (deterministic from autopilot_seed)"),
     INT("weather.autopilot_seed", weather.autopilot_seed, 0, SEED_MAX,
@@ -405,6 +410,7 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->weather.seed = 1;
     state->weather.map_extent_km = 60.0;
     state->weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+    state->weather.source = SKY_WEATHER_SOURCE_PROCEDURAL;
     state->weather.autopilot = SKY_SWITCH_OFF;
     state->weather.autopilot_seed = 1;
     state->weather.transition.start_unix_s = state->clock.utc_unix_s;

@@ -52,6 +52,17 @@ enum sky_weather_map_source {
     SKY_WEATHER_MAP_CLIENT = 1,     /* uploaded by a client */
 };
 
+/* What the weather (clouds, humidity, fog, wind, precipitation) last came from: the daemon's own
+ * weather (the default; presets and the autopilot), a client that drives it, an observation
+ * applied with apply_observation, or a forecast (skyd render --forecast). A label clients may
+ * set; apply_observation sets "metar". */
+enum sky_weather_source {
+    SKY_WEATHER_SOURCE_PROCEDURAL = 0,
+    SKY_WEATHER_SOURCE_CLIENT = 1,
+    SKY_WEATHER_SOURCE_METAR = 2,
+    SKY_WEATHER_SOURCE_FORECAST = 3,
+};
+
 enum sky_exposure_mode {
     SKY_EXPOSURE_AUTO = 0,
     SKY_EXPOSURE_MANUAL = 1,
@@ -207,6 +218,7 @@ struct sky_weather_state {
     int seed;             /* of the procedural weather map */
     double map_extent_km; /* side of the square weather map around the camera */
     enum sky_weather_map_source map_source;
+    enum sky_weather_source source;
     enum sky_switch autopilot; /* stochastic, deterministic weather evolution */
     int autopilot_seed;
     struct sky_transition_state transition;
