@@ -30,6 +30,9 @@ static const struct {
 #define TYPE_CUMULUS (2.0 / 3.0)
 #define TYPE_TOWERING 0.85
 #define TYPE_CUMULONIMBUS 1.0
+/* An overcast deck (stratus, stratocumulus) 800 m deep: optical depth 10 to 40 in nature; the
+ * renderer's sheets need that depth to hide the sun's disc (400 m still shows it). */
+#define OVERCAST_DEPTH_KM 0.8
 #define STRATUS_BELOW_M 600.0 /* an overcast this low is stratus (Sc bases: 600 m and up) */
 /* A thunderstorm with no cloud group places a cumulonimbus of SCT amount at a typical base. */
 #define STORM_BASE_KM 1.0
@@ -155,7 +158,9 @@ static void low_layer_from(const struct etage_groups *g, struct layer *out)
         out->thickness_km = 4.0;
     } else {
         out->type = sky_obs_low_type(g->coverage, g->base_m);
-        out->thickness_km = out->type == TYPE_CUMULUS ? 1.5 : out->type > 0 ? 0.6 : 0.4;
+        out->thickness_km = out->type == TYPE_CUMULUS ? 1.5
+                            : g->coverage >= 0.95     ? OVERCAST_DEPTH_KM
+                                                      : 0.6;
     }
 }
 
@@ -193,7 +198,7 @@ static bool map_clouds(const struct sky_metar_report *r, cJSON *patch, cJSON *un
          * visibility (the ground when not given). */
         low = (struct layer){ true, 1.0, TYPE_STRATUS,
                               r->vertical_visibility_known ? r->vertical_visibility_m / 1000.0 : 0,
-                              0.4 };
+                              OVERCAST_DEPTH_KM };
     } else if (r->sky == SKY_METAR_SKY_LAYERS) {
         struct etage_groups groups[ETAGE_COUNT] = { 0 };
         for (int i = 0; i < r->layer_count; i++) {

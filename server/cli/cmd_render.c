@@ -7,8 +7,10 @@
 #include <strings.h>
 
 #include "cli_args.h"
+#include "cli_observation.h"
 #include "commands.h"
 #include "field_errors.h"
+#include "forecast.h"
 #include "messages.h"
 #include "jpeg_write.h"
 #include "png_write.h"
@@ -53,6 +55,10 @@ static void usage(FILE *out)
             "  --quality N            JPEG quality 1..100 (default 85), with jpeg only\n"
             "  --weather-map FILE     a client weather map (PNG: r low coverage, g high coverage,\n"
             "                         b cloud type, a precipitation; sets weather.map_source)\n"
+            "  --metar \"TEXT\"         the sky of a METAR or SPECI report, applied where it\n"
+            "                         stands among the options (sets weather.source metar)\n"
+            "  --forecast FILE        the sky of a GRIB2 forecast at the final location and\n"
+            "                         clock; a time-lapse follows it from step to step\n"
             "  --frames N             a time-lapse of N frames; --out then holds one %%d or %%0Nd\n"
             "                         for the frame number (e.g. frames/f-%%03d.png)\n"
             "  --step-s S             simulated seconds between frames (default 60)\n"
@@ -201,7 +207,7 @@ int skyd_cmd_render(int argc, char **argv)
     struct cli_common common;
     cli_common_init(&common);
     unsigned width = 0, height = 0;
-    const char *out_path = NULL, *weather_map_path = NULL;
+    const char *out_path = NULL, *weather_map_path = NULL, *forecast_path = NULL;
     bool stats_json = false, linear16 = false, reference = false;
     unsigned spp = 0;
     const char *format = NULL;
@@ -267,6 +273,12 @@ int skyd_cmd_render(int argc, char **argv)
         } else if (strcmp(opt, "--weather-map") == 0) {
             if (!(weather_map_path = cli_take_value(argc, argv, &i)))
                 return SKYD_EXIT_USAGE;
+        } else if (strcmp(opt, "--metar") == 0) {
+            if (!(value = cli_take_value(argc, argv, &i)) || !cli_apply_metar(&common.state, value))
+                return SKYD_EXIT_USAGE;
+        } else if (strcmp(opt, "--forecast") == 0) {
+            if (!(forecast_path = cli_take_value(argc, argv, &i)))
+                return SKYD_EXIT_USAGE;
         } else if (strcmp(opt, "--out") == 0) {
             if (!(out_path = cli_take_value(argc, argv, &i)))
                 return SKYD_EXIT_USAGE;
@@ -330,12 +342,24 @@ int skyd_cmd_render(int argc, char **argv)
                                  : "only one %d or %0Nd may appear");
         return SKYD_EXIT_USAGE;
     }
-    if (!start_lapse_transition(&common, &lapse))
+    /* The forecast at the location and clock the options settled on. */
+    struct sky_forecast *forecast = forecast_path ? cli_open_forecast(&common.state, forecast_path)
+                                                  : NULL;
+    if (forecast_path &&
+        (!forecast || !cli_apply_forecast(&common.state, forecast, false, false))) {
+        sky_forecast_free(forecast);
         return SKYD_EXIT_USAGE;
+    }
+    if (!start_lapse_transition(&common, &lapse)) {
+        sky_forecast_free(forecast);
+        return SKYD_EXIT_USAGE;
+    }
     struct sky_weather_map weather_map = { 0 };
     if (weather_map_path) {
-        if (!load_weather_map(weather_map_path, &weather_map))
+        if (!load_weather_map(weather_map_path, &weather_map)) {
+            sky_forecast_free(forecast);
             return SKYD_EXIT_USAGE;
+        }
         common.state.weather.map_source = SKY_WEATHER_MAP_CLIENT;
     }
     world_sim_settle(&common.state);
@@ -353,6 +377,7 @@ int skyd_cmd_render(int argc, char **argv)
     if (!input)
         cli_finish(&common, &renderer, SKYD_EXIT_FAILURE);
     if (!renderer) {
+        sky_forecast_free(forecast);
         free(input);
         sky_weather_map_free(&weather_map);
         free(pixels);
@@ -373,8 +398,14 @@ int skyd_cmd_render(int argc, char **argv)
                           : SKY_VIEW_PROJECTION_PERSPECTIVE,
     };
     for (unsigned frame = 0; frame < lapse.frames && status == SKYD_EXIT_OK; frame++) {
-        if (frame > 0)
+        if (frame > 0) {
             world_sim_advance(&common.state, lapse.step_s);
+            /* The weather follows the forecast, held at its last step beyond it. */
+            if (forecast && !cli_apply_forecast(&common.state, forecast, true, true)) {
+                status = SKYD_EXIT_FAILURE;
+                break;
+            }
+        }
         world_render_input(&common.state, input);
         input->client_map = &weather_map;
         input->map_generation = weather_map.rgba ? 1 : 0;
@@ -397,6 +428,7 @@ int skyd_cmd_render(int argc, char **argv)
         }
     }
     status = cli_finish(&common, &renderer, status);
+    sky_forecast_free(forecast);
     free(input);
     sky_weather_map_free(&weather_map);
     free(pixels);

@@ -160,4 +160,19 @@ struct cJSON *sky_forecast_to_json(const struct sky_forecast *forecast,
 void sky_forecast_summary(const struct sky_forecast *forecast,
                           const struct sky_forecast_moment *moment, char *text, size_t capacity);
 
+/* A sample as a world-state patch (protocol/PROTOCOL.md, "Forecasts in the world"): low cover
+ * into clouds.low (its type from the cover, weather_observation.h), high cover into
+ * clouds.high, medium cover into the low layer when the low one is clear (the world has no
+ * middle layer yet) else listed in *unmapped, 2 m relative humidity into weather.humidity, the
+ * wind at the clouds (the 10 m wind by the power law at 1 km; 850 hPa as it is), the rate into
+ * clouds.precipitation, weather.source "forecast" and the autopilot off. New objects the
+ * caller deletes; false when memory is out. */
+bool sky_forecast_patch(const struct sky_forecast *forecast,
+                        const struct sky_forecast_sample *sample, struct cJSON **patch,
+                        struct cJSON **unmapped);
+
+/* clouds.precipitation 0..1 for a rate in mm/h: 0.3 at 0.5 mm/h (light rain), 0.6 at 4 mm/h
+ * (moderate), 0.9 at 10 mm/h (heavy, AMS Glossary), 1 from 20 mm/h; linear between. */
+double sky_forecast_precipitation_level(double rate_mm_h);
+
 #endif

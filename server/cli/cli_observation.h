@@ -1,0 +1,25 @@
+/* skyd render --metar and --forecast: an observed or forecast sky applied to the world state
+ * the render starts from (weather_observation.h, forecast.h). */
+#ifndef SKYD_CLI_OBSERVATION_H
+#define SKYD_CLI_OBSERVATION_H
+
+#include <stdbool.h>
+
+#include "world_state.h"
+
+struct sky_forecast;
+
+/* Decodes the METAR and applies its patch; prints the groups left unmapped to stderr. False
+ * after a message that names the refused group or field; the state is then untouched. */
+bool cli_apply_metar(struct sky_world_state *state, const char *text);
+
+/* Reads the GRIB2 file around the state's location over weather.map_extent_km; NULL after a
+ * message saying why. */
+struct sky_forecast *cli_open_forecast(const struct sky_world_state *state, const char *path);
+
+/* Applies the forecast at the state's clock.utc (held at the first or last step outside the
+ * file's range when `hold` is true, refused otherwise). False after a message. */
+bool cli_apply_forecast(struct sky_world_state *state, const struct sky_forecast *forecast,
+                        bool hold, bool quiet);
+
+#endif
