@@ -179,6 +179,18 @@ char *sky_msg_build_schema(const struct sky_msg_id *id, const struct sky_msg_lim
     return finish(&b);
 }
 
+char *sky_msg_build_observation(const struct sky_msg_id *id, uint64_t revision, const cJSON *report,
+                                const cJSON *patch, const cJSON *unmapped)
+{
+    struct builder b;
+    begin(&b, "observation", id);
+    put_count(&b, b.root, "revision", revision);
+    put(&b, b.root, "report", report ? cJSON_Duplicate(report, true) : NULL);
+    put(&b, b.root, "patch", patch ? cJSON_Duplicate(patch, true) : NULL);
+    put(&b, b.root, "unmapped", unmapped ? cJSON_Duplicate(unmapped, true) : NULL);
+    return finish(&b);
+}
+
 char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky_msg_role role)
 {
     struct builder b;

@@ -62,6 +62,13 @@ static const struct sky_field_desc unsubscribe_rows[] = {
 
 static const struct sky_field_desc list_presets_rows[] = {PRESET_KIND};
 
+static const struct sky_field_desc observation_rows[] = {
+    {.path = "metar", .type = SKY_FIELD_TYPE_STRING, .offset = MSG(observation.metar), .min = 1,
+     .capacity = SKY_MSG_METAR_MAX + 1, .required = true,
+     .description = "a METAR or SPECI report (WMO FM 15 / FM 16), decoded and applied to the "
+                    "weather"},
+};
+
 static const struct sky_field_desc apply_preset_rows[] = {
     PRESET_KIND,
     {.path = "transition_s", .type = SKY_FIELD_TYPE_NUMBER, .offset = MSG(preset.transition_s),
@@ -157,6 +164,7 @@ static const struct sky_schema probe_variants[] = {
 };
 static const struct sky_schema list_presets_schema = SCHEMA(list_presets_rows, envelope);
 static const struct sky_schema apply_preset_schema = SCHEMA(apply_preset_rows, with_name);
+static const struct sky_schema observation_schema = SCHEMA(observation_rows, envelope);
 static const struct sky_schema weather_map_schema = SCHEMA(weather_map_rows, with_data);
 static const struct sky_schema weather_map_variants[] = {
     [SKY_WEATHER_MAP_RGBA8] = SCHEMA(rgba8_map_rows, with_data),
@@ -183,6 +191,7 @@ static const struct msg_schema message_schemas[] = {
     [SKY_MSG_SET_WEATHER_MAP] = {&weather_map_schema, "format", weather_map_variants,
                                  COUNT_OF(weather_map_variants)},
     [SKY_MSG_DESCRIBE] = {&envelope_schema, NULL, NULL, 0},
+    [SKY_MSG_APPLY_OBSERVATION] = {&observation_schema, NULL, NULL, 0},
 };
 /* clang-format on */
 

@@ -3,6 +3,7 @@
 #include "field_schema.h"
 #include "message_names.h"
 #include "message_parser.h"
+#include "metar.h"
 
 #include <cjson/cJSON.h>
 
@@ -14,6 +15,7 @@
 #include <string.h>
 
 _Static_assert((int)SKY_MSG_ERR_UNKNOWN_FIELD == (int)SKY_FIELD_UNKNOWN, "shared code");
+_Static_assert(SKY_MSG_METAR_MAX == SKY_METAR_MAX_LENGTH, "apply_observation's report");
 _Static_assert((int)SKY_MSG_ERR_WRONG_TYPE == (int)SKY_FIELD_WRONG_TYPE, "shared code");
 _Static_assert((int)SKY_MSG_ERR_OUT_OF_RANGE == (int)SKY_FIELD_OUT_OF_RANGE, "shared code");
 _Static_assert((int)SKY_MSG_ERR_BAD_VALUE == (int)SKY_FIELD_BAD_VALUE, "shared code");
@@ -61,12 +63,19 @@ static const char *const type_names[] = {
     [SKY_MSG_STATS] = "stats",
     [SKY_MSG_SET_WEATHER_MAP] = "set_weather_map",
     [SKY_MSG_DESCRIBE] = "describe",
+    [SKY_MSG_APPLY_OBSERVATION] = "apply_observation",
 };
 
 static const char *const capabilities[] = {
-    "hello",    "auth",  "get_state",    "set",          "subscribe",       "unsubscribe",
-    "snapshot", "probe", "list_presets", "apply_preset", "stats",           "set_weather_map",
-    "describe", "png",   "png16",        "jpeg",         "equirectangular",
+    "hello",        "auth",
+    "get_state",    "set",
+    "subscribe",    "unsubscribe",
+    "snapshot",     "probe",
+    "list_presets", "apply_preset",
+    "stats",        "set_weather_map",
+    "describe",     "apply_observation",
+    "png",          "png16",
+    "jpeg",         "equirectangular",
 };
 
 const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {
@@ -111,7 +120,8 @@ const char *sky_msg_type_name(enum sky_msg_type type)
 
 bool protocol_message_needs_controller(enum sky_msg_type type)
 {
-    return type == SKY_MSG_SET || type == SKY_MSG_APPLY_PRESET || type == SKY_MSG_SET_WEATHER_MAP;
+    return type == SKY_MSG_SET || type == SKY_MSG_APPLY_PRESET || type == SKY_MSG_SET_WEATHER_MAP ||
+           type == SKY_MSG_APPLY_OBSERVATION;
 }
 
 void sky_msg_limits_default(struct sky_msg_limits *limits)
@@ -296,6 +306,7 @@ static void check_members(struct parser *p, struct sky_client_msg *msg)
     case SKY_MSG_LIST_PRESETS:
     case SKY_MSG_STATS:
     case SKY_MSG_DESCRIBE:
+    case SKY_MSG_APPLY_OBSERVATION:
         break;
     }
 }

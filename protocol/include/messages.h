@@ -27,6 +27,7 @@ struct cJSON;
 #define SKY_MSG_CLIENT_MAX 64      /* bytes of the client name in hello */
 #define SKY_MSG_TOKEN_MAX 256      /* bytes of an auth token */
 #define SKY_MSG_PRESET_NAME_MAX 64 /* [a-z0-9_-]{1,64} */
+#define SKY_MSG_METAR_MAX 1024     /* bytes of a METAR report (metar.h's SKY_METAR_MAX_LENGTH) */
 #define SKY_MSG_POINTER_MAX 128    /* a JSON Pointer, as in struct sky_field_error */
 #define SKY_MSG_JPEG_QUALITY_DEFAULT 85
 #define SKY_MSG_MAX_KBPS 1e6
@@ -82,12 +83,14 @@ enum sky_msg_type {
     SKY_MSG_STATS,
     SKY_MSG_SET_WEATHER_MAP,
     SKY_MSG_DESCRIBE,
+    SKY_MSG_APPLY_OBSERVATION,
 };
 
 /* "hello", "set", ...; NULL for SKY_MSG_NONE or out-of-range values. */
 const char *sky_msg_type_name(enum sky_msg_type type);
 
-/* True for the types only a controller may send (set, apply_preset, set_weather_map). */
+/* True for the types only a controller may send (set, apply_preset, set_weather_map,
+ * apply_observation). */
 bool protocol_message_needs_controller(enum sky_msg_type type);
 
 enum sky_msg_role {
@@ -206,6 +209,9 @@ struct sky_client_msg {
             enum sky_weather_map_format weather_map_format;
             int weather_map_width, weather_map_height;
         };
+        struct {
+            char metar[SKY_MSG_METAR_MAX + 1]; /* the report as sent, decoded by the server */
+        } observation;
     };
 };
 
@@ -272,6 +278,11 @@ char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_st
 char *sky_msg_build_schema(const struct sky_msg_id *id, const struct sky_msg_limits *limits);
 
 /* role: SKY_ROLE_NONE leaves it out; the reply to a successful auth carries the new role. */
+/* The reply to apply_observation: the new revision, the decoded report, the patch applied
+ * and the groups left unmapped (each copied). */
+char *sky_msg_build_observation(const struct sky_msg_id *id, uint64_t revision,
+                                const struct cJSON *report, const struct cJSON *patch,
+                                const struct cJSON *unmapped);
 char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky_msg_role role);
 
 /* fields may be NULL. Field codes must be sky_msg_error_code values. */

@@ -6,10 +6,14 @@
 #include <string.h>
 #include <time.h>
 
+#include <cjson/cJSON.h>
+
 #include "field_errors.h"
 #include "json_guard.h"
 #include "log.h"
+#include "metar.h"
 #include "presets.h"
+#include "weather_observation.h"
 #include "world_sim.h"
 
 /* Preset folders under the config directory, by enum sky_preset_kind. */
@@ -135,25 +139,42 @@ static bool renderer_takes(struct render_context *ctx, struct world_commit *comm
     return !world_host_undo_commit(ctx->world, why, commit);
 }
 
+/* What the sender hears of an accepted observation (NULL: an ack). */
+struct observation_reply {
+    const cJSON *report, *patch, *unmapped;
+};
+
 /* A commit the world host made: the renderer takes it, then the sender and every client hear
  * of it. */
-static bool announce_commit(struct render_context *ctx, struct session *session,
-                            const struct sky_msg_id *id, struct world_commit *commit)
+static bool announce_commit_with(struct render_context *ctx, struct session *session,
+                                 const struct sky_msg_id *id, struct world_commit *commit,
+                                 const struct observation_reply *observation)
 {
     if (!renderer_takes(ctx, commit)) {
         commit_refused(ctx, session, id, commit);
         return false;
     }
-    reply(ctx, session, id, sky_msg_build_ack(id, commit->revision, SKY_ROLE_NONE));
+    reply(ctx, session, id,
+          observation ? sky_msg_build_observation(id, commit->revision, observation->report,
+                                                  observation->patch, observation->unmapped)
+                      : sky_msg_build_ack(id, commit->revision, SKY_ROLE_NONE));
     if (commit->event)
         session_hub_broadcast(ctx->hub, commit->event);
     free(commit->event);
     return true;
 }
 
-/* Commits `next` through the world host and tells the sender and every client. */
-static bool commit_state(struct render_context *ctx, struct session *session,
-                         const struct sky_msg_id *id, struct sky_world_state *next)
+static bool announce_commit(struct render_context *ctx, struct session *session,
+                            const struct sky_msg_id *id, struct world_commit *commit)
+{
+    return announce_commit_with(ctx, session, id, commit, NULL);
+}
+
+/* Commits `next` through the world host and tells the sender (an ack, or the observation's
+ * reply) and every client. */
+static bool commit_state_with(struct render_context *ctx, struct session *session,
+                              const struct sky_msg_id *id, struct sky_world_state *next,
+                              const struct observation_reply *observation)
 {
     struct world_commit commit;
     char by[SKY_MSG_CLIENT_MAX + 1];
@@ -162,7 +183,13 @@ static bool commit_state(struct render_context *ctx, struct session *session,
         commit_refused(ctx, session, id, &commit);
         return false;
     }
-    return announce_commit(ctx, session, id, &commit);
+    return announce_commit_with(ctx, session, id, &commit, observation);
+}
+
+static bool commit_state(struct render_context *ctx, struct session *session,
+                         const struct sky_msg_id *id, struct sky_world_state *next)
+{
+    return commit_state_with(ctx, session, id, next, NULL);
 }
 
 static void handle_set(struct render_context *ctx, struct session *session,
@@ -186,6 +213,48 @@ static void handle_set(struct render_context *ctx, struct session *session,
     }
     world_sim_client_changed(live, &next);
     commit_state(ctx, session, &msg->id, &next);
+}
+
+/* A METAR decoded, mapped (weather_observation.h) and applied as one change; a report the
+ * decoder refuses, or a NIL one, is a bad_value at /metar with the decoder's message (the
+ * group, its index and offset) and leaves the state as it was. */
+static void handle_apply_observation(struct render_context *ctx, struct session *session,
+                                     const struct sky_client_msg *msg)
+{
+    const char *text = msg->observation.metar;
+    struct sky_metar_report report;
+    struct sky_metar_error error;
+    struct sky_field_errors errors;
+    sky_field_errors_clear(&errors);
+    if (!sky_metar_decode(text, strlen(text), &report, &error)) {
+        sky_field_errors_add(&errors, SKY_FIELD_BAD_VALUE, "/metar", error.message);
+        log_refusal(ctx, session, error.message);
+        send_error(ctx, session, &msg->id, SKY_MSG_ERR_BAD_VALUE, error.message, &errors);
+        return;
+    }
+    cJSON *patch = NULL, *unmapped = NULL;
+    char why[256];
+    if (!sky_obs_metar_patch(&report, &patch, &unmapped, why, sizeof why)) {
+        sky_field_errors_add(&errors, SKY_FIELD_BAD_VALUE, "/metar", why);
+        log_refusal(ctx, session, why);
+        send_error(ctx, session, &msg->id, SKY_MSG_ERR_BAD_VALUE, why, &errors);
+        return;
+    }
+    const struct sky_world_state *live = world_host_state(ctx->world);
+    struct sky_world_state next = *live;
+    cJSON *decoded = sky_metar_to_json(&report);
+    if (!decoded) {
+        reply_error(ctx, session, &msg->id, SKY_MSG_ERR_INTERNAL, "out of memory");
+    } else if (!sky_world_state_apply_json(&next, patch, &errors)) {
+        reply_field_errors(ctx, session, &msg->id, "/patch", &errors);
+    } else {
+        world_sim_client_changed(live, &next);
+        const struct observation_reply observation = { decoded, patch, unmapped };
+        commit_state_with(ctx, session, &msg->id, &next, &observation);
+    }
+    cJSON_Delete(decoded);
+    cJSON_Delete(patch);
+    cJSON_Delete(unmapped);
 }
 
 /* The folder's preset names into ctx->preset_names; -1 when the folder cannot be read. */
@@ -450,6 +519,9 @@ static void dispatch(struct render_context *ctx, struct session *session,
         break;
     case SKY_MSG_DESCRIBE:
         handle_describe(ctx, session, msg);
+        break;
+    case SKY_MSG_APPLY_OBSERVATION:
+        handle_apply_observation(ctx, session, msg);
         break;
     }
 }

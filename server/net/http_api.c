@@ -30,6 +30,7 @@ enum endpoint {
     ENDPOINT_STATE, /* GET: the state; PATCH: a patch */
     ENDPOINT_SNAPSHOT,
     ENDPOINT_SCHEMA,
+    ENDPOINT_METAR, /* POST: a METAR applied to the weather */
 };
 
 /* One request on a connection (lws keeps this per connection and reuses it for the next request
@@ -38,7 +39,7 @@ struct http_request {
     struct http_request *next_pending; /* in api->pending while its session may answer */
     struct lws *wsi;
     enum endpoint endpoint;
-    bool patch; /* PATCH rather than GET */
+    bool patch; /* a change with a body: PATCH /api/state, POST /api/weather/metar */
     bool pending;
     struct session *session; /* the message's sender, until its reply is written */
     char *body;              /* a PATCH's body as it arrives */
@@ -258,11 +259,12 @@ static int write_response(struct http_api *api, struct http_request *r)
         lws_add_http_header_by_name(r->wsi, (const unsigned char *)"retry-after:",
                                     (const unsigned char *)retry_after, retry_length, &p, end))
         return -1;
+    const char *allow = r->endpoint == ENDPOINT_STATE   ? "GET, PATCH"
+                        : r->endpoint == ENDPOINT_METAR ? "POST"
+                                                        : "GET";
     if (r->status == HTTP_STATUS_METHOD_NOT_ALLOWED &&
-        lws_add_http_header_by_name(
-            r->wsi, (const unsigned char *)"allow:",
-            (const unsigned char *)(r->endpoint == ENDPOINT_STATE ? "GET, PATCH" : "GET"),
-            r->endpoint == ENDPOINT_STATE ? 10 : 3, &p, end))
+        lws_add_http_header_by_name(r->wsi, (const unsigned char *)"allow:",
+                                    (const unsigned char *)allow, (int)strlen(allow), &p, end))
         return -1;
     if (lws_finalize_write_http_header(r->wsi, start, &p, end))
         return -1;
@@ -418,7 +420,9 @@ static void submit_json(struct http_api *api, struct http_request *r, cJSON *jso
         if (protocol_message_needs_controller(msg.type)) {
             char peer[64] = "";
             net_peer_address(r->wsi, peer, sizeof peer);
-            skyd_log(SKYD_LOG_WARNING, "PATCH /api/state from %s refused: %s", peer, error.message);
+            skyd_log(SKYD_LOG_WARNING, "%s from %s refused: %s",
+                     r->endpoint == ENDPOINT_METAR ? "POST /api/weather/metar" : "PATCH /api/state",
+                     peer, error.message);
         }
         respond_error(api, r, 0, code, error.message, &error.fields);
         return;
@@ -447,8 +451,12 @@ static void carry_out(struct http_api *api, struct http_request *r, struct http_
 static void answer_patch(struct http_api *api, struct http_request *r)
 {
     struct http_answer answer;
-    http_endpoint_patch(&answer, r->body, r->body_length, r->body_too_large,
-                        api->limits->max_message_bytes);
+    if (r->endpoint == ENDPOINT_METAR)
+        http_endpoint_metar(&answer, r->body, r->body_length, r->body_too_large,
+                            api->limits->max_message_bytes);
+    else
+        http_endpoint_patch(&answer, r->body, r->body_length, r->body_too_large,
+                            api->limits->max_message_bytes);
     carry_out(api, r, &answer);
 }
 
@@ -502,7 +510,7 @@ static enum endpoint endpoint_of(const char *path)
     } routes[] = {
         { "/healthz", ENDPOINT_HEALTH },    { "/metrics", ENDPOINT_METRICS },
         { "/api/state", ENDPOINT_STATE },   { "/api/snapshot", ENDPOINT_SNAPSHOT },
-        { "/api/schema", ENDPOINT_SCHEMA },
+        { "/api/schema", ENDPOINT_SCHEMA }, { "/api/weather/metar", ENDPOINT_METAR },
     };
     for (size_t i = 0; i < sizeof routes / sizeof routes[0]; i++)
         if (strcmp(path, routes[i].path) == 0)
@@ -535,18 +543,24 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
         method++;
     if (method < sizeof methods / sizeof methods[0])
         lws_hdr_copy(wsi, path, sizeof path, methods[method]);
-    bool get = method == 0;
-    r->patch = method == 1;
     r->endpoint = endpoint_of(path);
+    /* GET everywhere but on /api/weather/metar, which takes POST; PATCH on /api/state. */
+    bool get = method == 0 && r->endpoint != ENDPOINT_METAR;
+    r->patch = (method == 1 && r->endpoint == ENDPOINT_STATE) ||
+               (method == 2 && r->endpoint == ENDPOINT_METAR);
+    const char *change = r->endpoint == ENDPOINT_METAR ? "POST /api/weather/metar"
+                                                       : "PATCH /api/state";
     if (r->endpoint == ENDPOINT_NONE) {
         respond_error(api, r, HTTP_STATUS_NOT_FOUND, SKY_MSG_ERR_NOT_FOUND,
                       "no such endpoint: see PROTOCOL.md, \"HTTP API\"", NULL);
         return 0;
     }
-    if ((!get && !r->patch) || (r->patch && r->endpoint != ENDPOINT_STATE)) {
+    if (!get && !r->patch) {
         char message[320];
         snprintf(message, sizeof message, "%s allows only %s", path,
-                 r->endpoint == ENDPOINT_STATE ? "GET and PATCH" : "GET");
+                 r->endpoint == ENDPOINT_STATE   ? "GET and PATCH"
+                 : r->endpoint == ENDPOINT_METAR ? "POST"
+                                                 : "GET");
         respond_error(api, r, HTTP_STATUS_METHOD_NOT_ALLOWED, SKY_MSG_ERR_BAD_VALUE, message, NULL);
         return 0;
     }
@@ -562,7 +576,7 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
     if (token != LIVE_TOKEN_MATCHES) {
         char peer[64] = "";
         net_peer_address(wsi, peer, sizeof peer);
-        skyd_log(SKYD_LOG_WARNING, "PATCH /api/state from %s: auth failed (%s)", peer,
+        skyd_log(SKYD_LOG_WARNING, "%s from %s: auth failed (%s)", change, peer,
                  token == LIVE_TOKEN_WRONG ? "wrong or missing bearer token" : "nobody controls");
         respond_error(api, r, 0, SKY_MSG_ERR_AUTH_FAILED,
                       token == LIVE_TOKEN_READ_ONLY
@@ -570,6 +584,8 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
                             "can control it"
                       : token == LIVE_TOKEN_NONE
                           ? "this server has no controller token: nobody can control it"
+                      : r->endpoint == ENDPOINT_METAR
+                          ? "POST needs the header Authorization: Bearer <controller token>"
                           : "PATCH needs the header Authorization: Bearer <controller token>",
                       NULL);
         return 0;
@@ -588,6 +604,7 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
     case ENDPOINT_SNAPSHOT:
         http_endpoint_snapshot(&answer, wsi);
         break;
+    case ENDPOINT_METAR:
     case ENDPOINT_STATE:
         if (r->patch) {
             if (!body_follows(wsi))

@@ -190,6 +190,74 @@ void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi)
     }
 }
 
+void http_endpoint_metar(struct http_answer *out, const char *body, size_t length, bool too_large,
+                         size_t max_message_bytes)
+{
+    char message[160];
+    if (too_large) {
+        snprintf(message, sizeof message, "the body is larger than max_message_bytes (%zu)",
+                 max_message_bytes);
+        answer_error(out, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message);
+        return;
+    }
+    const char *text = body ? body : "";
+    if (memchr(text, '\0', length)) {
+        answer_error(out, SKY_MSG_ERR_MALFORMED_JSON, "NUL byte in the body");
+        return;
+    }
+    size_t start = 0;
+    while (start < length && strchr(" \t\r\n", text[start]))
+        start++;
+    while (length > start && strchr(" \t\r\n", text[length - 1]))
+        length--;
+    cJSON *observation = NULL;
+    json_guard_lock();
+    if (start < length && text[start] == '{') {
+        /* {"metar": "..."}: the object is the message, less its type. */
+        const char *end = NULL;
+        observation = cJSON_ParseWithLengthOpts(text + start, length - start, &end, false);
+        if (!observation || end != text + length || !cJSON_IsObject(observation)) {
+            size_t offset = end ? (size_t)(end - text) : start;
+            cJSON_Delete(observation);
+            json_guard_unlock();
+            snprintf(message, sizeof message, "the body is not JSON (at offset %zu)", offset);
+            answer_error(out, SKY_MSG_ERR_MALFORMED_JSON, message);
+            return;
+        }
+        if (cJSON_GetObjectItemCaseSensitive(observation, "type") ||
+            cJSON_GetObjectItemCaseSensitive(observation, "id")) {
+            cJSON_Delete(observation);
+            json_guard_unlock();
+            answer_error(out, SKY_MSG_ERR_BAD_VALUE,
+                         "the body's object holds \"metar\" only (no \"type\" or \"id\")");
+            return;
+        }
+    } else {
+        /* The report's text itself. */
+        char *report = malloc(length - start + 1);
+        observation = report ? cJSON_CreateObject() : NULL;
+        if (report) {
+            memcpy(report, text + start, length - start);
+            report[length - start] = '\0';
+            if (!cJSON_AddStringToObject(observation, "metar", report)) {
+                cJSON_Delete(observation);
+                observation = NULL;
+            }
+        }
+        free(report);
+    }
+    if (observation && !cJSON_AddStringToObject(observation, "type", "apply_observation")) {
+        cJSON_Delete(observation);
+        observation = NULL;
+    }
+    json_guard_unlock();
+    if (!observation) {
+        answer_error(out, SKY_MSG_ERR_INTERNAL, "out of memory");
+        return;
+    }
+    answer_submit(out, observation, SKY_ROLE_CONTROLLER);
+}
+
 void http_endpoint_patch(struct http_answer *out, const char *body, size_t length, bool too_large,
                          size_t max_message_bytes)
 {

@@ -55,6 +55,11 @@ void http_endpoint_state(struct http_answer *out);
 /* GET /api/snapshot: a snapshot message whose view the query parameters of wsi's request
  * fill. */
 void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi);
+/* POST /api/weather/metar once its body is in: an apply_observation message with the body as
+ * its report, either the METAR's text or a JSON object {"metar": "..."} (a body that starts
+ * with '{'). */
+void http_endpoint_metar(struct http_answer *out, const char *body, size_t length, bool too_large,
+                         size_t max_message_bytes);
 /* PATCH /api/state once its body is in: a set message with the body as its patch. */
 void http_endpoint_patch(struct http_answer *out, const char *body, size_t length, bool too_large,
                          size_t max_message_bytes);

@@ -7,6 +7,11 @@
  */
 #include "test_protocol.h"
 #include "text_file.h"
+#include "metar.h"
+#include "weather_observation.h"
+
+#include <cjson/cJSON.h>
+#include <string.h>
 
 /* ---- the documented examples (also in protocol/PROTOCOL.md, in this order) -------------- */
 
@@ -45,6 +50,9 @@ const struct protocol_client_example protocol_client_examples[] = {
     { "{\"type\":\"set_weather_map\",\"id\":16,\"format\":\"rgba8\",\"width\":2,\"height\":1,"
       "\"data\":\"/wCgAIBAoCg=\"}",
       SKY_MSG_SET_WEATHER_MAP },
+    { "{\"type\":\"apply_observation\",\"id\":19,\"metar\":\"METAR LFLY 211200Z 18008KT 9999 "
+      "FEW040 22/10 Q1018\"}",
+      SKY_MSG_APPLY_OBSERVATION },
     { "{\"type\":\"describe\",\"id\":18}", SKY_MSG_DESCRIBE },
     { "{\"type\":\"snapshot\",\"id\":17,\"view\":{\"width\":1024,\"height\":512,"
       "\"projection\":\"equirectangular\",\"format\":\"png16\"}}",
@@ -54,6 +62,25 @@ const struct protocol_client_example protocol_client_examples[] = {
       SKY_MSG_SUBSCRIBE },
 };
 const size_t protocol_client_example_count = COUNT_OF(protocol_client_examples);
+
+/* apply_observation's reply to its example (revision 7): the report decoded and mapped. */
+static char *build_observation_example(void)
+{
+    const char *text = "METAR LFLY 211200Z 18008KT 9999 FEW040 22/10 Q1018";
+    struct sky_metar_report report;
+    cJSON *patch = NULL, *unmapped = NULL;
+    char why[160];
+    if (!sky_metar_decode(text, strlen(text), &report, NULL) ||
+        !sky_obs_metar_patch(&report, &patch, &unmapped, why, sizeof why))
+        return NULL;
+    cJSON *decoded = sky_metar_to_json(&report);
+    struct sky_msg_id id = int_id(19);
+    char *built = sky_msg_build_observation(&id, 7, decoded, patch, unmapped);
+    cJSON_Delete(decoded);
+    cJSON_Delete(patch);
+    cJSON_Delete(unmapped);
+    return built;
+}
 
 /* The server examples of PROTOCOL.md, in its order, produced by the builders. */
 static size_t build_server_examples(char **out, size_t max)
@@ -81,6 +108,7 @@ static size_t build_server_examples(char **out, size_t max)
     ADD(sky_msg_build_state(&id3, &state));
     ADD(sky_msg_build_ack(&id4, 6, SKY_ROLE_NONE));
     ADD(sky_msg_build_ack(&id2, 5, SKY_ROLE_CONTROLLER));
+    ADD(build_observation_example());
 
     struct sky_client_msg msg;
     struct sky_msg_parse_error error;
