@@ -489,6 +489,12 @@ class Client:
         """Applies a patch (controller); returns the new revision."""
         return (await self.request({"type": "set", "patch": patch}))["revision"]
 
+    async def apply_observation(self, metar):
+        """Applies a METAR or SPECI report to the weather (controller): the `observation`
+        reply, {"revision": N, "report": {...}, "patch": {...}, "unmapped": [...]}. A report
+        the server refuses raises SkydError (bad_value at /metar, naming the group)."""
+        return await self.request({"type": "apply_observation", "metar": metar})
+
     async def snapshot(self, view, timeout=None, decode=False):
         """One frame rendered with view."""
         reply = await self.request({"type": "snapshot", "view": view}, timeout)

@@ -1,4 +1,4 @@
-/* skyctl get, set, preset, weather-map, probe and stats: one request, one reply each. */
+/* skyctl get, set, preset, weather-map, metar, probe and stats: one request, one reply each. */
 #include "skyctl.h"
 #include "weather_map.h"
 
@@ -211,6 +211,37 @@ int skyctl_weather_map(const struct skyctl_options *options, int argc, char **ar
     int rc = one_request(options, "weather-map", msg, &reply);
     if (rc == SKYCTL_OK)
         print_ack(options, reply);
+    cJSON_Delete(reply);
+    return rc;
+}
+
+/* metar "TEXT": apply_observation (PROTOCOL.md). Prints the new revision and a line per group
+ * the world could not place; with --json the whole reply. */
+int skyctl_metar(const struct skyctl_options *options, int argc, char **argv)
+{
+    if (argc != 2)
+        return skyctl_usage_error("metar", "takes one REPORT (quote it: \"METAR EGLL ...\")");
+    cJSON *msg = message("apply_observation");
+    cJSON_AddStringToObject(msg, "metar", argv[1]);
+    cJSON *reply = NULL;
+    int rc = one_request(options, "metar", msg, &reply);
+    if (rc == SKYCTL_OK && options->json) {
+        skyctl_print_reply_json(reply);
+    } else if (rc == SKYCTL_OK) {
+        printf("revision %ld\n", revision_of(reply));
+        const cJSON *item;
+        cJSON_ArrayForEach(item, cJSON_GetObjectItemCaseSensitive(reply, "unmapped"))
+        {
+            const char *group =
+                cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(item, "group"));
+            const char *etage =
+                cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(item, "etage"));
+            const char *reason =
+                cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(item, "reason"));
+            printf("unmapped %s%s%s%s: %s\n", group ? group : "?", etage ? " (" : "",
+                   etage ? etage : "", etage ? ")" : "", reason ? reason : "");
+        }
+    }
     cJSON_Delete(reply);
     return rc;
 }

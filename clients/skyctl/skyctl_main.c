@@ -14,7 +14,7 @@ static const char usage_text[] =
     "Talks to a running skyd (`skyd serve`) over its WebSocket protocol.\n"
     "  --url URL      ws://HOST:PORT/, or wss://HOST:PORT/ through TLS to a skyd whose config\n"
     "                 sets listen.tls_certificate ($SKYD_URL, else ws://127.0.0.1:8080/)\n"
-    "  --token TOKEN  the controller token, needed by set, preset and weather-map\n"
+    "  --token TOKEN  the controller token, needed by set, preset, weather-map and metar\n"
     "                 ($SKYD_TOKEN when not given)\n"
     "  --token-file FILE\n"
     "                 a file whose first line is the token, read when neither --token\n"
@@ -47,6 +47,9 @@ static const char usage_text[] =
     "  weather-map FILE.png             send a weather map (r low coverage, g high coverage,\n"
     "                                   b cloud type, a rain) and select it; prints the\n"
     "                                   new revision (weather.map_source=procedural undoes)\n"
+    "  metar \"REPORT\"                   apply a METAR or SPECI report to the weather\n"
+    "                                   (weather.source becomes metar); prints the new\n"
+    "                                   revision and each group left unmapped\n"
     "  snapshot --out FILE.png [--width W] [--height H] [--set VIEW_PATH=VALUE]...\n"
     "                                   render one frame (default 640x360) into a PNG\n"
     "                                   (FILE.jpg: a JPEG; --set quality=N, 1..100)\n"
@@ -81,6 +84,7 @@ static const char usage_text[] =
     "  skyctl --token \"$T\" preset mars\n"
     "  skyctl --token \"$T\" preset --kind weather --transition-s 600 storm\n"
     "  skyctl --token \"$T\" weather-map front.png\n"
+    "  skyctl --token \"$T\" metar \"METAR EGLL 281150Z 24010KT 9999 FEW040 12/09 Q1005\"\n"
     "  skyctl --token-file var/skyd-state.json.token set clouds.low.coverage=0.4\n"
     "  skyctl snapshot --out west.png --width 1280 --height 720 --set camera.yaw_deg=270\n"
     "  skyctl snapshot --out env.png --width 2048 --height 1024 --set projection=equirectangular\n"
@@ -152,6 +156,7 @@ static const struct command commands[] = {
     { "preset", skyctl_preset }, { "snapshot", skyctl_snapshot },
     { "watch", skyctl_watch },   { "probe", skyctl_probe },
     { "stats", skyctl_stats },   { "weather-map", skyctl_weather_map },
+    { "metar", skyctl_metar },
 };
 
 int main(int argc, char **argv)

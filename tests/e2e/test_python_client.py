@@ -115,6 +115,14 @@ async def basics(daemon, scratch):
           "/patch/sun/elevation_deg" in e.pointers, str(e and e.pointers))
     check("str() of the error names the fields", e is not None
           and "/patch/atmosphere/mie/g" in str(e) and "set" in str(e), str(e))
+    reply = await sky.apply_observation("METAR LFLY 211200Z 18008KT CAVOK 22/10 Q1018")
+    check("apply_observation: the next revision, the report, the patch",
+          reply.get("revision") == revision + 1 and reply.get("report", {}).get("cavok") is True
+          and reply.get("patch", {}).get("weather", {}).get("source") == "metar"
+          and reply.get("unmapped") == [], str(reply)[:300])
+    await expect_error("apply_observation of a bad group",
+                       sky.apply_observation("METAR EGLL 281150Z 24010KT 9999 BKN0X0 12/09"),
+                       "bad_value", "/metar")
     return sky
 
 

@@ -288,6 +288,34 @@ def check_weather_map(wd, daemon, out):
     wd.screenshot(os.path.join(out, "web-panels-weather-map-error.png"))
 
 
+def check_observation(wd, daemon, out):
+    """A METAR applied from the page: the decoded report's table (station, time, layers,
+    visibility, wind, T/Td) shows while weather.source is metar; a refused report's error
+    shows beside the button."""
+    wd.js("document.getElementById('observation-panel').scrollIntoView();")
+    wd.clear("#metar-text")
+    wd.type("#metar-text", "METAR LFLY 211200Z 18008KT 9999 FEW040 22/10 Q1018")
+    wd.click("#metar-apply")
+    check("the report is applied with a new revision",
+          wait_for("applied", lambda: (wd.text("#metar-status") or "")
+                   .startswith("applied: revision")), wd.text("#metar-status"))
+    table = wd.js("const t = document.getElementById('metar-report');"
+                  "return t.hidden ? null : t.textContent;") or ""
+    check("the decoded report is shown: station, time, layer, visibility, wind, T/Td",
+          all(s in table for s in ("LFLY", "day 21, 12:00 UTC", "FEW 1219 m", "≥ 10.0 km",
+                                   "from 180°, 4.1 m/s", "22 °C / 10 °C")), table)
+    check("the state's weather.source is metar",
+          wait_for("source", lambda: api_state(daemon)["weather"]["source"] == "metar"),
+          api_state(daemon)["weather"]["source"])
+    check_screenshot(wd, "#observation-panel", out, "web-panels-observation.png")
+    wd.clear("#metar-text")
+    wd.type("#metar-text", "METAR EGLL 281150Z 24010KT 9999 BKN0X0 12/09 Q1005")
+    wd.click("#metar-apply")
+    error = wait_for("metar error", lambda: wd.text('[data-error-for="metar"]'))
+    check("a refused report's group shows beside the button", error and "BKN0X0" in error,
+          f"{error!r}")
+
+
 def drag(wd, css, dx, dy, steps=6):
     """A mouse drag through the WebDriver actions API, from the element's centre."""
     x, y = wd.js("const r = document.querySelector(arguments[0]).getBoundingClientRect();"
@@ -332,6 +360,7 @@ def run_checks(wd, daemon, out, downloads):
     check_probe(wd, daemon, out)
     check_snapshots(wd, downloads, out)
     check_weather_map(wd, daemon, out)
+    check_observation(wd, daemon, out)
     wd.js("document.getElementById('panorama').scrollIntoView();")
     check_panorama(wd, out)
     wd.screenshot(os.path.join(out, "web-panels-page.png"))

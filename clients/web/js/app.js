@@ -5,6 +5,7 @@ import { ClockButtons } from "./clock_buttons.js";
 import { Connection } from "./connection.js";
 import { clearErrors, showError, showReplyError } from "./field_errors.js";
 import { FrameView } from "./frame_view.js";
+import { ObservationPanel } from "./observation_panel.js";
 import { applyRole } from "./locks.js";
 import { PanoramaView } from "./panorama_view.js";
 import { Presets } from "./presets.js";
@@ -66,6 +67,7 @@ const probe = new ProbePanel($("view"), request, () => view.shown);
 new PanoramaView($("panorama"), () => view.view(), () => view.shown);
 new SnapshotPanel(() => view.view(), () => state && state.clock && state.clock.utc);
 new WeatherMapPanel(request, noteRevision);
+const observation = new ObservationPanel(request, noteRevision);
 
 // Controls that need the controller role are disabled until an auth makes this session one.
 function setRole(role) {
@@ -114,6 +116,7 @@ async function refreshState() {
   sim.update(state);
   clock.update(state);
   probe.update(state);
+  observation.update(state);
 }
 
 // Writes a value at a JSON Pointer ("/sun/elevation_deg") of the local state.
@@ -140,6 +143,7 @@ function applyEvent(msg) {
   view.update(state);
   clock.update(state);
   probe.update(state);
+  observation.update(state);
   if (touches("/clock/utc")) time.update(state);
   if (touches("/clock/", "/weather/transition/")) sim.update(state);
 }
