@@ -244,9 +244,11 @@ static bool map_clouds(const struct sky_metar_report *r, cJSON *patch, cJSON *un
                 }
             }
         }
-    } else if (!clear) {
+    } else if (!clear && !r->weather.thunderstorm) {
         return true; /* no cloud group: the clouds stay as they are */
     }
+    /* No cloud group but a thunderstorm: its cumulonimbus, the high layer left as it is. */
+    bool keep_high = !clear && r->sky == SKY_METAR_SKY_NOT_REPORTED;
     if (r->weather.thunderstorm && !(low.present && low.type == TYPE_CUMULONIMBUS)) {
         /* TS: a cumulonimbus overhead, reported or not. */
         if (!low.present || low.coverage <= 0)
@@ -255,7 +257,8 @@ static bool map_clouds(const struct sky_metar_report *r, cJSON *patch, cJSON *un
         low.thickness_km = 8.0;
     }
     cJSON *clouds = cJSON_AddObjectToObject(patch, "clouds");
-    if (!clouds || !put_layer(clouds, "low", &low) || !put_layer(clouds, "high", &high))
+    if (!clouds || !put_layer(clouds, "low", &low) ||
+        (!keep_high && !put_layer(clouds, "high", &high)))
         return false;
     if (low.present)
         *low_base_km = low.bottom_km;

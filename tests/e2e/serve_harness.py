@@ -42,7 +42,7 @@ EXIT_TIMEOUT = 20.0       # exit after SIGTERM
 
 CAPABILITIES = ["hello", "auth", "get_state", "set", "subscribe", "unsubscribe", "snapshot",
                 "probe", "list_presets", "apply_preset", "stats", "set_weather_map", "describe",
-                "png", "jpeg"]
+                "apply_observation", "png", "jpeg"]
 
 HEADER = struct.Struct("<4sHHQQdIIII")
 assert HEADER.size == 48

@@ -1,8 +1,10 @@
 /* METAR to world-state patch (protocol/weather_observation.c): each report decoded, mapped and
  * the patch applied to the default world, which must take it; then the layers, fog, humidity,
  * wind and precipitation checked against what the report says. The renderer's humidity fog is
- * compared with the mapper's copy of it, so the two cannot drift apart. */
+ * compared with the mapper's copy of it, so the two cannot drift apart. A forecast's rates
+ * become precipitation levels on the same scale (server/forecast/forecast_patch.c). */
 #include "field_errors.h"
+#include "forecast.h"
 #include "metar.h"
 #include "weather_observation.h"
 #include "world_render.h"
@@ -156,6 +158,10 @@ static void test_convection(void)
     /* TS with only a middle cloud group: the storm's cumulonimbus takes the low layer. */
     s = mapped("METAR LIMC 281450Z 22010KT 9999 TS FEW030 25/15 Q1012", &unmapped, NULL);
     CHECK_NEAR(s.clouds.low.type, 1.0, 0);
+    /* TS without any cloud group: a cumulonimbus of SCT amount all the same. */
+    s = mapped("METAR LIMC 281450Z 22010KT 9999 TS 25/15 Q1012", &unmapped, NULL);
+    CHECK_NEAR(s.clouds.low.type, 1.0, 0);
+    CHECK_NEAR(s.clouds.low.coverage, 3.5 / 8.0, 1e-9);
     /* Drizzle is light whatever its sign; light rain 0.3; showers in the vicinity unmapped. */
     s = mapped("METAR EGLL 281150Z 24010KT 5000 DZ VCSH BKN008 12/11 Q1005", &unmapped, NULL);
     CHECK_NEAR(s.clouds.precipitation, 0.3, 1e-9);
@@ -207,8 +213,23 @@ static void test_humidity_fog_matches(void)
     CHECK_NEAR(SKY_OBS_FOG_ONSET_HUMIDITY, WORLD_FOG_ONSET_HUMIDITY, 0);
 }
 
+/* A forecast's rate to clouds.precipitation: the METAR intensities at the AMS rates. */
+static void test_forecast_precipitation(void)
+{
+    CHECK_NEAR(sky_forecast_precipitation_level(0.0), 0.0, 0);
+    CHECK_NEAR(sky_forecast_precipitation_level(-1.0), 0.0, 0);
+    CHECK_NEAR(sky_forecast_precipitation_level(0.25), 0.15, 1e-12);
+    CHECK_NEAR(sky_forecast_precipitation_level(0.5), 0.3, 1e-12);
+    CHECK_NEAR(sky_forecast_precipitation_level(4.0), 0.6, 1e-12);
+    CHECK_NEAR(sky_forecast_precipitation_level(7.0), 0.75, 1e-12);
+    CHECK_NEAR(sky_forecast_precipitation_level(10.0), 0.9, 1e-12);
+    CHECK_NEAR(sky_forecast_precipitation_level(20.0), 1.0, 0);
+    CHECK_NEAR(sky_forecast_precipitation_level(300.0), 1.0, 0);
+}
+
 int main(void)
 {
+    test_forecast_precipitation();
     test_fair_cumulus();
     test_fog();
     test_clear();
