@@ -119,9 +119,8 @@ static bool parse_args(int argc, char **argv, struct options *o)
             usage(stdout);
             exit(0);
         }
-        static const char *const known[] = { "--skyd", "--url", "--clients", "--views",
-                                             "--size", "--fps", "--warmup",  "--seconds",
-                                             "--format" };
+        static const char *const known[] = { "--skyd", "--url",    "--clients", "--views", "--size",
+                                             "--fps",  "--warmup", "--seconds", "--format" };
         bool is_known = false;
         for (size_t k = 0; k < sizeof known / sizeof known[0]; k++)
             is_known |= strcmp(a, known[k]) == 0;

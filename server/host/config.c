@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <time.h>
 
 #include <cjson/cJSON.h>
@@ -56,7 +57,8 @@ static const struct sky_field_desc config_fields[] = {
            "the source tree's config/)"),
     STRING("state_file", state_file, "where the world state is kept; empty: nowhere"),
     STRING("render.device", render_device, "the Vulkan device; empty: a GPU, else lavapipe"),
-    INT("render.encoder_threads", encoder_threads, 1, 64, "PNG encoder threads"),
+    INT("render.encoder_threads", encoder_threads, 0, 64,
+        "PNG and JPEG encoder threads; 0: one per core but the render thread's, at least 2"),
     NUMBER("render.lut_budget_ms", lut_budget_ms, 0, 1000,
            "GPU ms per frame for amortized LUT rebuilds; 0: at once"),
     NUMBER("render.lut_budget_fraction", lut_budget_fraction, 0, 1,
@@ -107,7 +109,7 @@ void skyd_config_defaults(struct skyd_config *c)
     snprintf(c->listen_address, sizeof c->listen_address, "127.0.0.1");
     c->listen_port = 8080;
     snprintf(c->state_file, sizeof c->state_file, "var/skyd-state.json");
-    c->encoder_threads = 2;
+    c->encoder_threads = 0;
     c->lut_budget_ms = 2.0;
     c->lut_budget_fraction = 0.05;
     c->lut_blend_frames = 4;
@@ -328,4 +330,15 @@ cJSON *skyd_config_json_schema(void)
         return NULL;
     }
     return root;
+}
+
+int skyd_config_encoder_threads(const struct skyd_config *c)
+{
+    if (c->encoder_threads > 0)
+        return c->encoder_threads;
+    /* The render thread keeps a core; frames are encoded on the others, pipelined (each frame
+     * a job any worker takes), so a fast device is not held to two encodes at a time. */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    long threads = cores > 1 ? cores - 1 : 1;
+    return (int)(threads < 2 ? 2 : threads > 64 ? 64 : threads);
 }

@@ -384,7 +384,8 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         render_loop_destroy(&loop);
         return NULL;
     }
-    struct frame_scheduler_params frames = { .encoder_threads = params->config->encoder_threads,
+    struct frame_scheduler_params frames = { .encoder_threads =
+                                                 skyd_config_encoder_threads(params->config),
                                              .hub = params->hub,
                                              .encoded = encoder_done,
                                              .user = loop,

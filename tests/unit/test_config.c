@@ -61,6 +61,19 @@ int main(int argc, char **argv)
     CHECK(c.max_fps == defaults.max_fps); /* untouched fields keep their defaults */
     CHECK(!c.read_only && c.controller_token[0] == '\0');
 
+    /* Encoder threads: 0 (the default and the shipped config's) is one per core but the
+     * render thread's, 2 to 64; a number given is kept. */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    int expected = cores - 1 < 2 ? 2 : cores - 1 > 64 ? 64 : (int)(cores - 1);
+    CHECK(defaults.encoder_threads == 0);
+    CHECK(skyd_config_encoder_threads(&defaults) == expected);
+    const char *three = write_temp("three.json", "{\"render\":{\"encoder_threads\":3}}");
+    CHECK(skyd_config_load(three, &c, &errors, msg, sizeof msg));
+    CHECK(skyd_config_encoder_threads(&c) == 3);
+    const char *negative = write_temp("negative.json", "{\"render\":{\"encoder_threads\":-1}}");
+    CHECK(!skyd_config_load(negative, &c, &errors, msg, sizeof msg));
+    CHECK(errors.count >= 1 && strcmp(errors.items[0].pointer, "/render/encoder_threads") == 0);
+
     /* read_only, and the token left as given (control_token.c decides what they mean). */
     const char *read_only = write_temp("read_only.json",
                                        "{\"read_only\":true,\"controller_token\":\"t\"}");

@@ -28,7 +28,7 @@ struct skyd_config {
     double state_save_delay_s;            /* 1: retry delay of a state write the daemon owes itself
                                       (client changes are written before their ack) */
     char render_device[64];               /* "" = automatic (a GPU when present, else lavapipe) */
-    int encoder_threads;                  /* 2: PNG encoder workers */
+    int encoder_threads;                  /* 0: skyd_config_encoder_threads() decides */
     /* Amortized atmosphere LUT rebuilds: GPU ms per frame (0 = at once) and blend frames. */
     double lut_budget_ms;       /* 2 */
     double lut_budget_fraction; /* 0.05: and at most this share of the rest of a frame */
@@ -81,5 +81,9 @@ bool skyd_config_parse(const char *text, size_t length, const char *name,
 /* The configuration's JSON Schema (draft 2020-12), from the same rows that read it. NULL when
  * memory is out; the caller deletes it. */
 struct cJSON *skyd_config_json_schema(void);
+
+/* The encoder threads to start: render.encoder_threads, or when it is 0 one per online core but
+ * one (the render thread's), from 2 to 64. */
+int skyd_config_encoder_threads(const struct skyd_config *config);
 
 #endif
