@@ -1,6 +1,7 @@
 #include "state_store.h"
 #include "field_errors.h"
 #include "png_write.h"
+#include "test_faults.h"
 #include "text_file.h"
 
 #include <errno.h>
@@ -173,6 +174,10 @@ static void sync_parent_directory(const char *path)
 
 static int write_all(int fd, const void *bytes, size_t length)
 {
+    if (test_fault_disk_full()) { /* SKYD_FAULT_DIR/state_write (tests only) */
+        errno = ENOSPC;
+        return -1;
+    }
     const char *data = bytes;
     while (length > 0) {
         ssize_t n = write(fd, data, length);
