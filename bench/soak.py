@@ -46,7 +46,16 @@ runs at +13 %, and whether it did depended on what earlier runs had left in the 
 empty cache the first compile comes at start-up, as on a fresh machine (docs/PERFORMANCE.md,
 "Soak: where the memory went").
 
-Exit status 0 when RSS growth < --max-growth-percent (5; not judged with --no-rss-verdict), no
+Memory is judged by its slope, not by the growth between the two settles (which is still
+printed): a least-squares fit of VmRSS against real time over the measured random changes, on
+block means of --slope-block-s (60 s) with the residuals' remaining autocorrelation taken into
+account by an effective sample size (bench/soak_slope.py), in MiB per real and per simulated
+hour with its 95 % interval, for VmRSS and its parts RssAnon, RssFile and RssShmem. A leak is
+an interval wholly above zero whose upper end reaches --max-slope (1 MiB per real hour): an
+interval that holds zero passes (a short run gives a wide one; the figure says how wide), and
+so does a significantly positive slope known to be below the bound.
+
+Exit status 0 when the RSS slope passes (not judged with --no-rss-verdict), no
 validation message, no refused or unanswered request, no bad frame, no subscription left
 without a frame for longer than --reply-timeout (a client subscribes and never reads all along)
 and the daemon alive and exiting 0 on SIGTERM; 1 otherwise; 2 for a bad command line or a daemon that does not start. The last line is a
@@ -71,10 +80,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tests", "e2e"))
 import serve_harness as H  # noqa: E402
 from soak_bookkeeping import Soak, connect  # noqa: E402
-from soak_clients import churn, monitor, stalled_reader, subscriber, viewer  # noqa: E402
+from soak_clients import (churn, monitor, resilient, stalled_reader,  # noqa: E402
+                          subscriber, viewer)
 from soak_controller import Controller  # noqa: E402
+from soak_faults import FaultPlan  # noqa: E402
 from soak_fields import (CLOCK_FIELDS, EPHEMERIS_ANGLES, HOME_VIEWS,  # noqa: E402
-                         VALIDATION_PREFIX, Draw)
+                         VALIDATION_PREFIX, Draw, weather_params)
+from soak_ledger import Ledger  # noqa: E402
+from soak_slope import fit_slope  # noqa: E402
 from soak_schema import (check_state, leaves, load_schema, schema_fields,  # noqa: E402
                          without_read_only)
 
@@ -101,6 +114,13 @@ def reference_patch(state, fields):
     return flat
 
 
+def ledger_exclusions(fields):
+    """Pointer prefixes of the fields the simulation moves without a revision: not checked
+    against the ledger (bench/soak_ledger.py)."""
+    paths = CLOCK_FIELDS + MOVED_BY_SIMULATION + EPHEMERIS_ANGLES + weather_params(fields)
+    return ["/clock/", "/weather/transition/"] + ["/" + p.replace(".", "/") for p in paths]
+
+
 def summary_of(values):
     values = sorted(values)
     return (f"min {values[0] / 1024:.1f}, median {statistics.median(values) / 1024:.1f}, "
@@ -115,13 +135,17 @@ async def soak_main(args, soak, fields):
     await ctl.auth()
     state = (await ctl.get_state())["state"]
     check_state(fields, state)
+    soak.ledger = Ledger(ledger_exclusions(fields))
     draw = Draw(random.Random(args.seed), fields, args.uncapped)
     controller = Controller(soak, ctl, draw, reference_patch(state, fields))
     soak.warm_needed = 2 + len(HOME_VIEWS) + 1  # controller, viewer, subscribers, churn
-    tasks = [asyncio.ensure_future(monitor(soak))]
-    tasks += [asyncio.ensure_future(subscriber(soak, i, args.seed * 1000 + 10 + i))
-              for i in range(len(HOME_VIEWS))]
-    tasks.append(asyncio.ensure_future(viewer(soak, args.seed * 1000 + 20)))
+    tasks = [asyncio.ensure_future(resilient(soak, "monitor", lambda again: monitor(soak)))]
+    tasks += [asyncio.ensure_future(resilient(
+        soak, f"sub{i}", lambda again, i=i: subscriber(soak, i, args.seed * 1000 + 10 + i,
+                                                       again)))
+        for i in range(len(HOME_VIEWS))]
+    tasks.append(asyncio.ensure_future(resilient(
+        soak, "viewer", lambda again: viewer(soak, args.seed * 1000 + 20, again))))
     tasks.append(asyncio.ensure_future(churn(soak, args.seed * 1000 + 30)))
     tasks.append(asyncio.ensure_future(stalled_reader(soak)))
     main = asyncio.ensure_future(controller.run())
@@ -145,6 +169,7 @@ async def soak_main(args, soak, fields):
                     not any("a client stopped" in f for f in soak.failures):
                 soak.fail(f"a client stopped: {t.exception()!r}")
         await ctl.close()
+        await controller.c.close()
     status = await soak.daemon.terminate_async()
     if status != 0:
         soak.fail(f"the daemon exited with status {status} after SIGTERM")
@@ -166,7 +191,11 @@ def parse_args():
                    help="simulated minutes of random changes before the baseline (default 10)")
     p.add_argument("--settle-seconds", type=float, default=10.0)
     p.add_argument("--rss-interval", type=float, default=2.0)
-    p.add_argument("--max-growth-percent", type=float, default=5.0)
+    p.add_argument("--max-slope", type=float, default=1.0,
+                   help="MiB per real hour: RSS fails when the 95 %% interval of its slope "
+                        "lies wholly above 0 and reaches this bound (default 1)")
+    p.add_argument("--slope-block-s", type=float, default=60.0,
+                   help="real seconds per block mean of the slope fit (default 60)")
     p.add_argument("--no-rss-verdict", action="store_true",
                    help="report RSS without judging it (a run of a minute or two is too short "
                         "to tell a leak from the allocator's warm-up; make test's short soak)")
@@ -182,6 +211,14 @@ def parse_args():
                    "under build/)")
     p.add_argument("--rss-csv", help="write the RSS samples (real s, simulated s, KiB, phase) "
                    "to this file")
+    p.add_argument("--no-faults", action="store_true",
+                   help="no kill -9, full disk or clock step (bench/soak_faults.py)")
+    p.add_argument("--kills", type=int, default=1,
+                   help="kill -9 and restarts of the daemon during the warm-up (default 1)")
+    p.add_argument("--disk-full", type=int, default=1,
+                   help="full disks under the state file in the measured stretch (default 1)")
+    p.add_argument("--clock-back", type=int, default=1,
+                   help="wall-clock steps back in the measured stretch (default 1)")
     p.add_argument("--verbose", action="store_true", help="print every change")
     args = p.parse_args()
     given = [x is not None for x in (args.simulated_minutes, args.time_scale, args.real_seconds)]
@@ -230,6 +267,10 @@ def main():
         return 2
     soak = Soak(args)
     soak.schema_fields = fields
+    soak.state_file = os.path.join(args.scratch, "state.json")
+    if args.no_faults:
+        args.kills = args.disk_full = args.clock_back = 0
+    soak.faults = FaultPlan(args, os.path.join(args.scratch, "faults"))
     config = H.make_config(args.scratch, os.path.join(args.scratch, "state.json"),
                            max_clients=32, max_width=1920, max_height=1080, max_fps=30,
                            control_messages_per_second=200, max_message_bytes=65536,
@@ -243,11 +284,13 @@ def main():
     shader_cache = args.shader_cache or os.path.join(args.scratch, "shader-cache")
     os.makedirs(shader_cache, exist_ok=True)
     soak.daemon = H.Daemon(args.skyd, args.scratch, "skyd", config,
-                           env={"MESA_SHADER_CACHE_DIR": os.path.abspath(shader_cache)})
+                           env={"MESA_SHADER_CACHE_DIR": os.path.abspath(shader_cache),
+                                "SKYD_FAULT_DIR": soak.faults.dir})
     print(f"soak: {args.simulated_minutes:g} simulated minutes measured after a "
           f"{args.warmup_minutes:g}-minute warm-up, at time scale {args.time_scale:g} (about "
           f"{args.expected_real_s + args.warmup_minutes * 60 / args.time_scale:.0f} real s), "
           f"seed {args.seed}", flush=True)
+    print(f"soak: faults (seed {args.seed}): {soak.faults.describe()}", flush=True)
     try:
         asyncio.run(soak_main(args, soak, fields))
     except RuntimeError as e:
@@ -266,9 +309,9 @@ def main():
 def report(args, soak):
     if args.rss_csv:
         with open(args.rss_csv, "w") as f:
-            f.write("real_s,simulated_s,rss_kib,phase\n")
-            for t, sim, kib, phase in soak.rss:
-                f.write(f"{t:.1f},{sim:.0f},{kib},{phase}\n")
+            f.write("real_s,simulated_s,rss_kib,phase,anon_kib,file_kib,shmem_kib,pid\n")
+            for t, sim, kib, phase, anon, file_, shmem, pid in soak.rss:
+                f.write(f"{t:.1f},{sim:.0f},{kib},{phase},{anon},{file_},{shmem},{pid}\n")
     with open(soak.daemon.log_path, errors="replace") as f:
         log = f.read().splitlines()
     validation = [line for line in log if line.startswith(VALIDATION_PREFIX)]
@@ -283,40 +326,48 @@ def report(args, soak):
         soak.fail(f"{len(validation)} Vulkan validation messages (log {soak.daemon.log_path})")
     if H.failed:
         soak.fail(f"{H.failed} protocol checks failed in the client")
+    steps = sum("the wall clock stepped back" in line for line in log)
+    if steps < soak.clock_steps:
+        soak.fail(f"{soak.clock_steps} wall-clock steps back made, the daemon logged {steps}: "
+                  f"the fault did not reach it")
+    undone = [str(f) for f in soak.faults.faults if not f.done]
+    if undone and not soak.failures:
+        soak.fail(f"faults never done: {'; '.join(undone)}")
+    ledger = soak.ledger
+    if ledger is not None:
+        print(f"soak: faults: {soak.restarts} kill -9 and restarts (reconnections: "
+              + (", ".join(f"{k} {v}" for k, v in sorted(soak.reconnects.items())) or "none")
+              + f"), {soak.disk_refused} changes refused on a full disk, {soak.clock_steps} "
+              f"wall-clock steps back (the daemon logged {steps}); ledger: {ledger.entries} "
+              f"acknowledged changes, {ledger.checks} checks, {ledger.checked} fields compared",
+              flush=True)
 
     base = statistics.median(soak.settle["baseline"]) if soak.settle.get("baseline") else None
     end = statistics.median(soak.settle["end"]) if soak.settle.get("end") else None
     growth = (end - base) / base * 100 if base and end else float("nan")
-    if not args.no_rss_verdict and not (growth < args.max_growth_percent):
-        soak.fail(f"RSS growth {growth:.2f} % (limit {args.max_growth_percent:g} %)")
+    slope = leak_slope(args, soak)
     # A daemon held up by the client that never reads would starve the others' streams.
     for name, gap in sorted(soak.max_frame_gap.items()):
         if gap > args.reply_timeout:
             soak.fail(f"{name}: {gap:.1f} s between two frames of one subscription (limit "
                       f"--reply-timeout {args.reply_timeout:g} s)")
-    all_rss = [k for _, _, k, _ in soak.rss] + soak.settle.get("baseline", []) + \
+    all_rss = [r[2] for r in soak.rss] + soak.settle.get("baseline", []) + \
         soak.settle.get("end", [])
     peak = max(all_rss) if all_rss else 0
-    random_phase = [(t, k) for t, _, k, ph in soak.rss if ph == "random"]
-    if len(random_phase) >= 3:
-        n = len(random_phase)
-        mt = sum(t for t, _ in random_phase) / n
-        mk = sum(k for _, k in random_phase) / n
-        den = sum((t - mt) ** 2 for t, _ in random_phase)
-        slope = sum((t - mt) * (k - mk) for t, k in random_phase) / den if den else 0.0
-        print(f"soak: RSS during the random phase: {summary_of([k for _, k in random_phase])} "
-              f"MiB over {n} samples, trend {slope * 60 / 1024:+.2f} MiB per real minute",
-              flush=True)
+    random_phase = [r[2] for r in soak.rss if r[3] == "random"]
+    if random_phase:
+        print(f"soak: RSS during the random phase: {summary_of(random_phase)} MiB over "
+              f"{len(random_phase)} samples", flush=True)
     if soak.rss:
         tenths = []
         span = soak.rss[-1][0] or 1
         for i in range(10):
-            part = [k for t, _, k, _ in soak.rss if i * span / 10 <= t < (i + 1) * span / 10
-                    or (i == 9 and t == span)]
+            part = [r[2] for r in soak.rss if i * span / 10 <= r[0] < (i + 1) * span / 10
+                    or (i == 9 and r[0] == span)]
             if part:
                 tenths.append(f"{max(part) / 1024:.0f}")
         print(f"soak: RSS series ({len(soak.rss)} samples every {args.rss_interval:g} s): "
-              f"{summary_of([k for _, _, k, _ in soak.rss])} MiB; peak per tenth of the run: "
+              f"{summary_of([r[2] for r in soak.rss])} MiB; peak per tenth of the run: "
               f"{' '.join(tenths)} MiB", flush=True)
     fps = [f for f in soak.render_fps if isinstance(f, (int, float))]
     if fps:
@@ -336,12 +387,51 @@ def report(args, soak):
     frames = ", ".join(f"{k} {v}" for k, v in sorted(soak.frames.items())
                        if k.startswith("sub"))
     verdict = "PASS" if not soak.failures else f"FAIL ({len(soak.failures)} failures)"
-    print(f"soak: {verdict}: RSS baseline {fmt_mib(base)} end {fmt_mib(end)} peak "
-          f"{peak / 1024:.1f} MiB, growth {growth:+.2f} %; acked/sent: {changes}; frames: "
+    print(f"soak: {verdict}: RSS slope {slope}; baseline {fmt_mib(base)} end {fmt_mib(end)} "
+          f"peak {peak / 1024:.1f} MiB, growth {growth:+.2f} %; acked/sent: {changes}; frames: "
           f"{frames}, snapshots {soak.snapshots}; simulated {soak.sim_s / 60:.1f} min in "
           f"{soak.elapsed():.0f} real s (time scale {args.time_scale:g}); validation messages "
           f"{len(validation)}; seed {args.seed}", flush=True)
     return 0 if not soak.failures else 1
+
+
+MEMORY_PARTS = (("VmRSS", 2), ("RssAnon", 4), ("RssFile", 5), ("RssShmem", 6))
+
+
+def leak_slope(args, soak):
+    """The slopes of VmRSS and its parts over the measured random changes (bench/soak_slope.py),
+    printed in MiB per real and per simulated hour with their 95 % intervals; the verdict on
+    VmRSS's. Returns the one-line figure for the summary."""
+    measured = [r for r in soak.rss if r[3] == "random"]
+    real_s = measured[-1][0] - measured[0][0] if len(measured) > 1 else 0.0
+    sim_s = measured[-1][1] - measured[0][1] if len(measured) > 1 else 0.0
+    sim_per_real = sim_s / real_s if real_s > 0 else args.time_scale
+    figure = "n/a"
+    for name, col in MEMORY_PARTS:
+        fit = fit_slope([(r[0], r[col], r[7]) for r in measured], args.slope_block_s)
+        if fit is None:
+            print(f"soak: {name} slope: too few samples ({len(measured)} over {real_s:.0f} s; "
+                  f"{args.slope_block_s:g}-s blocks, at least 4 needed)", flush=True)
+            if name == "VmRSS" and not args.no_rss_verdict:
+                soak.fail(f"the measured stretch ({real_s:.0f} s) is too short for a slope")
+            continue
+        per_h = 3600 / 1024  # KiB/s -> MiB/h
+        real = (fit["slope"] * per_h, fit["low"] * per_h, fit["high"] * per_h)
+        sim = tuple(x / sim_per_real for x in real)
+        text = (f"{real[0]:+.2f} MiB per real hour [{real[1]:+.2f}, {real[2]:+.2f}], "
+                f"{sim[0]:+.3f} MiB per simulated hour [{sim[1]:+.3f}, {sim[2]:+.3f}]")
+        print(f"soak: {name} slope: {text} (95 %, {fit['n']} blocks of "
+              f"{args.slope_block_s:g} s, residual lag-1 autocorrelation {fit['r1']:+.2f}, "
+              f"n_eff {fit['n_eff']:.1f}, t {fit['t']:.2f})", flush=True)
+        if name != "VmRSS":
+            continue
+        figure = f"{real[0]:+.2f} MiB/real h [{real[1]:+.2f}, {real[2]:+.2f}]"
+        # A leak: the whole interval above zero and not all of it below the bound.
+        if not args.no_rss_verdict and real[1] > 0 and not (real[2] < args.max_slope):
+            soak.fail(f"VmRSS grows: {real[0]:+.2f} MiB per real hour, 95 % interval "
+                      f"[{real[1]:+.2f}, {real[2]:+.2f}] lies above 0 and reaches "
+                      f"--max-slope {args.max_slope:g} MiB per real hour")
+    return figure
 
 
 def fmt_mib(kib):

@@ -37,7 +37,8 @@ class Soak:
         self.clock_epoch = 0
         self.sim_s = 0.0
         self.last_sim = None
-        self.rss = []          # (real s since start, simulated s, KiB, phase)
+        self.rss = []          # (real s since start, simulated s, VmRSS KiB, phase, RssAnon,
+        #                        RssFile, RssShmem KiB, daemon pid)
         self.settle = {}       # label -> [KiB]
         self.render_fps = []
         self.frames = {}       # client name -> subscription frames
@@ -45,6 +46,16 @@ class Soak:
         self.max_frame_gap = {}
         self.t0 = time.monotonic()
         self.daemon = None
+        self.state_file = None
+        self.faults = None       # soak_faults.FaultPlan
+        self.ledger = None       # soak_ledger.Ledger
+        self.cluster = None
+        self.restarting = False  # a kill -9 and restart under way
+        self.generation = 0      # daemon starts since the first
+        self.restarts = 0
+        self.reconnects = {}     # client name -> reconnections after a restart
+        self.disk_refused = 0
+        self.clock_steps = 0
 
     def fail(self, what):
         self.failures.append(what)
@@ -116,6 +127,8 @@ class SoakClient(H.Client):
         elif item[0] == "event":
             self.events.clear()
             self.event_count += 1
+            if self.name == "controller" and self.soak.ledger is not None:
+                self.soak.ledger.on_event(item[1])
         return item
 
     def check_frame(self, msg, binary, size, what):

@@ -1,7 +1,8 @@
 """bench/soak.py's other clients: the subscribers that keep changing their views, the viewer
 taking snapshots, probes, stats, presets lists and states, the client that connects and
 disconnects, the client that subscribes and never reads, and the monitor that reads stats (the
-simulated clock) and samples RSS."""
+simulated clock, which must never go back) and samples RSS. Each reconnects after a kill -9
+and restart of the daemon (resilient())."""
 
 import asyncio
 import json
@@ -14,7 +15,7 @@ _E2E = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
 if _E2E not in sys.path:  # bench/soak.py puts it there; this for an import on its own
     sys.path.insert(0, _E2E)
 import serve_harness as H  # noqa: E402
-from soak_bookkeeping import connect, rss_kib  # noqa: E402
+from soak_bookkeeping import connect, memory_kib  # noqa: E402
 from soak_fields import (HOME_VIEWS, MAX_SNAPSHOT, MAX_STREAM, SNAPSHOT_SIZES,  # noqa: E402
                          STREAM_SIZES, Draw)
 
@@ -22,8 +23,29 @@ from soak_fields import (HOME_VIEWS, MAX_SNAPSHOT, MAX_STREAM, SNAPSHOT_SIZES,  
 # The other clients
 
 
-async def subscriber(soak, index, draw_seed):
-    draw = Draw(random.Random(draw_seed), [], True)
+async def resilient(soak, name, run):
+    """run(again) until it returns; when it stops on an exception because the daemon was
+    killed and restarted (bench/soak_faults.py), again once the daemon is back, with
+    again=True. Any other exception is the client's failure."""
+    again = False
+    while True:
+        generation = soak.generation
+        try:
+            await run(again)
+            return
+        except Exception:
+            if soak.done and soak.daemon.proc.poll() is not None:
+                return
+            if not (soak.restarting or soak.generation != generation):
+                raise
+        while soak.restarting:
+            await asyncio.sleep(0.1)
+        soak.count(soak.reconnects, name)
+        again = True
+
+
+async def subscriber(soak, index, draw_seed, again=False):
+    draw = Draw(random.Random(draw_seed + 7919 * soak.generation), [], True)
     rng = draw.rng
     name = f"sub{index}"
     home = HOME_VIEWS[index]
@@ -32,7 +54,7 @@ async def subscriber(soak, index, draw_seed):
     try:
         # Warm-up: every stream size once, one frame each, then home.
         order = STREAM_SIZES[index:] + STREAM_SIZES[:index]
-        for size in order:
+        for size in order if not again else []:
             view = draw.view(STREAM_SIZES, MAX_STREAM, size)
             view["fps"] = 10
             sub = await c.subscribe(view)
@@ -91,8 +113,8 @@ async def subscriber(soak, index, draw_seed):
         await c.close()
 
 
-async def viewer(soak, seed):
-    draw = Draw(random.Random(seed), [], True)
+async def viewer(soak, seed, again=False):
+    draw = Draw(random.Random(seed + 7919 * soak.generation), [], True)
     rng = draw.rng
     c = await connect(soak, "viewer")
 
@@ -117,9 +139,9 @@ async def viewer(soak, seed):
             await c.ask("get_state", {"type": "get_state"}, "state")
 
     try:
-        for size in SNAPSHOT_SIZES:
+        for size in SNAPSHOT_SIZES if not again else []:
             await snapshot(size)
-        for _ in range(6):
+        for _ in range(6 if not again else 0):
             await other()
         soak.warm.add("viewer")
         while not soak.done:
@@ -155,9 +177,15 @@ async def stalled_reader(soak):
         soak.fail(f"stalled reader: {e!r}")
         return
     soak.count(soak.acked, "stalled_reader")
+    generation = soak.generation
     try:
         while not soak.done:
             await asyncio.sleep(0.5)
+            if soak.generation != generation and not soak.restarting:  # the daemon restarted
+                s.close()
+                generation = soak.generation
+                s = await loop.run_in_executor(None, _open_stalled, soak.daemon.port)
+                soak.count(soak.reconnects, "stalled_reader")
     finally:
         s.close()
 
@@ -169,8 +197,9 @@ async def churn(soak, seed):
     soak.warm.add("churn")
     while not soak.done:
         await asyncio.sleep(rng.uniform(1, 5))
-        if soak.done or soak.phase == "settle":
+        if soak.done or soak.phase == "settle" or soak.restarting:
             continue
+        generation = soak.generation
         connections += 1
         soak.count(soak.sent, "connect")
         if rng.random() < 0.3:  # gone without a close frame, a subscription open
@@ -184,7 +213,8 @@ async def churn(soak, seed):
                 await loop.run_in_executor(None, abrupt)
                 soak.count(soak.acked, "connect")
             except Exception as e:  # noqa: BLE001 - reported as a failure
-                soak.fail(f"churn: raw connection: {e!r}")
+                if not (soak.restarting or soak.generation != generation):
+                    soak.fail(f"churn: raw connection: {e!r}")
             continue
         try:
             c = await connect(soak, "churn")
@@ -196,34 +226,50 @@ async def churn(soak, seed):
                     await c.wait_frame(timeout=soak.args.reply_timeout)
             await c.close()
         except Exception as e:  # noqa: BLE001 - reported as a failure
-            soak.fail(f"churn: {e!r}")
+            if not (soak.restarting or soak.generation != generation):
+                soak.fail(f"churn: {e!r}")
     soak.churned = connections
 
 
-async def monitor(soak):
-    """Stats every second (the simulated clock), RSS every --rss-interval, the daemon alive."""
+async def monitor(soak, again=False):
+    """Stats every second (the simulated clock), RSS every --rss-interval, the daemon alive.
+    Between two readings with no clock change of the controller's between them, the simulated
+    clock must not go back, nor run ahead of the time scale (a wall clock stepped back or set
+    right, bench/soak_faults.py)."""
     c = await connect(soak, "monitor")
     last_rss = 0.0
     try:
         while not soak.done:
-            if soak.daemon.proc.poll() is not None:
+            if soak.daemon.proc.poll() is not None and not soak.restarting:
                 soak.fail(f"the daemon died (status {soak.daemon.proc.returncode})")
                 soak.done = True
                 break
             epoch = soak.clock_epoch
+            asked = time.monotonic()
             r = await c.ask("stats", {"type": "stats"}, "stats")
             if r:
                 sim = r.get("simulation_time_s")
                 soak.render_fps.append(r.get("fps"))
                 if (soak.last_sim is not None and epoch == soak.last_sim[1] and epoch % 2 == 0
-                        and soak.clock_epoch == epoch and sim >= soak.last_sim[0]):
-                    soak.sim_s += sim - soak.last_sim[0]
-                soak.last_sim = (sim, soak.clock_epoch)
+                        and soak.clock_epoch == epoch):
+                    step = sim - soak.last_sim[0]
+                    real = time.monotonic() - soak.last_sim[2]
+                    if step < -1e-3:
+                        soak.fail(f"the simulated clock went back {-step:.3f} s")
+                    elif step > soak.args.time_scale * (real + 5):
+                        soak.fail(f"the simulated clock jumped {step:.0f} s ahead in {real:.1f} "
+                                  f"real s at time scale {soak.args.time_scale:g}")
+                    else:
+                        soak.sim_s += step
+                soak.last_sim = (sim, soak.clock_epoch, asked)
             if soak.elapsed() - last_rss >= soak.args.rss_interval:
                 last_rss = soak.elapsed()
-                kib = rss_kib(soak.daemon.proc.pid)
-                if kib:
-                    soak.rss.append((soak.elapsed(), soak.sim_s, kib, soak.phase))
+                pid = soak.daemon.proc.pid
+                m = memory_kib(pid)
+                if m.get("VmRSS"):
+                    soak.rss.append((soak.elapsed(), soak.sim_s, m["VmRSS"], soak.phase,
+                                     m.get("RssAnon", 0), m.get("RssFile", 0),
+                                     m.get("RssShmem", 0), pid))
             await c.idle(1.0)
     finally:
         await c.close()

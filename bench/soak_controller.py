@@ -1,6 +1,7 @@
 """bench/soak.py's controller: random valid changes (set patches, presets, weather
 transitions and maps, the autopilot, clock excursions) with a window of requests in flight, the
-coverage pass of the warm-up, and the settles that take the baseline and end RSS figures."""
+coverage pass of the warm-up, the settles that take the baseline and end RSS figures, the
+faults of bench/soak_faults.py at their moments and the ledger's checks after them."""
 
 import asyncio
 import json
@@ -14,7 +15,7 @@ _E2E = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
 if _E2E not in sys.path:  # bench/soak.py puts it there; this for an import on its own
     sys.path.insert(0, _E2E)
 import serve_harness as H  # noqa: E402
-from soak_bookkeeping import dump_failure, memory_kib, rss_kib  # noqa: E402
+from soak_bookkeeping import connect, dump_failure, memory_kib, rss_kib  # noqa: E402
 from soak_fields import (ATMOSPHERE_PRESETS, CLOCK_FIELDS, COST_CAPS,  # noqa: E402
                          WEATHER_PRESETS)
 from soak_schema import leaves, nested  # noqa: E402
@@ -27,7 +28,11 @@ class Controller:
     def __init__(self, soak, client, draw, reference):
         self.soak, self.c, self.draw, self.reference = soak, client, draw, reference
         self.window = soak.args.window
-        self.pending = []  # (kind, msg) in the order sent
+        self.pending = []  # (kind, msg, expect) in the order sent
+        self.faults = soak.faults  # soak_faults.FaultPlan, or None
+        self.ledger = soak.ledger
+        self.disk_full = False
+        self.warm_changes = 0
 
     async def send(self, kind, msg, expect="ack"):
         while len(self.pending) >= self.window:
@@ -54,8 +59,18 @@ class Controller:
     async def match(self, reply):
         """Judges `reply` as the answer to the oldest request in flight."""
         kind, msg, expect = self.pending.pop(0)
-        if self.c.judge(kind, msg, reply, expect) is None:
+        if self.disk_full and reply.get("type") == "error" and reply.get("id") == msg["id"] \
+                and reply.get("code") == "internal" \
+                and "cannot be saved" in str(reply.get("message")) \
+                and "No space left on device" in str(reply.get("message")):
+            self.soak.count(self.soak.replies, "error:internal (disk full)")
+            self.faults.refused += 1
+            return
+        r = self.c.judge(kind, msg, reply, expect)
+        if r is None:
             await dump_failure(self.soak, kind, msg, reply)
+        elif r.get("type") == "ack" and self.ledger is not None:
+            self.ledger.on_ack(r.get("revision"), kind, msg)
 
     async def collect(self):
         await self.match(await self.c.reply(self.soak.args.reply_timeout))
@@ -212,38 +227,174 @@ class Controller:
               f"{parts.get('RssFile', 0) / 1024:.1f}, shmem {parts.get('RssShmem', 0) / 1024:.1f}"
               f" MiB)", flush=True)
 
-    async def random_changes(self, rng, done, deadline, late):
+    async def random_changes(self, rng, done, deadline, late, before=None):
         """Random changes at random intervals until done(); a failure, late(), when the
-        soak's elapsed real time passes `deadline` first."""
+        soak's elapsed real time passes `deadline` first. before(): a coroutine before each."""
         while not done():
             if self.soak.elapsed() > deadline:
                 self.soak.fail(late())
                 return
+            if before is not None:
+                await before()
             await self.random_change(rng)
             await self.wait(rng.expovariate(self.soak.args.changes_per_second))
+
+    # --------------------------------------------------------------------------------------
+    # Faults (bench/soak_faults.py) and the ledger's checks
+
+    async def check_ledger(self, label, in_flight=()):
+        """The daemon's state against the ledger of acknowledged changes."""
+        if self.ledger is None:
+            return
+        await self.drain()
+        await self.wait(1.0)  # the events of the last acknowledged changes
+        r = await self.c.ask("get_state", {"type": "get_state"}, "state")
+        if not r:
+            return
+        before = self.ledger.checked
+        failures, rebased = self.ledger.check(label, r.get("state"), r.get("revision"),
+                                              in_flight)
+        for f in failures:
+            self.soak.fail(f"ledger: {f}")
+        print(f"soak: ledger {label}: revision {r.get('revision')} (last acknowledged "
+              f"{self.ledger.max_acked}), {self.ledger.checked - before} fields as "
+              f"acknowledged, {rebased} from changes whose ack was lost, {len(failures)} "
+              f"wrong", flush=True)
+
+    def check_state_file(self, label):
+        """The state file itself against the ledger (what a restart would read)."""
+        try:
+            with open(self.soak.state_file) as f:
+                saved = json.load(f)
+        except (OSError, ValueError) as e:
+            self.soak.fail(f"ledger: {label}: the state file cannot be read: {e}")
+            return
+        revision = saved.pop("revision", None)
+        before = self.ledger.checked
+        failures, _ = self.ledger.check(label, saved, revision)
+        for f in failures:
+            self.soak.fail(f"ledger: {f}")
+        print(f"soak: ledger {label}: revision {revision}, {self.ledger.checked - before} "
+              f"fields as acknowledged, {len(failures)} wrong", flush=True)
+
+    async def kill_restart(self, rng):
+        """kill -9 with requests in flight (one to three changes sent and not waited for), a
+        restart on the same state file, and the ledger checked against what it restored."""
+        soak = self.soak
+        for _ in range(rng.randint(1, 3)):
+            await self.set(self.draw.random_patch())
+        in_flight = [(k, m) for k, m, _ in self.pending]
+        self.pending = []
+        old = soak.daemon.proc.pid
+        loop = asyncio.get_running_loop()
+        soak.restarting = True
+        soak.clock_epoch += 1
+        try:
+            soak.daemon.proc.kill()
+            await loop.run_in_executor(None, soak.daemon.proc.wait)
+            t = time.monotonic()
+            await loop.run_in_executor(None, soak.daemon.start)
+            took = time.monotonic() - t
+        finally:
+            soak.generation += 1
+            soak.restarting = False
+            soak.clock_epoch += 1
+        soak.restarts += 1
+        await self.c.close()
+        self.c = await connect(soak, "controller")
+        await self.c.auth()
+        print(f"soak: fault: kill -9 of pid {old} with {len(in_flight)} requests in flight at "
+              f"{soak.elapsed():.0f} s; pid {soak.daemon.proc.pid} listening after {took:.1f} s",
+              flush=True)
+        await self.check_ledger(f"after kill -9 #{soak.restarts}", in_flight)
+
+    async def disk_fault(self, fault, rng):
+        f, soak = self.faults, self.soak
+        before = f.refused
+        sent = 0
+        f.set_disk_full(True)
+        self.disk_full = True
+        try:
+            for _ in range(fault.params["changes"]):
+                await self.random_change(rng)
+                sent += 1
+                await self.wait(rng.expovariate(soak.args.changes_per_second))
+            await self.drain()
+        finally:
+            f.set_disk_full(False)
+            self.disk_full = False
+        refused = f.refused - before
+        soak.disk_refused += refused
+        print(f"soak: fault: full disk for {sent} changes at {soak.elapsed():.0f} s: {refused} "
+              f"refused", flush=True)
+        if refused == 0:
+            soak.fail("full disk: no change was refused: the fault did not reach the daemon")
+        await self.check_ledger("after the full disk")
+        self.check_state_file("state file after the full disk")
+
+    async def clock_fault(self, fault):
+        soak = self.soak
+        print(f"soak: fault: wall clock stepped {fault.params['step_s']:+g} s for "
+              f"{fault.params['hold_s']:g} s at {soak.elapsed():.0f} s", flush=True)
+        self.faults.set_clock_offset(fault.params["step_s"])
+        try:
+            await self.wait(fault.params["hold_s"])
+        finally:
+            self.faults.set_clock_offset(0)
+        soak.clock_steps += 1
+        await self.wait(1.5)  # the monitor's next samples: the clock set right
+
+    async def fault(self, fault, rng):
+        if fault.kind == "kill":
+            await self.kill_restart(rng)
+        elif fault.kind == "disk":
+            await self.disk_fault(fault, rng)
+        elif fault.kind == "clock":
+            await self.clock_fault(fault)
+        elif fault.kind == "redis":
+            await self.soak.cluster.restart_redis(self)
 
     async def run(self):
         soak, args = self.soak, self.soak.args
         rng = random.Random(args.seed * 1000 + 1)
+        faults = self.faults
         await self.coverage(rng)
         await self.drain()
         soak.warm.add("controller")
         warm_until = args.warmup_minutes * 60
+
+        async def warm_faults():
+            self.warm_changes += 1
+            for f in faults.due("warmup", self.warm_changes) if faults else []:
+                await self.fault(f, rng)
+                if not args.no_rss_verdict:  # the new process warmed as the first was
+                    await self.coverage(rng)
+                    await self.drain()
         await self.random_changes(
-            rng, lambda: soak.sim_s >= warm_until and len(soak.warm) >= soak.warm_needed,
+            rng, lambda: soak.sim_s >= warm_until and len(soak.warm) >= soak.warm_needed
+            and not (faults and faults.pending("warmup")),
             warm_until / args.time_scale * 2 + 300,
             lambda: f"warm-up not done after {soak.elapsed():.0f} s: "
-                    f"{sorted(soak.warm)} of {soak.warm_needed}")
+                    f"{sorted(soak.warm)} of {soak.warm_needed}", warm_faults)
         await self.go_home("baseline")
         soak.phase = "random"
+        start = soak.sim_s
         target = soak.sim_s + args.simulated_minutes * 60
         settle_sim = (args.settle_seconds + 5) * args.time_scale
         deadline = soak.elapsed() + args.expected_real_s * 2 + 120
+
+        async def measured_faults():
+            position = (soak.sim_s - start) / max(1.0, target - settle_sim - start)
+            for f in faults.due("random", position) if faults else []:
+                await self.fault(f, rng)
         await self.random_changes(
             rng, lambda: soak.sim_s >= target - settle_sim, deadline,
             lambda: f"the simulated clock reached {soak.sim_s / 60:.1f} min of "
-                    f"{target / 60:.1f} in {soak.elapsed():.0f} s")
+                    f"{target / 60:.1f} in {soak.elapsed():.0f} s", measured_faults)
+        for f in faults.due("random", 2.0) if faults else []:  # any the stretch left
+            await self.fault(f, rng)
         await self.go_home("end")
+        await self.check_ledger("at the end")
         while soak.sim_s < target and soak.elapsed() < deadline:
             await self.wait(0.5)
         soak.done = True
