@@ -69,6 +69,7 @@ soak_clients.py (the other clients).
 
 import argparse
 import asyncio
+import json
 import os
 import random
 import statistics
@@ -83,6 +84,7 @@ from soak_bookkeeping import Soak, connect  # noqa: E402
 from soak_clients import (churn, monitor, resilient, stalled_reader,  # noqa: E402
                           subscriber, viewer)
 from soak_controller import Controller  # noqa: E402
+from soak_cluster import Cluster, node_b_client, node_b_memory  # noqa: E402
 from soak_faults import FaultPlan  # noqa: E402
 from soak_fields import (CLOCK_FIELDS, EPHEMERIS_ANGLES, HOME_VIEWS,  # noqa: E402
                          VALIDATION_PREFIX, Draw, weather_params)
@@ -146,6 +148,10 @@ async def soak_main(args, soak, fields):
         for i in range(len(HOME_VIEWS))]
     tasks.append(asyncio.ensure_future(resilient(
         soak, "viewer", lambda again: viewer(soak, args.seed * 1000 + 20, again))))
+    if soak.cluster is not None:
+        tasks.append(asyncio.ensure_future(node_b_client(soak, soak.cluster,
+                                                         args.seed * 1000 + 60)))
+        tasks.append(asyncio.ensure_future(node_b_memory(soak, soak.cluster)))
     tasks.append(asyncio.ensure_future(churn(soak, args.seed * 1000 + 30)))
     tasks.append(asyncio.ensure_future(stalled_reader(soak)))
     main = asyncio.ensure_future(controller.run())
@@ -173,6 +179,10 @@ async def soak_main(args, soak, fields):
     status = await soak.daemon.terminate_async()
     if status != 0:
         soak.fail(f"the daemon exited with status {status} after SIGTERM")
+    if soak.cluster is not None:
+        status = await soak.cluster.node_b.terminate_async()
+        if status != 0:
+            soak.fail(f"node B exited with status {status} after SIGTERM")
 
 
 def parse_args():
@@ -219,6 +229,11 @@ def parse_args():
                    help="full disks under the state file in the measured stretch (default 1)")
     p.add_argument("--clock-back", type=int, default=1,
                    help="wall-clock steps back in the measured stretch (default 1)")
+    p.add_argument("--cluster", action="store_true",
+                   help="a real redis-server (with AUTH) and two nodes sharing a world; both "
+                        "soaked, each with its slope (bench/soak_cluster.py)")
+    p.add_argument("--redis-restarts", type=int, default=1,
+                   help="with --cluster: redis-server kill -9 and restarts (default 1)")
     p.add_argument("--verbose", action="store_true", help="print every change")
     args = p.parse_args()
     given = [x is not None for x in (args.simulated_minutes, args.time_scale, args.real_seconds)]
@@ -269,7 +284,10 @@ def main():
     soak.schema_fields = fields
     soak.state_file = os.path.join(args.scratch, "state.json")
     if args.no_faults:
-        args.kills = args.disk_full = args.clock_back = 0
+        args.kills = args.disk_full = args.clock_back = args.redis_restarts = 0
+    if args.cluster:
+        args.disk_full = 0  # a node of a shared world writes no state file
+        soak.cluster = Cluster(soak, args)
     soak.faults = FaultPlan(args, os.path.join(args.scratch, "faults"))
     config = H.make_config(args.scratch, os.path.join(args.scratch, "state.json"),
                            max_clients=32, max_width=1920, max_height=1080, max_fps=30,
@@ -291,7 +309,24 @@ def main():
           f"{args.expected_real_s + args.warmup_minutes * 60 / args.time_scale:.0f} real s), "
           f"seed {args.seed}", flush=True)
     print(f"soak: faults (seed {args.seed}): {soak.faults.describe()}", flush=True)
+    if soak.cluster is not None:
+        config["cluster"] = soak.cluster.section()
+        config_b = json.loads(json.dumps(config))
+        config_b["state_file"] = os.path.join(args.scratch, "state-b.json")
+        cache_b = os.path.join(args.scratch, "shader-cache-b")
+        os.makedirs(cache_b, exist_ok=True)
+        os.makedirs(os.path.join(args.scratch, "faults-b"), exist_ok=True)
+        env_b = {"MESA_SHADER_CACHE_DIR": cache_b,
+                 "SKYD_FAULT_DIR": os.path.join(args.scratch, "faults-b")}
+        try:
+            soak.cluster.start_redis()
+        except (OSError, RuntimeError, subprocess.SubprocessError) as e:
+            print(f"soak: redis-server did not start: {e}", file=sys.stderr)
+            return 2
+        soak.daemon.config = config
     try:
+        if soak.cluster is not None:
+            soak.cluster.start_node_b(config_b, env_b)
         asyncio.run(soak_main(args, soak, fields))
     except RuntimeError as e:
         if soak.daemon.proc is None or soak.daemon.port is None:
@@ -303,6 +338,8 @@ def main():
         raise
     finally:
         soak.daemon.kill()
+        if soak.cluster is not None:
+            soak.cluster.stop()
     return report(args, soak)
 
 
@@ -338,14 +375,21 @@ def report(args, soak):
         print(f"soak: faults: {soak.restarts} kill -9 and restarts (reconnections: "
               + (", ".join(f"{k} {v}" for k, v in sorted(soak.reconnects.items())) or "none")
               + f"), {soak.disk_refused} changes refused on a full disk, {soak.clock_steps} "
-              f"wall-clock steps back (the daemon logged {steps}); ledger: {ledger.entries} "
+              f"wall-clock steps back (the daemon logged {steps}), "
+              + (f"{soak.cluster.redis_restarts} redis-server kill -9 and restarts "
+                 f"({soak.cluster.redis_refused} changes refused as unavailable), "
+                 if soak.cluster else "")
+              + f"ledger: {ledger.entries} "
               f"acknowledged changes, {ledger.checks} checks, {ledger.checked} fields compared",
               flush=True)
 
     base = statistics.median(soak.settle["baseline"]) if soak.settle.get("baseline") else None
     end = statistics.median(soak.settle["end"]) if soak.settle.get("end") else None
     growth = (end - base) / base * 100 if base and end else float("nan")
-    slope = leak_slope(args, soak)
+    slope = leak_slope(args, soak, soak.rss, "node A " if soak.cluster else "")
+    if soak.cluster is not None:
+        slope = "node A " + slope + ", node B " + leak_slope(args, soak, soak.cluster.rss_b,
+                                                             "node B ")
     # A daemon held up by the client that never reads would starve the others' streams.
     for name, gap in sorted(soak.max_frame_gap.items()):
         if gap > args.reply_timeout:
@@ -398,11 +442,11 @@ def report(args, soak):
 MEMORY_PARTS = (("VmRSS", 2), ("RssAnon", 4), ("RssFile", 5), ("RssShmem", 6))
 
 
-def leak_slope(args, soak):
+def leak_slope(args, soak, rows, node=""):
     """The slopes of VmRSS and its parts over the measured random changes (bench/soak_slope.py),
     printed in MiB per real and per simulated hour with their 95 % intervals; the verdict on
     VmRSS's. Returns the one-line figure for the summary."""
-    measured = [r for r in soak.rss if r[3] == "random"]
+    measured = [r for r in rows if r[3] == "random"]
     real_s = measured[-1][0] - measured[0][0] if len(measured) > 1 else 0.0
     sim_s = measured[-1][1] - measured[0][1] if len(measured) > 1 else 0.0
     sim_per_real = sim_s / real_s if real_s > 0 else args.time_scale
@@ -410,17 +454,18 @@ def leak_slope(args, soak):
     for name, col in MEMORY_PARTS:
         fit = fit_slope([(r[0], r[col], r[7]) for r in measured], args.slope_block_s)
         if fit is None:
-            print(f"soak: {name} slope: too few samples ({len(measured)} over {real_s:.0f} s; "
+            print(f"soak: {node}{name} slope: too few samples ({len(measured)} over {real_s:.0f} s; "
                   f"{args.slope_block_s:g}-s blocks, at least 4 needed)", flush=True)
             if name == "VmRSS" and not args.no_rss_verdict:
-                soak.fail(f"the measured stretch ({real_s:.0f} s) is too short for a slope")
+                soak.fail(f"{node}the measured stretch ({real_s:.0f} s) is too short for a "
+                          f"slope")
             continue
         per_h = 3600 / 1024  # KiB/s -> MiB/h
         real = (fit["slope"] * per_h, fit["low"] * per_h, fit["high"] * per_h)
         sim = tuple(x / sim_per_real for x in real)
         text = (f"{real[0]:+.2f} MiB per real hour [{real[1]:+.2f}, {real[2]:+.2f}], "
                 f"{sim[0]:+.3f} MiB per simulated hour [{sim[1]:+.3f}, {sim[2]:+.3f}]")
-        print(f"soak: {name} slope: {text} (95 %, {fit['n']} blocks of "
+        print(f"soak: {node}{name} slope: {text} (95 %, {fit['n']} blocks of "
               f"{args.slope_block_s:g} s, residual lag-1 autocorrelation {fit['r1']:+.2f}, "
               f"n_eff {fit['n_eff']:.1f}, t {fit['t']:.2f})", flush=True)
         if name != "VmRSS":
@@ -428,7 +473,7 @@ def leak_slope(args, soak):
         figure = f"{real[0]:+.2f} MiB/real h [{real[1]:+.2f}, {real[2]:+.2f}]"
         # A leak: the whole interval above zero and not all of it below the bound.
         if not args.no_rss_verdict and real[1] > 0 and not (real[2] < args.max_slope):
-            soak.fail(f"VmRSS grows: {real[0]:+.2f} MiB per real hour, 95 % interval "
+            soak.fail(f"{node}VmRSS grows: {real[0]:+.2f} MiB per real hour, 95 % interval "
                       f"[{real[1]:+.2f}, {real[2]:+.2f}] lies above 0 and reaches "
                       f"--max-slope {args.max_slope:g} MiB per real hour")
     return figure

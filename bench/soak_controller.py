@@ -31,7 +31,7 @@ class Controller:
         self.pending = []  # (kind, msg, expect) in the order sent
         self.faults = soak.faults  # soak_faults.FaultPlan, or None
         self.ledger = soak.ledger
-        self.disk_full = False
+        self.refusal = None  # "disk" or "unavailable": the refusal a fault makes valid
         self.warm_changes = 0
 
     async def send(self, kind, msg, expect="ack"):
@@ -59,13 +59,15 @@ class Controller:
     async def match(self, reply):
         """Judges `reply` as the answer to the oldest request in flight."""
         kind, msg, expect = self.pending.pop(0)
-        if self.disk_full and reply.get("type") == "error" and reply.get("id") == msg["id"] \
-                and reply.get("code") == "internal" \
-                and "cannot be saved" in str(reply.get("message")) \
-                and "No space left on device" in str(reply.get("message")):
-            self.soak.count(self.soak.replies, "error:internal (disk full)")
-            self.faults.refused += 1
-            return
+        if self.refusal and reply.get("type") == "error" and reply.get("id") == msg["id"]:
+            text = str(reply.get("message"))
+            if (self.refusal == "disk" and reply.get("code") == "internal"
+                    and "cannot be saved" in text and "No space left on device" in text) or \
+                    (self.refusal == "unavailable" and reply.get("code") == "unavailable"
+                     and "redis://skyd:***@" in text):
+                self.soak.count(self.soak.replies, f"error:{reply.get('code')} ({self.refusal})")
+                self.faults.refused += 1
+                return
         r = self.c.judge(kind, msg, reply, expect)
         if r is None:
             await dump_failure(self.soak, kind, msg, reply)
@@ -260,6 +262,16 @@ class Controller:
               f"{self.ledger.max_acked}), {self.ledger.checked - before} fields as "
               f"acknowledged, {rebased} from changes whose ack was lost, {len(failures)} "
               f"wrong", flush=True)
+        if self.soak.cluster is not None:  # node B follows the same world
+            b = await self.soak.cluster.state_b(r.get("revision"))
+            before = self.ledger.checked
+            failures, _ = self.ledger.check(f"node B {label}", b.get("state"),
+                                            b.get("revision"))
+            for f in failures:
+                self.soak.fail(f"ledger: {f}")
+            print(f"soak: ledger node B {label}: revision {b.get('revision')}, "
+                  f"{self.ledger.checked - before} fields as acknowledged, {len(failures)} "
+                  f"wrong", flush=True)
 
     def check_state_file(self, label):
         """The state file itself against the ledger (what a restart would read)."""
@@ -313,7 +325,7 @@ class Controller:
         before = f.refused
         sent = 0
         f.set_disk_full(True)
-        self.disk_full = True
+        self.refusal = "disk"
         try:
             for _ in range(fault.params["changes"]):
                 await self.random_change(rng)
@@ -322,7 +334,7 @@ class Controller:
             await self.drain()
         finally:
             f.set_disk_full(False)
-            self.disk_full = False
+            self.refusal = None  # "disk" or "unavailable": the refusal a fault makes valid
         refused = f.refused - before
         soak.disk_refused += refused
         print(f"soak: fault: full disk for {sent} changes at {soak.elapsed():.0f} s: {refused} "
