@@ -31,8 +31,14 @@ def at(tree, pointer):
 
 
 def same(a, b):
+    """Equal values; a number stands for an array of it (a `set` patch may give one number
+    for a colour's three channels, the state holds the array)."""
     if isinstance(a, bool) or isinstance(b, bool):
-        return a == b
+        return type(a) is type(b) and a == b
+    if isinstance(a, list) and isinstance(b, (int, float)):
+        a, b = b, a
+    if isinstance(a, (int, float)) and isinstance(b, list):
+        return len(b) > 0 and all(same(a, x) for x in b)
     if isinstance(a, (int, float)) and isinstance(b, (int, float)):
         return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-9)
     if isinstance(a, list) and isinstance(b, list):
