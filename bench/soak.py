@@ -55,7 +55,20 @@ an interval wholly above zero whose upper end reaches --max-slope (1 MiB per rea
 interval that holds zero passes (a short run gives a wide one; the figure says how wide), and
 so does a significantly positive slope known to be below the bound.
 
-Exit status 0 when the RSS slope passes (not judged with --no-rss-verdict), no
+Faults (bench/soak_faults.py; --no-faults for none), drawn from the seed and printed at the
+start: a kill -9 of the daemon during the warm-up with changes in flight and a restart on its
+state file (--kills; every client reconnects; when RSS is judged the coverage pass runs again,
+so that the measured process is warmed as the first was), a full disk under the state file
+(--disk-full; SKYD_FAULT_DIR, server/base/test_faults.h) and the wall clock stepped back
+(--clock-back) in the measured stretch. A ledger of every acknowledged change
+(bench/soak_ledger.py) is checked against the daemon's state after each fault and at the end,
+and against the state file after the full disk. --cluster (bench/soak_cluster.py): a real
+redis-server with AUTH and two nodes sharing a world, both soaked (each node's slope), the
+ledger checked on both, and redis-server killed -9 and restarted (--redis-restarts).
+
+Exit status 0 when the RSS slope passes (not judged with --no-rss-verdict), every fault did
+what it should (changes refused on the full disk or while Redis was away, the clock step
+logged by the daemon, the simulated clock never going back), the ledger holds, no
 validation message, no refused or unanswered request, no bad frame, no subscription left
 without a frame for longer than --reply-timeout (a client subscribes and never reads all along)
 and the daemon alive and exiting 0 on SIGTERM; 1 otherwise; 2 for a bad command line or a daemon that does not start. The last line is a

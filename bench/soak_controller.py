@@ -373,7 +373,7 @@ class Controller:
         await self.coverage(rng)
         await self.drain()
         soak.warm.add("controller")
-        warm_until = args.warmup_minutes * 60
+        warm_until = [args.warmup_minutes * 60]
 
         async def warm_faults():
             self.warm_changes += 1
@@ -382,10 +382,11 @@ class Controller:
                 if not args.no_rss_verdict:  # the new process warmed as the first was
                     await self.coverage(rng)
                     await self.drain()
+                    warm_until[0] = soak.sim_s + args.warmup_minutes * 60
         await self.random_changes(
-            rng, lambda: soak.sim_s >= warm_until and len(soak.warm) >= soak.warm_needed
+            rng, lambda: soak.sim_s >= warm_until[0] and len(soak.warm) >= soak.warm_needed
             and not (faults and faults.pending("warmup")),
-            warm_until / args.time_scale * 2 + 300,
+            args.warmup_minutes * 60 / args.time_scale * 4 + 600,
             lambda: f"warm-up not done after {soak.elapsed():.0f} s: "
                     f"{sorted(soak.warm)} of {soak.warm_needed}", warm_faults)
         await self.go_home("baseline")

@@ -4,7 +4,8 @@ controller at their moments, each followed by a check of the ledger (bench/soak_
   kill     kill -9 of the daemon during the warm-up's random changes (after the n-th, with
            requests in flight), and a restart on the same state file; every client reconnects.
            During the warm-up, not the measured stretch: a new process starts its memory curve
-           again (when RSS is judged, the controller runs the coverage pass again after it).
+           again (when RSS is judged, the controller runs the coverage pass and the
+           warm-up's random changes again after it).
   disk     a full disk under the state file (SKYD_FAULT_DIR/state_write, server/base/
            test_faults.h: every write fails with ENOSPC) for the next few changes: each must be
            acknowledged (a change that changed nothing writes nothing) or refused with error
