@@ -27,7 +27,8 @@ STREAM_SIZES = [(1, 1), (16, 9), (64, 36), (96, 54), (160, 90), (256, 144), (320
 SNAPSHOT_SIZES = [(1, 1), (64, 36), (160, 90), (320, 180), (640, 360), (333, 97)]
 MAX_STREAM = (480, 270)
 MAX_SNAPSHOT = (640, 360)
-WEATHER_PRESETS = ["clear", "fair_cumulus", "scattered", "broken", "overcast", "storm"]
+WEATHER_PRESETS = ["clear", "fair_cumulus", "scattered", "broken", "overcast", "storm",
+                   "altocumulus", "warm_front"]
 ATMOSPHERE_PRESETS = ["earth", "mars"]
 
 # Rules of `set` (PROTOCOL.md) between fields, which a per-field schema cannot state: the

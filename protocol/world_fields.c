@@ -30,6 +30,11 @@ static const char *const weather_source_names[] = { "procedural", "client", "met
 #define UTC_MIN_S -2208988800.0
 #define UTC_MAX_S 4133980799.0
 #define SEED_MAX 2147483647.0
+/* The middle etage (WMO International Cloud Atlas: 2-4 km polar, 2-7 km temperate, 2-8 km
+ * tropical): where a middle layer's base may lie, and how thick it may grow. */
+#define MID_BOTTOM_MIN_KM 2.0
+#define MID_BOTTOM_MAX_KM 8.0
+#define MID_THICKNESS_MAX_KM 4.0
 
 #define COUNT_OF(array) ((int)(sizeof(array) / sizeof((array)[0])))
 #define OFFSET(member) offsetof(struct sky_world_state, member)
@@ -73,6 +78,18 @@ static const char *const weather_source_names[] = { "procedural", "client", "met
     RO_NUMBER("weather.transition." #end ".clouds.low.thickness_km",                              \
               weather.transition.end.low.thickness_km, 0.05, 15,                                 \
               "low layer thickness " what ", km"),                                               \
+    RO_NUMBER("weather.transition." #end ".clouds.mid.coverage",                                  \
+              weather.transition.end.mid.coverage, 0, 1, "middle layer coverage " what),         \
+    RO_NUMBER("weather.transition." #end ".clouds.mid.type", weather.transition.end.mid.type,    \
+              0, 1, "middle layer cloud type " what),                                            \
+    RO_NUMBER("weather.transition." #end ".clouds.mid.density",                                   \
+              weather.transition.end.mid.density, 0, 10, "middle layer density " what),          \
+    RO_NUMBER("weather.transition." #end ".clouds.mid.bottom_km",                                 \
+              weather.transition.end.mid.bottom_km, MID_BOTTOM_MIN_KM, MID_BOTTOM_MAX_KM,         \
+              "middle layer base " what ", km"),                                                 \
+    RO_NUMBER("weather.transition." #end ".clouds.mid.thickness_km",                              \
+              weather.transition.end.mid.thickness_km, 0.05, MID_THICKNESS_MAX_KM,               \
+              "middle layer thickness " what ", km"),                                            \
     RO_NUMBER("weather.transition." #end ".clouds.high.coverage",                                 \
               weather.transition.end.high.coverage, 0, 1, "high layer coverage " what),          \
     RO_NUMBER("weather.transition." #end ".clouds.high.type", weather.transition.end.high.type,  \
@@ -172,6 +189,17 @@ const struct sky_field_desc sky_world_field_table[] = {
     NUMBER("clouds.low.bottom_km", clouds.low.bottom_km, 0, 20,
            "low layer cloud base above the ground, km"),
     NUMBER("clouds.low.thickness_km", clouds.low.thickness_km, 0.05, 15, "low layer thickness, km"),
+    NUMBER("clouds.mid.coverage", clouds.mid.coverage, 0, 1,
+           "middle cloud layer (altostratus, altocumulus): fraction of the sky covered, 0..1"),
+    NUMBER("clouds.mid.type", clouds.mid.type, 0, 1,
+           "middle layer cloud type: 0 altostratus (a sheet) .. 1 altocumulus (cells, rolls)"),
+    NUMBER("clouds.mid.density", clouds.mid.density, 0, 10,
+           "middle layer density, multiplier of clouds.extinction_per_km"),
+    NUMBER("clouds.mid.bottom_km", clouds.mid.bottom_km, MID_BOTTOM_MIN_KM, MID_BOTTOM_MAX_KM,
+           "middle layer base above the ground, km: within the middle etage (WMO: 2-7 km in "
+           "temperate regions, 2-8 km in the tropics)"),
+    NUMBER("clouds.mid.thickness_km", clouds.mid.thickness_km, 0.05, MID_THICKNESS_MAX_KM,
+           "middle layer thickness, km"),
     NUMBER("clouds.high.coverage", clouds.high.coverage, 0, 1,
            "high thin layer: fraction of the sky covered, 0..1"),
     NUMBER("clouds.high.type", clouds.high.type, 0, 1,
@@ -374,6 +402,11 @@ void sky_world_state_defaults(struct sky_world_state *state)
     clouds->low.density = 1.0;
     clouds->low.bottom_km = 1.5;
     clouds->low.thickness_km = 3.0;
+    clouds->mid.coverage = 0.0;
+    clouds->mid.type = 0.0;
+    clouds->mid.density = 0.5;
+    clouds->mid.bottom_km = 4.0;
+    clouds->mid.thickness_km = 1.0;
     clouds->high.coverage = 0.0;
     clouds->high.type = 0.0;
     clouds->high.density = 0.2;
@@ -443,6 +476,7 @@ void sky_weather_params_get(const struct sky_world_state *state, struct sky_weat
 {
     memset(out, 0, sizeof *out);
     out->low = state->clouds.low;
+    out->mid = state->clouds.mid;
     out->high = state->clouds.high;
     out->precipitation = state->clouds.precipitation;
     out->humidity = state->weather.humidity;
@@ -453,6 +487,7 @@ void sky_weather_params_get(const struct sky_world_state *state, struct sky_weat
 void sky_weather_params_put(struct sky_world_state *state, const struct sky_weather_params *in)
 {
     state->clouds.low = in->low;
+    state->clouds.mid = in->mid;
     state->clouds.high = in->high;
     state->clouds.precipitation = in->precipitation;
     state->weather.humidity = in->humidity;

@@ -151,14 +151,16 @@ struct sky_night_state {
 /* One cloud layer between bottom_km and bottom_km + thickness_km above the ground. */
 struct sky_cloud_layer_state {
     double coverage; /* 0..1, fraction of the sky covered */
-    double type;     /* 0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus */
+    double type;     /* low: 0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus;
+                        mid: 0 altostratus .. 1 altocumulus; high: 0 cirrostratus .. 1 cirrus */
     double density;  /* multiplier of clouds.extinction_per_km */
     double bottom_km;
     double thickness_km;
 };
 
 struct sky_cloud_state {
-    struct sky_cloud_layer_state low;   /* cumulus-type layer */
+    struct sky_cloud_layer_state low;   /* cumulus-type layer (WMO low etage) */
+    struct sky_cloud_layer_state mid;   /* altostratus, altocumulus (middle etage, 2-8 km) */
     struct sky_cloud_layer_state high;  /* thin high layer (cirrus, cirrostratus) */
     double extinction_per_km;           /* at density 1 */
     double albedo;                      /* single-scattering albedo */
@@ -177,7 +179,7 @@ struct sky_cloud_state {
 
 /* The weather parameters that transitions interpolate and the autopilot drives. */
 struct sky_weather_params {
-    struct sky_cloud_layer_state low, high;
+    struct sky_cloud_layer_state low, mid, high;
     double precipitation;      /* clouds.precipitation */
     double humidity;           /* weather.humidity */
     double wind_speed_m_s;     /* weather.wind.speed_m_s */

@@ -16,10 +16,14 @@ enum channel {
     CH_GUSTS,
     CH_WIND_BASE,
     CH_WIND_VEER,
+    CH_MID,
+    CH_MID_BASE,
 };
 
 /* Hours after which a front's wetness looks ahead to draw cirrus before it. */
 static const double CIRRUS_LEAD_H = 6.0;
+/* Altostratus follows the cirrus and comes before the rain (a warm front's sequence). */
+static const double MID_LEAD_H = 3.0;
 
 static double clamp(double x, double lo, double hi)
 {
@@ -120,6 +124,15 @@ void weather_autopilot_sample(int seed, double unix_s, double longitude_deg,
     out->high.coverage =
         clamp(1.8 * fmax(0.0, ahead - wet) + 0.25 * value_noise(seed, CH_CIRRUS, h / 12.0) - 0.05,
               0.0, 1.0);
+    /* Altostratus thickens ahead of the rain and stays in it (over the nimbostratus); when no
+     * front is near, patches of altocumulus come and go. */
+    double ahead_mid = weather_autopilot_wetness(seed, unix_s + MID_LEAD_H * 3600.0);
+    double sheet = clamp(2.0 * fmax(0.0, ahead_mid - wet) + 0.6 * stratiform, 0.0, 1.0);
+    out->mid.coverage = clamp(sheet + 0.35 * value_noise(seed, CH_MID, h / 10.0) - 0.15, 0.0, 1.0);
+    out->mid.type = clamp(1.0 - 1.5 * sheet, 0.0, 1.0);
+    out->mid.density = 0.3 + 0.4 * sheet;
+    out->mid.bottom_km = 3.0 + 2.0 * value_noise(seed, CH_MID_BASE, h / 24.0);
+    out->mid.thickness_km = 0.4 + 1.4 * sheet;
     out->high.type = 0.0;
     out->high.density = 0.2 + 0.2 * wet;
     out->high.bottom_km = 8.0 + 1.5 * value_noise(seed, CH_CIRRUS_BASE, h / 24.0);

@@ -5,8 +5,8 @@
 
 #include "weather_autopilot.h"
 
-_Static_assert(sizeof(struct sky_weather_params) == 14 * sizeof(double),
-               "weather parameters are 14 doubles");
+_Static_assert(sizeof(struct sky_weather_params) == 19 * sizeof(double),
+               "weather parameters are 19 doubles");
 #define DIRECTION_INDEX (offsetof(struct sky_weather_params, wind_direction_deg) / sizeof(double))
 
 static double clamp(double x, double lo, double hi)

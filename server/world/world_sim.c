@@ -182,13 +182,25 @@ static const char *const ephemeris_fields[] = {
 
 /* The schema paths of struct sky_weather_params, in its member order. */
 static const char *const weather_fields[] = {
-    "clouds.low.coverage",     "clouds.low.type",
-    "clouds.low.density",      "clouds.low.bottom_km",
-    "clouds.low.thickness_km", "clouds.high.coverage",
-    "clouds.high.type",        "clouds.high.density",
-    "clouds.high.bottom_km",   "clouds.high.thickness_km",
-    "clouds.precipitation",    "weather.humidity",
-    "weather.wind.speed_m_s",  "weather.wind.direction_deg",
+    "clouds.low.coverage",
+    "clouds.low.type",
+    "clouds.low.density",
+    "clouds.low.bottom_km",
+    "clouds.low.thickness_km",
+    "clouds.mid.coverage",
+    "clouds.mid.type",
+    "clouds.mid.density",
+    "clouds.mid.bottom_km",
+    "clouds.mid.thickness_km",
+    "clouds.high.coverage",
+    "clouds.high.type",
+    "clouds.high.density",
+    "clouds.high.bottom_km",
+    "clouds.high.thickness_km",
+    "clouds.precipitation",
+    "weather.humidity",
+    "weather.wind.speed_m_s",
+    "weather.wind.direction_deg",
 };
 _Static_assert(sizeof weather_fields / sizeof weather_fields[0] == WEATHER_PARAM_COUNT,
                "one path per weather parameter");

@@ -69,7 +69,8 @@ async def t_world_sim(ctl, repo_config_dir):
 
     r = await ctl.request({"type": "list_presets", "id": "w6", "kind": "weather"})
     check("world: weather presets listed", r.get("names") == sorted(
-        ["broken", "clear", "fair_cumulus", "overcast", "scattered", "storm"]), short(r))
+        ["altocumulus", "broken", "clear", "fair_cumulus", "overcast", "scattered", "storm",
+         "warm_front"]), short(r))
     r = await ctl.request({"type": "set", "id": "w7", "patch": {"clock": {"time_scale": 600}}})
     r = await ctl.request({"type": "apply_preset", "id": "w8", "kind": "weather",
                            "name": "clear"})

@@ -255,7 +255,7 @@ expect "watch jpeg frames into a directory" 0 "subscribed [0-9]+( frame [0-9]+ r
 # Weather presets: a transition over simulated time. The clock is paused, so the transition's
 # progress follows only the clock.utc sets below (smoothstep: 0.5 at half time).
 expect "weather preset list" 0 '.*' "" c preset --list --kind weather
-for name in clear fair_cumulus scattered broken overcast storm; do
+for name in clear fair_cumulus scattered broken overcast storm altocumulus warm_front; do
   grep -qx "$name" "$out/stdout.txt" && pass || fail "weather presets lack $name: $(cat "$out/stdout.txt")"
 done
 expect "weather transition out of range" 1 '' "preset: /transition_s: must be in [0, 604800]" \

@@ -16,16 +16,21 @@
 #include <cjson/cJSON.h>
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 static const char *config_dir = "config";
 
+/* The presets of the low layer's coverage, in increasing order (storm last), then the middle
+ * layer's. */
 static const char *const weather_preset_names[] = {
-    "clear", "fair_cumulus", "scattered", "broken", "overcast", "storm",
+    "clear",    "fair_cumulus", "scattered",   "broken",
+    "overcast", "storm",        "altocumulus", "warm_front",
 };
 #define PRESET_COUNT (sizeof weather_preset_names / sizeof weather_preset_names[0])
+#define LOW_PRESET_COUNT 6
 
 static double utc(const char *iso)
 {
@@ -185,7 +190,10 @@ static void test_wind(void)
     CHECK(memcmp(&s.weather.anchor, &before.weather.anchor, sizeof s.weather.anchor) == 0);
 }
 
-static void params_of(const struct sky_world_state *s, double out[14])
+#define PARAM_COUNT (sizeof(struct sky_weather_params) / sizeof(double))
+#define PARAM_INDEX(member) (offsetof(struct sky_weather_params, member) / sizeof(double))
+
+static void params_of(const struct sky_world_state *s, double out[PARAM_COUNT])
 {
     struct sky_weather_params p;
     sky_weather_params_get(s, &p);
@@ -201,7 +209,7 @@ static void test_transition(void)
     load_preset("storm", &target);
     struct sky_weather_params goal;
     sky_weather_params_get(&target, &goal);
-    double start[14], end[14], previous[14], now[14];
+    double start[PARAM_COUNT], end[PARAM_COUNT], previous[PARAM_COUNT], now[PARAM_COUNT];
     params_of(&s, start);
     memcpy(end, &goal, sizeof end);
 
@@ -213,10 +221,12 @@ static void test_transition(void)
     for (int i = 0; i < 1250; i++) {
         world_sim_advance(&s, 1.0);
         params_of(&s, now);
-        for (int k = 0; k < 14; k++) {
+        for (size_t k = 0; k < PARAM_COUNT; k++) {
             double step = now[k] - previous[k];
             double way = end[k] - start[k];
-            if (k == 13) { /* direction: along the shorter arc, 300 -> 250 goes down */
+            if (k ==
+                PARAM_INDEX(
+                    wind_direction_deg)) { /* direction: along the shorter arc, 300 -> 250 goes down */
                 step = fmod(step + 540.0, 360.0) - 180.0;
                 way = fmod(way + 540.0, 360.0) - 180.0;
             }
@@ -227,7 +237,8 @@ static void test_transition(void)
         if (i == 599) { /* halfway in time is halfway in value (smoothstep(0.5) = 0.5) */
             CHECK_NEAR(s.weather.transition.progress, 0.5, 1e-9);
             CHECK_NEAR(s.clouds.low.coverage, 0.5 * (start[0] + end[0]), 1e-9);
-            CHECK_NEAR(s.weather.humidity, 0.5 * (start[11] + end[11]), 1e-9);
+            CHECK_NEAR(s.weather.humidity,
+                       0.5 * (start[PARAM_INDEX(humidity)] + end[PARAM_INDEX(humidity)]), 1e-9);
             CHECK_NEAR(s.weather.wind.direction_deg, 275.0, 1e-9);
         }
         if (i == 1198)
@@ -258,6 +269,17 @@ static void test_transition(void)
     CHECK(!weather_timeline_active(&s));
     CHECK_NEAR(s.clouds.low.coverage, 1.0, 0);
     CHECK_NEAR(s.clouds.low.bottom_km, 0.4, 0);
+
+    /* The middle layer moves with the others: halfway to an altostratus sheet. */
+    load_preset("warm_front", &target);
+    sky_weather_params_get(&target, &goal);
+    double mid_from = s.clouds.mid.coverage;
+    world_sim_start_transition(&s, &goal, 1000);
+    world_sim_advance(&s, 500);
+    CHECK(weather_timeline_active(&s));
+    CHECK_NEAR(s.clouds.mid.coverage, 0.5 * (mid_from + goal.mid.coverage), 1e-9);
+    CHECK_NEAR(s.weather.transition.to.mid.coverage, goal.mid.coverage, 0);
+    CHECK(goal.mid.coverage > mid_from + 0.5);
 }
 
 static void test_set_during_transition(void)
@@ -506,8 +528,16 @@ static void test_presets(void)
         if (s.clouds.low.coverage > 0)
             CHECK_NEAR(s.clouds.low.bottom_km, 2.5 * (1 - s.weather.humidity), 0.2);
         CHECK_LE(s.clouds.low.bottom_km + s.clouds.low.thickness_km, s.clouds.high.bottom_km);
+        /* A middle layer, where there is one, lies between the others. */
+        if (s.clouds.mid.coverage > 0) {
+            CHECK_LE(s.clouds.low.bottom_km + s.clouds.low.thickness_km, s.clouds.mid.bottom_km);
+            CHECK_LE(s.clouds.mid.bottom_km + s.clouds.mid.thickness_km, s.clouds.high.bottom_km);
+        }
+        /* The low layer's presets carry an empty middle layer, so that one clears it. */
+        if (i < LOW_PRESET_COUNT)
+            CHECK(s.clouds.mid.coverage == 0);
     }
-    for (size_t i = 1; i + 1 < PRESET_COUNT; i++)
+    for (size_t i = 1; i + 1 < LOW_PRESET_COUNT; i++)
         CHECK(coverage[i] > coverage[i - 1]); /* clear < fair < scattered < broken < overcast */
     struct sky_world_state s;
     sky_world_state_defaults(&s);
@@ -523,6 +553,14 @@ static void test_presets(void)
     CHECK(s.clouds.precipitation >= 0.5 && s.weather.wind.speed_m_s >= 15);
     load_preset("clear", &s);
     CHECK(s.clouds.low.coverage == 0 && s.clouds.precipitation == 0);
+    load_preset("altocumulus", &s); /* cells, mid-level */
+    CHECK(s.clouds.mid.coverage >= 0.4 && s.clouds.mid.type >= 0.8);
+    CHECK(s.clouds.mid.bottom_km >= 2 && s.clouds.mid.bottom_km <= 7);
+    load_preset("warm_front", &s); /* an altostratus sheet under cirrostratus */
+    CHECK(s.clouds.mid.coverage >= 0.7 && s.clouds.mid.type <= 0.2);
+    CHECK(s.clouds.high.coverage >= 0.5);
+    load_preset("clear", &s); /* clears the middle layer */
+    CHECK(s.clouds.mid.coverage == 0);
 }
 
 static void test_haze(void)

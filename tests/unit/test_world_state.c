@@ -19,7 +19,7 @@ static void test_schema_table(void)
     check_case_name = "schema table";
     size_t count = 0;
     const struct sky_field_desc *fields = sky_world_state_fields(&count);
-    CHECK_INT(count, 118);
+    CHECK_INT(count, 133);
     for (size_t i = 0; i < count; i++) {
         check_case_name = fields[i].path;
         CHECK(sky_world_state_find_field(fields[i].path) == &fields[i]);

@@ -52,6 +52,11 @@ static const struct state_case patch_cases[] = {
     APPLIES("{\"render\":{\"transmittance_lut\":[4096,8]}}", "render.transmittance_lut", 4096, 8),
     APPLIES("{\"atmosphere\":{\"bottom_radius_km\":6000,\"top_radius_km\":7000}}",
             "atmosphere.top_radius_km", 7000),
+    /* the middle layer, its base anywhere in the middle etage */
+    APPLIES("{\"clouds\":{\"mid\":{\"coverage\":0.8,\"type\":1}}}", "clouds.mid.coverage", 0.8),
+    APPLIES("{\"clouds\":{\"mid\":{\"bottom_km\":2}}}", "clouds.mid.bottom_km", 2),
+    APPLIES("{\"clouds\":{\"mid\":{\"bottom_km\":8,\"thickness_km\":4}}}",
+            "clouds.mid.thickness_km", 4),
 
     /* unknown fields at each depth, and odd member names */
     REJECTS("{\"bogus\":1}", 1,
@@ -116,6 +121,20 @@ static const struct state_case patch_cases[] = {
             ERR(SKY_FIELD_OUT_OF_RANGE, "/sun/illuminance_lux", "[0, 1000000], got -1")),
     REJECTS("{\"render\":{\"aerial_perspective_lut\":[4,4,513]}}", 1,
             ERR(SKY_FIELD_OUT_OF_RANGE, "/render/aerial_perspective_lut/2", "[4, 512], got 513")),
+
+    /* the middle layer's base outside the middle etage, and the other fields' ranges */
+    REJECTS("{\"clouds\":{\"mid\":{\"bottom_km\":1.5}}}", 1,
+            ERR(SKY_FIELD_OUT_OF_RANGE, "/clouds/mid/bottom_km", "must be in [2, 8], got 1.5")),
+    REJECTS("{\"clouds\":{\"mid\":{\"bottom_km\":9}}}", 1,
+            ERR(SKY_FIELD_OUT_OF_RANGE, "/clouds/mid/bottom_km", "got 9")),
+    REJECTS("{\"clouds\":{\"mid\":{\"coverage\":1.2,\"type\":-0.1,\"thickness_km\":5}}}", 3,
+            ERR(SKY_FIELD_OUT_OF_RANGE, "/clouds/mid/coverage", "must be in [0, 1], got 1.2"),
+            ERR(SKY_FIELD_OUT_OF_RANGE, "/clouds/mid/type", "got -0.1"),
+            ERR(SKY_FIELD_OUT_OF_RANGE, "/clouds/mid/thickness_km", "[0.05, 4], got 5")),
+    REJECTS("{\"clouds\":{\"mid\":{\"density\":\"thick\"}}}", 1,
+            ERR(SKY_FIELD_WRONG_TYPE, "/clouds/mid/density", "expected a number")),
+    REJECTS("{\"clouds\":{\"mid\":{\"bogus\":1}}}", 1,
+            ERR(SKY_FIELD_UNKNOWN, "/clouds/mid/bogus", "coverage, type, density")),
 
     /* inconsistent radii; not reported on top of field errors */
     REJECTS("{\"atmosphere\":{\"top_radius_km\":6300}}", 1,
