@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Cloud shadow map (seed 001 5.9): transmittance toward the sun through both layers from the
 // ground, over the tileable weather pattern (texel = pattern position), on the coarse shape.
-// With it, the sun-space optical-depth volume that the marches read the sun's far optical
+// The middle layer adds its optical depth to the map's (so it shadows the ground and the low
+// layer). With it, the sun-space optical-depth volume that the marches read the sun's far optical
 // depth from (cloud_sun_depth.glsl): along the same ray, the low layer's optical depth from its
 // base up to each of SKY_CLOUD_SUN_DEPTH_LEVELS altitudes (r), and the high layer's (g).
 // The wind moves the lookups, not the maps; they are rebuilt when the sun or the clouds
@@ -28,6 +29,8 @@ const float STEPS = 12.0;
 // Steps of the low layer between two levels of the volume.
 const float STEPS_PER_LEVEL = 3.0;
 
+// The low and high layers' optical depth along the ray through one of their shells (the
+// middle layer's is mid_optical_depth's).
 float optical_depth(vec3 o, vec3 d, vec4 layer)
 {
     float t0, t1;
@@ -36,7 +39,20 @@ float optical_depth(vec3 o, vec3 d, vec4 layer)
     t1 = min(t1, t0 + cloud.march.y);
     float ds = (t1 - t0) / STEPS, tau = 0.0;
     for (float i = 0.0; i < STEPS; i += 1.0)
-        tau += cloud_extinction(o + (t0 + (i + 0.5) * ds) * d, false) * ds;
+        tau += cloud_extinction_low_high(o + (t0 + (i + 0.5) * ds) * d, false) * ds;
+    return tau;
+}
+
+// The middle layer's own optical depth along the ray (its shell may overlap the others').
+float mid_optical_depth(vec3 o, vec3 d)
+{
+    float t0, t1;
+    if (!shell_segment(o, d, cloud.mid.x, cloud.mid.y, t0, t1))
+        return 0.0;
+    t1 = min(t1, t0 + cloud.march.y);
+    float ds = (t1 - t0) / STEPS, tau = 0.0;
+    for (float i = 0.0; i < STEPS; i += 1.0)
+        tau += cloud_layer_extinction(o + (t0 + (i + 0.5) * ds) * d, false, LAYER_MID) * ds;
     return tau;
 }
 
@@ -55,7 +71,7 @@ float low_layer_levels(vec3 o, vec3 d, out float cumulative[SKY_CLOUD_SUN_DEPTH_
         float t_end = min(t, t_prev + cloud.march.y);
         float ds = max(t_end - t_prev, 0.0) / STEPS_PER_LEVEL;
         for (float i = 0.0; i < STEPS_PER_LEVEL; i += 1.0)
-            tau += cloud_layer_extinction(o + (t_prev + (i + 0.5) * ds) * d, false, true) * ds;
+            tau += cloud_layer_extinction(o + (t_prev + (i + 0.5) * ds) * d, false, LAYER_LOW) * ds;
         cumulative[k] = tau;
         t_prev = t;
     }
@@ -91,8 +107,13 @@ void main()
     // whose branch-deciding values lavapipe (Mesa 22.3) inlined, compiling the shader again at
     // every slice (sky_shared.h, SKY_PARAMETER_BLOCK). The high layer is marched even when off.
     float tau_high = step(0.5, cloud.high.w) * optical_depth(ground, sun, cloud.high);
+    // The middle layer: in the column's whole depth, which shadows the ground and the low layer
+    // under it.
+    float tau_mid = 0.0;
+    if (cloud.mid.w > 0.5)
+        tau_mid = mid_optical_depth(ground, sun);
     for (int k = 0; k < SKY_CLOUD_SUN_DEPTH_LEVELS; k++)
         imageStore(sun_depth_out, ivec3(px, k), vec4(cumulative[k], tau_high, 0.0, 0.0));
-    float tau = tau_low + tau_high;
+    float tau = tau_low + tau_mid + tau_high;
     imageStore(shadow_out, px, vec4(exp(-tau), tau, 0.0, 1.0));
 }

@@ -33,10 +33,14 @@ static const double cell_km[4] = {
  * measurable frame time. */
 #define LONGEST_MARCH_KM 160.0
 
+static bool layer_on(const struct sky_render_cloud_layer *layer)
+{
+    return layer->coverage > 0.0 && layer->density > 0.0;
+}
+
 bool cloud_params_any_layer(const struct sky_render_clouds *c)
 {
-    return c->use_client_map || (c->low.coverage > 0.0 && c->low.density > 0.0) ||
-           (c->high.coverage > 0.0 && c->high.density > 0.0);
+    return c->use_client_map || layer_on(&c->low) || layer_on(&c->mid) || layer_on(&c->high);
 }
 
 void cloud_params_weather_periods(const struct sky_render_clouds *c, float periods[4])
@@ -81,11 +85,17 @@ void cloud_params_fill(const struct sky_render_clouds *c, double R, struct sky_c
 {
     memset(u, 0, sizeof *u);
     const struct sky_render_cloud_layer *lo = &c->low, *hi = &c->high;
-    bool high_on = c->use_client_map || (hi->coverage > 0.0 && hi->density > 0.0);
+    bool high_on = c->use_client_map || layer_on(hi);
     u->low = V4(R + lo->bottom_km, R + lo->bottom_km + lo->thickness_km,
                 c->extinction_per_km * lo->density, 1);
     u->high = V4(R + hi->bottom_km, R + hi->bottom_km + hi->thickness_km,
                  c->extinction_per_km * hi->density, high_on ? 1 : 0);
+    /* The middle layer is the same everywhere in the weather map (client maps included): its
+     * coverage and type come from these uniforms (cloud_density.glsl's mid_density_or_empty). */
+    const struct sky_render_cloud_layer *mi = &c->mid;
+    u->mid = V4(R + mi->bottom_km, R + mi->bottom_km + mi->thickness_km,
+                c->extinction_per_km * mi->density, layer_on(mi) ? 1 : 0);
+    u->mid_shape = V4(fmin(fmax(mi->coverage, 0.0), 1.0), fmin(fmax(mi->type, 0.0), 1.0), 0, 0);
     u->media = V4(c->albedo, c->precipitation, c->ambient_scale, hi->type);
     u->phase = V4(c->phase_g0, c->phase_g1, c->phase_w, c->multiscatter_octaves);
     /* a <= b keeps the octaves energy conserving (seed 001 5.8). */

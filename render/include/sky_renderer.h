@@ -264,13 +264,14 @@ enum sky_render_cloud_resolution {
 struct sky_render_cloud_layer {
     double coverage; /* 0..1 */
     double type;     /* 0 stratus, 1/3 stratocumulus, 2/3 cumulus, 1 cumulonimbus; for the
-                            high layer 0 smooth sheet .. 1 fibrous */
+                            middle layer 0 altostratus sheet .. 1 altocumulus cells; high
+                            layer 0 smooth sheet .. 1 fibrous */
     double density;  /* multiplier of extinction_per_km */
     double bottom_km, thickness_km;
 };
 
 struct sky_render_clouds {
-    struct sky_render_cloud_layer low, high;
+    struct sky_render_cloud_layer low, mid, high;
     double extinction_per_km;                              /* at density 1 */
     double albedo;                                         /* single-scattering albedo */
     double precipitation;                                  /* 0..1 */

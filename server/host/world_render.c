@@ -137,6 +137,7 @@ void world_to_render_clouds(const struct sky_world_state *state, struct sky_rend
     const struct sky_weather_state *w = &state->weather;
     memset(out, 0, sizeof *out);
     layer(&c->low, &out->low);
+    layer(&c->mid, &out->mid);
     layer(&c->high, &out->high);
     out->extinction_per_km = c->extinction_per_km;
     out->albedo = c->albedo;

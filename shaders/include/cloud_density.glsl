@@ -2,8 +2,9 @@
 // 2015/2017, Nubis): the weather map's coverage is a threshold of the 3D base shape, so the
 // noise draws every outline; a height profile per cloud type, a function of the height alone,
 // raises that threshold toward the type's tops (clouds narrow into domes and towers over flat
-// bases); detail noise erodes the edges only; curl noise moves the outlines. Two layers: a low
-// cumulus-type layer and a high thin one.
+// bases); detail noise erodes the edges only; curl noise moves the outlines. Three layers, the
+// WMO's etages: a low cumulus-type layer, a middle one (altostratus, altocumulus) and a high
+// thin one.
 //
 // The including shader declares `atmo`, `cloud` (sky_cloud_uniforms) and the samplers
 // base_noise (3D), detail_noise (3D), curl_noise (2D: rg curl, b blue noise) and weather_map
@@ -195,8 +196,80 @@ float high_density(vec3 p, float r, vec4 wm)
     return max(high_density_or_empty(p, r, wm), 0.0);
 }
 
-// Extinction (per km) at p; detail false for coarse (shadow, light) samples.
-float cloud_extinction(vec3 p, bool detail)
+// Middle layer (altostratus .. altocumulus, mid_shape.y 0 .. 1), on the low layer's machinery
+// with its coverage from the uniforms, not the weather map. Two shapes, mixed by the type:
+//  - altostratus, a sheet: the columns where a pattern twice the base tile (cells of about a
+//    kilometre, constant in height) lies above 1 - coverage hold it, so coverage is the
+//    fraction of the sky it covers, with soft breaks; it fills its layer from a base rounded
+//    over 10 % of it up to an undulating top (the same pattern at each height: 50-100 % of the
+//    layer), its liquid water growing with the height above the base as in a low sheet;
+//  - altocumulus, cells: the low layer's threshold of the base shape's lowest octave at half
+//    the base tile, cells of about 300 m (WMO: elements of 1-5 degrees, some hundreds of metres
+//    at 3-6 km), the coverage varied from column to column by the larger pattern (normal
+//    scores, as coverage_at) so that the cells come in patches, tops rising as the low
+//    layer's (profile_rise) to 90 % of the layer.
+// -1 where it holds no cloud at all.
+const float MID_SHEET_TILE = 2.0; // of cloud.tiles.x
+const float MID_CELL_TILE = 0.5;
+const float MID_BREAK_RAMP = 0.15;   // of the pattern's range: the soft edge of a break
+const float MID_SHEET_BASE = 0.1;    // base rounding, of the layer
+const vec2 MID_SHEET_TOP = vec2(0.5, 1.0);
+const vec4 MID_CELL_SHAPE = vec4(0.9, 0.2, 0.0, 0.0); // top, base rounding
+const float MID_CELL_SPREAD = 2.0;
+float mid_density_or_empty(vec3 p, float r)
+{
+    float h = layer_fraction(r, cloud.mid);
+    if (cloud.mid.w < 0.5 || h <= 0.0 || h >= 1.0)
+        return -1.0;
+    float coverage = cloud.mid_shape.x, type = cloud.mid_shape.y;
+    vec2 xy = cloud_pattern_xy(p);
+    float z = r - bottom_radius();
+    float column = textureLod(base_noise, vec3(xy, 0.0) / (MID_SHEET_TILE * cloud.tiles.x), 0.0).g;
+    float sheet = -1.0, cells = -1.0;
+    if (type < 1.0) {
+        float covered = clamp((column - (1.0 - coverage)) / MID_BREAK_RAMP, 0.0, 1.0);
+        if (covered > 0.0) {
+            float undulation =
+                textureLod(base_noise, vec3(xy, 0.5 * z) / (MID_SHEET_TILE * cloud.tiles.x), 0.0).r;
+            float top = mix(MID_SHEET_TOP.x, MID_SHEET_TOP.y, undulation);
+            sheet = covered * smoothstep(0.0, MID_SHEET_BASE, h) *
+                    (1.0 - smoothstep(top - 0.3, top, h)) * clamp(2.0 * h, 0.25, 2.0);
+        }
+    }
+    if (type > 0.0) {
+        float c_column = coverage_at(coverage, MID_CELL_SPREAD * (0.5 - column));
+        float c = coverage_at(c_column, profile_rise(h, MID_CELL_SHAPE)) - MIN_COVERAGE;
+        if (c > 0.0) {
+            float u =
+                textureLod(base_noise, vec3(xy, z) / (MID_CELL_TILE * cloud.tiles.x), 0.0).g;
+            // Far away (the march's level of detail) the cells' edges soften.
+            float ramp = mix(EDGE_RAMP.x, EDGE_RAMP.y, cloud_lod);
+            cells = clamp((u - (1.0 - c)) / ramp, 0.0, 1.0) * smoothstep(0.0, MID_CELL_SHAPE.y, h);
+        }
+    }
+    if (sheet < 0.0 && cells < 0.0)
+        return -1.0;
+    return mix(max(sheet, 0.0), max(cells, 0.0), type) * cloud.mid.z;
+}
+
+float mid_density(vec3 p, float r)
+{
+    return max(mid_density_or_empty(p, r), 0.0);
+}
+
+// Which layer a march or a lookup is for (a constant at every call).
+const int LAYER_LOW = 0;
+const int LAYER_HIGH = 1;
+const int LAYER_MID = 2;
+
+// The layer's shell: x bottom radius, y top radius, z extinction at full density, w on.
+vec4 layer_shell(int layer)
+{
+    return layer == LAYER_LOW ? cloud.low : layer == LAYER_MID ? cloud.mid : cloud.high;
+}
+
+// Extinction (per km) of the low and high layers at p, which share a weather-map lookup.
+float cloud_extinction_low_high(vec3 p, bool detail)
 {
     float r = length(p);
     if (r < cloud.low.x || r > max(cloud.low.y, cloud.high.y))
@@ -205,22 +278,36 @@ float cloud_extinction(vec3 p, bool detail)
     return low_density(p, r, wm, detail) + high_density(p, r, wm);
 }
 
+// Extinction (per km) at p, every layer; detail false for coarse (shadow, light) samples.
+float cloud_extinction(vec3 p, bool detail)
+{
+    float sigma = cloud_extinction_low_high(p, detail);
+    // The middle layer's lookups only where it is on (a uniform: lavapipe still runs them
+    // under a mask, so passes that do not need them call the function above).
+    if (cloud.mid.w > 0.5)
+        sigma += mid_density(p, length(p));
+    return sigma;
+}
+
 // The same for one layer, or -1 where the layer's coverage holds no cloud around p (below
 // MIN_COVERAGE: the shape's level sets cannot reach there), so a march that probes it steps over
 // empty space without jumping across fringes thinner than its probe spacing. Marches call it
-// with a constant `low_layer`, so that each loop holds the noise lookups of its own layer only:
-// lavapipe executes both sides of every branch, so the other layer's early return would not
+// with a constant `layer`, so that each loop holds the noise lookups of its own layer only:
+// lavapipe executes both sides of every branch, so another layer's early return would not
 // spare its lookups.
-float cloud_layer_sample(vec3 p, bool detail, bool low_layer)
+float cloud_layer_sample(vec3 p, bool detail, int layer)
 {
     float r = length(p);
+    if (layer == LAYER_MID)
+        return mid_density_or_empty(p, r);
     vec4 wm = sample_weather(cloud_pattern_xy(p));
-    return low_layer ? low_density_or_empty(p, r, wm, detail) : high_density_or_empty(p, r, wm);
+    return layer == LAYER_LOW ? low_density_or_empty(p, r, wm, detail)
+                              : high_density_or_empty(p, r, wm);
 }
 
-float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
+float cloud_layer_extinction(vec3 p, bool detail, int layer)
 {
-    return max(cloud_layer_sample(p, detail, low_layer), 0.0);
+    return max(cloud_layer_sample(p, detail, layer), 0.0);
 }
 
 // Rain under the low layer's precipitating bases, 0..1 (the weather map's precipitation, which

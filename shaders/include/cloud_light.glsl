@@ -7,9 +7,10 @@
 
 // Reach of the secondary march toward the sun: 2.4 km, or most of a thicker layer's depth
 // (the core of a cumulonimbus is dark however far the sun's ray has to go).
-float light_march_km(bool low_layer)
+float light_march_km(int layer)
 {
-    float thickness = low_layer ? cloud.low.y - cloud.low.x : cloud.high.y - cloud.high.x;
+    vec4 shell = layer_shell(layer);
+    float thickness = shell.y - shell.x;
     return clamp(0.6 * thickness, 2.4, 8.0);
 }
 const float LIGHT_RATIO = 3.0;
@@ -87,7 +88,7 @@ struct SunMarch {
     bool with_volume;
 };
 
-SunMarch sun_march_begin(vec3 p, vec3 dir, float jitter, bool low_layer, bool with_volume,
+SunMarch sun_march_begin(vec3 p, vec3 dir, float jitter, int layer, bool with_volume,
                          vec2 reach)
 {
     SunMarch m;
@@ -99,7 +100,7 @@ SunMarch sun_march_begin(vec3 p, vec3 dir, float jitter, bool low_layer, bool wi
     m.last = m.steps + (with_volume ? INCIDENCE_STEPS : 0.0);
     m.ratio = with_volume ? 2.0 : LIGHT_RATIO;
     m.ds0 = with_volume ? reach.y / (exp2(m.steps) - 1.0)
-                        : light_march_km(low_layer) * (LIGHT_RATIO - 1.0) /
+                        : light_march_km(layer) * (LIGHT_RATIO - 1.0) /
                               (pow(LIGHT_RATIO, m.steps) - 1.0);
     m.i = m.t = m.tau = m.tau_first = m.tau_up = 0.0;
     m.ds = m.ds0;
@@ -146,7 +147,7 @@ float sun_march_incidence(SunMarch m)
 // the view: the march is the costly part) up to the reach's level and the volume's, read at p
 // itself.
 SunDepth sun_depths(vec3 p, vec3 dir, float marched, bool with_volume, float reach_r,
-                    float sigma_here, bool low_layer)
+                    float sigma_here, int layer)
 {
     SunDepth s;
     float r = length(p);
@@ -160,10 +161,16 @@ SunDepth sun_depths(vec3 p, vec3 dir, float marched, bool with_volume, float rea
         s.support = column.support;
         return s;
     }
-    s.to_sun = marched;
-    s.smooth_to_sun = marched;
+    // The middle layer lies under the high one: the volume's high-layer optical depth along
+    // the sun's ray through p (g) shadows it, where the volume was built for this sun.
+    float above = 0.0;
+    if (layer == LAYER_MID && sun_depth_coords(p, dir, uv))
+        above = textureLod(sun_depth_volume, vec3(uv, 0.5 / float(SKY_CLOUD_SUN_DEPTH_LEVELS)),
+                           0.0).g;
+    s.to_sun = marched + above;
+    s.smooth_to_sun = marched + above;
     s.support = 1.0;
-    float base = low_layer ? cloud.low.x : cloud.high.x;
+    float base = layer_shell(layer).x;
     s.behind = sigma_here * max(r - base, 0.0) / max(dot(dir, p / r), 0.1);
     return s;
 }

@@ -155,27 +155,31 @@ struct LitSample {
 // against the extinction) and adds its light to res.
 void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 moon,
                       OctavePhases phases, OctavePhases moon_phases, CloudAmbient amb,
-                      bool low_layer, inout CloudResult res)
+                      int layer, inout CloudResult res)
 {
     bool moon_on = moon_lights_clouds();
     vec3 p = o + s.t * d;
     float r = length(p);
     SunDepth sun_depth = sun_depths(p, sun_dir, s.sun_marched, s.sun_reach_r >= 0.0,
-                                    s.sun_reach_r, s.sigma_t, low_layer);
+                                    s.sun_reach_r, s.sigma_t, layer);
     SunDepth moon_depth = sun_depth;
     if (moon_on)
         moon_depth = sun_depths(p, frame.moon_direction.xyz, s.moon_marched,
-                                s.moon_reach_r >= 0.0, s.moon_reach_r, s.sigma_t, low_layer);
+                                s.moon_reach_r >= 0.0, s.moon_reach_r, s.sigma_t, layer);
     // The ground under a cloud lies in its shadow: where the volume knows the sun's optical
     // depth to the ground below the sample, its sunlit half becomes that share.
     vec2 below_uv;
     float ground_sun = 0.5;
-    if (low_layer && sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv))
+    if (layer == LAYER_LOW &&
+        sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv))
         ground_sun = exp(-sun_column(below_uv).depth);
-    float h = clamp((r - cloud.low.x) / (cloud.low.y - cloud.low.x), 0.0, 1.0);
+    // The ambient's height in the low layer (the layers above it: its top), in the middle
+    // layer its own: its base sees the lit ground and the low clouds' tops.
+    vec4 amb_shell = layer == LAYER_MID ? cloud.mid : cloud.low;
+    float h = clamp((r - amb_shell.x) / (amb_shell.y - amb_shell.x), 0.0, 1.0);
     vec3 ambient = mix(amb.bottom + amb.bottom_sun * (ground_sun - 0.5), amb.top, h);
     float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
-    float top = low_layer ? cloud.low.y : cloud.high.y;
+    float top = layer_shell(layer).y;
     float tau_up = s.sigma_t * max(top - r, 0.0);
     octave_sources(phases, sun_depth, tau_up, s.sun_incidence, src);
     if (moon_on)
@@ -197,7 +201,7 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
                       0.5 * (1.0 - s.step_t * s.step_t) * ambient * sky_seen);
 }
 
-// low_layer: which layer's density the segment marches (a constant at every call).
+// layer: which layer's density the segment marches (LAYER_*, a constant at every call).
 //
 // The march collects up to LIT_BATCH lit samples, then shades them in a loop of its own: its
 // inner loop then holds only the density lookup, the view's bookkeeping and the light march's
@@ -206,14 +210,15 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
 // step of every light march too.
 void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float jitter,
                          vec3 sun_dir, OctavePhases phases, OctavePhases moon_phases,
-                         CloudAmbient amb, bool low_layer, inout CloudResult res,
+                         CloudAmbient amb, int layer, inout CloudResult res,
                          inout vec2 depth_sum)
 {
     // Steps of (t1 - t0) / steps as before, but no longer than 2 % of the distance (a few
     // pixels' width) once past the layer's thickness / steps: a ray that grazes the layer
     // from inside it crosses 80 km of shell, and even steps of 1.25 km cut the clouds near
     // the camera into slices.
-    float thickness = low_layer ? cloud.low.y - cloud.low.x : cloud.high.y - cloud.high.x;
+    vec4 shell = layer_shell(layer);
+    float thickness = shell.y - shell.x;
     float ds_far = (t1 - t0) / steps, ds_near = min(ds_far, thickness / steps);
     float ds = clamp(MARCH_LOD * t0, ds_near, ds_far);
     vec3 sun_top = frame.sun_illuminance.xyz;
@@ -275,7 +280,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
             // The loop's one density lookup, for the view (a probe or a sample: -1 where the
             // layer's coverage holds no cloud) or for the light march on the coarse shape.
             float sampled = cloud_layer_sample(lighting ? sun_march_point(light) : p, !lighting,
-                                               low_layer);
+                                               layer);
             if (lighting) {
                 sun_march_add(light, max(sampled, 0.0));
                 if (!sun_march_done(light))
@@ -289,7 +294,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
                 }
                 if (moon_on && !lighting_moon) {
                     lighting_moon = true;
-                    light = sun_march_begin(p, moon_dir, light.jitter, low_layer, moon_volume,
+                    light = sun_march_begin(p, moon_dir, light.jitter, layer, moon_volume,
                                             moon_reach);
                     continue;
                 }
@@ -356,13 +361,13 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
                     // deep into the cloud would turn that into grain.
                     float light_jitter = fract(jitter + 0.6180340 * (view_samples - 1.0));
                     vec2 uv;
-                    sun_volume = low_layer && sun_depth_coords(p, sun_dir, uv);
+                    sun_volume = layer == LAYER_LOW && sun_depth_coords(p, sun_dir, uv);
                     sun_reach = sun_march_reach(p, sun_dir);
                     if (moon_on) {
-                        moon_volume = low_layer && sun_depth_coords(p, moon_dir, uv);
+                        moon_volume = layer == LAYER_LOW && sun_depth_coords(p, moon_dir, uv);
                         moon_reach = sun_march_reach(p, moon_dir);
                     }
-                    light = sun_march_begin(p, sun_dir, light_jitter, low_layer, sun_volume,
+                    light = sun_march_begin(p, sun_dir, light_jitter, layer, sun_volume,
                                             sun_reach);
                     lighting = true;
                     lighting_moon = false;
@@ -392,7 +397,7 @@ void march_layer_segment(vec3 o, vec3 d, float t0, float t1, float steps, float 
         }
         for (int k = 0; k < lit_count; k++)
             shade_lit_sample(o, d, lit[k], sun_dir, sun, moon, phases, moon_phases, amb,
-                             low_layer, res);
+                             layer, res);
     }
 }
 
@@ -440,7 +445,9 @@ bool under_base_segment(vec3 o, vec3 d, out float t0, out float t1)
     return t0 >= 0.0 && t1 > t0;
 }
 
-// Marches both layers along the ray, nearest segment first.
+// Marches the layers along the ray, nearest segment first. The shells lie one above the other
+// (low, middle, high, by their bases), so a ray meets them in that order going up and in the
+// reverse going down (overlapping shells are marched one after the other all the same).
 CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float primary_steps)
 {
     CloudResult res;
@@ -449,12 +456,14 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
     res.depth = 0.0;
     if (cloud.march.z < 0.5)
         return res;
-    float lo0, lo1, hi0, hi1;
+    float lo0, lo1, hi0, hi1, mi0, mi1;
     bool low = shell_segment(o, d, cloud.low.x, cloud.low.y, lo0, lo1);
     bool high = cloud.high.w > 0.5 && shell_segment(o, d, cloud.high.x, cloud.high.y, hi0, hi1);
+    bool mid = cloud.mid.w > 0.5 && shell_segment(o, d, cloud.mid.x, cloud.mid.y, mi0, mi1);
     float longest = cloud.march.y;
     lo1 = min(lo1, lo0 + longest);
     hi1 = min(hi1, hi0 + longest);
+    mi1 = min(mi1, mi0 + longest);
     OctavePhases phases = octave_phases(dot(d, sun_dir));
     OctavePhases moon_phases = phases;
     if (moon_lights_clouds())
@@ -462,22 +471,34 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
     CloudAmbient amb = cloud_ambient(sun_dir, d);
     vec2 depth_sum = vec2(0.0);
     float high_steps = max(4.0, floor(primary_steps / 8.0));
-    bool high_first = high && (!low || hi0 < lo0);
+    // The middle layer: a quarter of the low layer's steps (a sheet a kilometre or two thick).
+    float mid_steps = max(8.0, floor(primary_steps / 4.0));
+    // Descending (from above): high, middle, low; else ascending. The first two layers the ray
+    // meets say which.
+    bool descending = high ? (mid ? hi0 < mi0 : low && hi0 < lo0) : mid && low && mi0 < lo0;
+    bool high_first = high && descending;
+    bool mid_first = mid && descending;
     float rain0, rain1;
     bool rain = cloud.media.y > 0.0 && under_base_segment(o, d, rain0, rain1);
     if (rain && length(o) < cloud.low.x) // from under the base: the rain first
         march_rain(o, d, rain0, rain1, jitter, amb, res);
     if (high_first)
         march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, moon_phases, amb,
-                            false, res, depth_sum);
+                            LAYER_HIGH, res, depth_sum);
+    if (mid_first)
+        march_layer_segment(o, d, mi0, mi1, mid_steps, jitter, sun_dir, phases, moon_phases, amb,
+                            LAYER_MID, res, depth_sum);
     if (low)
         march_layer_segment(o, d, lo0, lo1, primary_steps, jitter, sun_dir, phases, moon_phases,
-                            amb, true, res, depth_sum);
+                            amb, LAYER_LOW, res, depth_sum);
     if (rain && length(o) >= cloud.low.x) // from above: the rain under the layer
         march_rain(o, d, rain0, rain1, jitter, amb, res);
+    if (mid && !mid_first)
+        march_layer_segment(o, d, mi0, mi1, mid_steps, jitter, sun_dir, phases, moon_phases, amb,
+                            LAYER_MID, res, depth_sum);
     if (high && !high_first)
         march_layer_segment(o, d, hi0, hi1, high_steps, jitter, sun_dir, phases, moon_phases, amb,
-                            false, res, depth_sum);
+                            LAYER_HIGH, res, depth_sum);
     res.depth = depth_sum.y > 0.0 ? depth_sum.x / depth_sum.y : 0.0;
     // A march that stopped early went through an optical depth of 4.6 or more: nothing is
     // seen through it, the sun's disk included (1 % of a disk of 1e9 cd/m2 would still

@@ -20,7 +20,7 @@ uint pt_samples = 0u; // density evaluations of this invocation
 
 // Proposals (and grid stretches) per segment before it gives up (pt_stats.overflows).
 const int PT_MAX_STEPS = 1 << 20;
-// Shell segments a ray may cross (low, high, low again past a grazing dip, ...).
+// Shell segments a ray may cross (low, middle, high, low again past a grazing dip, ...).
 const int PT_MAX_SEGMENTS = 8;
 // A ray continues this far past a shell's boundary (km): 4 ulp of a planet-centred float.
 const float PT_EPS_KM = 2e-3;
@@ -60,33 +60,57 @@ float pt_bound_high()
     return cloud.high.w > 0.5 ? cloud.high.z : 0.0;
 }
 
-float cloud_extinction_bound()
+// The middle layer's: at most mid.z, twice that in a sheet's upper half (mid_density_or_empty).
+float pt_bound_mid()
 {
-    return pt_bound_low() + pt_bound_high();
+    return cloud.mid.w > 0.5 ? 2.0 * cloud.mid.z : 0.0;
 }
 
-bool pt_shells_overlap()
+float cloud_extinction_bound()
 {
-    return cloud.high.w > 0.5 && cloud.high.x < cloud.low.y && cloud.high.y > cloud.low.x;
+    return pt_bound_low() + pt_bound_mid() + pt_bound_high();
+}
+
+bool pt_shells_meet(vec4 a, vec4 b)
+{
+    return a.x < b.y && a.y > b.x;
+}
+
+// The bound over one layer's shell: its own and that of every layer whose shell overlaps it.
+float pt_shell_bound(int layer)
+{
+    vec4 shell = layer_shell(layer);
+    float m = 0.0;
+    m += layer == LAYER_LOW || pt_shells_meet(shell, cloud.low) ? pt_bound_low() : 0.0;
+    m += layer == LAYER_MID || (cloud.mid.w > 0.5 && pt_shells_meet(shell, cloud.mid))
+             ? pt_bound_mid()
+             : 0.0;
+    m += layer == LAYER_HIGH || (cloud.high.w > 0.5 && pt_shells_meet(shell, cloud.high))
+             ? pt_bound_high()
+             : 0.0;
+    return m;
 }
 
 // The nearest stretch [t0, t1] of the ray in a cloud shell and the majorant there.
 bool pt_next_segment(vec3 o, vec3 d, out float t0, out float t1, out float majorant)
 {
-    float a0, a1, b0, b1;
+    float a0, a1, b0, b1, c0, c1;
     bool low = shell_segment(o, d, cloud.low.x, cloud.low.y, a0, a1);
     bool high = cloud.high.w > 0.5 && shell_segment(o, d, cloud.high.x, cloud.high.y, b0, b1);
-    float both = cloud_extinction_bound();
-    bool overlap = pt_shells_overlap();
-    if (low && (!high || a0 <= b0)) {
-        t0 = a0, t1 = a1;
-        majorant = overlap ? both : pt_bound_low();
-    } else if (high) {
-        t0 = b0, t1 = b1;
-        majorant = overlap ? both : pt_bound_high();
-    } else {
-        t0 = t1 = majorant = 0.0;
-        return false;
+    bool mid = cloud.mid.w > 0.5 && shell_segment(o, d, cloud.mid.x, cloud.mid.y, c0, c1);
+    t0 = t1 = majorant = 0.0;
+    float best = 1e30;
+    if (low) {
+        best = a0, t0 = a0, t1 = a1;
+        majorant = pt_shell_bound(LAYER_LOW);
+    }
+    if (high && b0 < best) {
+        best = b0, t0 = b0, t1 = b1;
+        majorant = pt_shell_bound(LAYER_HIGH);
+    }
+    if (mid && c0 < best) {
+        best = c0, t0 = c0, t1 = c1;
+        majorant = pt_shell_bound(LAYER_MID);
     }
     // A grazing ray's sphere intersections can come out NaN or huge in float: no segment (a
     // real one is under 2 sqrt(2 R h) < 2000 km).
@@ -129,8 +153,9 @@ float pt_local_majorant(vec3 p, float segment_majorant)
     vec2 uv = fract(cloud_pattern_xy(p) * cloud.weather.z + 0.5);
     ivec2 n = textureSize(pt_grid, 0);
     vec2 g = texelFetch(pt_grid, min(ivec2(uv * vec2(n)), n - 1), 0).xy;
+    // (The middle layer's coverage is the same everywhere: its bound wherever it is on.)
     return min(segment_majorant, (g.x > 0.0 ? pt_bound_low() : 0.0) +
-                                     (g.y > 0.0 ? pt_bound_high() : 0.0));
+                                     (g.y > 0.0 ? pt_bound_high() : 0.0) + pt_bound_mid());
 #endif
 }
 

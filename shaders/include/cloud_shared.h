@@ -49,6 +49,9 @@ struct sky_cloud_uniforms {
                               fractions of the weather extent, so the pattern tiles with it */
     SKY_VEC4 build_up;     /* x the octaves' build-up rate K per optical depth below a lit
                               surface (0: none), yzw 0 */
+    SKY_VEC4 mid;          /* the middle layer as `low`; w 1 when the layer is on */
+    SKY_VEC4 mid_shape;    /* x the middle layer's coverage, y its type (0 altostratus .. 1
+                              altocumulus), zw 0 */
 };
 
 /* A slice of rows of an amortized cloud map (weather map, shadow map). */

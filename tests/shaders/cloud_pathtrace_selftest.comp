@@ -51,21 +51,32 @@ layout(std430, binding = SKY_CLOUD_PT_SLAB_STATS) buffer Stats {
 float cloud_detail_weight = 1.0;
 float cloud_lod = 0.0;
 
+// cloud_density.glsl's layer names and shells.
+const int LAYER_LOW = 0;
+const int LAYER_HIGH = 1;
+const int LAYER_MID = 2;
+
+vec4 layer_shell(int layer)
+{
+    return layer == LAYER_LOW ? cloud.low : layer == LAYER_MID ? cloud.mid : cloud.high;
+}
+
+
 float cloud_extinction(vec3 p, bool detail)
 {
     float r = length(p);
     return r > cloud.low.x && r < cloud.low.y ? cloud.low.z : 0.0;
 }
 
-float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
+float cloud_layer_extinction(vec3 p, bool detail, int layer)
 {
-    return low_layer ? cloud_extinction(p, detail) : 0.0;
+    return layer == LAYER_LOW ? cloud_extinction(p, detail) : 0.0;
 }
 
 // -1 outside the layer: empty space the march may skip.
-float cloud_layer_sample(vec3 p, bool detail, bool low_layer)
+float cloud_layer_sample(vec3 p, bool detail, int layer)
 {
-    float sigma = cloud_layer_extinction(p, detail, low_layer);
+    float sigma = cloud_layer_extinction(p, detail, layer);
     return sigma > 0.0 ? sigma : -1.0;
 }
 

@@ -55,22 +55,33 @@ layout(std430, binding = SKY_CLOUD_SLAB_RESULTS) writeonly buffer Results { floa
 float cloud_detail_weight = 1.0;
 float cloud_lod = 0.0;
 
+// cloud_density.glsl's layer names and shells.
+const int LAYER_LOW = 0;
+const int LAYER_HIGH = 1;
+const int LAYER_MID = 2;
+
+vec4 layer_shell(int layer)
+{
+    return layer == LAYER_LOW ? cloud.low : layer == LAYER_MID ? cloud.mid : cloud.high;
+}
+
+
 // No rain under the deck.
 vec2 cloud_rain(vec3 p)
 {
     return vec2(0.0);
 }
 
-float cloud_layer_extinction(vec3 p, bool detail, bool low_layer)
+float cloud_layer_extinction(vec3 p, bool detail, int layer)
 {
     float r = length(p);
-    return low_layer && r > cloud.low.x && r < cloud.low.y ? cloud.low.z : 0.0;
+    return layer == LAYER_LOW && r > cloud.low.x && r < cloud.low.y ? cloud.low.z : 0.0;
 }
 
 // -1 outside the layer: empty space the march may skip.
-float cloud_layer_sample(vec3 p, bool detail, bool low_layer)
+float cloud_layer_sample(vec3 p, bool detail, int layer)
 {
-    float sigma = cloud_layer_extinction(p, detail, low_layer);
+    float sigma = cloud_layer_extinction(p, detail, layer);
     return sigma > 0.0 ? sigma : -1.0;
 }
 
