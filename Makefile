@@ -53,8 +53,9 @@ test: build
 	@./scripts/fuzz.sh 60
 	@./scripts/format.sh --check
 
-# The tests labelled long (the cloud fields from 14 km against the published statistics), kept
-# out of `make test`'s 20 minutes; CI runs them after it.
+# The tests labelled long (the cloud fields from 14 km against the published statistics, the
+# middle layer against the path tracer, an installation), kept out of `make test`'s 20 minutes;
+# CI runs them after it.
 test-long: build
 	@cd $(BUILD) && ctest --output-on-failure --timeout 1800 --label-regex long
 
