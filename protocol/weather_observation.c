@@ -11,14 +11,13 @@
 #include <string.h>
 
 #define ETAGE_COUNT 3
-/* Where each étage's groups go. The middle étage has no world layer yet: change its NULL to
- * "mid" once clouds.mid exists (and its type rule below is the one that layer uses). */
+/* Where each étage's groups go: the world's low, middle and high layers. */
 static const struct {
     const char *name;
     const char *layer;
 } etages[ETAGE_COUNT] = {
     [SKY_OBS_ETAGE_LOW] = { "low", "low" },
-    [SKY_OBS_ETAGE_MIDDLE] = { "middle", NULL },
+    [SKY_OBS_ETAGE_MIDDLE] = { "middle", "mid" },
     [SKY_OBS_ETAGE_HIGH] = { "high", "high" },
 };
 
@@ -164,15 +163,18 @@ static void low_layer_from(const struct etage_groups *g, struct layer *out)
     }
 }
 
-/* Middle-étage groups standing in for the low layer: altostratus sheets (BKN, OVC) as stratus,
- * altocumulus patches as stratocumulus, as thick as those are. */
-static void middle_as_low(const struct etage_groups *g, struct layer *out)
+/* Middle étage (clouds.mid, world_state.h): altostratus sheets (BKN, OVC; type 0) about 1.5 km
+ * deep, altocumulus patches (FEW, SCT; type 1) about 0.5 km. */
+#define TYPE_ALTOSTRATUS 0.0
+#define TYPE_ALTOCUMULUS 1.0
+static void mid_layer_from(const struct etage_groups *g, struct layer *out)
 {
+    bool sheet = g->amount >= SKY_METAR_BKN;
     out->present = true;
     out->coverage = g->coverage;
     out->bottom_km = g->base_m / 1000.0;
-    out->type = g->amount >= SKY_METAR_BKN ? TYPE_STRATUS : TYPE_STRATOCUMULUS;
-    out->thickness_km = g->amount >= SKY_METAR_BKN ? 1.5 : 0.5;
+    out->type = sheet ? TYPE_ALTOSTRATUS : TYPE_ALTOCUMULUS;
+    out->thickness_km = sheet ? 1.5 : 0.5;
 }
 
 /* Cirrus, cirrostratus: sheets and streaks (type 0) at the default depth. */
@@ -188,7 +190,7 @@ static void high_layer_from(const struct etage_groups *g, struct layer *out)
 static bool map_clouds(const struct sky_metar_report *r, cJSON *patch, cJSON *unmapped,
                        double *low_base_km)
 {
-    struct layer low = { 0 }, high = { 0 };
+    struct layer low = { 0 }, mid = { 0 }, high = { 0 };
     *low_base_km = -1;
     bool clear = r->sky == SKY_METAR_SKY_CAVOK || r->sky == SKY_METAR_SKY_NSC ||
                  r->sky == SKY_METAR_SKY_NCD || r->sky == SKY_METAR_SKY_SKC ||
@@ -226,28 +228,12 @@ static bool map_clouds(const struct sky_metar_report *r, cJSON *patch, cJSON *un
             low_layer_from(&groups[SKY_OBS_ETAGE_LOW], &low);
         if (groups[SKY_OBS_ETAGE_HIGH].count)
             high_layer_from(&groups[SKY_OBS_ETAGE_HIGH], &high);
-        const struct etage_groups *middle = &groups[SKY_OBS_ETAGE_MIDDLE];
-        if (middle->count && !sky_obs_etage_layer(SKY_OBS_ETAGE_MIDDLE)) {
-            if (!low.present) {
-                middle_as_low(middle, &low);
-            } else {
-                for (int i = 0; i < r->layer_count; i++) {
-                    char text[32];
-                    group_text(&r->layers[i], text, sizeof text);
-                    if (r->layers[i].base_known &&
-                        r->layers[i].amount != SKY_METAR_AMOUNT_UNKNOWN &&
-                        etage_of(&r->layers[i]) == SKY_OBS_ETAGE_MIDDLE &&
-                        !add_unmapped(unmapped, text, "middle",
-                                      "the world has no middle layer and the low layer holds "
-                                      "the low groups"))
-                        return false;
-                }
-            }
-        }
+        if (groups[SKY_OBS_ETAGE_MIDDLE].count)
+            mid_layer_from(&groups[SKY_OBS_ETAGE_MIDDLE], &mid);
     } else if (!clear && !r->weather.thunderstorm) {
         return true; /* no cloud group: the clouds stay as they are */
     }
-    /* No cloud group but a thunderstorm: its cumulonimbus, the high layer left as it is. */
+    /* No cloud group but a thunderstorm: its cumulonimbus, the layers above left as they are. */
     bool keep_high = !clear && r->sky == SKY_METAR_SKY_NOT_REPORTED;
     if (r->weather.thunderstorm && !(low.present && low.type == TYPE_CUMULONIMBUS)) {
         /* TS: a cumulonimbus overhead, reported or not. */
@@ -258,7 +244,7 @@ static bool map_clouds(const struct sky_metar_report *r, cJSON *patch, cJSON *un
     }
     cJSON *clouds = cJSON_AddObjectToObject(patch, "clouds");
     if (!clouds || !put_layer(clouds, "low", &low) ||
-        (!keep_high && !put_layer(clouds, "high", &high)))
+        (!keep_high && (!put_layer(clouds, "mid", &mid) || !put_layer(clouds, "high", &high))))
         return false;
     if (low.present)
         *low_base_km = low.bottom_km;

@@ -1,6 +1,6 @@
 /* A forecast sample as a world-state patch (forecast.h, sky_forecast_patch). The model gives
- * covers per étage but no cloud bases: the low layer sits at a typical 1 km, a middle layer
- * standing in for it at 3 km (the middle étage's lower half), each as deep as its kind. */
+ * covers per étage but no cloud bases: the low layer sits at a typical 1 km, the middle layer at
+ * 3 km (the middle étage's lower half), the high at 8 km, each as deep as its kind. */
 #include "forecast.h"
 #include "weather_observation.h"
 
@@ -9,7 +9,6 @@
 
 #define LOW_BASE_KM 1.0
 #define MIDDLE_BASE_KM 3.0
-#define LOW_CLEAR_BELOW 0.0625 /* under half an okta: no low layer to speak of */
 /* The 10 m wind at the clouds: u(z) = u10 (z / 10 m)^(1/7), at the low layer's base. */
 #define WIND_AT_CLOUDS_FACTOR 1.9306977288832496 /* 100^(1/7) */
 
@@ -36,34 +35,22 @@ static bool put_layer(cJSON *clouds, const char *name, double coverage, double t
            cJSON_AddNumberToObject(layer, "thickness_km", thickness_km);
 }
 
-static bool put_low(cJSON *clouds, const struct sky_forecast_sample *s, cJSON *unmapped)
+static bool put_low(cJSON *clouds, const struct sky_forecast_sample *s)
 {
     double low = fmin(fmax(s->low_cover, 0.0), 1.0);
-    double middle = fmin(fmax(s->medium_cover, 0.0), 1.0);
-    if (sky_obs_etage_layer(SKY_OBS_ETAGE_MIDDLE) == NULL && low < LOW_CLEAR_BELOW &&
-        middle >= LOW_CLEAR_BELOW) {
-        /* Altostratus sheets as stratus, altocumulus as stratocumulus (as for a METAR). */
-        bool sheet = middle >= 0.625;
-        return put_layer(clouds, "low", middle, sheet ? 0.0 : 1.0 / 3.0, MIDDLE_BASE_KM,
-                         sheet ? 1.5 : 0.5);
-    }
-    if (middle >= LOW_CLEAR_BELOW) {
-        cJSON *item = cJSON_CreateObject();
-        if (!item || !cJSON_AddStringToObject(item, "field", "mcc") ||
-            !cJSON_AddNumberToObject(item, "cover", middle) ||
-            !cJSON_AddStringToObject(item, "etage", "middle") ||
-            !cJSON_AddStringToObject(item, "reason",
-                                     "the world has no middle layer and the low layer holds the "
-                                     "low cover") ||
-            !cJSON_AddItemToArray(unmapped, item)) {
-            cJSON_Delete(item);
-            return false;
-        }
-    }
     double type = sky_obs_low_type(low, LOW_BASE_KM * 1000.0);
     /* As for a METAR: cumulus 1.5 km, broken sheets 0.6 km, an overcast 0.8 km deep. */
     double thickness = type > 0.5 ? 1.5 : low >= 0.95 ? 0.8 : 0.6;
     return put_layer(clouds, "low", low, type, LOW_BASE_KM, thickness);
+}
+
+/* Altostratus sheets (from five oktas: type 0, 1.5 km) or altocumulus patches (type 1, 0.5 km),
+ * as for a METAR's BKN/OVC and FEW/SCT. */
+static bool put_mid(cJSON *clouds, const struct sky_forecast_sample *s)
+{
+    double middle = fmin(fmax(s->medium_cover, 0.0), 1.0);
+    bool sheet = middle >= 0.625;
+    return put_layer(clouds, "mid", middle, sheet ? 0.0 : 1.0, MIDDLE_BASE_KM, sheet ? 1.5 : 0.5);
 }
 
 bool sky_forecast_patch(const struct sky_forecast *forecast, const struct sky_forecast_sample *s,
@@ -77,7 +64,7 @@ bool sky_forecast_patch(const struct sky_forecast *forecast, const struct sky_fo
     double speed = s->wind_speed_m_s;
     if (info->wind_level == SKY_FORECAST_WIND_10M)
         speed *= WIND_AT_CLOUDS_FACTOR;
-    bool ok = u && clouds && wind && put_low(clouds, s, u) &&
+    bool ok = u && clouds && wind && put_low(clouds, s) && put_mid(clouds, s) &&
               put_layer(clouds, "high", fmin(fmax(s->high_cover, 0.0), 1.0), 0.0, 8.0, 0.6) &&
               cJSON_AddNumberToObject(clouds, "precipitation",
                                       sky_forecast_precipitation_level(s->precipitation_mm_h)) &&

@@ -82,10 +82,10 @@ async def check_ws(ctl, viewer):
           and "/weather/source" in (event or {}).get("changed", []), short(event))
 
     r = await ctl.request({"type": "apply_observation", "id": "o2", "metar": LAYERED})
-    unmapped = r.get("unmapped") or []
-    check("BKN100 beside SCT030: reported unmapped (no middle layer yet)",
-          [u.get("group") for u in unmapped] == ["BKN100"]
-          and unmapped[0].get("etage") == "middle", short(r))
+    mid = ((r.get("patch") or {}).get("clouds") or {}).get("mid") or {}
+    check("BKN100 beside SCT030: the middle layer takes it (altostratus), nothing unmapped",
+          r.get("unmapped") == [] and mid.get("coverage") == 0.75 and mid.get("type") == 0
+          and abs(mid.get("bottom_km", 0) - 3.048) < 1e-9, short(r))
 
     await bad_input("bad cloud group", ctl,
                     {"type": "apply_observation", "id": "b1", "metar": BAD}, "bad_value",

@@ -286,15 +286,16 @@ expect "weather-map" 0 'revision 7' "" t weather-map "$out/south.png"
 expect "the map is selected" 0 'client' "" c get weather.map_source
 [ -s "$out/state.weather-map.png" ] && pass || fail "the weather map was not saved beside the state"
 
-# A METAR applied to the weather: the revision, the middle-étage group reported unmapped, the
-# state's source; a refused report names its group; a viewer is refused.
+# A METAR applied to the weather: the revision, each étage's group in its layer (nothing
+# unmapped), the state's source; a refused report names its group; a viewer is refused.
 expect "metar as viewer" 1 '' "[forbidden]" c metar "METAR LFLY 211200Z 18008KT 9999 FEW040 22/10 Q1018"
 expect "metar with a bad group" 1 '' 'group 6 "BKN0X0"' \
   t metar "METAR EGLL 281150Z 24010KT 9999 BKN0X0 12/09 Q1005"
-expect "metar" 0 'revision 8 unmapped BKN100 \(middle\): .*' "" \
+expect "metar" 0 '^revision 8$' "" \
   t metar "METAR LFLY 211200Z 18008KT 9999 SCT030 BKN100 22/10 Q1018"
 expect "metar sets weather.source" 0 'metar' "" c get weather.source
 expect "metar's low layer" 0 '0.4375' "" c get clouds.low.coverage
+expect "metar's middle layer" 0 '0.75' "" c get clouds.mid.coverage
 expect "metar needs a report" 2 '' "takes one REPORT" t metar
 
 # watch prints the event of a change made by another client.

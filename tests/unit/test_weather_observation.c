@@ -115,31 +115,35 @@ static void test_clear(void)
 
 static void test_middle_etage(void)
 {
-    /* Alone, the middle étage stands in for the low layer (altostratus as a sheet). */
+    /* The middle étage's groups go to clouds.mid: BKN and OVC altostratus sheets (type 0, 1.5 km
+     * deep), FEW and SCT altocumulus (type 1, 0.5 km); the low layer is left clear. */
     int unmapped = -1;
     cJSON *list = NULL;
     struct sky_world_state s = mapped("METAR LFLY 281200Z 18008KT 9999 BKN100 12/05 Q1010",
                                       &unmapped, &list);
-    CHECK(sky_obs_etage_layer(SKY_OBS_ETAGE_MIDDLE) == NULL);
-    CHECK_NEAR(s.clouds.low.coverage, 6.0 / 8.0, 1e-9);
-    CHECK_NEAR(s.clouds.low.bottom_km, 3.048, 1e-9);
-    CHECK_NEAR(s.clouds.low.type, 0.0, 0);
+    CHECK(strcmp(sky_obs_etage_layer(SKY_OBS_ETAGE_MIDDLE), "mid") == 0);
+    CHECK_NEAR(s.clouds.mid.coverage, 6.0 / 8.0, 1e-9);
+    CHECK_NEAR(s.clouds.mid.bottom_km, 3.048, 1e-9);
+    CHECK_NEAR(s.clouds.mid.type, 0.0, 0);
+    CHECK_NEAR(s.clouds.mid.thickness_km, 1.5, 1e-9);
+    CHECK_NEAR(s.clouds.low.coverage, 0.0, 0);
     CHECK(unmapped == 0);
     cJSON_Delete(list);
-    /* With a low group the low layer keeps it and the middle group is reported unmapped. */
-    s = mapped("METAR LFLY 281200Z 18008KT 9999 SCT030 BKN100 OVC250 12/05 Q1010", &unmapped,
+    /* With a low group beside it, each étage keeps its own: nothing left unmapped. */
+    s = mapped("METAR LFLY 281200Z 18008KT 9999 SCT030 SCT100 OVC250 12/05 Q1010", &unmapped,
                &list);
     CHECK_NEAR(s.clouds.low.coverage, 3.5 / 8.0, 1e-9);
     CHECK_NEAR(s.clouds.low.bottom_km, 0.9144, 1e-9);
+    CHECK_NEAR(s.clouds.mid.coverage, 3.5 / 8.0, 1e-9);
+    CHECK_NEAR(s.clouds.mid.type, 1.0, 0); /* SCT100: altocumulus */
+    CHECK_NEAR(s.clouds.mid.thickness_km, 0.5, 1e-9);
     CHECK_NEAR(s.clouds.high.coverage, 1.0, 0); /* OVC250: cirrostratus */
     CHECK_NEAR(s.clouds.high.bottom_km, 7.62, 1e-9);
-    CHECK(unmapped == 1);
-    cJSON *item = cJSON_GetArrayItem(list, 0);
-    const char *group = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(item, "group"));
-    const char *etage = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(item, "etage"));
-    CHECK_MSG(group && strcmp(group, "BKN100") == 0, "%s", group ? group : "(none)");
-    CHECK_MSG(etage && strcmp(etage, "middle") == 0, "%s", etage ? etage : "(none)");
+    CHECK(unmapped == 0);
     cJSON_Delete(list);
+    /* CAVOK clears the middle layer too. */
+    s = mapped("METAR LFLY 281200Z 18008KT CAVOK 12/05 Q1010", &unmapped, NULL);
+    CHECK_NEAR(s.clouds.mid.coverage, 0.0, 0);
 }
 
 static void test_convection(void)
@@ -152,10 +156,12 @@ static void test_convection(void)
     CHECK_NEAR(s.clouds.low.thickness_km, 8.0, 0);
     CHECK_NEAR(s.clouds.precipitation, 0.9, 1e-9); /* heavy */
     CHECK(s.atmosphere.fog_density_per_km > 0.5);  /* 3 km in the rain */
-    CHECK(unmapped == 1);                          /* BKN080 next to the low layer */
+    CHECK(unmapped == 0);                          /* BKN080: the middle layer's */
+    CHECK_NEAR(s.clouds.mid.coverage, 0.75, 1e-9);
+    CHECK_NEAR(s.clouds.mid.type, 0.0, 0); /* altostratus */
     s = mapped("METAR LIMC 281450Z 22010KT 9999 SCT040TCU 25/15 Q1012", &unmapped, NULL);
     CHECK_NEAR(s.clouds.low.type, 0.85, 1e-9);
-    /* TS with only a middle cloud group: the storm's cumulonimbus takes the low layer. */
+    /* TS with only a FEW group: the storm's cumulonimbus takes the low layer. */
     s = mapped("METAR LIMC 281450Z 22010KT 9999 TS FEW030 25/15 Q1012", &unmapped, NULL);
     CHECK_NEAR(s.clouds.low.type, 1.0, 0);
     /* TS without any cloud group: a cumulonimbus of SCT amount all the same. */
