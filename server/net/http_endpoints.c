@@ -190,21 +190,33 @@ void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi)
     }
 }
 
-void http_endpoint_metar(struct http_answer *out, const char *body, size_t length, bool too_large,
-                         size_t max_message_bytes)
+/* A request body the endpoints can read as text, or NULL once the refusal (too large, a NUL
+ * byte) is answered. */
+static const char *body_text(struct http_answer *out, const char *body, size_t length,
+                             bool too_large, size_t max_message_bytes)
 {
-    char message[160];
     if (too_large) {
+        char message[160];
         snprintf(message, sizeof message, "the body is larger than max_message_bytes (%zu)",
                  max_message_bytes);
         answer_error(out, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message);
-        return;
+        return NULL;
     }
     const char *text = body ? body : "";
     if (memchr(text, '\0', length)) {
         answer_error(out, SKY_MSG_ERR_MALFORMED_JSON, "NUL byte in the body");
-        return;
+        return NULL;
     }
+    return text;
+}
+
+void http_endpoint_metar(struct http_answer *out, const char *body, size_t length, bool too_large,
+                         size_t max_message_bytes)
+{
+    const char *text = body_text(out, body, length, too_large, max_message_bytes);
+    if (!text)
+        return;
+    char message[160];
     size_t start = 0;
     while (start < length && strchr(" \t\r\n", text[start]))
         start++;
@@ -261,18 +273,10 @@ void http_endpoint_metar(struct http_answer *out, const char *body, size_t lengt
 void http_endpoint_patch(struct http_answer *out, const char *body, size_t length, bool too_large,
                          size_t max_message_bytes)
 {
+    const char *text = body_text(out, body, length, too_large, max_message_bytes);
+    if (!text)
+        return;
     char message[160];
-    if (too_large) {
-        snprintf(message, sizeof message, "the body is larger than max_message_bytes (%zu)",
-                 max_message_bytes);
-        answer_error(out, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message);
-        return;
-    }
-    const char *text = body ? body : "";
-    if (memchr(text, '\0', length)) {
-        answer_error(out, SKY_MSG_ERR_MALFORMED_JSON, "NUL byte in the body");
-        return;
-    }
     json_guard_lock();
     const char *end = NULL;
     cJSON *patch = cJSON_ParseWithLengthOpts(text, length, &end, false);
