@@ -91,6 +91,11 @@ static const struct sky_field_desc config_fields[] = {
            "of one in the URL"),
     STRING("cluster.world", cluster_world,
            "the shared world's name: 1 to 64 letters, digits, '-' or '_'"),
+    STRING("weather.forecast_dir", forecast_dir,
+           "folder of GRIB2 forecasts (*.grib2, *.grb2) that weather.source \"forecast\" "
+           "follows, the newest valid file; empty: none"),
+    NUMBER("weather.forecast_poll_s", forecast_poll_s, 0.1, 3600,
+           "how often the forecast folder is looked at for new files, s"),
 };
 
 static const char *const config_caller_members[] = { "allowed_origins", "initial_state" };
@@ -114,6 +119,7 @@ void skyd_config_defaults(struct skyd_config *c)
     c->lut_budget_fraction = 0.05;
     c->lut_blend_frames = 4;
     c->state_save_delay_s = 1.0;
+    c->forecast_poll_s = 5.0;
     /* The protocol's own defaults, so that the two cannot drift apart. */
     struct sky_msg_limits limits;
     sky_msg_limits_default(&limits);

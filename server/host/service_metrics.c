@@ -23,6 +23,7 @@ struct counts {
     uint64_t frame_count;
     double frame_seconds_sum;
     struct service_metrics_tick tick;
+    struct service_metrics_forecast forecast;
 };
 
 struct service_metrics {
@@ -139,6 +140,18 @@ struct text {
     bool failed;
 };
 
+void service_metrics_forecast(struct service_metrics *m, const struct service_metrics_forecast *f)
+{
+    LOCKED(m, m->c.forecast = *f);
+}
+
+struct service_metrics_forecast service_metrics_last_forecast(struct service_metrics *m)
+{
+    struct service_metrics_forecast f = { 0 };
+    LOCKED(m, f = m->c.forecast);
+    return f;
+}
+
 static void append(struct text *t, const char *format, ...)
 {
     if (t->failed)
@@ -252,6 +265,18 @@ char *service_metrics_exposition(struct service_metrics *m, int clients)
                 "Connections of the stream reader to "
                 "Redis since start (more than 1: it reconnected).",
                 copy.tick.cluster_connections);
+    }
+    if (copy.forecast.configured) { /* only with weather.forecast_dir */
+        gauge(&t, "skyd_forecast_loaded", "Whether a forecast from the folder is in use.",
+              copy.forecast.loaded);
+        gauge(&t, "skyd_forecast_in_range",
+              "Whether the world's clock is within the forecast's steps (1 when not following).",
+              !copy.forecast.following || copy.forecast.in_range);
+        counter(&t, "skyd_forecast_loads_total", "Forecast files read and taken into use.",
+                copy.forecast.loads);
+        counter(&t, "skyd_forecast_refusals_total",
+                "Forecast files refused (not GRIB2, a field missing, the place outside).",
+                copy.forecast.refusals);
     }
     family(&t, "skyd_subscription_bytes_sent_total", "counter",
            "Bytes of frames sent to each "

@@ -59,6 +59,10 @@ struct skyd_config {
      * when the node connects (shared_world.c), not here. */
     char cluster_redis_password_file[SKYD_CONFIG_STRING];
     char cluster_world[72]; /* [A-Za-z0-9_-]{1,64} */
+    /* "" = off. A folder of GRIB2 forecasts (*.grib2, *.grb2) that the daemon polls every
+     * forecast_poll_s (5); the newest valid one is what weather.source "forecast" follows. */
+    char forecast_dir[SKYD_CONFIG_STRING];
+    double forecast_poll_s;
 };
 
 void skyd_config_defaults(struct skyd_config *config);

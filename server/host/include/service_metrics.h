@@ -46,6 +46,24 @@ void service_metrics_tick(struct service_metrics *m, const struct service_metric
 void service_metrics_subscriptions(struct service_metrics *m,
                                    const struct sky_msg_subscription_stats *stats, size_t count);
 
+/* The forecast folder's state (weather.forecast_dir), as the render thread last published it:
+ * for GET /api/weather/forecast and the skyd_forecast_* families. Times are unix seconds. */
+struct service_metrics_forecast {
+    bool configured;  /* a folder is configured */
+    char dir[256];    /* the folder */
+    bool loaded;      /* a forecast is in use */
+    char file[256];   /* its file's name in the folder */
+    double run_unix_s; /* the run's reference time */
+    int steps;
+    double first_step_unix_s, last_step_unix_s;
+    bool following;   /* weather.source is "forecast" */
+    bool in_range;    /* the world's clock is within the steps (while following) */
+    char error[704];  /* the last refusal: the file and the reader's error; "" none */
+    uint64_t loads, refusals;
+};
+void service_metrics_forecast(struct service_metrics *m, const struct service_metrics_forecast *f);
+struct service_metrics_forecast service_metrics_last_forecast(struct service_metrics *m);
+
 /* The last tick (at_s 0 before the first). */
 struct service_metrics_tick service_metrics_last_tick(struct service_metrics *m);
 
