@@ -192,13 +192,41 @@ static bool commit_state(struct render_context *ctx, struct session *session,
     return commit_state_with(ctx, session, id, next, NULL);
 }
 
+/* A client's change of the weather parameters makes it the weather's source, unless the
+ * patch names weather.source itself; weather.source "forecast" needs a forecast to follow. */
+static bool weather_source_after_set(const struct render_context *ctx,
+                                     const struct sky_world_state *live,
+                                     const struct sky_world_patch *patch,
+                                     struct sky_world_state *next, struct sky_field_errors *errors)
+{
+    if (!sky_world_patch_names(patch, sky_world_state_find_field("weather.source"))) {
+        struct sky_weather_params before, after;
+        sky_weather_params_get(live, &before);
+        sky_weather_params_get(next, &after);
+        bool external = live->weather.source == SKY_WEATHER_SOURCE_METAR ||
+                        live->weather.source == SKY_WEATHER_SOURCE_FORECAST;
+        if (external && memcmp(&before, &after, sizeof before) != 0)
+            next->weather.source = SKY_WEATHER_SOURCE_CLIENT;
+        return true;
+    }
+    char why[1024];
+    if (next->weather.source != SKY_WEATHER_SOURCE_FORECAST ||
+        live->weather.source == SKY_WEATHER_SOURCE_FORECAST ||
+        forecast_feed_loaded(ctx->forecast, why, sizeof why))
+        return true;
+    sky_field_errors_clear(errors);
+    sky_field_errors_add(errors, SKY_FIELD_BAD_VALUE, "/weather/source", why);
+    return false;
+}
+
 static void handle_set(struct render_context *ctx, struct session *session,
                        const struct sky_client_msg *msg)
 {
     const struct sky_world_state *live = world_host_state(ctx->world);
     struct sky_world_state next = *live;
     struct sky_field_errors errors;
-    if (!sky_world_state_apply_patch(&next, msg->set.patch, &errors)) {
+    if (!sky_world_state_apply_patch(&next, msg->set.patch, &errors) ||
+        !weather_source_after_set(ctx, live, msg->set.patch, &next, &errors)) {
         reply_field_errors(ctx, session, &msg->id, "/patch", &errors);
         return;
     }
@@ -551,6 +579,23 @@ bool render_commands_handle(struct render_context *ctx, struct session *session,
     }
     ctx->handling = NULL;
     return done;
+}
+
+void render_commands_follow_forecast(struct render_context *ctx)
+{
+    struct sky_world_state next;
+    if (!ctx->forecast || !forecast_feed_plan(ctx->forecast, world_host_state(ctx->world), &next))
+        return;
+    struct world_commit commit;
+    if (!world_host_commit(ctx->world, &next, NULL, "forecast", &commit) ||
+        !renderer_takes(ctx, &commit)) {
+        skyd_log(SKYD_LOG_WARNING, "the forecast's weather is not applied: %s", commit.error);
+    } else if (commit.event) {
+        session_hub_broadcast(ctx->hub, commit.event);
+        session_hub_wake(ctx->hub);
+    }
+    free(commit.event);
+    forecast_feed_planned(ctx->forecast, world_host_state(ctx->world)->revision);
 }
 
 void render_commands_session_closed(struct render_context *ctx, struct session *session)

@@ -11,6 +11,7 @@
 
 #include "cluster_sync.h"
 #include "config.h"
+#include "forecast_feed.h"
 #include "messages.h"
 #include "frame_scheduler.h"
 #include "live_settings.h"
@@ -33,6 +34,7 @@ struct render_context {
     struct frame_scheduler *frames;
     struct renderer_host *renderer;
     struct service_metrics *metrics; /* counts the errors the commands answer; may be NULL */
+    struct forecast_feed *forecast;  /* weather.forecast_dir's; NULL without one */
     /* A shared world (NULL: the state file). A commit that finds the world moved on sets
      * conflict_revision; the change is then made again over the caught-up state. */
     struct cluster_sync *cluster;
@@ -49,6 +51,9 @@ struct render_context {
  * trying (waited_s). Past a limit the sender gets `unavailable` instead. */
 bool render_commands_handle(struct render_context *ctx, struct session *session,
                             const struct sky_client_msg *msg, double waited_s);
+/* What following the forecast changes now (forecast_feed_plan), committed as the forecast's
+ * own change and announced to every client. */
+void render_commands_follow_forecast(struct render_context *ctx);
 void render_commands_session_closed(struct render_context *ctx, struct session *session);
 
 #endif

@@ -320,9 +320,15 @@ static void *thread_main(void *arg)
         }
         if (replied)
             session_hub_wake(ctx->hub);
+        double now = monotonic_seconds();
+        double forecast_poll_at = INFINITY;
+        if (ctx->forecast && !stopping) { /* the folder, then what following it changes */
+            forecast_poll_at = forecast_feed_poll(ctx->forecast, now, world_host_state(ctx->world));
+            render_commands_follow_forecast(ctx);
+        }
         if (stopping || !renderer_usable(loop))
             break;
-        double now = monotonic_seconds();
+        now = monotonic_seconds();
         bool atmosphere_shown = false;
         wake_at = frame_scheduler_render_due(ctx->frames, ctx->renderer,
                                              world_host_render_input(ctx->world), now,
@@ -335,6 +341,7 @@ static void *thread_main(void *arg)
         frame_scheduler_tick(ctx->frames, now);
         report_tick(loop, now);
         wake_at = fmin(wake_at, world_host_save_due(ctx->world, now, SIM_SAVE_PERIOD_S));
+        wake_at = fmin(wake_at, forecast_poll_at);
         if (loop->deferred) /* soon again: the stream it waits for is on its way */
             wake_at = fmin(wake_at, now + DEFERRED_RETRY_S);
         give_back_free_memory(loop, monotonic_seconds(), wake_at);
@@ -368,6 +375,16 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     loop->on_failure = params->on_failure;
     loop->failure_user = params->failure_user;
     ctx->metrics = params->metrics;
+    if (params->config->forecast_dir[0]) {
+        struct forecast_feed_params feed = { .dir = params->config->forecast_dir,
+                                             .poll_s = params->config->forecast_poll_s,
+                                             .metrics = params->metrics };
+        if (!(ctx->forecast = forecast_feed_create(&feed))) {
+            snprintf(err, errlen, "out of memory for the forecast folder");
+            render_loop_destroy(&loop);
+            return NULL;
+        }
+    }
     struct shared_world *shared = params->shared_world;
     struct world_host_params world = {
         .state_file = params->state_file,
@@ -467,6 +484,7 @@ void render_loop_destroy(struct render_loop **loop_ptr)
         free_command(c);
     }
     world_host_destroy(&loop->ctx.world);
+    forecast_feed_destroy(&loop->ctx.forecast);
     renderer_host_destroy(&loop->ctx.renderer);
     pthread_cond_destroy(&loop->wake);
     pthread_mutex_destroy(&loop->lock);

@@ -38,7 +38,7 @@ set(SKYD_ROOM_forecast_SEES protocol)
 set(SKYD_ROOM_host_TARGET skyd_host)
 set(SKYD_ROOM_host_PUBLIC server/host/include/render_loop.h)
 set(SKYD_ROOM_host_INTERNAL server/host/state_store.h)
-set(SKYD_ROOM_host_SEES protocol base world frames cluster render)
+set(SKYD_ROOM_host_SEES protocol base world frames cluster forecast render)
 
 set(SKYD_ROOM_net_TARGET skyd_net)
 set(SKYD_ROOM_net_PUBLIC server/net/include/ws_server.h)
