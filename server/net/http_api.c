@@ -30,7 +30,8 @@ enum endpoint {
     ENDPOINT_STATE, /* GET: the state; PATCH: a patch */
     ENDPOINT_SNAPSHOT,
     ENDPOINT_SCHEMA,
-    ENDPOINT_METAR, /* POST: a METAR applied to the weather */
+    ENDPOINT_METAR,    /* POST: a METAR applied to the weather */
+    ENDPOINT_FORECAST, /* the forecast folder's state */
 };
 
 /* One request on a connection (lws keeps this per connection and reuses it for the next request
@@ -511,6 +512,7 @@ static enum endpoint endpoint_of(const char *path)
         { "/healthz", ENDPOINT_HEALTH },    { "/metrics", ENDPOINT_METRICS },
         { "/api/state", ENDPOINT_STATE },   { "/api/snapshot", ENDPOINT_SNAPSHOT },
         { "/api/schema", ENDPOINT_SCHEMA }, { "/api/weather/metar", ENDPOINT_METAR },
+        { "/api/weather/forecast", ENDPOINT_FORECAST },
     };
     for (size_t i = 0; i < sizeof routes / sizeof routes[0]; i++)
         if (strcmp(path, routes[i].path) == 0)
@@ -600,6 +602,9 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
         break;
     case ENDPOINT_SCHEMA:
         http_endpoint_schema(&answer);
+        break;
+    case ENDPOINT_FORECAST:
+        http_endpoint_forecast(&answer, api->metrics);
         break;
     case ENDPOINT_SNAPSHOT:
         http_endpoint_snapshot(&answer, wsi);

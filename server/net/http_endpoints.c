@@ -14,6 +14,7 @@
 #include "render_loop.h"
 #include "service_metrics.h"
 #include "session.h"
+#include "utc_time.h"
 #include "world_state.h"
 
 /* /healthz fails when the render thread has not ticked for this long (it ticks at least once
@@ -102,6 +103,49 @@ void http_endpoint_schema(struct http_answer *out)
     json_guard_unlock();
     if (!schema)
         answer_error(out, SKY_MSG_ERR_INTERNAL, "out of memory");
+}
+
+/* A time as ISO 8601 text, or null when there is none. */
+static void add_time(cJSON *json, const char *name, bool known, double unix_s)
+{
+    char text[32];
+    sky_time_format_iso8601(unix_s, text, sizeof text);
+    if (known)
+        cJSON_AddStringToObject(json, name, text);
+    else
+        cJSON_AddNullToObject(json, name);
+}
+
+void http_endpoint_forecast(struct http_answer *out, struct service_metrics *metrics)
+{
+    struct service_metrics_forecast f = service_metrics_last_forecast(metrics);
+    json_guard_lock();
+    cJSON *json = cJSON_CreateObject();
+    cJSON_AddBoolToObject(json, "configured", f.configured);
+    if (f.configured)
+        cJSON_AddStringToObject(json, "dir", f.dir);
+    else
+        cJSON_AddNullToObject(json, "dir");
+    cJSON_AddBoolToObject(json, "loaded", f.loaded);
+    if (f.loaded)
+        cJSON_AddStringToObject(json, "file", f.file);
+    else
+        cJSON_AddNullToObject(json, "file");
+    add_time(json, "run", f.loaded, f.run_unix_s);
+    cJSON_AddNumberToObject(json, "steps", f.loaded ? f.steps : 0);
+    add_time(json, "first_step", f.loaded, f.first_step_unix_s);
+    add_time(json, "last_step", f.loaded, f.last_step_unix_s);
+    cJSON_AddBoolToObject(json, "following", f.following);
+    cJSON_AddBoolToObject(json, "in_range", !f.following || f.in_range);
+    if (f.error[0])
+        cJSON_AddStringToObject(json, "last_error", f.error);
+    else
+        cJSON_AddNullToObject(json, "last_error");
+    cJSON_AddNumberToObject(json, "loads", (double)f.loads);
+    cJSON_AddNumberToObject(json, "refusals", (double)f.refusals);
+    answer_json(out, HTTP_STATUS_OK, json);
+    cJSON_Delete(json);
+    json_guard_unlock();
 }
 
 void http_endpoint_state(struct http_answer *out)

@@ -50,6 +50,8 @@ void http_endpoint_metrics(struct http_answer *out, struct service_metrics *metr
                            struct session_hub *hub);
 /* GET /api/schema: the world state's JSON Schema. */
 void http_endpoint_schema(struct http_answer *out);
+/* GET /api/weather/forecast: the forecast folder's state (service_metrics_forecast). */
+void http_endpoint_forecast(struct http_answer *out, struct service_metrics *metrics);
 /* GET /api/state: a get_state message. */
 void http_endpoint_state(struct http_answer *out);
 /* GET /api/snapshot: a snapshot message whose view the query parameters of wsi's request
