@@ -105,7 +105,7 @@ static int list_files(const struct forecast_feed *feed, struct file_mark *files,
     int count = 0;
     uint64_t h = 14695981039346656037ull;
     struct dirent *entry;
-    while ((entry = readdir(d)) != NULL && count < MAX_FILES) {
+    while ((entry = readdir(d)) != NULL) {
         if (!forecast_name(entry->d_name) || strlen(entry->d_name) >= sizeof files[0].name)
             continue;
         char path[560];
@@ -113,10 +113,20 @@ static int list_files(const struct forecast_feed *feed, struct file_mark *files,
         snprintf(path, sizeof path, "%s/%s", feed->dir, entry->d_name);
         if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
             continue;
-        struct file_mark *f = &files[count++];
-        snprintf(f->name, sizeof f->name, "%s", entry->d_name);
-        f->size = (long long)st.st_size;
-        f->mtime_ns = (long long)st.st_mtim.tv_sec * 1000000000ll + st.st_mtim.tv_nsec;
+        struct file_mark mark = { .size = (long long)st.st_size,
+                                  .mtime_ns = (long long)st.st_mtim.tv_sec * 1000000000ll +
+                                              st.st_mtim.tv_nsec };
+        snprintf(mark.name, sizeof mark.name, "%s", entry->d_name);
+        if (count < MAX_FILES) {
+            files[count++] = mark;
+            continue;
+        }
+        int oldest = 0; /* a folder that keeps many runs: the newest MAX_FILES */
+        for (int i = 1; i < count; i++)
+            if (newest_first(&files[i], &files[oldest]) > 0)
+                oldest = i;
+        if (newest_first(&mark, &files[oldest]) < 0)
+            files[oldest] = mark;
     }
     closedir(d);
     qsort(files, (size_t)count, sizeof files[0], newest_first);
@@ -293,7 +303,8 @@ static bool transition_to(const struct forecast_feed *feed, const struct sky_wor
     cJSON_Delete(unmapped);
     if (!ok) {
         skyd_log(SKYD_LOG_WARNING, "forecast %s: %s %s", feed->loaded.name,
-                 errors.count ? errors.items[0].pointer : "", errors.count ? errors.items[0].reason : "");
+                 errors.count ? errors.items[0].pointer : "",
+                 errors.count ? errors.items[0].reason : "");
         return false;
     }
     struct sky_weather_params now, goal;

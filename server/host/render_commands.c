@@ -192,8 +192,15 @@ static bool commit_state(struct render_context *ctx, struct session *session,
     return commit_state_with(ctx, session, id, next, NULL);
 }
 
-/* A client's change of the weather parameters makes it the weather's source, unless the
- * patch names weather.source itself; weather.source "forecast" needs a forecast to follow. */
+static bool external_source(const struct sky_world_state *state)
+{
+    return state->weather.source == SKY_WEATHER_SOURCE_METAR ||
+           state->weather.source == SKY_WEATHER_SOURCE_FORECAST;
+}
+
+/* A client's change of the weather parameters makes it the weather's source, and the autopilot
+ * switched on the daemon's own, unless the patch names weather.source itself; weather.source
+ * "forecast" needs a forecast to follow. */
 static bool weather_source_after_set(const struct render_context *ctx,
                                      const struct sky_world_state *live,
                                      const struct sky_world_patch *patch,
@@ -203,9 +210,11 @@ static bool weather_source_after_set(const struct render_context *ctx,
         struct sky_weather_params before, after;
         sky_weather_params_get(live, &before);
         sky_weather_params_get(next, &after);
-        bool external = live->weather.source == SKY_WEATHER_SOURCE_METAR ||
-                        live->weather.source == SKY_WEATHER_SOURCE_FORECAST;
-        if (external && memcmp(&before, &after, sizeof before) != 0)
+        if (!external_source(live))
+            return true;
+        if (next->weather.autopilot == SKY_SWITCH_ON && live->weather.autopilot != SKY_SWITCH_ON)
+            next->weather.source = SKY_WEATHER_SOURCE_PROCEDURAL;
+        else if (memcmp(&before, &after, sizeof before) != 0)
             next->weather.source = SKY_WEATHER_SOURCE_CLIENT;
         return true;
     }
@@ -337,6 +346,8 @@ static void handle_apply_preset(struct render_context *ctx, struct session *sess
         return;
     }
     if (msg->preset.kind == SKY_PRESET_WEATHER) {
+        if (external_source(live) && next.weather.source == live->weather.source)
+            next.weather.source = SKY_WEATHER_SOURCE_PROCEDURAL; /* a preset is the daemon's own */
         struct sky_world_state applied = next;
         start_weather_preset(live, &applied,
                              msg->preset.has_transition ? msg->preset.transition_s : 0.0, &next);

@@ -10,7 +10,7 @@ dropped in is read (GET /api/weather/forecast names it, its run and steps); weat
 of the forecast's own that every client hears of. A newer file is taken up; a newer file that
 is not GRIB is refused with the reader's error and the one in use stays, as does the weather.
 A client's set of a weather field makes weather.source "client", after a forecast and after a
-METAR alike. A clock outside the steps keeps the weather and says so (in_range false, the
+METAR alike; the autopilot switched on, or a weather preset, makes it "procedural". A clock outside the steps keeps the weather and says so (in_range false, the
 skyd_forecast_in_range gauge). Exit 0 when every check passed.
 """
 
@@ -188,7 +188,16 @@ async def check_follow(port, folder, files, ctl, viewer):
     check("after a METAR, a client's set makes weather.source client",
           r.get("type") == "observation" and r2.get("type") == "ack"
           and source(state) == "client", short(state.get("weather")))
-    r = await ctl.request({"type": "set", "patch": {"clock": {"time_scale": 2}}})
+    r = await ctl.request({"type": "apply_observation", "metar": FAIR})
+    r2 = await ctl.request({"type": "set", "patch": {"weather": {"autopilot": "on"}}})
+    state = await get_state(ctl)
+    check("after a METAR, the autopilot switched on makes weather.source procedural",
+          r2.get("type") == "ack" and source(state) == "procedural", short(state.get("weather")))
+    r = await ctl.request({"type": "apply_observation", "metar": FAIR})
+    r2 = await ctl.request({"type": "apply_preset", "kind": "weather", "name": "overcast"})
+    state = await get_state(ctl)
+    check("after a METAR, a weather preset makes weather.source procedural",
+          r2.get("type") == "ack" and source(state) == "procedural", short(r2))
     r = await ctl.request({"type": "apply_observation", "metar": FAIR})
     r2 = await ctl.request({"type": "set", "patch": {"clock": {"time_scale": 1}}})
     state = await get_state(ctl)
