@@ -509,9 +509,12 @@ static enum endpoint endpoint_of(const char *path)
         const char *path;
         enum endpoint endpoint;
     } routes[] = {
-        { "/healthz", ENDPOINT_HEALTH },    { "/metrics", ENDPOINT_METRICS },
-        { "/api/state", ENDPOINT_STATE },   { "/api/snapshot", ENDPOINT_SNAPSHOT },
-        { "/api/schema", ENDPOINT_SCHEMA }, { "/api/weather/metar", ENDPOINT_METAR },
+        { "/healthz", ENDPOINT_HEALTH },
+        { "/metrics", ENDPOINT_METRICS },
+        { "/api/state", ENDPOINT_STATE },
+        { "/api/snapshot", ENDPOINT_SNAPSHOT },
+        { "/api/schema", ENDPOINT_SCHEMA },
+        { "/api/weather/metar", ENDPOINT_METAR },
         { "/api/weather/forecast", ENDPOINT_FORECAST },
     };
     for (size_t i = 0; i < sizeof routes / sizeof routes[0]; i++)

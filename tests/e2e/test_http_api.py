@@ -415,7 +415,7 @@ async def check_protocol_examples(port, protocol_md):
     check("PROTOCOL.md: HTTP examples found for every endpoint",
           {p[0].split()[1].split("?")[0] for p in pairs} ==
           {"/healthz", "/metrics", "/api/state", "/api/snapshot", "/api/schema",
-           "/api/weather/metar"},
+           "/api/weather/metar", "/api/weather/forecast"},
           str([p[0].split("\n")[0] for p in pairs]))
     for request, response in pairs:
         head, _, body = request.partition("\n\n")

@@ -49,16 +49,16 @@ void service_metrics_subscriptions(struct service_metrics *m,
 /* The forecast folder's state (weather.forecast_dir), as the render thread last published it:
  * for GET /api/weather/forecast and the skyd_forecast_* families. Times are unix seconds. */
 struct service_metrics_forecast {
-    bool configured;  /* a folder is configured */
-    char dir[256];    /* the folder */
-    bool loaded;      /* a forecast is in use */
-    char file[256];   /* its file's name in the folder */
+    bool configured;   /* a folder is configured */
+    char dir[256];     /* the folder */
+    bool loaded;       /* a forecast is in use */
+    char file[256];    /* its file's name in the folder */
     double run_unix_s; /* the run's reference time */
     int steps;
     double first_step_unix_s, last_step_unix_s;
-    bool following;   /* weather.source is "forecast" */
-    bool in_range;    /* the world's clock is within the steps (while following) */
-    char error[704];  /* the last refusal: the file and the reader's error; "" none */
+    bool following;  /* weather.source is "forecast" */
+    bool in_range;   /* the world's clock is within the steps (while following) */
+    char error[704]; /* the last refusal: the file and the reader's error; "" none */
     uint64_t loads, refusals;
 };
 void service_metrics_forecast(struct service_metrics *m, const struct service_metrics_forecast *f);
