@@ -162,7 +162,7 @@ static void refuse(struct forecast_feed *feed, const struct file_mark *f,
         feed->refused_count = 0;
     feed->refused[feed->refused_count++] = *f;
     feed->status.refusals++;
-    snprintf(feed->status.error, sizeof feed->status.error, "%s: %s", f->name, error->text);
+    snprintf(feed->status.error, sizeof feed->status.error, "%.255s: %.383s", f->name, error->text);
     skyd_log(SKYD_LOG_WARNING, "forecast %s/%s refused: %s%s", feed->dir, f->name, error->text,
              feed->forecast ? "; the forecast in use stays" : "");
 }
@@ -178,7 +178,7 @@ static void take(struct forecast_feed *feed, struct sky_forecast *forecast,
     const struct sky_forecast_info *info = sky_forecast_info(forecast);
     struct service_metrics_forecast *s = &feed->status;
     s->loaded = true;
-    snprintf(s->file, sizeof s->file, "%s", f->name);
+    snprintf(s->file, sizeof s->file, "%.255s", f->name);
     s->run_unix_s = info->reference_unix_s;
     s->steps = info->step_count;
     s->first_step_unix_s = sky_forecast_step_unix(forecast, 0);
@@ -204,7 +204,7 @@ static void load_newest(struct forecast_feed *feed, const struct file_mark *file
         if (was_refused(feed, f))
             continue;
         char path[560];
-        snprintf(path, sizeof path, "%s/%s", feed->dir, f->name);
+        snprintf(path, sizeof path, "%.255s/%.255s", feed->dir, f->name);
         struct sky_forecast_error error;
         struct sky_forecast *forecast = sky_forecast_read(path, request, &error);
         if (forecast) {
