@@ -57,11 +57,16 @@ vec3 light_shafts(vec2 uv, float depth)
 }
 
 // The ground's share: with the ground luminance L seen along dir (skyview LUT, aerial
-// perspective included), the clouds' effect is tr L + offset (seed 001 eq. 22 with the sky's
+// perspective included), the clouds' effect is k L + offset (seed 001 eq. 22 with the sky's
 // light through tr, the sun's through the shadow map, and the clouds' own luminance l_cloud):
-//   tr (L - S - t_path G) + l_cloud (1 - t_path) + t_path (albedo (E_sun shadow + E_sky tr)
-//   + albedo pi l_cloud), with G = albedo (E_sun + E_sky) the ground's unshadowed luminance.
-vec3 ground_offset(vec3 cam, vec3 dir, vec2 uv, float tr)
+//   k (L - S - t_path G) + l_cloud t_above (1 - t_below) + t_path (albedo (E_sun shadow
+//   + E_sky tr) + albedo pi l_cloud), with G = albedo (E_sun + E_sky) the ground's unshadowed
+//   luminance. The clouds dim and light only the air under their base: t_above and t_below
+// split the path's transmittance t_path there, and k = 1 - w (1 - tr) with w the share of the
+// path's in-scattering under the base (for a uniform source, t_above (1 - t_below) /
+// (1 - t_path)). From under the base t_above = 1, w = 1 and k = tr (eq. 22 as it stands);
+// from above the clouds the air over them keeps its light.
+vec3 ground_offset(vec3 cam, vec3 dir, vec2 uv, float tr, out float k)
 {
     float r_cam = max(length(cam), bottom_radius() + 1e-3);
     float t = ray_sphere_nearest(cam, dir, bottom_radius());
@@ -87,10 +92,24 @@ vec3 ground_offset(vec3 cam, vec3 dir, vec2 uv, float tr)
     vec3 t_path = transmittance_to_top(bottom_radius() + 1e-3, dot(n, -dir))
                   / max(t_cam, vec3(1e-6));
     t_path = clamp(t_path, 0.0, 1.0);
+    vec3 t_above = vec3(1.0);
+    float t_base = length(cam) > cloud.low.x ? ray_sphere_nearest(cam, dir, cloud.low.x) : -1.0;
+    if (t_base >= 0.0 && t_base < t) {
+        vec3 b = cam + t_base * dir;
+        float r_b = length(b);
+        t_above = clamp(transmittance_to_top(r_b, dot(b / r_b, -dir)) / max(t_cam, vec3(1e-6)),
+                        t_path, vec3(1.0));
+    }
+    vec3 t_below = t_path / max(t_above, vec3(1e-6));
+    vec3 w3 = t_above * (1.0 - t_below) / max(1.0 - t_path, vec3(1e-6));
+    float w = clamp(dot(w3, vec3(1.0 / 3.0)), 0.0, 1.0);
+    k = 1.0 - w * (1.0 - tr);
     vec3 sun_part = t_path * albedo * direct * e_top;
+    vec3 sky_part = t_path * albedo * ground_irradiance_per_lux(mu_s) * e_top;
     vec3 l_cloud = env_luminance.rgb * e_top;
-    return -tr * light_shafts(uv, t) + sun_part * (cloud_ground_shadow(p) - tr)
-           + l_cloud * (1.0 - t_path * (1.0 - atmo.ground_albedo.xyz)); // seed 001 eq. 22
+    return -k * light_shafts(uv, t) + sun_part * (cloud_ground_shadow(p) - k)
+           + sky_part * (tr - k)
+           + l_cloud * (t_above * (1.0 - t_below) + t_path * atmo.ground_albedo.xyz); // eq. 22
 }
 
 void main()
@@ -120,7 +139,7 @@ void main()
     imageStore(resolved_sky, px, vec4(c.rgb - clear * sky_shafts, c.a));
     if (!GROUND)
         return;
-    float tr = env_transmittance.x;
-    vec3 offset = ground_offset(cam, dir, uv, tr);
-    imageStore(resolved_ground, px, vec4(c.rgb + clear * offset, 1.0 - clear * tr));
+    float k;
+    vec3 offset = ground_offset(cam, dir, uv, env_transmittance.x, k);
+    imageStore(resolved_ground, px, vec4(c.rgb + clear * offset, 1.0 - clear * k));
 }
