@@ -74,16 +74,26 @@ float fbm2(vec2 x, ivec2 period, uint salt, int octaves, float hurst, float fine
 // probability CELL_PRESENCE * CELL_PRESENCE_RATIO^k, so the clouds per size octave grow
 // 4 * 0.8 = 3.2 times an octave smaller: n(L) ~ L^-(3 + log2 0.8) = L^-2.7 as placed, which the
 // threshold and merging flatten (rendered fields measure b 1.6-2.3; observed 1.7-2.9, Neggers
-// et al. 2003). Smaller clouds are a little lower (CELL_HEIGHT_RATIO a level): a smaller cloud
+// et al. 2003). Smaller clouds are a little lower (cell_height_ratio a level): a smaller cloud
 // is also a shallower one (humilis), and thin towers would stand where the domes were equal.
+// In a sparse field the clouds differ less in height (all humilis): with 0.85 a level at
+// coverage 0.2-0.25 the threshold left the smallest levels no cloud and b fell to 1.56-1.65
+// over some seeds; with 0.9 there 1.75-1.88 (cloud_field_probe, seeds 1, 3, 4, 5). Higher up
+// the smaller levels pass the threshold anyway, and more of them only roughen the outlines
+// (at coverage 0.35, 0.875 raised D by 0.03-0.06, to 1.405) and steepen b (at 0.5, 0.9 gave
+// 2.94 for seed 15): so 0.9 up to coverage 0.2, 0.85 from 0.35.
 // Separate domes keep clouds apart, as observed; a single thresholded field joined turrets
 // into networks whose outlines reached an area-perimeter dimension of 1.5 at mid coverage.
 const int CELL_LEVELS = 5;
 const float CELL_PRESENCE = 0.9, CELL_PRESENCE_RATIO = 0.8, CELL_RADIUS = 0.62;
-const float CELL_HEIGHT_RATIO = 0.85;
+float cell_height_ratio(float coverage)
+{
+    return mix(0.9, 0.85, smoothstep(0.2, 0.35, coverage));
+}
 // Mean and deviation of cumulus_cells() before its normalisation (sampled at 40 000 points of
-// the same construction).
-const float CELLS_MEAN = 0.477, CELLS_SIGMA = 0.178;
+// the same construction): the mean 0.477 at a height ratio of 0.85, 0.489 at 0.875 and 0.502
+// at 0.9, the deviation 0.177-0.178.
+const float CELLS_MEAN = 0.477, CELLS_MEAN_PER_RATIO = 0.5, CELLS_SIGMA = 0.177;
 // A cell's rank among the cloud sizes, uniform on [0, 1): the cells of the largest level are
 // stratified in blocks of 2 x 2, each block holding one rank from each quarter (a hashed
 // permutation), so that a big cloud stands beside smaller ones and no neighbourhood is all big
@@ -100,7 +110,7 @@ float cell_size_rank(ivec2 wrapped, int level, uint level_salt)
     return (float(quarter ^ mask) + draw.y) / 4.0;
 }
 
-float cumulus_cells(vec2 x, int period, uint salt)
+float cumulus_cells(vec2 x, int period, uint salt, float height_ratio)
 {
     float best = 0.0;
     for (int k = 0; k < CELL_LEVELS; k++) {
@@ -119,11 +129,11 @@ float cumulus_cells(vec2 x, int period, uint salt)
                 size = (size - (1.0 - presence)) / presence;
                 vec2 centre = vec2(c) + 0.25 + 0.5 * hash2(wrapped, level_salt);
                 float d2 = dot(p - centre, p - centre) / (CELL_RADIUS * CELL_RADIUS);
-                float amp = mix(0.4, 1.0, size) * pow(CELL_HEIGHT_RATIO, float(k));
+                float amp = mix(0.4, 1.0, size) * pow(height_ratio, float(k));
                 best = max(best, amp * (1.0 - d2));
             }
     }
-    return (best - CELLS_MEAN) / CELLS_SIGMA;
+    return (best - CELLS_MEAN - CELLS_MEAN_PER_RATIO * (height_ratio - 0.85)) / CELLS_SIGMA;
 }
 
 // The normal quantile of p (logistic approximation of the probit) and its inverse.
@@ -247,7 +257,7 @@ void main()
             // nudged by clusters of 6-25 km (weak, so that a view of ten kilometres holds
             // about the coverage).
             float clusters = fbm2(x, ivec2(max(1, cu_period / 16)), 15u, 3, CUMULUS_HURST, shaped);
-            float cells = cumulus_cells(x, max(1, cu_period * 2 / 3), 11u);
+            float cells = cumulus_cells(x, max(1, cu_period * 2 / 3), 11u, cell_height_ratio(p.x));
             float rough = fbm2(x, ivec2(cu_period), 12u, 3, CUMULUS_HURST, shaped);
             float field = blend(cells, rough, CELL_ROUGHNESS);
             score += w.z * cumulus_score(blend(field, clusters, CLUSTER_AMPLITUDE), p.x);
