@@ -25,6 +25,8 @@ types=(
   "cumulus|fair_cumulus|"
   "cumulus-congestus|scattered|--set clouds.low.type=0.85 --set clouds.low.thickness_km=3.5"
   "cumulonimbus|storm|--set clouds.low.coverage=0.55"
+  "altocumulus|altocumulus|--set clouds.low.coverage=0 --set clouds.high.coverage=0"
+  "altostratus|warm_front|--set clouds.low.coverage=0 --set clouds.high.coverage=0"
   "cirrus|clear|--set clouds.high.coverage=0.6 --set clouds.high.type=1 --set clouds.high.density=0.3"
   "cirrostratus|clear|--set clouds.high.coverage=0.9 --set clouds.high.type=0 --set clouds.high.density=0.3"
 )
@@ -69,8 +71,10 @@ done
   echo
   echo "Settings per row (besides the view): stratus is the \`overcast\` preset, stratocumulus"
   echo "\`broken\` without its cirrus, cumulus \`fair_cumulus\`, congestus \`scattered\` with"
-  echo "clouds.low.type 0.85 in a 3.5 km layer, cumulonimbus \`storm\` at coverage 0.55, cirrus and"
-  echo "cirrostratus the high layer alone (type 1 and 0)."
+  echo "clouds.low.type 0.85 in a 3.5 km layer, cumulonimbus \`storm\` at coverage 0.55,"
+  echo "altocumulus and altostratus the middle layer alone (\`altocumulus\` and \`warm_front\`"
+  echo "without their low and high layers), cirrus and cirrostratus the high layer alone (type 1"
+  echo "and 0)."
 } >> "$doc"
 
 # The README's images: fair-weather cumulus under a thin high layer, and a day's time-lapse
