@@ -45,6 +45,32 @@ bool test_fault_disk_full(void)
     return fault_path("state_write", path, sizeof path) && access(path, F_OK) == 0;
 }
 
+static double read_seconds(const char *path)
+{
+    double value = 0.0;
+    FILE *f = fopen(path, "r");
+    if (f) {
+        char text[64] = { 0 };
+        if (fgets(text, sizeof text, f)) {
+            char *end = NULL;
+            double v = strtod(text, &end);
+            if (end != text && v > -1e9 && v < 1e9)
+                value = v;
+        }
+        fclose(f);
+    }
+    return value;
+}
+
+double test_fault_forecast_read_delay(void)
+{
+    char path[1100];
+    if (!fault_path("forecast_read_delay", path, sizeof path))
+        return 0.0;
+    double delay = read_seconds(path);
+    return delay > 0.0 ? delay : 0.0;
+}
+
 double test_fault_wall_clock_offset(void)
 {
     char path[1100];
@@ -54,19 +80,7 @@ double test_fault_wall_clock_offset(void)
     pthread_mutex_lock(&offset_lock);
     if (offset_read_at < 0 || now - offset_read_at >= 0.2) {
         offset_read_at = now;
-        double value = 0.0;
-        FILE *f = fopen(path, "r");
-        if (f) {
-            char text[64] = { 0 };
-            if (fgets(text, sizeof text, f)) {
-                char *end = NULL;
-                double v = strtod(text, &end);
-                if (end != text && v > -1e9 && v < 1e9)
-                    value = v;
-            }
-            fclose(f);
-        }
-        offset_s = value;
+        offset_s = read_seconds(path);
     }
     double v = offset_s;
     pthread_mutex_unlock(&offset_lock);

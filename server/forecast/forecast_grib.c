@@ -428,6 +428,14 @@ static bool check_request(const struct sky_forecast_request *q, struct sky_forec
 struct sky_forecast *sky_forecast_read(const char *path, const struct sky_forecast_request *request,
                                        struct sky_forecast_error *error)
 {
+    return sky_forecast_read_until(path, request, NULL, error);
+}
+
+struct sky_forecast *sky_forecast_read_until(const char *path,
+                                             const struct sky_forecast_request *request,
+                                             const atomic_bool *cancel,
+                                             struct sky_forecast_error *error)
+{
     struct sky_forecast_error spare;
     if (!error)
         error = &spare;
@@ -447,6 +455,11 @@ struct sky_forecast *sky_forecast_read(const char *path, const struct sky_foreca
     r.error = error;
     bool ok = true;
     for (;;) {
+        if (cancel && atomic_load(cancel)) {
+            ok = forecast_refuse(error, SKY_FORECAST_ERR_CANCELLED, 0, "%s: the read was given up",
+                                 path);
+            break;
+        }
         int status = CODES_SUCCESS;
         ecc_last_log[0] = '\0';
         codes_handle *h = codes_handle_new_from_file(context, file, PRODUCT_GRIB, &status);

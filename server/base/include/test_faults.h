@@ -12,6 +12,9 @@
  *   wall_clock_offset  Seconds (a decimal number, negative for a clock stepped back) added to
  *                      CLOCK_REALTIME, as a clock stepped by NTP or by hand; read again at most
  *                      every 0.2 s. A missing or unreadable file is an offset of 0.
+ *   forecast_read_delay
+ *                      Seconds (a decimal number) that every read of a forecast file from the
+ *                      forecast folder takes longer, as a large file would; read before each.
  *
  * The line saying that the faults are armed goes to stderr. Thread-safe. */
 #ifndef SKYD_TEST_FAULTS_H
@@ -24,5 +27,8 @@ bool test_fault_disk_full(void);
 
 /* The wall_clock_offset fault's seconds now (0 when off). */
 double test_fault_wall_clock_offset(void);
+
+/* The forecast_read_delay fault's seconds now (0 when off). */
+double test_fault_forecast_read_delay(void);
 
 #endif

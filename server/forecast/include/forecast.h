@@ -12,6 +12,7 @@
 #ifndef SKYD_FORECAST_H
 #define SKYD_FORECAST_H
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -40,6 +41,7 @@ enum sky_forecast_error_code {
     SKY_FORECAST_ERR_TIME = 10,        /* the time is outside the steps' range */
     SKY_FORECAST_ERR_TOO_LARGE = 11,   /* too many steps, or grid points in the square */
     SKY_FORECAST_ERR_MEMORY = 12,
+    SKY_FORECAST_ERR_CANCELLED = 13, /* the reader's caller gave up (sky_forecast_read_until) */
 };
 
 struct sky_forecast_error {
@@ -127,6 +129,12 @@ struct sky_forecast;
  * with *error saying why (error may be NULL). Messages of other fields are skipped. */
 struct sky_forecast *sky_forecast_read(const char *path, const struct sky_forecast_request *request,
                                        struct sky_forecast_error *error);
+/* As sky_forecast_read, but gives up between two messages once *cancel is true (set by another
+ * thread), with SKY_FORECAST_ERR_CANCELLED. cancel may be NULL. */
+struct sky_forecast *sky_forecast_read_until(const char *path,
+                                             const struct sky_forecast_request *request,
+                                             const atomic_bool *cancel,
+                                             struct sky_forecast_error *error);
 void sky_forecast_free(struct sky_forecast *forecast);
 
 /* What was read: the run's reference time (dataDate, dataTime), the steps' validity times
