@@ -1,7 +1,8 @@
 /* The forecast folder (weather.forecast_dir) and what the world follows from it while
- * weather.source is "forecast". The folder is looked at every poll_s: when its files (*.grib2,
- * *.grb2: names, sizes, times) or the world's place change, the newest file that reads
- * (forecast.h) for the world's place and map square becomes the forecast; a refused file is
+ * weather.source is "forecast". The folder is looked at every poll_s on a thread of its own
+ * (forecast_watch.h): when its files (*.grib2, *.grb2: names, sizes, times) or the world's
+ * place change, the newest file that reads (forecast.h) for the world's place and map square
+ * becomes the forecast, taken up at the render thread's next poll once read; a refused file is
  * logged with the reader's error and the forecast in use stays. Following, each plan is a
  * weather transition from the weather as it stands to the forecast a blend ahead on the
  * world's clock, planned again when it ends, when the forecast changes or when anything else
@@ -24,16 +25,22 @@ struct forecast_feed_params {
     const char *dir;
     double poll_s;
     struct service_metrics *metrics; /* the status is published there; may be NULL */
+    /* Called from the folder's thread when a look found something (wakes the render thread). */
+    void (*ready)(void *user);
+    void *user;
 };
 
 struct forecast_feed;
 
-/* NULL when memory is out. Nothing is read before the first poll. */
-struct forecast_feed *forecast_feed_create(const struct forecast_feed_params *params);
+/* NULL with the reason when memory is out or the folder's thread cannot start. Nothing is read
+ * before the first poll. */
+struct forecast_feed *forecast_feed_create(const struct forecast_feed_params *params, char *err,
+                                           size_t errlen);
 void forecast_feed_destroy(struct forecast_feed **feed);
 
-/* Looks at the folder when a poll is due (now_s: CLOCK_MONOTONIC seconds) and reads what
- * changed for the place of `live`. Returns when it should be called again. */
+/* Takes up what the folder's thread read since the last call, and asks it to look at the
+ * folder for the place of `live` when a poll is due (now_s: CLOCK_MONOTONIC seconds); never
+ * waits for a read. Returns when it should be called again. */
 double forecast_feed_poll(struct forecast_feed *feed, double now_s,
                           const struct sky_world_state *live);
 

@@ -350,6 +350,11 @@ static void *thread_main(void *arg)
     return NULL;
 }
 
+static void wake_loop(void *loop)
+{
+    render_loop_notify(loop);
+}
+
 /* The renderer is created on the render thread's behalf before it starts: Vulkan objects are
  * not tied to the creating thread, and creating it here lets a failure be reported at once. */
 struct render_loop *render_loop_create(const struct render_loop_params *params, char *err,
@@ -378,9 +383,10 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
     if (params->config->forecast_dir[0]) {
         struct forecast_feed_params feed = { .dir = params->config->forecast_dir,
                                              .poll_s = params->config->forecast_poll_s,
-                                             .metrics = params->metrics };
-        if (!(ctx->forecast = forecast_feed_create(&feed))) {
-            snprintf(err, errlen, "out of memory for the forecast folder");
+                                             .metrics = params->metrics,
+                                             .ready = wake_loop,
+                                             .user = loop };
+        if (!(ctx->forecast = forecast_feed_create(&feed, err, errlen))) {
             render_loop_destroy(&loop);
             return NULL;
         }
