@@ -23,7 +23,7 @@ static const char *const bodies_names[] = { "manual", "ephemeris" };
 static const char *const switch_names[] = { "off", "on" };
 static const char *const cloud_resolution_names[] = { "full", "quarter", "sixteenth",
                                                       "sixtyfourth" };
-static const char *const weather_map_source_names[] = { "procedural", "client" };
+static const char *const weather_map_source_names[] = { "procedural", "client", "forecast" };
 static const char *const weather_source_names[] = { "procedural", "client", "metar", "forecast" };
 
 /* clock.utc spans the ephemeris' validity: 1900-01-01T00:00:00Z to 2100-12-31T23:59:59Z. */
@@ -266,7 +266,8 @@ const struct sky_field_desc sky_world_field_table[] = {
     NUMBER("weather.map_extent_km", weather.map_extent_km, 4, 400,
            "side of the square weather map centred on the camera, km"),
     ENUM("weather.map_source", weather.map_source, weather_map_source_names,
-         "procedural (from weather.* and clouds.*) or client (an uploaded map)"),
+         "procedural (from weather.* and clouds.*), client (an uploaded map) or forecast (the "
+         "followed forecast's cloud cover over the map's square)"),
     ENUM("weather.source", weather.source, weather_source_names,
          "what the weather last came from: procedural (the daemon's, presets, autopilot), "
          "client, metar (apply_observation sets it) or forecast"),

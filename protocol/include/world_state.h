@@ -50,6 +50,7 @@ enum sky_cloud_resolution {
 enum sky_weather_map_source {
     SKY_WEATHER_MAP_PROCEDURAL = 0, /* generated from weather.* and clouds.* */
     SKY_WEATHER_MAP_CLIENT = 1,     /* uploaded by a client */
+    SKY_WEATHER_MAP_FORECAST = 2,   /* the followed forecast's coverage grid */
 };
 
 /* What the weather (clouds, humidity, fog, wind, precipitation) last came from: the daemon's own

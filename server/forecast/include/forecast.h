@@ -17,6 +17,7 @@
 #include <stddef.h>
 
 struct cJSON;
+struct sky_weather_map;
 
 /* The coverage grid is at most this many cells a side; the square at most this wide. */
 #define SKY_FORECAST_MAX_GRID 32
@@ -170,14 +171,22 @@ void sky_forecast_summary(const struct sky_forecast *forecast,
 
 /* A sample as a world-state patch (protocol/PROTOCOL.md, "Forecasts in the world"): low cover
  * into clouds.low (its type from the cover, weather_observation.h), high cover into
- * clouds.high, medium cover into the low layer when the low one is clear (the world has no
- * middle layer yet) else listed in *unmapped, 2 m relative humidity into weather.humidity, the
+ * clouds.high, medium cover into clouds.mid, 2 m relative humidity into weather.humidity, the
  * wind at the clouds (the 10 m wind by the power law at 1 km; 850 hPa as it is), the rate into
  * clouds.precipitation, weather.source "forecast" and the autopilot off. New objects the
  * caller deletes; false when memory is out. */
 bool sky_forecast_patch(const struct sky_forecast *forecast,
                         const struct sky_forecast_sample *sample, struct cJSON **patch,
                         struct cJSON **unmapped);
+
+/* A sample's coverage grid as a weather map (protocol/weather_map.h, the channels of
+ * set_weather_map): grid_size x grid_size texels from the north-west corner, r the low cover,
+ * g the high cover, b the low layer's type from its cover as the patch gives the mean's, a the
+ * precipitation level of the cell's rate. The middle cover has no channel (clouds.mid from the
+ * patch applies over the map). False when memory is out; the caller frees *map
+ * (sky_weather_map_free). */
+bool sky_forecast_weather_map(const struct sky_forecast_sample *sample,
+                              struct sky_weather_map *map);
 
 /* clouds.precipitation 0..1 for a rate in mm/h: 0.3 at 0.5 mm/h (light rain), 0.6 at 4 mm/h
  * (moderate), 0.9 at 10 mm/h (heavy, AMS Glossary), 1 from 20 mm/h; linear between. */
