@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <cjson/cJSON.h>
 
@@ -26,6 +27,9 @@ struct forecast_feed {
     unsigned planned_generation;
     unsigned long long planned_revision;
     double planned_until;
+    /* The last weather map made: its forecast, its clock and when. */
+    unsigned map_generation;
+    double map_clock_s, map_made_s;
     struct service_metrics_forecast status;
 };
 
@@ -215,4 +219,32 @@ bool forecast_feed_plan(struct forecast_feed *feed, const struct sky_world_state
 void forecast_feed_planned(struct forecast_feed *feed, unsigned long long revision)
 {
     feed->planned_revision = revision;
+}
+
+bool forecast_feed_map(struct forecast_feed *feed, const struct sky_world_state *live, double now_s,
+                       struct sky_weather_map *map)
+{
+    if (live->weather.source != SKY_WEATHER_SOURCE_FORECAST || !feed->forecast)
+        return false;
+    double t = live->clock.utc_unix_s;
+    bool fresh = feed->map_generation != feed->generation;
+    if (!fresh && (fabs(t - feed->map_clock_s) < FORECAST_FEED_MAP_STEP_S ||
+                   now_s - feed->map_made_s < FORECAST_FEED_MAP_WALL_S))
+        return false;
+    struct sky_forecast_moment *moment = malloc(sizeof *moment);
+    struct sky_forecast_error error;
+    bool made = moment && sky_forecast_at(feed->forecast, t, moment, &error) &&
+                sky_forecast_weather_map(&moment->sample, map);
+    free(moment);
+    feed->map_generation = feed->generation; /* a clock outside the steps: tried again later */
+    feed->map_clock_s = t;
+    feed->map_made_s = now_s;
+    if (made && map->width <= SERVICE_METRICS_FORECAST_MAP_SIDE &&
+        map->height <= SERVICE_METRICS_FORECAST_MAP_SIDE) {
+        feed->status.map_width = map->width;
+        feed->status.map_height = map->height;
+        memcpy(feed->status.map_rgba, map->rgba, (size_t)map->width * map->height * 4);
+        service_metrics_forecast(feed->metrics, &feed->status);
+    }
+    return made;
 }

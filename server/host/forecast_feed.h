@@ -14,12 +14,17 @@
 #include <stddef.h>
 
 #include "service_metrics.h"
+#include "weather_map.h"
 #include "world_state.h"
 
 /* Simulated seconds of a plan's transition at least, and wall seconds of the clock's pace at
  * least (a fast clock plans less often). */
 #define FORECAST_FEED_BLEND_S 300.0
 #define FORECAST_FEED_BLEND_WALL_S 10.0
+/* The forecast's weather map is made again when the clock moved this many simulated seconds,
+ * and this many wall seconds passed, since the last one. */
+#define FORECAST_FEED_MAP_STEP_S 60.0
+#define FORECAST_FEED_MAP_WALL_S 1.0
 
 struct forecast_feed_params {
     const char *dir;
@@ -52,6 +57,13 @@ bool forecast_feed_loaded(const struct forecast_feed *feed, char *why, size_t ca
  * clock outside the forecast's steps: reported, the weather left as it is). */
 bool forecast_feed_plan(struct forecast_feed *feed, const struct sky_world_state *live,
                         struct sky_world_state *next);
+/* While following, with the clock within the steps: the forecast's coverage grid at the clock
+ * of `live` as a weather map (sky_forecast_weather_map), when one is due: the first, one of a
+ * new forecast, or FORECAST_FEED_MAP_STEP_S on the clock and FORECAST_FEED_MAP_WALL_S on
+ * now_s (CLOCK_MONOTONIC) after the last. false when none is due; the caller frees *map. */
+bool forecast_feed_map(struct forecast_feed *feed, const struct sky_world_state *live, double now_s,
+                       struct sky_weather_map *map);
+
 /* The revision that the plan's commit made the live one: a later revision means something
  * else changed the state, and the plan is made again over it. */
 void forecast_feed_planned(struct forecast_feed *feed, unsigned long long revision);

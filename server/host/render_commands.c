@@ -12,6 +12,7 @@
 #include "json_guard.h"
 #include "log.h"
 #include "metar.h"
+#include "monotonic_clock.h"
 #include "presets.h"
 #include "weather_observation.h"
 #include "world_sim.h"
@@ -220,9 +221,15 @@ static bool weather_source_after_set(const struct render_context *ctx,
     }
     char why[1024];
     if (next->weather.source != SKY_WEATHER_SOURCE_FORECAST ||
-        live->weather.source == SKY_WEATHER_SOURCE_FORECAST ||
-        forecast_feed_loaded(ctx->forecast, why, sizeof why))
+        live->weather.source == SKY_WEATHER_SOURCE_FORECAST)
         return true;
+    if (forecast_feed_loaded(ctx->forecast, why, sizeof why)) {
+        /* Following starts: the forecast's cover grid becomes the weather map, unless the
+         * patch names one. */
+        if (!sky_world_patch_names(patch, sky_world_state_find_field("weather.map_source")))
+            next->weather.map_source = SKY_WEATHER_MAP_FORECAST;
+        return true;
+    }
     sky_field_errors_clear(errors);
     sky_field_errors_add(errors, SKY_FIELD_BAD_VALUE, "/weather/source", why);
     return false;
@@ -595,6 +602,13 @@ bool render_commands_handle(struct render_context *ctx, struct session *session,
 void render_commands_follow_forecast(struct render_context *ctx)
 {
     struct sky_world_state next;
+    struct sky_weather_map map;
+    if (ctx->forecast &&
+        forecast_feed_map(ctx->forecast, world_host_state(ctx->world), monotonic_seconds(), &map)) {
+        if (!world_host_set_forecast_map(ctx->world, &map))
+            skyd_log(SKYD_LOG_WARNING, "out of memory for the forecast's weather map");
+        sky_weather_map_free(&map);
+    }
     if (!ctx->forecast || !forecast_feed_plan(ctx->forecast, world_host_state(ctx->world), &next))
         return;
     struct world_commit commit;

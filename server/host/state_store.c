@@ -100,8 +100,10 @@ enum state_load_result state_store_load(const char *path, struct sky_world_state
                                         size_t msglen)
 {
     char stem[4096];
-    state_store_weather_map_path(path, stem, sizeof stem);
     state_store_remove_temporaries(path);
+    state_store_weather_map_path(path, stem, sizeof stem);
+    state_store_remove_temporaries(stem);
+    state_store_forecast_map_path(path, stem, sizeof stem);
     state_store_remove_temporaries(stem);
     if (access(path, F_OK) != 0) {
         snprintf(msg, msglen, "no state file at %s: starting from the defaults", path);
@@ -249,21 +251,28 @@ int state_store_save(const char *path, const struct sky_world_state *state, char
 
 /* ---- the client weather map ---- */
 
-void state_store_weather_map_path(const char *state_path, char *out, size_t outlen)
+static void map_path(const char *state_path, const char *name, char *out, size_t outlen)
 {
     size_t length = strlen(state_path);
     const char *suffix = ".json";
     size_t suffix_length = strlen(suffix);
     if (length >= suffix_length && strcmp(state_path + length - suffix_length, suffix) == 0)
         length -= suffix_length;
-    snprintf(out, outlen, "%.*s.weather-map.png", (int)length, state_path);
+    snprintf(out, outlen, "%.*s.%s.png", (int)length, state_path, name);
 }
 
-int state_store_save_weather_map(const char *state_path, const struct sky_weather_map *map,
-                                 char *err, size_t errlen)
+void state_store_weather_map_path(const char *state_path, char *out, size_t outlen)
 {
-    char path[4096];
-    state_store_weather_map_path(state_path, path, sizeof path);
+    map_path(state_path, "weather-map", out, outlen);
+}
+
+void state_store_forecast_map_path(const char *state_path, char *out, size_t outlen)
+{
+    map_path(state_path, "forecast-map", out, outlen);
+}
+
+static int save_map(const char *path, const struct sky_weather_map *map, char *err, size_t errlen)
+{
     if (!map || !map->rgba) {
         if (unlink(path) != 0 && errno != ENOENT) {
             snprintf(err, errlen, "cannot remove %s: %s", path, strerror(errno));
@@ -283,18 +292,49 @@ int state_store_save_weather_map(const char *state_path, const struct sky_weathe
     return rc;
 }
 
-enum state_load_result state_store_load_weather_map(const char *state_path,
-                                                    struct sky_weather_map *map, char *msg,
-                                                    size_t msglen)
+int state_store_save_weather_map(const char *state_path, const struct sky_weather_map *map,
+                                 char *err, size_t errlen)
 {
     char path[4096];
     state_store_weather_map_path(state_path, path, sizeof path);
+    return save_map(path, map, err, errlen);
+}
+
+int state_store_save_forecast_map(const char *state_path, const struct sky_weather_map *map,
+                                  char *err, size_t errlen)
+{
+    char path[4096];
+    state_store_forecast_map_path(state_path, path, sizeof path);
+    return save_map(path, map, err, errlen);
+}
+
+static enum state_load_result load_map(const char *path, struct sky_weather_map *map, char *msg,
+                                       size_t msglen)
+{
     memset(map, 0, sizeof *map);
     if (access(path, F_OK) != 0) {
         snprintf(msg, msglen, "no weather map at %s", path);
         return STATE_LOAD_ABSENT;
     }
     return state_store_read_weather_map(path, WEATHER_MAP_FILE_MAX_BYTES, map, msg, msglen);
+}
+
+enum state_load_result state_store_load_weather_map(const char *state_path,
+                                                    struct sky_weather_map *map, char *msg,
+                                                    size_t msglen)
+{
+    char path[4096];
+    state_store_weather_map_path(state_path, path, sizeof path);
+    return load_map(path, map, msg, msglen);
+}
+
+enum state_load_result state_store_load_forecast_map(const char *state_path,
+                                                     struct sky_weather_map *map, char *msg,
+                                                     size_t msglen)
+{
+    char path[4096];
+    state_store_forecast_map_path(state_path, path, sizeof path);
+    return load_map(path, map, msg, msglen);
 }
 
 enum state_load_result state_store_read_weather_map(const char *path, size_t max_bytes,

@@ -54,6 +54,15 @@ enum state_load_result state_store_load_weather_map(const char *state_path,
                                                     struct sky_weather_map *map, char *msg,
                                                     size_t msglen);
 
+/* The followed forecast's map (weather.map_source "forecast") beside it too, as
+ * "var/skyd-state.forecast-map.png": saved and loaded like the client's. */
+void state_store_forecast_map_path(const char *state_path, char *out, size_t outlen);
+int state_store_save_forecast_map(const char *state_path, const struct sky_weather_map *map,
+                                  char *err, size_t errlen);
+enum state_load_result state_store_load_forecast_map(const char *state_path,
+                                                     struct sky_weather_map *map, char *msg,
+                                                     size_t msglen);
+
 /* A weather map PNG of at most max_bytes at `path` (the state's, or one given to skyd render):
  * RESTORED, CORRUPT (not a usable map) or FAILED (unreadable), with msg saying why. */
 enum state_load_result state_store_read_weather_map(const char *path, size_t max_bytes,

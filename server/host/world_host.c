@@ -35,7 +35,11 @@ struct world_host {
     char state_file[SKYD_CONFIG_STRING];
     struct sky_world_state state;
     struct sky_weather_map client_map;
-    uint64_t map_generation; /* counts the client maps: 0 none yet */
+    /* The followed forecast's (weather.map_source "forecast"), and whether the file beside the
+     * state is older than it. */
+    struct sky_weather_map forecast_map;
+    bool forecast_map_dirty;
+    uint64_t map_generation; /* counts the maps, client and forecast: 0 none yet */
     /* The render input of the live state; atmosphere is its frame atmosphere. */
     struct render_input input;
     struct sky_render_atmosphere atmosphere;
@@ -62,6 +66,7 @@ struct world_host {
 };
 
 static void restore_weather_map(struct world_host *h);
+static void restore_forecast_map(struct world_host *h);
 static void refresh_input(struct world_host *h, bool adopt);
 
 struct world_host *world_host_create(const struct world_host_params *params)
@@ -94,6 +99,7 @@ struct world_host *world_host_create(const struct world_host_params *params)
         return NULL;
     }
     restore_weather_map(h);
+    restore_forecast_map(h);
     refresh_input(h, true);
     return h;
 }
@@ -104,6 +110,7 @@ void world_host_destroy(struct world_host **host)
     if (!h)
         return;
     sky_weather_map_free(&h->client_map);
+    sky_weather_map_free(&h->forecast_map);
     sky_weather_map_free(&h->undo.map);
     wind_drift_destroy(&h->drift);
     free(h);
@@ -118,6 +125,17 @@ const struct sky_world_state *world_host_state(const struct world_host *h)
 const struct render_input *world_host_render_input(const struct world_host *h)
 {
     return &h->input;
+}
+
+static void save_forecast_map(struct world_host *h)
+{
+    char err[448];
+    if (!h->state_file[0] || !h->forecast_map_dirty)
+        return;
+    if (state_store_save_forecast_map(h->state_file, &h->forecast_map, err, sizeof err) == 0)
+        h->forecast_map_dirty = false;
+    else
+        fprintf(stderr, "skyd: cannot save the forecast's weather map: %s\n", err);
 }
 
 /* Writes `state` before anything acknowledges it, so that a restart, even after kill -9, comes
@@ -135,6 +153,7 @@ static bool persist(struct world_host *h, const struct sky_world_state *state, c
     }
     h->dirty = h->sim_dirty = false;
     h->last_save_s = monotonic_seconds();
+    save_forecast_map(h);
     return true;
 }
 
@@ -208,8 +227,10 @@ static void finish_input(struct world_host *h)
     h->input.atmosphere_at_once = !h->watched;
     h->input.atmosphere_pending = h->atmosphere_pending;
     h->input.settled_revision = h->atmosphere_pending ? h->settled_revision : h->state.revision;
-    h->input.client_map = &h->client_map;
-    h->input.map_generation = h->map_generation;
+    bool forecast = h->state.weather.map_source == SKY_WEATHER_MAP_FORECAST;
+    h->input.client_map = forecast ? &h->forecast_map : &h->client_map;
+    /* Another map, or the other one selected: the renderer takes it. */
+    h->input.map_generation = h->map_generation * 2 + (forecast ? 1 : 0);
 }
 
 /* The live state's render input; adopt: the frame atmosphere may follow the state's own (a
@@ -259,6 +280,11 @@ bool world_host_commit(struct world_host *h, struct sky_world_state *next, const
 {
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
+    /* The forecast's map goes with following it: whatever stops that (a client's weather, a
+     * preset, an observation) brings the procedural map back, the client's kept for later. */
+    if (next->weather.source != SKY_WEATHER_SOURCE_FORECAST &&
+        next->weather.map_source == SKY_WEATHER_MAP_FORECAST)
+        next->weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
     world_sim_commit(&h->state, next, h->wall_s, h->drift);
     size_t count = sky_msg_state_diff(&h->state, next, h->changed, MAX_CHANGED - 1);
     if (count > MAX_CHANGED - 1)
@@ -386,11 +412,32 @@ bool world_host_apply_entry(struct world_host *h, const struct cluster_entry *e,
 bool world_host_client_map_missing(const struct world_host *h, const struct sky_world_state *next,
                                    struct sky_field_errors *errors)
 {
-    if (next->weather.map_source != SKY_WEATHER_MAP_CLIENT || h->client_map.rgba)
+    const char *why = NULL;
+    if (next->weather.map_source == SKY_WEATHER_MAP_CLIENT && !h->client_map.rgba)
+        why = "no client weather map has been sent: send set_weather_map first";
+    else if (next->weather.map_source == SKY_WEATHER_MAP_FORECAST &&
+             h->state.weather.map_source != SKY_WEATHER_MAP_FORECAST &&
+             next->weather.source != SKY_WEATHER_SOURCE_FORECAST)
+        why = "the forecast's weather map goes with following it: set weather.source "
+              "\"forecast\" too";
+    if (!why)
         return false;
     sky_field_errors_clear(errors);
-    sky_field_errors_add(errors, SKY_FIELD_INCONSISTENT, "/weather/map_source",
-                         "no client weather map has been sent: send set_weather_map first");
+    sky_field_errors_add(errors, SKY_FIELD_INCONSISTENT, "/weather/map_source", why);
+    return true;
+}
+
+bool world_host_set_forecast_map(struct world_host *h, const struct sky_weather_map *map)
+{
+    struct sky_weather_map kept;
+    if (!sky_weather_map_copy(map, &kept))
+        return false;
+    sky_weather_map_free(&h->forecast_map);
+    h->forecast_map = kept;
+    h->forecast_map_dirty = true;
+    h->sim_dirty = true; /* written with the state at its next save */
+    h->map_generation++;
+    finish_input(h);
     return true;
 }
 
@@ -467,6 +514,26 @@ static void restore_weather_map(struct world_host *h)
     }
 }
 
+/* At creation: the forecast's map saved beside the state while it is followed; without one the
+ * renderer keeps to the procedural map until the feed makes the forecast's. */
+static void restore_forecast_map(struct world_host *h)
+{
+    if (h->state.weather.map_source != SKY_WEATHER_MAP_FORECAST)
+        return;
+    if (h->state.weather.source != SKY_WEATHER_SOURCE_FORECAST) {
+        h->state.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+        h->dirty = true;
+        return;
+    }
+    char msg[640];
+    if (h->state_file[0] && state_store_load_forecast_map(h->state_file, &h->forecast_map, msg,
+                                                          sizeof msg) == STATE_LOAD_RESTORED) {
+        fprintf(stderr, "skyd: restored the forecast's weather map (%ux%u)\n",
+                h->forecast_map.width, h->forecast_map.height);
+        h->map_generation++;
+    }
+}
+
 void world_host_advance(struct world_host *h, double wall_s, bool watched, bool frames_settled)
 {
     h->wall_s = wall_s;
@@ -516,6 +583,7 @@ void world_host_save(struct world_host *h, double now_s)
     if (state_store_save(h->state_file, &h->state, err, sizeof err) == 0) {
         h->dirty = false;
         h->sim_dirty = false;
+        save_forecast_map(h);
     } else {
         fprintf(stderr, "skyd: cannot save the state: %s\n", err);
         h->last_change_s = monotonic_seconds(); /* try again after another delay */

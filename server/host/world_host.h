@@ -84,7 +84,8 @@ bool world_host_undo_commit(struct world_host *host, const char *why, struct wor
 bool world_host_apply_entry(struct world_host *host, const struct cluster_entry *entry,
                             char **event);
 
-/* Whether `next` samples the client weather map when there is none (errors filled). */
+/* Whether `next` samples the client weather map when there is none, or the forecast's while
+ * not following a forecast (errors filled). */
 bool world_host_client_map_missing(const struct world_host *host,
                                    const struct sky_world_state *next,
                                    struct sky_field_errors *errors);
@@ -95,6 +96,13 @@ bool world_host_client_map_missing(const struct world_host *host,
  * a step fails; world_host_undo_commit puts the old map back too. */
 bool world_host_set_weather_map(struct world_host *host, const struct sky_weather_map *map,
                                 const char *by, struct world_commit *out);
+
+/* The followed forecast's coverage grid as the map weather.map_source "forecast" selects
+ * (forecast_feed_map): copied, in the render input at once, no revision (it moves with the
+ * forecast's time like the simulation's weather), written beside the state at its next save
+ * and restored at start. false when memory is out (the old map stays). A commit that stops
+ * following the forecast brings weather.map_source "procedural" back. */
+bool world_host_set_forecast_map(struct world_host *host, const struct sky_weather_map *map);
 
 /* A `simulation` event (malloc'd) when at least period_s passed since the last one and the
  * simulation moved fields since clients last heard of the state; NULL otherwise. */

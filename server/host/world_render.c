@@ -173,7 +173,7 @@ void world_to_render_clouds(const struct sky_world_state *state, struct sky_rend
     out->wind_offset_north_km = w->offset_north_km;
     out->weather_seed = (uint32_t)w->seed;
     out->map_extent_km = w->map_extent_km;
-    out->use_client_map = w->map_source == SKY_WEATHER_MAP_CLIENT;
+    out->use_client_map = w->map_source != SKY_WEATHER_MAP_PROCEDURAL;
 }
 
 /* ---- night sky ---- */

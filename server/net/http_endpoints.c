@@ -15,6 +15,7 @@
 #include "service_metrics.h"
 #include "session.h"
 #include "utc_time.h"
+#include "weather_map.h"
 #include "world_state.h"
 
 /* /healthz fails when the render thread has not ticked for this long (it ticks at least once
@@ -116,6 +117,24 @@ static void add_time(cJSON *json, const char *name, bool known, double unix_s)
         cJSON_AddNullToObject(json, name);
 }
 
+/* The forecast's weather map as set_weather_map would send it, or null. */
+static void add_forecast_map(cJSON *json, const struct service_metrics_forecast *f)
+{
+    char *data = f->map_width
+                     ? sky_base64_encode(f->map_rgba, (size_t)f->map_width * f->map_height * 4)
+                     : NULL;
+    cJSON *map = data ? cJSON_AddObjectToObject(json, "map") : NULL;
+    if (!map) {
+        cJSON_AddNullToObject(json, "map");
+    } else {
+        cJSON_AddStringToObject(map, "format", "rgba8");
+        cJSON_AddNumberToObject(map, "width", f->map_width);
+        cJSON_AddNumberToObject(map, "height", f->map_height);
+        cJSON_AddStringToObject(map, "data", data);
+    }
+    free(data);
+}
+
 void http_endpoint_forecast(struct http_answer *out, struct service_metrics *metrics)
 {
     struct service_metrics_forecast f = service_metrics_last_forecast(metrics);
@@ -143,6 +162,7 @@ void http_endpoint_forecast(struct http_answer *out, struct service_metrics *met
         cJSON_AddNullToObject(json, "last_error");
     cJSON_AddNumberToObject(json, "loads", (double)f.loads);
     cJSON_AddNumberToObject(json, "refusals", (double)f.refusals);
+    add_forecast_map(json, &f);
     answer_json(out, HTTP_STATUS_OK, json);
     cJSON_Delete(json);
     json_guard_unlock();

@@ -46,6 +46,8 @@ void service_metrics_tick(struct service_metrics *m, const struct service_metric
 void service_metrics_subscriptions(struct service_metrics *m,
                                    const struct sky_msg_subscription_stats *stats, size_t count);
 
+/* The forecast's weather map is at most this many texels a side (SKY_FORECAST_MAX_GRID). */
+#define SERVICE_METRICS_FORECAST_MAP_SIDE 32
 /* The forecast folder's state (weather.forecast_dir), as the render thread last published it:
  * for GET /api/weather/forecast and the skyd_forecast_* families. Times are unix seconds. */
 struct service_metrics_forecast {
@@ -60,6 +62,11 @@ struct service_metrics_forecast {
     bool in_range;   /* the world's clock is within the steps (while following) */
     char error[704]; /* the last refusal: the file and the reader's error; "" none */
     uint64_t loads, refusals;
+    /* The last weather map made of the forecast's cover grid (while following; 0 x 0 none):
+     * RGBA8 texels as set_weather_map's, row-major from the north-west corner. */
+    unsigned map_width, map_height;
+    unsigned char
+        map_rgba[SERVICE_METRICS_FORECAST_MAP_SIDE * SERVICE_METRICS_FORECAST_MAP_SIDE * 4];
 };
 void service_metrics_forecast(struct service_metrics *m, const struct service_metrics_forecast *f);
 struct service_metrics_forecast service_metrics_last_forecast(struct service_metrics *m);
