@@ -87,7 +87,7 @@ struct sky_forecast *cli_open_forecast(const struct sky_world_state *state, cons
 }
 
 bool cli_apply_forecast(struct sky_world_state *state, const struct sky_forecast *forecast,
-                        bool hold, bool quiet)
+                        bool hold, bool quiet, struct sky_weather_map *map)
 {
     const struct sky_forecast_info *info = sky_forecast_info(forecast);
     double t = state->clock.utc_unix_s;
@@ -108,7 +108,13 @@ bool cli_apply_forecast(struct sky_world_state *state, const struct sky_forecast
         return false;
     }
     cJSON *patch = NULL, *unmapped = NULL;
-    bool ok = sky_forecast_patch(forecast, &moment->sample, &patch, &unmapped);
+    struct sky_weather_map grid;
+    bool ok = sky_forecast_patch(forecast, &moment->sample, &patch, &unmapped) &&
+              sky_forecast_weather_map(&moment->sample, &grid);
+    if (ok) {
+        sky_weather_map_free(map);
+        *map = grid;
+    }
     if (!ok)
         fprintf(stderr, "skyd render: --forecast: out of memory\n");
     else if ((ok = apply_patch(state, patch, "--forecast")) && !quiet) {

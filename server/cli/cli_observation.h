@@ -5,6 +5,7 @@
 
 #include <stdbool.h>
 
+#include "weather_map.h"
 #include "world_state.h"
 
 struct sky_forecast;
@@ -18,8 +19,9 @@ bool cli_apply_metar(struct sky_world_state *state, const char *text);
 struct sky_forecast *cli_open_forecast(const struct sky_world_state *state, const char *path);
 
 /* Applies the forecast at the state's clock.utc (held at the first or last step outside the
- * file's range when `hold` is true, refused otherwise). False after a message. */
+ * file's range when `hold` is true, refused otherwise), its cover grid into *map (replaced;
+ * weather.map_source "forecast" selects it). False after a message. */
 bool cli_apply_forecast(struct sky_world_state *state, const struct sky_forecast *forecast,
-                        bool hold, bool quiet);
+                        bool hold, bool quiet, struct sky_weather_map *map);
 
 #endif

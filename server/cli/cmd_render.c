@@ -345,19 +345,25 @@ int skyd_cmd_render(int argc, char **argv)
     /* The forecast at the location and clock the options settled on. */
     struct sky_forecast *forecast = forecast_path ? cli_open_forecast(&common.state, forecast_path)
                                                   : NULL;
+    struct sky_weather_map forecast_map = { 0 };
     if (forecast_path &&
-        (!forecast || !cli_apply_forecast(&common.state, forecast, false, false))) {
+        (!forecast || !cli_apply_forecast(&common.state, forecast, false, false, &forecast_map))) {
         sky_forecast_free(forecast);
+        sky_weather_map_free(&forecast_map);
         return SKYD_EXIT_USAGE;
     }
+    if (forecast) /* the forecast's cover over the map's square, as the daemon follows it */
+        common.state.weather.map_source = SKY_WEATHER_MAP_FORECAST;
     if (!start_lapse_transition(&common, &lapse)) {
         sky_forecast_free(forecast);
+        sky_weather_map_free(&forecast_map);
         return SKYD_EXIT_USAGE;
     }
     struct sky_weather_map weather_map = { 0 };
     if (weather_map_path) {
         if (!load_weather_map(weather_map_path, &weather_map)) {
             sky_forecast_free(forecast);
+            sky_weather_map_free(&forecast_map);
             return SKYD_EXIT_USAGE;
         }
         common.state.weather.map_source = SKY_WEATHER_MAP_CLIENT;
@@ -380,6 +386,7 @@ int skyd_cmd_render(int argc, char **argv)
         sky_forecast_free(forecast);
         free(input);
         sky_weather_map_free(&weather_map);
+        sky_weather_map_free(&forecast_map);
         free(pixels);
         free(rgb16);
         return SKYD_EXIT_FAILURE;
@@ -401,14 +408,16 @@ int skyd_cmd_render(int argc, char **argv)
         if (frame > 0) {
             world_sim_advance(&common.state, lapse.step_s);
             /* The weather follows the forecast, held at its last step beyond it. */
-            if (forecast && !cli_apply_forecast(&common.state, forecast, true, true)) {
+            if (forecast &&
+                !cli_apply_forecast(&common.state, forecast, true, true, &forecast_map)) {
                 status = SKYD_EXIT_FAILURE;
                 break;
             }
         }
         world_render_input(&common.state, input);
-        input->client_map = &weather_map;
-        input->map_generation = weather_map.rgba ? 1 : 0;
+        bool forecast_selected = common.state.weather.map_source == SKY_WEATHER_MAP_FORECAST;
+        input->client_map = forecast_selected ? &forecast_map : &weather_map;
+        input->map_generation = forecast_selected ? 2 + frame : weather_map.rgba ? 1 : 0;
         world_render_view(input, &asked, &view);
         frame_path(prefix, number_width, suffix, frame, path, sizeof path);
         if (renderer_host_render(renderer, input, &view, false, pixels, bytes, &stats) != 0) {
@@ -431,6 +440,7 @@ int skyd_cmd_render(int argc, char **argv)
     sky_forecast_free(forecast);
     free(input);
     sky_weather_map_free(&weather_map);
+    sky_weather_map_free(&forecast_map);
     free(pixels);
     free(rgb16);
     return status;
