@@ -9,6 +9,8 @@ high cover; a no rain) and it is written beside the state. Across a restart the 
 back following with the forecast's map. A client's set of a weather field stops following and
 brings the procedural map back; the client's map is as it was, on disk too, and selecting it
 again is accepted. map_source "forecast" while not following is refused as inconsistent.
+`skyd render --forecast` of the same file, looking low to the west and to the east (the upper
+half of each image: cloud bases 6 to 30 km away): a blue sky westward, a grey one eastward.
 
 Usage: /usr/bin/python3 tests/e2e/test_forecast_map.py PATH_TO_SKYD SCRATCH_DIR
 Exit 0 when every check passed.
@@ -18,13 +20,15 @@ import asyncio
 import base64
 import os
 import shutil
+import subprocess
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import forecast_grib as fg  # noqa: E402
-from serve_harness import (Client, Daemon, check, info, make_config,  # noqa: E402
-                           run_daemon_test, short)
+from png_codec import decode_png_full  # noqa: E402
+from serve_harness import (Client, Daemon, check, daemon_environment, info,  # noqa: E402
+                           make_config, run_daemon_test, short)
 from test_forecast_follow import CLOCK, RUN, drop, get_state, status_when  # noqa: E402
 
 # 44 to 46 N, 4 to 6 E every 0.1 degree; the place 45 N 5 E, the square 60 km.
@@ -119,6 +123,36 @@ async def check_after_restart(port, ctl, client_png, client_bytes, daemon):
     check("and can be selected again", r.get("type") == "ack", short(r))
 
 
+def upper_blueness(skyd, scratch, grib, yaw):
+    """b/r of the median pixel of the upper half of a render looking low towards `yaw`."""
+    path = os.path.join(scratch, "render-%d.png" % yaw)
+    p = subprocess.run([skyd, "render", "--width", "64", "--height", "32",
+                        "--set", "clock.utc=" + CLOCK,
+                        "--set", "location.latitude_deg=%g" % PLACE[0],
+                        "--set", "location.longitude_deg=%g" % PLACE[1],
+                        "--set", "camera.yaw_deg=%d" % yaw, "--set", "camera.pitch_deg=8",
+                        "--set", "camera.fov_deg=12", "--set", "camera.altitude_km=0.002",
+                        "--forecast", grib, "--out", path],
+                       capture_output=True, text=True, env=daemon_environment())
+    if not check("skyd render --forecast, yaw %d" % yaw, p.returncode == 0, p.stderr[-300:]):
+        return None
+    with open(path, "rb") as f:
+        png = decode_png_full(f.read())
+    w, h, c = png["width"], png["height"], png["channels"]
+    px = sorted(((png["rows"][y][x * c], png["rows"][y][x * c + 2])
+                 for y in range(h // 2) for x in range(w)), key=sum)
+    r, b = px[len(px) // 2]
+    return b / max(r, 1)
+
+
+def check_render(skyd, scratch, grib):
+    west, east = (upper_blueness(skyd, scratch, grib, yaw) for yaw in (270, 90))
+    if west is not None and east is not None:
+        info(f"skyd render --forecast: median b/r {west:.2f} westward, {east:.2f} eastward")
+        check("skyd render --forecast: blue sky westward, grey eastward",
+              west > 1.5 and east < 1.3, f"b/r {west:.2f} west, {east:.2f} east")
+
+
 async def run(skyd, scratch):
     work = os.path.join(scratch, "grib")
     folder = os.path.join(scratch, "forecasts")
@@ -149,6 +183,7 @@ async def run(skyd, scratch):
         await ctl.auth()
         await check_after_restart(daemon.port, ctl, client_png, client_bytes, daemon)
         await ctl.close()
+        check_render(skyd, scratch, grib)
     finally:
         status = daemon.terminate()
         check("daemon exits 0 on SIGTERM", status == 0, f"status {status}")
