@@ -1,8 +1,10 @@
-/* The forecast folder's worker (server/host/forecast_watch.h): a file that is not GRIB is
- * refused once, with its name and the reader's error, and not read again until it changes; a
- * look asked while a read is under way (SKYD_FAULT_DIR's forecast_read_delay: a read as slow as
- * a large file's) returns at once; destroy during that read gives it up and joins the worker
- * promptly, leaving nothing behind (the sanitizer build checks the leaks). */
+/* The forecast folder's worker (server/host/forecast_watch.h): a GRIB2 file (grib_write.h) is
+ * read for the place and handed over, the taker owning it; a file that is not GRIB is refused
+ * once, with its name and the reader's error, and not read again until it changes; a look
+ * asked while a read is under way (SKYD_FAULT_DIR's forecast_read_delay: a read as slow as a
+ * large file's) returns at once; destroy during that read gives it up and joins the worker
+ * promptly; a read whose cancel flag is set gives up between messages. Nothing is left behind
+ * (the sanitizer build checks the leaks). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +13,7 @@
 
 #include "check.h"
 #include "forecast_watch.h"
+#include "grib_write.h"
 #include "monotonic_clock.h"
 
 static char faults[] = "/tmp/skyd-forecast-watch-faults-XXXXXX";
@@ -89,6 +92,47 @@ static void refusal(void)
     CHECK(w == NULL);
 }
 
+static void read_and_handed_over(void)
+{
+    char path[256];
+    long messages = 0;
+    snprintf(path, sizeof path, "%s/global.grib2", folder);
+    CHECK(grib_write_global(path, 3, 2.0, &messages));
+    CHECK_INT(messages, 24);
+    struct forecast_watch *w = make();
+    if (!w)
+        return;
+    struct forecast_watch_news news;
+    forecast_watch_look(w, &place);
+    CHECK(take_within(w, 10.0, &news));
+    CHECK(news.replaced && news.forecast != NULL);
+    CHECK_STR(news.file, "global.grib2");
+    CHECK_INT(news.refusals, 0);
+    if (news.forecast) {
+        CHECK_INT(sky_forecast_info(news.forecast)->step_count, 3);
+        sky_forecast_free(news.forecast);
+    }
+    forecast_watch_look(w, &place); /* the same file: nothing new */
+    CHECK(!take_within(w, 0.3, &news));
+    struct sky_forecast_request elsewhere = place;
+    elsewhere.lat_deg = -30.0;
+    forecast_watch_look(w, &elsewhere); /* another place: read again for it */
+    CHECK(take_within(w, 10.0, &news));
+    CHECK(news.replaced && news.forecast != NULL);
+    if (news.forecast) {
+        CHECK_DOUBLE(sky_forecast_info(news.forecast)->request.lat_deg, -30.0);
+        sky_forecast_free(news.forecast);
+    }
+    forecast_watch_destroy(&w);
+
+    atomic_bool cancel;
+    atomic_init(&cancel, true);
+    struct sky_forecast_error error;
+    CHECK(sky_forecast_read_until(path, &place, &cancel, &error) == NULL);
+    CHECK_INT(error.code, SKY_FORECAST_ERR_CANCELLED);
+    remove_file(folder, "global.grib2");
+}
+
 static void slow_read_given_up(void)
 {
     write_text(faults, "forecast_read_delay", "30\n");
@@ -118,6 +162,7 @@ int main(void)
         return 1;
     }
     setenv("SKYD_FAULT_DIR", faults, 1); /* read once, at the first fault asked for */
+    read_and_handed_over();
     refusal();
     slow_read_given_up();
     rmdir(folder);
