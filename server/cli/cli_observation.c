@@ -110,7 +110,9 @@ bool cli_apply_forecast(struct sky_world_state *state, const struct sky_forecast
     cJSON *patch = NULL, *unmapped = NULL;
     struct sky_weather_map grid;
     bool ok = sky_forecast_patch(forecast, &moment->sample, &patch, &unmapped) &&
-              sky_forecast_weather_map(&moment->sample, &grid);
+              sky_forecast_weather_map(&moment->sample, state->weather.map_extent_km,
+                                       state->weather.offset_east_km,
+                                       state->weather.offset_north_km, &grid);
     if (ok) {
         sky_weather_map_free(map);
         *map = grid;

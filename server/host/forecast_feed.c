@@ -234,7 +234,9 @@ bool forecast_feed_map(struct forecast_feed *feed, const struct sky_world_state 
     struct sky_forecast_moment *moment = malloc(sizeof *moment);
     struct sky_forecast_error error;
     bool made = moment && sky_forecast_at(feed->forecast, t, moment, &error) &&
-                sky_forecast_weather_map(&moment->sample, map);
+                sky_forecast_weather_map(&moment->sample, live->weather.map_extent_km,
+                                         live->weather.offset_east_km,
+                                         live->weather.offset_north_km, map);
     free(moment);
     feed->map_generation = feed->generation; /* a clock outside the steps: tried again later */
     feed->map_clock_s = t;

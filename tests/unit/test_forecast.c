@@ -10,6 +10,8 @@
 #include "forecast_grid.h"
 #include "forecast_series.h"
 #include "metar.h"
+#include "weather_map.h"
+#include "weather_observation.h"
 
 #include <cjson/cJSON.h>
 
@@ -391,6 +393,54 @@ static void test_accumulations(void)
     sky_forecast_free(f);
 }
 
+/* The cover grid as a weather map: the channels, and the grid shifted against the wind's
+ * offsets (wrapped), so that the renderer's drift puts each cell back over its ground. */
+static void test_weather_map(void)
+{
+    struct sky_forecast_sample *s = calloc(1, sizeof *s);
+    if (!s)
+        return;
+    s->grid_size = 4;
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 4; i++) {
+            s->low_grid[j * 4 + i] = i / 3.0;  /* clear in the west, overcast in the east */
+            s->high_grid[j * 4 + i] = j / 3.0; /* high cover in the south */
+            s->precipitation_grid[j * 4 + i] = i == 3 ? 10.0 : 0.0;
+        }
+    struct sky_weather_map map;
+    CHECK(sky_forecast_weather_map(s, 40.0, 0.0, 0.0, &map));
+    CHECK_INT(map.width, 4);
+    CHECK_INT(map.height, 4);
+    if (map.rgba) {
+        const uint8_t *t = map.rgba;
+        CHECK_INT(t[0], 0);
+        CHECK_INT(t[4 * 1], 85);
+        CHECK_INT(t[4 * 3], 255);
+        CHECK_INT(t[4 * 12 + 1], 255); /* the south-west texel's high cover */
+        CHECK_INT(t[4 * 3 + 3], 230);  /* 10 mm/h: 0.9 */
+        CHECK_INT(t[4 * 0 + 3], 0);
+        CHECK_INT(t[4 * 1 + 2], (int)lround(sky_obs_low_type(1.0 / 3.0, 1000.0) * 255));
+    }
+    sky_weather_map_free(&map);
+    /* The wind carried the map 10 km (a cell) east and 10 km north: texel (i, j) shows the
+     * ground of cell (i + 1, j - 1). */
+    CHECK(sky_forecast_weather_map(s, 40.0, 10.0, 10.0, &map));
+    if (map.rgba) {
+        const uint8_t *t = map.rgba;
+        CHECK_INT(t[4 * (1 * 4 + 0)], 85);      /* (0, 1) holds (1, 0): low 1/3 */
+        CHECK_INT(t[4 * (1 * 4 + 3)], 0);       /* (3, 1) holds (0, 0), wrapped */
+        CHECK_INT(t[4 * (0 * 4 + 0) + 1], 255); /* (0, 0) holds (1, 3), wrapped: south */
+        CHECK_INT(t[4 * (2 * 4 + 0) + 1], 85);  /* (0, 2) holds (1, 1) */
+    }
+    sky_weather_map_free(&map);
+    /* Half a cell: bilinear between neighbours. */
+    CHECK(sky_forecast_weather_map(s, 40.0, 5.0, 0.0, &map));
+    if (map.rgba)
+        CHECK_INT(map.rgba[0], (int)lround(255.0 / 6.0));
+    sky_weather_map_free(&map);
+    free(s);
+}
+
 int main(void)
 {
     test_grids();
@@ -398,5 +448,6 @@ int main(void)
     test_series_refusals();
     test_interpolation();
     test_accumulations();
+    test_weather_map();
     return check_summary();
 }

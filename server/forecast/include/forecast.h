@@ -179,13 +179,17 @@ bool sky_forecast_patch(const struct sky_forecast *forecast,
                         const struct sky_forecast_sample *sample, struct cJSON **patch,
                         struct cJSON **unmapped);
 
-/* A sample's coverage grid as a weather map (protocol/weather_map.h, the channels of
- * set_weather_map): grid_size x grid_size texels from the north-west corner, r the low cover,
- * g the high cover, b the low layer's type from its cover as the patch gives the mean's, a the
- * precipitation level of the cell's rate. The middle cover has no channel (clouds.mid from the
- * patch applies over the map). False when memory is out; the caller frees *map
+/* A sample's coverage grid over a square extent_km wide as a weather map
+ * (protocol/weather_map.h, the channels of set_weather_map): grid_size x grid_size texels from
+ * the north-west corner, r the low cover, g the high cover, b the low layer's type from its
+ * cover as the patch gives the mean's, a the precipitation level of the cell's rate. The
+ * middle cover has no channel (clouds.mid from the patch applies over the map). The renderer
+ * draws a map carried by the wind (weather.offset_east_km, _north_km) and tiled: each texel
+ * holds the grid where those offsets draw it (bilinear, wrapped), so that the forecast stays
+ * over the ground it is for. False when memory is out; the caller frees *map
  * (sky_weather_map_free). */
-bool sky_forecast_weather_map(const struct sky_forecast_sample *sample,
+bool sky_forecast_weather_map(const struct sky_forecast_sample *sample, double extent_km,
+                              double offset_east_km, double offset_north_km,
                               struct sky_weather_map *map);
 
 /* clouds.precipitation 0..1 for a rate in mm/h: 0.3 at 0.5 mm/h (light rain), 0.6 at 4 mm/h
