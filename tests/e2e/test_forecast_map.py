@@ -191,4 +191,4 @@ async def run(skyd, scratch):
 
 
 if __name__ == "__main__":
-    sys.exit(run_daemon_test(run, __doc__, 90))
+    sys.exit(run_daemon_test(run, __doc__, 180))

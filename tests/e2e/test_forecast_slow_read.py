@@ -92,4 +92,4 @@ async def run(skyd, scratch):
 
 
 if __name__ == "__main__":
-    sys.exit(run_daemon_test(run, __doc__, 60))
+    sys.exit(run_daemon_test(run, __doc__, 120))
