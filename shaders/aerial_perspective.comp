@@ -4,9 +4,10 @@
 // for each froxel column over the view frustum, in-scattered luminance (per unit sun
 // illuminance) and transmittance from the camera to the end of every depth slice. Slices
 // follow a squared distribution so that near slices are thin. With clouds, the sun's light is
-// shadowed by the cloud shadow map at every sample (light shafts under broken clouds), and the
-// single scattering the shadows take away is kept in a third volume for the sky and ground
-// pixels, whose in-scattering comes from the unshadowed sky-view LUT.
+// shadowed by the cloud shadow map at every sample (light shafts under broken clouds), the
+// multiple scattering under the clouds follows the light they let through, and what the
+// clouds take away is kept in a third volume for the sky and ground pixels, whose
+// in-scattering comes from the cloudless sky-view LUT.
 #include "sky_shared.h"
 #include "sky_layouts.h"
 #include "cloud_shared.h"
@@ -21,6 +22,12 @@ layout(binding = SKY_AP_TRANSMITTANCE_OUT, rgba32f) uniform writeonly image3D ap
 layout(binding = SKY_AP_SHAFTS_OUT, rgba32f) uniform writeonly image3D ap_shafts_out;
 layout(binding = SKY_AP_CLOUD_SHADOW) uniform sampler2D cloud_shadow_map; // r: transmittance toward the sun
 SKY_PARAMETER_BLOCK(SKY_AP_CLOUD, CloudBlock, sky_cloud_uniforms, cloud);
+// The clouds' hemisphere averages (cloud_hemisphere.comp): yzw the diffuse light under them
+// against a clear sky's.
+layout(std430, binding = SKY_AP_CLOUD_ENV) readonly buffer CloudEnv {
+    vec4 env_luminance;
+    vec4 env_transmittance;
+};
 
 #define SKY_HAS_TRANSMITTANCE_LUT
 #define SKY_HAS_MULTISCATTERING_LUT
@@ -63,6 +70,11 @@ void main()
     float t_max = t_ground >= 0.0 ? t_ground : 1e9;
 
     bool shafts = cloud.march.z > 0.5 && cloud.shadow_sun.w > 0.5;
+    // Under the clouds the air's multiple scattering is lit by the light they let through and
+    // their own, not by a clear sky's: a deck's base would otherwise stand behind the blue glow
+    // of a sunlit sky's air (and fog under an overcast glow). The multiple-scattering LUT's
+    // source (seed 000 eq. 14.16's isotropic term) scales by the hemisphere's ratio there.
+    vec3 under_clouds = shafts ? env_transmittance.yzw : vec3(1.0);
     vec3 luminance = vec3(0.0), throughput = vec3(1.0), shadowed = vec3(0.0);
     float t_prev = 0.0;
     float slices = float(size.z);
@@ -78,11 +90,13 @@ void main()
             vec3 single = sun_transmittance(p, sun_dir)
                           * (m.rayleigh_scattering * phase_r + m.mie_scattering * phase_m);
             float visible = shafts ? cloud_sun_visibility(p, sun_dir) : 1.0;
-            vec3 source = single * visible + multiscattering(r, dot(p / r, sun_dir)) * m.scattering;
+            vec3 ms = multiscattering(r, dot(p / r, sun_dir)) * m.scattering;
+            vec3 ms_kept = r < cloud.low.x ? under_clouds : vec3(1.0);
+            vec3 source = single * visible + ms * ms_kept;
             vec3 step_t = exp(-m.extinction * dt);
             vec3 ext = max(m.extinction, vec3(1e-9));
             luminance += throughput * (source - source * step_t) / ext; // seed 001 eq. 23
-            vec3 lost = single * (1.0 - visible);
+            vec3 lost = single * (1.0 - visible) + ms * (1.0 - ms_kept);
             shadowed += throughput * (lost - lost * step_t) / ext;
             throughput *= step_t;
         }

@@ -2,7 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // The clouds over the upper hemisphere seen from the ground under the camera, averaged with a
 // cosine weight: transmittance Tr_cloud and scattered luminance L_cloud per unit sun
-// illuminance, the inputs of seed 001 eq. 22 (clouds on the aerial perspective below them).
+// illuminance, the inputs of seed 001 eq. 22 (clouds on the aerial perspective below them),
+// and from them the diffuse light under the clouds against a clear sky's (env_transmittance.yzw,
+// which scales the air's multiple scattering under them, aerial_perspective.comp).
 #include "cloud_shared.h"
 #include "cloud_layouts.h"
 
@@ -14,6 +16,7 @@ layout(std430, binding = SKY_CLOUD_HEMISPHERE_ENV_OUT) writeonly buffer Env {
 };
 
 const float STEPS = 24.0;
+const float DIFFUSE_RATIO_MAX = 1.0;
 shared vec4 partial[CLOUD_HEMISPHERE_RAYS];
 
 void main()
@@ -40,6 +43,13 @@ void main()
     if (i == 0u) {
         vec4 mean = partial[0] / float(CLOUD_HEMISPHERE_RAYS);
         env_luminance = vec4(mean.rgb, 1.0);
-        env_transmittance = vec4(mean.a);
+        // The diffuse light under the clouds against a clear sky's, per channel: the sky's
+        // mean radiance E_sky / pi through the gaps (mean.a) and the clouds' own (mean.rgb),
+        // over E_sky / pi; at most 1 (bright broken clouds may light the air a little more
+        // than a clear sky, which the light-shaft volume, a loss, does not hold).
+        vec3 sky, direct;
+        ground_light_per_lux(frame.sun_direction.xyz, sky, direct);
+        vec3 diffuse = mean.a + PI * mean.rgb / max(sky, vec3(1e-9));
+        env_transmittance = vec4(mean.a, clamp(diffuse, vec3(0.0), vec3(DIFFUSE_RATIO_MAX)));
     }
 }

@@ -527,6 +527,7 @@ void cloud_renderer_no_clouds(const struct cloud_renderer *cr, struct sky_cloud_
         .shadow = &cr->dummy,
         .shadow_sampler = cr->repeat,
         .params = &cr->params,
+        .env = &cr->env,
     };
 }
 

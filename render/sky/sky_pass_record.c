@@ -97,7 +97,7 @@ void sky_passes_record_aerial_perspective(struct vk_context *ctx, struct sky_pas
      * Only the shadow map and the block matter to it, not the view's cloud image. */
     if (p->ap_clouds.shadow != clouds->shadow ||
         p->ap_clouds.shadow_sampler != clouds->shadow_sampler ||
-        p->ap_clouds.params != clouds->params) {
+        p->ap_clouds.params != clouds->params || p->ap_clouds.env != clouds->env) {
         p->ap_clouds = *clouds;
         sky_passes_bind_aerial_perspective(ctx, p);
     }

@@ -201,6 +201,7 @@ void sky_passes_bind_aerial_perspective(struct vk_context *ctx, struct sky_passe
         [SKY_AP_SHAFTS_OUT] = img(&p->ap_shafts),
         [SKY_AP_CLOUD_SHADOW] = { .image = c->shadow, .sampler = c->shadow_sampler },
         [SKY_AP_CLOUD] = buf(c->params),
+        [SKY_AP_CLOUD_ENV] = buf(c->env),
     };
     compute_pass_bind(ctx, &p->pass[PASS_AERIAL_PERSPECTIVE], r);
 }

@@ -29,6 +29,9 @@ struct sky_cloud_bindings {
     const struct gpu_image *shadow;  /* cloud shadow map (r: transmittance toward the sun) */
     VkSampler shadow_sampler;        /* repeat addressing */
     const struct gpu_buffer *params; /* sky_cloud_uniforms */
+    /* The clouds' hemisphere averages (cloud_hemisphere.comp): what the air under them is lit
+     * by, against a clear sky's light. */
+    const struct gpu_buffer *env;
 };
 
 /* The star field the night pass draws (night/night_stars.h builds it): `words` uvec4 words,

@@ -126,11 +126,12 @@
 #define SKY_AP_SHAFTS_OUT 6
 #define SKY_AP_CLOUD_SHADOW 7
 #define SKY_AP_CLOUD 8
+#define SKY_AP_CLOUD_ENV 9
 #define SKY_LAYOUT_AERIAL_PERSPECTIVE(X)                                                  \
     X(SKY_AP_ATMOSPHERE, BLOCK) X(SKY_AP_FRAME, BLOCK) X(SKY_AP_TRANSMITTANCE, SAMPLED)     \
     X(SKY_AP_MULTISCATTERING, SAMPLED) X(SKY_AP_INSCATTER_OUT, IMAGE)                       \
     X(SKY_AP_TRANSMITTANCE_OUT, IMAGE) X(SKY_AP_SHAFTS_OUT, IMAGE)                          \
-    X(SKY_AP_CLOUD_SHADOW, SAMPLED) X(SKY_AP_CLOUD, BLOCK)
+    X(SKY_AP_CLOUD_SHADOW, SAMPLED) X(SKY_AP_CLOUD, BLOCK) X(SKY_AP_CLOUD_ENV, BUFFER)
 
 /* ---- passes that shade view directions (shading_bindings.glsl) ---- */
 
