@@ -243,6 +243,10 @@ void main()
         return;
     }
     vec4 p = push.params;
+    // A coarse map (a forecast's grid of cloud cover) gives the field its local coverage, type
+    // and rain, smoothly between its cells; the cells and sheets below fill them.
+    if (push.mode == 2u)
+        p = textureLod(client_map, vec2(x.x, 1.0 - x.y), 0.0);
     int cu_period = int(PERIODS.x), cb_period = int(PERIODS.y);
     int sc_period = int(PERIODS.z), st_period = int(PERIODS.w);
     // The type varies from cloud to cloud around the asked one (cumulus of several ages).

@@ -359,7 +359,7 @@ static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr, Vk
         .params = { (float)c->low.coverage, (float)c->high.coverage, (float)c->low.type,
                     (float)c->precipitation },
         .seed = c->weather_seed,
-        .mode = client ? 1u : 0u,
+        .mode = client ? (c->client_map_drives_procedural ? 2u : 1u) : 0u,
         .client_generation = client ? cr->client_generation : 0u,
         .high_fibrous = (uint32_t)lround(fmin(fmax(c->high.type, 0.0), 1.0) * 1000.0),
     };
@@ -374,8 +374,9 @@ static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr, Vk
         cr->weather_target = key;
         /* The type varies around the asked one by CLOUD_TYPE_VARIATION times a 2D gradient
          * noise, whose values stay within +-sqrt(1/2). */
-        float max_type = client ? cr->client_max_type
-                                : key.params[2] + 0.7072f * (float)CLOUD_TYPE_VARIATION;
+        float max_type = client ? cr->client_max_type : key.params[2];
+        if (key.mode != 1u) /* the procedural field's own variation */
+            max_type += 0.7072f * (float)CLOUD_TYPE_VARIATION;
         cr->weather_towering[1 - cr->weather.shown] = max_type > (float)CLOUD_TOWERING_TYPE;
         map_start(&cr->weather);
     }

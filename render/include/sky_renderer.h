@@ -289,6 +289,10 @@ struct sky_render_clouds {
     uint32_t weather_seed;
     double map_extent_km;
     bool use_client_map; /* sample the map given to sky_renderer_set_weather_map */
+    /* With use_client_map: the map's texels are the local coverage, type and rain of the
+     * procedural field, whose cells and sheets fill them (a forecast's coarse grid of cloud
+     * cover); false: the texels are the weather map itself (a client's painting). */
+    bool client_map_drives_procedural;
     /* The path-traced reference instead of the real-time clouds (shaders/cloud_pathtrace.comp):
      * samples per pixel of every view, 0 off; every pixel traced, no temporal history, the
      * frame as slow as the samples make it. reference_seed varies its random numbers. */

@@ -174,6 +174,7 @@ void world_to_render_clouds(const struct sky_world_state *state, struct sky_rend
     out->weather_seed = (uint32_t)w->seed;
     out->map_extent_km = w->map_extent_km;
     out->use_client_map = w->map_source != SKY_WEATHER_MAP_PROCEDURAL;
+    out->client_map_drives_procedural = w->map_source == SKY_WEATHER_MAP_FORECAST;
 }
 
 /* ---- night sky ---- */

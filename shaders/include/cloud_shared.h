@@ -57,7 +57,7 @@ struct sky_cloud_uniforms {
 /* A slice of rows of an amortized cloud map (weather map, shadow map). */
 struct sky_cloud_rows_push {
     SKY_UINT row_offset;
-    SKY_UINT mode;         /* weather: 0 procedural, 1 client map */
+    SKY_UINT mode;         /* weather: 0 procedural, 1 client map, 2 procedural under a map */
     SKY_UINT seed;
     SKY_UINT high_fibrous; /* weather: the high layer's type, 0 a veil .. 1000 fibrous */
     SKY_VEC4 params;       /* weather: x low coverage, y high coverage, z low type,

@@ -10,7 +10,8 @@ back following with the forecast's map. A client's set of a weather field stops 
 brings the procedural map back; the client's map is as it was, on disk too, and selecting it
 again is accepted. map_source "forecast" while not following is refused as inconsistent.
 `skyd render --forecast` of the same file, looking low to the west and to the east (the upper
-half of each image: cloud bases 6 to 30 km away): a blue sky westward, a grey one eastward.
+half of each image: cloud bases 6 to 30 km away) at one fixed exposure: a blue sky westward, the
+base of a deck eastward, half as bright or less.
 
 Usage: /usr/bin/python3 tests/e2e/test_forecast_map.py PATH_TO_SKYD SCRATCH_DIR
 Exit 0 when every check passed.
@@ -123,8 +124,9 @@ async def check_after_restart(port, ctl, client_png, client_bytes, daemon):
     check("and can be selected again", r.get("type") == "ack", short(r))
 
 
-def upper_blueness(skyd, scratch, grib, yaw):
-    """b/r of the median pixel of the upper half of a render looking low towards `yaw`."""
+def upper_half(skyd, scratch, grib, yaw):
+    """b/r and the linear level (sRGB decoded, mean of r, g, b) of the median pixel of the upper
+    half of a render looking low towards `yaw`, at one manual exposure for every render."""
     path = os.path.join(scratch, "render-%d.png" % yaw)
     p = subprocess.run([skyd, "render", "--width", "64", "--height", "32",
                         "--set", "clock.utc=" + CLOCK,
@@ -132,6 +134,7 @@ def upper_blueness(skyd, scratch, grib, yaw):
                         "--set", "location.longitude_deg=%g" % PLACE[1],
                         "--set", "camera.yaw_deg=%d" % yaw, "--set", "camera.pitch_deg=8",
                         "--set", "camera.fov_deg=12", "--set", "camera.altitude_km=0.002",
+                        "--set", "exposure.mode=manual", "--set", "exposure.ev100=14",
                         "--forecast", grib, "--out", path],
                        capture_output=True, text=True, env=daemon_environment())
     if not check("skyd render --forecast, yaw %d" % yaw, p.returncode == 0, p.stderr[-300:]):
@@ -139,18 +142,21 @@ def upper_blueness(skyd, scratch, grib, yaw):
     with open(path, "rb") as f:
         png = decode_png_full(f.read())
     w, h, c = png["width"], png["height"], png["channels"]
-    px = sorted(((png["rows"][y][x * c], png["rows"][y][x * c + 2])
-                 for y in range(h // 2) for x in range(w)), key=sum)
-    r, b = px[len(px) // 2]
-    return b / max(r, 1)
+    px = sorted((tuple(png["rows"][y][x * c:x * c + 3]) for y in range(h // 2) for x in range(w)),
+                key=sum)
+    r, g, b = px[len(px) // 2]
+    linear = [((v / 255.0 + 0.055) / 1.055) ** 2.4 for v in (r, g, b)]
+    return b / max(r, 1), sum(linear) / 3.0
 
 
 def check_render(skyd, scratch, grib):
-    west, east = (upper_blueness(skyd, scratch, grib, yaw) for yaw in (270, 90))
+    west, east = (upper_half(skyd, scratch, grib, yaw) for yaw in (270, 90))
     if west is not None and east is not None:
-        info(f"skyd render --forecast: median b/r {west:.2f} westward, {east:.2f} eastward")
-        check("skyd render --forecast: blue sky westward, grey eastward",
-              west > 1.5 and east < 1.3, f"b/r {west:.2f} west, {east:.2f} east")
+        info("skyd render --forecast: median b/r %.2f, level %.3f westward; %.2f, %.3f eastward"
+             % (west + east))
+        check("skyd render --forecast: a blue sky westward, a deck's base eastward",
+              west[0] > 1.5 and east[1] < west[1] / 2.0,
+              "b/r %.2f, level %.3f west; %.2f, %.3f east" % (west + east))
 
 
 async def run(skyd, scratch):
