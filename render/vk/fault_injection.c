@@ -1,9 +1,10 @@
 #include "fault_injection.h"
 
+#include "vk_context.h"
+
 #include <pthread.h>
 #include <stdbool.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,6 +27,8 @@ static struct {
     uint64_t due_frame; /* the next fault fires once `frames` reaches this */
     unsigned injected;  /* faults injected so far */
     bool lost_for_good; /* a permanent loss happened */
+    const char *spec;   /* SKYD_FAULT when set, understood or not */
+    bool announced;     /* the first context has said what `spec` arms */
 } fault = { .lock = PTHREAD_MUTEX_INITIALIZER };
 
 static pthread_once_t fault_once = PTHREAD_ONCE_INIT;
@@ -99,21 +102,32 @@ static void read_environment(void)
     const char *spec = getenv("SKYD_FAULT");
     if (!spec || !*spec)
         return;
-    if (!parse(spec)) {
-        fprintf(stderr,
-                "skyd: SKYD_FAULT=\"%s\" is not understood; no fault is injected "
-                "(render/vk/fault_injection.h describes the forms)\n",
-                spec);
+    fault.spec = spec;
+    if (!parse(spec))
         return;
-    }
     fault.due_frame = fault.after_frames;
     fault.active = true;
-    fprintf(stderr, "skyd: fault injection armed (tests only): SKYD_FAULT=%s\n", spec);
 }
 
-void fault_injection_init(void)
+void fault_injection_init(const struct vk_context *ctx)
 {
     pthread_once(&fault_once, read_environment);
+    if (!fault.spec)
+        return;
+    pthread_mutex_lock(&fault.lock);
+    bool announce = !fault.announced;
+    fault.announced = true;
+    pthread_mutex_unlock(&fault.lock);
+    if (!announce)
+        return;
+    if (fault.active)
+        vk_log(ctx, VK_LOG_WARNING, "fault injection armed (tests only): SKYD_FAULT=%s",
+               fault.spec);
+    else
+        vk_log(ctx, VK_LOG_WARNING,
+               "SKYD_FAULT=\"%s\" is not understood; no fault is injected "
+               "(render/vk/fault_injection.h describes the forms)",
+               fault.spec);
 }
 
 void fault_injection_frame_rendered(void)
@@ -125,49 +139,65 @@ void fault_injection_frame_rendered(void)
     pthread_mutex_unlock(&fault.lock);
 }
 
-/* Whether a fault of `kind` fires now; counts it when it does. */
-static bool fire(enum fault_kind kind)
+static const char *kind_text(enum fault_kind kind)
+{
+    switch (kind) {
+    case FAULT_DEVICE_LOST:
+        return "the device is lost";
+    case FAULT_TIMEOUT:
+        return "the wait for a submission times out";
+    case FAULT_STALL:
+        return "a submission stalls";
+    case FAULT_OUT_OF_MEMORY:
+        return "out of device memory";
+    }
+    return "?";
+}
+
+/* Whether a fault of `kind` fires now; counts it and says so through `ctx` when it does. */
+static bool fire(const struct vk_context *ctx, enum fault_kind kind)
 {
     if (!fault.active || fault.kind != kind)
         return false;
     pthread_mutex_lock(&fault.lock);
     bool fires = fault.lost_for_good;
+    bool fresh = false;
+    unsigned injected = 0;
+    uint64_t frames = 0;
     if (!fires && fault.injected < fault.times && fault.frames >= fault.due_frame) {
-        fires = true;
-        fault.injected++;
+        fires = fresh = true;
+        injected = ++fault.injected;
+        frames = fault.frames;
         /* The next loss comes after_frames later; allocations fail back to back. */
         if (kind != FAULT_OUT_OF_MEMORY)
             fault.due_frame = fault.frames + fault.after_frames;
         fault.lost_for_good = fault.permanent;
-        fprintf(stderr, "skyd: fault injection: %s (%u of %u, after %llu frames)\n",
-                kind == FAULT_DEVICE_LOST ? "the device is lost"
-                : kind == FAULT_TIMEOUT   ? "the wait for a submission times out"
-                : kind == FAULT_STALL     ? "a submission stalls"
-                                          : "out of device memory",
-                fault.injected, fault.times, (unsigned long long)fault.frames);
     }
     pthread_mutex_unlock(&fault.lock);
+    if (fresh)
+        vk_log(ctx, VK_LOG_WARNING, "fault injection: %s (%u of %u, after %llu frames)",
+               kind_text(kind), injected, fault.times, (unsigned long long)frames);
     return fires;
 }
 
-VkResult fault_injection_submit(void)
+VkResult fault_injection_submit(const struct vk_context *ctx)
 {
-    return fire(FAULT_DEVICE_LOST) ? VK_ERROR_DEVICE_LOST : VK_SUCCESS;
+    return fire(ctx, FAULT_DEVICE_LOST) ? VK_ERROR_DEVICE_LOST : VK_SUCCESS;
 }
 
-bool fault_injection_wait_times_out(void)
+bool fault_injection_wait_times_out(const struct vk_context *ctx)
 {
-    return fire(FAULT_TIMEOUT);
+    return fire(ctx, FAULT_TIMEOUT);
 }
 
-unsigned fault_injection_stall_seconds(void)
+unsigned fault_injection_stall_seconds(const struct vk_context *ctx)
 {
-    return fire(FAULT_STALL) ? fault.stall_seconds : 0;
+    return fire(ctx, FAULT_STALL) ? fault.stall_seconds : 0;
 }
 
-VkResult fault_injection_allocate(void)
+VkResult fault_injection_allocate(const struct vk_context *ctx)
 {
-    return fire(FAULT_OUT_OF_MEMORY) ? VK_ERROR_OUT_OF_DEVICE_MEMORY : VK_SUCCESS;
+    return fire(ctx, FAULT_OUT_OF_MEMORY) ? VK_ERROR_OUT_OF_DEVICE_MEMORY : VK_SUCCESS;
 }
 
 VkResult fault_injection_create_device(void)

@@ -28,29 +28,32 @@
  * The fault is process-wide, not per context, because a lost device outlives the renderer
  * that saw it: a renderer created after the loss must see it too. Unset (always, outside
  * tests), every hook below is one test of a flag that stays false. A malformed value is
- * reported on stderr and injects nothing. Thread-safe. Its lines go to stderr whatever the
- * log level, not through a context's log sink: process-wide, it has no context to ask, and
- * it exists for tests alone. */
+ * reported and injects nothing. Thread-safe. Its lines are warnings through the log sink of
+ * the context passed in (vk_log): the first context created says which fault is armed, and a
+ * fault is said through the context it hits. */
 #ifndef SKYD_FAULT_INJECTION_H
 #define SKYD_FAULT_INJECTION_H
 
 #include <stdbool.h>
 #include <vulkan/vulkan.h>
 
-/* Reads SKYD_FAULT (the first call only) and says on stderr which fault is armed. */
-void fault_injection_init(void);
+struct vk_context;
+
+/* Reads SKYD_FAULT (the first call only) and says through `ctx`, the first time, which fault
+ * is armed or that the value is not understood. */
+void fault_injection_init(const struct vk_context *ctx);
 
 /* A frame was rendered. */
 void fault_injection_frame_rendered(void);
 
 /* VK_SUCCESS, or the result a queue submission must report instead of running. */
-VkResult fault_injection_submit(void);
+VkResult fault_injection_submit(const struct vk_context *ctx);
 /* True when the wait for the submission just made must report VK_TIMEOUT at once. */
-bool fault_injection_wait_times_out(void);
+bool fault_injection_wait_times_out(const struct vk_context *ctx);
 /* Seconds the submission just made is to finish late (0: on time). */
-unsigned fault_injection_stall_seconds(void);
+unsigned fault_injection_stall_seconds(const struct vk_context *ctx);
 /* VK_SUCCESS, or the result a device memory allocation must report instead of allocating. */
-VkResult fault_injection_allocate(void);
+VkResult fault_injection_allocate(const struct vk_context *ctx);
 /* VK_SUCCESS, or the result creating a logical device must report. */
 VkResult fault_injection_create_device(void);
 

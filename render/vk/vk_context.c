@@ -349,7 +349,7 @@ struct vk_context *vk_context_create(const struct vk_context_params *params)
         return NULL;
     ctx->validation_message_counter = p->validation_message_counter;
     ctx->log = p->log;
-    fault_injection_init();
+    fault_injection_init(ctx);
 
     VK_CHECK_GOTO(create_instance(ctx, p->validation), destroy_partial);
     VK_CHECK_GOTO(pick_physical_device(ctx, p), destroy_partial);
@@ -520,7 +520,7 @@ VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd
             .pCommandBuffers = cmd,
         };
         step = "submitting to the queue";
-        res = fault_injection_submit();
+        res = fault_injection_submit(ctx);
         if (res == VK_SUCCESS)
             res = vkQueueSubmit(ctx->queue, 1, &submit, ctx->fence);
     }
@@ -531,8 +531,8 @@ VkResult vk_context_submit_and_wait(struct vk_context *ctx, VkCommandBuffer *cmd
     if (res == VK_SUCCESS) {
         snprintf(waiting, sizeof waiting, "waiting for the queue (at most %u s)", timeout_s);
         step = waiting;
-        stall(fault_injection_stall_seconds());
-        res = fault_injection_wait_times_out()
+        stall(fault_injection_stall_seconds(ctx));
+        res = fault_injection_wait_times_out(ctx)
                   ? VK_TIMEOUT
                   : vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE,
                                     (uint64_t)timeout_s * 1000000000ull);

@@ -22,7 +22,7 @@ static VkResult bind_new_memory(struct vk_context *ctx, VkMemoryRequirements req
         .allocationSize = req.size,
         .memoryTypeIndex = type,
     };
-    VkResult injected = fault_injection_allocate();
+    VkResult injected = fault_injection_allocate(ctx);
     if (injected != VK_SUCCESS)
         return injected;
     return vkAllocateMemory(ctx->device, &info, NULL, out);
