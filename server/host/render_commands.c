@@ -347,7 +347,7 @@ static void handle_apply_preset(struct render_context *ctx, struct session *sess
                                     sizeof why);
     json_guard_unlock();
     if (!applied) {
-        fprintf(stderr, "skyd: preset %s: %s\n", msg->preset.name, why);
+        skyd_log(SKYD_LOG_ERROR, "preset %s: %s", msg->preset.name, why);
         reply_error(ctx, session, &msg->id, SKY_MSG_ERR_INTERNAL,
                     "preset \"%s\" cannot be applied: %s", msg->preset.name, why);
         return;

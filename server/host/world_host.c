@@ -7,6 +7,7 @@
 
 #include "config.h"
 #include "field_errors.h"
+#include "log.h"
 #include "messages.h"
 #include "monotonic_clock.h"
 #include "wall_clock.h"
@@ -135,7 +136,7 @@ static void save_forecast_map(struct world_host *h)
     if (state_store_save_forecast_map(h->state_file, &h->forecast_map, err, sizeof err) == 0)
         h->forecast_map_dirty = false;
     else
-        fprintf(stderr, "skyd: cannot save the forecast's weather map: %s\n", err);
+        skyd_log(SKYD_LOG_ERROR, "cannot save the forecast's weather map: %s", err);
 }
 
 /* Writes `state` before anything acknowledges it, so that a restart, even after kill -9, comes
@@ -147,7 +148,7 @@ static bool persist(struct world_host *h, const struct sky_world_state *state, c
         return true;
     char err[448];
     if (state_store_save(h->state_file, state, err, sizeof err) != 0) {
-        fprintf(stderr, "skyd: cannot save the state: %s\n", err);
+        skyd_log(SKYD_LOG_ERROR, "cannot save the state: %s", err);
         snprintf(why, whylen, "the state cannot be saved (%s); the change is not applied", err);
         return false;
     }
@@ -315,8 +316,8 @@ bool world_host_undo_commit(struct world_host *h, const char *why, struct world_
 {
     if (h->cluster || !h->undo.valid) {
         /* A shared world's revision is the world's: a renderer made again takes it. */
-        fprintf(stderr, "skyd: the renderer did not take revision %llu: %s\n",
-                (unsigned long long)h->state.revision, why);
+        skyd_log(SKYD_LOG_ERROR, "the renderer did not take revision %llu: %s",
+                 (unsigned long long)h->state.revision, why);
         return false;
     }
     struct world_undo *u = &h->undo;
@@ -329,7 +330,7 @@ bool world_host_undo_commit(struct world_host *h, const char *why, struct world_
         char err[448];
         if (h->state_file[0] &&
             state_store_save_weather_map(h->state_file, &u->map, err, sizeof err) != 0)
-            fprintf(stderr, "skyd: cannot restore the saved weather map: %s\n", err);
+            skyd_log(SKYD_LOG_ERROR, "cannot restore the saved weather map: %s", err);
         sky_weather_map_free(&h->client_map);
         h->client_map = u->map;
         h->map_generation = u->map_generation;
@@ -352,8 +353,8 @@ static bool adopt_map(struct world_host *h, const struct cluster_entry *e)
 {
     struct sky_weather_map map;
     if (!world_codec_parse_map(e->map, e->map_length, &map)) {
-        fprintf(stderr, "skyd: cluster revision %llu carries a weather map that cannot be read\n",
-                (unsigned long long)e->revision);
+        skyd_log(SKYD_LOG_ERROR, "cluster revision %llu carries a weather map that cannot be read",
+                 (unsigned long long)e->revision);
         return false;
     }
     sky_weather_map_free(&h->client_map);
@@ -370,15 +371,14 @@ bool world_host_apply_entry(struct world_host *h, const struct cluster_entry *e,
     struct sky_world_state next;
     char why[512];
     if (!world_codec_parse_state(e->state, &next, why, sizeof why)) {
-        fprintf(stderr, "skyd: cluster revision %llu cannot be read: %s\n",
-                (unsigned long long)e->revision, why);
+        skyd_log(SKYD_LOG_ERROR, "cluster revision %llu cannot be read: %s",
+                 (unsigned long long)e->revision, why);
         return false;
     }
     if (e->snapshot && e->revision < h->state.revision)
-        fprintf(stderr,
-                "skyd: the shared world went back from revision %llu to %llu (Redis "
-                "lost changes)\n",
-                (unsigned long long)h->state.revision, (unsigned long long)e->revision);
+        skyd_log(SKYD_LOG_WARNING,
+                 "the shared world went back from revision %llu to %llu (Redis lost changes)",
+                 (unsigned long long)h->state.revision, (unsigned long long)e->revision);
     next.revision = e->revision;
     /* The entry's state holds its epoch and anchors: brought to this node's wall instant, it
      * is the instant every node computes. The wind's running sum was the old state's. */
@@ -455,7 +455,7 @@ bool world_host_set_weather_map(struct world_host *h, const struct sky_weather_m
     char err[448];
     if (h->state_file[0] &&
         state_store_save_weather_map(h->state_file, map, err, sizeof err) != 0) {
-        fprintf(stderr, "skyd: cannot save the weather map: %s\n", err);
+        skyd_log(SKYD_LOG_ERROR, "cannot save the weather map: %s", err);
         snprintf(out->error, sizeof out->error,
                  "the weather map cannot be saved (%s); the state is unchanged", err);
         sky_weather_map_free(&kept);
@@ -493,24 +493,24 @@ static void restore_weather_map(struct world_host *h)
     char msg[640];
     enum state_load_result result = STATE_LOAD_ABSENT;
     if (h->cluster && h->client_map.rgba) {
-        fprintf(stderr, "skyd: the shared world's client weather map (%ux%u)\n",
-                h->client_map.width, h->client_map.height);
+        skyd_log(SKYD_LOG_INFO, "the shared world's client weather map (%ux%u)",
+                 h->client_map.width, h->client_map.height);
         h->map_generation++;
         return;
     }
     if (h->state_file[0])
         result = state_store_load_weather_map(h->state_file, &h->client_map, msg, sizeof msg);
     if (result == STATE_LOAD_RESTORED) {
-        fprintf(stderr, "skyd: restored the client weather map (%ux%u)\n", h->client_map.width,
-                h->client_map.height);
+        skyd_log(SKYD_LOG_INFO, "restored the client weather map (%ux%u)", h->client_map.width,
+                 h->client_map.height);
         h->map_generation++;
     } else if (h->state.weather.map_source == SKY_WEATHER_MAP_CLIENT) {
-        fprintf(stderr, "skyd: %s; weather.map_source is procedural\n",
-                h->state_file[0] ? msg : "no state file keeps a client weather map");
+        skyd_log(SKYD_LOG_WARNING, "%s; weather.map_source is procedural",
+                 h->state_file[0] ? msg : "no state file keeps a client weather map");
         h->state.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
         h->dirty = true;
     } else if (result != STATE_LOAD_ABSENT) {
-        fprintf(stderr, "skyd: %s\n", msg);
+        skyd_log(SKYD_LOG_WARNING, "%s", msg);
     }
 }
 
@@ -528,8 +528,8 @@ static void restore_forecast_map(struct world_host *h)
     char msg[640];
     if (h->state_file[0] && state_store_load_forecast_map(h->state_file, &h->forecast_map, msg,
                                                           sizeof msg) == STATE_LOAD_RESTORED) {
-        fprintf(stderr, "skyd: restored the forecast's weather map (%ux%u)\n",
-                h->forecast_map.width, h->forecast_map.height);
+        skyd_log(SKYD_LOG_INFO, "restored the forecast's weather map (%ux%u)",
+                 h->forecast_map.width, h->forecast_map.height);
         h->map_generation++;
     }
 }
@@ -585,7 +585,7 @@ void world_host_save(struct world_host *h, double now_s)
         h->sim_dirty = false;
         save_forecast_map(h);
     } else {
-        fprintf(stderr, "skyd: cannot save the state: %s\n", err);
+        skyd_log(SKYD_LOG_ERROR, "cannot save the state: %s", err);
         h->last_change_s = monotonic_seconds(); /* try again after another delay */
     }
 }
