@@ -55,7 +55,8 @@ test: build
 
 # The tests labelled long (the cloud fields from 14 km against the published statistics, the
 # middle layer against the path tracer, an installation, device faults on the daemon, no
-# pipeline compiled at dispatch, skyd forecast and render --metar/--forecast), kept out of
+# pipeline compiled at dispatch, skyd forecast and render --metar/--forecast, a slow forecast
+# read and the forecast's weather map), kept out of
 # `make test`'s 20 minutes; CI runs them after it, and make test-asan runs them too (but the
 # cloud fields).
 test-long: build
