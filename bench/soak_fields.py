@@ -155,6 +155,11 @@ class Draw:
             flat["weather.autopilot"] = "off"
         if flat.get("weather.map_source") == "client" and not self.map_uploaded:
             flat["weather.map_source"] = "procedural"
+        # The soak's daemon has no forecast folder: following one (and its map) is refused.
+        if flat.get("weather.source") == "forecast":
+            flat["weather.source"] = "client"
+        if flat.get("weather.map_source") == "forecast":
+            flat["weather.map_source"] = "procedural"
         return flat
 
     def patch(self, paths):
