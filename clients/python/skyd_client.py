@@ -495,6 +495,13 @@ class Client:
         the server refuses raises SkydError (bad_value at /metar, naming the group)."""
         return await self.request({"type": "apply_observation", "metar": metar})
 
+    async def follow_forecast(self):
+        """Follows the daemon's forecast folder (controller): weather.source becomes "forecast"
+        and the world moves to the newest forecast through timed transitions; returns the new
+        revision. A daemon with no forecast read raises SkydError (bad_value at
+        /patch/weather/source, saying why)."""
+        return await self.set({"weather": {"source": "forecast"}})
+
     async def snapshot(self, view, timeout=None, decode=False):
         """One frame rendered with view."""
         reply = await self.request({"type": "snapshot", "view": view}, timeout)

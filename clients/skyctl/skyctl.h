@@ -69,6 +69,7 @@ void skyctl_print_reply_json(struct cJSON *reply);
 int skyctl_get(const struct skyctl_options *options, int argc, char **argv);
 int skyctl_weather_map(const struct skyctl_options *options, int argc, char **argv);
 int skyctl_metar(const struct skyctl_options *options, int argc, char **argv);
+int skyctl_forecast(const struct skyctl_options *options, int argc, char **argv);
 int skyctl_set(const struct skyctl_options *options, int argc, char **argv);
 int skyctl_preset(const struct skyctl_options *options, int argc, char **argv);
 int skyctl_probe(const struct skyctl_options *options, int argc, char **argv);

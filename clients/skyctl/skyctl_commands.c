@@ -1,4 +1,5 @@
-/* skyctl get, set, preset, weather-map, metar, probe and stats: one request, one reply each. */
+/* skyctl get, set, preset, weather-map, metar, forecast, probe and stats: one request, one reply
+ * each. */
 #include "skyctl.h"
 #include "weather_map.h"
 
@@ -242,6 +243,25 @@ int skyctl_metar(const struct skyctl_options *options, int argc, char **argv)
                    etage ? etage : "", etage ? ")" : "", reason ? reason : "");
         }
     }
+    cJSON_Delete(reply);
+    return rc;
+}
+
+/* forecast: follow the daemon's forecast folder (weather.source "forecast", PROTOCOL.md "The
+ * forecast folder"); prints the new revision. A daemon with no forecast read refuses, saying
+ * why. */
+int skyctl_forecast(const struct skyctl_options *options, int argc, char **argv)
+{
+    (void)argv;
+    if (argc != 1)
+        return skyctl_usage_error("forecast", "takes no argument");
+    cJSON *msg = message("set");
+    cJSON *weather = cJSON_AddObjectToObject(cJSON_AddObjectToObject(msg, "patch"), "weather");
+    cJSON_AddStringToObject(weather, "source", "forecast");
+    cJSON *reply = NULL;
+    int rc = one_request(options, "forecast", msg, &reply);
+    if (rc == SKYCTL_OK)
+        print_ack(options, reply);
     cJSON_Delete(reply);
     return rc;
 }

@@ -14,7 +14,8 @@ static const char usage_text[] =
     "Talks to a running skyd (`skyd serve`) over its WebSocket protocol.\n"
     "  --url URL      ws://HOST:PORT/, or wss://HOST:PORT/ through TLS to a skyd whose config\n"
     "                 sets listen.tls_certificate ($SKYD_URL, else ws://127.0.0.1:8080/)\n"
-    "  --token TOKEN  the controller token, needed by set, preset, weather-map and metar\n"
+    "  --token TOKEN  the controller token, needed by set, preset, weather-map, metar and\n"
+    "                 forecast\n"
     "                 ($SKYD_TOKEN when not given)\n"
     "  --token-file FILE\n"
     "                 a file whose first line is the token, read when neither --token\n"
@@ -50,6 +51,8 @@ static const char usage_text[] =
     "  metar \"REPORT\"                   apply a METAR or SPECI report to the weather\n"
     "                                   (weather.source becomes metar); prints the new\n"
     "                                   revision and each group left unmapped\n"
+    "  forecast                         follow the daemon's forecast folder (weather.source\n"
+    "                                   becomes forecast); prints the new revision\n"
     "  snapshot --out FILE.png [--width W] [--height H] [--set VIEW_PATH=VALUE]...\n"
     "                                   render one frame (default 640x360) into a PNG\n"
     "                                   (FILE.jpg: a JPEG; --set quality=N, 1..100)\n"
@@ -156,7 +159,7 @@ static const struct command commands[] = {
     { "preset", skyctl_preset }, { "snapshot", skyctl_snapshot },
     { "watch", skyctl_watch },   { "probe", skyctl_probe },
     { "stats", skyctl_stats },   { "weather-map", skyctl_weather_map },
-    { "metar", skyctl_metar },
+    { "metar", skyctl_metar },   { "forecast", skyctl_forecast },
 };
 
 int main(int argc, char **argv)

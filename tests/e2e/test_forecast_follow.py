@@ -4,9 +4,10 @@ loopback and GRIB2 files made with ecCodes' own tools (forecast_grib.py).
 
 Usage: /usr/bin/python3 tests/e2e/test_forecast_follow.py PATH_TO_SKYD SCRATCH_DIR
 
-With the folder empty, weather.source "forecast" is refused at /patch/weather/source. A file
-dropped in is read (GET /api/weather/forecast names it, its run and steps); weather.source
-"forecast" then makes the weather move to the file's cover through a transition in a revision
+With the folder empty, weather.source "forecast" is refused at /patch/weather/source (the
+Python module's follow_forecast raises it too). A file dropped in is read (GET
+/api/weather/forecast names it, its run and steps); weather.source "forecast" (`skyctl
+forecast`, $SKYCTL) then makes the weather move to the file's cover through a transition in a revision
 of the forecast's own that every client hears of. A newer file is taken up; a newer file that
 is not GRIB is refused with the reader's error and the one in use stays, as does the weather.
 A client's set of a weather field makes weather.source "client", after a forecast and after a
@@ -17,6 +18,7 @@ skyd_forecast_in_range gauge). Exit 0 when every check passed.
 import asyncio
 import json
 import os
+import subprocess
 import shutil
 import sys
 import time
@@ -24,8 +26,11 @@ import urllib.error
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "clients", "python"))
+import skyd_client  # noqa: E402
 import forecast_grib as fg  # noqa: E402
-from serve_harness import (Client, Daemon, check, info, make_config,  # noqa: E402
+from serve_harness import (TOKEN, Client, Daemon, check, info, make_config,  # noqa: E402
                            run_daemon_test, short)
 
 RUN = (20260621, 1200)          # 12:00 UTC; steps at 0 and 6 h
@@ -115,6 +120,15 @@ async def check_follow(port, folder, files, ctl, viewer):
           r.get("type") == "error" and r.get("code") == "bad_value"
           and fields[0].get("pointer") == "/patch/weather/source"
           and "no forecast" in fields[0].get("reason", ""), short(r))
+    async with skyd_client.connect("ws://127.0.0.1:%d/" % port, reconnect=False) as py:
+        await py.auth(token=TOKEN)
+        try:
+            await py.follow_forecast()
+            refused = None
+        except skyd_client.SkydError as e:
+            refused = e
+    check("the Python module's follow_forecast raises it", refused is not None
+          and refused.pointers == ["/patch/weather/source"], str(refused))
 
     now = time.time()
     drop(files[0.4], folder, "run-a.grib2", now - 100)
@@ -125,9 +139,13 @@ async def check_follow(port, folder, files, ctl, viewer):
           and body.get("last_step") == "2026-06-21T18:00:00Z" and body.get("loads") == 1
           and body.get("last_error") is None, short(body))
 
-    r = await ctl.request({"type": "set", "patch": {"weather": {"source": "forecast"}}})
-    check("weather.source forecast accepted", r.get("type") == "ack", short(r))
-    asked = r.get("revision", 0)
+    p = subprocess.run([os.environ["SKYCTL"], "--url", "ws://127.0.0.1:%d/" % port, "--token",
+                        TOKEN, "forecast"], capture_output=True, text=True, timeout=30)
+    words = p.stdout.split()
+    check("skyctl forecast: weather.source forecast accepted, the new revision printed",
+          p.returncode == 0 and len(words) == 2 and words[0] == "revision"
+          and words[1].isdigit(), f"status {p.returncode}: {p.stdout!r} {p.stderr[-300:]!r}")
+    asked = int(words[1]) if len(words) == 2 and words[1].isdigit() else 0
     state = await state_when(ctl, lambda s: target_low(s) is not None
                              and abs(target_low(s) - 0.4) < 1e-9)
     check("following: the weather moves to the file's low cover through a transition",
