@@ -7,11 +7,12 @@ Usage: /usr/bin/python3 tests/e2e/test_forecast_follow.py PATH_TO_SKYD SCRATCH_D
 With the folder empty, weather.source "forecast" is refused at /patch/weather/source (the
 Python module's follow_forecast raises it too). A file dropped in is read (GET
 /api/weather/forecast names it, its run and steps); weather.source "forecast" (`skyctl
-forecast`, $SKYCTL) then makes the weather move to the file's cover through a transition in a revision
-of the forecast's own that every client hears of. A newer file is taken up; a newer file that
-is not GRIB is refused with the reader's error and the one in use stays, as does the weather.
-A client's set of a weather field makes weather.source "client", after a forecast and after a
-METAR alike; the autopilot switched on, or a weather preset, makes it "procedural". A clock outside the steps keeps the weather and says so (in_range false, the
+forecast`, $SKYCTL) then makes the weather move to the file's cover through a transition in a
+revision of the forecast's own that every client hears of. A newer file is taken up; a newer
+file that is not GRIB is refused with the reader's error and the one in use stays, as does the
+weather. A client's set of a weather field makes weather.source "client", after a forecast and
+after a METAR alike; the autopilot switched on, or a weather preset, makes it "procedural". A
+clock outside the steps keeps the weather and says so (in_range false, the
 skyd_forecast_in_range gauge). Exit 0 when every check passed.
 """
 
