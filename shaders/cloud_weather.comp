@@ -86,13 +86,14 @@ float fbm2(vec2 x, ivec2 period, uint salt, int octaves, float hurst, float fine
 // into networks whose outlines reached an area-perimeter dimension of 1.5 at mid coverage.
 const int CELL_LEVELS = 5;
 const float CELL_PRESENCE = 0.9, CELL_PRESENCE_RATIO = 0.8, CELL_RADIUS = 0.62;
+const float CELL_HEIGHT_RATIO_SPARSE = 0.9, CELL_HEIGHT_RATIO = 0.85;
 float cell_height_ratio(float coverage)
 {
-    return mix(0.9, 0.85, smoothstep(0.2, 0.35, coverage));
+    return mix(CELL_HEIGHT_RATIO_SPARSE, CELL_HEIGHT_RATIO, smoothstep(0.2, 0.35, coverage));
 }
 // Mean and deviation of cumulus_cells() before its normalisation (sampled at 40 000 points of
-// the same construction): the mean 0.477 at a height ratio of 0.85, 0.489 at 0.875 and 0.502
-// at 0.9, the deviation 0.177-0.178.
+// the same construction): the mean 0.477 at CELL_HEIGHT_RATIO (0.85), 0.489 at 0.875 and
+// 0.502 at 0.9, the deviation 0.177-0.178.
 const float CELLS_MEAN = 0.477, CELLS_MEAN_PER_RATIO = 0.5, CELLS_SIGMA = 0.177;
 // A cell's rank among the cloud sizes, uniform on [0, 1): the cells of the largest level are
 // stratified in blocks of 2 x 2, each block holding one rank from each quarter (a hashed
@@ -133,7 +134,8 @@ float cumulus_cells(vec2 x, int period, uint salt, float height_ratio)
                 best = max(best, amp * (1.0 - d2));
             }
     }
-    return (best - CELLS_MEAN - CELLS_MEAN_PER_RATIO * (height_ratio - 0.85)) / CELLS_SIGMA;
+    return (best - CELLS_MEAN - CELLS_MEAN_PER_RATIO * (height_ratio - CELL_HEIGHT_RATIO)) /
+           CELLS_SIGMA;
 }
 
 // The normal quantile of p (logistic approximation of the probit) and its inverse.
