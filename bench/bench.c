@@ -363,8 +363,8 @@ int main(int argc, char **argv)
                 char path[64];
                 const char *eq = strchr(sets[k], '=');
                 snprintf(path, sizeof path, "%.*s", (int)(eq - sets[k]), sets[k]);
-                struct sky_field_errors errors;
-                if (!sky_world_state_set_path(&common.state, path, eq + 1, &errors))
+                struct proto_field_errors errors;
+                if (!proto_world_state_set_path(&common.state, path, eq + 1, &errors))
                     return 2;
             }
         } else if (strcmp(argv[i], "--size") == 0) {

@@ -24,8 +24,8 @@ int main(int argc, char **argv)
     }
     int steps = argc > 2 ? atoi(argv[2]) : 40;
     double resolution = argc > 3 ? atof(argv[3]) : 0.25;
-    if (steps < 1 || steps > SKY_FORECAST_MAX_STEPS || !(resolution >= 0.1 && resolution <= 5)) {
-        fprintf(stderr, "steps 1..%d, resolution 0.1..5 degrees\n", SKY_FORECAST_MAX_STEPS);
+    if (steps < 1 || steps > FORECAST_MAX_STEPS || !(resolution >= 0.1 && resolution <= 5)) {
+        fprintf(stderr, "steps 1..%d, resolution 0.1..5 degrees\n", FORECAST_MAX_STEPS);
         return 2;
     }
     long messages = 0;
@@ -38,21 +38,21 @@ int main(int argc, char **argv)
         return 1;
     printf("%s: %ld messages, %d steps, %.2f deg global, %.1f MB, made in %.2f s\n", argv[1],
            messages, steps, resolution, (double)st.st_size / 1e6, made);
-    struct sky_forecast_request request = {
+    struct forecast_request request = {
         .lat_deg = 45.0, .lon_deg = 5.0, .extent_km = 60.0, .grid_size = 16
     };
     for (int run = 0; run < 2; run++) { /* the second with the file in the page cache */
-        struct sky_forecast_error error;
+        struct forecast_error error;
         t0 = monotonic_seconds();
-        struct sky_forecast *forecast = sky_forecast_read(argv[1], &request, &error);
+        struct forecast *forecast = forecast_read(argv[1], &request, &error);
         double read_s = monotonic_seconds() - t0;
         if (!forecast) {
             fprintf(stderr, "refused: %s\n", error.text);
             return 1;
         }
         printf("read %d: %.2f s (%.1f ms a message), %d steps\n", run + 1, read_s,
-               1e3 * read_s / (double)messages, sky_forecast_info(forecast)->step_count);
-        sky_forecast_free(forecast);
+               1e3 * read_s / (double)messages, forecast_info(forecast)->step_count);
+        forecast_free(forecast);
     }
     return 0;
 }

@@ -10,44 +10,44 @@
 #include <stdlib.h>
 #include <string.h>
 
-void sky_field_errors_clear(struct sky_field_errors *errors)
+void proto_field_errors_clear(struct proto_field_errors *errors)
 {
     if (errors)
         memset(errors, 0, sizeof *errors);
 }
 
-void sky_field_errors_add(struct sky_field_errors *errors, int code, const char *pointer,
-                          const char *reason)
+void proto_field_errors_add(struct proto_field_errors *errors, int code, const char *pointer,
+                            const char *reason)
 {
     if (!errors)
         return;
     errors->total++;
-    if (errors->count < 0 || errors->count >= SKY_MAX_FIELD_ERRORS)
+    if (errors->count < 0 || errors->count >= PROTO_MAX_FIELD_ERRORS)
         return;
-    struct sky_field_error *item = &errors->items[errors->count++];
+    struct proto_field_error *item = &errors->items[errors->count++];
     item->code = code;
     schema_copy_text(item->pointer, sizeof item->pointer, pointer ? pointer : "");
     schema_copy_text(item->reason, sizeof item->reason, reason ? reason : "");
 }
 
-void sky_field_errors_vaddf(struct sky_field_errors *errors, int code, const char *pointer,
-                            const char *format, va_list args)
+void proto_field_errors_vaddf(struct proto_field_errors *errors, int code, const char *pointer,
+                              const char *format, va_list args)
 {
     char reason[REASON_CAPACITY];
     vsnprintf(reason, sizeof reason, format, args);
-    sky_field_errors_add(errors, code, pointer, reason);
+    proto_field_errors_add(errors, code, pointer, reason);
 }
 
-void sky_field_errors_addf(struct sky_field_errors *errors, int code, const char *pointer,
-                           const char *format, ...)
+void proto_field_errors_addf(struct proto_field_errors *errors, int code, const char *pointer,
+                             const char *format, ...)
 {
     va_list args;
     va_start(args, format);
-    sky_field_errors_vaddf(errors, code, pointer, format, args);
+    proto_field_errors_vaddf(errors, code, pointer, format, args);
     va_end(args);
 }
 
-void sky_field_errors_format(const struct sky_field_errors *errors, char *buf, size_t buflen)
+void proto_field_errors_format(const struct proto_field_errors *errors, char *buf, size_t buflen)
 {
     if (!buf || buflen == 0)
         return;
@@ -55,13 +55,13 @@ void sky_field_errors_format(const struct sky_field_errors *errors, char *buf, s
     if (!errors)
         return;
     int count = errors->count;
-    if (count > SKY_MAX_FIELD_ERRORS)
-        count = SKY_MAX_FIELD_ERRORS;
+    if (count > PROTO_MAX_FIELD_ERRORS)
+        count = PROTO_MAX_FIELD_ERRORS;
     size_t used = 0;
     bool complete = true;
     char line[POINTER_CAPACITY + REASON_CAPACITY + 16];
     for (int i = 0; i < count && complete; i++) {
-        const struct sky_field_error *item = &errors->items[i];
+        const struct proto_field_error *item = &errors->items[i];
         snprintf(line, sizeof line, "%s%s: %s", i > 0 ? "\n" : "",
                  item->pointer[0] ? item->pointer : "(root)", item->reason);
         complete = schema_append_bytes(buf, buflen, &used, line, strlen(line));
@@ -79,7 +79,7 @@ void sky_field_errors_format(const struct sky_field_errors *errors, char *buf, s
     }
 }
 
-const char *sky_json_type_name(const struct cJSON *value)
+const char *proto_json_type_name(const struct cJSON *value)
 {
     if (cJSON_IsNumber(value))
         return "a number";
@@ -96,7 +96,7 @@ const char *sky_json_type_name(const struct cJSON *value)
     return "an invalid value";
 }
 
-void sky_field_format_number(double value, char *text, size_t capacity)
+void proto_field_format_number(double value, char *text, size_t capacity)
 {
     snprintf(text, capacity, "%.15g", value);
     if (strtod(text, NULL) != value)

@@ -11,7 +11,7 @@ static const char *const status_names[] = {
     "bad_format", "bad_length", "bad_reserved", "bad_value",
 };
 
-const char *sky_frame_header_status_name(int status)
+const char *proto_frame_header_status_name(int status)
 {
     if (status < 0 || status >= (int)(sizeof status_names / sizeof status_names[0]))
         return NULL;
@@ -59,23 +59,23 @@ static uint64_t get_u64(const uint8_t *p)
 
 static int format_is_known(uint32_t format)
 {
-    return format == SKY_FRAME_FORMAT_PNG || format == SKY_FRAME_FORMAT_PNG16 ||
-           format == SKY_FRAME_FORMAT_JPEG;
+    return format == PROTO_FRAME_FORMAT_PNG || format == PROTO_FRAME_FORMAT_PNG16 ||
+           format == PROTO_FRAME_FORMAT_JPEG;
 }
 
-enum sky_frame_header_status sky_frame_header_pack(const struct sky_frame_header *header,
-                                                   uint8_t out[SKY_FRAME_HEADER_SIZE])
+enum proto_frame_header_status proto_frame_header_pack(const struct proto_frame_header *header,
+                                                       uint8_t out[PROTO_FRAME_HEADER_SIZE])
 {
     if (!header || !out)
-        return SKY_FRAME_HEADER_BAD_VALUE;
+        return PROTO_FRAME_HEADER_BAD_VALUE;
     if (!format_is_known((uint32_t)header->format))
-        return SKY_FRAME_HEADER_BAD_FORMAT;
+        return PROTO_FRAME_HEADER_BAD_FORMAT;
     if (header->width == 0 || header->height == 0 || !isfinite(header->simulation_time_s))
-        return SKY_FRAME_HEADER_BAD_VALUE;
+        return PROTO_FRAME_HEADER_BAD_VALUE;
     uint64_t time_bits;
     memcpy(&time_bits, &header->simulation_time_s, sizeof time_bits);
-    memcpy(out, SKY_FRAME_MAGIC, 4);
-    put_u16(out + 4, SKY_FRAME_HEADER_VERSION);
+    memcpy(out, PROTO_FRAME_MAGIC, 4);
+    put_u16(out + 4, PROTO_FRAME_HEADER_VERSION);
     put_u16(out + 6, (uint16_t)header->format);
     put_u64(out + 8, header->frame_number);
     put_u64(out + 16, header->state_revision);
@@ -84,40 +84,41 @@ enum sky_frame_header_status sky_frame_header_pack(const struct sky_frame_header
     put_u32(out + 36, header->height);
     put_u32(out + 40, header->payload_length);
     put_u32(out + 44, 0);
-    return SKY_FRAME_HEADER_OK;
+    return PROTO_FRAME_HEADER_OK;
 }
 
-enum sky_frame_header_status sky_frame_header_unpack(const uint8_t *message, size_t message_length,
-                                                     struct sky_frame_header *header)
+enum proto_frame_header_status proto_frame_header_unpack(const uint8_t *message,
+                                                         size_t message_length,
+                                                         struct proto_frame_header *header)
 {
-    if (!message || message_length < SKY_FRAME_HEADER_SIZE)
-        return SKY_FRAME_HEADER_TOO_SHORT;
-    if (memcmp(message, SKY_FRAME_MAGIC, 4) != 0)
-        return SKY_FRAME_HEADER_BAD_MAGIC;
-    if (get_u16(message + 4) != SKY_FRAME_HEADER_VERSION)
-        return SKY_FRAME_HEADER_BAD_VERSION;
+    if (!message || message_length < PROTO_FRAME_HEADER_SIZE)
+        return PROTO_FRAME_HEADER_TOO_SHORT;
+    if (memcmp(message, PROTO_FRAME_MAGIC, 4) != 0)
+        return PROTO_FRAME_HEADER_BAD_MAGIC;
+    if (get_u16(message + 4) != PROTO_FRAME_HEADER_VERSION)
+        return PROTO_FRAME_HEADER_BAD_VERSION;
     uint16_t format = get_u16(message + 6);
     if (!format_is_known(format))
-        return SKY_FRAME_HEADER_BAD_FORMAT;
+        return PROTO_FRAME_HEADER_BAD_FORMAT;
     uint32_t payload_length = get_u32(message + 40);
-    if (message_length - SKY_FRAME_HEADER_SIZE != payload_length)
-        return SKY_FRAME_HEADER_BAD_LENGTH;
+    if (message_length - PROTO_FRAME_HEADER_SIZE != payload_length)
+        return PROTO_FRAME_HEADER_BAD_LENGTH;
     if (get_u32(message + 44) != 0)
-        return SKY_FRAME_HEADER_BAD_RESERVED;
+        return PROTO_FRAME_HEADER_BAD_RESERVED;
     uint64_t time_bits = get_u64(message + 24);
     double simulation_time_s;
     memcpy(&simulation_time_s, &time_bits, sizeof simulation_time_s);
     uint32_t width = get_u32(message + 32), height = get_u32(message + 36);
     if (width == 0 || height == 0 || !isfinite(simulation_time_s))
-        return SKY_FRAME_HEADER_BAD_VALUE;
+        return PROTO_FRAME_HEADER_BAD_VALUE;
     if (!header)
-        return SKY_FRAME_HEADER_OK;
-    header->format = (enum sky_frame_format)format;
+        return PROTO_FRAME_HEADER_OK;
+    header->format = (enum proto_frame_format)format;
     header->frame_number = get_u64(message + 8);
     header->state_revision = get_u64(message + 16);
     header->simulation_time_s = simulation_time_s;
     header->width = width;
     header->height = height;
     header->payload_length = payload_length;
-    return SKY_FRAME_HEADER_OK;
+    return PROTO_FRAME_HEADER_OK;
 }

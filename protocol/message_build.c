@@ -51,7 +51,7 @@ static void put_number(struct builder *b, cJSON *parent, const char *name, doubl
 
 static void put_count(struct builder *b, cJSON *parent, const char *name, uint64_t value)
 {
-    if (value <= (uint64_t)SKY_MSG_MAX_SAFE_INTEGER)
+    if (value <= (uint64_t)PROTO_MSG_MAX_SAFE_INTEGER)
         put_number(b, parent, name, (double)value);
     else
         b->ok = false;
@@ -66,7 +66,7 @@ static void put_string(struct builder *b, cJSON *parent, const char *name, const
     unsigned char *s = (unsigned char *)item->valuestring;
     size_t length = strlen(item->valuestring);
     for (size_t i = 0; i < length;) {
-        size_t n = sky_msg_utf8_sequence(s + i, length - i);
+        size_t n = proto_msg_utf8_sequence(s + i, length - i);
         if (n == 0)
             s[i++] = '?';
         else
@@ -74,18 +74,18 @@ static void put_string(struct builder *b, cJSON *parent, const char *name, const
     }
 }
 
-static void begin(struct builder *b, const char *type, const struct sky_msg_id *id)
+static void begin(struct builder *b, const char *type, const struct proto_msg_id *id)
 {
     b->ok = true;
     b->root = cJSON_CreateObject();
     b->ok = b->root != NULL;
     put_string(b, b->root, "type", type);
-    if (!id || id->kind == SKY_MSG_ID_NONE)
+    if (!id || id->kind == PROTO_MSG_ID_NONE)
         return;
-    if (id->kind == SKY_MSG_ID_STRING && id->text[0] && memchr(id->text, '\0', sizeof id->text))
+    if (id->kind == PROTO_MSG_ID_STRING && id->text[0] && memchr(id->text, '\0', sizeof id->text))
         put_string(b, b->root, "id", id->text);
-    else if (id->kind == SKY_MSG_ID_INTEGER && id->number >= -SKY_MSG_MAX_SAFE_INTEGER &&
-             id->number <= SKY_MSG_MAX_SAFE_INTEGER)
+    else if (id->kind == PROTO_MSG_ID_INTEGER && id->number >= -PROTO_MSG_MAX_SAFE_INTEGER &&
+             id->number <= PROTO_MSG_MAX_SAFE_INTEGER)
         put_number(b, b->root, "id", (double)id->number);
     else
         b->ok = false;
@@ -93,11 +93,11 @@ static void begin(struct builder *b, const char *type, const struct sky_msg_id *
 
 /* cJSON prints numbers with 15 digits when they compare equal within an epsilon, which loses
  * integers above 2^50 and the last bits of doubles: write each as the shortest exact text. */
-bool sky_json_exact_numbers(cJSON *parent)
+bool proto_json_exact_numbers(cJSON *parent)
 {
     for (cJSON *item = parent ? parent->child : NULL; item; item = item->next) {
         if (!cJSON_IsNumber(item)) {
-            if (!sky_json_exact_numbers(item))
+            if (!proto_json_exact_numbers(item))
                 return false;
             continue;
         }
@@ -122,18 +122,19 @@ bool sky_json_exact_numbers(cJSON *parent)
 
 static char *finish(struct builder *b)
 {
-    char *text = b->ok && sky_json_exact_numbers(b->root) ? cJSON_PrintUnformatted(b->root) : NULL;
+    char *text = b->ok && proto_json_exact_numbers(b->root) ? cJSON_PrintUnformatted(b->root)
+                                                            : NULL;
     cJSON_Delete(b->root);
     return text;
 }
 
-char *sky_msg_build_hello(const char *server_version, enum sky_msg_role role,
-                          const char *const *caps, size_t capability_count,
-                          const struct sky_msg_limits *limits)
+char *proto_msg_build_hello(const char *server_version, enum proto_msg_role role,
+                            const char *const *caps, size_t capability_count,
+                            const struct proto_msg_limits *limits)
 {
     struct builder b;
     begin(&b, "hello", NULL);
-    put_number(&b, b.root, "protocol", SKY_PROTOCOL_VERSION);
+    put_number(&b, b.root, "protocol", PROTO_PROTOCOL_VERSION);
     char server[96];
     if (!server_version ||
         (size_t)snprintf(server, sizeof server, "skyd %s", server_version) >= sizeof server)
@@ -141,7 +142,7 @@ char *sky_msg_build_hello(const char *server_version, enum sky_msg_role role,
     else
         put_string(&b, b.root, "server", server);
     put_string(&b, b.root, "role",
-               name_of(sky_msg_role_names, COUNT_OF(sky_msg_role_names), (int)role));
+               name_of(proto_msg_role_names, COUNT_OF(proto_msg_role_names), (int)role));
     cJSON *list = put(&b, b.root, "capabilities", cJSON_CreateArray());
     for (size_t i = 0; i < capability_count; i++)
         put_string(&b, list, NULL, caps ? caps[i] : NULL);
@@ -158,11 +159,11 @@ char *sky_msg_build_hello(const char *server_version, enum sky_msg_role role,
     return finish(&b);
 }
 
-char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_state *state)
+char *proto_msg_build_state(const struct proto_msg_id *id, const struct proto_world_state *state)
 {
     struct builder b;
     begin(&b, "state", id);
-    cJSON *json = state ? sky_world_state_to_json(state) : NULL;
+    cJSON *json = state ? proto_world_state_to_json(state) : NULL;
     /* Without its revision the state object is a complete, valid patch for "set". */
     cJSON_DeleteItemFromObjectCaseSensitive(json, "revision");
     put_count(&b, b.root, "revision", state ? state->revision : 0);
@@ -170,17 +171,17 @@ char *sky_msg_build_state(const struct sky_msg_id *id, const struct sky_world_st
     return finish(&b);
 }
 
-char *sky_msg_build_schema(const struct sky_msg_id *id, const struct sky_msg_limits *limits)
+char *proto_msg_build_schema(const struct proto_msg_id *id, const struct proto_msg_limits *limits)
 {
     struct builder b;
     begin(&b, "schema", id);
-    put(&b, b.root, "state", sky_world_state_json_schema());
-    put(&b, b.root, "messages", limits ? sky_msg_json_schema(limits) : NULL);
+    put(&b, b.root, "state", proto_world_state_json_schema());
+    put(&b, b.root, "messages", limits ? proto_msg_json_schema(limits) : NULL);
     return finish(&b);
 }
 
-char *sky_msg_build_observation(const struct sky_msg_id *id, uint64_t revision, const cJSON *report,
-                                const cJSON *patch, const cJSON *unmapped)
+char *proto_msg_build_observation(const struct proto_msg_id *id, uint64_t revision,
+                                  const cJSON *report, const cJSON *patch, const cJSON *unmapped)
 {
     struct builder b;
     begin(&b, "observation", id);
@@ -191,55 +192,57 @@ char *sky_msg_build_observation(const struct sky_msg_id *id, uint64_t revision, 
     return finish(&b);
 }
 
-char *sky_msg_build_ack(const struct sky_msg_id *id, uint64_t revision, enum sky_msg_role role)
+char *proto_msg_build_ack(const struct proto_msg_id *id, uint64_t revision,
+                          enum proto_msg_role role)
 {
     struct builder b;
     begin(&b, "ack", id);
     put_count(&b, b.root, "revision", revision);
-    if (role != SKY_ROLE_NONE)
+    if (role != PROTO_ROLE_NONE)
         put_string(&b, b.root, "role",
-                   name_of(sky_msg_role_names, COUNT_OF(sky_msg_role_names), (int)role));
+                   name_of(proto_msg_role_names, COUNT_OF(proto_msg_role_names), (int)role));
     return finish(&b);
 }
 
-char *sky_msg_build_error(const struct sky_msg_id *id, enum sky_msg_error_code code,
-                          const char *message, const struct sky_field_errors *fields)
+char *proto_msg_build_error(const struct proto_msg_id *id, enum proto_msg_error_code code,
+                            const char *message, const struct proto_field_errors *fields)
 {
     struct builder b;
     begin(&b, "error", id);
-    if (code == SKY_MSG_OK)
+    if (code == PROTO_MSG_OK)
         b.ok = false;
-    put_string(&b, b.root, "code", sky_msg_error_name(code));
+    put_string(&b, b.root, "code", proto_msg_error_name(code));
     put_string(&b, b.root, "message", message ? message : "");
     cJSON *list = put(&b, b.root, "fields", cJSON_CreateArray());
     int count = fields ? fields->count : 0;
-    if (count < 0 || count > SKY_MAX_FIELD_ERRORS)
+    if (count < 0 || count > PROTO_MAX_FIELD_ERRORS)
         b.ok = false;
     for (int i = 0; i < count; i++) {
-        const struct sky_field_error *item = &fields->items[i];
+        const struct proto_field_error *item = &fields->items[i];
         cJSON *entry = put(&b, list, NULL, cJSON_CreateObject());
         put_string(&b, entry, "pointer",
                    memchr(item->pointer, '\0', sizeof item->pointer) ? item->pointer : NULL);
         put_string(&b, entry, "reason",
                    memchr(item->reason, '\0', sizeof item->reason) ? item->reason : NULL);
         put_string(&b, entry, "code",
-                   item->code != SKY_MSG_OK ? sky_msg_error_name(item->code) : NULL);
+                   item->code != PROTO_MSG_OK ? proto_msg_error_name(item->code) : NULL);
     }
     if (fields && fields->total > count)
         put_count(&b, b.root, "fields_omitted", (uint64_t)(fields->total - count));
     return finish(&b);
 }
 
-char *sky_msg_build_parse_error(const struct sky_client_msg *msg,
-                                const struct sky_msg_parse_error *error)
+char *proto_msg_build_parse_error(const struct proto_client_msg *msg,
+                                  const struct proto_msg_parse_error *error)
 {
     if (!error)
         return NULL;
-    return sky_msg_build_error(msg ? &msg->id : NULL, error->code, error->message, &error->fields);
+    return proto_msg_build_error(msg ? &msg->id : NULL, error->code, error->message,
+                                 &error->fields);
 }
 
-char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscription,
-                               const struct sky_msg_view *v)
+char *proto_msg_build_subscribed(const struct proto_msg_id *id, uint64_t subscription,
+                                 const struct proto_msg_view *v)
 {
     struct builder b;
     begin(&b, "subscribed", id);
@@ -262,7 +265,7 @@ char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscriptio
     put_count(&b, view, "height", v->height);
     put_number(&b, view, "fps", v->fps);
     cJSON *exposure = put(&b, view, "exposure", cJSON_CreateObject());
-    const struct sky_field_desc *mode = sky_world_state_find_field("exposure.mode");
+    const struct proto_field_desc *mode = proto_world_state_find_field("exposure.mode");
     if (v->has_exposure_mode)
         put_string(&b, exposure, "mode",
                    mode ? name_of(mode->enum_names, (size_t)mode->enum_count, (int)v->exposure_mode)
@@ -272,21 +275,22 @@ char *sky_msg_build_subscribed(const struct sky_msg_id *id, uint64_t subscriptio
     if (v->has_compensation_ev)
         put_number(&b, exposure, "compensation_ev", v->compensation_ev);
     put_string(&b, view, "format",
-               name_of(sky_msg_format_names, COUNT_OF(sky_msg_format_names), (int)v->format));
-    if (v->format == SKY_FRAME_FORMAT_JPEG)
+               name_of(proto_msg_format_names, COUNT_OF(proto_msg_format_names), (int)v->format));
+    if (v->format == PROTO_FRAME_FORMAT_JPEG)
         put_count(&b, view, "quality", (uint64_t)v->quality);
     if (v->max_kbps > 0)
         put_number(&b, view, "max_kbps", v->max_kbps);
-    put_string(
-        &b, view, "projection",
-        name_of(sky_msg_projection_names, COUNT_OF(sky_msg_projection_names), (int)v->projection));
+    put_string(&b, view, "projection",
+               name_of(proto_msg_projection_names, COUNT_OF(proto_msg_projection_names),
+                       (int)v->projection));
     return finish(&b);
 }
 
-char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription, uint64_t frame_number)
+char *proto_msg_build_frame(const struct proto_msg_id *id, uint64_t subscription,
+                            uint64_t frame_number)
 {
     struct builder b;
-    bool snapshot = id && id->kind != SKY_MSG_ID_NONE;
+    bool snapshot = id && id->kind != PROTO_MSG_ID_NONE;
     begin(&b, "frame", id);
     if (snapshot == (subscription != 0))
         b.ok = false;
@@ -298,33 +302,33 @@ char *sky_msg_build_frame(const struct sky_msg_id *id, uint64_t subscription, ui
 
 /* The state's field at a JSON Pointer ("/sun/elevation_deg"), or NULL. Field names have no
  * '~' or '/', so no segment needs unescaping. */
-static const struct sky_field_desc *field_at(const char *pointer)
+static const struct proto_field_desc *field_at(const char *pointer)
 {
-    char dotted[SKY_MSG_POINTER_MAX];
+    char dotted[PROTO_MSG_POINTER_MAX];
     if (pointer[0] != '/' || strlen(pointer) >= sizeof dotted)
         return NULL;
     for (size_t i = 0; pointer[i]; i++)
         dotted[i] = pointer[i + 1] == '/' ? '.' : pointer[i + 1];
-    return sky_world_state_find_field(dotted);
+    return proto_world_state_find_field(dotted);
 }
 
 /* "changed" and "values" of an event. */
 static void put_changes(struct builder *b, const char *const *pointers, size_t count,
-                        const struct sky_world_state *state)
+                        const struct proto_world_state *state)
 {
     cJSON *list = put(b, b->root, "changed", cJSON_CreateArray());
     cJSON *values = put(b, b->root, "values", cJSON_CreateObject());
     for (size_t i = 0; i < count && b->ok; i++) {
         const char *pointer = pointers ? pointers[i] : NULL;
         put_string(b, list, NULL, pointer && (!pointer[0] || pointer[0] == '/') ? pointer : NULL);
-        const struct sky_field_desc *field = pointer ? field_at(pointer) : NULL;
+        const struct proto_field_desc *field = pointer ? field_at(pointer) : NULL;
         if (field && !cJSON_GetObjectItemCaseSensitive(values, pointer))
-            put(b, values, pointer, sky_field_to_json(field, state));
+            put(b, values, pointer, proto_field_to_json(field, state));
     }
 }
 
-char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count,
-                                  const struct sky_world_state *state, const char *by)
+char *proto_msg_build_state_changed(uint64_t revision, const char *const *pointers, size_t count,
+                                    const struct proto_world_state *state, const char *by)
 {
     struct builder b;
     begin(&b, "event", NULL);
@@ -337,8 +341,8 @@ char *sky_msg_build_state_changed(uint64_t revision, const char *const *pointers
     return finish(&b);
 }
 
-char *sky_msg_build_simulation_event(uint64_t revision, const char *const *pointers, size_t count,
-                                     const struct sky_world_state *state)
+char *proto_msg_build_simulation_event(uint64_t revision, const char *const *pointers, size_t count,
+                                       const struct proto_world_state *state)
 {
     struct builder b;
     begin(&b, "event", NULL);
@@ -351,51 +355,53 @@ char *sky_msg_build_simulation_event(uint64_t revision, const char *const *point
     return finish(&b);
 }
 
-char *sky_msg_build_presets(const struct sky_msg_id *id, enum sky_preset_kind kind,
-                            const char *const *names, size_t count)
+char *proto_msg_build_presets(const struct proto_msg_id *id, enum proto_preset_kind kind,
+                              const char *const *names, size_t count)
 {
     struct builder b;
     begin(&b, "presets", id);
-    put_string(&b, b.root, "kind",
-               name_of(sky_msg_preset_kind_names, COUNT_OF(sky_msg_preset_kind_names), (int)kind));
+    put_string(
+        &b, b.root, "kind",
+        name_of(proto_msg_preset_kind_names, COUNT_OF(proto_msg_preset_kind_names), (int)kind));
     cJSON *list = put(&b, b.root, "names", cJSON_CreateArray());
-    if (count > SKY_MSG_MAX_PRESETS)
+    if (count > PROTO_MSG_MAX_PRESETS)
         b.ok = false;
     for (size_t i = 0; i < count && b.ok; i++) {
         const char *name = names ? names[i] : NULL;
-        put_string(&b, list, NULL, name && sky_msg_preset_name_is_valid(name) ? name : NULL);
+        put_string(&b, list, NULL, name && proto_msg_preset_name_is_valid(name) ? name : NULL);
     }
     return finish(&b);
 }
 
-char *sky_msg_build_probe_result(const struct sky_msg_id *id,
-                                 const struct sky_msg_probe_result *result)
+char *proto_msg_build_probe_result(const struct proto_msg_id *id,
+                                   const struct proto_msg_probe_result *result)
 {
     struct builder b;
     begin(&b, "probe_result", id);
     int quantity = result ? (int)result->quantity : -1;
-    const char *name = name_of(sky_msg_quantity_names, COUNT_OF(sky_msg_quantity_names), quantity);
+    const char *name = name_of(proto_msg_quantity_names, COUNT_OF(proto_msg_quantity_names),
+                               quantity);
     put_string(&b, b.root, "quantity", name);
-    if (quantity == SKY_PROBE_TRANSMITTANCE || quantity == SKY_PROBE_LUMINANCE) {
+    if (quantity == PROTO_PROBE_TRANSMITTANCE || quantity == PROTO_PROBE_LUMINANCE) {
         cJSON *rgb = put(&b, b.root, name, cJSON_CreateArray());
         for (int i = 0; i < 3; i++)
             put_number(&b, rgb, NULL, result->rgb[i]);
-    } else if (quantity == SKY_PROBE_ILLUMINANCE) {
+    } else if (quantity == PROTO_PROBE_ILLUMINANCE) {
         put_number(&b, b.root, "sun_lux", result->sun_lux);
         put_number(&b, b.root, "sky_lux", result->sky_lux);
     }
     if (result && result->multiple_scattering &&
-        (quantity == SKY_PROBE_LUMINANCE || quantity == SKY_PROBE_ILLUMINANCE))
+        (quantity == PROTO_PROBE_LUMINANCE || quantity == PROTO_PROBE_ILLUMINANCE))
         put_string(&b, b.root, "multiple_scattering", result->multiple_scattering);
     return finish(&b);
 }
 
-char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stats *stats)
+char *proto_msg_build_stats(const struct proto_msg_id *id, const struct proto_msg_stats *stats)
 {
     struct builder b;
     begin(&b, "stats", id);
     if (!stats || !(stats->fps >= 0) || stats->clients < 0 ||
-        stats->pass_count > SKY_MSG_MAX_PASSES || (stats->pass_count > 0 && !stats->passes) ||
+        stats->pass_count > PROTO_MSG_MAX_PASSES || (stats->pass_count > 0 && !stats->passes) ||
         (stats->subscription_count > 0 && !stats->subscriptions) ||
         !(stats->lut_rebuild_progress >= 0) || !(stats->lut_rebuild_progress <= 1) ||
         !isfinite(stats->simulation_time_s)) {
@@ -406,8 +412,8 @@ char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stat
     put_count(&b, b.root, "clients", (uint64_t)stats->clients);
     cJSON *passes = put(&b, b.root, "passes", cJSON_CreateObject());
     for (size_t i = 0; i < stats->pass_count && b.ok; i++) {
-        const struct sky_msg_pass_time *pass = &stats->passes[i];
-        if (!pass->name || !sky_msg_preset_name_is_valid(pass->name) || !(pass->ms >= 0) ||
+        const struct proto_msg_pass_time *pass = &stats->passes[i];
+        if (!pass->name || !proto_msg_preset_name_is_valid(pass->name) || !(pass->ms >= 0) ||
             cJSON_GetObjectItemCaseSensitive(passes, pass->name))
             b.ok = false;
         else
@@ -415,7 +421,7 @@ char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stat
     }
     put_number(&b, b.root, "lut_rebuild_progress", stats->lut_rebuild_progress);
     put_number(&b, b.root, "simulation_time_s", stats->simulation_time_s);
-    const struct sky_msg_multiple_scattering *ms = stats->multiple_scattering;
+    const struct proto_msg_multiple_scattering *ms = stats->multiple_scattering;
     if (ms && (!(ms->weight >= 0 && ms->weight <= 1) || !(ms->progress >= 0 && ms->progress <= 1) ||
                ms->order < 0)) {
         b.ok = false;
@@ -427,7 +433,7 @@ char *sky_msg_build_stats(const struct sky_msg_id *id, const struct sky_msg_stat
     }
     cJSON *subscriptions = put(&b, b.root, "subscriptions", cJSON_CreateArray());
     for (size_t i = 0; i < stats->subscription_count && b.ok; i++) {
-        const struct sky_msg_subscription_stats *s = &stats->subscriptions[i];
+        const struct proto_msg_subscription_stats *s = &stats->subscriptions[i];
         if (s->subscription == 0 || !(s->fps > 0) || s->quality < 0 || !(s->max_kbps >= 0)) {
             b.ok = false;
             break;

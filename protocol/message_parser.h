@@ -22,11 +22,11 @@
 #endif
 
 #define COUNT_OF(array) (sizeof(array) / sizeof((array)[0]))
-#define REASON_MAX sizeof(((struct sky_field_error *)NULL)->reason)
+#define REASON_MAX sizeof(((struct proto_field_error *)NULL)->reason)
 
 struct parser {
-    const struct sky_msg_limits *limits;
-    struct sky_msg_parse_error *error;
+    const struct proto_msg_limits *limits;
+    struct proto_msg_parse_error *error;
     cJSON *root;
     size_t length; /* of the message text */
 };
@@ -38,7 +38,7 @@ void msg_join_names(const char *const *names, size_t count, char *out, size_t ca
 void msg_child_pointer(char *out, const char *parent, const char *name);
 
 PRINTF_LIKE(4, 5)
-void parser_fail(struct parser *p, enum sky_msg_error_code code, const char *pointer,
+void parser_fail(struct parser *p, enum proto_msg_error_code code, const char *pointer,
                  const char *format, ...);
 
 bool parser_require(struct parser *p, const cJSON *item, const char *pointer);
@@ -49,22 +49,22 @@ bool parser_read_integer(struct parser *p, const cJSON *item, const char *pointe
 bool parser_read_string(struct parser *p, const cJSON *item, const char *pointer, size_t min,
                         size_t max, char *out);
 
-/* One client message type's rows (message_fields.c): its members over struct sky_client_msg
+/* One client message type's rows (message_fields.c): its members over struct proto_client_msg
  * with "type", "id" and what messages.c reads itself as caller members. A discriminator (an
  * enum member: probe's "quantity", set_weather_map's "format") picks a variant table when its
  * value is one of its names: the members that value needs are required there, and those it
  * does not take unknown. */
 struct msg_schema {
-    const struct sky_schema *schema;   /* any discriminator value */
-    const char *discriminator;         /* NULL: none */
-    const struct sky_schema *variants; /* indexed by the discriminator's value */
+    const struct proto_schema *schema;   /* any discriminator value */
+    const char *discriminator;           /* NULL: none */
+    const struct proto_schema *variants; /* indexed by the discriminator's value */
     size_t variant_count;
 };
 
-/* NULL for SKY_MSG_NONE and values out of range. */
-const struct msg_schema *msg_schema_of(enum sky_msg_type type);
+/* NULL for PROTO_MSG_NONE and values out of range. */
+const struct msg_schema *msg_schema_of(enum proto_msg_type type);
 /* The table for this message: the variant its discriminator names, else the general one. */
-const struct sky_schema *msg_schema_variant(const struct msg_schema *kind, const cJSON *message);
+const struct proto_schema *msg_schema_variant(const struct msg_schema *kind, const cJSON *message);
 
 /* The view object's rows, in order. */
 enum msg_view_row {
@@ -86,19 +86,19 @@ enum msg_view_row {
 };
 
 struct msg_view_schema {
-    struct sky_field_desc rows[MSG_VIEW_ROWS];
-    struct sky_schema schema;
+    struct proto_field_desc rows[MSG_VIEW_ROWS];
+    struct proto_schema schema;
 };
 
-/* The view object's schema over struct sky_msg_view: sizes and frame rate up to the limits,
+/* The view object's schema over struct proto_msg_view: sizes and frame rate up to the limits,
  * camera and exposure members with the world state's ranges, names and descriptions. */
-void msg_view_schema(const struct sky_msg_limits *limits, struct msg_view_schema *out);
+void msg_view_schema(const struct proto_msg_limits *limits, struct msg_view_schema *out);
 
 /* The view object at `pointer` (present), defaults filled in. */
 void msg_parse_view(struct parser *p, const cJSON *object, const char *pointer,
-                    struct sky_msg_view *view);
+                    struct proto_msg_view *view);
 
 /* After the rows of set_weather_map: "data" (base64) decoded into msg->weather_map. */
-void msg_parse_weather_map(struct parser *p, struct sky_client_msg *msg);
+void msg_parse_weather_map(struct parser *p, struct proto_client_msg *msg);
 
 #endif

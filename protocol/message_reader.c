@@ -39,8 +39,8 @@ void msg_join_names(const char *const *names, size_t count, char *out, size_t ca
 /* "a/b" -> "a~1b" (RFC 6901), appended to parent after a '/'; truncated to fit. */
 void msg_child_pointer(char *out, const char *parent, const char *name)
 {
-    size_t used = (size_t)snprintf(out, SKY_MSG_POINTER_MAX, "%s/", parent);
-    for (const char *c = name; *c && used + 3 < SKY_MSG_POINTER_MAX; c++) {
+    size_t used = (size_t)snprintf(out, PROTO_MSG_POINTER_MAX, "%s/", parent);
+    for (const char *c = name; *c && used + 3 < PROTO_MSG_POINTER_MAX; c++) {
         if (*c == '~' || *c == '/') {
             out[used++] = '~';
             out[used++] = *c == '~' ? '0' : '1';
@@ -48,15 +48,15 @@ void msg_child_pointer(char *out, const char *parent, const char *name)
             out[used++] = *c;
         }
     }
-    out[used < SKY_MSG_POINTER_MAX ? used : SKY_MSG_POINTER_MAX - 1] = '\0';
+    out[used < PROTO_MSG_POINTER_MAX ? used : PROTO_MSG_POINTER_MAX - 1] = '\0';
 }
 
-void parser_fail(struct parser *p, enum sky_msg_error_code code, const char *pointer,
+void parser_fail(struct parser *p, enum proto_msg_error_code code, const char *pointer,
                  const char *format, ...)
 {
     va_list args;
     va_start(args, format);
-    sky_field_errors_vaddf(&p->error->fields, (int)code, pointer, format, args);
+    proto_field_errors_vaddf(&p->error->fields, (int)code, pointer, format, args);
     va_end(args);
 }
 
@@ -64,7 +64,7 @@ bool parser_require(struct parser *p, const cJSON *item, const char *pointer)
 {
     if (item)
         return true;
-    parser_fail(p, SKY_MSG_ERR_MISSING_FIELD, pointer, "required");
+    parser_fail(p, PROTO_MSG_ERR_MISSING_FIELD, pointer, "required");
     return false;
 }
 
@@ -72,13 +72,13 @@ static bool parser_read_number(struct parser *p, const cJSON *item, const char *
                                double max, double *out)
 {
     if (!cJSON_IsNumber(item)) {
-        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a number, got %s",
-                    sky_json_type_name(item));
+        parser_fail(p, PROTO_MSG_ERR_WRONG_TYPE, pointer, "expected a number, got %s",
+                    proto_json_type_name(item));
         return false;
     }
     double value = item->valuedouble;
     if (!isfinite(value) || value < min || value > max) {
-        parser_fail(p, SKY_MSG_ERR_OUT_OF_RANGE, pointer, "must be in [%.15g, %.15g], got %.15g",
+        parser_fail(p, PROTO_MSG_ERR_OUT_OF_RANGE, pointer, "must be in [%.15g, %.15g], got %.15g",
                     min, max, value);
         return false;
     }
@@ -93,7 +93,7 @@ bool parser_read_integer(struct parser *p, const cJSON *item, const char *pointe
     if (!parser_read_number(p, item, pointer, (double)min, (double)max, &value))
         return false;
     if (value != floor(value)) {
-        parser_fail(p, SKY_MSG_ERR_BAD_VALUE, pointer, "must be an integer, got %.15g", value);
+        parser_fail(p, PROTO_MSG_ERR_BAD_VALUE, pointer, "must be an integer, got %.15g", value);
         return false;
     }
     *out = (int64_t)value;
@@ -104,14 +104,14 @@ bool parser_read_string(struct parser *p, const cJSON *item, const char *pointer
                         size_t max, char *out)
 {
     if (!cJSON_IsString(item)) {
-        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, pointer, "expected a string, got %s",
-                    sky_json_type_name(item));
+        parser_fail(p, PROTO_MSG_ERR_WRONG_TYPE, pointer, "expected a string, got %s",
+                    proto_json_type_name(item));
         return false;
     }
     size_t length = strlen(item->valuestring);
     if (length < min || length > max) {
-        parser_fail(p, SKY_MSG_ERR_OUT_OF_RANGE, pointer, "must be %zu to %zu bytes long, got %zu",
-                    min, max, length);
+        parser_fail(p, PROTO_MSG_ERR_OUT_OF_RANGE, pointer,
+                    "must be %zu to %zu bytes long, got %zu", min, max, length);
         return false;
     }
     memcpy(out, item->valuestring, length + 1);

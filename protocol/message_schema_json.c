@@ -73,14 +73,14 @@ static cJSON *constant(const char *text)
     return with_string(cJSON_CreateObject(), "const", text);
 }
 
-/* A string of 1 to SKY_MSG_ID_MAX bytes, or an integer of magnitude at most 2^53 - 1. */
+/* A string of 1 to PROTO_MSG_ID_MAX bytes, or an integer of magnitude at most 2^53 - 1. */
 static cJSON *id_schema(void)
 {
     cJSON *text = with_number(with_number(typed("string"), "minLength", 1), "maxLength",
-                              SKY_MSG_ID_MAX);
+                              PROTO_MSG_ID_MAX);
     cJSON *number =
-        with_number(with_number(typed("integer"), "minimum", -(double)SKY_MSG_MAX_SAFE_INTEGER),
-                    "maximum", (double)SKY_MSG_MAX_SAFE_INTEGER);
+        with_number(with_number(typed("integer"), "minimum", -(double)PROTO_MSG_MAX_SAFE_INTEGER),
+                    "maximum", (double)PROTO_MSG_MAX_SAFE_INTEGER);
     cJSON *options = cJSON_CreateArray();
     bool ok = attach(options, NULL, text);
     ok = attach(ok ? options : NULL, NULL, number) && ok;
@@ -121,9 +121,9 @@ static const struct {
 };
 
 /* A table's schema as a subschema: no "$schema" of its own. */
-static cJSON *subschema(const struct sky_schema *schema, const cJSON *defaults, const char *title)
+static cJSON *subschema(const struct proto_schema *schema, const cJSON *defaults, const char *title)
 {
-    cJSON *root = sky_schema_json_schema(schema, defaults, title);
+    cJSON *root = proto_schema_json_schema(schema, defaults, title);
     cJSON_DeleteItemFromObjectCaseSensitive(root, "$schema");
     return root;
 }
@@ -137,7 +137,7 @@ static bool add_required(cJSON *object, const char *name)
 }
 
 /* One table of one message type: its rows, "type" as a constant, its caller members. */
-static cJSON *message_schema(const char *type, const struct sky_schema *schema, const char *title)
+static cJSON *message_schema(const char *type, const struct proto_schema *schema, const char *title)
 {
     cJSON *root = subschema(schema, NULL, title);
     cJSON *properties = cJSON_GetObjectItemCaseSensitive(root, "properties");
@@ -168,7 +168,7 @@ static cJSON *variants_schema(const char *type, const struct msg_schema *kind)
     cJSON *options = root && cJSON_AddStringToObject(root, "title", type)
                          ? cJSON_AddArrayToObject(root, "oneOf")
                          : NULL;
-    const struct sky_field_desc *row = NULL;
+    const struct proto_field_desc *row = NULL;
     for (size_t i = 0; i < kind->schema->count && !row; i++)
         if (strcmp(kind->schema->fields[i].path, kind->discriminator) == 0)
             row = &kind->schema->fields[i];
@@ -189,7 +189,7 @@ static cJSON *variants_schema(const char *type, const struct msg_schema *kind)
     return root;
 }
 
-static cJSON *view_schema(const struct sky_msg_limits *limits)
+static cJSON *view_schema(const struct proto_msg_limits *limits)
 {
     struct msg_view_schema view;
     msg_view_schema(limits, &view);
@@ -207,7 +207,7 @@ static cJSON *view_schema(const struct sky_msg_limits *limits)
 /* The world state's schema, without what a patch may not name. */
 static cJSON *patch_schema(void)
 {
-    cJSON *root = sky_world_state_json_schema();
+    cJSON *root = proto_world_state_json_schema();
     cJSON_DeleteItemFromObjectCaseSensitive(root, "$schema");
     cJSON_DeleteItemFromObjectCaseSensitive(cJSON_GetObjectItemCaseSensitive(root, "properties"),
                                             "revision");
@@ -225,7 +225,7 @@ static bool add_weather_only_transition(cJSON *apply_preset)
                   with_item(cJSON_CreateObject(), "transition_s", rule));
 }
 
-cJSON *sky_msg_json_schema(const struct sky_msg_limits *limits)
+cJSON *proto_msg_json_schema(const struct proto_msg_limits *limits)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON *options = cJSON_CreateArray();
@@ -236,14 +236,14 @@ cJSON *sky_msg_json_schema(const struct sky_msg_limits *limits)
     ok = attach(ok ? root : NULL, "$defs", defs) && ok;
     ok = ok && attach(defs, "id", id_schema()) && attach(defs, "view", view_schema(limits)) &&
          attach(defs, "patch", patch_schema());
-    for (int type = SKY_MSG_HELLO; ok && msg_schema_of((enum sky_msg_type)type); type++) {
-        const char *name = sky_msg_type_name((enum sky_msg_type)type);
-        const struct msg_schema *kind = msg_schema_of((enum sky_msg_type)type);
+    for (int type = PROTO_MSG_HELLO; ok && msg_schema_of((enum proto_msg_type)type); type++) {
+        const char *name = proto_msg_type_name((enum proto_msg_type)type);
+        const struct msg_schema *kind = msg_schema_of((enum proto_msg_type)type);
         cJSON *def = kind->discriminator ? variants_schema(name, kind)
                                          : message_schema(name, kind->schema, name);
         cJSON *option = reference(name);
         ok = attach(defs, name, def) &&
-             (type != SKY_MSG_APPLY_PRESET || add_weather_only_transition(def));
+             (type != PROTO_MSG_APPLY_PRESET || add_weather_only_transition(def));
         ok = attach(ok ? options : NULL, NULL, option) && ok;
     }
     if (!ok) {

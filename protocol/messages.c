@@ -14,56 +14,56 @@
 #include <stdlib.h>
 #include <string.h>
 
-_Static_assert((int)SKY_MSG_ERR_UNKNOWN_FIELD == (int)SKY_FIELD_UNKNOWN, "shared code");
-_Static_assert(SKY_MSG_METAR_MAX == SKY_METAR_MAX_LENGTH, "apply_observation's report");
-_Static_assert((int)SKY_MSG_ERR_WRONG_TYPE == (int)SKY_FIELD_WRONG_TYPE, "shared code");
-_Static_assert((int)SKY_MSG_ERR_OUT_OF_RANGE == (int)SKY_FIELD_OUT_OF_RANGE, "shared code");
-_Static_assert((int)SKY_MSG_ERR_BAD_VALUE == (int)SKY_FIELD_BAD_VALUE, "shared code");
-_Static_assert((int)SKY_MSG_ERR_INCONSISTENT == (int)SKY_FIELD_INCONSISTENT, "shared code");
-_Static_assert((int)SKY_MSG_ERR_MISSING_FIELD == (int)SKY_FIELD_MISSING, "shared code");
-_Static_assert(SKY_MSG_POINTER_MAX == sizeof(((struct sky_field_error *)NULL)->pointer),
+_Static_assert((int)PROTO_MSG_ERR_UNKNOWN_FIELD == (int)PROTO_FIELD_UNKNOWN, "shared code");
+_Static_assert(PROTO_MSG_METAR_MAX == PROTO_METAR_MAX_LENGTH, "apply_observation's report");
+_Static_assert((int)PROTO_MSG_ERR_WRONG_TYPE == (int)PROTO_FIELD_WRONG_TYPE, "shared code");
+_Static_assert((int)PROTO_MSG_ERR_OUT_OF_RANGE == (int)PROTO_FIELD_OUT_OF_RANGE, "shared code");
+_Static_assert((int)PROTO_MSG_ERR_BAD_VALUE == (int)PROTO_FIELD_BAD_VALUE, "shared code");
+_Static_assert((int)PROTO_MSG_ERR_INCONSISTENT == (int)PROTO_FIELD_INCONSISTENT, "shared code");
+_Static_assert((int)PROTO_MSG_ERR_MISSING_FIELD == (int)PROTO_FIELD_MISSING, "shared code");
+_Static_assert(PROTO_MSG_POINTER_MAX == sizeof(((struct proto_field_error *)NULL)->pointer),
                "pointer capacity");
 
 /* ---- constant tables -------------------------------------------------------------------- */
 
 static const char *const error_names[] = {
-    [SKY_MSG_OK] = "ok",
-    [SKY_MSG_ERR_UNKNOWN_FIELD] = "unknown_field",
-    [SKY_MSG_ERR_WRONG_TYPE] = "wrong_type",
-    [SKY_MSG_ERR_OUT_OF_RANGE] = "out_of_range",
-    [SKY_MSG_ERR_BAD_VALUE] = "bad_value",
-    [SKY_MSG_ERR_INCONSISTENT] = "inconsistent",
-    [SKY_MSG_ERR_MISSING_FIELD] = "missing_field",
-    [SKY_MSG_ERR_MALFORMED_JSON] = "malformed_json",
-    [SKY_MSG_ERR_MESSAGE_TOO_LARGE] = "message_too_large",
-    [SKY_MSG_ERR_NOT_AN_OBJECT] = "not_an_object",
-    [SKY_MSG_ERR_UNKNOWN_TYPE] = "unknown_type",
-    [SKY_MSG_ERR_INVALID_ENCODING] = "invalid_encoding",
-    [SKY_MSG_ERR_UNSUPPORTED_PROTOCOL] = "unsupported_protocol",
-    [SKY_MSG_ERR_FORBIDDEN] = "forbidden",
-    [SKY_MSG_ERR_AUTH_FAILED] = "auth_failed",
-    [SKY_MSG_ERR_RATE_LIMITED] = "rate_limited",
-    [SKY_MSG_ERR_NOT_FOUND] = "not_found",
-    [SKY_MSG_ERR_LIMIT_REACHED] = "limit_reached",
-    [SKY_MSG_ERR_INTERNAL] = "internal",
-    [SKY_MSG_ERR_UNAVAILABLE] = "unavailable",
+    [PROTO_MSG_OK] = "ok",
+    [PROTO_MSG_ERR_UNKNOWN_FIELD] = "unknown_field",
+    [PROTO_MSG_ERR_WRONG_TYPE] = "wrong_type",
+    [PROTO_MSG_ERR_OUT_OF_RANGE] = "out_of_range",
+    [PROTO_MSG_ERR_BAD_VALUE] = "bad_value",
+    [PROTO_MSG_ERR_INCONSISTENT] = "inconsistent",
+    [PROTO_MSG_ERR_MISSING_FIELD] = "missing_field",
+    [PROTO_MSG_ERR_MALFORMED_JSON] = "malformed_json",
+    [PROTO_MSG_ERR_MESSAGE_TOO_LARGE] = "message_too_large",
+    [PROTO_MSG_ERR_NOT_AN_OBJECT] = "not_an_object",
+    [PROTO_MSG_ERR_UNKNOWN_TYPE] = "unknown_type",
+    [PROTO_MSG_ERR_INVALID_ENCODING] = "invalid_encoding",
+    [PROTO_MSG_ERR_UNSUPPORTED_PROTOCOL] = "unsupported_protocol",
+    [PROTO_MSG_ERR_FORBIDDEN] = "forbidden",
+    [PROTO_MSG_ERR_AUTH_FAILED] = "auth_failed",
+    [PROTO_MSG_ERR_RATE_LIMITED] = "rate_limited",
+    [PROTO_MSG_ERR_NOT_FOUND] = "not_found",
+    [PROTO_MSG_ERR_LIMIT_REACHED] = "limit_reached",
+    [PROTO_MSG_ERR_INTERNAL] = "internal",
+    [PROTO_MSG_ERR_UNAVAILABLE] = "unavailable",
 };
 
 static const char *const type_names[] = {
-    [SKY_MSG_HELLO] = "hello",
-    [SKY_MSG_AUTH] = "auth",
-    [SKY_MSG_GET_STATE] = "get_state",
-    [SKY_MSG_SET] = "set",
-    [SKY_MSG_SUBSCRIBE] = "subscribe",
-    [SKY_MSG_UNSUBSCRIBE] = "unsubscribe",
-    [SKY_MSG_SNAPSHOT] = "snapshot",
-    [SKY_MSG_PROBE] = "probe",
-    [SKY_MSG_LIST_PRESETS] = "list_presets",
-    [SKY_MSG_APPLY_PRESET] = "apply_preset",
-    [SKY_MSG_STATS] = "stats",
-    [SKY_MSG_SET_WEATHER_MAP] = "set_weather_map",
-    [SKY_MSG_DESCRIBE] = "describe",
-    [SKY_MSG_APPLY_OBSERVATION] = "apply_observation",
+    [PROTO_MSG_HELLO] = "hello",
+    [PROTO_MSG_AUTH] = "auth",
+    [PROTO_MSG_GET_STATE] = "get_state",
+    [PROTO_MSG_SET] = "set",
+    [PROTO_MSG_SUBSCRIBE] = "subscribe",
+    [PROTO_MSG_UNSUBSCRIBE] = "unsubscribe",
+    [PROTO_MSG_SNAPSHOT] = "snapshot",
+    [PROTO_MSG_PROBE] = "probe",
+    [PROTO_MSG_LIST_PRESETS] = "list_presets",
+    [PROTO_MSG_APPLY_PRESET] = "apply_preset",
+    [PROTO_MSG_STATS] = "stats",
+    [PROTO_MSG_SET_WEATHER_MAP] = "set_weather_map",
+    [PROTO_MSG_DESCRIBE] = "describe",
+    [PROTO_MSG_APPLY_OBSERVATION] = "apply_observation",
 };
 
 static const char *const capabilities[] = {
@@ -78,53 +78,56 @@ static const char *const capabilities[] = {
     "jpeg",         "equirectangular",
 };
 
-const char *const sky_msg_role_names[SKY_MSG_ROLE_NAMES] = {
-    [SKY_ROLE_VIEWER] = "viewer", [SKY_ROLE_CONTROLLER] = "controller"
+const char *const proto_msg_role_names[PROTO_MSG_ROLE_NAMES] = {
+    [PROTO_ROLE_VIEWER] = "viewer", [PROTO_ROLE_CONTROLLER] = "controller"
 };
-const char *const sky_msg_quantity_names[SKY_MSG_QUANTITY_NAMES] = { "transmittance", "luminance",
-                                                                     "illuminance" };
-const char *const sky_msg_preset_kind_names[SKY_MSG_PRESET_KIND_NAMES] = { "atmosphere",
-                                                                           "weather" };
-const char *const sky_msg_format_names[SKY_MSG_FORMAT_NAMES] = { [SKY_FRAME_FORMAT_PNG] = "png",
-                                                                 [SKY_FRAME_FORMAT_PNG16] = "png16",
-                                                                 [SKY_FRAME_FORMAT_JPEG] = "jpeg" };
-const char *const sky_msg_projection_names[SKY_MSG_PROJECTION_NAMES] = {
-    [SKY_VIEW_PROJECTION_PERSPECTIVE] = "perspective",
-    [SKY_VIEW_PROJECTION_EQUIRECTANGULAR] = "equirectangular"
+const char *const proto_msg_quantity_names[PROTO_MSG_QUANTITY_NAMES] = { "transmittance",
+                                                                         "luminance",
+                                                                         "illuminance" };
+const char *const proto_msg_preset_kind_names[PROTO_MSG_PRESET_KIND_NAMES] = { "atmosphere",
+                                                                               "weather" };
+const char *const proto_msg_format_names[PROTO_MSG_FORMAT_NAMES] = {
+    [PROTO_FRAME_FORMAT_PNG] = "png",
+    [PROTO_FRAME_FORMAT_PNG16] = "png16",
+    [PROTO_FRAME_FORMAT_JPEG] = "jpeg"
+};
+const char *const proto_msg_projection_names[PROTO_MSG_PROJECTION_NAMES] = {
+    [PROTO_VIEW_PROJECTION_PERSPECTIVE] = "perspective",
+    [PROTO_VIEW_PROJECTION_EQUIRECTANGULAR] = "equirectangular"
 };
 
 /* ---- small helpers ---------------------------------------------------------------------- */
 
-const char *sky_msg_error_name(int code)
+const char *proto_msg_error_name(int code)
 {
     if (code < 0 || (size_t)code >= COUNT_OF(error_names))
         return NULL;
     return error_names[code];
 }
 
-enum sky_msg_error_code sky_msg_error_code_named(const char *name, size_t length)
+enum proto_msg_error_code proto_msg_error_code_named(const char *name, size_t length)
 {
     for (size_t i = 1; i < COUNT_OF(error_names); i++)
         if (error_names[i] && strlen(error_names[i]) == length &&
             memcmp(error_names[i], name, length) == 0)
-            return (enum sky_msg_error_code)i;
-    return SKY_MSG_OK;
+            return (enum proto_msg_error_code)i;
+    return PROTO_MSG_OK;
 }
 
-const char *sky_msg_type_name(enum sky_msg_type type)
+const char *proto_msg_type_name(enum proto_msg_type type)
 {
     if ((int)type <= 0 || (size_t)type >= COUNT_OF(type_names))
         return NULL;
     return type_names[type];
 }
 
-bool protocol_message_needs_controller(enum sky_msg_type type)
+bool protocol_message_needs_controller(enum proto_msg_type type)
 {
-    return type == SKY_MSG_SET || type == SKY_MSG_APPLY_PRESET || type == SKY_MSG_SET_WEATHER_MAP ||
-           type == SKY_MSG_APPLY_OBSERVATION;
+    return type == PROTO_MSG_SET || type == PROTO_MSG_APPLY_PRESET ||
+           type == PROTO_MSG_SET_WEATHER_MAP || type == PROTO_MSG_APPLY_OBSERVATION;
 }
 
-void sky_msg_limits_default(struct sky_msg_limits *limits)
+void proto_msg_limits_default(struct proto_msg_limits *limits)
 {
     limits->max_message_bytes = 65536;
     limits->max_clients = 64;
@@ -135,24 +138,24 @@ void sky_msg_limits_default(struct sky_msg_limits *limits)
     limits->max_upload_bytes = 2u << 20;
 }
 
-const char *const *sky_msg_default_capabilities(size_t *count)
+const char *const *proto_msg_default_capabilities(size_t *count)
 {
     if (count)
         *count = COUNT_OF(capabilities);
     return capabilities;
 }
 
-bool sky_msg_preset_name_is_valid(const char *name)
+bool proto_msg_preset_name_is_valid(const char *name)
 {
     size_t length = strlen(name);
-    if (length < 1 || length > SKY_MSG_PRESET_NAME_MAX)
+    if (length < 1 || length > PROTO_MSG_PRESET_NAME_MAX)
         return false;
     return strspn(name, "abcdefghijklmnopqrstuvwxyz0123456789_-") == length;
 }
 
 /* Length of the valid UTF-8 sequence at s (at most `left` bytes), 0 when invalid. Rejects
  * overlong forms, surrogates and code points above U+10FFFF. */
-size_t sky_msg_utf8_sequence(const unsigned char *s, size_t left)
+size_t proto_msg_utf8_sequence(const unsigned char *s, size_t left)
 {
     if (s[0] < 0x80)
         return 1;
@@ -180,7 +183,7 @@ static size_t utf8_invalid_offset(const char *text, size_t length)
 {
     size_t i = 0;
     while (i < length) {
-        size_t n = sky_msg_utf8_sequence((const unsigned char *)text + i, length - i);
+        size_t n = proto_msg_utf8_sequence((const unsigned char *)text + i, length - i);
         if (n == 0)
             return i;
         i += n;
@@ -215,103 +218,103 @@ static size_t nul_offset(const char *text, size_t length)
 
 /* ---- parsing ---------------------------------------------------------------------------- */
 
-static void parse_id(struct parser *p, const cJSON *item, struct sky_msg_id *id)
+static void parse_id(struct parser *p, const cJSON *item, struct proto_msg_id *id)
 {
     if (cJSON_IsString(item)) {
-        if (parser_read_string(p, item, "/id", 1, SKY_MSG_ID_MAX, id->text))
-            id->kind = SKY_MSG_ID_STRING;
+        if (parser_read_string(p, item, "/id", 1, PROTO_MSG_ID_MAX, id->text))
+            id->kind = PROTO_MSG_ID_STRING;
     } else if (cJSON_IsNumber(item)) {
-        if (parser_read_integer(p, item, "/id", -SKY_MSG_MAX_SAFE_INTEGER, SKY_MSG_MAX_SAFE_INTEGER,
-                                &id->number))
-            id->kind = SKY_MSG_ID_INTEGER;
+        if (parser_read_integer(p, item, "/id", -PROTO_MSG_MAX_SAFE_INTEGER,
+                                PROTO_MSG_MAX_SAFE_INTEGER, &id->number))
+            id->kind = PROTO_MSG_ID_INTEGER;
     } else {
-        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/id", "expected a string or an integer, got %s",
-                    sky_json_type_name(item));
+        parser_fail(p, PROTO_MSG_ERR_WRONG_TYPE, "/id", "expected a string or an integer, got %s",
+                    proto_json_type_name(item));
     }
 }
 
 /* [a-z0-9_-]{1,64}: a pattern, which rows do not have. */
-static void parse_preset_name(struct parser *p, struct sky_client_msg *msg)
+static void parse_preset_name(struct parser *p, struct proto_client_msg *msg)
 {
     const cJSON *item = cJSON_GetObjectItemCaseSensitive(p->root, "name");
     if (!parser_require(p, item, "/name"))
         return;
     if (!cJSON_IsString(item))
-        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/name", "expected a string, got %s",
-                    sky_json_type_name(item));
-    else if (!sky_msg_preset_name_is_valid(item->valuestring))
-        parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
+        parser_fail(p, PROTO_MSG_ERR_WRONG_TYPE, "/name", "expected a string, got %s",
+                    proto_json_type_name(item));
+    else if (!proto_msg_preset_name_is_valid(item->valuestring))
+        parser_fail(p, PROTO_MSG_ERR_BAD_VALUE, "/name", "must match [a-z0-9_-]{1,64}");
     else
         memcpy(msg->preset.name, item->valuestring, strlen(item->valuestring) + 1);
 }
 
 /* What the rows cannot say about each type, once they ran. */
-static void check_members(struct parser *p, struct sky_client_msg *msg)
+static void check_members(struct parser *p, struct proto_client_msg *msg)
 {
     const cJSON *item;
     int kind;
     switch (msg->type) {
-    case SKY_MSG_HELLO:
+    case PROTO_MSG_HELLO:
         msg->hello.has_client = cJSON_GetObjectItemCaseSensitive(p->root, "client") != NULL;
-        if (msg->hello.protocol != 0 && msg->hello.protocol != SKY_PROTOCOL_VERSION)
-            parser_fail(p, SKY_MSG_ERR_UNSUPPORTED_PROTOCOL, "/protocol",
-                        "this server speaks protocol %d, got %d", SKY_PROTOCOL_VERSION,
+        if (msg->hello.protocol != 0 && msg->hello.protocol != PROTO_PROTOCOL_VERSION)
+            parser_fail(p, PROTO_MSG_ERR_UNSUPPORTED_PROTOCOL, "/protocol",
+                        "this server speaks protocol %d, got %d", PROTO_PROTOCOL_VERSION,
                         msg->hello.protocol);
         break;
-    case SKY_MSG_SET:
+    case PROTO_MSG_SET:
         item = cJSON_GetObjectItemCaseSensitive(p->root, "patch");
         if (!parser_require(p, item, "/patch"))
             break;
         if (!cJSON_IsObject(item)) {
-            parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/patch", "expected an object, got %s",
-                        sky_json_type_name(item));
+            parser_fail(p, PROTO_MSG_ERR_WRONG_TYPE, "/patch", "expected an object, got %s",
+                        proto_json_type_name(item));
         } else {
-            struct sky_world_patch *patch = malloc(sizeof *patch);
+            struct proto_world_patch *patch = malloc(sizeof *patch);
             if (!patch)
-                parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/patch", "out of memory");
-            else if (sky_world_patch_compile(item, "/patch", patch, &p->error->fields) &&
+                parser_fail(p, PROTO_MSG_ERR_BAD_VALUE, "/patch", "out of memory");
+            else if (proto_world_patch_compile(item, "/patch", patch, &p->error->fields) &&
                      p->error->fields.total == 0)
                 msg->set.patch = patch;
             else
                 free(patch);
         }
         break;
-    case SKY_MSG_SUBSCRIBE:
-    case SKY_MSG_SNAPSHOT:
+    case PROTO_MSG_SUBSCRIBE:
+    case PROTO_MSG_SNAPSHOT:
         item = cJSON_GetObjectItemCaseSensitive(p->root, "view");
         if (parser_require(p, item, "/view"))
             msg_parse_view(p, item, "/view", &msg->view);
         break;
-    case SKY_MSG_APPLY_PRESET:
+    case PROTO_MSG_APPLY_PRESET:
         parse_preset_name(p, msg);
         item = cJSON_GetObjectItemCaseSensitive(p->root, "kind");
         kind = cJSON_IsString(item)
-                   ? msg_find_name(sky_msg_preset_kind_names, COUNT_OF(sky_msg_preset_kind_names),
-                                   item->valuestring)
+                   ? msg_find_name(proto_msg_preset_kind_names,
+                                   COUNT_OF(proto_msg_preset_kind_names), item->valuestring)
                    : -1;
         msg->preset.has_transition = cJSON_GetObjectItemCaseSensitive(p->root, "transition_s") !=
                                      NULL;
-        if (msg->preset.has_transition && kind >= 0 && kind != SKY_PRESET_WEATHER)
-            parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "/transition_s",
+        if (msg->preset.has_transition && kind >= 0 && kind != PROTO_PRESET_WEATHER)
+            parser_fail(p, PROTO_MSG_ERR_BAD_VALUE, "/transition_s",
                         "only weather presets have a transition");
         break;
-    case SKY_MSG_SET_WEATHER_MAP:
+    case PROTO_MSG_SET_WEATHER_MAP:
         msg_parse_weather_map(p, msg);
         break;
-    case SKY_MSG_NONE:
-    case SKY_MSG_AUTH:
-    case SKY_MSG_GET_STATE:
-    case SKY_MSG_UNSUBSCRIBE:
-    case SKY_MSG_PROBE:
-    case SKY_MSG_LIST_PRESETS:
-    case SKY_MSG_STATS:
-    case SKY_MSG_DESCRIBE:
-    case SKY_MSG_APPLY_OBSERVATION:
+    case PROTO_MSG_NONE:
+    case PROTO_MSG_AUTH:
+    case PROTO_MSG_GET_STATE:
+    case PROTO_MSG_UNSUBSCRIBE:
+    case PROTO_MSG_PROBE:
+    case PROTO_MSG_LIST_PRESETS:
+    case PROTO_MSG_STATS:
+    case PROTO_MSG_DESCRIBE:
+    case PROTO_MSG_APPLY_OBSERVATION:
         break;
     }
 }
 
-static void parse_object(struct parser *p, struct sky_client_msg *msg)
+static void parse_object(struct parser *p, struct proto_client_msg *msg)
 {
     const cJSON *type = cJSON_GetObjectItemCaseSensitive(p->root, "type");
     const cJSON *id = cJSON_GetObjectItemCaseSensitive(p->root, "id");
@@ -320,53 +323,53 @@ static void parse_object(struct parser *p, struct sky_client_msg *msg)
     if (!parser_require(p, type, "/type"))
         return;
     if (!cJSON_IsString(type)) {
-        parser_fail(p, SKY_MSG_ERR_WRONG_TYPE, "/type", "expected a string, got %s",
-                    sky_json_type_name(type));
+        parser_fail(p, PROTO_MSG_ERR_WRONG_TYPE, "/type", "expected a string, got %s",
+                    proto_json_type_name(type));
         return;
     }
     int index = msg_find_name(type_names, COUNT_OF(type_names), type->valuestring);
     if (index < 0) {
         char expected[REASON_MAX];
         msg_join_names(type_names, COUNT_OF(type_names), expected, sizeof expected);
-        parser_fail(p, SKY_MSG_ERR_UNKNOWN_TYPE, "/type", "expected one of: %s", expected);
+        parser_fail(p, PROTO_MSG_ERR_UNKNOWN_TYPE, "/type", "expected one of: %s", expected);
         return;
     }
-    msg->type = (enum sky_msg_type)index;
-    if (p->length > p->limits->max_message_bytes && msg->type != SKY_MSG_SET_WEATHER_MAP) {
-        parser_fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "",
+    msg->type = (enum proto_msg_type)index;
+    if (p->length > p->limits->max_message_bytes && msg->type != PROTO_MSG_SET_WEATHER_MAP) {
+        parser_fail(p, PROTO_MSG_ERR_MESSAGE_TOO_LARGE, "",
                     "message is %zu bytes, the limit is %zu (only set_weather_map may be larger)",
                     p->length, p->limits->max_message_bytes);
         return;
     }
     const struct msg_schema *kind = msg_schema_of(msg->type);
-    const struct sky_schema *schema = msg_schema_variant(kind, p->root);
-    struct sky_field_errors *errors = &p->error->fields;
+    const struct proto_schema *schema = msg_schema_variant(kind, p->root);
+    struct proto_field_errors *errors = &p->error->fields;
     int before = errors->count;
-    sky_schema_apply_json(schema, msg, p->root, "", errors, NULL);
+    proto_schema_apply_json(schema, msg, p->root, "", errors, NULL);
     /* A variant's required member is required by the discriminator's value: say which. */
     const cJSON *discriminator = cJSON_GetObjectItemCaseSensitive(p->root, kind->discriminator);
     for (int i = before; schema != kind->schema && i < errors->count; i++)
-        if (errors->items[i].code == SKY_MSG_ERR_MISSING_FIELD)
+        if (errors->items[i].code == PROTO_MSG_ERR_MISSING_FIELD)
             snprintf(errors->items[i].reason, sizeof errors->items[i].reason, "required for %s",
                      discriminator->valuestring);
     check_members(p, msg);
 }
 
-size_t sky_msg_upload_limit(const struct sky_msg_limits *limits)
+size_t proto_msg_upload_limit(const struct proto_msg_limits *limits)
 {
     return limits->max_upload_bytes > limits->max_message_bytes ? limits->max_upload_bytes
                                                                 : limits->max_message_bytes;
 }
 
-static void summarize(struct sky_msg_parse_error *error)
+static void summarize(struct proto_msg_parse_error *error)
 {
-    const struct sky_field_errors *fields = &error->fields;
+    const struct proto_field_errors *fields = &error->fields;
     if (fields->total == 0) {
-        error->code = SKY_MSG_OK;
+        error->code = PROTO_MSG_OK;
         return;
     }
-    const struct sky_field_error *first = &fields->items[0];
-    error->code = (enum sky_msg_error_code)first->code;
+    const struct proto_field_error *first = &fields->items[0];
+    error->code = (enum proto_msg_error_code)first->code;
     char more[24] = "";
     if (fields->total > 1)
         snprintf(more, sizeof more, " (and %d more)", fields->total - 1);
@@ -374,9 +377,10 @@ static void summarize(struct sky_msg_parse_error *error)
              first->pointer[0] ? ": " : "", first->reason, more);
 }
 
-enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
-                                      const struct sky_msg_limits *limits,
-                                      struct sky_client_msg *msg, struct sky_msg_parse_error *error)
+enum proto_msg_error_code proto_msg_parse(const char *text, size_t length,
+                                          const struct proto_msg_limits *limits,
+                                          struct proto_client_msg *msg,
+                                          struct proto_msg_parse_error *error)
 {
     memset(msg, 0, sizeof *msg);
     memset(error, 0, sizeof *error);
@@ -385,18 +389,19 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
     size_t offset;
     char *copy = NULL;
     if (!text || !limits) {
-        parser_fail(p, SKY_MSG_ERR_INTERNAL, "", "no message or no limits");
-    } else if (length > sky_msg_upload_limit(limits)) {
-        parser_fail(p, SKY_MSG_ERR_MESSAGE_TOO_LARGE, "", "message is %zu bytes, the limit is %zu",
-                    length, sky_msg_upload_limit(limits));
+        parser_fail(p, PROTO_MSG_ERR_INTERNAL, "", "no message or no limits");
+    } else if (length > proto_msg_upload_limit(limits)) {
+        parser_fail(p, PROTO_MSG_ERR_MESSAGE_TOO_LARGE, "",
+                    "message is %zu bytes, the limit is %zu", length,
+                    proto_msg_upload_limit(limits));
     } else if ((offset = nul_offset(text, length)) < length) {
         error->offset = offset;
-        parser_fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "NUL byte at offset %zu", offset);
+        parser_fail(p, PROTO_MSG_ERR_MALFORMED_JSON, "", "NUL byte at offset %zu", offset);
     } else if ((offset = utf8_invalid_offset(text, length)) < length) {
         error->offset = offset;
-        parser_fail(p, SKY_MSG_ERR_INVALID_ENCODING, "", "invalid UTF-8 at offset %zu", offset);
+        parser_fail(p, PROTO_MSG_ERR_INVALID_ENCODING, "", "invalid UTF-8 at offset %zu", offset);
     } else if (!(copy = malloc(length + 1))) {
-        parser_fail(p, SKY_MSG_ERR_INTERNAL, "", "out of memory");
+        parser_fail(p, PROTO_MSG_ERR_INTERNAL, "", "out of memory");
     } else {
         /* A terminated copy: cJSON then never needs to honour the length bound itself. */
         memcpy(copy, text, length);
@@ -408,15 +413,15 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
             offset += strspn(end, " \t\r\n");
         if (!p->root || offset < length) {
             error->offset = offset;
-            parser_fail(p, SKY_MSG_ERR_MALFORMED_JSON, "", "%s at offset %zu",
+            parser_fail(p, PROTO_MSG_ERR_MALFORMED_JSON, "", "%s at offset %zu",
                         p->root ? "unexpected text after the JSON value" : "invalid JSON", offset);
         } else if ((offset = escaped_nul_offset(copy, length)) < length) {
             error->offset = offset;
-            parser_fail(p, SKY_MSG_ERR_BAD_VALUE, "", "\\u0000 at offset %zu: NUL is not allowed",
+            parser_fail(p, PROTO_MSG_ERR_BAD_VALUE, "", "\\u0000 at offset %zu: NUL is not allowed",
                         offset);
         } else if (!cJSON_IsObject(p->root)) {
-            parser_fail(p, SKY_MSG_ERR_NOT_AN_OBJECT, "", "expected a JSON object, got %s",
-                        sky_json_type_name(p->root));
+            parser_fail(p, PROTO_MSG_ERR_NOT_AN_OBJECT, "", "expected a JSON object, got %s",
+                        proto_json_type_name(p->root));
         } else {
             parse_object(p, msg);
         }
@@ -424,23 +429,25 @@ enum sky_msg_error_code sky_msg_parse(const char *text, size_t length,
     cJSON_Delete(p->root);
     free(copy);
     summarize(error);
-    if (error->code != SKY_MSG_OK)
-        sky_client_msg_free(msg);
+    if (error->code != PROTO_MSG_OK)
+        proto_client_msg_free(msg);
     return error->code;
 }
 
-void sky_client_msg_free(struct sky_client_msg *msg)
+void proto_client_msg_free(struct proto_client_msg *msg)
 {
-    if (msg && msg->type == SKY_MSG_SET) {
+    if (msg && msg->type == PROTO_MSG_SET) {
         free(msg->set.patch);
         msg->set.patch = NULL;
     }
-    if (msg && msg->type == SKY_MSG_SET_WEATHER_MAP)
-        sky_weather_map_free(&msg->weather_map);
+    if (msg && msg->type == PROTO_MSG_SET_WEATHER_MAP)
+        proto_weather_map_free(&msg->weather_map);
 }
 
-void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_world_state *state,
-                          struct sky_camera_state *camera, struct sky_exposure_state *exposure)
+void proto_msg_view_resolve(const struct proto_msg_view *view,
+                            const struct proto_world_state *state,
+                            struct proto_camera_state *camera,
+                            struct proto_exposure_state *exposure)
 {
     *camera = state->camera;
     *exposure = state->exposure;
@@ -460,18 +467,19 @@ void sky_msg_view_resolve(const struct sky_msg_view *view, const struct sky_worl
         exposure->compensation_ev = view->compensation_ev;
 }
 
-size_t sky_msg_state_diff(const struct sky_world_state *before, const struct sky_world_state *after,
-                          char pointers[][SKY_MSG_POINTER_MAX], size_t max)
+size_t proto_msg_state_diff(const struct proto_world_state *before,
+                            const struct proto_world_state *after,
+                            char pointers[][PROTO_MSG_POINTER_MAX], size_t max)
 {
     size_t field_count, changed = 0;
-    const struct sky_field_desc *fields = sky_world_state_fields(&field_count);
+    const struct proto_field_desc *fields = proto_world_state_fields(&field_count);
     for (size_t i = 0; i < field_count; i++) {
-        size_t size = sky_field_size(&fields[i]);
+        size_t size = proto_field_size(&fields[i]);
         if (memcmp((const char *)before + fields[i].offset, (const char *)after + fields[i].offset,
                    size) == 0)
             continue;
         if (changed < max)
-            sky_field_pointer(&fields[i], pointers[changed], SKY_MSG_POINTER_MAX);
+            proto_field_pointer(&fields[i], pointers[changed], PROTO_MSG_POINTER_MAX);
         changed++;
     }
     return changed;

@@ -43,12 +43,12 @@ static const char *const section_names[] = {
 #define TEMPERATURE_FORM "the temperature and dew point (TT/TdTd)"
 
 struct decoder {
-    struct metar_group groups[SKY_METAR_MAX_GROUPS];
+    struct metar_group groups[PROTO_METAR_MAX_GROUPS];
     int count;         /* the groups before RMK */
     int next;          /* the group to read */
     enum section last; /* the section of the last group read */
-    struct sky_metar_report report;
-    struct sky_metar_error *error;
+    struct proto_metar_report report;
+    struct proto_metar_error *error;
 };
 
 /* ---- splitting ----------------------------------------------------------------------------- */
@@ -69,7 +69,7 @@ static bool refuse_character(struct decoder *d, const char *text, size_t start, 
 {
     struct metar_group g;
     memset(&g, 0, sizeof g);
-    for (size_t i = start; i < end && g.length < SKY_METAR_MAX_GROUP_CHARS; i++) {
+    for (size_t i = start; i < end && g.length < PROTO_METAR_MAX_GROUP_CHARS; i++) {
         unsigned char c = (unsigned char)text[i];
         g.text[g.length++] = c > 0x20 && c < 0x7f ? (char)c : '?';
     }
@@ -79,7 +79,7 @@ static bool refuse_character(struct decoder *d, const char *text, size_t start, 
     char shown[8] = "";
     if (c > 0x20 && c < 0x7f)
         snprintf(shown, sizeof shown, " '%c'", c);
-    metar_fail(d->error, &g, SKY_METAR_ERR_CHARACTER,
+    metar_fail(d->error, &g, PROTO_METAR_ERR_CHARACTER,
                "character 0x%02x%s at offset %zu is not allowed (groups hold A-Z, 0-9, /, + and "
                "-; remarks printable ASCII)",
                c, shown, at);
@@ -100,7 +100,7 @@ static bool split(struct decoder *d, const char *text, size_t length)
         if (text[i] == '=') {
             for (size_t j = i + 1; j < length; j++)
                 if (!is_blank(text[j])) {
-                    metar_fail(d->error, NULL, SKY_METAR_ERR_AFTER_END,
+                    metar_fail(d->error, NULL, PROTO_METAR_ERR_AFTER_END,
                                "offset %zu: text after the '=' that ends the report at offset "
                                "%zu",
                                j, i);
@@ -120,22 +120,22 @@ static bool split(struct decoder *d, const char *text, size_t length)
         }
         if (remarks)
             continue;
-        if (i - start > SKY_METAR_MAX_GROUP_CHARS) {
+        if (i - start > PROTO_METAR_MAX_GROUP_CHARS) {
             struct metar_group cut = { .offset = start, .index = index };
-            memcpy(cut.text, text + start, SKY_METAR_MAX_GROUP_CHARS);
-            metar_fail(d->error, &cut, SKY_METAR_ERR_TOO_LONG,
+            memcpy(cut.text, text + start, PROTO_METAR_MAX_GROUP_CHARS);
+            metar_fail(d->error, &cut, PROTO_METAR_ERR_TOO_LONG,
                        "a group of %zu characters; none is longer than %d", i - start,
-                       SKY_METAR_MAX_GROUP_CHARS);
+                       PROTO_METAR_MAX_GROUP_CHARS);
             return false;
         }
         if (i - start == 3 && memcmp(text + start, "RMK", 3) == 0) {
             remarks = true;
             continue;
         }
-        if (d->count == SKY_METAR_MAX_GROUPS) {
-            metar_fail(d->error, NULL, SKY_METAR_ERR_TOO_MANY,
+        if (d->count == PROTO_METAR_MAX_GROUPS) {
+            metar_fail(d->error, NULL, PROTO_METAR_ERR_TOO_MANY,
                        "group %d (offset %zu): more than %d groups before RMK", index, start,
-                       SKY_METAR_MAX_GROUPS);
+                       PROTO_METAR_MAX_GROUPS);
             d->error->group = index;
             d->error->offset = start;
             return false;
@@ -172,17 +172,17 @@ static void advance(struct decoder *d, enum section section, int groups)
 
 /* The section a group would belong to anywhere in a report: the first whose parser takes it,
  * else the first that finds it malformed (its error in *error), else SEC_NONE. */
-static enum section classify(const struct metar_group *g, struct sky_metar_error *error)
+static enum section classify(const struct metar_group *g, struct proto_metar_error *error)
 {
-    struct sky_metar_report scratch;
-    struct sky_metar_error ignored;
+    struct proto_metar_report scratch;
+    struct proto_metar_error ignored;
     enum section bad = SEC_NONE;
     memset(error, 0, sizeof *error);
     for (enum section s = SEC_MODIFIER; s < SEC_NONE; s++) {
         memset(&scratch, 0, sizeof scratch);
         enum metar_match m = METAR_NOT_THIS;
         int used;
-        struct sky_metar_error *e = bad == SEC_NONE ? error : &ignored;
+        struct proto_metar_error *e = bad == SEC_NONE ? error : &ignored;
         switch (s) {
         case SEC_MODIFIER:
             m = !strcmp(g->text, "AUTO") || !strcmp(g->text, "COR") || !strcmp(g->text, "NIL")
@@ -249,26 +249,26 @@ static enum section classify(const struct metar_group *g, struct sky_metar_error
  * what is wrong with it, or as no METAR group at all. */
 static bool refuse(struct decoder *d, const struct metar_group *g, const char *expected)
 {
-    struct sky_metar_error why;
+    struct proto_metar_error why;
     enum section s = classify(g, &why);
-    bool taken = s != SEC_NONE && why.code == SKY_METAR_OK;
+    bool taken = s != SEC_NONE && why.code == PROTO_METAR_OK;
     bool cavok_excludes = s == SEC_MIN_VISIBILITY || s == SEC_RUNWAY || s == SEC_WEATHER ||
                           s == SEC_SKY;
     if (taken && d->report.cavok && cavok_excludes) {
-        metar_fail(d->error, g, SKY_METAR_ERR_UNEXPECTED,
+        metar_fail(d->error, g, PROTO_METAR_ERR_UNEXPECTED,
                    "this %s group cannot come with CAVOK (which says there is none)",
                    section_names[s]);
     } else if (taken && (s <= d->last || !expected)) {
-        metar_fail(d->error, g, SKY_METAR_ERR_UNEXPECTED,
+        metar_fail(d->error, g, PROTO_METAR_ERR_UNEXPECTED,
                    "this %s group cannot come after the %s group", section_names[s],
                    section_names[d->last]);
     } else if (expected) {
-        metar_fail(d->error, g, taken ? SKY_METAR_ERR_MISSING : SKY_METAR_ERR_UNEXPECTED,
+        metar_fail(d->error, g, taken ? PROTO_METAR_ERR_MISSING : PROTO_METAR_ERR_UNEXPECTED,
                    "%sexpected %s here", taken ? "" : "not a METAR group: ", expected);
     } else if (s != SEC_NONE) {
         *d->error = why;
     } else {
-        metar_fail(d->error, g, SKY_METAR_ERR_UNEXPECTED,
+        metar_fail(d->error, g, PROTO_METAR_ERR_UNEXPECTED,
                    "not a METAR group, or not one that may follow the %s group",
                    section_names[d->last]);
     }
@@ -279,9 +279,9 @@ static bool refuse(struct decoder *d, const struct metar_group *g, const char *e
  * of another section, which makes it a group out of order. */
 static bool malformed(struct decoder *d, const struct metar_group *g, enum section section)
 {
-    struct sky_metar_error why;
+    struct proto_metar_error why;
     enum section s = classify(g, &why);
-    if (s != SEC_NONE && why.code == SKY_METAR_OK && s != section)
+    if (s != SEC_NONE && why.code == PROTO_METAR_OK && s != section)
         return refuse(d, g, NULL);
     return false;
 }
@@ -292,7 +292,7 @@ static bool missing(struct decoder *d, const char *expected)
     const struct metar_group *g = current(d);
     if (g)
         return refuse(d, g, expected);
-    metar_fail(d->error, d->count ? &d->groups[d->count - 1] : NULL, SKY_METAR_ERR_MISSING,
+    metar_fail(d->error, d->count ? &d->groups[d->count - 1] : NULL, PROTO_METAR_ERR_MISSING,
                "the report ends here without %s", expected);
     return false;
 }
@@ -332,7 +332,8 @@ static bool read_repeated(struct decoder *d, enum section section, int limit, co
         if (m == METAR_NOT_THIS)
             break;
         if (++taken > limit) {
-            metar_fail(d->error, g, SKY_METAR_ERR_TOO_MANY, "more than %d %s groups", limit, what);
+            metar_fail(d->error, g, PROTO_METAR_ERR_TOO_MANY, "more than %d %s groups", limit,
+                       what);
             return false;
         }
         advance(d, section, 1);
@@ -342,9 +343,9 @@ static bool read_repeated(struct decoder *d, enum section section, int limit, co
 
 static bool read_identification(struct decoder *d)
 {
-    struct sky_metar_report *r = &d->report;
+    struct proto_metar_report *r = &d->report;
     if (at(d, "METAR") || at(d, "SPECI")) {
-        r->type = at(d, "SPECI") ? SKY_METAR_TYPE_SPECI : SKY_METAR_TYPE_METAR;
+        r->type = at(d, "SPECI") ? PROTO_METAR_TYPE_SPECI : PROTO_METAR_TYPE_METAR;
         advance(d, SEC_TYPE, 1);
         if (at(d, "COR")) {
             r->correction = true;
@@ -371,7 +372,7 @@ static bool read_identification(struct decoder *d)
     while (at(d, "AUTO") || at(d, "COR")) {
         bool *flag = at(d, "AUTO") ? &r->automatic : &r->correction;
         if (*flag) {
-            metar_fail(d->error, current(d), SKY_METAR_ERR_UNEXPECTED, "given twice");
+            metar_fail(d->error, current(d), PROTO_METAR_ERR_UNEXPECTED, "given twice");
             return false;
         }
         *flag = true;
@@ -382,7 +383,7 @@ static bool read_identification(struct decoder *d)
 
 static bool read_wind_and_visibility(struct decoder *d)
 {
-    struct sky_metar_report *r = &d->report;
+    struct proto_metar_report *r = &d->report;
     const struct metar_group *g = current(d);
     enum metar_match m = g ? metar_parse_wind(g, &r->wind, d->error) : METAR_NOT_THIS;
     if (m == METAR_BAD)
@@ -420,13 +421,13 @@ static bool read_wind_and_visibility(struct decoder *d)
 
 static bool read_body(struct decoder *d)
 {
-    struct sky_metar_report *r = &d->report;
+    struct proto_metar_report *r = &d->report;
     if (!read_wind_and_visibility(d))
         return false;
     if (!r->cavok) {
-        if (!read_repeated(d, SEC_RUNWAY, SKY_METAR_MAX_RVR, "runway") ||
-            !read_repeated(d, SEC_WEATHER, SKY_METAR_MAX_WEATHER, "present-weather") ||
-            !read_repeated(d, SEC_SKY, SKY_METAR_MAX_LAYERS + 2, "cloud"))
+        if (!read_repeated(d, SEC_RUNWAY, PROTO_METAR_MAX_RVR, "runway") ||
+            !read_repeated(d, SEC_WEATHER, PROTO_METAR_MAX_WEATHER, "present-weather") ||
+            !read_repeated(d, SEC_SKY, PROTO_METAR_MAX_LAYERS + 2, "cloud"))
             return false;
     }
     const struct metar_group *g = current(d);
@@ -448,13 +449,13 @@ static bool read_supplementary(struct decoder *d)
         if (strcmp(g->text, "WS") == 0) {
             const struct metar_group *runway = d->next + 1 < d->count ? g + 1 : NULL;
             if (!runway) {
-                metar_fail(d->error, g, SKY_METAR_ERR_SUPPLEMENTARY,
+                metar_fail(d->error, g, PROTO_METAR_ERR_SUPPLEMENTARY,
                            "wind shear (WS) must name a runway or ALL RWY");
                 return false;
             }
             if (strcmp(runway->text, "ALL") == 0) {
                 if (d->next + 2 >= d->count || strcmp(runway[1].text, "RWY") != 0) {
-                    metar_fail(d->error, runway, SKY_METAR_ERR_SUPPLEMENTARY,
+                    metar_fail(d->error, runway, PROTO_METAR_ERR_SUPPLEMENTARY,
                                "wind shear on all runways is WS ALL RWY");
                     return false;
                 }
@@ -473,7 +474,7 @@ static bool read_supplementary(struct decoder *d)
         if (m == METAR_BAD)
             return malformed(d, g, SEC_SUPPLEMENTARY);
         if (strncmp(g->text, "RE", 2) == 0 && ++recent > MAX_RECENT_WEATHER) {
-            metar_fail(d->error, g, SKY_METAR_ERR_TOO_MANY, "more than %d recent-weather groups",
+            metar_fail(d->error, g, PROTO_METAR_ERR_TOO_MANY, "more than %d recent-weather groups",
                        MAX_RECENT_WEATHER);
             return false;
         }
@@ -487,7 +488,7 @@ static bool read_supplementary(struct decoder *d)
 
 /* ---- derived values ------------------------------------------------------------------------ */
 
-double sky_metar_relative_humidity(double temperature_c, double dew_point_c)
+double proto_metar_relative_humidity(double temperature_c, double dew_point_c)
 {
     /* Magnus: e_s(T) = 6.1094 hPa exp(a T / (b + T)), a = 17.625, b = 243.04 C (Alduchov &
      * Eskridge 1996); RH = e_s(Td) / e_s(T). */
@@ -496,18 +497,18 @@ double sky_metar_relative_humidity(double temperature_c, double dew_point_c)
     return rh < 1.0 ? rh : 1.0;
 }
 
-static double layer_key(const struct sky_metar_cloud_layer *layer)
+static double layer_key(const struct proto_metar_cloud_layer *layer)
 {
     return layer->base_known ? layer->base_m : INFINITY;
 }
 
-static void derive(struct sky_metar_report *r)
+static void derive(struct proto_metar_report *r)
 {
     if (r->cavok) {
         r->visibility.reported = true;
         r->visibility.metres = 10000;
-        r->visibility.bound = SKY_METAR_AT_LEAST;
-        r->sky = SKY_METAR_SKY_CAVOK;
+        r->visibility.bound = PROTO_METAR_AT_LEAST;
+        r->sky = PROTO_METAR_SKY_CAVOK;
     }
     if (r->visibility.reported) {
         /* Koschmieder: V = ln(1 / 0.02) / sigma = 3.912 / sigma (2 % contrast threshold). */
@@ -516,7 +517,7 @@ static void derive(struct sky_metar_report *r)
     }
     /* Lowest base first, unknown bases last; stable, so equal bases keep the report's order. */
     for (int i = 1; i < r->layer_count; i++) {
-        struct sky_metar_cloud_layer layer = r->layers[i];
+        struct proto_metar_cloud_layer layer = r->layers[i];
         int j = i;
         for (; j > 0 && layer_key(&r->layers[j - 1]) > layer_key(&layer); j--)
             r->layers[j] = r->layers[j - 1];
@@ -524,13 +525,13 @@ static void derive(struct sky_metar_report *r)
     }
     r->relative_humidity_known = r->temperature_known && r->dew_point_known;
     if (r->relative_humidity_known)
-        r->relative_humidity = sky_metar_relative_humidity(r->temperature_c, r->dew_point_c);
+        r->relative_humidity = proto_metar_relative_humidity(r->temperature_c, r->dew_point_c);
 }
 
-bool sky_metar_decode(const char *text, size_t length, struct sky_metar_report *report,
-                      struct sky_metar_error *error)
+bool proto_metar_decode(const char *text, size_t length, struct proto_metar_report *report,
+                        struct proto_metar_error *error)
 {
-    struct sky_metar_error ignored;
+    struct proto_metar_error ignored;
     struct decoder d;
     memset(&d, 0, sizeof d);
     d.error = error ? error : &ignored;
@@ -538,17 +539,17 @@ bool sky_metar_decode(const char *text, size_t length, struct sky_metar_report *
     memset(report, 0, sizeof *report);
     if (!text)
         length = 0;
-    if (length > SKY_METAR_MAX_LENGTH) {
-        metar_fail(d.error, NULL, SKY_METAR_ERR_TOO_LONG,
+    if (length > PROTO_METAR_MAX_LENGTH) {
+        metar_fail(d.error, NULL, PROTO_METAR_ERR_TOO_LONG,
                    "the report has %zu characters; at most %d are read", length,
-                   SKY_METAR_MAX_LENGTH);
-        d.error->offset = SKY_METAR_MAX_LENGTH;
+                   PROTO_METAR_MAX_LENGTH);
+        d.error->offset = PROTO_METAR_MAX_LENGTH;
         return false;
     }
     if (!split(&d, text, length))
         return false;
     if (d.count == 0) {
-        metar_fail(d.error, NULL, SKY_METAR_ERR_EMPTY, "the report holds no group");
+        metar_fail(d.error, NULL, PROTO_METAR_ERR_EMPTY, "the report holds no group");
         return false;
     }
     bool ok = read_identification(&d);
@@ -563,15 +564,15 @@ bool sky_metar_decode(const char *text, size_t length, struct sky_metar_report *
     return true;
 }
 
-bool sky_metar_observation_unix(const struct sky_metar_report *report, double reference_unix_s,
-                                double *unix_seconds)
+bool proto_metar_observation_unix(const struct proto_metar_report *report, double reference_unix_s,
+                                  double *unix_seconds)
 {
     if (report->nil || report->day < 1)
         return false;
     const double latest = reference_unix_s + 3600.0;
     char text[48];
     int year, month;
-    sky_time_format_iso8601(latest, text, sizeof text);
+    proto_time_format_iso8601(latest, text, sizeof text);
     if (sscanf(text, "%4d-%2d", &year, &month) != 2)
         return false;
     for (int back = 0; back <= 12; back++) {
@@ -583,7 +584,7 @@ bool sky_metar_observation_unix(const struct sky_metar_report *report, double re
         double t;
         snprintf(text, sizeof text, "%04d-%02d-%02dT%02d:%02d:00Z", y, m, report->day, report->hour,
                  report->minute);
-        if (y >= 0 && sky_time_parse_iso8601(text, &t, NULL, 0) && t <= latest) {
+        if (y >= 0 && proto_time_parse_iso8601(text, &t, NULL, 0) && t <= latest) {
             *unix_seconds = t;
             return true;
         }

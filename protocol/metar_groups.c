@@ -9,8 +9,8 @@
 #define KNOT_M_S (1852.0 / 3600.0) /* the international knot: 1852 m per hour */
 #define STATUTE_MILE_M 1609.344
 
-enum metar_match metar_fail(struct sky_metar_error *error, const struct metar_group *group,
-                            enum sky_metar_error_code code, const char *format, ...)
+enum metar_match metar_fail(struct proto_metar_error *error, const struct metar_group *group,
+                            enum proto_metar_error_code code, const char *format, ...)
 {
     char reason[160];
     va_list args;
@@ -69,34 +69,34 @@ static bool ends_with(const struct metar_group *g, const char *suffix)
 
 /* ---- identification ---------------------------------------------------------------------- */
 
-enum metar_match metar_parse_station(const struct metar_group *g, struct sky_metar_report *r,
-                                     struct sky_metar_error *error)
+enum metar_match metar_parse_station(const struct metar_group *g, struct proto_metar_report *r,
+                                     struct proto_metar_error *error)
 {
     /* ICAO Doc 7910 indicators are four letters; national ones (US "K1V4") may hold digits. */
     bool ok = g->length == 4 && is_upper(g->text[0]);
     for (size_t i = 1; ok && i < 4; i++)
         ok = is_upper(g->text[i]) || is_digit(g->text[i]);
     if (!ok)
-        return metar_fail(error, g, SKY_METAR_ERR_STATION,
+        return metar_fail(error, g, PROTO_METAR_ERR_STATION,
                           "the station must be a four-character ICAO location indicator");
     memcpy(r->station, g->text, 5);
     return METAR_TAKEN;
 }
 
-enum metar_match metar_parse_time(const struct metar_group *g, struct sky_metar_report *r,
-                                  struct sky_metar_error *error)
+enum metar_match metar_parse_time(const struct metar_group *g, struct proto_metar_report *r,
+                                  struct proto_metar_error *error)
 {
     int day, hour, minute;
     if (g->length != 7 || g->text[6] != 'Z' || !metar_digits(g->text, 2, &day) ||
         !metar_digits(g->text + 2, 2, &hour) || !metar_digits(g->text + 4, 2, &minute))
-        return metar_fail(error, g, SKY_METAR_ERR_TIME,
+        return metar_fail(error, g, PROTO_METAR_ERR_TIME,
                           "the observation time must be ddhhmmZ (day, hour, minute UTC)");
     if (day < 1 || day > 31)
-        return metar_fail(error, g, SKY_METAR_ERR_TIME, "day %d is not 01 to 31", day);
+        return metar_fail(error, g, PROTO_METAR_ERR_TIME, "day %d is not 01 to 31", day);
     if (hour > 23)
-        return metar_fail(error, g, SKY_METAR_ERR_TIME, "hour %d is not 00 to 23", hour);
+        return metar_fail(error, g, PROTO_METAR_ERR_TIME, "hour %d is not 00 to 23", hour);
     if (minute > 59)
-        return metar_fail(error, g, SKY_METAR_ERR_TIME, "minute %d is not 00 to 59", minute);
+        return metar_fail(error, g, PROTO_METAR_ERR_TIME, "minute %d is not 00 to 59", minute);
     r->day = day;
     r->hour = hour;
     r->minute = minute;
@@ -128,8 +128,8 @@ static bool take_speed(const char **p, bool *known, bool *above, int *value)
     return true;
 }
 
-enum metar_match metar_parse_wind(const struct metar_group *g, struct sky_metar_wind *wind,
-                                  struct sky_metar_error *error)
+enum metar_match metar_parse_wind(const struct metar_group *g, struct proto_metar_wind *wind,
+                                  struct proto_metar_error *error)
 {
     static const struct {
         const char *unit;
@@ -142,7 +142,7 @@ enum metar_match metar_parse_wind(const struct metar_group *g, struct sky_metar_
         return METAR_NOT_THIS;
     const char *usage = "the wind must be dddff[Gfmfm] (VRB or /// for ddd) then KT, MPS or KMH";
     size_t body = g->length - strlen(units[u].unit);
-    struct sky_metar_wind w;
+    struct proto_metar_wind w;
     memset(&w, 0, sizeof w);
     snprintf(w.unit, sizeof w.unit, "%s", units[u].unit);
     if (body == 5 && all_slashes(g->text, 5)) { /* not observed */
@@ -150,59 +150,59 @@ enum metar_match metar_parse_wind(const struct metar_group *g, struct sky_metar_
         return METAR_TAKEN;
     }
     if (body < 5)
-        return metar_fail(error, g, SKY_METAR_ERR_WIND, "%s", usage);
+        return metar_fail(error, g, PROTO_METAR_ERR_WIND, "%s", usage);
     w.reported = true;
     int direction = 0;
     if (strncmp(g->text, "VRB", 3) == 0) {
         w.variable = true;
     } else if (metar_digits(g->text, 3, &direction)) {
         if (direction > 360)
-            return metar_fail(error, g, SKY_METAR_ERR_WIND,
+            return metar_fail(error, g, PROTO_METAR_ERR_WIND,
                               "wind direction %d is not 000 to 360 degrees", direction);
         w.direction_known = true;
         w.direction_deg = direction;
     } else if (!all_slashes(g->text, 3)) {
-        return metar_fail(error, g, SKY_METAR_ERR_WIND, "%s", usage);
+        return metar_fail(error, g, PROTO_METAR_ERR_WIND, "%s", usage);
     }
     const char *p = g->text + 3, *end = g->text + body;
     int speed = 0, gust = 0;
     bool gust_known = false;
     if (!take_speed(&p, &w.speed_known, &w.speed_above, &speed))
-        return metar_fail(error, g, SKY_METAR_ERR_WIND, "wind speed must be two or three digits");
+        return metar_fail(error, g, PROTO_METAR_ERR_WIND, "wind speed must be two or three digits");
     if (p < end && *p == 'G') {
         p++;
         if (!take_speed(&p, &gust_known, &w.gust_above, &gust) || !gust_known)
-            return metar_fail(error, g, SKY_METAR_ERR_WIND,
+            return metar_fail(error, g, PROTO_METAR_ERR_WIND,
                               "a gust must be G and two or three digits");
         w.gust_reported = true;
     }
     if (p != end)
-        return metar_fail(error, g, SKY_METAR_ERR_WIND, "%s", usage);
+        return metar_fail(error, g, PROTO_METAR_ERR_WIND, "%s", usage);
     if (w.gust_reported && w.speed_known && gust <= speed)
-        return metar_fail(error, g, SKY_METAR_ERR_WIND, "gust %d is not above the mean speed %d",
+        return metar_fail(error, g, PROTO_METAR_ERR_WIND, "gust %d is not above the mean speed %d",
                           gust, speed);
     w.calm = w.direction_known && direction == 0 && w.speed_known && speed == 0;
     if (w.calm && w.gust_reported)
-        return metar_fail(error, g, SKY_METAR_ERR_WIND, "a calm wind (00000) has no gust");
+        return metar_fail(error, g, PROTO_METAR_ERR_WIND, "a calm wind (00000) has no gust");
     w.speed_m_s = speed * units[u].to_m_s;
     w.gust_m_s = gust * units[u].to_m_s;
     *wind = w;
     return METAR_TAKEN;
 }
 
-enum metar_match metar_parse_wind_sector(const struct metar_group *g, struct sky_metar_wind *wind,
-                                         struct sky_metar_error *error)
+enum metar_match metar_parse_wind_sector(const struct metar_group *g, struct proto_metar_wind *wind,
+                                         struct proto_metar_error *error)
 {
     int from, to;
     if (g->length != 7 || g->text[3] != 'V' || !metar_digits(g->text, 3, &from))
         return METAR_NOT_THIS;
     if (!metar_digits(g->text + 4, 3, &to))
-        return metar_fail(error, g, SKY_METAR_ERR_WIND,
+        return metar_fail(error, g, PROTO_METAR_ERR_WIND,
                           "a variable wind sector must be dddVddd (degrees)");
     if (from > 360 || to > 360)
-        return metar_fail(error, g, SKY_METAR_ERR_WIND, "sector directions must be 000 to 360");
+        return metar_fail(error, g, PROTO_METAR_ERR_WIND, "sector directions must be 000 to 360");
     if (from == to)
-        return metar_fail(error, g, SKY_METAR_ERR_WIND, "the sector's two directions are equal");
+        return metar_fail(error, g, PROTO_METAR_ERR_WIND, "the sector's two directions are equal");
     wind->sector = true;
     wind->variable = true;
     wind->sector_from_deg = from;
@@ -237,8 +237,8 @@ static bool take_miles(const char *text, size_t n, double *miles, bool *fraction
 }
 
 static enum metar_match statute_miles(const struct metar_group *g, const struct metar_group *next,
-                                      struct sky_metar_visibility *v, int *used,
-                                      struct sky_metar_error *error)
+                                      struct proto_metar_visibility *v, int *used,
+                                      struct proto_metar_error *error)
 {
     /* A whole number of miles followed by a fraction: "1 1/2SM". */
     int whole = 0;
@@ -252,16 +252,16 @@ static enum metar_match statute_miles(const struct metar_group *g, const struct 
     }
     const char *text = miles_group->text;
     size_t n = miles_group->length - 2;
-    enum sky_metar_bound bound = SKY_METAR_EXACT;
+    enum proto_metar_bound bound = PROTO_METAR_EXACT;
     if (n > 0 && (text[0] == 'M' || text[0] == 'P')) {
-        bound = text[0] == 'M' ? SKY_METAR_LESS_THAN : SKY_METAR_AT_LEAST;
+        bound = text[0] == 'M' ? PROTO_METAR_LESS_THAN : PROTO_METAR_AT_LEAST;
         text++;
         n--;
     }
     double miles;
     bool fraction;
     if (!take_miles(text, n, &miles, &fraction) || (*used == 2 && (!fraction || bound)))
-        return metar_fail(error, miles_group, SKY_METAR_ERR_VISIBILITY,
+        return metar_fail(error, miles_group, PROTO_METAR_ERR_VISIBILITY,
                           "visibility in statute miles must be like 10SM, 1/2SM, 1 1/2SM, "
                           "M1/4SM or P6SM");
     v->reported = true;
@@ -271,10 +271,10 @@ static enum metar_match statute_miles(const struct metar_group *g, const struct 
 }
 
 enum metar_match metar_parse_visibility(const struct metar_group *g, const struct metar_group *next,
-                                        struct sky_metar_visibility *visibility, int *used,
-                                        struct sky_metar_error *error)
+                                        struct proto_metar_visibility *visibility, int *used,
+                                        struct proto_metar_error *error)
 {
-    struct sky_metar_visibility v;
+    struct proto_metar_visibility v;
     memset(&v, 0, sizeof v);
     *used = 1;
     int metres;
@@ -296,17 +296,17 @@ enum metar_match metar_parse_visibility(const struct metar_group *g, const struc
     v.metres = metres;
     if (metres == 9999) { /* 10 km or more */
         v.metres = 10000;
-        v.bound = SKY_METAR_AT_LEAST;
+        v.bound = PROTO_METAR_AT_LEAST;
     } else if (metres == 0) { /* less than 50 m */
         v.metres = 50;
-        v.bound = SKY_METAR_LESS_THAN;
+        v.bound = PROTO_METAR_LESS_THAN;
     }
     *visibility = v;
     return METAR_TAKEN;
 }
 
 enum metar_match metar_parse_minimum_visibility(const struct metar_group *g,
-                                                struct sky_metar_error *error)
+                                                struct proto_metar_error *error)
 {
     static const char *const directions[] = { "N", "NE", "E", "SE", "S", "SW", "W", "NW" };
     int metres;
@@ -316,7 +316,7 @@ enum metar_match metar_parse_minimum_visibility(const struct metar_group *g,
     for (size_t i = 0; i < sizeof directions / sizeof directions[0]; i++)
         if (strcmp(g->text + 4, directions[i]) == 0)
             return METAR_TAKEN;
-    return metar_fail(error, g, SKY_METAR_ERR_VISIBILITY,
+    return metar_fail(error, g, PROTO_METAR_ERR_VISIBILITY,
                       "a minimum visibility's direction must be N, NE, E, SE, S, SW, W or NW");
 }
 
@@ -340,7 +340,7 @@ static bool take_rvr_value(const char **p)
 }
 
 enum metar_match metar_parse_runway(const struct metar_group *g, enum metar_runway_group kind,
-                                    struct sky_metar_error *error)
+                                    struct proto_metar_error *error)
 {
     if (g->text[0] != 'R' || (!is_digit(g->text[1]) && g->text[1] != '/'))
         return METAR_NOT_THIS;
@@ -359,23 +359,23 @@ enum metar_match metar_parse_runway(const struct metar_group *g, enum metar_runw
             state = is_digit(p[i]) || p[i] == '/';
         if (state || strcmp(g->text, "R/SNOCLO") == 0)
             return METAR_TAKEN;
-        return metar_fail(error, g, SKY_METAR_ERR_RVR,
+        return metar_fail(error, g, PROTO_METAR_ERR_RVR,
                           "a runway state must be like R24/290050, R24/CLRD70 or R/SNOCLO");
     }
     const char *usage = "runway visual range must be like R24/P2000N or R06L/0600V1000U";
     if (!designator || !take_rvr_value(&p))
-        return metar_fail(error, g, SKY_METAR_ERR_RVR, "%s", usage);
+        return metar_fail(error, g, PROTO_METAR_ERR_RVR, "%s", usage);
     if (*p == 'V') {
         p++;
         if (!take_rvr_value(&p))
-            return metar_fail(error, g, SKY_METAR_ERR_RVR, "%s", usage);
+            return metar_fail(error, g, PROTO_METAR_ERR_RVR, "%s", usage);
     }
     if (strncmp(p, "FT", 2) == 0)
         p += 2;
     if (*p == 'U' || *p == 'D' || *p == 'N' || *p == '/')
         p++;
     if (*p)
-        return metar_fail(error, g, SKY_METAR_ERR_RVR, "%s", usage);
+        return metar_fail(error, g, PROTO_METAR_ERR_RVR, "%s", usage);
     return METAR_TAKEN;
 }
 
@@ -397,8 +397,8 @@ static bool take_celsius(const char *text, size_t n, bool *known, double *celsiu
     return true;
 }
 
-enum metar_match metar_parse_temperature(const struct metar_group *g, struct sky_metar_report *r,
-                                         struct sky_metar_error *error)
+enum metar_match metar_parse_temperature(const struct metar_group *g, struct proto_metar_report *r,
+                                         struct proto_metar_error *error)
 {
     if (!is_digit(g->text[0]) && g->text[0] != 'M' && g->text[0] != '/')
         return METAR_NOT_THIS;
@@ -412,7 +412,7 @@ enum metar_match metar_parse_temperature(const struct metar_group *g, struct sky
     if (g->length <= split || g->text[split] != '/' ||
         !take_celsius(g->text, split, &t_known, &t) ||
         !take_celsius(g->text + split + 1, g->length - split - 1, &d_known, &d))
-        return metar_fail(error, g, SKY_METAR_ERR_TEMPERATURE,
+        return metar_fail(error, g, PROTO_METAR_ERR_TEMPERATURE,
                           "temperature and dew point must be TT/TdTd: two digits each, M before "
                           "them below zero, // when missing");
     r->temperature_known = t_known;
@@ -422,7 +422,7 @@ enum metar_match metar_parse_temperature(const struct metar_group *g, struct sky
     return METAR_TAKEN;
 }
 
-enum metar_match metar_parse_pressure(const struct metar_group *g, struct sky_metar_error *error)
+enum metar_match metar_parse_pressure(const struct metar_group *g, struct proto_metar_error *error)
 {
     if ((g->text[0] != 'Q' && g->text[0] != 'A') || g->length != 5 ||
         (!is_digit(g->text[1]) && g->text[1] != '/'))
@@ -431,14 +431,14 @@ enum metar_match metar_parse_pressure(const struct metar_group *g, struct sky_me
         return METAR_TAKEN;
     int value;
     if (!metar_digits(g->text + 1, 4, &value))
-        return metar_fail(error, g, SKY_METAR_ERR_PRESSURE,
+        return metar_fail(error, g, PROTO_METAR_ERR_PRESSURE,
                           "QNH must be Q and four digits (hPa) or A and four digits (0.01 inHg)");
     /* Beyond every sea-level pressure observed (870 to 1084 hPa), with a margin. */
     if (g->text[0] == 'Q' && (value < 850 || value > 1100))
-        return metar_fail(error, g, SKY_METAR_ERR_PRESSURE, "QNH %d hPa is not 0850 to 1100",
+        return metar_fail(error, g, PROTO_METAR_ERR_PRESSURE, "QNH %d hPa is not 0850 to 1100",
                           value);
     if (g->text[0] == 'A' && (value < 2500 || value > 3250))
-        return metar_fail(error, g, SKY_METAR_ERR_PRESSURE,
+        return metar_fail(error, g, PROTO_METAR_ERR_PRESSURE,
                           "altimeter %d (0.01 inHg) is not 2500 to 3250", value);
     return METAR_TAKEN;
 }

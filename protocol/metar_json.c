@@ -7,30 +7,30 @@
 #include <stdarg.h>
 #include <stdio.h>
 
-const char *sky_metar_amount_name(enum sky_metar_cloud_amount amount)
+const char *proto_metar_amount_name(enum proto_metar_cloud_amount amount)
 {
     static const char *const names[] = { "FEW", "SCT", "BKN", "OVC", "///" };
     return (unsigned)amount < sizeof names / sizeof names[0] ? names[amount] : "?";
 }
 
-const char *sky_metar_intensity_name(enum sky_metar_intensity intensity)
+const char *proto_metar_intensity_name(enum proto_metar_intensity intensity)
 {
     static const char *const names[] = { "none", "light", "moderate", "heavy" };
     return (unsigned)intensity < sizeof names / sizeof names[0] ? names[intensity] : "?";
 }
 
-const char *sky_metar_sky_name(enum sky_metar_sky sky)
+const char *proto_metar_sky_name(enum proto_metar_sky sky)
 {
     static const char *const names[] = { "not_reported", "layers", "CAVOK", "NSC",
                                          "NCD",          "SKC",    "CLR",   "obscured" };
     return (unsigned)sky < sizeof names / sizeof names[0] ? names[sky] : "?";
 }
 
-static const char *bound_name(enum sky_metar_bound bound)
+static const char *bound_name(enum proto_metar_bound bound)
 {
-    return bound == SKY_METAR_AT_LEAST    ? "at_least"
-           : bound == SKY_METAR_LESS_THAN ? "less_than"
-                                          : "exact";
+    return bound == PROTO_METAR_AT_LEAST    ? "at_least"
+           : bound == PROTO_METAR_LESS_THAN ? "less_than"
+                                            : "exact";
 }
 
 /* Adds a number, or null when not known; false when memory is out. */
@@ -40,7 +40,7 @@ static bool add_number(cJSON *object, const char *name, bool known, double value
                  : cJSON_AddNullToObject(object, name) != NULL;
 }
 
-static bool add_wind(cJSON *json, const struct sky_metar_wind *w)
+static bool add_wind(cJSON *json, const struct proto_metar_wind *w)
 {
     if (!w->reported)
         return cJSON_AddNullToObject(json, "wind") != NULL;
@@ -66,7 +66,7 @@ static bool add_wind(cJSON *json, const struct sky_metar_wind *w)
            cJSON_AddStringToObject(wind, "unit", w->unit);
 }
 
-static bool add_visibility(cJSON *json, const struct sky_metar_visibility *v)
+static bool add_visibility(cJSON *json, const struct proto_metar_visibility *v)
 {
     if (!v->reported)
         return cJSON_AddNullToObject(json, "visibility") != NULL;
@@ -78,15 +78,15 @@ static bool add_visibility(cJSON *json, const struct sky_metar_visibility *v)
            cJSON_AddNumberToObject(visibility, "extinction_per_km", v->extinction_per_km);
 }
 
-static bool add_layer(cJSON *clouds, const struct sky_metar_cloud_layer *l)
+static bool add_layer(cJSON *clouds, const struct proto_metar_cloud_layer *l)
 {
     cJSON *layer = cJSON_CreateObject();
     if (!layer || !cJSON_AddItemToArray(clouds, layer)) {
         cJSON_Delete(layer);
         return false;
     }
-    bool amount_known = l->amount != SKY_METAR_AMOUNT_UNKNOWN;
-    if (!cJSON_AddStringToObject(layer, "amount", sky_metar_amount_name(l->amount)))
+    bool amount_known = l->amount != PROTO_METAR_AMOUNT_UNKNOWN;
+    if (!cJSON_AddStringToObject(layer, "amount", proto_metar_amount_name(l->amount)))
         return false;
     if (amount_known) {
         int oktas[2] = { l->oktas_min, l->oktas_max };
@@ -106,14 +106,14 @@ static bool add_layer(cJSON *clouds, const struct sky_metar_cloud_layer *l)
            cJSON_AddBoolToObject(layer, "type_unknown", l->type_unknown);
 }
 
-static bool add_weather(cJSON *json, const struct sky_metar_weather *w)
+static bool add_weather(cJSON *json, const struct proto_metar_weather *w)
 {
     cJSON *weather = cJSON_AddObjectToObject(json, "weather");
     if (!weather)
         return false;
     const struct {
         const char *name;
-        enum sky_metar_intensity value;
+        enum proto_metar_intensity value;
     } intensities[] = { { "rain", w->rain },
                         { "snow", w->snow },
                         { "drizzle", w->drizzle },
@@ -121,7 +121,7 @@ static bool add_weather(cJSON *json, const struct sky_metar_weather *w)
                         { "precipitation", w->precipitation } };
     for (size_t i = 0; i < sizeof intensities / sizeof intensities[0]; i++)
         if (!cJSON_AddStringToObject(weather, intensities[i].name,
-                                     sky_metar_intensity_name(intensities[i].value)))
+                                     proto_metar_intensity_name(intensities[i].value)))
             return false;
     const struct {
         const char *name;
@@ -149,10 +149,10 @@ static bool add_weather(cJSON *json, const struct sky_metar_weather *w)
     return groups != NULL;
 }
 
-static bool fill(cJSON *json, const struct sky_metar_report *r)
+static bool fill(cJSON *json, const struct proto_metar_report *r)
 {
     bool ok = cJSON_AddStringToObject(json, "type",
-                                      r->type == SKY_METAR_TYPE_SPECI ? "SPECI" : "METAR") &&
+                                      r->type == PROTO_METAR_TYPE_SPECI ? "SPECI" : "METAR") &&
               cJSON_AddStringToObject(json, "station", r->station);
     if (!ok)
         return false;
@@ -169,7 +169,7 @@ static bool fill(cJSON *json, const struct sky_metar_report *r)
          cJSON_AddBoolToObject(json, "auto", r->automatic) &&
          cJSON_AddBoolToObject(json, "correction", r->correction) && add_wind(json, &r->wind) &&
          add_visibility(json, &r->visibility) && cJSON_AddBoolToObject(json, "cavok", r->cavok) &&
-         cJSON_AddStringToObject(json, "sky", sky_metar_sky_name(r->sky));
+         cJSON_AddStringToObject(json, "sky", proto_metar_sky_name(r->sky));
     cJSON *clouds = ok ? cJSON_AddArrayToObject(json, "clouds") : NULL;
     for (int i = 0; clouds && i < r->layer_count; i++)
         if (!add_layer(clouds, &r->layers[i]))
@@ -183,7 +183,7 @@ static bool fill(cJSON *json, const struct sky_metar_report *r)
            add_number(json, "relative_humidity", r->relative_humidity_known, r->relative_humidity);
 }
 
-cJSON *sky_metar_to_json(const struct sky_metar_report *report)
+cJSON *proto_metar_to_json(const struct proto_metar_report *report)
 {
     cJSON *json = cJSON_CreateObject();
     if (json && !fill(json, report)) {
@@ -217,7 +217,7 @@ put(struct line *line, const char *format, ...)
                                                               : line->capacity - line->used - 1;
 }
 
-static void summarize_wind(struct line *line, const struct sky_metar_wind *w)
+static void summarize_wind(struct line *line, const struct proto_metar_wind *w)
 {
     if (!w->reported) {
         put(line, "wind not observed");
@@ -239,18 +239,18 @@ static void summarize_wind(struct line *line, const struct sky_metar_wind *w)
         put(line, " (varying %03.0f-%03.0f deg)", w->sector_from_deg, w->sector_to_deg);
 }
 
-static void summarize_weather(struct line *line, const struct sky_metar_weather *w)
+static void summarize_weather(struct line *line, const struct proto_metar_weather *w)
 {
     const struct {
         const char *name;
-        enum sky_metar_intensity value;
+        enum proto_metar_intensity value;
     } kinds[] = { { "rain", w->rain },
                   { "snow", w->snow },
                   { "drizzle", w->drizzle },
                   { "showers", w->showers } };
     for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
         if (kinds[i].value)
-            put(line, ", %s %s", sky_metar_intensity_name(kinds[i].value), kinds[i].name);
+            put(line, ", %s %s", proto_metar_intensity_name(kinds[i].value), kinds[i].name);
     if (w->thunderstorm)
         put(line, ", thunderstorm");
     if (w->fog)
@@ -261,13 +261,13 @@ static void summarize_weather(struct line *line, const struct sky_metar_weather 
         put(line, ", mist");
 }
 
-void sky_metar_summary(const struct sky_metar_report *r, char *text, size_t capacity)
+void proto_metar_summary(const struct proto_metar_report *r, char *text, size_t capacity)
 {
     if (!text || capacity == 0)
         return;
     struct line line = { text, capacity, 0 };
     text[0] = '\0';
-    put(&line, "%s %s", r->type == SKY_METAR_TYPE_SPECI ? "SPECI" : "METAR", r->station);
+    put(&line, "%s %s", r->type == PROTO_METAR_TYPE_SPECI ? "SPECI" : "METAR", r->station);
     if (r->day)
         put(&line, " day %d %02d:%02dZ", r->day, r->hour, r->minute);
     if (r->nil) {
@@ -278,18 +278,18 @@ void sky_metar_summary(const struct sky_metar_report *r, char *text, size_t capa
     summarize_wind(&line, &r->wind);
     if (r->visibility.reported)
         put(&line, ", visibility %s%.0f m (extinction %.3g /km)",
-            r->visibility.bound == SKY_METAR_AT_LEAST    ? ">= "
-            : r->visibility.bound == SKY_METAR_LESS_THAN ? "< "
-                                                         : "",
+            r->visibility.bound == PROTO_METAR_AT_LEAST    ? ">= "
+            : r->visibility.bound == PROTO_METAR_LESS_THAN ? "< "
+                                                           : "",
             r->visibility.metres, r->visibility.extinction_per_km);
     summarize_weather(&line, &r->weather);
-    if (r->sky != SKY_METAR_SKY_LAYERS)
-        put(&line, ", sky %s", sky_metar_sky_name(r->sky));
-    if (r->sky == SKY_METAR_SKY_OBSCURED && r->vertical_visibility_known)
+    if (r->sky != PROTO_METAR_SKY_LAYERS)
+        put(&line, ", sky %s", proto_metar_sky_name(r->sky));
+    if (r->sky == PROTO_METAR_SKY_OBSCURED && r->vertical_visibility_known)
         put(&line, " (vertical visibility %.0f m)", r->vertical_visibility_m);
     for (int i = 0; i < r->layer_count; i++) {
-        const struct sky_metar_cloud_layer *l = &r->layers[i];
-        put(&line, ", %s", sky_metar_amount_name(l->amount));
+        const struct proto_metar_cloud_layer *l = &r->layers[i];
+        put(&line, ", %s", proto_metar_amount_name(l->amount));
         if (l->base_known)
             put(&line, " %.0f m", l->base_m);
         put(&line, "%s", l->cumulonimbus ? " CB" : l->towering_cumulus ? " TCU" : "");

@@ -10,23 +10,23 @@
 #include <string.h>
 
 struct patch_context {
-    const struct sky_schema *schema;
+    const struct proto_schema *schema;
     void *target; /* a scratch copy: written freely, discarded on error */
-    struct sky_field_errors *errors;
+    struct proto_field_errors *errors;
     bool *named; /* per row: the object names it */
 };
 
-static void *field_address(void *target, const struct sky_field_desc *field)
+static void *field_address(void *target, const struct proto_field_desc *field)
 {
     return (char *)target + field->offset;
 }
 
-static void apply_number(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_number(struct patch_context *context, const struct proto_field_desc *field,
                          const cJSON *value, const char *pointer)
 {
     if (!cJSON_IsNumber(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected a number, got %s", sky_json_type_name(value));
+        proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, pointer,
+                                "expected a number, got %s", proto_json_type_name(value));
         return;
     }
     if (schema_check_number(context->errors, field, value->valuedouble, pointer))
@@ -39,13 +39,13 @@ static bool check_array_length(struct patch_context *context, const cJSON *value
     int length = cJSON_GetArraySize(value);
     if (length == expected)
         return true;
-    sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer,
-                          "expected an array of %d %s, got %d element%s", expected, element_kind,
-                          length, length == 1 ? "" : "s");
+    proto_field_errors_addf(context->errors, PROTO_FIELD_BAD_VALUE, pointer,
+                            "expected an array of %d %s, got %d element%s", expected, element_kind,
+                            length, length == 1 ? "" : "s");
     return false;
 }
 
-static void apply_rgb_array(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_rgb_array(struct patch_context *context, const struct proto_field_desc *field,
                             const cJSON *value, const char *pointer)
 {
     if (!check_array_length(context, value, 3, "numbers", pointer))
@@ -56,8 +56,8 @@ static void apply_rgb_array(struct patch_context *context, const struct sky_fiel
         char item_pointer[POINTER_CAPACITY];
         schema_element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
-            sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                                  "expected a number, got %s", sky_json_type_name(element));
+            proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, item_pointer,
+                                    "expected a number, got %s", proto_json_type_name(element));
         } else if (schema_check_number(context->errors, field, element->valuedouble,
                                        item_pointer)) {
             channels[index] = element->valuedouble;
@@ -65,7 +65,7 @@ static void apply_rgb_array(struct patch_context *context, const struct sky_fiel
     }
 }
 
-static void apply_rgb(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_rgb(struct patch_context *context, const struct proto_field_desc *field,
                       const cJSON *value, const char *pointer)
 {
     if (cJSON_IsArray(value)) {
@@ -76,20 +76,20 @@ static void apply_rgb(struct patch_context *context, const struct sky_field_desc
             channels[0] = channels[1] = channels[2] = value->valuedouble;
         }
     } else {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected a number or an array of 3 numbers, got %s",
-                              sky_json_type_name(value));
+        proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, pointer,
+                                "expected a number or an array of 3 numbers, got %s",
+                                proto_json_type_name(value));
     }
 }
 
-static void apply_int_array(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_int_array(struct patch_context *context, const struct proto_field_desc *field,
                             const cJSON *value, const char *pointer)
 {
     int expected = schema_element_count(field->type);
     if (!cJSON_IsArray(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected an array of %d integers, got %s", expected,
-                              sky_json_type_name(value));
+        proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, pointer,
+                                "expected an array of %d integers, got %s", expected,
+                                proto_json_type_name(value));
         return;
     }
     if (!check_array_length(context, value, expected, "integers", pointer))
@@ -100,8 +100,8 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
         char item_pointer[POINTER_CAPACITY];
         schema_element_pointer(pointer, index, item_pointer, sizeof item_pointer);
         if (!cJSON_IsNumber(element)) {
-            sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                                  "expected an integer, got %s", sky_json_type_name(element));
+            proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, item_pointer,
+                                    "expected an integer, got %s", proto_json_type_name(element));
         } else if (schema_check_integer(context->errors, field, element->valuedouble,
                                         item_pointer)) {
             elements[index] = (int)element->valuedouble;
@@ -109,7 +109,7 @@ static void apply_int_array(struct patch_context *context, const struct sky_fiel
     }
 }
 
-static int find_enum_value(const struct sky_field_desc *field, const char *name)
+static int find_enum_value(const struct proto_field_desc *field, const char *name)
 {
     for (int i = 0; i < field->enum_count; i++) {
         if (field->enum_names[i] && strcmp(field->enum_names[i], name) == 0)
@@ -118,116 +118,117 @@ static int find_enum_value(const struct sky_field_desc *field, const char *name)
     return -1;
 }
 
-static void apply_enum(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_enum(struct patch_context *context, const struct proto_field_desc *field,
                        const cJSON *value, const char *pointer)
 {
     char names[REASON_CAPACITY];
     schema_list_enum_names(field, names, sizeof names);
     if (!cJSON_IsString(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected one of: %s, got %s", names, sky_json_type_name(value));
+        proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, pointer,
+                                "expected one of: %s, got %s", names, proto_json_type_name(value));
         return;
     }
     int found = find_enum_value(field, value->valuestring);
     if (found < 0) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer,
-                              "expected one of: %s, got \"%s\"", names, value->valuestring);
+        proto_field_errors_addf(context->errors, PROTO_FIELD_BAD_VALUE, pointer,
+                                "expected one of: %s, got \"%s\"", names, value->valuestring);
         return;
     }
     *(int *)field_address(context->target, field) = found;
 }
 
-static void apply_int(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_int(struct patch_context *context, const struct proto_field_desc *field,
                       const cJSON *value, const char *pointer)
 {
     if (!cJSON_IsNumber(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected an integer, got %s", sky_json_type_name(value));
+        proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, pointer,
+                                "expected an integer, got %s", proto_json_type_name(value));
         return;
     }
     if (schema_check_integer(context->errors, field, value->valuedouble, pointer)) {
-        if (field->type == SKY_FIELD_TYPE_INT64)
+        if (field->type == PROTO_FIELD_TYPE_INT64)
             *(int64_t *)field_address(context->target, field) = (int64_t)value->valuedouble;
         else
             *(int *)field_address(context->target, field) = (int)value->valuedouble;
     }
 }
 
-static void apply_time(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_time(struct patch_context *context, const struct proto_field_desc *field,
                        const cJSON *value, const char *pointer)
 {
     if (!cJSON_IsString(value)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected an ISO 8601 UTC time like \"2026-06-21T12:00:00Z\", got %s",
-                              sky_json_type_name(value));
+        proto_field_errors_addf(
+            context->errors, PROTO_FIELD_WRONG_TYPE, pointer,
+            "expected an ISO 8601 UTC time like \"2026-06-21T12:00:00Z\", got %s",
+            proto_json_type_name(value));
         return;
     }
     double seconds;
     char why[REASON_CAPACITY];
-    if (!sky_time_parse_iso8601(value->valuestring, &seconds, why, sizeof why)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "%s", why);
+    if (!proto_time_parse_iso8601(value->valuestring, &seconds, why, sizeof why)) {
+        proto_field_errors_addf(context->errors, PROTO_FIELD_BAD_VALUE, pointer, "%s", why);
         return;
     }
     if (schema_check_time(context->errors, field, seconds, pointer))
         *(double *)field_address(context->target, field) = seconds;
 }
 
-static void apply_string(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_string(struct patch_context *context, const struct proto_field_desc *field,
                          const cJSON *value, const char *pointer)
 {
     size_t length = cJSON_IsString(value) ? strlen(value->valuestring) : 0;
     if (!cJSON_IsString(value))
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected a string, got %s", sky_json_type_name(value));
+        proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, pointer,
+                                "expected a string, got %s", proto_json_type_name(value));
     else if (field->min > 0 && (length < field->min || length >= field->capacity))
-        sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "must be %.0f to %zu bytes long, got %zu", field->min,
-                              field->capacity - 1, length);
+        proto_field_errors_addf(context->errors, PROTO_FIELD_OUT_OF_RANGE, pointer,
+                                "must be %.0f to %zu bytes long, got %zu", field->min,
+                                field->capacity - 1, length);
     else if (length >= field->capacity)
-        sky_field_errors_addf(context->errors, SKY_FIELD_OUT_OF_RANGE, pointer,
-                              "longer than %zu characters", field->capacity - 1);
+        proto_field_errors_addf(context->errors, PROTO_FIELD_OUT_OF_RANGE, pointer,
+                                "longer than %zu characters", field->capacity - 1);
     else
         snprintf(field_address(context->target, field), field->capacity, "%s", value->valuestring);
 }
 
-static void apply_bool(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_bool(struct patch_context *context, const struct proto_field_desc *field,
                        const cJSON *value, const char *pointer)
 {
     if (!cJSON_IsBool(value))
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected true or false, got %s", sky_json_type_name(value));
+        proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, pointer,
+                                "expected true or false, got %s", proto_json_type_name(value));
     else
         *(bool *)field_address(context->target, field) = cJSON_IsTrue(value);
 }
 
-static void apply_leaf(struct patch_context *context, const struct sky_field_desc *field,
+static void apply_leaf(struct patch_context *context, const struct proto_field_desc *field,
                        const cJSON *value, const char *pointer)
 {
     switch (field->type) {
-    case SKY_FIELD_TYPE_NUMBER:
+    case PROTO_FIELD_TYPE_NUMBER:
         apply_number(context, field, value, pointer);
         break;
-    case SKY_FIELD_TYPE_RGB:
+    case PROTO_FIELD_TYPE_RGB:
         apply_rgb(context, field, value, pointer);
         break;
-    case SKY_FIELD_TYPE_INT_PAIR:
-    case SKY_FIELD_TYPE_INT_TRIPLE:
+    case PROTO_FIELD_TYPE_INT_PAIR:
+    case PROTO_FIELD_TYPE_INT_TRIPLE:
         apply_int_array(context, field, value, pointer);
         break;
-    case SKY_FIELD_TYPE_ENUM:
+    case PROTO_FIELD_TYPE_ENUM:
         apply_enum(context, field, value, pointer);
         break;
-    case SKY_FIELD_TYPE_INT:
-    case SKY_FIELD_TYPE_INT64:
+    case PROTO_FIELD_TYPE_INT:
+    case PROTO_FIELD_TYPE_INT64:
         apply_int(context, field, value, pointer);
         break;
-    case SKY_FIELD_TYPE_TIME:
+    case PROTO_FIELD_TYPE_TIME:
         apply_time(context, field, value, pointer);
         break;
-    case SKY_FIELD_TYPE_STRING:
+    case PROTO_FIELD_TYPE_STRING:
         apply_string(context, field, value, pointer);
         break;
-    case SKY_FIELD_TYPE_BOOL:
+    case PROTO_FIELD_TYPE_BOOL:
         apply_bool(context, field, value, pointer);
         break;
     }
@@ -253,8 +254,8 @@ static void report_unknown_member(struct patch_context *context, const char *pre
 {
     char children[REASON_CAPACITY];
     schema_list_children(context->schema, prefix, children, sizeof children);
-    sky_field_errors_addf(context->errors, SKY_FIELD_UNKNOWN, pointer,
-                          "unknown field; expected one of: %s", children);
+    proto_field_errors_addf(context->errors, PROTO_FIELD_UNKNOWN, pointer,
+                            "unknown field; expected one of: %s", children);
 }
 
 static void apply_object(struct patch_context *context, const cJSON *object, const char *prefix,
@@ -276,9 +277,9 @@ static void apply_member(struct patch_context *context, const cJSON *object, con
     schema_copy_text(pointer, sizeof pointer, parent_pointer);
     schema_pointer_append(pointer, sizeof pointer, name);
 
-    const struct sky_schema *schema = context->schema;
+    const struct proto_schema *schema = context->schema;
     if (schema->unique_members && given_before(object, member)) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "duplicate field");
+        proto_field_errors_addf(context->errors, PROTO_FIELD_BAD_VALUE, pointer, "duplicate field");
         return;
     }
     for (size_t i = 0; prefix[0] == '\0' && i < schema->caller_member_count; i++)
@@ -286,7 +287,7 @@ static void apply_member(struct patch_context *context, const cJSON *object, con
             return;
     const char *reserved = schema->read_only_member;
     if (prefix[0] == '\0' && reserved && strcmp(name, reserved) == 0) {
-        sky_field_errors_addf(context->errors, SKY_FIELD_BAD_VALUE, pointer, "read-only");
+        proto_field_errors_addf(context->errors, PROTO_FIELD_BAD_VALUE, pointer, "read-only");
         return;
     }
     char dotted[DOTTED_PATH_CAPACITY];
@@ -294,18 +295,18 @@ static void apply_member(struct patch_context *context, const cJSON *object, con
         report_unknown_member(context, prefix, pointer);
         return;
     }
-    const struct sky_field_desc *field = sky_schema_find(context->schema, dotted);
+    const struct proto_field_desc *field = proto_schema_find(context->schema, dotted);
     if (field) {
         apply_leaf(context, field, member, pointer);
-        if (field - schema->fields < SKY_SCHEMA_MAX_ROWS)
+        if (field - schema->fields < PROTO_SCHEMA_MAX_ROWS)
             context->named[field - schema->fields] = true;
     } else if (!schema_is_group(context->schema, dotted)) {
         report_unknown_member(context, prefix, pointer);
     } else if (cJSON_IsObject(member)) {
         apply_object(context, member, dotted, pointer);
     } else {
-        sky_field_errors_addf(context->errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected an object, got %s", sky_json_type_name(member));
+        proto_field_errors_addf(context->errors, PROTO_FIELD_WRONG_TYPE, pointer,
+                                "expected an object, got %s", proto_json_type_name(member));
     }
 }
 
@@ -317,8 +318,8 @@ static void apply_object(struct patch_context *context, const cJSON *object, con
         apply_member(context, object, member, prefix, pointer);
 }
 
-static void report_missing(const struct sky_schema *schema, const bool *named,
-                           const char *pointer_prefix, struct sky_field_errors *errors)
+static void report_missing(const struct proto_schema *schema, const bool *named,
+                           const char *pointer_prefix, struct proto_field_errors *errors)
 {
     for (size_t i = 0; i < schema->count; i++) {
         if (!schema->fields[i].required || named[i])
@@ -326,24 +327,25 @@ static void report_missing(const struct sky_schema *schema, const bool *named,
         char pointer[POINTER_CAPACITY], relative[POINTER_CAPACITY];
         schema_pointer_from_dotted(schema->fields[i].path, relative, sizeof relative);
         snprintf(pointer, sizeof pointer, "%s%s", pointer_prefix, relative);
-        sky_field_errors_add(errors, SKY_FIELD_MISSING, pointer, "required");
+        proto_field_errors_add(errors, PROTO_FIELD_MISSING, pointer, "required");
     }
 }
 
-bool sky_schema_apply_json(const struct sky_schema *schema, void *target, const cJSON *json,
-                           const char *pointer_prefix, struct sky_field_errors *errors, bool *named)
+bool proto_schema_apply_json(const struct proto_schema *schema, void *target, const cJSON *json,
+                             const char *pointer_prefix, struct proto_field_errors *errors,
+                             bool *named)
 {
     int before = errors->total;
     if (!cJSON_IsObject(json)) {
-        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer_prefix,
-                              "expected a JSON object, got %s",
-                              json ? sky_json_type_name(json) : "nothing");
+        proto_field_errors_addf(errors, PROTO_FIELD_WRONG_TYPE, pointer_prefix,
+                                "expected a JSON object, got %s",
+                                json ? proto_json_type_name(json) : "nothing");
         return false;
     }
-    bool scratch[SKY_SCHEMA_MAX_ROWS];
+    bool scratch[PROTO_SCHEMA_MAX_ROWS];
     if (!named)
         named = scratch;
-    size_t rows = schema->count < SKY_SCHEMA_MAX_ROWS ? schema->count : SKY_SCHEMA_MAX_ROWS;
+    size_t rows = schema->count < PROTO_SCHEMA_MAX_ROWS ? schema->count : PROTO_SCHEMA_MAX_ROWS;
     memset(named, 0, rows * sizeof *named);
     struct patch_context context = { schema, target, errors, named };
     apply_object(&context, json, "", pointer_prefix);

@@ -30,26 +30,26 @@ static bool parse_whole_number(const char *text, double *value)
     return end != text && *end == '\0';
 }
 
-static const char *expected_value_text(const struct sky_field_desc *field)
+static const char *expected_value_text(const struct proto_field_desc *field)
 {
     switch (field->type) {
-    case SKY_FIELD_TYPE_RGB:
+    case PROTO_FIELD_TYPE_RGB:
         return "a number or a JSON array like [0.1,0.2,0.3]";
-    case SKY_FIELD_TYPE_INT_PAIR:
+    case PROTO_FIELD_TYPE_INT_PAIR:
         return "a JSON array like [256,64]";
-    case SKY_FIELD_TYPE_INT_TRIPLE:
+    case PROTO_FIELD_TYPE_INT_TRIPLE:
         return "a JSON array like [32,32,32]";
-    case SKY_FIELD_TYPE_INT:
-    case SKY_FIELD_TYPE_INT64:
+    case PROTO_FIELD_TYPE_INT:
+    case PROTO_FIELD_TYPE_INT64:
         return "an integer";
-    case SKY_FIELD_TYPE_TIME:
+    case PROTO_FIELD_TYPE_TIME:
         return "an ISO 8601 UTC time like 2026-06-21T12:00:00Z";
-    case SKY_FIELD_TYPE_STRING:
+    case PROTO_FIELD_TYPE_STRING:
         return "a string";
-    case SKY_FIELD_TYPE_BOOL:
+    case PROTO_FIELD_TYPE_BOOL:
         return "true or false";
-    case SKY_FIELD_TYPE_NUMBER:
-    case SKY_FIELD_TYPE_ENUM:
+    case PROTO_FIELD_TYPE_NUMBER:
+    case PROTO_FIELD_TYPE_ENUM:
         break;
     }
     return "a number";
@@ -57,38 +57,38 @@ static const char *expected_value_text(const struct sky_field_desc *field)
 
 /* Turns command-line value text into a JSON value; NULL with an error recorded on failure.
  * `field` is NULL for unknown paths, which the patch walk reports. */
-static cJSON *parse_value_text(const struct sky_field_desc *field, const char *value_text,
-                               const char *pointer, struct sky_field_errors *errors)
+static cJSON *parse_value_text(const struct proto_field_desc *field, const char *value_text,
+                               const char *pointer, struct proto_field_errors *errors)
 {
     char *text = copy_trimmed(value_text);
     if (!text) {
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "out of memory");
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, pointer, "out of memory");
         return NULL;
     }
     cJSON *value = NULL;
     double number;
     int errors_before = errors->total;
     if (text[0] == '\0') {
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "empty value");
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, pointer, "empty value");
     } else if (text[0] == '[' || text[0] == '"') {
         const char *end = NULL;
         value = cJSON_ParseWithOpts(text, &end, true);
         if (!value)
-            sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer,
-                                  "invalid JSON at character %d of %s",
-                                  end ? (int)(end - text) + 1 : 1, text);
-    } else if (field && field->type == SKY_FIELD_TYPE_TIME) {
+            proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, pointer,
+                                    "invalid JSON at character %d of %s",
+                                    end ? (int)(end - text) + 1 : 1, text);
+    } else if (field && field->type == PROTO_FIELD_TYPE_TIME) {
         value = cJSON_CreateString(text); /* the patch walk parses and reports it */
     } else if (parse_whole_number(text, &number)) {
         value = schema_new_json_number(number);
-    } else if (!field || field->type == SKY_FIELD_TYPE_ENUM) {
+    } else if (!field || field->type == PROTO_FIELD_TYPE_ENUM) {
         value = cJSON_CreateString(text);
     } else {
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "expected %s, got \"%s\"",
-                              expected_value_text(field), text);
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, pointer, "expected %s, got \"%s\"",
+                                expected_value_text(field), text);
     }
     if (!value && errors->total == errors_before)
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "out of memory");
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, pointer, "out of memory");
     free(text);
     return value;
 }
@@ -125,23 +125,23 @@ fail:
     return NULL;
 }
 
-cJSON *sky_schema_assignment(const struct sky_schema *schema, const char *path,
-                             const char *value_text, struct sky_field_errors *errors)
+cJSON *proto_schema_assignment(const struct proto_schema *schema, const char *path,
+                               const char *value_text, struct proto_field_errors *errors)
 {
     char pointer[POINTER_CAPACITY];
     schema_pointer_from_dotted(path, pointer, sizeof pointer);
     if (schema_is_group(schema, path)) {
         char children[REASON_CAPACITY];
         schema_list_children(schema, path, children, sizeof children);
-        sky_field_errors_addf(errors, SKY_FIELD_UNKNOWN, pointer,
-                              "%s is a group, not a field; set one of: %s", path, children);
+        proto_field_errors_addf(errors, PROTO_FIELD_UNKNOWN, pointer,
+                                "%s is a group, not a field; set one of: %s", path, children);
         return NULL;
     }
-    cJSON *value = parse_value_text(sky_schema_find(schema, path), value_text, pointer, errors);
+    cJSON *value = parse_value_text(proto_schema_find(schema, path), value_text, pointer, errors);
     if (!value)
         return NULL;
     cJSON *patch = build_patch(path, value);
     if (!patch)
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, pointer, "out of memory");
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, pointer, "out of memory");
     return patch;
 }

@@ -19,9 +19,9 @@ static const struct {
     { "_ms", "ms" },       { "_s", "s" },         { "_m", "m" },
 };
 
-const char *sky_field_unit(const struct sky_field_desc *field)
+const char *proto_field_unit(const struct proto_field_desc *field)
 {
-    if (field->type == SKY_FIELD_TYPE_TIME)
+    if (field->type == PROTO_FIELD_TYPE_TIME)
         return "UTC";
     size_t length = strlen(field->path);
     for (size_t i = 0; i < sizeof unit_suffixes / sizeof unit_suffixes[0]; i++) {
@@ -57,7 +57,7 @@ static cJSON *group_properties(cJSON *root, const char *dotted_path, char *leaf_
     return properties;
 }
 
-/* The value at a dotted path of a struct's JSON (sky_schema_to_json). */
+/* The value at a dotted path of a struct's JSON (proto_schema_to_json). */
 static const cJSON *value_at(const cJSON *state, const char *dotted_path)
 {
     const cJSON *node = state;
@@ -74,7 +74,7 @@ static const cJSON *value_at(const cJSON *state, const char *dotted_path)
     }
 }
 
-static bool add_range(cJSON *schema, const struct sky_field_desc *field)
+static bool add_range(cJSON *schema, const struct proto_field_desc *field)
 {
     return cJSON_AddNumberToObject(schema, field->exclusive_min ? "exclusiveMinimum" : "minimum",
                                    field->min) &&
@@ -102,7 +102,7 @@ static cJSON *kept(cJSON *schema, bool ok)
     return schema;
 }
 
-static cJSON *scalar_schema(const struct sky_field_desc *field, const char *type)
+static cJSON *scalar_schema(const struct proto_field_desc *field, const char *type)
 {
     cJSON *schema = typed(type);
     return kept(schema, schema && add_range(schema, field));
@@ -120,23 +120,23 @@ static cJSON *array_schema(cJSON *element, int count)
 }
 
 /* The type part of a leaf's schema. */
-static cJSON *type_schema(const struct sky_field_desc *field)
+static cJSON *type_schema(const struct proto_field_desc *field)
 {
     cJSON *schema = NULL;
     bool ok = false;
     switch (field->type) {
-    case SKY_FIELD_TYPE_NUMBER:
+    case PROTO_FIELD_TYPE_NUMBER:
         return scalar_schema(field, "number");
-    case SKY_FIELD_TYPE_INT:
-    case SKY_FIELD_TYPE_INT64:
+    case PROTO_FIELD_TYPE_INT:
+    case PROTO_FIELD_TYPE_INT64:
         return scalar_schema(field, "integer");
-    case SKY_FIELD_TYPE_INT_PAIR:
+    case PROTO_FIELD_TYPE_INT_PAIR:
         return array_schema(scalar_schema(field, "integer"), 2);
-    case SKY_FIELD_TYPE_INT_TRIPLE:
+    case PROTO_FIELD_TYPE_INT_TRIPLE:
         return array_schema(scalar_schema(field, "integer"), 3);
-    case SKY_FIELD_TYPE_BOOL:
+    case PROTO_FIELD_TYPE_BOOL:
         return typed("boolean");
-    case SKY_FIELD_TYPE_RGB: {
+    case PROTO_FIELD_TYPE_RGB: {
         /* Three numbers, or one for all three. */
         schema = cJSON_CreateObject();
         cJSON *any = schema ? cJSON_AddArrayToObject(schema, "oneOf") : NULL;
@@ -150,7 +150,7 @@ static cJSON *type_schema(const struct sky_field_desc *field)
             cJSON_Delete(three);
         return kept(schema, three_added);
     }
-    case SKY_FIELD_TYPE_ENUM: {
+    case PROTO_FIELD_TYPE_ENUM: {
         schema = typed("string");
         cJSON *names = schema ? cJSON_AddArrayToObject(schema, "enum") : NULL;
         ok = names != NULL;
@@ -159,12 +159,12 @@ static cJSON *type_schema(const struct sky_field_desc *field)
                  cJSON_AddItemToArray(names, cJSON_CreateString(field->enum_names[i]));
         break;
     }
-    case SKY_FIELD_TYPE_STRING:
+    case PROTO_FIELD_TYPE_STRING:
         schema = typed("string");
         ok = schema && cJSON_AddNumberToObject(schema, "maxLength", (double)field->capacity - 1) &&
              (field->min <= 0 || cJSON_AddNumberToObject(schema, "minLength", field->min));
         break;
-    case SKY_FIELD_TYPE_TIME:
+    case PROTO_FIELD_TYPE_TIME:
         schema = typed("string");
         ok = schema && cJSON_AddStringToObject(schema, "format", "date-time");
         break;
@@ -173,7 +173,7 @@ static cJSON *type_schema(const struct sky_field_desc *field)
 }
 
 /* Lists a required leaf in its object's "required". */
-static bool add_required(cJSON *root, const struct sky_field_desc *field, const char *name)
+static bool add_required(cJSON *root, const struct proto_field_desc *field, const char *name)
 {
     cJSON *object = root;
     const char *segment = field->path;
@@ -189,7 +189,7 @@ static bool add_required(cJSON *root, const struct sky_field_desc *field, const 
     return required && cJSON_AddItemToArray(required, cJSON_CreateString(name));
 }
 
-static bool add_leaf(cJSON *root, const cJSON *defaults, const struct sky_field_desc *field)
+static bool add_leaf(cJSON *root, const cJSON *defaults, const struct proto_field_desc *field)
 {
     char name[DOTTED_PATH_CAPACITY];
     cJSON *properties = group_properties(root, field->path, name, sizeof name);
@@ -200,7 +200,7 @@ static bool add_leaf(cJSON *root, const cJSON *defaults, const struct sky_field_
     }
     if (field->required && !add_required(root, field, name))
         return false;
-    const char *unit = sky_field_unit(field);
+    const char *unit = proto_field_unit(field);
     const cJSON *value = value_at(defaults, field->path);
     return cJSON_AddStringToObject(leaf, "description", field->description) &&
            (!unit || cJSON_AddStringToObject(leaf, "x-unit", unit)) &&
@@ -208,8 +208,8 @@ static bool add_leaf(cJSON *root, const cJSON *defaults, const struct sky_field_
            (!field->read_only || cJSON_AddTrueToObject(leaf, "readOnly"));
 }
 
-cJSON *sky_schema_json_schema(const struct sky_schema *schema, const cJSON *defaults,
-                              const char *title)
+cJSON *proto_schema_json_schema(const struct proto_schema *schema, const cJSON *defaults,
+                                const char *title)
 {
     cJSON *root = cJSON_CreateObject();
     bool ok = root && cJSON_AddStringToObject(root, "$schema", JSON_SCHEMA_DIALECT) &&

@@ -5,8 +5,8 @@
 #include <stdint.h>
 #include <string.h>
 
-const struct sky_field_desc *sky_schema_find(const struct sky_schema *schema,
-                                             const char *dotted_path)
+const struct proto_field_desc *proto_schema_find(const struct proto_schema *schema,
+                                                 const char *dotted_path)
 {
     for (size_t i = 0; dotted_path && i < schema->count; i++) {
         if (strcmp(schema->fields[i].path, dotted_path) == 0)
@@ -15,46 +15,46 @@ const struct sky_field_desc *sky_schema_find(const struct sky_schema *schema,
     return NULL;
 }
 
-size_t sky_field_size(const struct sky_field_desc *field)
+size_t proto_field_size(const struct proto_field_desc *field)
 {
     switch (field->type) {
-    case SKY_FIELD_TYPE_NUMBER:
-    case SKY_FIELD_TYPE_TIME:
+    case PROTO_FIELD_TYPE_NUMBER:
+    case PROTO_FIELD_TYPE_TIME:
         return sizeof(double);
-    case SKY_FIELD_TYPE_RGB:
+    case PROTO_FIELD_TYPE_RGB:
         return 3 * sizeof(double);
-    case SKY_FIELD_TYPE_INT_PAIR:
+    case PROTO_FIELD_TYPE_INT_PAIR:
         return 2 * sizeof(int);
-    case SKY_FIELD_TYPE_INT_TRIPLE:
+    case PROTO_FIELD_TYPE_INT_TRIPLE:
         return 3 * sizeof(int);
-    case SKY_FIELD_TYPE_STRING:
+    case PROTO_FIELD_TYPE_STRING:
         return field->capacity;
-    case SKY_FIELD_TYPE_BOOL:
+    case PROTO_FIELD_TYPE_BOOL:
         return sizeof(bool);
-    case SKY_FIELD_TYPE_INT64:
+    case PROTO_FIELD_TYPE_INT64:
         return sizeof(int64_t);
-    case SKY_FIELD_TYPE_ENUM:
-    case SKY_FIELD_TYPE_INT:
+    case PROTO_FIELD_TYPE_ENUM:
+    case PROTO_FIELD_TYPE_INT:
         break;
     }
     return sizeof(int);
 }
 
-int schema_element_count(enum sky_field_type type)
+int schema_element_count(enum proto_field_type type)
 {
     switch (type) {
-    case SKY_FIELD_TYPE_RGB:
-    case SKY_FIELD_TYPE_INT_TRIPLE:
+    case PROTO_FIELD_TYPE_RGB:
+    case PROTO_FIELD_TYPE_INT_TRIPLE:
         return 3;
-    case SKY_FIELD_TYPE_INT_PAIR:
+    case PROTO_FIELD_TYPE_INT_PAIR:
         return 2;
-    case SKY_FIELD_TYPE_NUMBER:
-    case SKY_FIELD_TYPE_ENUM:
-    case SKY_FIELD_TYPE_INT:
-    case SKY_FIELD_TYPE_TIME:
-    case SKY_FIELD_TYPE_STRING:
-    case SKY_FIELD_TYPE_BOOL:
-    case SKY_FIELD_TYPE_INT64:
+    case PROTO_FIELD_TYPE_NUMBER:
+    case PROTO_FIELD_TYPE_ENUM:
+    case PROTO_FIELD_TYPE_INT:
+    case PROTO_FIELD_TYPE_TIME:
+    case PROTO_FIELD_TYPE_STRING:
+    case PROTO_FIELD_TYPE_BOOL:
+    case PROTO_FIELD_TYPE_INT64:
         break;
     }
     return 1;
@@ -75,7 +75,7 @@ static bool child_segment(const char *path, const char *prefix, const char **seg
     return true;
 }
 
-bool schema_is_group(const struct sky_schema *schema, const char *dotted_path)
+bool schema_is_group(const struct proto_schema *schema, const char *dotted_path)
 {
     if (dotted_path[0] == '\0')
         return false;
@@ -88,7 +88,7 @@ bool schema_is_group(const struct sky_schema *schema, const char *dotted_path)
     return false;
 }
 
-void schema_list_children(const struct sky_schema *schema, const char *prefix, char *text,
+void schema_list_children(const struct proto_schema *schema, const char *prefix, char *text,
                           size_t capacity)
 {
     size_t used = 0;
@@ -118,7 +118,7 @@ void schema_list_children(const struct sky_schema *schema, const char *prefix, c
     }
 }
 
-void schema_list_enum_names(const struct sky_field_desc *field, char *text, size_t capacity)
+void schema_list_enum_names(const struct proto_field_desc *field, char *text, size_t capacity)
 {
     size_t used = 0;
     text[0] = '\0';

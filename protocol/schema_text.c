@@ -75,7 +75,7 @@ void schema_pointer_from_dotted(const char *dotted_path, char *pointer, size_t c
     }
 }
 
-void sky_field_pointer(const struct sky_field_desc *field, char *pointer, size_t capacity)
+void proto_field_pointer(const struct proto_field_desc *field, char *pointer, size_t capacity)
 {
     schema_pointer_from_dotted(field->path, pointer, capacity);
 }

@@ -13,8 +13,8 @@
 
 struct cJSON;
 
-#define POINTER_CAPACITY sizeof(((struct sky_field_error *)NULL)->pointer)
-#define REASON_CAPACITY sizeof(((struct sky_field_error *)NULL)->reason)
+#define POINTER_CAPACITY sizeof(((struct proto_field_error *)NULL)->pointer)
+#define REASON_CAPACITY sizeof(((struct proto_field_error *)NULL)->reason)
 #define DOTTED_PATH_CAPACITY 128
 #define TIME_TEXT_CAPACITY 40
 
@@ -34,23 +34,23 @@ struct cJSON *schema_new_json_number(double value);
 
 /* ---- the table's tree (schema_lookup.c) ---- */
 
-int schema_element_count(enum sky_field_type type);
+int schema_element_count(enum proto_field_type type);
 /* A group is a dotted path with leaf fields below it ("atmosphere", "atmosphere.mie"). */
-bool schema_is_group(const struct sky_schema *schema, const char *dotted_path);
+bool schema_is_group(const struct proto_schema *schema, const char *dotted_path);
 /* Names directly below a group, e.g. "rayleigh, mie, ..." for "atmosphere". */
-void schema_list_children(const struct sky_schema *schema, const char *prefix, char *text,
+void schema_list_children(const struct proto_schema *schema, const char *prefix, char *text,
                           size_t capacity);
-void schema_list_enum_names(const struct sky_field_desc *field, char *text, size_t capacity);
+void schema_list_enum_names(const struct proto_field_desc *field, char *text, size_t capacity);
 
 /* ---- one value against its row (schema_check.c) ---- */
 
 /* A value against a row's range (and for INT rows, being whole; for TIME rows, as a time):
  * false with the failure added under `pointer`. */
-bool schema_check_number(struct sky_field_errors *errors, const struct sky_field_desc *field,
+bool schema_check_number(struct proto_field_errors *errors, const struct proto_field_desc *field,
                          double value, const char *pointer);
-bool schema_check_integer(struct sky_field_errors *errors, const struct sky_field_desc *field,
+bool schema_check_integer(struct proto_field_errors *errors, const struct proto_field_desc *field,
                           double value, const char *pointer);
-bool schema_check_time(struct sky_field_errors *errors, const struct sky_field_desc *field,
+bool schema_check_time(struct proto_field_errors *errors, const struct proto_field_desc *field,
                        double seconds, const char *pointer);
 
 #endif

@@ -21,35 +21,35 @@ static cJSON *number_array_to_json(const double *values, int count)
     return array;
 }
 
-cJSON *sky_field_to_json(const struct sky_field_desc *field, const void *base)
+cJSON *proto_field_to_json(const struct proto_field_desc *field, const void *base)
 {
     const void *address = (const char *)base + field->offset;
     switch (field->type) {
-    case SKY_FIELD_TYPE_NUMBER:
+    case PROTO_FIELD_TYPE_NUMBER:
         return schema_new_json_number(*(const double *)address);
-    case SKY_FIELD_TYPE_RGB:
+    case PROTO_FIELD_TYPE_RGB:
         return number_array_to_json(address, 3);
-    case SKY_FIELD_TYPE_INT_PAIR:
-    case SKY_FIELD_TYPE_INT_TRIPLE:
+    case PROTO_FIELD_TYPE_INT_PAIR:
+    case PROTO_FIELD_TYPE_INT_TRIPLE:
         return cJSON_CreateIntArray(address, schema_element_count(field->type));
-    case SKY_FIELD_TYPE_INT:
+    case PROTO_FIELD_TYPE_INT:
         return cJSON_CreateNumber(*(const int *)address);
-    case SKY_FIELD_TYPE_INT64:
+    case PROTO_FIELD_TYPE_INT64:
         return schema_new_json_number((double)*(const int64_t *)address);
-    case SKY_FIELD_TYPE_TIME: {
+    case PROTO_FIELD_TYPE_TIME: {
         char text[TIME_TEXT_CAPACITY];
-        sky_time_format_iso8601(*(const double *)address, text, sizeof text);
+        proto_time_format_iso8601(*(const double *)address, text, sizeof text);
         return cJSON_CreateString(text);
     }
-    case SKY_FIELD_TYPE_ENUM: {
+    case PROTO_FIELD_TYPE_ENUM: {
         int value = *(const int *)address;
         if (value >= 0 && value < field->enum_count && field->enum_names[value])
             return cJSON_CreateString(field->enum_names[value]);
         return schema_new_json_number(value); /* invalid state: keep the evidence */
     }
-    case SKY_FIELD_TYPE_STRING:
+    case PROTO_FIELD_TYPE_STRING:
         return cJSON_CreateString(address);
-    case SKY_FIELD_TYPE_BOOL:
+    case PROTO_FIELD_TYPE_BOOL:
         return cJSON_CreateBool(*(const bool *)address);
     }
     return NULL;
@@ -82,10 +82,10 @@ static bool add_at_path(cJSON *root, const char *dotted_path, cJSON *value)
     return cJSON_AddItemToObject(node, name, value);
 }
 
-bool sky_schema_add_to_json(const struct sky_schema *schema, const void *base, cJSON *root)
+bool proto_schema_add_to_json(const struct proto_schema *schema, const void *base, cJSON *root)
 {
     for (size_t i = 0; i < schema->count; i++) {
-        cJSON *value = sky_field_to_json(&schema->fields[i], base);
+        cJSON *value = proto_field_to_json(&schema->fields[i], base);
         if (!value || !add_at_path(root, schema->fields[i].path, value)) {
             cJSON_Delete(value);
             return false;
@@ -94,10 +94,10 @@ bool sky_schema_add_to_json(const struct sky_schema *schema, const void *base, c
     return true;
 }
 
-cJSON *sky_schema_to_json(const struct sky_schema *schema, const void *base)
+cJSON *proto_schema_to_json(const struct proto_schema *schema, const void *base)
 {
     cJSON *root = cJSON_CreateObject();
-    if (root && !sky_schema_add_to_json(schema, base, root)) {
+    if (root && !proto_schema_add_to_json(schema, base, root)) {
         cJSON_Delete(root);
         return NULL;
     }

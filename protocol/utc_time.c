@@ -77,7 +77,7 @@ static bool take_char(const char **p, char c)
 
 #define FORMAT_HINT "YYYY-MM-DDThh:mm[:ss[.fff]] and Z or +hh:mm"
 
-bool sky_time_parse_iso8601(const char *text, double *unix_seconds, char *err, size_t errlen)
+bool proto_time_parse_iso8601(const char *text, double *unix_seconds, char *err, size_t errlen)
 {
     if (!text || !*text)
         return fail(err, errlen, "empty time (expected " FORMAT_HINT ")");
@@ -141,7 +141,7 @@ static long long floor_div(long long a, long long b)
     return (a % b != 0 && (a < 0) != (b < 0)) ? q - 1 : q;
 }
 
-void sky_time_format_iso8601(double unix_seconds, char *out, size_t outlen)
+void proto_time_format_iso8601(double unix_seconds, char *out, size_t outlen)
 {
     if (!out || outlen == 0)
         return;

@@ -26,8 +26,8 @@ static int sextet(unsigned char c)
     return -1;
 }
 
-bool sky_base64_decode(const char *text, size_t length, uint8_t **out, size_t *out_length,
-                       char *reason, size_t reason_size)
+bool proto_base64_decode(const char *text, size_t length, uint8_t **out, size_t *out_length,
+                         char *reason, size_t reason_size)
 {
     *out = NULL;
     *out_length = 0;
@@ -68,7 +68,7 @@ bool sky_base64_decode(const char *text, size_t length, uint8_t **out, size_t *o
     return true;
 }
 
-char *sky_base64_encode(const uint8_t *bytes, size_t length)
+char *proto_base64_encode(const uint8_t *bytes, size_t length)
 {
     size_t size = (length + 2) / 3 * 4;
     char *text = malloc(size + 1);
@@ -124,14 +124,14 @@ static void on_png_warning(png_structp png, png_const_charp message)
 
 static bool side_is_valid(uint32_t side)
 {
-    return side >= 1 && side <= SKY_WEATHER_MAP_MAX_SIDE;
+    return side >= 1 && side <= PROTO_WEATHER_MAP_MAX_SIDE;
 }
 
 /* The texels as stored: the map is data, not colour, so no gamma or colour-space conversion
  * (libpng's simplified reader would convert 16-bit files as linear light). Any bit depth and
  * colour type become RGBA8; without an alpha channel (or tRNS) alpha is 0: no precipitation. */
 static bool decode_png(const uint8_t *bytes, size_t length, uint32_t want_width,
-                       uint32_t want_height, struct sky_weather_map *map, char *reason,
+                       uint32_t want_height, struct proto_weather_map *map, char *reason,
                        size_t reason_size)
 {
     if (length < 8 || png_sig_cmp(bytes, 0, 8) != 0) {
@@ -147,7 +147,7 @@ static bool decode_png(const uint8_t *bytes, size_t length, uint32_t want_width,
                      (uint32_t)bytes[22] << 8 | bytes[23];
         if (!side_is_valid(w) || !side_is_valid(h)) {
             snprintf(reason, reason_size, "PNG is %ux%u; each side must be 1..%d", w, h,
-                     SKY_WEATHER_MAP_MAX_SIDE);
+                     PROTO_WEATHER_MAP_MAX_SIDE);
             return false;
         }
     }
@@ -171,7 +171,7 @@ static bool decode_png(const uint8_t *bytes, size_t length, uint32_t want_width,
     }
     png_set_read_fn(png, &source, read_from_memory);
     /* Bounds before any texel is inflated: a small file may declare a huge image. */
-    png_set_user_limits(png, SKY_WEATHER_MAP_MAX_SIDE, SKY_WEATHER_MAP_MAX_SIDE);
+    png_set_user_limits(png, PROTO_WEATHER_MAP_MAX_SIDE, PROTO_WEATHER_MAP_MAX_SIDE);
     png_read_info(png, info);
     uint32_t width = png_get_image_width(png, info), height = png_get_image_height(png, info);
     if ((want_width && want_width != width) || (want_height && want_height != height)) {
@@ -210,20 +210,20 @@ static bool decode_png(const uint8_t *bytes, size_t length, uint32_t want_width,
     return true;
 }
 
-bool sky_weather_map_decode(enum sky_weather_map_format format, const uint8_t *bytes, size_t length,
-                            uint32_t width, uint32_t height, struct sky_weather_map *map,
-                            char *reason, size_t reason_size)
+bool proto_weather_map_decode(enum proto_weather_map_format format, const uint8_t *bytes,
+                              size_t length, uint32_t width, uint32_t height,
+                              struct proto_weather_map *map, char *reason, size_t reason_size)
 {
     memset(map, 0, sizeof *map);
-    if (format == SKY_WEATHER_MAP_PNG)
+    if (format == PROTO_WEATHER_MAP_PNG)
         return decode_png(bytes, length, width, height, map, reason, reason_size);
-    if (format != SKY_WEATHER_MAP_RGBA8) {
+    if (format != PROTO_WEATHER_MAP_RGBA8) {
         snprintf(reason, reason_size, "unknown map format %d", (int)format);
         return false;
     }
     if (!side_is_valid(width) || !side_is_valid(height)) {
         snprintf(reason, reason_size, "map is %ux%u; each side must be 1..%d", width, height,
-                 SKY_WEATHER_MAP_MAX_SIDE);
+                 PROTO_WEATHER_MAP_MAX_SIDE);
         return false;
     }
     size_t expected = (size_t)width * height * 4;
@@ -242,7 +242,7 @@ bool sky_weather_map_decode(enum sky_weather_map_format format, const uint8_t *b
     return true;
 }
 
-bool sky_weather_map_copy(const struct sky_weather_map *from, struct sky_weather_map *to)
+bool proto_weather_map_copy(const struct proto_weather_map *from, struct proto_weather_map *to)
 {
     memset(to, 0, sizeof *to);
     if (!from || !from->rgba)
@@ -256,7 +256,7 @@ bool sky_weather_map_copy(const struct sky_weather_map *from, struct sky_weather
     return true;
 }
 
-void sky_weather_map_free(struct sky_weather_map *map)
+void proto_weather_map_free(struct proto_weather_map *map)
 {
     if (!map)
         return;

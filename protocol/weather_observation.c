@@ -16,9 +16,9 @@ static const struct {
     const char *name;
     const char *layer;
 } etages[ETAGE_COUNT] = {
-    [SKY_OBS_ETAGE_LOW] = { "low", "low" },
-    [SKY_OBS_ETAGE_MIDDLE] = { "middle", "mid" },
-    [SKY_OBS_ETAGE_HIGH] = { "high", "high" },
+    [PROTO_OBS_ETAGE_LOW] = { "low", "low" },
+    [PROTO_OBS_ETAGE_MIDDLE] = { "middle", "mid" },
+    [PROTO_OBS_ETAGE_HIGH] = { "high", "high" },
 };
 
 /* Low types (world_state.h) and depths of the clouds they stand for, km: fair-weather cumulus
@@ -43,17 +43,17 @@ static const struct {
 static const double precipitation_levels[] = { 0.0, 0.3, 0.6, 0.9 };
 #define DRIZZLE_MAX 0.3
 
-const char *sky_obs_etage_layer(enum sky_obs_etage etage)
+const char *proto_obs_etage_layer(enum proto_obs_etage etage)
 {
     return (unsigned)etage < ETAGE_COUNT ? etages[etage].layer : NULL;
 }
 
-const char *sky_obs_etage_name(enum sky_obs_etage etage)
+const char *proto_obs_etage_name(enum proto_obs_etage etage)
 {
     return (unsigned)etage < ETAGE_COUNT ? etages[etage].name : "?";
 }
 
-double sky_obs_low_type(double coverage, double base_m)
+double proto_obs_low_type(double coverage, double base_m)
 {
     if (coverage >= 0.95)
         return base_m < STRATUS_BELOW_M ? TYPE_STRATUS : TYPE_STRATOCUMULUS;
@@ -62,22 +62,22 @@ double sky_obs_low_type(double coverage, double base_m)
     return TYPE_CUMULUS;
 }
 
-double sky_obs_humidity_fog_per_km(double humidity)
+double proto_obs_humidity_fog_per_km(double humidity)
 {
-    double t = (humidity - SKY_OBS_FOG_ONSET_HUMIDITY) / (1.0 - SKY_OBS_FOG_ONSET_HUMIDITY);
+    double t = (humidity - PROTO_OBS_FOG_ONSET_HUMIDITY) / (1.0 - PROTO_OBS_FOG_ONSET_HUMIDITY);
     t = fmin(fmax(t, 0.0), 1.0);
-    return SKY_OBS_KOSCHMIEDER * t * t * (3.0 - 2.0 * t);
+    return PROTO_OBS_KOSCHMIEDER * t * t * (3.0 - 2.0 * t);
 }
 
 /* The highest humidity at or below `humidity` whose fog stays within `fog_per_km`. */
 static double humidity_within_fog(double humidity, double fog_per_km)
 {
-    if (sky_obs_humidity_fog_per_km(humidity) <= fog_per_km)
+    if (proto_obs_humidity_fog_per_km(humidity) <= fog_per_km)
         return humidity;
-    double lo = SKY_OBS_FOG_ONSET_HUMIDITY, hi = humidity;
+    double lo = PROTO_OBS_FOG_ONSET_HUMIDITY, hi = humidity;
     for (int i = 0; i < 40; i++) {
         double mid = 0.5 * (lo + hi);
-        if (sky_obs_humidity_fog_per_km(mid) <= fog_per_km)
+        if (proto_obs_humidity_fog_per_km(mid) <= fog_per_km)
             lo = mid;
         else
             hi = mid;
@@ -85,21 +85,21 @@ static double humidity_within_fog(double humidity, double fog_per_km)
     return lo;
 }
 
-static enum sky_obs_etage etage_of(const struct sky_metar_cloud_layer *layer)
+static enum proto_obs_etage etage_of(const struct proto_metar_cloud_layer *layer)
 {
-    if (layer->cumulonimbus || layer->towering_cumulus || layer->base_m < SKY_OBS_MIDDLE_BASE_M)
-        return SKY_OBS_ETAGE_LOW;
-    return layer->base_m < SKY_OBS_HIGH_BASE_M ? SKY_OBS_ETAGE_MIDDLE : SKY_OBS_ETAGE_HIGH;
+    if (layer->cumulonimbus || layer->towering_cumulus || layer->base_m < PROTO_OBS_MIDDLE_BASE_M)
+        return PROTO_OBS_ETAGE_LOW;
+    return layer->base_m < PROTO_OBS_HIGH_BASE_M ? PROTO_OBS_ETAGE_MIDDLE : PROTO_OBS_ETAGE_HIGH;
 }
 
-static void group_text(const struct sky_metar_cloud_layer *layer, char *text, size_t size)
+static void group_text(const struct proto_metar_cloud_layer *layer, char *text, size_t size)
 {
     char base[16] = "///";
     if (layer->base_known)
         snprintf(base, sizeof base, "%03d", (layer->base_ft / 100) % 1000);
     snprintf(text, size, "%s%s%s",
-             layer->amount == SKY_METAR_AMOUNT_UNKNOWN ? "///"
-                                                       : sky_metar_amount_name(layer->amount),
+             layer->amount == PROTO_METAR_AMOUNT_UNKNOWN ? "///"
+                                                         : proto_metar_amount_name(layer->amount),
              base,
              layer->cumulonimbus       ? "CB"
              : layer->towering_cumulus ? "TCU"
@@ -140,7 +140,7 @@ static bool put_layer(cJSON *clouds, const char *name, const struct layer *layer
 struct etage_groups {
     int count;
     double coverage, base_m;
-    enum sky_metar_cloud_amount amount;
+    enum proto_metar_cloud_amount amount;
     bool cumulonimbus, towering;
 };
 
@@ -156,7 +156,7 @@ static void low_layer_from(const struct etage_groups *g, struct layer *out)
         out->type = TYPE_TOWERING;
         out->thickness_km = 4.0;
     } else {
-        out->type = sky_obs_low_type(g->coverage, g->base_m);
+        out->type = proto_obs_low_type(g->coverage, g->base_m);
         out->thickness_km = out->type == TYPE_CUMULUS ? 1.5
                             : g->coverage >= 0.95     ? OVERCAST_DEPTH_KM
                                                       : 0.6;
@@ -169,7 +169,7 @@ static void low_layer_from(const struct etage_groups *g, struct layer *out)
 #define TYPE_ALTOCUMULUS 1.0
 static void mid_layer_from(const struct etage_groups *g, struct layer *out)
 {
-    bool sheet = g->amount >= SKY_METAR_BKN;
+    bool sheet = g->amount >= PROTO_METAR_BKN;
     out->present = true;
     out->coverage = g->coverage;
     out->bottom_km = g->base_m / 1000.0;
@@ -187,27 +187,27 @@ static void high_layer_from(const struct etage_groups *g, struct layer *out)
     out->thickness_km = 0.6;
 }
 
-static bool map_clouds(const struct sky_metar_report *r, cJSON *patch, cJSON *unmapped,
+static bool map_clouds(const struct proto_metar_report *r, cJSON *patch, cJSON *unmapped,
                        double *low_base_km)
 {
     struct layer low = { 0 }, mid = { 0 }, high = { 0 };
     *low_base_km = -1;
-    bool clear = r->sky == SKY_METAR_SKY_CAVOK || r->sky == SKY_METAR_SKY_NSC ||
-                 r->sky == SKY_METAR_SKY_NCD || r->sky == SKY_METAR_SKY_SKC ||
-                 r->sky == SKY_METAR_SKY_CLR;
-    if (r->sky == SKY_METAR_SKY_OBSCURED) {
+    bool clear = r->sky == PROTO_METAR_SKY_CAVOK || r->sky == PROTO_METAR_SKY_NSC ||
+                 r->sky == PROTO_METAR_SKY_NCD || r->sky == PROTO_METAR_SKY_SKC ||
+                 r->sky == PROTO_METAR_SKY_CLR;
+    if (r->sky == PROTO_METAR_SKY_OBSCURED) {
         /* VV: fog or a stratus so low that the sky cannot be seen; the ceiling at the vertical
          * visibility (the ground when not given). */
         low = (struct layer){ true, 1.0, TYPE_STRATUS,
                               r->vertical_visibility_known ? r->vertical_visibility_m / 1000.0 : 0,
                               OVERCAST_DEPTH_KM };
-    } else if (r->sky == SKY_METAR_SKY_LAYERS) {
+    } else if (r->sky == PROTO_METAR_SKY_LAYERS) {
         struct etage_groups groups[ETAGE_COUNT] = { 0 };
         for (int i = 0; i < r->layer_count; i++) {
-            const struct sky_metar_cloud_layer *layer = &r->layers[i];
+            const struct proto_metar_cloud_layer *layer = &r->layers[i];
             char text[32];
             group_text(layer, text, sizeof text);
-            if (layer->amount == SKY_METAR_AMOUNT_UNKNOWN || !layer->base_known) {
+            if (layer->amount == PROTO_METAR_AMOUNT_UNKNOWN || !layer->base_known) {
                 if (!add_unmapped(unmapped, text, NULL,
                                   layer->base_known ? "amount not observed" : "base not observed"))
                     return false;
@@ -224,17 +224,17 @@ static bool map_clouds(const struct sky_metar_report *r, cJSON *patch, cJSON *un
             g->towering |= layer->towering_cumulus;
             g->count++;
         }
-        if (groups[SKY_OBS_ETAGE_LOW].count)
-            low_layer_from(&groups[SKY_OBS_ETAGE_LOW], &low);
-        if (groups[SKY_OBS_ETAGE_HIGH].count)
-            high_layer_from(&groups[SKY_OBS_ETAGE_HIGH], &high);
-        if (groups[SKY_OBS_ETAGE_MIDDLE].count)
-            mid_layer_from(&groups[SKY_OBS_ETAGE_MIDDLE], &mid);
+        if (groups[PROTO_OBS_ETAGE_LOW].count)
+            low_layer_from(&groups[PROTO_OBS_ETAGE_LOW], &low);
+        if (groups[PROTO_OBS_ETAGE_HIGH].count)
+            high_layer_from(&groups[PROTO_OBS_ETAGE_HIGH], &high);
+        if (groups[PROTO_OBS_ETAGE_MIDDLE].count)
+            mid_layer_from(&groups[PROTO_OBS_ETAGE_MIDDLE], &mid);
     } else if (!clear && !r->weather.thunderstorm) {
         return true; /* no cloud group: the clouds stay as they are */
     }
     /* No cloud group but a thunderstorm: its cumulonimbus, the layers above left as they are. */
-    bool keep_high = !clear && r->sky == SKY_METAR_SKY_NOT_REPORTED;
+    bool keep_high = !clear && r->sky == PROTO_METAR_SKY_NOT_REPORTED;
     if (r->weather.thunderstorm && !(low.present && low.type == TYPE_CUMULONIMBUS)) {
         /* TS: a cumulonimbus overhead, reported or not. */
         if (!low.present || low.coverage <= 0)
@@ -251,9 +251,9 @@ static bool map_clouds(const struct sky_metar_report *r, cJSON *patch, cJSON *un
     return true;
 }
 
-static bool map_precipitation(const struct sky_metar_report *r, cJSON *patch, cJSON *unmapped)
+static bool map_precipitation(const struct proto_metar_report *r, cJSON *patch, cJSON *unmapped)
 {
-    const struct sky_metar_weather *w = &r->weather;
+    const struct proto_metar_weather *w = &r->weather;
     double level = precipitation_levels[w->precipitation];
     if (w->drizzle && !w->rain && !w->snow && !w->showers)
         level = fmin(level, DRIZZLE_MAX);
@@ -273,14 +273,15 @@ static bool map_precipitation(const struct sky_metar_report *r, cJSON *patch, cJ
 /* Visibility to fog, temperature and dew point to humidity: the fog term is the observed
  * extinction less the clear air's and less the renderer's humidity fog, and the humidity is
  * held where its own fog stays within the observed extinction. */
-static bool map_air(const struct sky_metar_report *r, cJSON *patch)
+static bool map_air(const struct proto_metar_report *r, cJSON *patch)
 {
-    const struct sky_metar_visibility *v = &r->visibility;
+    const struct proto_metar_visibility *v = &r->visibility;
     bool visibility = v->reported && v->metres > 0;
     double fog_per_km = 0;
     if (visibility)
         fog_per_km = fmin(
-            fmax(SKY_OBS_KOSCHMIEDER / (v->metres / 1000.0) - SKY_OBS_CLEAR_EXTINCTION_PER_KM, 0.0),
+            fmax(PROTO_OBS_KOSCHMIEDER / (v->metres / 1000.0) - PROTO_OBS_CLEAR_EXTINCTION_PER_KM,
+                 0.0),
             100.0);
     cJSON *weather = cJSON_GetObjectItemCaseSensitive(patch, "weather");
     double humidity = 0;
@@ -297,9 +298,9 @@ static bool map_air(const struct sky_metar_report *r, cJSON *patch)
     cJSON *fog = atmosphere ? cJSON_AddObjectToObject(atmosphere, "fog") : NULL;
     /* 9999, 10SM and more, CAVOK bound the extinction from above: no fog beyond the clear
      * air's (10 km is the top of the reporting scale). */
-    double density = v->bound == SKY_METAR_AT_LEAST || v->metres >= 9999
+    double density = v->bound == PROTO_METAR_AT_LEAST || v->metres >= 9999
                          ? 0.0
-                         : fmax(fog_per_km - sky_obs_humidity_fog_per_km(humidity), 0.0);
+                         : fmax(fog_per_km - proto_obs_humidity_fog_per_km(humidity), 0.0);
     if (!fog || !cJSON_AddNumberToObject(fog, "density_per_km", density))
         return false;
     /* Fog lies in the lowest few hundred metres (radiation fog 100-300 m); mist and haze
@@ -310,9 +311,9 @@ static bool map_air(const struct sky_metar_report *r, cJSON *patch)
     return cJSON_AddNumberToObject(fog, "scale_height_km", scale_km) != NULL;
 }
 
-static bool map_wind(const struct sky_metar_report *r, cJSON *weather, double low_base_km)
+static bool map_wind(const struct proto_metar_report *r, cJSON *weather, double low_base_km)
 {
-    const struct sky_metar_wind *w = &r->wind;
+    const struct proto_metar_wind *w = &r->wind;
     if (!w->reported || (!w->calm && !w->speed_known))
         return true;
     double height_m = low_base_km > 0.01 ? low_base_km * 1000.0 : 1000.0;
@@ -328,8 +329,8 @@ static bool map_wind(const struct sky_metar_report *r, cJSON *weather, double lo
     return true;
 }
 
-bool sky_obs_metar_patch(const struct sky_metar_report *report, cJSON **patch, cJSON **unmapped,
-                         char *why, size_t why_size)
+bool proto_obs_metar_patch(const struct proto_metar_report *report, cJSON **patch, cJSON **unmapped,
+                           char *why, size_t why_size)
 {
     *patch = NULL;
     *unmapped = NULL;

@@ -7,14 +7,14 @@
 #include <string.h>
 
 /* Enum fields are read and written through int lvalues. */
-_Static_assert(sizeof(enum sky_limb_darkening) == sizeof(int), "enum field size");
-_Static_assert(sizeof(enum sky_exposure_mode) == sizeof(int), "enum field size");
-_Static_assert(sizeof(enum sky_tonemap) == sizeof(int), "enum field size");
-_Static_assert(sizeof(enum sky_bodies_mode) == sizeof(int), "enum field size");
-_Static_assert(sizeof(enum sky_switch) == sizeof(int), "enum field size");
-_Static_assert(sizeof(enum sky_cloud_resolution) == sizeof(int), "enum field size");
-_Static_assert(sizeof(enum sky_weather_map_source) == sizeof(int), "enum field size");
-_Static_assert(sizeof(enum sky_weather_source) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum proto_limb_darkening) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum proto_exposure_mode) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum proto_tonemap) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum proto_bodies_mode) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum proto_switch) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum proto_cloud_resolution) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum proto_weather_map_source) == sizeof(int), "enum field size");
+_Static_assert(sizeof(enum proto_weather_source) == sizeof(int), "enum field size");
 
 static const char *const limb_darkening_names[] = { "none", "neckel96", "hm98" };
 static const char *const exposure_mode_names[] = { "auto", "manual" };
@@ -37,32 +37,32 @@ static const char *const weather_source_names[] = { "procedural", "client", "met
 #define MID_THICKNESS_MAX_KM 4.0
 
 #define COUNT_OF(array) ((int)(sizeof(array) / sizeof((array)[0])))
-#define OFFSET(member) offsetof(struct sky_world_state, member)
+#define OFFSET(member) offsetof(struct proto_world_state, member)
 /* One row; the members a macro leaves out are zero (not required, inclusive ranges). */
 /* clang-format off */
 #define ROW(path_, type_, member, lo, hi, names, count, doc, ro) \
     {.path = path_, .type = type_, .offset = OFFSET(member), .min = lo, .max = hi, \
      .enum_names = names, .enum_count = count, .description = doc, .read_only = ro}
 #define NUMBER(path, member, lo, hi, doc) \
-    ROW(path, SKY_FIELD_TYPE_NUMBER, member, lo, hi, NULL, 0, doc, false)
+    ROW(path, PROTO_FIELD_TYPE_NUMBER, member, lo, hi, NULL, 0, doc, false)
 #define RGB(path, member, lo, hi, doc) \
-    ROW(path, SKY_FIELD_TYPE_RGB, member, lo, hi, NULL, 0, doc, false)
+    ROW(path, PROTO_FIELD_TYPE_RGB, member, lo, hi, NULL, 0, doc, false)
 #define INT_PAIR(path, member, lo, hi, doc) \
-    ROW(path, SKY_FIELD_TYPE_INT_PAIR, member, lo, hi, NULL, 0, doc, false)
+    ROW(path, PROTO_FIELD_TYPE_INT_PAIR, member, lo, hi, NULL, 0, doc, false)
 #define INT_TRIPLE(path, member, lo, hi, doc) \
-    ROW(path, SKY_FIELD_TYPE_INT_TRIPLE, member, lo, hi, NULL, 0, doc, false)
+    ROW(path, PROTO_FIELD_TYPE_INT_TRIPLE, member, lo, hi, NULL, 0, doc, false)
 #define INT(path, member, lo, hi, doc) \
-    ROW(path, SKY_FIELD_TYPE_INT, member, lo, hi, NULL, 0, doc, false)
+    ROW(path, PROTO_FIELD_TYPE_INT, member, lo, hi, NULL, 0, doc, false)
 #define TIME(path, member, lo, hi, doc) \
-    ROW(path, SKY_FIELD_TYPE_TIME, member, lo, hi, NULL, 0, doc, false)
+    ROW(path, PROTO_FIELD_TYPE_TIME, member, lo, hi, NULL, 0, doc, false)
 #define ENUM(path, member, names, doc) \
-    ROW(path, SKY_FIELD_TYPE_ENUM, member, 0, COUNT_OF(names) - 1, names, COUNT_OF(names), doc, \
+    ROW(path, PROTO_FIELD_TYPE_ENUM, member, 0, COUNT_OF(names) - 1, names, COUNT_OF(names), doc, \
         false)
 /* Read-only rows: kept by the simulation, restored from a saved state, refused in a `set`. */
 #define RO_NUMBER(path, member, lo, hi, doc) \
-    ROW(path, SKY_FIELD_TYPE_NUMBER, member, lo, hi, NULL, 0, doc, true)
+    ROW(path, PROTO_FIELD_TYPE_NUMBER, member, lo, hi, NULL, 0, doc, true)
 #define RO_TIME(path, member, lo, hi, doc) \
-    ROW(path, SKY_FIELD_TYPE_TIME, member, lo, hi, NULL, 0, doc, true)
+    ROW(path, PROTO_FIELD_TYPE_TIME, member, lo, hi, NULL, 0, doc, true)
 
 /* The interpolated weather parameters of one end of a transition, under
  * "weather.transition.<end>." with the paths of the live fields they stand for. */
@@ -113,7 +113,7 @@ static const char *const weather_source_names[] = { "procedural", "client", "met
 /* clang-format on */
 
 /* Rows sharing a group stay together: serialization and error messages follow this order. */
-const struct sky_field_desc sky_world_field_table[] = {
+const struct proto_field_desc proto_world_field_table[] = {
     TIME("clock.utc", clock.utc_unix_s, UTC_MIN_S, UTC_MAX_S,
          "simulated date and time, ISO 8601 UTC (1900-01-01 to 2100-12-31)"),
     NUMBER("clock.time_scale", clock.time_scale, 0, 100000,
@@ -312,33 +312,34 @@ const struct sky_field_desc sky_world_field_table[] = {
            "distance covered by the aerial perspective volume, km"),
 };
 
-const size_t sky_world_field_count = sizeof sky_world_field_table / sizeof sky_world_field_table[0];
+const size_t proto_world_field_count = sizeof proto_world_field_table /
+                                       sizeof proto_world_field_table[0];
 
-_Static_assert(sizeof sky_world_field_table / sizeof sky_world_field_table[0] <=
-                   SKY_WORLD_PATCH_MAX_FIELDS,
+_Static_assert(sizeof proto_world_field_table / sizeof proto_world_field_table[0] <=
+                   PROTO_WORLD_PATCH_MAX_FIELDS,
                "a patch can name every field");
 
-static const struct sky_schema world_schema = {
-    .fields = sky_world_field_table,
-    .count = sizeof sky_world_field_table / sizeof sky_world_field_table[0],
+static const struct proto_schema world_schema = {
+    .fields = proto_world_field_table,
+    .count = sizeof proto_world_field_table / sizeof proto_world_field_table[0],
     .read_only_member = "revision",
 };
 
-const struct sky_schema *sky_world_schema(void)
+const struct proto_schema *proto_world_schema(void)
 {
     return &world_schema;
 }
 
-const struct sky_field_desc *sky_world_state_fields(size_t *count)
+const struct proto_field_desc *proto_world_state_fields(size_t *count)
 {
     if (count)
-        *count = sky_world_field_count;
-    return sky_world_field_table;
+        *count = proto_world_field_count;
+    return proto_world_field_table;
 }
 
-const struct sky_field_desc *sky_world_state_find_field(const char *dotted_path)
+const struct proto_field_desc *proto_world_state_find_field(const char *dotted_path)
 {
-    return sky_schema_find(&world_schema, dotted_path);
+    return proto_schema_find(&world_schema, dotted_path);
 }
 
 static void set_rgb(double channels[3], double r, double g, double b)
@@ -356,20 +357,20 @@ static void set_pair(int values[2], int first, int second)
 
 /* Member by member after the memset: copying whole compound literals would also copy their
  * indeterminate padding, and states are compared with memcmp. */
-void sky_world_state_defaults(struct sky_world_state *state)
+void proto_world_state_defaults(struct proto_world_state *state)
 {
     memset(state, 0, sizeof *state);
 
     state->clock.utc_unix_s = 1782043200.0; /* 2026-06-21T12:00:00Z */
     state->clock.time_scale = 1.0;
-    state->clock.sky_bodies = SKY_BODIES_MANUAL;
+    state->clock.sky_bodies = PROTO_BODIES_MANUAL;
     state->clock.epoch.wall_unix_s = 0.0; /* anchored by the first world host that runs it */
     state->clock.epoch.utc_unix_s = state->clock.utc_unix_s;
     state->location.latitude_deg = 45.0;
     state->location.longitude_deg = 6.0;
     state->location.altitude_m = 200.0;
 
-    struct sky_atmosphere_state *atmosphere = &state->atmosphere;
+    struct proto_atmosphere_state *atmosphere = &state->atmosphere;
     atmosphere->bottom_radius_km = 6360.0;
     atmosphere->top_radius_km = 6460.0;
     set_rgb(atmosphere->rayleigh_scattering_per_km, 5.802e-3, 13.558e-3, 33.1e-3);
@@ -389,7 +390,7 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->sun.angular_diameter_deg = 0.545;
     state->sun.azimuth_deg = 180.0;
     state->sun.elevation_deg = 45.0;
-    state->sun.limb_darkening = SKY_LIMB_DARKENING_HM98;
+    state->sun.limb_darkening = PROTO_LIMB_DARKENING_HM98;
 
     state->moon.azimuth_deg = 90.0;
     state->moon.elevation_deg = -30.0;
@@ -397,7 +398,7 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->night.airglow_luminance_cd_m2 = 2.0e-4;
     state->night.star_brightness = 1.0;
 
-    struct sky_cloud_state *clouds = &state->clouds;
+    struct proto_cloud_state *clouds = &state->clouds;
     clouds->low.coverage = 0.0;
     clouds->low.type = 0.67;
     clouds->low.density = 1.0;
@@ -430,8 +431,8 @@ void sky_world_state_defaults(struct sky_world_state *state)
     clouds->noise_seed = 1;
     clouds->primary_steps = 64;
     clouds->light_steps = 6;
-    clouds->resolution = SKY_CLOUD_RESOLUTION_SIXTYFOURTH;
-    clouds->temporal = SKY_SWITCH_ON;
+    clouds->resolution = PROTO_CLOUD_RESOLUTION_SIXTYFOURTH;
+    clouds->temporal = PROTO_SWITCH_ON;
 
     state->weather.humidity = 0.5;
     state->weather.wind.speed_m_s = 10.0;
@@ -443,26 +444,26 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->weather.anchor.offset_north_km = 0.0;
     state->weather.seed = 1;
     state->weather.map_extent_km = 60.0;
-    state->weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
-    state->weather.source = SKY_WEATHER_SOURCE_PROCEDURAL;
-    state->weather.autopilot = SKY_SWITCH_OFF;
+    state->weather.map_source = PROTO_WEATHER_MAP_PROCEDURAL;
+    state->weather.source = PROTO_WEATHER_SOURCE_PROCEDURAL;
+    state->weather.autopilot = PROTO_SWITCH_OFF;
     state->weather.autopilot_seed = 1;
     state->weather.transition.start_unix_s = state->clock.utc_unix_s;
     state->weather.transition.duration_s = 0.0;
     state->weather.transition.progress = 1.0;
-    sky_weather_params_get(state, &state->weather.transition.from);
-    sky_weather_params_get(state, &state->weather.transition.to);
+    proto_weather_params_get(state, &state->weather.transition.from);
+    proto_weather_params_get(state, &state->weather.transition.to);
 
     state->camera.altitude_km = 0.2;
     state->camera.yaw_deg = 180.0;
     state->camera.pitch_deg = 10.0;
     state->camera.fov_deg = 70.0;
 
-    state->exposure.mode = SKY_EXPOSURE_AUTO;
+    state->exposure.mode = PROTO_EXPOSURE_AUTO;
     state->exposure.ev100 = 14.0;
     state->exposure.compensation_ev = 0.0;
-    state->exposure.tonemap = SKY_TONEMAP_ACES;
-    state->exposure.night_adaptation = SKY_SWITCH_ON;
+    state->exposure.tonemap = PROTO_TONEMAP_ACES;
+    state->exposure.night_adaptation = PROTO_SWITCH_ON;
 
     set_pair(state->render.transmittance_lut, 256, 64);
     set_pair(state->render.multiscattering_lut, 32, 32);
@@ -473,7 +474,8 @@ void sky_world_state_defaults(struct sky_world_state *state)
     state->render.aerial_perspective_max_km = 64.0;
 }
 
-void sky_weather_params_get(const struct sky_world_state *state, struct sky_weather_params *out)
+void proto_weather_params_get(const struct proto_world_state *state,
+                              struct proto_weather_params *out)
 {
     memset(out, 0, sizeof *out);
     out->low = state->clouds.low;
@@ -485,7 +487,8 @@ void sky_weather_params_get(const struct sky_world_state *state, struct sky_weat
     out->wind_direction_deg = state->weather.wind.direction_deg;
 }
 
-void sky_weather_params_put(struct sky_world_state *state, const struct sky_weather_params *in)
+void proto_weather_params_put(struct proto_world_state *state,
+                              const struct proto_weather_params *in)
 {
     state->clouds.low = in->low;
     state->clouds.mid = in->mid;

@@ -12,65 +12,68 @@
 
 static const double MAX_ATMOSPHERE_THICKNESS_KM = 1000.0;
 
-static void check_consistency(const struct sky_world_state *state, struct sky_field_errors *errors)
+static void check_consistency(const struct proto_world_state *state,
+                              struct proto_field_errors *errors)
 {
     double bottom = state->atmosphere.bottom_radius_km;
     double top = state->atmosphere.top_radius_km;
     if (!isfinite(bottom) || !isfinite(top))
         return;
-    char bottom_text[SKY_FIELD_NUMBER_TEXT_MAX], top_text[SKY_FIELD_NUMBER_TEXT_MAX];
-    char limit_text[SKY_FIELD_NUMBER_TEXT_MAX], thickness_text[SKY_FIELD_NUMBER_TEXT_MAX];
-    sky_field_format_number(bottom, bottom_text, sizeof bottom_text);
-    sky_field_format_number(top, top_text, sizeof top_text);
+    char bottom_text[PROTO_FIELD_NUMBER_TEXT_MAX], top_text[PROTO_FIELD_NUMBER_TEXT_MAX];
+    char limit_text[PROTO_FIELD_NUMBER_TEXT_MAX], thickness_text[PROTO_FIELD_NUMBER_TEXT_MAX];
+    proto_field_format_number(bottom, bottom_text, sizeof bottom_text);
+    proto_field_format_number(top, top_text, sizeof top_text);
     if (top <= bottom) {
-        sky_field_errors_addf(errors, SKY_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
-                              "must be greater than bottom_radius_km (%s), got %s", bottom_text,
-                              top_text);
+        proto_field_errors_addf(errors, PROTO_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
+                                "must be greater than bottom_radius_km (%s), got %s", bottom_text,
+                                top_text);
     } else if (top - bottom > MAX_ATMOSPHERE_THICKNESS_KM) {
-        sky_field_format_number(MAX_ATMOSPHERE_THICKNESS_KM, limit_text, sizeof limit_text);
-        sky_field_format_number(top - bottom, thickness_text, sizeof thickness_text);
-        sky_field_errors_addf(errors, SKY_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
-                              "must be at most %s km above bottom_radius_km (%s), got %s km above",
-                              limit_text, bottom_text, thickness_text);
+        proto_field_format_number(MAX_ATMOSPHERE_THICKNESS_KM, limit_text, sizeof limit_text);
+        proto_field_format_number(top - bottom, thickness_text, sizeof thickness_text);
+        proto_field_errors_addf(
+            errors, PROTO_FIELD_INCONSISTENT, "/atmosphere/top_radius_km",
+            "must be at most %s km above bottom_radius_km (%s), got %s km above", limit_text,
+            bottom_text, thickness_text);
     }
 }
 
 /* Every stored value against its row, then the checks across fields. */
-static void validate_into(const struct sky_world_state *state, struct sky_field_errors *errors)
+static void validate_into(const struct proto_world_state *state, struct proto_field_errors *errors)
 {
-    sky_schema_check(sky_world_schema(), state, errors);
+    proto_schema_check(proto_world_schema(), state, errors);
     check_consistency(state, errors);
 }
 
-bool sky_world_state_validate(const struct sky_world_state *state, struct sky_field_errors *errors)
+bool proto_world_state_validate(const struct proto_world_state *state,
+                                struct proto_field_errors *errors)
 {
-    struct sky_field_errors scratch;
+    struct proto_field_errors scratch;
     if (!errors)
         errors = &scratch;
-    sky_field_errors_clear(errors);
+    proto_field_errors_clear(errors);
     if (!state) {
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "no state");
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, "", "no state");
         return false;
     }
     validate_into(state, errors);
     return errors->total == 0;
 }
 
-bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSON *patch,
-                                struct sky_field_errors *errors)
+bool proto_world_state_apply_json(struct proto_world_state *state, const struct cJSON *patch,
+                                  struct proto_field_errors *errors)
 {
-    struct sky_field_errors scratch;
+    struct proto_field_errors scratch;
     if (!errors)
         errors = &scratch;
-    sky_field_errors_clear(errors);
+    proto_field_errors_clear(errors);
     if (!state) {
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "no state");
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, "", "no state");
         return false;
     }
     /* memcpy rather than assignment keeps padding bytes identical, so callers can memcmp. */
-    struct sky_world_state candidate;
+    struct proto_world_state candidate;
     memcpy(&candidate, state, sizeof candidate);
-    if (sky_schema_apply_json(sky_world_schema(), &candidate, patch, "", errors, NULL))
+    if (proto_schema_apply_json(proto_world_schema(), &candidate, patch, "", errors, NULL))
         validate_into(&candidate, errors);
     if (errors->total != 0)
         return false;
@@ -78,41 +81,43 @@ bool sky_world_state_apply_json(struct sky_world_state *state, const struct cJSO
     return true;
 }
 
-bool sky_world_patch_compile(const struct cJSON *json, const char *pointer_prefix,
-                             struct sky_world_patch *out, struct sky_field_errors *errors)
+bool proto_world_patch_compile(const struct cJSON *json, const char *pointer_prefix,
+                               struct proto_world_patch *out, struct proto_field_errors *errors)
 {
-    const struct sky_schema *schema = sky_world_schema();
+    const struct proto_schema *schema = proto_world_schema();
     out->count = 0;
-    sky_world_state_defaults(&out->values);
-    bool named[SKY_SCHEMA_MAX_ROWS];
-    bool ok = sky_schema_apply_json(schema, &out->values, json, pointer_prefix, errors, named);
+    proto_world_state_defaults(&out->values);
+    bool named[PROTO_SCHEMA_MAX_ROWS];
+    bool ok = proto_schema_apply_json(schema, &out->values, json, pointer_prefix, errors, named);
     for (size_t i = 0; i < schema->count; i++)
         if (named[i])
             out->fields[out->count++] = (unsigned short)i;
     return ok;
 }
 
-bool sky_world_patch_names(const struct sky_world_patch *patch, const struct sky_field_desc *field)
+bool proto_world_patch_names(const struct proto_world_patch *patch,
+                             const struct proto_field_desc *field)
 {
     for (size_t i = 0; i < patch->count; i++)
-        if (&sky_world_field_table[patch->fields[i]] == field)
+        if (&proto_world_field_table[patch->fields[i]] == field)
             return true;
     return false;
 }
 
-bool sky_world_state_apply_patch(struct sky_world_state *state, const struct sky_world_patch *patch,
-                                 struct sky_field_errors *errors)
+bool proto_world_state_apply_patch(struct proto_world_state *state,
+                                   const struct proto_world_patch *patch,
+                                   struct proto_field_errors *errors)
 {
-    struct sky_field_errors scratch;
+    struct proto_field_errors scratch;
     if (!errors)
         errors = &scratch;
-    sky_field_errors_clear(errors);
-    struct sky_world_state candidate;
+    proto_field_errors_clear(errors);
+    struct proto_world_state candidate;
     memcpy(&candidate, state, sizeof candidate);
     for (size_t i = 0; i < patch->count; i++) {
-        const struct sky_field_desc *field = &sky_world_field_table[patch->fields[i]];
+        const struct proto_field_desc *field = &proto_world_field_table[patch->fields[i]];
         memcpy((char *)&candidate + field->offset, (const char *)&patch->values + field->offset,
-               sky_field_size(field));
+               proto_field_size(field));
     }
     validate_into(&candidate, errors);
     if (errors->total != 0)

@@ -10,34 +10,34 @@
 #include <stdlib.h>
 #include <string.h>
 
-bool sky_world_state_set_path(struct sky_world_state *state, const char *path,
-                              const char *value_text, struct sky_field_errors *errors)
+bool proto_world_state_set_path(struct proto_world_state *state, const char *path,
+                                const char *value_text, struct proto_field_errors *errors)
 {
-    struct sky_field_errors scratch;
+    struct proto_field_errors scratch;
     if (!errors)
         errors = &scratch;
-    sky_field_errors_clear(errors);
+    proto_field_errors_clear(errors);
     if (!path || !value_text) {
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "missing path or value");
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, "", "missing path or value");
         return false;
     }
-    cJSON *patch = sky_schema_assignment(sky_world_schema(), path, value_text, errors);
+    cJSON *patch = proto_schema_assignment(proto_world_schema(), path, value_text, errors);
     if (!patch)
         return false;
-    bool applied = sky_world_state_apply_json(state, patch, errors);
+    bool applied = proto_world_state_apply_json(state, patch, errors);
     cJSON_Delete(patch);
     return applied;
 }
 
-bool sky_world_state_set_assignment(struct sky_world_state *state, const char *assignment,
-                                    struct sky_field_errors *errors)
+bool proto_world_state_set_assignment(struct proto_world_state *state, const char *assignment,
+                                      struct proto_field_errors *errors)
 {
     const char *equals = assignment ? strchr(assignment, '=') : NULL;
     if (!equals) {
-        sky_field_errors_clear(errors);
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "",
-                              "expected dotted.path=value, got \"%s\"",
-                              assignment ? assignment : "");
+        proto_field_errors_clear(errors);
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, "",
+                                "expected dotted.path=value, got \"%s\"",
+                                assignment ? assignment : "");
         return false;
     }
     const char *blanks = " \t\r\n\v\f";
@@ -48,18 +48,18 @@ bool sky_world_state_set_assignment(struct sky_world_state *state, const char *a
     size_t length = (size_t)(end - start);
     char *path = malloc(length + 1);
     if (!path) {
-        sky_field_errors_clear(errors);
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "", "out of memory");
+        proto_field_errors_clear(errors);
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, "", "out of memory");
         return false;
     }
     memcpy(path, start, length);
     path[length] = '\0';
-    bool applied = sky_world_state_set_path(state, path, equals + 1, errors);
+    bool applied = proto_world_state_set_path(state, path, equals + 1, errors);
     free(path);
     return applied;
 }
 
-cJSON *sky_world_state_to_json(const struct sky_world_state *state)
+cJSON *proto_world_state_to_json(const struct proto_world_state *state)
 {
     if (!state)
         return NULL;
@@ -70,28 +70,28 @@ cJSON *sky_world_state_to_json(const struct sky_world_state *state)
         cJSON_Delete(root);
         return NULL;
     }
-    if (!sky_schema_add_to_json(sky_world_schema(), state, root)) {
+    if (!proto_schema_add_to_json(proto_world_schema(), state, root)) {
         cJSON_Delete(root);
         return NULL;
     }
     return root;
 }
 
-char *sky_world_state_to_text(const struct sky_world_state *state)
+char *proto_world_state_to_text(const struct proto_world_state *state)
 {
-    cJSON *json = sky_world_state_to_json(state);
+    cJSON *json = proto_world_state_to_json(state);
     char *text = json ? cJSON_PrintUnformatted(json) : NULL;
     cJSON_Delete(json);
     return text;
 }
 
-cJSON *sky_world_state_json_schema(void)
+cJSON *proto_world_state_json_schema(void)
 {
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
-    cJSON *defaults = sky_world_state_to_json(&state);
+    struct proto_world_state state;
+    proto_world_state_defaults(&state);
+    cJSON *defaults = proto_world_state_to_json(&state);
     cJSON *root = defaults
-                      ? sky_schema_json_schema(sky_world_schema(), defaults, "skyd world state")
+                      ? proto_schema_json_schema(proto_world_schema(), defaults, "skyd world state")
                       : NULL;
     cJSON_Delete(defaults);
     cJSON *properties = cJSON_GetObjectItemCaseSensitive(root, "properties");

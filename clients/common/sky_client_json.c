@@ -81,19 +81,19 @@ int sky_client_recv_frame(struct sky_client *client, int timeout_ms, struct sky_
         return rc;
     }
     const cJSON *number = cJSON_GetObjectItemCaseSensitive(out->announce, "frame_number");
-    enum sky_frame_header_status status = SKY_FRAME_HEADER_OK;
+    enum proto_frame_header_status status = PROTO_FRAME_HEADER_OK;
     if (out->binary.kind != SKY_CLIENT_BINARY) {
         snprintf(err, errlen, "a text message follows a frame message: %.200s",
                  (const char *)out->binary.data);
-    } else if ((status = sky_frame_header_unpack(out->binary.data, out->binary.len,
-                                                 &out->header)) != SKY_FRAME_HEADER_OK) {
-        snprintf(err, errlen, "bad frame header: %s", sky_frame_header_status_name(status));
+    } else if ((status = proto_frame_header_unpack(out->binary.data, out->binary.len,
+                                                   &out->header)) != PROTO_FRAME_HEADER_OK) {
+        snprintf(err, errlen, "bad frame header: %s", proto_frame_header_status_name(status));
     } else if (!cJSON_IsNumber(number) || number->valuedouble != (double)out->header.frame_number) {
         snprintf(err, errlen, "frame message announces frame_number %g, header has %llu",
                  cJSON_IsNumber(number) ? number->valuedouble : -1.0,
                  (unsigned long long)out->header.frame_number);
     } else {
-        out->payload = out->binary.data + SKY_FRAME_HEADER_SIZE;
+        out->payload = out->binary.data + PROTO_FRAME_HEADER_SIZE;
         return 0;
     }
     sky_client_frame_free(out);

@@ -25,14 +25,14 @@ int sky_client_recv_json(struct sky_client *client, const char *type, int timeou
                          struct cJSON **out, char *err, size_t errlen);
 
 struct sky_client_frame {
-    struct cJSON *announce;         /* the `frame` text message */
-    struct sky_frame_header header; /* unpacked and validated */
+    struct cJSON *announce;           /* the `frame` text message */
+    struct proto_frame_header header; /* unpacked and validated */
     struct sky_client_message binary;
-    const unsigned char *payload; /* binary.data + SKY_FRAME_HEADER_SIZE */
+    const unsigned char *payload; /* binary.data + PROTO_FRAME_HEADER_SIZE */
 };
 
 /* Waits for the next `frame` text message (dropping other messages before it) and the binary
- * message that must follow it; checks the header (sky_frame_header_unpack) and that both carry
+ * message that must follow it; checks the header (proto_frame_header_unpack) and that both carry
  * the same frame_number. On 0 free *out with sky_client_frame_free. */
 int sky_client_recv_frame(struct sky_client *client, int timeout_ms, struct sky_client_frame *out,
                           char *err, size_t errlen);

@@ -198,7 +198,7 @@ int skyctl_weather_map(const struct skyctl_options *options, int argc, char **ar
     unsigned char *png = read_file(argv[1], 16u << 20, &length);
     if (!png)
         return SKYCTL_USAGE;
-    char *data = sky_base64_encode(png, length);
+    char *data = proto_base64_encode(png, length);
     free(png);
     if (!data) {
         fprintf(stderr, "skyctl weather-map: out of memory\n");

@@ -123,21 +123,21 @@ static int make_directory(const char *dir)
     return SKYCTL_OK;
 }
 
-static const char *format_name(enum sky_frame_format format)
+static const char *format_name(enum proto_frame_format format)
 {
     switch (format) {
-    case SKY_FRAME_FORMAT_PNG:
+    case PROTO_FRAME_FORMAT_PNG:
         return "png";
-    case SKY_FRAME_FORMAT_PNG16:
+    case PROTO_FRAME_FORMAT_PNG16:
         return "png16";
-    case SKY_FRAME_FORMAT_JPEG:
+    case PROTO_FRAME_FORMAT_JPEG:
         return "jpeg";
     }
     return "unknown";
 }
 
 /* --json line of a frame: its header, and the path it was saved to. */
-static void print_frame_json(const struct sky_frame_header *h, const char *path)
+static void print_frame_json(const struct proto_frame_header *h, const char *path)
 {
     cJSON *out = cJSON_CreateObject();
     cJSON_AddStringToObject(out, "type", "frame");
@@ -155,13 +155,13 @@ static void print_frame_json(const struct sky_frame_header *h, const char *path)
 }
 
 /* A frame file's extension; png16 frames are PNG files too, with 16 bits a channel. */
-static const char *format_extension(enum sky_frame_format format)
+static const char *format_extension(enum proto_frame_format format)
 {
     switch (format) {
-    case SKY_FRAME_FORMAT_PNG:
-    case SKY_FRAME_FORMAT_PNG16:
+    case PROTO_FRAME_FORMAT_PNG:
+    case PROTO_FRAME_FORMAT_PNG16:
         return "png";
-    case SKY_FRAME_FORMAT_JPEG:
+    case PROTO_FRAME_FORMAT_JPEG:
         return "jpg";
     }
     return "bin";
@@ -176,7 +176,7 @@ static int lost(struct skyctl_session *session, const char *what, int rc)
 
 /* The binary message after a `frame` message: unpacked and checked against frame_number. */
 static int receive_binary(struct skyctl_session *session, const char *what, double frame_number,
-                          struct sky_client_message *binary, struct sky_frame_header *header)
+                          struct sky_client_message *binary, struct proto_frame_header *header)
 {
     int rc;
     while ((rc = sky_client_recv(session->client, binary, session->timeout_ms)) == 0) {
@@ -186,10 +186,10 @@ static int receive_binary(struct skyctl_session *session, const char *what, doub
     }
     if (rc)
         return lost(session, what, rc);
-    int status = sky_frame_header_unpack(binary->data, binary->len, header);
-    if (status != SKY_FRAME_HEADER_OK || (double)header->frame_number != frame_number) {
+    int status = proto_frame_header_unpack(binary->data, binary->len, header);
+    if (status != PROTO_FRAME_HEADER_OK || (double)header->frame_number != frame_number) {
         fprintf(stderr, "skyctl %s: bad frame from the server (%s, frame %.0f announced)\n", what,
-                sky_frame_header_status_name(status), frame_number);
+                proto_frame_header_status_name(status), frame_number);
         sky_client_message_free(binary);
         return SKYCTL_CONNECTION;
     }
@@ -235,20 +235,20 @@ static int take_snapshot(struct skyctl_session *session, const struct view_args 
         double frame_number = number_at(reply, "frame_number");
         cJSON_Delete(reply);
         struct sky_client_message binary;
-        struct sky_frame_header header;
+        struct proto_frame_header header;
         rc = receive_binary(session, "snapshot", frame_number, &binary, &header);
         if (rc)
             return rc;
-        bool ok = write_file("snapshot", a->out, binary.data + SKY_FRAME_HEADER_SIZE,
+        bool ok = write_file("snapshot", a->out, binary.data + PROTO_FRAME_HEADER_SIZE,
                              header.payload_length);
         if (ok && a->json)
             print_frame_json(&header, a->out);
         else if (ok)
             printf("%s: %ux%u %s, %u bytes, state revision %llu, frame %llu\n", a->out,
                    header.width, header.height,
-                   header.format == SKY_FRAME_FORMAT_PNG16  ? "PNG16"
-                   : header.format == SKY_FRAME_FORMAT_JPEG ? "JPEG"
-                                                            : "PNG",
+                   header.format == PROTO_FRAME_FORMAT_PNG16  ? "PNG16"
+                   : header.format == PROTO_FRAME_FORMAT_JPEG ? "JPEG"
+                                                              : "PNG",
                    header.payload_length, (unsigned long long)header.state_revision,
                    (unsigned long long)header.frame_number);
         sky_client_message_free(&binary);
@@ -282,7 +282,7 @@ int skyctl_snapshot(const struct skyctl_options *options, int argc, char **argv)
 }
 
 /* Saves the frame under dir when dir is set (path gets its name), then prints its line. */
-static int show_frame(const char *dir, bool json, const struct sky_frame_header *h,
+static int show_frame(const char *dir, bool json, const struct proto_frame_header *h,
                       const unsigned char *payload)
 {
     char path[4200] = "";
@@ -326,12 +326,12 @@ static int watch_loop(struct skyctl_session *session, const struct view_args *a)
         const cJSON *type = cJSON_GetObjectItemCaseSensitive(json, "type");
         if (cJSON_IsString(type) && strcmp(type->valuestring, "frame") == 0) {
             struct sky_client_message binary;
-            struct sky_frame_header h;
+            struct proto_frame_header h;
             rc = receive_binary(session, "watch", number_at(json, "frame_number"), &binary, &h);
             cJSON_Delete(json);
             if (rc)
                 return rc;
-            rc = show_frame(a->out, a->json, &h, binary.data + SKY_FRAME_HEADER_SIZE);
+            rc = show_frame(a->out, a->json, &h, binary.data + PROTO_FRAME_HEADER_SIZE);
             sky_client_message_free(&binary);
             if (rc)
                 return rc;

@@ -21,19 +21,19 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define SKY_FRAME_HEADER_SIZE 48
-#define SKY_FRAME_HEADER_VERSION 1
-#define SKY_FRAME_MAGIC "SKYF"
+#define PROTO_FRAME_HEADER_SIZE 48
+#define PROTO_FRAME_HEADER_VERSION 1
+#define PROTO_FRAME_MAGIC "SKYF"
 
-enum sky_frame_format {
-    SKY_FRAME_FORMAT_PNG = 1, /* 8-bit sRGB RGBA, exposed and tonemapped */
-    SKY_FRAME_FORMAT_PNG16 =
+enum proto_frame_format {
+    PROTO_FRAME_FORMAT_PNG = 1, /* 8-bit sRGB RGBA, exposed and tonemapped */
+    PROTO_FRAME_FORMAT_PNG16 =
         2, /* 16-bit linear-light RGB before the tonemap (server/frames/include/png_write.h) */
-    SKY_FRAME_FORMAT_JPEG = 3, /* baseline JPEG of the same pixels as PNG, 4:2:0 */
+    PROTO_FRAME_FORMAT_JPEG = 3, /* baseline JPEG of the same pixels as PNG, 4:2:0 */
 };
 
-struct sky_frame_header {
-    enum sky_frame_format format;
+struct proto_frame_header {
+    enum proto_frame_format format;
     uint64_t frame_number;
     uint64_t state_revision;
     double simulation_time_s;
@@ -42,28 +42,29 @@ struct sky_frame_header {
 };
 
 /* Stable codes. */
-enum sky_frame_header_status {
-    SKY_FRAME_HEADER_OK = 0,
-    SKY_FRAME_HEADER_TOO_SHORT = 1, /* fewer than 48 bytes */
-    SKY_FRAME_HEADER_BAD_MAGIC = 2,
-    SKY_FRAME_HEADER_BAD_VERSION = 3,
-    SKY_FRAME_HEADER_BAD_FORMAT = 4, /* not a known enum sky_frame_format */
-    SKY_FRAME_HEADER_BAD_LENGTH = 5, /* 48 + payload_length != the message's length */
-    SKY_FRAME_HEADER_BAD_RESERVED = 6,
-    SKY_FRAME_HEADER_BAD_VALUE = 7, /* zero width or height, non-finite time */
+enum proto_frame_header_status {
+    PROTO_FRAME_HEADER_OK = 0,
+    PROTO_FRAME_HEADER_TOO_SHORT = 1, /* fewer than 48 bytes */
+    PROTO_FRAME_HEADER_BAD_MAGIC = 2,
+    PROTO_FRAME_HEADER_BAD_VERSION = 3,
+    PROTO_FRAME_HEADER_BAD_FORMAT = 4, /* not a known enum proto_frame_format */
+    PROTO_FRAME_HEADER_BAD_LENGTH = 5, /* 48 + payload_length != the message's length */
+    PROTO_FRAME_HEADER_BAD_RESERVED = 6,
+    PROTO_FRAME_HEADER_BAD_VALUE = 7, /* zero width or height, non-finite time */
 };
 
 /* "ok", "too_short", "bad_magic", ...; NULL for values that are not codes. */
-const char *sky_frame_header_status_name(int status);
+const char *proto_frame_header_status_name(int status);
 
 /* Writes the 48 bytes for *header (version 1, reserved 0) into out. On error out is left
  * untouched. */
-enum sky_frame_header_status sky_frame_header_pack(const struct sky_frame_header *header,
-                                                   uint8_t out[SKY_FRAME_HEADER_SIZE]);
+enum proto_frame_header_status proto_frame_header_pack(const struct proto_frame_header *header,
+                                                       uint8_t out[PROTO_FRAME_HEADER_SIZE]);
 
 /* Reads and validates the header at the start of a whole binary message of message_length
- * bytes; the payload is message + SKY_FRAME_HEADER_SIZE. On error *header is left untouched. */
-enum sky_frame_header_status sky_frame_header_unpack(const uint8_t *message, size_t message_length,
-                                                     struct sky_frame_header *header);
+ * bytes; the payload is message + PROTO_FRAME_HEADER_SIZE. On error *header is left untouched. */
+enum proto_frame_header_status proto_frame_header_unpack(const uint8_t *message,
+                                                         size_t message_length,
+                                                         struct proto_frame_header *header);
 
 #endif

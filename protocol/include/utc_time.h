@@ -8,8 +8,8 @@
 
 /* "YYYY-MM-DDThh:mm[:ss[.f...]](Z|+hh:mm|-hh:mm)", with a space allowed instead of the T.
  * On failure returns false and writes the reason to err. */
-bool sky_time_parse_iso8601(const char *text, double *unix_seconds, char *err, size_t errlen);
+bool proto_time_parse_iso8601(const char *text, double *unix_seconds, char *err, size_t errlen);
 /* "2026-06-21T12:00:00Z", with ".mmm" before the Z when the milliseconds are not zero. */
-void sky_time_format_iso8601(double unix_seconds, char *out, size_t outlen);
+void proto_time_format_iso8601(double unix_seconds, char *out, size_t outlen);
 
 #endif

@@ -16,7 +16,7 @@
 void cli_common_init(struct cli_common *c)
 {
     memset(c, 0, sizeof *c);
-    sky_world_state_defaults(&c->state);
+    proto_world_state_defaults(&c->state);
     const char *dir = getenv("SKYD_CONFIG_DIR");
     c->config_dir = dir && *dir ? dir : NULL;
     const char *device = getenv("SKYD_DEVICE");
@@ -47,10 +47,10 @@ const char *cli_take_value(int argc, char **argv, int *i)
     return argv[*i];
 }
 
-static void print_field_errors(const char *context, const struct sky_field_errors *errors)
+static void print_field_errors(const char *context, const struct proto_field_errors *errors)
 {
     char buf[4096];
-    sky_field_errors_format(errors, buf, sizeof buf);
+    proto_field_errors_format(errors, buf, sizeof buf);
     fprintf(stderr, "skyd: %s:\n%s\n", context, buf);
 }
 
@@ -69,8 +69,8 @@ static int apply_set(struct cli_common *c, const char *assignment)
     }
     memcpy(path, assignment, len);
     path[len] = '\0';
-    struct sky_field_errors errors;
-    if (!sky_world_state_set_path(&c->state, path, eq + 1, &errors)) {
+    struct proto_field_errors errors;
+    if (!proto_world_state_set_path(&c->state, path, eq + 1, &errors)) {
         char context[300];
         snprintf(context, sizeof context, "--set %s rejected", path);
         print_field_errors(context, &errors);
@@ -81,10 +81,10 @@ static int apply_set(struct cli_common *c, const char *assignment)
 
 static int apply_preset(struct cli_common *c, const char *name)
 {
-    struct sky_field_errors errors = { 0 };
+    struct proto_field_errors errors = { 0 };
     char msg[1024] = "";
-    if (!sky_preset_apply(cli_presets_dir(c), "atmosphere", name, &c->state, &errors, msg,
-                          sizeof msg)) {
+    if (!world_preset_apply(cli_presets_dir(c), "atmosphere", name, &c->state, &errors, msg,
+                            sizeof msg)) {
         fprintf(stderr, "skyd: --preset %s: %s\n", name, msg);
         if (errors.count > 0)
             print_field_errors("preset fields", &errors);
@@ -95,8 +95,8 @@ static int apply_preset(struct cli_common *c, const char *name)
 
 static int set_field(struct cli_common *c, const char *option, const char *path, const char *value)
 {
-    struct sky_field_errors errors;
-    if (!sky_world_state_set_path(&c->state, path, value, &errors)) {
+    struct proto_field_errors errors;
+    if (!proto_world_state_set_path(&c->state, path, value, &errors)) {
         char context[160];
         snprintf(context, sizeof context, "%s \"%s\" rejected", option, value);
         print_field_errors(context, &errors);
@@ -119,10 +119,10 @@ int cli_parse_sim_option(int argc, char **argv, int *i, struct cli_common *c)
     if (strcmp(opt, "--weather") == 0) {
         if (!(value = cli_take_value(argc, argv, i)))
             return -1;
-        struct sky_field_errors errors = { 0 };
+        struct proto_field_errors errors = { 0 };
         char msg[1024] = "";
-        if (!sky_preset_apply(cli_presets_dir(c), "weather", value, &c->state, &errors, msg,
-                              sizeof msg)) {
+        if (!world_preset_apply(cli_presets_dir(c), "weather", value, &c->state, &errors, msg,
+                                sizeof msg)) {
             fprintf(stderr, "skyd: --weather %s: %s\n", value, msg);
             return -1;
         }
@@ -134,7 +134,7 @@ int cli_parse_sim_option(int argc, char **argv, int *i, struct cli_common *c)
         if (!(value = cli_take_value(argc, argv, i)) ||
             set_field(c, opt, fields[k].path, value) != 0)
             return -1;
-        c->state.clock.sky_bodies = SKY_BODIES_EPHEMERIS;
+        c->state.clock.sky_bodies = PROTO_BODIES_EPHEMERIS;
         return 1;
     }
     return 0;
@@ -144,7 +144,7 @@ int cli_parse_sim_option(int argc, char **argv, int *i, struct cli_common *c)
 static int apply_config_file(struct cli_common *c, const char *path)
 {
     struct skyd_config config;
-    struct sky_field_errors errors;
+    struct proto_field_errors errors;
     char msg[512];
     if (!skyd_config_load(path, &config, &errors, msg, sizeof msg)) {
         fprintf(stderr, "skyd: --config: %s\n", msg);

@@ -22,7 +22,7 @@ struct cli_common {
     char config_device[64];
     bool validation;              /* --validation, $SKYD_VALIDATION=1 */
     unsigned validation_messages; /* counted by the renderer, through its destruction */
-    struct sky_world_state state;
+    struct proto_world_state state;
     unsigned reference_spp; /* skyd render --reference: path-traced clouds (0: off) */
 };
 

@@ -28,8 +28,8 @@ static void usage(FILE *out)
             "  --extent-km KM  side of the square around the place (default %g, at most %g)\n"
             "  --grid N        coverage grid cells a side (default %d, at most %d)\n"
             "Exit status 2 when the file, place or time is refused; the message says why.\n",
-            SKY_FORECAST_DEFAULT_EXTENT_KM, SKY_FORECAST_MAX_EXTENT_KM, SKY_FORECAST_DEFAULT_GRID,
-            SKY_FORECAST_MAX_GRID);
+            FORECAST_DEFAULT_EXTENT_KM, FORECAST_MAX_EXTENT_KM, FORECAST_DEFAULT_GRID,
+            FORECAST_MAX_GRID);
 }
 
 /* Seconds since 1970 as a number, or ISO 8601 text. */
@@ -42,28 +42,28 @@ static bool parse_time(const char *text, double *unix_s)
         return true;
     }
     char why[128];
-    if (sky_time_parse_iso8601(text, unix_s, why, sizeof why))
+    if (proto_time_parse_iso8601(text, unix_s, why, sizeof why))
         return true;
     fprintf(stderr, "skyd forecast: --time \"%s\" is neither ISO 8601 nor seconds since 1970: %s\n",
             text, why);
     return false;
 }
 
-static int print_forecast(const struct sky_forecast *forecast, double unix_s)
+static int print_forecast(const struct forecast *forecast, double unix_s)
 {
-    struct sky_forecast_error error;
-    struct sky_forecast_moment *moment = malloc(sizeof *moment);
+    struct forecast_error error;
+    struct forecast_moment *moment = malloc(sizeof *moment);
     if (!moment) {
         fprintf(stderr, "skyd forecast: out of memory\n");
         return SKYD_EXIT_FAILURE;
     }
-    if (!sky_forecast_at(forecast, unix_s, moment, &error)) {
+    if (!forecast_at(forecast, unix_s, moment, &error)) {
         fprintf(stderr, "skyd forecast: %s\n", error.text);
         free(moment);
-        return error.code == SKY_FORECAST_ERR_MEMORY ? SKYD_EXIT_FAILURE : SKYD_EXIT_USAGE;
+        return error.code == FORECAST_ERR_MEMORY ? SKYD_EXIT_FAILURE : SKYD_EXIT_USAGE;
     }
-    cJSON *json = sky_forecast_to_json(forecast, moment);
-    char *printed = json && sky_json_exact_numbers(json) ? cJSON_Print(json) : NULL;
+    cJSON *json = forecast_to_json(forecast, moment);
+    char *printed = json && proto_json_exact_numbers(json) ? cJSON_Print(json) : NULL;
     cJSON_Delete(json);
     if (!printed) {
         fprintf(stderr, "skyd forecast: out of memory\n");
@@ -73,7 +73,7 @@ static int print_forecast(const struct sky_forecast *forecast, double unix_s)
     puts(printed);
     free(printed);
     char summary[512];
-    sky_forecast_summary(forecast, moment, summary, sizeof summary);
+    forecast_summary(forecast, moment, summary, sizeof summary);
     fprintf(stderr, "%s\n", summary);
     free(moment);
     return SKYD_EXIT_OK;
@@ -86,8 +86,8 @@ int skyd_cmd_forecast(int argc, char **argv)
         return SKYD_EXIT_OK;
     }
     const char *path = NULL;
-    struct sky_forecast_request request = { .extent_km = SKY_FORECAST_DEFAULT_EXTENT_KM,
-                                            .grid_size = SKY_FORECAST_DEFAULT_GRID };
+    struct forecast_request request = { .extent_km = FORECAST_DEFAULT_EXTENT_KM,
+                                        .grid_size = FORECAST_DEFAULT_GRID };
     bool have_lat = false, have_lon = false, have_time = false;
     double unix_s = 0.0;
     for (int i = 0; i < argc; i++) {
@@ -107,12 +107,11 @@ int skyd_cmd_forecast(int argc, char **argv)
             have_time = true;
         } else if (strcmp(option, "--extent-km") == 0) {
             ok = (value = cli_take_value(argc, argv, &i)) &&
-                 cli_parse_double(option, value, 0.001, SKY_FORECAST_MAX_EXTENT_KM,
-                                  &request.extent_km);
+                 cli_parse_double(option, value, 0.001, FORECAST_MAX_EXTENT_KM, &request.extent_km);
         } else if (strcmp(option, "--grid") == 0) {
             unsigned size = 0;
             ok = (value = cli_take_value(argc, argv, &i)) &&
-                 cli_parse_uint(option, value, 1, SKY_FORECAST_MAX_GRID, &size);
+                 cli_parse_uint(option, value, 1, FORECAST_MAX_GRID, &size);
             request.grid_size = (int)size;
         } else if (option[0] == '-' && option[1] != '\0') {
             fprintf(stderr, "skyd forecast: unknown option \"%s\"\n", option);
@@ -135,13 +134,13 @@ int skyd_cmd_forecast(int argc, char **argv)
         usage(stderr);
         return SKYD_EXIT_USAGE;
     }
-    struct sky_forecast_error error;
-    struct sky_forecast *forecast = sky_forecast_read(path, &request, &error);
+    struct forecast_error error;
+    struct forecast *forecast = forecast_read(path, &request, &error);
     if (!forecast) {
         fprintf(stderr, "skyd forecast: %s\n", error.text);
-        return error.code == SKY_FORECAST_ERR_MEMORY ? SKYD_EXIT_FAILURE : SKYD_EXIT_USAGE;
+        return error.code == FORECAST_ERR_MEMORY ? SKYD_EXIT_FAILURE : SKYD_EXIT_USAGE;
     }
     int status = print_forecast(forecast, unix_s);
-    sky_forecast_free(forecast);
+    forecast_free(forecast);
     return status;
 }

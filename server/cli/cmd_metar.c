@@ -33,13 +33,13 @@ int skyd_cmd_metar(int argc, char **argv)
         return SKYD_EXIT_USAGE;
     }
     /* The report may come as one argument or as its groups unquoted. */
-    char text[SKY_METAR_MAX_LENGTH + 2];
+    char text[PROTO_METAR_MAX_LENGTH + 2];
     size_t length = 0;
     for (int i = 0; i < argc; i++) {
         size_t n = strlen(argv[i]);
         if (length + n + 1 > sizeof text - 1) {
             fprintf(stderr, "skyd metar: the report is longer than %d characters\n",
-                    SKY_METAR_MAX_LENGTH);
+                    PROTO_METAR_MAX_LENGTH);
             return SKYD_EXIT_USAGE;
         }
         if (i)
@@ -48,14 +48,14 @@ int skyd_cmd_metar(int argc, char **argv)
         length += n;
     }
     text[length] = '\0';
-    struct sky_metar_report report;
-    struct sky_metar_error error;
-    if (!sky_metar_decode(text, length, &report, &error)) {
+    struct proto_metar_report report;
+    struct proto_metar_error error;
+    if (!proto_metar_decode(text, length, &report, &error)) {
         fprintf(stderr, "skyd metar: %s\n", error.message);
         return SKYD_EXIT_USAGE;
     }
-    cJSON *json = sky_metar_to_json(&report);
-    char *printed = json && sky_json_exact_numbers(json) ? cJSON_Print(json) : NULL;
+    cJSON *json = proto_metar_to_json(&report);
+    char *printed = json && proto_json_exact_numbers(json) ? cJSON_Print(json) : NULL;
     cJSON_Delete(json);
     if (!printed) {
         fprintf(stderr, "skyd metar: out of memory\n");
@@ -64,7 +64,7 @@ int skyd_cmd_metar(int argc, char **argv)
     puts(printed);
     free(printed);
     char summary[512];
-    sky_metar_summary(&report, summary, sizeof summary);
+    proto_metar_summary(&report, summary, sizeof summary);
     fprintf(stderr, "%s\n", summary);
     return SKYD_EXIT_OK;
 }

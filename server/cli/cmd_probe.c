@@ -108,7 +108,7 @@ static int parse_body_option(int argc, char **argv, int *i, struct body_args *a)
         char err[160];
         if (!value)
             return -1;
-        if (!sky_time_parse_iso8601(value, &a->unix_seconds, err, sizeof err)) {
+        if (!proto_time_parse_iso8601(value, &a->unix_seconds, err, sizeof err)) {
             fprintf(stderr, "skyd: --time: \"%s\": %s\n", value, err);
             return -1;
         }
@@ -146,14 +146,14 @@ static int probe_body(int argc, char **argv)
     if (!given)
         return SKYD_EXIT_USAGE;
 
-    struct sky_site site = { a.latitude_deg, a.longitude_deg, a.altitude_m, SKY_SITE_PRESSURE_MBAR,
-                             SKY_SITE_TEMPERATURE_C };
-    struct sky_body_position p;
+    struct world_site site = { a.latitude_deg, a.longitude_deg, a.altitude_m,
+                               WORLD_SITE_PRESSURE_MBAR, WORLD_SITE_TEMPERATURE_C };
+    struct world_body_position p;
     double fraction = 0.0;
     if (strcmp(body, "moon") == 0)
-        sky_moon_position(a.unix_seconds, &site, a.refraction, &p, &fraction, NULL);
+        world_moon_position(a.unix_seconds, &site, a.refraction, &p, &fraction, NULL);
     else
-        sky_sun_position(a.unix_seconds, &site, a.refraction, &p);
+        world_sun_position(a.unix_seconds, &site, a.refraction, &p);
     /* Keep [0, 360) after rounding to the printed 6 decimals. */
     double azimuth = p.azimuth_deg >= 359.9999995 ? 0.0 : p.azimuth_deg;
     if (strcmp(body, "moon") == 0) {
@@ -169,18 +169,18 @@ static int probe_body(int argc, char **argv)
 static int run_probe(struct renderer_host *r, const struct cli_common *c,
                      const struct probe_args *a)
 {
-    static const enum sky_probe_quantity quantities[] = {
-        [PROBE_TRANSMITTANCE] = SKY_PROBE_TRANSMITTANCE,
-        [PROBE_LUMINANCE] = SKY_PROBE_LUMINANCE,
-        [PROBE_ILLUMINANCE] = SKY_PROBE_ILLUMINANCE,
+    static const enum proto_probe_quantity quantities[] = {
+        [PROBE_TRANSMITTANCE] = PROTO_PROBE_TRANSMITTANCE,
+        [PROBE_LUMINANCE] = PROTO_PROBE_LUMINANCE,
+        [PROBE_ILLUMINANCE] = PROTO_PROBE_ILLUMINANCE,
     };
-    struct sky_msg_probe query = { .quantity = quantities[a->kind],
-                                   .altitude_km = a->altitude_km,
-                                   .mu = a->mu,
-                                   .view_zenith_deg = a->view_zenith_deg,
-                                   .view_azimuth_deg = a->view_azimuth_deg,
-                                   .sun_zenith_deg = a->sun_zenith_deg };
-    struct sky_msg_probe_result result;
+    struct proto_msg_probe query = { .quantity = quantities[a->kind],
+                                     .altitude_km = a->altitude_km,
+                                     .mu = a->mu,
+                                     .view_zenith_deg = a->view_zenith_deg,
+                                     .view_azimuth_deg = a->view_azimuth_deg,
+                                     .sun_zenith_deg = a->sun_zenith_deg };
+    struct proto_msg_probe_result result;
     renderer_host_converged_probes(r); /* a script wants the best answer, not the fastest */
     struct render_input input;
     world_render_input(&c->state, &input);

@@ -126,7 +126,7 @@ static int parse_lapse_option(int argc, char **argv, int *i, struct lapse_args *
     if (strcmp(opt, "--weather-to") == 0) {
         if (!(a->weather_to = cli_take_value(argc, argv, i)))
             return -1;
-        if (!sky_preset_name_is_valid(a->weather_to)) {
+        if (!world_preset_name_is_valid(a->weather_to)) {
             fprintf(stderr, "skyd: --weather-to: \"%s\" is not a preset name\n", a->weather_to);
             return -1;
         }
@@ -135,7 +135,7 @@ static int parse_lapse_option(int argc, char **argv, int *i, struct lapse_args *
     static const struct cli_number_option options[] = {
         { "--step-s", 0.0, MAX_STEP_S, offsetof(struct lapse_args, step_s),
           offsetof(struct lapse_args, has_step) },
-        { "--transition-s", 0.0, SKY_MSG_MAX_TRANSITION_S,
+        { "--transition-s", 0.0, PROTO_MSG_MAX_TRANSITION_S,
           offsetof(struct lapse_args, transition_s), offsetof(struct lapse_args, has_transition) },
     };
     return cli_parse_number_option(argc, argv, i, options, sizeof options / sizeof options[0], a);
@@ -146,23 +146,23 @@ static bool start_lapse_transition(struct cli_common *common, const struct lapse
 {
     if (!a->weather_to)
         return true;
-    struct sky_world_state target = common->state;
+    struct proto_world_state target = common->state;
     char msg[1024];
-    if (!sky_preset_apply(cli_presets_dir(common), "weather", a->weather_to, &target, NULL, msg,
-                          sizeof msg)) {
+    if (!world_preset_apply(cli_presets_dir(common), "weather", a->weather_to, &target, NULL, msg,
+                            sizeof msg)) {
         fprintf(stderr, "skyd: --weather-to %s: %s\n", a->weather_to, msg);
         return false;
     }
-    struct sky_weather_params goal;
-    sky_weather_params_get(&target, &goal);
+    struct proto_weather_params goal;
+    proto_weather_params_get(&target, &goal);
     double duration = a->has_transition ? a->transition_s : a->step_s * (a->frames - 1);
-    common->state.weather.autopilot = SKY_SWITCH_OFF;
+    common->state.weather.autopilot = PROTO_SWITCH_OFF;
     world_sim_start_transition(&common->state, &goal, duration);
     return true;
 }
 
 /* --weather-map: the PNG a client would send in set_weather_map. */
-static bool load_weather_map(const char *path, struct sky_weather_map *map)
+static bool load_weather_map(const char *path, struct proto_weather_map *map)
 {
     char msg[640];
     if (world_files_read_weather_map(path, 16u << 20, map, msg, sizeof msg))
@@ -286,10 +286,10 @@ int skyd_cmd_render(int argc, char **argv)
             if (!(value = cli_take_value(argc, argv, &i)))
                 return SKYD_EXIT_USAGE;
             const char *path = opt[6] == 'a' ? "sun.azimuth_deg" : "sun.elevation_deg";
-            struct sky_field_errors errors;
-            if (!sky_world_state_set_path(&common.state, path, value, &errors)) {
+            struct proto_field_errors errors;
+            if (!proto_world_state_set_path(&common.state, path, value, &errors)) {
                 char buf[1024];
-                sky_field_errors_format(&errors, buf, sizeof buf);
+                proto_field_errors_format(&errors, buf, sizeof buf);
                 fprintf(stderr, "skyd: %s: %s\n", opt, buf);
                 return SKYD_EXIT_USAGE;
             }
@@ -343,30 +343,30 @@ int skyd_cmd_render(int argc, char **argv)
         return SKYD_EXIT_USAGE;
     }
     /* The forecast at the location and clock the options settled on. */
-    struct sky_forecast *forecast = forecast_path ? cli_open_forecast(&common.state, forecast_path)
-                                                  : NULL;
-    struct sky_weather_map forecast_map = { 0 };
+    struct forecast *forecast = forecast_path ? cli_open_forecast(&common.state, forecast_path)
+                                              : NULL;
+    struct proto_weather_map forecast_map = { 0 };
     if (forecast_path &&
         (!forecast || !cli_apply_forecast(&common.state, forecast, false, false, &forecast_map))) {
-        sky_forecast_free(forecast);
-        sky_weather_map_free(&forecast_map);
+        forecast_free(forecast);
+        proto_weather_map_free(&forecast_map);
         return SKYD_EXIT_USAGE;
     }
     if (forecast) /* the forecast's cover over the map's square, as the daemon follows it */
-        common.state.weather.map_source = SKY_WEATHER_MAP_FORECAST;
+        common.state.weather.map_source = PROTO_WEATHER_MAP_FORECAST;
     if (!start_lapse_transition(&common, &lapse)) {
-        sky_forecast_free(forecast);
-        sky_weather_map_free(&forecast_map);
+        forecast_free(forecast);
+        proto_weather_map_free(&forecast_map);
         return SKYD_EXIT_USAGE;
     }
-    struct sky_weather_map weather_map = { 0 };
+    struct proto_weather_map weather_map = { 0 };
     if (weather_map_path) {
         if (!load_weather_map(weather_map_path, &weather_map)) {
-            sky_forecast_free(forecast);
-            sky_weather_map_free(&forecast_map);
+            forecast_free(forecast);
+            proto_weather_map_free(&forecast_map);
             return SKYD_EXIT_USAGE;
         }
-        common.state.weather.map_source = SKY_WEATHER_MAP_CLIENT;
+        common.state.weather.map_source = PROTO_WEATHER_MAP_CLIENT;
     }
     world_sim_settle(&common.state);
 
@@ -383,10 +383,10 @@ int skyd_cmd_render(int argc, char **argv)
     if (!input)
         cli_finish(&common, &renderer, SKYD_EXIT_FAILURE);
     if (!renderer) {
-        sky_forecast_free(forecast);
+        forecast_free(forecast);
         free(input);
-        sky_weather_map_free(&weather_map);
-        sky_weather_map_free(&forecast_map);
+        proto_weather_map_free(&weather_map);
+        proto_weather_map_free(&forecast_map);
         free(pixels);
         free(rgb16);
         return SKYD_EXIT_FAILURE;
@@ -396,13 +396,13 @@ int skyd_cmd_render(int argc, char **argv)
     int status = SKYD_EXIT_OK;
     char err[512], path[1200];
     world_sim_anchor_wind(&common.state); /* the lapse's wind runs from the state as given */
-    const struct sky_msg_view asked = {
+    const struct proto_msg_view asked = {
         .width = width,
         .height = height,
-        .format = linear16 ? SKY_FRAME_FORMAT_PNG16 : SKY_FRAME_FORMAT_PNG,
+        .format = linear16 ? PROTO_FRAME_FORMAT_PNG16 : PROTO_FRAME_FORMAT_PNG,
         .projection = projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR
-                          ? SKY_VIEW_PROJECTION_EQUIRECTANGULAR
-                          : SKY_VIEW_PROJECTION_PERSPECTIVE,
+                          ? PROTO_VIEW_PROJECTION_EQUIRECTANGULAR
+                          : PROTO_VIEW_PROJECTION_PERSPECTIVE,
     };
     for (unsigned frame = 0; frame < lapse.frames && status == SKYD_EXIT_OK; frame++) {
         if (frame > 0) {
@@ -415,7 +415,7 @@ int skyd_cmd_render(int argc, char **argv)
             }
         }
         world_render_input(&common.state, input);
-        bool forecast_selected = common.state.weather.map_source == SKY_WEATHER_MAP_FORECAST;
+        bool forecast_selected = common.state.weather.map_source == PROTO_WEATHER_MAP_FORECAST;
         input->client_map = forecast_selected ? &forecast_map : &weather_map;
         input->map_generation = forecast_selected ? 2 + frame : weather_map.rgba ? 1 : 0;
         world_render_view(input, &asked, &view);
@@ -437,10 +437,10 @@ int skyd_cmd_render(int argc, char **argv)
         }
     }
     status = cli_finish(&common, &renderer, status);
-    sky_forecast_free(forecast);
+    forecast_free(forecast);
     free(input);
-    sky_weather_map_free(&weather_map);
-    sky_weather_map_free(&forecast_map);
+    proto_weather_map_free(&weather_map);
+    proto_weather_map_free(&forecast_map);
     free(pixels);
     free(rgb16);
     return status;

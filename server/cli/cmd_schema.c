@@ -34,12 +34,12 @@ int skyd_cmd_schema(int argc, char **argv)
         usage(stderr);
         return SKYD_EXIT_USAGE;
     }
-    struct sky_msg_limits limits;
-    sky_msg_limits_default(&limits);
+    struct proto_msg_limits limits;
+    proto_msg_limits_default(&limits);
     cJSON *schema = config     ? skyd_config_json_schema()
-                    : messages ? sky_msg_json_schema(&limits)
-                               : sky_world_state_json_schema();
-    char *text = schema && sky_json_exact_numbers(schema) ? cJSON_Print(schema) : NULL;
+                    : messages ? proto_msg_json_schema(&limits)
+                               : proto_world_state_json_schema();
+    char *text = schema && proto_json_exact_numbers(schema) ? cJSON_Print(schema) : NULL;
     cJSON_Delete(schema);
     if (!text) {
         fprintf(stderr, "skyd schema: out of memory\n");

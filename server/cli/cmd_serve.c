@@ -136,11 +136,11 @@ static bool load_config(const void *options, struct skyd_config *config)
     const struct serve_options *o = options;
     skyd_config_defaults(config);
     if (o->config_path) {
-        struct sky_field_errors errors;
+        struct proto_field_errors errors;
         char msg[512];
         if (!skyd_config_load(o->config_path, config, &errors, msg, sizeof msg)) {
             char detail[2048];
-            sky_field_errors_format(&errors, detail, sizeof detail);
+            proto_field_errors_format(&errors, detail, sizeof detail);
             fprintf(stderr, "skyd serve: %s\n%s", msg, detail);
             return false;
         }

@@ -29,13 +29,13 @@ static void add(struct text *t, const char *format, ...)
 void serve_reload_init(struct serve_reload *r)
 {
     for (int k = 0; k < 2; k++) {
-        int n = sky_preset_list(r->config_dir, preset_kinds[k], r->presets[k],
-                                SERVE_RELOAD_MAX_PRESETS);
+        int n = world_preset_list(r->config_dir, preset_kinds[k], r->presets[k],
+                                  SERVE_RELOAD_MAX_PRESETS);
         r->preset_count[k] = n > 0 ? n : 0;
     }
 }
 
-static bool listed(char names[][SKY_PRESET_NAME_MAX + 1], int count, const char *name)
+static bool listed(char names[][WORLD_PRESET_NAME_MAX + 1], int count, const char *name)
 {
     for (int i = 0; i < count; i++)
         if (strcmp(names[i], name) == 0)
@@ -47,17 +47,17 @@ static bool listed(char names[][SKY_PRESET_NAME_MAX + 1], int count, const char 
 static void check_presets(struct serve_reload *r, struct text *t)
 {
     for (int k = 0; k < 2; k++) {
-        char now[SERVE_RELOAD_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
-        int n = sky_preset_list(r->config_dir, preset_kinds[k], now, SERVE_RELOAD_MAX_PRESETS);
+        char now[SERVE_RELOAD_MAX_PRESETS][WORLD_PRESET_NAME_MAX + 1];
+        int n = world_preset_list(r->config_dir, preset_kinds[k], now, SERVE_RELOAD_MAX_PRESETS);
         n = n > 0 ? n : 0;
         for (int i = 0; i < n; i++) {
             if (!listed(r->presets[k], r->preset_count[k], now[i]))
                 add(t, "; %s preset %s added", preset_kinds[k], now[i]);
-            struct sky_world_state scratch;
-            sky_world_state_defaults(&scratch);
+            struct proto_world_state scratch;
+            proto_world_state_defaults(&scratch);
             char why[512];
-            if (!sky_preset_apply(r->config_dir, preset_kinds[k], now[i], &scratch, NULL, why,
-                                  sizeof why))
+            if (!world_preset_apply(r->config_dir, preset_kinds[k], now[i], &scratch, NULL, why,
+                                    sizeof why))
                 add(t, "; %s preset %s does not apply: %s", preset_kinds[k], now[i], why);
         }
         for (int i = 0; i < r->preset_count[k]; i++)

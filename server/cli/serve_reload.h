@@ -29,7 +29,7 @@ struct serve_reload {
     const char *config_dir;
     const char *url; /* for a control line when the token file is new */
     int preset_count[2];
-    char presets[2][SERVE_RELOAD_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
+    char presets[2][SERVE_RELOAD_MAX_PRESETS][WORLD_PRESET_NAME_MAX + 1];
 };
 
 /* Notes the presets as they are at start. */

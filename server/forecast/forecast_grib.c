@@ -36,12 +36,12 @@ struct grid_keys {
 };
 
 struct reader {
-    struct sky_forecast_request request;
-    struct sky_forecast_error *error;
-    int index;                     /* 1-based, the message being read */
-    const char *name;              /* its field's name, for messages */
-    struct sky_forecast *forecast; /* made at the first message of a field read */
-    int first;                     /* that message */
+    struct forecast_request request;
+    struct forecast_error *error;
+    int index;                 /* 1-based, the message being read */
+    const char *name;          /* its field's name, for messages */
+    struct forecast *forecast; /* made at the first message of a field read */
+    int first;                 /* that message */
     struct grid_keys grid;
     double *values; /* a message's values */
     size_t capacity;
@@ -83,29 +83,28 @@ static bool classify(const char *short_name, const char *level_type, long level,
     return false;
 }
 
-static bool refuse_key(struct reader *r, enum sky_forecast_error_code code, const char *key,
-                       int status)
+static bool refuse_key(struct reader *r, enum forecast_error_code code, const char *key, int status)
 {
     return forecast_refuse(r->error, code, r->index, "message %d (%s): no %s: %s", r->index,
                            r->name, key, codes_get_error_message(status));
 }
 
 static bool get_long(struct reader *r, codes_handle *h, const char *key, long *value,
-                     enum sky_forecast_error_code code)
+                     enum forecast_error_code code)
 {
     int status = codes_get_long(h, key, value);
     return status == CODES_SUCCESS || refuse_key(r, code, key, status);
 }
 
 static bool get_double(struct reader *r, codes_handle *h, const char *key, double *value,
-                       enum sky_forecast_error_code code)
+                       enum forecast_error_code code)
 {
     int status = codes_get_double(h, key, value);
     return status == CODES_SUCCESS || refuse_key(r, code, key, status);
 }
 
 static bool get_string(struct reader *r, codes_handle *h, const char *key, char *text, size_t size,
-                       enum sky_forecast_error_code code)
+                       enum forecast_error_code code)
 {
     size_t length = size;
     int status = codes_get_string(h, key, text, &length);
@@ -120,14 +119,14 @@ static void grid_text(const struct grid_keys *g, char *text, size_t size)
 
 static bool read_grid(struct reader *r, codes_handle *h, struct grid_keys *g)
 {
-    if (!get_string(r, h, "gridType", g->type, sizeof g->type, SKY_FORECAST_ERR_GRID))
+    if (!get_string(r, h, "gridType", g->type, sizeof g->type, FORECAST_ERR_GRID))
         return false;
     if (strcmp(g->type, "regular_ll") != 0)
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_GRID, r->index,
+        return forecast_refuse(r->error, FORECAST_ERR_GRID, r->index,
                                "message %d (%s): a %s grid; only regular_ll (a regular "
                                "latitude/longitude grid) is read",
                                r->index, r->name, g->type);
-    enum sky_forecast_error_code c = SKY_FORECAST_ERR_GRID;
+    enum forecast_error_code c = FORECAST_ERR_GRID;
     if (!get_long(r, h, "Ni", &g->ni, c) || !get_long(r, h, "Nj", &g->nj, c) ||
         !get_long(r, h, "iScansNegatively", &g->i_negative, c) ||
         !get_long(r, h, "jScansPositively", &g->j_positive, c) ||
@@ -139,7 +138,7 @@ static bool read_grid(struct reader *r, codes_handle *h, struct grid_keys *g)
         !get_double(r, h, "longitudeOfLastGridPointInDegrees", &g->lon_last, c))
         return false;
     if (g->i_negative || g->j_consecutive || g->alternative_rows)
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_GRID, r->index,
+        return forecast_refuse(r->error, FORECAST_ERR_GRID, r->index,
                                "message %d (%s): its points are scanned %s; only rows scanned "
                                "eastwards one after the other are read",
                                r->index, r->name,
@@ -162,9 +161,9 @@ static bool check_grid(struct reader *r, codes_handle *h, double reference_unix_
             if (reference_unix_s == r->forecast->info.reference_unix_s)
                 return true;
             char mine[40], theirs[40];
-            sky_time_format_iso8601(reference_unix_s, mine, sizeof mine);
-            sky_time_format_iso8601(r->forecast->info.reference_unix_s, theirs, sizeof theirs);
-            return forecast_refuse(r->error, SKY_FORECAST_ERR_INCONSISTENT, r->index,
+            proto_time_format_iso8601(reference_unix_s, mine, sizeof mine);
+            proto_time_format_iso8601(r->forecast->info.reference_unix_s, theirs, sizeof theirs);
+            return forecast_refuse(r->error, FORECAST_ERR_INCONSISTENT, r->index,
                                    "message %d (%s) is from the run of %s, message %d from the "
                                    "run of %s",
                                    r->index, r->name, mine, r->first, theirs);
@@ -172,24 +171,24 @@ static bool check_grid(struct reader *r, codes_handle *h, double reference_unix_
         char mine[160], theirs[160];
         grid_text(&g, mine, sizeof mine);
         grid_text(&r->grid, theirs, sizeof theirs);
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_INCONSISTENT, r->index,
+        return forecast_refuse(r->error, FORECAST_ERR_INCONSISTENT, r->index,
                                "message %d (%s) is on a grid of %s, message %d on %s", r->index,
                                r->name, mine, r->first, theirs);
     }
-    struct sky_forecast_grid_info grid;
+    struct forecast_grid_info grid;
     char why[300];
     if (!forecast_grid_make(g.ni, g.nj, g.lat_first, g.lon_first, g.lat_last, g.lon_last, &grid,
                             why, sizeof why))
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_GRID, r->index, "message %d (%s): %s",
+        return forecast_refuse(r->error, FORECAST_ERR_GRID, r->index, "message %d (%s): %s",
                                r->index, r->name, why);
     struct forecast_window window;
-    struct sky_forecast_points points;
-    enum sky_forecast_error_code code;
+    struct forecast_points points;
+    enum forecast_error_code code;
     if (!forecast_window_locate(&grid, &r->request, &window, &points, &code, why, sizeof why))
         return forecast_refuse(r->error, code, r->index, "%s", why);
     r->forecast = forecast_series_new(&r->request, &grid, &window, &points);
     if (!r->forecast)
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_MEMORY, r->index, "out of memory");
+        return forecast_refuse(r->error, FORECAST_ERR_MEMORY, r->index, "out of memory");
     r->forecast->info.reference_unix_s = reference_unix_s;
     r->grid = g;
     r->first = r->index;
@@ -200,14 +199,14 @@ static bool check_grid(struct reader *r, codes_handle *h, double reference_unix_
 static bool reference_time(struct reader *r, codes_handle *h, double *unix_s)
 {
     long date, time;
-    if (!get_long(r, h, "dataDate", &date, SKY_FORECAST_ERR_NOT_GRIB) ||
-        !get_long(r, h, "dataTime", &time, SKY_FORECAST_ERR_NOT_GRIB))
+    if (!get_long(r, h, "dataDate", &date, FORECAST_ERR_NOT_GRIB) ||
+        !get_long(r, h, "dataTime", &time, FORECAST_ERR_NOT_GRIB))
         return false;
     char iso[160], why[128];
     snprintf(iso, sizeof iso, "%04ld-%02ld-%02ldT%02ld:%02ld:00Z", date / 10000, date / 100 % 100,
              date % 100, time / 100, time % 100);
-    if (!sky_time_parse_iso8601(iso, unix_s, why, sizeof why))
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_NOT_GRIB, r->index,
+    if (!proto_time_parse_iso8601(iso, unix_s, why, sizeof why))
+        return forecast_refuse(r->error, FORECAST_ERR_NOT_GRIB, r->index,
                                "message %d (%s): dataDate %ld dataTime %ld: %s", r->index, r->name,
                                date, time, why);
     return true;
@@ -267,41 +266,41 @@ static bool conversion(enum forecast_field field, const char *units, double *sca
 static bool keep_values(struct reader *r, codes_handle *h, enum forecast_field field, double *out)
 {
     char units[64];
-    if (!get_string(r, h, "units", units, sizeof units, SKY_FORECAST_ERR_UNITS))
+    if (!get_string(r, h, "units", units, sizeof units, FORECAST_ERR_UNITS))
         return false;
     double scale, offset, min, max;
     if (!conversion(field, units, &scale, &offset, &min, &max))
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_UNITS, r->index,
+        return forecast_refuse(r->error, FORECAST_ERR_UNITS, r->index,
                                "message %d (%s): units \"%s\" are not ones this reader knows",
                                r->index, r->name, units);
     if (field <= FIELD_HCC && strcmp(units, "%") == 0)
         r->forecast->info.cover_in_percent = true;
-    const struct sky_forecast_grid_info *grid = &r->forecast->info.grid;
+    const struct forecast_grid_info *grid = &r->forecast->info.grid;
     size_t count = 0;
     int status = codes_get_size(h, "values", &count);
     if (status != CODES_SUCCESS)
-        return refuse_key(r, SKY_FORECAST_ERR_NOT_GRIB, "values", status);
+        return refuse_key(r, FORECAST_ERR_NOT_GRIB, "values", status);
     if (count != (size_t)grid->ni * (size_t)grid->nj)
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_GRID, r->index,
+        return forecast_refuse(r->error, FORECAST_ERR_GRID, r->index,
                                "message %d (%s): %zu values for a grid of %ld x %ld points",
                                r->index, r->name, count, grid->ni, grid->nj);
     if (count > r->capacity) {
         double *values = realloc(r->values, count * sizeof *values);
         if (!values)
-            return forecast_refuse(r->error, SKY_FORECAST_ERR_MEMORY, r->index, "out of memory");
+            return forecast_refuse(r->error, FORECAST_ERR_MEMORY, r->index, "out of memory");
         r->values = values;
         r->capacity = count;
     }
     status = codes_get_double_array(h, "values", r->values, &count);
     if (status != CODES_SUCCESS)
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_NOT_GRIB, r->index,
+        return forecast_refuse(r->error, FORECAST_ERR_NOT_GRIB, r->index,
                                "message %d (%s): its values cannot be decoded: %s (%s)", r->index,
                                r->name, codes_get_error_message(status), ecc_last_log);
     long bitmap = 0;
     double missing = 0.0;
     if (codes_get_long(h, "bitmapPresent", &bitmap) != CODES_SUCCESS)
         bitmap = 0;
-    if (bitmap && !get_double(r, h, "missingValue", &missing, SKY_FORECAST_ERR_NOT_GRIB))
+    if (bitmap && !get_double(r, h, "missingValue", &missing, FORECAST_ERR_NOT_GRIB))
         return false;
     const struct forecast_window *w = &r->forecast->window;
     double slack = RANGE_SLACK * (max - min);
@@ -313,12 +312,12 @@ static bool keep_values(struct reader *r, codes_handle *h, enum forecast_field f
             double lon = forecast_longitude_normalized(
                 grid->lon_first + (double)(w->first_column + column) * grid->lon_step);
             if (bitmap && raw == missing)
-                return forecast_refuse(r->error, SKY_FORECAST_ERR_MISSING, r->index,
+                return forecast_refuse(r->error, FORECAST_ERR_MISSING, r->index,
                                        "message %d (%s) has no value at %g, %g, beside the place",
                                        r->index, r->name, lat, lon);
             double value = raw * scale + offset;
             if (!(value >= min - slack && value <= max + slack))
-                return forecast_refuse(r->error, SKY_FORECAST_ERR_UNITS, r->index,
+                return forecast_refuse(r->error, FORECAST_ERR_UNITS, r->index,
                                        "message %d (%s): %g %s at %g, %g is out of range: are "
                                        "the units right?",
                                        r->index, r->name, raw, units, lat, lon);
@@ -361,18 +360,17 @@ static bool read_message(struct reader *r, codes_handle *h)
 {
     long edition = 0;
     r->name = "?";
-    if (!get_long(r, h, "edition", &edition, SKY_FORECAST_ERR_NOT_GRIB))
+    if (!get_long(r, h, "edition", &edition, FORECAST_ERR_NOT_GRIB))
         return false;
     if (edition != 2)
-        return forecast_refuse(r->error, SKY_FORECAST_ERR_EDITION, r->index,
+        return forecast_refuse(r->error, FORECAST_ERR_EDITION, r->index,
                                "message %d is GRIB edition %ld; only GRIB2 is read", r->index,
                                edition);
     char short_name[64], level_type[64];
     long level = 0;
-    if (!get_string(r, h, "shortName", short_name, sizeof short_name, SKY_FORECAST_ERR_NOT_GRIB) ||
-        !get_string(r, h, "typeOfLevel", level_type, sizeof level_type,
-                    SKY_FORECAST_ERR_NOT_GRIB) ||
-        !get_long(r, h, "level", &level, SKY_FORECAST_ERR_NOT_GRIB))
+    if (!get_string(r, h, "shortName", short_name, sizeof short_name, FORECAST_ERR_NOT_GRIB) ||
+        !get_string(r, h, "typeOfLevel", level_type, sizeof level_type, FORECAST_ERR_NOT_GRIB) ||
+        !get_long(r, h, "level", &level, FORECAST_ERR_NOT_GRIB))
         return false;
     enum forecast_field field;
     if (!classify(short_name, level_type, level, &field))
@@ -386,9 +384,9 @@ static bool read_message(struct reader *r, codes_handle *h)
     long start = 0, end = 0;
     int status = codes_set_string(h, "stepUnits", "s", &length);
     if (status != CODES_SUCCESS)
-        return refuse_key(r, SKY_FORECAST_ERR_NOT_GRIB, "stepUnits", status);
-    if (!get_long(r, h, "startStep", &start, SKY_FORECAST_ERR_NOT_GRIB) ||
-        !get_long(r, h, "endStep", &end, SKY_FORECAST_ERR_NOT_GRIB))
+        return refuse_key(r, FORECAST_ERR_NOT_GRIB, "stepUnits", status);
+    if (!get_long(r, h, "startStep", &start, FORECAST_ERR_NOT_GRIB) ||
+        !get_long(r, h, "endStep", &end, FORECAST_ERR_NOT_GRIB))
         return false;
     /* Validity time = dataDate and dataTime + step (the end of an accumulation's window). */
     struct forecast_step *step = forecast_series_step(r->forecast, reference + (double)end,
@@ -397,7 +395,7 @@ static bool read_message(struct reader *r, codes_handle *h)
         return false;
     char step_type[32] = "";
     if (field == FIELD_PRATE &&
-        !get_string(r, h, "stepType", step_type, sizeof step_type, SKY_FORECAST_ERR_NOT_GRIB))
+        !get_string(r, h, "stepType", step_type, sizeof step_type, FORECAST_ERR_NOT_GRIB))
         return false;
     double *values = NULL;
     if (!pick(r, step, field, strcmp(step_type, "instant") == 0, reference + (double)start,
@@ -406,37 +404,34 @@ static bool read_message(struct reader *r, codes_handle *h)
     return !values || keep_values(r, h, field, values);
 }
 
-static bool check_request(const struct sky_forecast_request *q, struct sky_forecast_error *error)
+static bool check_request(const struct forecast_request *q, struct forecast_error *error)
 {
     if (!(q->lat_deg >= -90.0 && q->lat_deg <= 90.0))
-        return forecast_refuse(error, SKY_FORECAST_ERR_ARGUMENT, 0,
-                               "latitude %g is not within -90..90", q->lat_deg);
+        return forecast_refuse(error, FORECAST_ERR_ARGUMENT, 0, "latitude %g is not within -90..90",
+                               q->lat_deg);
     if (!(q->lon_deg >= -180.0 && q->lon_deg <= 360.0))
-        return forecast_refuse(error, SKY_FORECAST_ERR_ARGUMENT, 0,
+        return forecast_refuse(error, FORECAST_ERR_ARGUMENT, 0,
                                "longitude %g is not within -180..360", q->lon_deg);
-    if (!(q->extent_km > 0.0 && q->extent_km <= SKY_FORECAST_MAX_EXTENT_KM))
-        return forecast_refuse(error, SKY_FORECAST_ERR_ARGUMENT, 0,
+    if (!(q->extent_km > 0.0 && q->extent_km <= FORECAST_MAX_EXTENT_KM))
+        return forecast_refuse(error, FORECAST_ERR_ARGUMENT, 0,
                                "extent %g km is not within (0, %g]", q->extent_km,
-                               SKY_FORECAST_MAX_EXTENT_KM);
-    if (q->grid_size < 1 || q->grid_size > SKY_FORECAST_MAX_GRID)
-        return forecast_refuse(error, SKY_FORECAST_ERR_ARGUMENT, 0,
-                               "grid size %d is not within 1..%d", q->grid_size,
-                               SKY_FORECAST_MAX_GRID);
+                               FORECAST_MAX_EXTENT_KM);
+    if (q->grid_size < 1 || q->grid_size > FORECAST_MAX_GRID)
+        return forecast_refuse(error, FORECAST_ERR_ARGUMENT, 0, "grid size %d is not within 1..%d",
+                               q->grid_size, FORECAST_MAX_GRID);
     return true;
 }
 
-struct sky_forecast *sky_forecast_read(const char *path, const struct sky_forecast_request *request,
-                                       struct sky_forecast_error *error)
+struct forecast *forecast_read(const char *path, const struct forecast_request *request,
+                               struct forecast_error *error)
 {
-    return sky_forecast_read_until(path, request, NULL, error);
+    return forecast_read_until(path, request, NULL, error);
 }
 
-struct sky_forecast *sky_forecast_read_until(const char *path,
-                                             const struct sky_forecast_request *request,
-                                             const atomic_bool *cancel,
-                                             struct sky_forecast_error *error)
+struct forecast *forecast_read_until(const char *path, const struct forecast_request *request,
+                                     const atomic_bool *cancel, struct forecast_error *error)
 {
-    struct sky_forecast_error spare;
+    struct forecast_error spare;
     if (!error)
         error = &spare;
     memset(error, 0, sizeof *error);
@@ -444,7 +439,7 @@ struct sky_forecast *sky_forecast_read_until(const char *path,
         return NULL;
     FILE *file = fopen(path, "rb");
     if (!file) {
-        forecast_refuse(error, SKY_FORECAST_ERR_FILE, 0, "%s: %s", path, strerror(errno));
+        forecast_refuse(error, FORECAST_ERR_FILE, 0, "%s: %s", path, strerror(errno));
         return NULL;
     }
     codes_context *context = codes_context_get_default();
@@ -456,7 +451,7 @@ struct sky_forecast *sky_forecast_read_until(const char *path,
     bool ok = true;
     for (;;) {
         if (cancel && atomic_load(cancel)) {
-            ok = forecast_refuse(error, SKY_FORECAST_ERR_CANCELLED, 0, "%s: the read was given up",
+            ok = forecast_refuse(error, FORECAST_ERR_CANCELLED, 0, "%s: the read was given up",
                                  path);
             break;
         }
@@ -465,7 +460,7 @@ struct sky_forecast *sky_forecast_read_until(const char *path,
         codes_handle *h = codes_handle_new_from_file(context, file, PRODUCT_GRIB, &status);
         if (!h) {
             if (status != CODES_SUCCESS)
-                ok = forecast_refuse(error, SKY_FORECAST_ERR_NOT_GRIB, r.index + 1,
+                ok = forecast_refuse(error, FORECAST_ERR_NOT_GRIB, r.index + 1,
                                      "%s: message %d is damaged or cut short: %s", path,
                                      r.index + 1, codes_get_error_message(status));
             break;
@@ -480,19 +475,19 @@ struct sky_forecast *sky_forecast_read_until(const char *path,
     fclose(file);
     free(r.values);
     if (ok && read_error)
-        ok = forecast_refuse(error, SKY_FORECAST_ERR_FILE, 0, "%s: read error", path);
+        ok = forecast_refuse(error, FORECAST_ERR_FILE, 0, "%s: read error", path);
     if (ok && r.index == 0)
-        ok = forecast_refuse(error, SKY_FORECAST_ERR_NOT_GRIB, 0,
+        ok = forecast_refuse(error, FORECAST_ERR_NOT_GRIB, 0,
                              "%s holds no GRIB message: not a GRIB file", path);
     if (ok && !r.forecast)
-        ok = forecast_refuse(error, SKY_FORECAST_ERR_MISSING, 0,
+        ok = forecast_refuse(error, FORECAST_ERR_MISSING, 0,
                              "none of the %d messages of %s is a field this reader uses (lcc, "
                              "mcc, hcc, 2t, 2d, 10u/10v or u/v at 850 hPa, prate or tp)",
                              r.index, path);
     if (ok)
         ok = forecast_series_finish(r.forecast, error);
     if (!ok) {
-        sky_forecast_free(r.forecast);
+        forecast_free(r.forecast);
         return NULL;
     }
     return r.forecast;

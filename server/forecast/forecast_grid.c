@@ -28,7 +28,7 @@ static double degrees_east_of(double lon_deg, double from_deg)
 }
 
 bool forecast_grid_make(long ni, long nj, double lat_first, double lon_first, double lat_last,
-                        double lon_last, struct sky_forecast_grid_info *grid, char *why,
+                        double lon_last, struct forecast_grid_info *grid, char *why,
                         size_t why_size)
 {
     if (ni < 2 || nj < 2) {
@@ -58,7 +58,7 @@ bool forecast_grid_make(long ni, long nj, double lat_first, double lon_first, do
     return true;
 }
 
-static void describe_grid(const struct sky_forecast_grid_info *grid, char *text, size_t size)
+static void describe_grid(const struct forecast_grid_info *grid, char *text, size_t size)
 {
     double lat_lo = fmin(grid->lat_first, grid->lat_last);
     double lat_hi = fmax(grid->lat_first, grid->lat_last);
@@ -69,10 +69,10 @@ static void describe_grid(const struct sky_forecast_grid_info *grid, char *text,
                  grid->lon_first, grid->lon_first + (double)(grid->ni - 1) * grid->lon_step);
 }
 
-bool forecast_window_locate(const struct sky_forecast_grid_info *grid,
-                            const struct sky_forecast_request *request,
-                            struct forecast_window *window, struct sky_forecast_points *points,
-                            enum sky_forecast_error_code *code, char *why, size_t why_size)
+bool forecast_window_locate(const struct forecast_grid_info *grid,
+                            const struct forecast_request *request, struct forecast_window *window,
+                            struct forecast_points *points, enum forecast_error_code *code,
+                            char *why, size_t why_size)
 {
     char area[160];
     describe_grid(grid, area, sizeof area);
@@ -81,7 +81,7 @@ bool forecast_window_locate(const struct sky_forecast_grid_info *grid,
      * cos(latitude). */
     double half_lat = half_km / FORECAST_EARTH_RADIUS_KM / DEG;
     double lat = request->lat_deg;
-    *code = SKY_FORECAST_ERR_OUTSIDE;
+    *code = FORECAST_ERR_OUTSIDE;
     if (fabs(lat) + half_lat >= 90.0) {
         snprintf(why, why_size, "the %g km square around %.4f, %.4f reaches a pole",
                  request->extent_km, lat, request->lon_deg);
@@ -133,7 +133,7 @@ bool forecast_window_locate(const struct sky_forecast_grid_info *grid,
     }
     long rows = end_row - first_row + 1, columns = end_column - first_column + 1;
     if (rows * columns > FORECAST_MAX_WINDOW_VALUES / 4) {
-        *code = SKY_FORECAST_ERR_TOO_LARGE;
+        *code = FORECAST_ERR_TOO_LARGE;
         snprintf(why, why_size,
                  "the %g km square holds %ld x %ld grid points, more than this reader keeps; "
                  "ask for a smaller extent",
@@ -197,7 +197,7 @@ bool forecast_window_locate(const struct sky_forecast_grid_info *grid,
     return true;
 }
 
-long forecast_window_value_index(const struct sky_forecast_grid_info *grid,
+long forecast_window_value_index(const struct forecast_grid_info *grid,
                                  const struct forecast_window *window, int row, int column)
 {
     long ni = grid->ni;

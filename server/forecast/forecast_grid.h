@@ -32,19 +32,19 @@ struct forecast_window {
  * i scanning eastwards: false with the reason when it is not one this reader can sample (fewer
  * than two points along an axis, the points on top of each other). */
 bool forecast_grid_make(long ni, long nj, double lat_first, double lon_first, double lat_last,
-                        double lon_last, struct sky_forecast_grid_info *grid, char *why,
+                        double lon_last, struct forecast_grid_info *grid, char *why,
                         size_t why_size);
 
 /* The window and the points of the request's square on the grid; false with the reason
- * (SKY_FORECAST_ERR_OUTSIDE or ..._TOO_LARGE in *code) when the square reaches beyond the grid
+ * (FORECAST_ERR_OUTSIDE or ..._TOO_LARGE in *code) when the square reaches beyond the grid
  * or a pole, or holds too many points. */
-bool forecast_window_locate(const struct sky_forecast_grid_info *grid,
-                            const struct sky_forecast_request *request,
-                            struct forecast_window *window, struct sky_forecast_points *points,
-                            enum sky_forecast_error_code *code, char *why, size_t why_size);
+bool forecast_window_locate(const struct forecast_grid_info *grid,
+                            const struct forecast_request *request, struct forecast_window *window,
+                            struct forecast_points *points, enum forecast_error_code *code,
+                            char *why, size_t why_size);
 
 /* Index in a message's values (scan order, i fastest) of window point (row, column). */
-long forecast_window_value_index(const struct sky_forecast_grid_info *grid,
+long forecast_window_value_index(const struct forecast_grid_info *grid,
                                  const struct forecast_window *window, int row, int column);
 
 /* The mean of a field (window values, row-major) over the points inside the square, or its

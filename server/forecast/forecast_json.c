@@ -12,7 +12,7 @@
 static bool add_time(cJSON *object, const char *name, double unix_s)
 {
     char iso[40];
-    sky_time_format_iso8601(unix_s, iso, sizeof iso);
+    proto_time_format_iso8601(unix_s, iso, sizeof iso);
     return cJSON_AddStringToObject(object, name, iso) != NULL;
 }
 
@@ -27,7 +27,7 @@ static bool add_pair(cJSON *object, const char *name, double a, double b)
     return true;
 }
 
-static bool add_step(cJSON *steps, const char *name, const struct sky_forecast *forecast, int index,
+static bool add_step(cJSON *steps, const char *name, const struct forecast *forecast, int index,
                      double unix_s)
 {
     cJSON *step = cJSON_AddObjectToObject(steps, name);
@@ -53,10 +53,10 @@ static bool add_grid(cJSON *object, const char *name, const double *cells, int s
     return true;
 }
 
-static bool add_points(cJSON *json, const struct sky_forecast_info *info)
+static bool add_points(cJSON *json, const struct forecast_info *info)
 {
-    const struct sky_forecast_points *p = &info->points;
-    const struct sky_forecast_grid_info *g = &info->grid;
+    const struct forecast_points *p = &info->points;
+    const struct forecast_grid_info *g = &info->grid;
     cJSON *grid = cJSON_AddObjectToObject(json, "grid");
     if (!grid || !cJSON_AddStringToObject(grid, "type", "regular_ll") ||
         !cJSON_AddNumberToObject(grid, "ni", (double)g->ni) ||
@@ -75,8 +75,8 @@ static bool add_points(cJSON *json, const struct sky_forecast_info *info)
            add_pair(points, "longitudes_deg", p->lon_west, p->lon_east);
 }
 
-static bool add_weather(cJSON *json, const struct sky_forecast_info *info,
-                        const struct sky_forecast_sample *s)
+static bool add_weather(cJSON *json, const struct forecast_info *info,
+                        const struct forecast_sample *s)
 {
     cJSON *clouds = cJSON_AddObjectToObject(json, "clouds");
     if (!clouds || !cJSON_AddNumberToObject(clouds, "low", s->low_cover) ||
@@ -93,24 +93,23 @@ static bool add_weather(cJSON *json, const struct sky_forecast_info *info,
     cJSON *wind = cJSON_AddObjectToObject(json, "wind");
     if (!wind ||
         !cJSON_AddStringToObject(wind, "level",
-                                 info->wind_level == SKY_FORECAST_WIND_10M ? "10m" : "850hPa") ||
+                                 info->wind_level == FORECAST_WIND_10M ? "10m" : "850hPa") ||
         !cJSON_AddNumberToObject(wind, "u_m_s", s->wind_u_m_s) ||
         !cJSON_AddNumberToObject(wind, "v_m_s", s->wind_v_m_s) ||
         !cJSON_AddNumberToObject(wind, "speed_m_s", s->wind_speed_m_s) ||
         !cJSON_AddNumberToObject(wind, "direction_deg", s->wind_direction_deg))
         return false;
     cJSON *precipitation = cJSON_AddObjectToObject(json, "precipitation");
-    bool rate = info->precipitation_source == SKY_FORECAST_PRECIP_RATE;
+    bool rate = info->precipitation_source == FORECAST_PRECIP_RATE;
     return precipitation &&
            cJSON_AddStringToObject(precipitation, "source", rate ? "prate" : "tp") &&
            cJSON_AddNumberToObject(precipitation, "rate_mm_h", s->precipitation_mm_h);
 }
 
-cJSON *sky_forecast_to_json(const struct sky_forecast *forecast,
-                            const struct sky_forecast_moment *moment)
+cJSON *forecast_to_json(const struct forecast *forecast, const struct forecast_moment *moment)
 {
-    const struct sky_forecast_info *info = &forecast->info;
-    const struct sky_forecast_sample *s = &moment->sample;
+    const struct forecast_info *info = &forecast->info;
+    const struct forecast_sample *s = &moment->sample;
     cJSON *json = cJSON_CreateObject();
     cJSON *location = json ? cJSON_AddObjectToObject(json, "location") : NULL;
     cJSON *steps = NULL, *map = NULL;
@@ -142,13 +141,13 @@ cJSON *sky_forecast_to_json(const struct sky_forecast *forecast,
     return json;
 }
 
-void sky_forecast_summary(const struct sky_forecast *forecast,
-                          const struct sky_forecast_moment *moment, char *text, size_t capacity)
+void forecast_summary(const struct forecast *forecast, const struct forecast_moment *moment,
+                      char *text, size_t capacity)
 {
-    const struct sky_forecast_info *info = &forecast->info;
-    const struct sky_forecast_sample *s = &moment->sample;
+    const struct forecast_info *info = &forecast->info;
+    const struct forecast_sample *s = &moment->sample;
     char when[40];
-    sky_time_format_iso8601(s->valid_unix_s, when, sizeof when);
+    proto_time_format_iso8601(s->valid_unix_s, when, sizeof when);
     double lat = info->request.lat_deg, lon = info->request.lon_deg;
     snprintf(text, capacity,
              "%s at %.3f %c %.3f %c (%g km, %d grid points, steps %+g h..%+g h): cloud low %.2f "
@@ -163,5 +162,5 @@ void sky_forecast_summary(const struct sky_forecast *forecast,
              (moment->after_unix_s - info->reference_unix_s) / 3600.0, s->low_cover,
              s->medium_cover, s->high_cover, s->temperature_c, s->dew_point_c,
              100.0 * s->relative_humidity, s->wind_direction_deg, s->wind_speed_m_s,
-             info->wind_level == SKY_FORECAST_WIND_10M ? "10 m" : "850 hPa", s->precipitation_mm_h);
+             info->wind_level == FORECAST_WIND_10M ? "10 m" : "850 hPa", s->precipitation_mm_h);
 }

@@ -1,4 +1,4 @@
-/* A forecast sample's coverage grid as a weather map (forecast.h, sky_forecast_weather_map). */
+/* A forecast sample's coverage grid as a weather map (forecast.h, forecast_weather_map). */
 #include "forecast.h"
 #include "weather_map.h"
 #include "weather_observation.h"
@@ -28,14 +28,13 @@ static double wrapped(const double *cells, int n, double x, double y)
            (cells[y1 * n + x0] * (1 - fx) + cells[y1 * n + x1] * fx) * fy;
 }
 
-bool sky_forecast_weather_map(const struct sky_forecast_sample *s, double extent_km,
-                              double offset_east_km, double offset_north_km,
-                              struct sky_weather_map *map)
+bool forecast_weather_map(const struct forecast_sample *s, double extent_km, double offset_east_km,
+                          double offset_north_km, struct proto_weather_map *map)
 {
     int n = s->grid_size;
     map->width = map->height = 0;
     map->rgba = NULL;
-    if (n < 1 || n > SKY_FORECAST_MAX_GRID || !(extent_km > 0.0))
+    if (n < 1 || n > FORECAST_MAX_GRID || !(extent_km > 0.0))
         return false;
     uint8_t *rgba = malloc((size_t)n * (size_t)n * 4);
     if (!rgba)
@@ -54,8 +53,8 @@ bool sky_forecast_weather_map(const struct sky_forecast_sample *s, double extent
             low = fmin(fmax(low, 0.0), 1.0);
             rgba[4 * k + 0] = texel(low);
             rgba[4 * k + 1] = texel(high);
-            rgba[4 * k + 2] = texel(sky_obs_low_type(low, LOW_BASE_M));
-            rgba[4 * k + 3] = texel(sky_forecast_precipitation_level(rate));
+            rgba[4 * k + 2] = texel(proto_obs_low_type(low, LOW_BASE_M));
+            rgba[4 * k + 3] = texel(forecast_precipitation_level(rate));
         }
     map->width = map->height = (uint32_t)n;
     map->rgba = rgba;

@@ -28,8 +28,8 @@ const char *forecast_field_name(enum forecast_field field)
     return (unsigned)field < FIELD_COUNT ? field_names[field] : "?";
 }
 
-bool forecast_refuse(struct sky_forecast_error *error, enum sky_forecast_error_code code,
-                     int message, const char *format, ...)
+bool forecast_refuse(struct forecast_error *error, enum forecast_error_code code, int message,
+                     const char *format, ...)
 {
     if (!error)
         return false;
@@ -42,12 +42,12 @@ bool forecast_refuse(struct sky_forecast_error *error, enum sky_forecast_error_c
     return false;
 }
 
-struct sky_forecast *forecast_series_new(const struct sky_forecast_request *request,
-                                         const struct sky_forecast_grid_info *grid,
-                                         const struct forecast_window *window,
-                                         const struct sky_forecast_points *points)
+struct forecast *forecast_series_new(const struct forecast_request *request,
+                                     const struct forecast_grid_info *grid,
+                                     const struct forecast_window *window,
+                                     const struct forecast_points *points)
 {
-    struct sky_forecast *forecast = calloc(1, sizeof *forecast);
+    struct forecast *forecast = calloc(1, sizeof *forecast);
     if (!forecast)
         return NULL;
     forecast->info.request = *request;
@@ -57,7 +57,7 @@ struct sky_forecast *forecast_series_new(const struct sky_forecast_request *requ
     return forecast;
 }
 
-void sky_forecast_free(struct sky_forecast *forecast)
+void forecast_free(struct forecast *forecast)
 {
     if (!forecast)
         return;
@@ -68,25 +68,25 @@ void sky_forecast_free(struct sky_forecast *forecast)
     free(forecast);
 }
 
-static size_t window_points(const struct sky_forecast *forecast)
+static size_t window_points(const struct forecast *forecast)
 {
     return (size_t)forecast->window.rows * (size_t)forecast->window.columns;
 }
 
-struct forecast_step *forecast_series_step(struct sky_forecast *forecast, double valid_unix_s,
-                                           struct sky_forecast_error *error)
+struct forecast_step *forecast_series_step(struct forecast *forecast, double valid_unix_s,
+                                           struct forecast_error *error)
 {
     for (int k = 0; k < forecast->step_count; k++)
         if (forecast->steps[k].valid_unix_s == valid_unix_s)
             return &forecast->steps[k];
-    if (forecast->step_count >= SKY_FORECAST_MAX_STEPS) {
-        forecast_refuse(error, SKY_FORECAST_ERR_TOO_LARGE, 0,
-                        "more than %d forecast steps (validity times)", SKY_FORECAST_MAX_STEPS);
+    if (forecast->step_count >= FORECAST_MAX_STEPS) {
+        forecast_refuse(error, FORECAST_ERR_TOO_LARGE, 0,
+                        "more than %d forecast steps (validity times)", FORECAST_MAX_STEPS);
         return NULL;
     }
     if ((double)window_points(forecast) * (forecast->step_count + 1) * FIELD_COUNT >
         (double)FORECAST_MAX_WINDOW_VALUES * FIELD_COUNT / 4.0) {
-        forecast_refuse(error, SKY_FORECAST_ERR_TOO_LARGE, 0,
+        forecast_refuse(error, FORECAST_ERR_TOO_LARGE, 0,
                         "%d steps of %d x %d grid points in the square are more than this reader "
                         "keeps; ask for a smaller extent",
                         forecast->step_count + 1, forecast->window.rows, forecast->window.columns);
@@ -96,7 +96,7 @@ struct forecast_step *forecast_series_step(struct sky_forecast *forecast, double
         int capacity = forecast->step_capacity ? 2 * forecast->step_capacity : 8;
         struct forecast_step *steps = realloc(forecast->steps, (size_t)capacity * sizeof *steps);
         if (!steps) {
-            forecast_refuse(error, SKY_FORECAST_ERR_MEMORY, 0, "out of memory");
+            forecast_refuse(error, FORECAST_ERR_MEMORY, 0, "out of memory");
             return NULL;
         }
         forecast->steps = steps;
@@ -109,23 +109,21 @@ struct forecast_step *forecast_series_step(struct sky_forecast *forecast, double
 }
 
 /* "2026-06-21T06:00:00Z (+6 h)" */
-static void step_text(const struct sky_forecast *forecast, double valid_unix_s, char *text,
-                      size_t size)
+static void step_text(const struct forecast *forecast, double valid_unix_s, char *text, size_t size)
 {
     char iso[40];
-    sky_time_format_iso8601(valid_unix_s, iso, sizeof iso);
+    proto_time_format_iso8601(valid_unix_s, iso, sizeof iso);
     snprintf(text, size, "%s (%+g h)", iso,
              (valid_unix_s - forecast->info.reference_unix_s) / 3600.0);
 }
 
-double *forecast_series_field(struct sky_forecast *forecast, struct forecast_step *step,
-                              enum forecast_field field, int message,
-                              struct sky_forecast_error *error)
+double *forecast_series_field(struct forecast *forecast, struct forecast_step *step,
+                              enum forecast_field field, int message, struct forecast_error *error)
 {
     if (step->values[field]) {
         char when[64];
         step_text(forecast, step->valid_unix_s, when, sizeof when);
-        forecast_refuse(error, SKY_FORECAST_ERR_INCONSISTENT, message,
+        forecast_refuse(error, FORECAST_ERR_INCONSISTENT, message,
                         "message %d gives %s valid at %s again, after message %d (an ensemble, "
                         "or several runs in one file?)",
                         message, field_names[field], when, step->message[field]);
@@ -133,7 +131,7 @@ double *forecast_series_field(struct sky_forecast *forecast, struct forecast_ste
     }
     step->values[field] = calloc(window_points(forecast), sizeof(double));
     if (!step->values[field]) {
-        forecast_refuse(error, SKY_FORECAST_ERR_MEMORY, message, "out of memory");
+        forecast_refuse(error, FORECAST_ERR_MEMORY, message, "out of memory");
         return NULL;
     }
     step->message[field] = message;
@@ -148,7 +146,7 @@ static int by_validity(const void *a, const void *b)
 }
 
 /* The first step without `field`, or -1 when every step has it. */
-static int first_without(const struct sky_forecast *forecast, enum forecast_field field)
+static int first_without(const struct forecast *forecast, enum forecast_field field)
 {
     for (int k = 0; k < forecast->step_count; k++)
         if (!forecast->steps[k].values[field])
@@ -156,18 +154,18 @@ static int first_without(const struct sky_forecast *forecast, enum forecast_fiel
     return -1;
 }
 
-static bool refuse_missing(const struct sky_forecast *forecast, enum forecast_field field, int step,
-                           const char *also, struct sky_forecast_error *error)
+static bool refuse_missing(const struct forecast *forecast, enum forecast_field field, int step,
+                           const char *also, struct forecast_error *error)
 {
     bool anywhere = false;
     for (int k = 0; k < forecast->step_count; k++)
         anywhere = anywhere || forecast->steps[k].values[field] != NULL;
     if (!anywhere)
-        return forecast_refuse(error, SKY_FORECAST_ERR_MISSING, 0, "no %s (%s) in the file%s",
+        return forecast_refuse(error, FORECAST_ERR_MISSING, 0, "no %s (%s) in the file%s",
                                field_names[field], field_meanings[field], also);
     char when[64];
     step_text(forecast, forecast->steps[step].valid_unix_s, when, sizeof when);
-    return forecast_refuse(error, SKY_FORECAST_ERR_MISSING, 0,
+    return forecast_refuse(error, FORECAST_ERR_MISSING, 0,
                            "%s (%s) is missing at the step valid %s%s", field_names[field],
                            field_meanings[field], when, also);
 }
@@ -177,7 +175,7 @@ static bool refuse_missing(const struct sky_forecast *forecast, enum forecast_fi
  * 0-3, 0-6, ...; GFS's 0-3 then 0-6), else the accumulation over its own window (GFS's 6-9);
  * a step that accumulates over no time (step 0) takes the rate of the interval after it. Runs
  * backwards so that each difference reads the accumulation before it still unchanged. */
-static bool precipitation_rates(struct sky_forecast *forecast, struct sky_forecast_error *error)
+static bool precipitation_rates(struct forecast *forecast, struct forecast_error *error)
 {
     size_t n = window_points(forecast);
     for (int k = forecast->step_count - 1; k >= 0; k--) {
@@ -197,7 +195,7 @@ static bool precipitation_rates(struct sky_forecast *forecast, struct sky_foreca
         } else {
             char when[64];
             step_text(forecast, step->valid_unix_s, when, sizeof when);
-            return forecast_refuse(error, SKY_FORECAST_ERR_MISSING, step->message[FIELD_TP],
+            return forecast_refuse(error, FORECAST_ERR_MISSING, step->message[FIELD_TP],
                                    "tp valid at %s accumulates over no time and no later step "
                                    "gives a rate",
                                    when);
@@ -206,10 +204,10 @@ static bool precipitation_rates(struct sky_forecast *forecast, struct sky_foreca
     return true;
 }
 
-static bool choose_precipitation(struct sky_forecast *forecast, struct sky_forecast_error *error)
+static bool choose_precipitation(struct forecast *forecast, struct forecast_error *error)
 {
     if (first_without(forecast, FIELD_PRATE) < 0) {
-        forecast->info.precipitation_source = SKY_FORECAST_PRECIP_RATE;
+        forecast->info.precipitation_source = FORECAST_PRECIP_RATE;
         return true;
     }
     /* tp at the run's own time accumulates nothing: it may be left out. */
@@ -226,11 +224,11 @@ static bool choose_precipitation(struct sky_forecast *forecast, struct sky_forec
         int missing_rate = first_without(forecast, FIELD_PRATE);
         return refuse_missing(forecast, FIELD_PRATE, missing_rate, ", nor tp at every step", error);
     }
-    forecast->info.precipitation_source = SKY_FORECAST_PRECIP_ACCUMULATED;
+    forecast->info.precipitation_source = FORECAST_PRECIP_ACCUMULATED;
     return precipitation_rates(forecast, error);
 }
 
-bool forecast_series_finish(struct sky_forecast *forecast, struct sky_forecast_error *error)
+bool forecast_series_finish(struct forecast *forecast, struct forecast_error *error)
 {
     if (forecast->step_count == 0)
         return refuse_missing(forecast, FIELD_LCC, 0, "", error);
@@ -245,9 +243,9 @@ bool forecast_series_finish(struct sky_forecast *forecast, struct sky_forecast_e
     }
     int no_u = first_without(forecast, FIELD_10U), no_v = first_without(forecast, FIELD_10V);
     if (no_u < 0 && no_v < 0) {
-        forecast->info.wind_level = SKY_FORECAST_WIND_10M;
+        forecast->info.wind_level = FORECAST_WIND_10M;
     } else if (first_without(forecast, FIELD_U850) < 0 && first_without(forecast, FIELD_V850) < 0) {
-        forecast->info.wind_level = SKY_FORECAST_WIND_850HPA;
+        forecast->info.wind_level = FORECAST_WIND_850HPA;
     } else {
         enum forecast_field field = no_u >= 0 ? FIELD_10U : FIELD_10V;
         return refuse_missing(forecast, field, no_u >= 0 ? no_u : no_v,
@@ -257,10 +255,10 @@ bool forecast_series_finish(struct sky_forecast *forecast, struct sky_forecast_e
     return choose_precipitation(forecast, error);
 }
 
-void forecast_sample_derive(struct sky_forecast_sample *sample)
+void forecast_sample_derive(struct forecast_sample *sample)
 {
-    sample->relative_humidity = sky_metar_relative_humidity(sample->temperature_c,
-                                                            sample->dew_point_c);
+    sample->relative_humidity = proto_metar_relative_humidity(sample->temperature_c,
+                                                              sample->dew_point_c);
     double u = sample->wind_u_m_s, v = sample->wind_v_m_s;
     sample->wind_speed_m_s = hypot(u, v);
     /* The direction it blows from: the bearing of (-u, -v), north through east. */
@@ -268,14 +266,15 @@ void forecast_sample_derive(struct sky_forecast_sample *sample)
     sample->wind_direction_deg = from < 0.0 ? from + 360.0 : from;
 }
 
-void forecast_series_sample(const struct sky_forecast *forecast, int index,
-                            struct sky_forecast_sample *sample)
+void forecast_series_sample(const struct forecast *forecast, int index,
+                            struct forecast_sample *sample)
 {
     const struct forecast_step *step = &forecast->steps[index];
     const struct forecast_window *w = &forecast->window;
-    bool ten_metres = forecast->info.wind_level == SKY_FORECAST_WIND_10M;
-    enum forecast_field precipitation =
-        forecast->info.precipitation_source == SKY_FORECAST_PRECIP_RATE ? FIELD_PRATE : FIELD_TP;
+    bool ten_metres = forecast->info.wind_level == FORECAST_WIND_10M;
+    enum forecast_field precipitation = forecast->info.precipitation_source == FORECAST_PRECIP_RATE
+                                            ? FIELD_PRATE
+                                            : FIELD_TP;
     memset(sample, 0, sizeof *sample);
     sample->valid_unix_s = step->valid_unix_s;
     sample->low_cover = forecast_window_mean(w, step->values[FIELD_LCC]);
@@ -299,12 +298,12 @@ void forecast_series_sample(const struct sky_forecast *forecast, int index,
     forecast_sample_derive(sample);
 }
 
-const struct sky_forecast_info *sky_forecast_info(const struct sky_forecast *forecast)
+const struct forecast_info *forecast_info(const struct forecast *forecast)
 {
     return &forecast->info;
 }
 
-double sky_forecast_step_unix(const struct sky_forecast *forecast, int index)
+double forecast_step_unix(const struct forecast *forecast, int index)
 {
     return forecast->steps[index].valid_unix_s;
 }
@@ -321,20 +320,20 @@ static void lerp_cells(double *a, const double *b, double w, int count)
         a[i] = lerp(a[i], b[i], w);
 }
 
-bool sky_forecast_at(const struct sky_forecast *forecast, double unix_s,
-                     struct sky_forecast_moment *moment, struct sky_forecast_error *error)
+bool forecast_at(const struct forecast *forecast, double unix_s, struct forecast_moment *moment,
+                 struct forecast_error *error)
 {
     int n = forecast->step_count;
     double first = forecast->steps[0].valid_unix_s, last = forecast->steps[n - 1].valid_unix_s;
     if (!(unix_s >= first && unix_s <= last)) {
         char when[40], from[40], to[40];
-        sky_time_format_iso8601(unix_s, when, sizeof when);
-        sky_time_format_iso8601(first, from, sizeof from);
-        sky_time_format_iso8601(last, to, sizeof to);
+        proto_time_format_iso8601(unix_s, when, sizeof when);
+        proto_time_format_iso8601(first, from, sizeof from);
+        proto_time_format_iso8601(last, to, sizeof to);
         if (n == 1)
-            return forecast_refuse(error, SKY_FORECAST_ERR_TIME, 0,
+            return forecast_refuse(error, FORECAST_ERR_TIME, 0,
                                    "%s is not the forecast's one step, valid %s", when, from);
-        return forecast_refuse(error, SKY_FORECAST_ERR_TIME, 0,
+        return forecast_refuse(error, FORECAST_ERR_TIME, 0,
                                "%s is outside the forecast: its %d steps cover %s to %s", when, n,
                                from, to);
     }
@@ -350,13 +349,13 @@ bool sky_forecast_at(const struct sky_forecast *forecast, double unix_s,
     forecast_series_sample(forecast, before, &moment->sample);
     if (before == after)
         return true;
-    struct sky_forecast_sample *next = malloc(sizeof *next);
+    struct forecast_sample *next = malloc(sizeof *next);
     if (!next)
-        return forecast_refuse(error, SKY_FORECAST_ERR_MEMORY, 0, "out of memory");
+        return forecast_refuse(error, FORECAST_ERR_MEMORY, 0, "out of memory");
     forecast_series_sample(forecast, after, next);
     double w = (unix_s - moment->before_unix_s) / (moment->after_unix_s - moment->before_unix_s);
     moment->weight = w;
-    struct sky_forecast_sample *s = &moment->sample;
+    struct forecast_sample *s = &moment->sample;
     s->valid_unix_s = unix_s;
     s->low_cover = lerp(s->low_cover, next->low_cover, w);
     s->medium_cover = lerp(s->medium_cover, next->medium_cover, w);
@@ -370,7 +369,7 @@ bool sky_forecast_at(const struct sky_forecast *forecast, double unix_s,
     lerp_cells(s->low_grid, next->low_grid, w, cells);
     lerp_cells(s->medium_grid, next->medium_grid, w, cells);
     lerp_cells(s->high_grid, next->high_grid, w, cells);
-    if (forecast->info.precipitation_source == SKY_FORECAST_PRECIP_RATE) {
+    if (forecast->info.precipitation_source == FORECAST_PRECIP_RATE) {
         s->precipitation_mm_h = lerp(s->precipitation_mm_h, next->precipitation_mm_h, w);
         lerp_cells(s->precipitation_grid, next->precipitation_grid, w, cells);
     } else {

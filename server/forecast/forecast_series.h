@@ -39,8 +39,8 @@ struct forecast_step {
     bool prate_instant;          /* prate is the rate at the step, not a mean before it */
 };
 
-struct sky_forecast {
-    struct sky_forecast_info info;
+struct forecast {
+    struct forecast_info info;
     struct forecast_window window;
     bool total_cover_known; /* tcc at every step */
     int step_count, step_capacity;
@@ -49,36 +49,35 @@ struct sky_forecast {
 
 /* A forecast for the request on `grid`, with no step yet; NULL when memory is out. The window
  * and points come from forecast_window_locate. */
-struct sky_forecast *forecast_series_new(const struct sky_forecast_request *request,
-                                         const struct sky_forecast_grid_info *grid,
-                                         const struct forecast_window *window,
-                                         const struct sky_forecast_points *points);
+struct forecast *forecast_series_new(const struct forecast_request *request,
+                                     const struct forecast_grid_info *grid,
+                                     const struct forecast_window *window,
+                                     const struct forecast_points *points);
 
 /* The step valid at valid_unix_s, added when new; NULL (with *error) when there would be more
- * than SKY_FORECAST_MAX_STEPS, or too many values in all, or memory is out. */
-struct forecast_step *forecast_series_step(struct sky_forecast *forecast, double valid_unix_s,
-                                           struct sky_forecast_error *error);
+ * than FORECAST_MAX_STEPS, or too many values in all, or memory is out. */
+struct forecast_step *forecast_series_step(struct forecast *forecast, double valid_unix_s,
+                                           struct forecast_error *error);
 
 /* The window's values of `field` at `step`, allocated, for message `message` to fill; NULL
  * with *error when that step already has the field (naming both messages) or memory is out. */
-double *forecast_series_field(struct sky_forecast *forecast, struct forecast_step *step,
-                              enum forecast_field field, int message,
-                              struct sky_forecast_error *error);
+double *forecast_series_field(struct forecast *forecast, struct forecast_step *step,
+                              enum forecast_field field, int message, struct forecast_error *error);
 
 /* Sorts the steps, picks the wind (10 m, else 850 hPa) and precipitation (prate, else tp)
  * every step has, checks that every step has the cloud covers, 2t and 2d (naming the first
  * missing field and its step), and turns tp into rates. false with *error otherwise. */
-bool forecast_series_finish(struct sky_forecast *forecast, struct sky_forecast_error *error);
+bool forecast_series_finish(struct forecast *forecast, struct forecast_error *error);
 
 /* The sample of step `index` of a finished forecast. */
-void forecast_series_sample(const struct sky_forecast *forecast, int index,
-                            struct sky_forecast_sample *sample);
+void forecast_series_sample(const struct forecast *forecast, int index,
+                            struct forecast_sample *sample);
 
 /* Relative humidity, wind speed and direction of a sample from its means. */
-void forecast_sample_derive(struct sky_forecast_sample *sample);
+void forecast_sample_derive(struct forecast_sample *sample);
 
 /* Sets *error's code, message index and text (printf format). Returns false. */
-bool forecast_refuse(struct sky_forecast_error *error, enum sky_forecast_error_code code,
-                     int message, const char *format, ...) __attribute__((format(printf, 4, 5)));
+bool forecast_refuse(struct forecast_error *error, enum forecast_error_code code, int message,
+                     const char *format, ...) __attribute__((format(printf, 4, 5)));
 
 #endif

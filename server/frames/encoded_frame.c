@@ -12,7 +12,7 @@ struct encoded_frame {
     atomic_int refs;
     struct encoded_frame_meta meta;
     size_t payload_length;
-    uint8_t *buffer; /* LWS_PRE + SKY_FRAME_HEADER_SIZE + payload_length */
+    uint8_t *buffer; /* LWS_PRE + PROTO_FRAME_HEADER_SIZE + payload_length */
 };
 
 struct encoded_frame *encoded_frame_create(const struct encoded_frame_meta *meta,
@@ -21,7 +21,7 @@ struct encoded_frame *encoded_frame_create(const struct encoded_frame_meta *meta
     struct encoded_frame *f = calloc(1, sizeof *f);
     if (!f)
         return NULL;
-    f->buffer = malloc(LWS_PRE + SKY_FRAME_HEADER_SIZE + payload_length);
+    f->buffer = malloc(LWS_PRE + PROTO_FRAME_HEADER_SIZE + payload_length);
     if (!f->buffer) {
         free(f);
         return NULL;
@@ -29,8 +29,8 @@ struct encoded_frame *encoded_frame_create(const struct encoded_frame_meta *meta
     atomic_init(&f->refs, 1);
     f->meta = *meta;
     f->payload_length = payload_length;
-    memset(f->buffer, 0, LWS_PRE + SKY_FRAME_HEADER_SIZE);
-    memcpy(f->buffer + LWS_PRE + SKY_FRAME_HEADER_SIZE, payload, payload_length);
+    memset(f->buffer, 0, LWS_PRE + PROTO_FRAME_HEADER_SIZE);
+    memcpy(f->buffer + LWS_PRE + PROTO_FRAME_HEADER_SIZE, payload, payload_length);
     return f;
 }
 
@@ -67,5 +67,5 @@ uint8_t *encoded_frame_message(struct encoded_frame *frame)
 
 size_t encoded_frame_message_length(const struct encoded_frame *frame)
 {
-    return SKY_FRAME_HEADER_SIZE + frame->payload_length;
+    return PROTO_FRAME_HEADER_SIZE + frame->payload_length;
 }

@@ -52,7 +52,7 @@ static void run_job(struct encoder_pool *pool, struct encode_job *job)
     struct encoded_frame *frame = NULL;
     uint32_t width = job->meta.width, height = job->meta.height;
     int encoded = -1;
-    if (job->meta.format == SKY_FRAME_FORMAT_PNG16) {
+    if (job->meta.format == PROTO_FRAME_FORMAT_PNG16) {
         uint16_t *rgb = malloc((size_t)width * height * 3 * sizeof *rgb);
         if (rgb) {
             png_linear16_quantize(job->pixels, (size_t)width * height, job->full_scale_cd_m2, rgb);
@@ -60,7 +60,7 @@ static void run_job(struct encoder_pool *pool, struct encode_job *job)
                                           &length);
         }
         free(rgb);
-    } else if (job->meta.format == SKY_FRAME_FORMAT_JPEG) {
+    } else if (job->meta.format == PROTO_FRAME_FORMAT_JPEG) {
         encoded = jpeg_encode_rgba8(job->pixels, width, height, job->quality, &encoded_bytes,
                                     &length);
     } else {

@@ -27,7 +27,7 @@ struct frame_slot {
 };
 
 struct snapshot_item {
-    struct sky_msg_id id;
+    struct proto_msg_id id;
     struct encoded_frame *frame;
 };
 
@@ -35,8 +35,8 @@ struct session {
     atomic_int refs;
     void *transport;
     pthread_mutex_t lock;
-    enum sky_msg_role role;
-    char client_name[SKY_MSG_CLIENT_MAX + 1];
+    enum proto_msg_role role;
+    char client_name[PROTO_MSG_CLIENT_MAX + 1];
     bool simulation_events;
     bool closed;
     /* close request */
@@ -63,7 +63,7 @@ struct session *session_create(void)
     if (!s)
         return NULL;
     atomic_init(&s->refs, 1);
-    s->role = SKY_ROLE_VIEWER;
+    s->role = PROTO_ROLE_VIEWER;
     pthread_mutex_init(&s->lock, NULL);
     return s;
 }
@@ -114,15 +114,15 @@ void *session_transport(const struct session *session)
     return session->transport;
 }
 
-enum sky_msg_role session_role(struct session *s)
+enum proto_msg_role session_role(struct session *s)
 {
     pthread_mutex_lock(&s->lock);
-    enum sky_msg_role role = s->role;
+    enum proto_msg_role role = s->role;
     pthread_mutex_unlock(&s->lock);
     return role;
 }
 
-void session_set_role(struct session *s, enum sky_msg_role role)
+void session_set_role(struct session *s, enum proto_msg_role role)
 {
     pthread_mutex_lock(&s->lock);
     s->role = role;
@@ -322,7 +322,7 @@ bool session_snapshot_reserve(struct session *s)
     return ok;
 }
 
-void session_snapshot_deliver(struct session *s, const struct sky_msg_id *id,
+void session_snapshot_deliver(struct session *s, const struct proto_msg_id *id,
                               struct encoded_frame *frame)
 {
     pthread_mutex_lock(&s->lock);
@@ -337,9 +337,9 @@ void session_snapshot_deliver(struct session *s, const struct sky_msg_id *id,
     pthread_mutex_unlock(&s->lock);
 }
 
-bool session_snapshot_fail(struct session *s, const struct sky_msg_id *id, const char *message)
+bool session_snapshot_fail(struct session *s, const struct proto_msg_id *id, const char *message)
 {
-    char *text = sky_msg_build_error(id, SKY_MSG_ERR_INTERNAL, message, NULL);
+    char *text = proto_msg_build_error(id, PROTO_MSG_ERR_INTERNAL, message, NULL);
     if (text)
         session_push_text(s, text);
     free(text);
@@ -362,11 +362,11 @@ static void take_text(struct session *s, struct session_output *out)
 }
 
 /* Announces `frame` with its "frame" text; the binary part follows on the next call. */
-static void start_frame(struct session *s, const struct sky_msg_id *id, uint64_t subscription,
+static void start_frame(struct session *s, const struct proto_msg_id *id, uint64_t subscription,
                         struct encoded_frame *frame, struct session_output *out)
 {
     uint64_t number = ++s->frames_sent;
-    char *json = sky_msg_build_frame(id, subscription, number);
+    char *json = proto_msg_build_frame(id, subscription, number);
     char *buffer = json ? malloc(LWS_PRE + strlen(json) + 1) : NULL;
     if (!buffer) {
         free(json);

@@ -25,26 +25,26 @@
 #define CAPACITY(member) sizeof(((struct skyd_config *)0)->member)
 #define STRING(path_, member, doc)                                                                 \
     {                                                                                              \
-        .path = path_, .type = SKY_FIELD_TYPE_STRING, .offset = OFFSET(member),                    \
+        .path = path_, .type = PROTO_FIELD_TYPE_STRING, .offset = OFFSET(member),                  \
         .description = doc, .capacity = CAPACITY(member)                                           \
     }
 #define INT(path_, member, lo, hi, doc)                                                            \
     {                                                                                              \
-        .path = path_, .type = SKY_FIELD_TYPE_INT, .offset = OFFSET(member), .min = lo, .max = hi, \
-        .description = doc                                                                         \
+        .path = path_, .type = PROTO_FIELD_TYPE_INT, .offset = OFFSET(member), .min = lo,          \
+        .max = hi, .description = doc                                                              \
     }
 #define NUMBER(path_, member, lo, hi, doc)                                                         \
     {                                                                                              \
-        .path = path_, .type = SKY_FIELD_TYPE_NUMBER, .offset = OFFSET(member), .min = lo,         \
+        .path = path_, .type = PROTO_FIELD_TYPE_NUMBER, .offset = OFFSET(member), .min = lo,       \
         .max = hi, .description = doc                                                              \
     }
 #define BOOL(path_, member, doc)                                                                   \
     {                                                                                              \
-        .path = path_, .type = SKY_FIELD_TYPE_BOOL, .offset = OFFSET(member), .max = 1,            \
+        .path = path_, .type = PROTO_FIELD_TYPE_BOOL, .offset = OFFSET(member), .max = 1,          \
         .description = doc                                                                         \
     }
 
-static const struct sky_field_desc config_fields[] = {
+static const struct proto_field_desc config_fields[] = {
     STRING("listen.address", listen_address, "address to listen on"),
     INT("listen.port", listen_port, 0, 65535, "port; 0 asks the kernel for a free one"),
     STRING("listen.tls_certificate", tls_certificate, "PEM certificate for https/wss"),
@@ -100,7 +100,7 @@ static const struct sky_field_desc config_fields[] = {
 
 static const char *const config_caller_members[] = { "allowed_origins", "initial_state" };
 
-static const struct sky_schema config_schema = {
+static const struct proto_schema config_schema = {
     .fields = config_fields,
     .count = sizeof config_fields / sizeof config_fields[0],
     .caller_members = config_caller_members,
@@ -110,7 +110,7 @@ static const struct sky_schema config_schema = {
 void skyd_config_defaults(struct skyd_config *c)
 {
     memset(c, 0, sizeof *c);
-    sky_world_state_defaults(&c->initial_state);
+    proto_world_state_defaults(&c->initial_state);
     snprintf(c->listen_address, sizeof c->listen_address, "127.0.0.1");
     c->listen_port = 8080;
     snprintf(c->state_file, sizeof c->state_file, "var/skyd-state.json");
@@ -121,8 +121,8 @@ void skyd_config_defaults(struct skyd_config *c)
     c->state_save_delay_s = 1.0;
     c->forecast_poll_s = 5.0;
     /* The protocol's own defaults, so that the two cannot drift apart. */
-    struct sky_msg_limits limits;
-    sky_msg_limits_default(&limits);
+    struct proto_msg_limits limits;
+    proto_msg_limits_default(&limits);
     c->max_message_bytes = (int)limits.max_message_bytes;
     c->max_clients = limits.max_clients;
     c->max_width = (int)limits.max_width;
@@ -137,17 +137,17 @@ void skyd_config_defaults(struct skyd_config *c)
 }
 
 static void apply_origins(struct skyd_config *c, const cJSON *value, const char *pointer,
-                          struct sky_field_errors *errors)
+                          struct proto_field_errors *errors)
 {
     if (!cJSON_IsArray(value)) {
-        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, pointer,
-                              "expected an array of strings");
+        proto_field_errors_addf(errors, PROTO_FIELD_WRONG_TYPE, pointer,
+                                "expected an array of strings");
         return;
     }
     int n = cJSON_GetArraySize(value);
     if (n > SKYD_CONFIG_MAX_ORIGINS) {
-        sky_field_errors_addf(errors, SKY_FIELD_OUT_OF_RANGE, pointer, "at most %d origins, got %d",
-                              SKYD_CONFIG_MAX_ORIGINS, n);
+        proto_field_errors_addf(errors, PROTO_FIELD_OUT_OF_RANGE, pointer,
+                                "at most %d origins, got %d", SKYD_CONFIG_MAX_ORIGINS, n);
         return;
     }
     int i = 0;
@@ -155,9 +155,9 @@ static void apply_origins(struct skyd_config *c, const cJSON *value, const char 
         char item_pointer[176];
         snprintf(item_pointer, sizeof item_pointer, "%s/%d", pointer, i);
         if (!cJSON_IsString(item) || strlen(item->valuestring) >= sizeof c->allowed_origins[0])
-            sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, item_pointer,
-                                  "expected a string of at most %zu characters",
-                                  sizeof c->allowed_origins[0] - 1);
+            proto_field_errors_addf(errors, PROTO_FIELD_WRONG_TYPE, item_pointer,
+                                    "expected a string of at most %zu characters",
+                                    sizeof c->allowed_origins[0] - 1);
         else
             snprintf(c->allowed_origins[i], sizeof c->allowed_origins[i], "%s", item->valuestring);
     }
@@ -167,11 +167,11 @@ static void apply_origins(struct skyd_config *c, const cJSON *value, const char 
 /* "initial_state": a world-state patch over the defaults; "clock.utc": "now" is replaced by
  * the current time. Errors point into the configuration ("/initial_state/..."). */
 static void apply_initial_state(struct skyd_config *c, const cJSON *value,
-                                struct sky_field_errors *errors)
+                                struct proto_field_errors *errors)
 {
     if (!cJSON_IsObject(value)) {
-        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, "/initial_state",
-                              "expected a world-state patch (an object)");
+        proto_field_errors_addf(errors, PROTO_FIELD_WRONG_TYPE, "/initial_state",
+                                "expected a world-state patch (an object)");
         return;
     }
     cJSON *patch = cJSON_Duplicate(value, true);
@@ -181,50 +181,51 @@ static void apply_initial_state(struct skyd_config *c, const cJSON *value,
         struct timespec now;
         clock_gettime(CLOCK_REALTIME, &now);
         char text[40];
-        sky_time_format_iso8601((double)now.tv_sec, text, sizeof text);
+        proto_time_format_iso8601((double)now.tv_sec, text, sizeof text);
         cJSON_ReplaceItemInObjectCaseSensitive(clock, "utc", cJSON_CreateString(text));
     }
-    struct sky_field_errors found;
+    struct proto_field_errors found;
     if (!patch) {
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "/initial_state", "out of memory");
-    } else if (!sky_world_state_apply_json(&c->initial_state, patch, &found)) {
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, "/initial_state", "out of memory");
+    } else if (!proto_world_state_apply_json(&c->initial_state, patch, &found)) {
         for (int i = 0; i < found.count; i++) {
             char pointer[160];
             snprintf(pointer, sizeof pointer, "/initial_state%s", found.items[i].pointer);
-            sky_field_errors_add(errors, found.items[i].code, pointer, found.items[i].reason);
+            proto_field_errors_add(errors, found.items[i].code, pointer, found.items[i].reason);
         }
     }
     cJSON_Delete(patch);
 }
 
 /* "cluster": both members or neither, each well formed (nothing connects here). */
-static void check_cluster(const struct skyd_config *c, struct sky_field_errors *errors)
+static void check_cluster(const struct skyd_config *c, struct proto_field_errors *errors)
 {
     if (!c->cluster_redis[0] && !c->cluster_world[0] && !c->cluster_redis_password_file[0])
         return;
     char why[320];
     struct cluster_address address;
     if (!c->cluster_redis[0]) {
-        sky_field_errors_addf(errors, SKY_FIELD_MISSING, "/cluster/redis",
-                              "a cluster needs its Redis: redis://HOST:PORT[/DB]");
+        proto_field_errors_addf(errors, PROTO_FIELD_MISSING, "/cluster/redis",
+                                "a cluster needs its Redis: redis://HOST:PORT[/DB]");
     } else if (!cluster_url_parse(c->cluster_redis, &address, why, sizeof why)) {
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "/cluster/redis", "%s", why);
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, "/cluster/redis", "%s", why);
     } else if (address.has_password && c->cluster_redis_password_file[0]) {
-        sky_field_errors_addf(errors, SKY_FIELD_INCONSISTENT, "/cluster/redis_password_file",
-                              "the URL in /cluster/redis has a password already: give it once");
+        proto_field_errors_addf(errors, PROTO_FIELD_INCONSISTENT, "/cluster/redis_password_file",
+                                "the URL in /cluster/redis has a password already: give it once");
     }
     memset(&address, 0, sizeof address); /* the password */
     if (!c->cluster_world[0])
-        sky_field_errors_addf(errors, SKY_FIELD_MISSING, "/cluster/world",
-                              "a cluster needs the name of the world its nodes share");
+        proto_field_errors_addf(errors, PROTO_FIELD_MISSING, "/cluster/world",
+                                "a cluster needs the name of the world its nodes share");
     else if (!cluster_world_name_check(c->cluster_world, why, sizeof why))
-        sky_field_errors_addf(errors, SKY_FIELD_BAD_VALUE, "/cluster/world", "%s", why);
+        proto_field_errors_addf(errors, PROTO_FIELD_BAD_VALUE, "/cluster/world", "%s", why);
 }
 
 /* The rows through the engine, then the two members without rows. */
-static void apply_config(struct skyd_config *c, const cJSON *root, struct sky_field_errors *errors)
+static void apply_config(struct skyd_config *c, const cJSON *root,
+                         struct proto_field_errors *errors)
 {
-    sky_schema_apply_json(&config_schema, c, root, "", errors, NULL);
+    proto_schema_apply_json(&config_schema, c, root, "", errors, NULL);
     const cJSON *origins = cJSON_GetObjectItemCaseSensitive(root, "allowed_origins");
     if (origins)
         apply_origins(c, origins, "/allowed_origins", errors);
@@ -234,7 +235,7 @@ static void apply_config(struct skyd_config *c, const cJSON *root, struct sky_fi
     check_cluster(c, errors);
 }
 
-void skyd_config_limits(const struct skyd_config *c, struct sky_msg_limits *limits)
+void skyd_config_limits(const struct skyd_config *c, struct proto_msg_limits *limits)
 {
     limits->max_message_bytes = (size_t)c->max_message_bytes;
     limits->max_clients = c->max_clients;
@@ -245,8 +246,8 @@ void skyd_config_limits(const struct skyd_config *c, struct sky_msg_limits *limi
     limits->max_upload_bytes = (size_t)c->max_upload_bytes;
 }
 
-bool skyd_config_load(const char *path, struct skyd_config *config, struct sky_field_errors *errors,
-                      char *msg, size_t msglen)
+bool skyd_config_load(const char *path, struct skyd_config *config,
+                      struct proto_field_errors *errors, char *msg, size_t msglen)
 {
     size_t length = 0;
     char *text = text_file_read(path, MAX_CONFIG_BYTES, &length);
@@ -262,7 +263,7 @@ bool skyd_config_load(const char *path, struct skyd_config *config, struct sky_f
 }
 
 bool skyd_config_parse(const char *text, size_t length, const char *name,
-                       struct skyd_config *config, struct sky_field_errors *errors, char *msg,
+                       struct skyd_config *config, struct proto_field_errors *errors, char *msg,
                        size_t msglen)
 {
     memset(errors, 0, sizeof *errors);
@@ -289,8 +290,8 @@ bool skyd_config_parse(const char *text, size_t length, const char *name,
     struct skyd_config candidate;
     skyd_config_defaults(&candidate);
     if (!cJSON_IsObject(root))
-        sky_field_errors_addf(errors, SKY_FIELD_WRONG_TYPE, "",
-                              "the configuration must be a JSON object");
+        proto_field_errors_addf(errors, PROTO_FIELD_WRONG_TYPE, "",
+                                "the configuration must be a JSON object");
     else
         apply_config(&candidate, root, errors);
     cJSON_Delete(root);
@@ -308,8 +309,8 @@ cJSON *skyd_config_json_schema(void)
 {
     struct skyd_config defaults;
     skyd_config_defaults(&defaults);
-    cJSON *values = sky_schema_to_json(&config_schema, &defaults);
-    cJSON *root = values ? sky_schema_json_schema(&config_schema, values, "skyd configuration")
+    cJSON *values = proto_schema_to_json(&config_schema, &defaults);
+    cJSON *root = values ? proto_schema_json_schema(&config_schema, values, "skyd configuration")
                          : NULL;
     cJSON_Delete(values);
     cJSON *properties = cJSON_GetObjectItemCaseSensitive(root, "properties");

@@ -20,9 +20,9 @@ struct forecast_feed {
     double poll_s, next_poll_s;
     struct service_metrics *metrics;
     struct forecast_watch *watch;
-    struct sky_forecast *forecast; /* in use, or NULL */
-    char file[256];                /* its file */
-    unsigned generation;           /* counts the forecasts taken into use */
+    struct forecast *forecast; /* in use, or NULL */
+    char file[256];            /* its file */
+    unsigned generation;       /* counts the forecasts taken into use */
     /* The plan: the forecast, the revision and the simulated time it holds for. */
     unsigned planned_generation;
     unsigned long long planned_revision;
@@ -65,7 +65,7 @@ void forecast_feed_destroy(struct forecast_feed **feed_ptr)
     if (!feed)
         return;
     forecast_watch_destroy(&feed->watch);
-    sky_forecast_free(feed->forecast);
+    forecast_free(feed->forecast);
     free(feed);
 }
 
@@ -76,29 +76,29 @@ static void take(struct forecast_feed *feed, const struct forecast_watch_news *n
     s->refusals = news->refusals;
     if (!news->replaced)
         return;
-    sky_forecast_free(feed->forecast);
+    forecast_free(feed->forecast);
     feed->forecast = news->forecast;
     feed->generation++;
     s->loaded = feed->forecast != NULL;
     if (!feed->forecast)
         return;
     snprintf(feed->file, sizeof feed->file, "%s", news->file);
-    const struct sky_forecast_info *info = sky_forecast_info(feed->forecast);
+    const struct forecast_info *info = forecast_info(feed->forecast);
     snprintf(s->file, sizeof s->file, "%s", news->file);
     s->run_unix_s = info->reference_unix_s;
     s->steps = info->step_count;
-    s->first_step_unix_s = sky_forecast_step_unix(feed->forecast, 0);
-    s->last_step_unix_s = sky_forecast_step_unix(feed->forecast, info->step_count - 1);
+    s->first_step_unix_s = forecast_step_unix(feed->forecast, 0);
+    s->last_step_unix_s = forecast_step_unix(feed->forecast, info->step_count - 1);
     s->loads++;
     char first[32], last[32];
-    sky_time_format_iso8601(s->first_step_unix_s, first, sizeof first);
-    sky_time_format_iso8601(s->last_step_unix_s, last, sizeof last);
+    proto_time_format_iso8601(s->first_step_unix_s, first, sizeof first);
+    proto_time_format_iso8601(s->last_step_unix_s, last, sizeof last);
     skyd_log(SKYD_LOG_INFO, "forecast %s/%s in use: %d steps from %s to %s (read in %.2f s)",
              feed->dir, news->file, s->steps, first, last, news->read_s);
 }
 
 double forecast_feed_poll(struct forecast_feed *feed, double now_s,
-                          const struct sky_world_state *live)
+                          const struct proto_world_state *live)
 {
     struct forecast_watch_news news;
     if (forecast_watch_take(feed->watch, &news)) {
@@ -108,10 +108,10 @@ double forecast_feed_poll(struct forecast_feed *feed, double now_s,
     if (now_s < feed->next_poll_s)
         return feed->next_poll_s;
     feed->next_poll_s = now_s + feed->poll_s;
-    struct sky_forecast_request request = { .lat_deg = live->location.latitude_deg,
-                                            .lon_deg = live->location.longitude_deg,
-                                            .extent_km = live->weather.map_extent_km,
-                                            .grid_size = SKY_FORECAST_DEFAULT_GRID };
+    struct forecast_request request = { .lat_deg = live->location.latitude_deg,
+                                        .lon_deg = live->location.longitude_deg,
+                                        .extent_km = live->weather.map_extent_km,
+                                        .grid_size = FORECAST_DEFAULT_GRID };
     forecast_watch_look(feed->watch, &request);
     return feed->next_poll_s;
 }
@@ -140,28 +140,28 @@ static void out_of_range(struct forecast_feed *feed, double t0, double first, do
     if (said)
         return;
     char now[32], from[32], to[32];
-    sky_time_format_iso8601(t0, now, sizeof now);
-    sky_time_format_iso8601(first, from, sizeof from);
-    sky_time_format_iso8601(last, to, sizeof to);
+    proto_time_format_iso8601(t0, now, sizeof now);
+    proto_time_format_iso8601(first, from, sizeof from);
+    proto_time_format_iso8601(last, to, sizeof to);
     skyd_log(SKYD_LOG_WARNING,
              "the world's clock %s is outside forecast %s (%s to %s): the weather stays as it is",
              now, feed->file, from, to);
 }
 
 /* The forecast at t1 as the weather `live` moves to from t0. */
-static bool transition_to(const struct forecast_feed *feed, const struct sky_world_state *live,
-                          double t0, double t1, struct sky_world_state *next)
+static bool transition_to(const struct forecast_feed *feed, const struct proto_world_state *live,
+                          double t0, double t1, struct proto_world_state *next)
 {
-    struct sky_forecast_moment moment;
-    struct sky_forecast_error error;
-    if (!sky_forecast_at(feed->forecast, t1, &moment, &error))
+    struct forecast_moment moment;
+    struct forecast_error error;
+    if (!forecast_at(feed->forecast, t1, &moment, &error))
         return false;
     cJSON *patch = NULL, *unmapped = NULL;
-    if (!sky_forecast_patch(feed->forecast, &moment.sample, &patch, &unmapped))
+    if (!forecast_patch(feed->forecast, &moment.sample, &patch, &unmapped))
         return false;
-    struct sky_world_state applied = *live;
-    struct sky_field_errors errors;
-    bool ok = sky_world_state_apply_json(&applied, patch, &errors);
+    struct proto_world_state applied = *live;
+    struct proto_field_errors errors;
+    bool ok = proto_world_state_apply_json(&applied, patch, &errors);
     cJSON_Delete(patch);
     cJSON_Delete(unmapped);
     if (!ok) {
@@ -170,19 +170,19 @@ static bool transition_to(const struct forecast_feed *feed, const struct sky_wor
                  errors.count ? errors.items[0].reason : "");
         return false;
     }
-    struct sky_weather_params now, goal;
-    sky_weather_params_get(live, &now);
-    sky_weather_params_get(&applied, &goal);
+    struct proto_weather_params now, goal;
+    proto_weather_params_get(live, &now);
+    proto_weather_params_get(&applied, &goal);
     *next = applied;
-    sky_weather_params_put(next, &now);
+    proto_weather_params_put(next, &now);
     world_sim_start_transition(next, &goal, t1 - t0 >= 1.0 ? t1 - t0 : 0.0);
     return true;
 }
 
-bool forecast_feed_plan(struct forecast_feed *feed, const struct sky_world_state *live,
-                        struct sky_world_state *next)
+bool forecast_feed_plan(struct forecast_feed *feed, const struct proto_world_state *live,
+                        struct proto_world_state *next)
 {
-    bool following = live->weather.source == SKY_WEATHER_SOURCE_FORECAST && feed->forecast;
+    bool following = live->weather.source == PROTO_WEATHER_SOURCE_FORECAST && feed->forecast;
     if (following != feed->status.following) {
         feed->status.following = following;
         feed->status.in_range = true;
@@ -198,9 +198,9 @@ bool forecast_feed_plan(struct forecast_feed *feed, const struct sky_world_state
         return false;
     feed->planned_generation = feed->generation;
     feed->planned_revision = live->revision;
-    const struct sky_forecast_info *info = sky_forecast_info(feed->forecast);
-    double first = sky_forecast_step_unix(feed->forecast, 0);
-    double last = sky_forecast_step_unix(feed->forecast, info->step_count - 1);
+    const struct forecast_info *info = forecast_info(feed->forecast);
+    double first = forecast_step_unix(feed->forecast, 0);
+    double last = forecast_step_unix(feed->forecast, info->step_count - 1);
     if (t0 < first || t0 > last) {
         out_of_range(feed, t0, first, last);
         return false;
@@ -221,22 +221,22 @@ void forecast_feed_planned(struct forecast_feed *feed, unsigned long long revisi
     feed->planned_revision = revision;
 }
 
-bool forecast_feed_map(struct forecast_feed *feed, const struct sky_world_state *live, double now_s,
-                       struct sky_weather_map *map)
+bool forecast_feed_map(struct forecast_feed *feed, const struct proto_world_state *live,
+                       double now_s, struct proto_weather_map *map)
 {
-    if (live->weather.source != SKY_WEATHER_SOURCE_FORECAST || !feed->forecast)
+    if (live->weather.source != PROTO_WEATHER_SOURCE_FORECAST || !feed->forecast)
         return false;
     double t = live->clock.utc_unix_s;
     bool fresh = feed->map_generation != feed->generation;
     if (!fresh && (fabs(t - feed->map_clock_s) < FORECAST_FEED_MAP_STEP_S ||
                    now_s - feed->map_made_s < FORECAST_FEED_MAP_WALL_S))
         return false;
-    struct sky_forecast_moment *moment = malloc(sizeof *moment);
-    struct sky_forecast_error error;
-    bool made = moment && sky_forecast_at(feed->forecast, t, moment, &error) &&
-                sky_forecast_weather_map(&moment->sample, live->weather.map_extent_km,
-                                         live->weather.offset_east_km,
-                                         live->weather.offset_north_km, map);
+    struct forecast_moment *moment = malloc(sizeof *moment);
+    struct forecast_error error;
+    bool made = moment && forecast_at(feed->forecast, t, moment, &error) &&
+                forecast_weather_map(&moment->sample, live->weather.map_extent_km,
+                                     live->weather.offset_east_km, live->weather.offset_north_km,
+                                     map);
     free(moment);
     feed->map_generation = feed->generation; /* a clock outside the steps: tried again later */
     feed->map_clock_s = t;

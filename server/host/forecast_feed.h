@@ -47,7 +47,7 @@ void forecast_feed_destroy(struct forecast_feed **feed);
  * folder for the place of `live` when a poll is due (now_s: CLOCK_MONOTONIC seconds); never
  * waits for a read. Returns when it should be called again. */
 double forecast_feed_poll(struct forecast_feed *feed, double now_s,
-                          const struct sky_world_state *live);
+                          const struct proto_world_state *live);
 
 /* Whether a forecast is in use; when not, why (for a refused weather.source "forecast"). */
 bool forecast_feed_loaded(const struct forecast_feed *feed, char *why, size_t capacity);
@@ -55,14 +55,14 @@ bool forecast_feed_loaded(const struct forecast_feed *feed, char *why, size_t ca
 /* What following the forecast makes of `live`: true with *next the change to commit (a new
  * transition), false when nothing is to change now (not following, the plan under way, or the
  * clock outside the forecast's steps: reported, the weather left as it is). */
-bool forecast_feed_plan(struct forecast_feed *feed, const struct sky_world_state *live,
-                        struct sky_world_state *next);
+bool forecast_feed_plan(struct forecast_feed *feed, const struct proto_world_state *live,
+                        struct proto_world_state *next);
 /* While following, with the clock within the steps: the forecast's coverage grid at the clock
- * of `live` as a weather map (sky_forecast_weather_map), when one is due: the first, one of a
+ * of `live` as a weather map (forecast_weather_map), when one is due: the first, one of a
  * new forecast, or FORECAST_FEED_MAP_STEP_S on the clock and FORECAST_FEED_MAP_WALL_S on
  * now_s (CLOCK_MONOTONIC) after the last. false when none is due; the caller frees *map. */
-bool forecast_feed_map(struct forecast_feed *feed, const struct sky_world_state *live, double now_s,
-                       struct sky_weather_map *map);
+bool forecast_feed_map(struct forecast_feed *feed, const struct proto_world_state *live,
+                       double now_s, struct proto_weather_map *map);
 
 /* The revision that the plan's commit made the live one: a later revision means something
  * else changed the state, and the plan is made again over it. */

@@ -39,7 +39,7 @@ struct forecast_watch {
     pthread_mutex_t lock;
     pthread_cond_t wake;
     bool stopping, asked;
-    struct sky_forecast_request asked_request;
+    struct forecast_request asked_request;
     bool pending;
     struct forecast_watch_news news;
 
@@ -48,7 +48,7 @@ struct forecast_watch {
     bool scanned, unreadable_said;
     bool has_forecast; /* one was handed over and not dropped since */
     struct file_mark loaded;
-    struct sky_forecast_request request;
+    struct forecast_request request;
     struct file_mark refused[MAX_REFUSED];
     int refused_count;
     char error[704];
@@ -123,7 +123,7 @@ static bool same_mark(const struct file_mark *a, const struct file_mark *b)
     return a->size == b->size && a->mtime_ns == b->mtime_ns && strcmp(a->name, b->name) == 0;
 }
 
-static bool same_request(const struct sky_forecast_request *a, const struct sky_forecast_request *b)
+static bool same_request(const struct forecast_request *a, const struct forecast_request *b)
 {
     return a->lat_deg == b->lat_deg && a->lon_deg == b->lon_deg && a->extent_km == b->extent_km &&
            a->grid_size == b->grid_size;
@@ -138,7 +138,7 @@ static bool was_refused(const struct forecast_watch *w, const struct file_mark *
 }
 
 static void refuse(struct forecast_watch *w, const struct file_mark *f,
-                   const struct sky_forecast_error *error)
+                   const struct forecast_error *error)
 {
     if (w->refused_count == MAX_REFUSED)
         w->refused_count = 0;
@@ -151,14 +151,14 @@ static void refuse(struct forecast_watch *w, const struct file_mark *f,
 
 /* The news of a look, merged into what is not yet taken (a forecast replaced twice before a
  * take: the first one is freed). */
-static void publish(struct forecast_watch *w, bool replaced, struct sky_forecast *forecast,
+static void publish(struct forecast_watch *w, bool replaced, struct forecast *forecast,
                     const char *file, double read_s)
 {
     pthread_mutex_lock(&w->lock);
     struct forecast_watch_news *n = &w->news;
     if (replaced) {
         if (w->pending && n->replaced)
-            sky_forecast_free(n->forecast);
+            forecast_free(n->forecast);
         n->replaced = true;
         n->forecast = forecast;
         snprintf(n->file, sizeof n->file, "%s", file);
@@ -192,7 +192,7 @@ static void test_delay(struct forecast_watch *w)
 /* The newest file that reads for `request`, unless the one in use is newer than every other
  * that does. A place that changed drops a forecast none of them reads for. */
 static void load_newest(struct forecast_watch *w, const struct file_mark *files, int count,
-                        const struct sky_forecast_request *request, bool place_changed)
+                        const struct forecast_request *request, bool place_changed)
 {
     uint64_t refusals = w->refusals;
     for (int i = 0; i < count; i++) {
@@ -206,12 +206,12 @@ static void load_newest(struct forecast_watch *w, const struct file_mark *files,
             continue;
         char path[560];
         snprintf(path, sizeof path, "%.255s/%.255s", w->dir, f->name);
-        struct sky_forecast_error error;
+        struct forecast_error error;
         double start = monotonic_seconds();
         test_delay(w);
-        struct sky_forecast *forecast = sky_forecast_read_until(path, request, &w->cancel, &error);
+        struct forecast *forecast = forecast_read_until(path, request, &w->cancel, &error);
         if (atomic_load(&w->cancel)) {
-            sky_forecast_free(forecast);
+            forecast_free(forecast);
             return;
         }
         if (forecast) {
@@ -234,7 +234,7 @@ static void load_newest(struct forecast_watch *w, const struct file_mark *files,
     }
 }
 
-static void look(struct forecast_watch *w, const struct sky_forecast_request *request)
+static void look(struct forecast_watch *w, const struct forecast_request *request)
 {
     bool place_changed = w->has_forecast && !same_request(request, &w->request);
     struct file_mark files[MAX_FILES];
@@ -266,7 +266,7 @@ static void *worker_main(void *arg)
             pthread_cond_wait(&w->wake, &w->lock);
         if (w->stopping)
             break;
-        struct sky_forecast_request request = w->asked_request;
+        struct forecast_request request = w->asked_request;
         w->asked = false;
         pthread_mutex_unlock(&w->lock);
         look(w, &request);
@@ -316,13 +316,13 @@ void forecast_watch_destroy(struct forecast_watch **watch_ptr)
     if (w->started)
         pthread_join(w->thread, NULL);
     if (w->pending && w->news.replaced)
-        sky_forecast_free(w->news.forecast);
+        forecast_free(w->news.forecast);
     pthread_cond_destroy(&w->wake);
     pthread_mutex_destroy(&w->lock);
     free(w);
 }
 
-void forecast_watch_look(struct forecast_watch *w, const struct sky_forecast_request *request)
+void forecast_watch_look(struct forecast_watch *w, const struct forecast_request *request)
 {
     pthread_mutex_lock(&w->lock);
     w->asked = true;

@@ -27,7 +27,7 @@ struct forecast_watch_news {
     /* The forecast changed: `forecast` is the new one, which the taker owns, or NULL when no
      * file reads for the place any more. */
     bool replaced;
-    struct sky_forecast *forecast;
+    struct forecast *forecast;
     char file[256];  /* its file's name in the folder */
     double read_s;   /* how long its read took */
     char error[704]; /* the last refusal, "the folder cannot be read", or "" */
@@ -43,7 +43,7 @@ void forecast_watch_destroy(struct forecast_watch **watch);
 
 /* Asks the worker to look at the folder for `request`; a look asked and not yet begun is
  * replaced. Never waits for a read. */
-void forecast_watch_look(struct forecast_watch *watch, const struct sky_forecast_request *request);
+void forecast_watch_look(struct forecast_watch *watch, const struct forecast_request *request);
 
 /* Moves what the worker found into *news: false when nothing is new. */
 bool forecast_watch_take(struct forecast_watch *watch, struct forecast_watch_news *news);

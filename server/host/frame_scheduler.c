@@ -15,7 +15,7 @@
 struct subscription {
     uint64_t id; /* unique in the daemon, >= 1 */
     struct session *session;
-    struct sky_msg_view view;
+    struct proto_msg_view view;
     double period_s, next_due; /* CLOCK_MONOTONIC seconds */
     bool waiting_for_encoder;
     /* Under view.max_kbps: the JPEG quality frames are encoded at now, and how many frames the
@@ -26,13 +26,13 @@ struct subscription {
 
 struct pending_snapshot {
     struct session *session;
-    struct sky_msg_id id;
-    struct sky_msg_view view;
+    struct proto_msg_id id;
+    struct proto_msg_view view;
 };
 
 /* How a rendered view becomes a frame. */
 struct encoding {
-    enum sky_frame_format format;
+    enum proto_frame_format format;
     int quality;
 };
 
@@ -107,7 +107,7 @@ static struct group_output *output_for(struct render_group *g, struct encoding e
 
 /* Adds a target to the group's output in `encoding`; false when memory is out. */
 static bool group_add(struct render_group *g, struct encoding encoding, struct session *session,
-                      uint64_t subscription, const struct sky_msg_id *snapshot_id)
+                      uint64_t subscription, const struct proto_msg_id *snapshot_id)
 {
     struct group_output *o = output_for(g, encoding);
     if (!o)
@@ -142,11 +142,11 @@ static size_t group_target_count(const struct render_group *g)
 static void count_failed_snapshot(void *user)
 {
     struct frame_scheduler *fs = user;
-    service_metrics_error(fs->metrics, SKY_MSG_ERR_INTERNAL);
+    service_metrics_error(fs->metrics, PROTO_MSG_ERR_INTERNAL);
 }
 
 static void fail_snapshot(struct frame_scheduler *fs, struct session *session,
-                          const struct sky_msg_id *id, const char *message)
+                          const struct proto_msg_id *id, const char *message)
 {
     if (session_snapshot_fail(session, id, message))
         count_failed_snapshot(fs);
@@ -267,10 +267,10 @@ static void render_group(struct frame_scheduler *fs, struct renderer_host *rende
     g->output_count = 0;
 }
 
-static struct encoding encoding_of(const struct sky_msg_view *view, int quality)
+static struct encoding encoding_of(const struct proto_msg_view *view, int quality)
 {
     return (struct encoding){ .format = view->format,
-                              .quality = view->format == SKY_FRAME_FORMAT_JPEG ? quality : 0 };
+                              .quality = view->format == PROTO_FRAME_FORMAT_JPEG ? quality : 0 };
 }
 
 static struct encoding subscription_encoding(const struct subscription *s)
@@ -293,7 +293,7 @@ static void fit_bandwidth(struct subscription *s)
     s->frames_seen = traffic.frames_delivered;
     double budget_bytes_s = s->view.max_kbps * 1000.0 / 8.0;
     double wanted_bytes_s = (double)traffic.last_frame_bytes * s->view.fps;
-    bool jpeg = s->view.format == SKY_FRAME_FORMAT_JPEG;
+    bool jpeg = s->view.format == PROTO_FRAME_FORMAT_JPEG;
     /* Only a frame of the current quality says what that quality costs. */
     if (jpeg && traffic.last_quality == s->quality) {
         int floor = s->view.quality < BANDWIDTH_QUALITY_FLOOR ? s->view.quality
@@ -453,7 +453,7 @@ size_t frame_scheduler_subscription_count(const struct frame_scheduler *fs)
 }
 
 size_t frame_scheduler_session_stats(const struct frame_scheduler *fs, struct session *session,
-                                     struct sky_msg_subscription_stats *out, size_t capacity)
+                                     struct proto_msg_subscription_stats *out, size_t capacity)
 {
     size_t count = 0;
     for (size_t i = 0; i < fs->subscription_count && count < capacity; i++) {
@@ -462,7 +462,7 @@ size_t frame_scheduler_session_stats(const struct frame_scheduler *fs, struct se
         if ((session && s->session != session) ||
             !session_slot_traffic(s->session, s->id, &traffic))
             continue;
-        out[count++] = (struct sky_msg_subscription_stats){
+        out[count++] = (struct proto_msg_subscription_stats){
             .subscription = s->id,
             .bytes_sent = traffic.bytes_sent,
             .fps = 1.0 / s->period_s,
@@ -538,7 +538,7 @@ static bool reserve_one(void **items, size_t *capacity, size_t count, size_t ite
 #if defined(__GNUC__)
 __attribute__((format(printf, 2, 3)))
 #endif
-static struct frame_refusal refusal(enum sky_msg_error_code code, const char *format, ...)
+static struct frame_refusal refusal(enum proto_msg_error_code code, const char *format, ...)
 /* clang-format on */
 {
     struct frame_refusal r = { .code = code };
@@ -550,14 +550,14 @@ static struct frame_refusal refusal(enum sky_msg_error_code code, const char *fo
 }
 
 struct frame_refusal frame_scheduler_subscribe(struct frame_scheduler *fs, struct session *session,
-                                               const struct sky_msg_view *view, uint64_t *id)
+                                               const struct proto_msg_view *view, uint64_t *id)
 {
     if (!reserve_one((void **)&fs->subscriptions, &fs->subscription_capacity,
                      fs->subscription_count, sizeof *fs->subscriptions))
-        return refusal(SKY_MSG_ERR_INTERNAL, "out of memory");
+        return refusal(PROTO_MSG_ERR_INTERNAL, "out of memory");
     uint64_t next = fs->last_subscription_id + 1;
     if (!session_add_slot(session, next)) {
-        return refusal(SKY_MSG_ERR_LIMIT_REACHED, "at most %d subscriptions per connection",
+        return refusal(PROTO_MSG_ERR_LIMIT_REACHED, "at most %d subscriptions per connection",
                        SESSION_MAX_SUBSCRIPTIONS);
     }
     fs->last_subscription_id = next;
@@ -570,7 +570,7 @@ struct frame_refusal frame_scheduler_subscribe(struct frame_scheduler *fs, struc
         .quality = view->quality,
     };
     *id = next;
-    return (struct frame_refusal){ .code = SKY_MSG_OK };
+    return (struct frame_refusal){ .code = PROTO_MSG_OK };
 }
 
 bool frame_scheduler_unsubscribe(struct frame_scheduler *fs, struct session *session, uint64_t id)
@@ -585,19 +585,19 @@ bool frame_scheduler_unsubscribe(struct frame_scheduler *fs, struct session *ses
 }
 
 struct frame_refusal frame_scheduler_snapshot(struct frame_scheduler *fs, struct session *session,
-                                              const struct sky_msg_id *id,
-                                              const struct sky_msg_view *view)
+                                              const struct proto_msg_id *id,
+                                              const struct proto_msg_view *view)
 {
     if (!reserve_one((void **)&fs->snapshots, &fs->snapshot_capacity, fs->snapshot_count,
                      sizeof *fs->snapshots))
-        return refusal(SKY_MSG_ERR_INTERNAL, "out of memory");
+        return refusal(PROTO_MSG_ERR_INTERNAL, "out of memory");
     if (!session_snapshot_reserve(session)) {
-        return refusal(SKY_MSG_ERR_LIMIT_REACHED,
+        return refusal(PROTO_MSG_ERR_LIMIT_REACHED,
                        "at most %d snapshots may be pending per connection", SESSION_MAX_SNAPSHOTS);
     }
     fs->snapshots[fs->snapshot_count++] =
         (struct pending_snapshot){ .session = session_ref(session), .id = *id, .view = *view };
-    return (struct frame_refusal){ .code = SKY_MSG_OK };
+    return (struct frame_refusal){ .code = PROTO_MSG_OK };
 }
 
 void frame_scheduler_session_closed(struct frame_scheduler *fs, struct session *session)

@@ -35,23 +35,24 @@ struct frame_scheduler *frame_scheduler_create(const struct frame_scheduler_para
 /* Ends every subscription, drops the pending snapshots, stops the workers. */
 void frame_scheduler_destroy(struct frame_scheduler **scheduler);
 
-/* A refusal: SKY_MSG_OK, or the error and a message for the client. */
+/* A refusal: PROTO_MSG_OK, or the error and a message for the client. */
 struct frame_refusal {
-    enum sky_msg_error_code code;
+    enum proto_msg_error_code code;
     char message[160];
 };
 
 /* A new subscription of the session to `view` (its fps sets the period); *id is its number. */
 struct frame_refusal frame_scheduler_subscribe(struct frame_scheduler *scheduler,
                                                struct session *session,
-                                               const struct sky_msg_view *view, uint64_t *id);
+                                               const struct proto_msg_view *view, uint64_t *id);
 /* false when the session has no such subscription. */
 bool frame_scheduler_unsubscribe(struct frame_scheduler *scheduler, struct session *session,
                                  uint64_t id);
 /* One frame of `view` at the next tick, answered as a reply to `id`. */
 struct frame_refusal frame_scheduler_snapshot(struct frame_scheduler *scheduler,
-                                              struct session *session, const struct sky_msg_id *id,
-                                              const struct sky_msg_view *view);
+                                              struct session *session,
+                                              const struct proto_msg_id *id,
+                                              const struct proto_msg_view *view);
 /* The session's connection is gone: its subscriptions and snapshots end. */
 void frame_scheduler_session_closed(struct frame_scheduler *scheduler, struct session *session);
 /* Rendering cannot go on: every pending snapshot is answered with `message`. */
@@ -63,7 +64,7 @@ size_t frame_scheduler_subscription_count(const struct frame_scheduler *schedule
  * Returns how many were written. */
 size_t frame_scheduler_session_stats(const struct frame_scheduler *scheduler,
                                      struct session *session,
-                                     struct sky_msg_subscription_stats *out, size_t capacity);
+                                     struct proto_msg_subscription_stats *out, size_t capacity);
 
 /* Renders every view that is due (pending snapshots, subscriptions whose frame is due and not
  * still encoding), each once, through the renderer host, of the render input, and hands them

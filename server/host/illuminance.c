@@ -8,8 +8,8 @@
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
 /* Hemisphere quadrature for sky illuminance: midpoint rule in zenith and azimuth. */
-#define SKY_ZENITH_STEPS 48
-#define SKY_AZIMUTH_STEPS 96
+#define HOST_ZENITH_STEPS 48
+#define HOST_AZIMUTH_STEPS 96
 
 static void local_direction(double zenith, double azimuth, double out[3])
 {
@@ -18,9 +18,9 @@ static void local_direction(double zenith, double azimuth, double out[3])
     out[2] = cos(zenith);
 }
 
-int sky_ground_illuminance(struct sky_renderer *r, const struct sky_render_atmosphere *atm,
-                           const struct sky_render_view *sun_view, double sun_zenith_deg,
-                           double *sun_lux, double *sky_lux)
+int host_ground_illuminance(struct sky_renderer *r, const struct sky_render_atmosphere *atm,
+                            const struct sky_render_view *sun_view, double sun_zenith_deg,
+                            double *sun_lux, double *sky_lux)
 {
     struct sky_render_view view = *sun_view;
     view.camera_altitude_km = 0.0;
@@ -35,26 +35,26 @@ int sky_ground_illuminance(struct sky_renderer *r, const struct sky_render_atmos
         sun_rgb[ch] = mu_s > 0.0 ? e_top[ch] * t[0][ch] * mu_s : 0.0;
 
     /* Sky: E = sum of L cos(theta) sin(theta) dtheta dphi over the upper hemisphere. */
-    size_t n = SKY_ZENITH_STEPS * SKY_AZIMUTH_STEPS;
+    size_t n = HOST_ZENITH_STEPS * HOST_AZIMUTH_STEPS;
     double(*dirs)[3] = malloc(n * sizeof *dirs);
     double(*lum)[3] = malloc(n * sizeof *lum);
     int status = -1;
     if (!dirs || !lum)
         goto done;
-    double d_theta = 0.5 * PI / SKY_ZENITH_STEPS, d_phi = 2.0 * PI / SKY_AZIMUTH_STEPS;
-    for (int i = 0; i < SKY_ZENITH_STEPS; i++)
-        for (int j = 0; j < SKY_AZIMUTH_STEPS; j++)
+    double d_theta = 0.5 * PI / HOST_ZENITH_STEPS, d_phi = 2.0 * PI / HOST_AZIMUTH_STEPS;
+    for (int i = 0; i < HOST_ZENITH_STEPS; i++)
+        for (int j = 0; j < HOST_AZIMUTH_STEPS; j++)
             local_direction((i + 0.5) * d_theta, (j + 0.5) * d_phi,
-                            dirs[i * SKY_AZIMUTH_STEPS + j]);
+                            dirs[i * HOST_AZIMUTH_STEPS + j]);
     if (sky_renderer_probe_luminance(r, atm, &view, (const double(*)[3])dirs, n, false, lum) != 0)
         goto done;
     double sky_rgb[3] = { 0, 0, 0 };
-    for (int i = 0; i < SKY_ZENITH_STEPS; i++) {
+    for (int i = 0; i < HOST_ZENITH_STEPS; i++) {
         double theta = (i + 0.5) * d_theta;
         double w = cos(theta) * sin(theta) * d_theta * d_phi;
-        for (int j = 0; j < SKY_AZIMUTH_STEPS; j++)
+        for (int j = 0; j < HOST_AZIMUTH_STEPS; j++)
             for (int ch = 0; ch < 3; ch++)
-                sky_rgb[ch] += lum[i * SKY_AZIMUTH_STEPS + j][ch] * w;
+                sky_rgb[ch] += lum[i * HOST_AZIMUTH_STEPS + j][ch] * w;
     }
     *sun_lux = sky_rgb_to_luminance(sun_rgb);
     *sky_lux = sky_rgb_to_luminance(sky_rgb);

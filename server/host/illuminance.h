@@ -7,9 +7,9 @@
 
 /* `view` supplies the sun's photometry (illuminance, size, limb darkening); the camera is put
  * on the ground and the sun at sun_zenith_deg. Returns 0 or -1. */
-int sky_ground_illuminance(struct sky_renderer *renderer,
-                           const struct sky_render_atmosphere *atmosphere,
-                           const struct sky_render_view *view, double sun_zenith_deg,
-                           double *sun_lux, double *sky_lux);
+int host_ground_illuminance(struct sky_renderer *renderer,
+                            const struct sky_render_atmosphere *atmosphere,
+                            const struct sky_render_view *view, double sun_zenith_deg,
+                            double *sun_lux, double *sky_lux);
 
 #endif

@@ -9,7 +9,7 @@
 
 struct live_settings {
     pthread_mutex_t lock;
-    struct sky_msg_limits limits;
+    struct proto_msg_limits limits;
     int max_queued_http;
     char token[sizeof(((struct skyd_config *)NULL)->controller_token)];
     bool read_only;
@@ -48,7 +48,7 @@ void live_settings_destroy(struct live_settings **settings)
     free(s);
 }
 
-void live_settings_limits(struct live_settings *s, struct sky_msg_limits *limits)
+void live_settings_limits(struct live_settings *s, struct proto_msg_limits *limits)
 {
     pthread_mutex_lock(&s->lock);
     *limits = s->limits;
@@ -122,7 +122,7 @@ void live_settings_update(struct live_settings *s, const struct skyd_config *nex
     if (changes_size)
         changes[0] = '\0';
     pthread_mutex_lock(&s->lock);
-    const struct sky_msg_limits *a = &s->limits, *b = &fresh.limits;
+    const struct proto_msg_limits *a = &s->limits, *b = &fresh.limits;
 #define LIMIT(member, format, cast)                                                                \
     if (a->member != b->member)                                                                    \
         note(&t, "limits.%s " format " -> " format, #member, (cast)a->member, (cast)b->member);

@@ -19,22 +19,24 @@ static void local_direction(double zenith_deg, double azimuth_deg, double out[3]
 }
 
 int probe_query_run(struct sky_renderer *renderer, const struct render_input *input,
-                    const struct sky_msg_probe *query, struct sky_msg_probe_result *result)
+                    const struct proto_msg_probe *query, struct proto_msg_probe_result *result)
 {
     /* The state's own atmosphere, not the one frames are still being moved to. */
     struct sky_render_atmosphere atm = input->atmosphere;
     struct sky_render_view view;
-    const struct sky_msg_view pixel = { .width = 1, .height = 1, .format = SKY_FRAME_FORMAT_PNG16 };
+    const struct proto_msg_view pixel = { .width = 1,
+                                          .height = 1,
+                                          .format = PROTO_FRAME_FORMAT_PNG16 };
     world_render_view(input, &pixel, &view);
     sky_renderer_set_night(renderer, &input->night);
     memset(result, 0, sizeof *result);
     result->quantity = query->quantity;
     int rc = -1;
     switch (query->quantity) {
-    case SKY_PROBE_TRANSMITTANCE:
+    case PROTO_PROBE_TRANSMITTANCE:
         return sky_renderer_probe_transmittance(renderer, &atm, &query->altitude_km, &query->mu, 1,
                                                 &result->rgb);
-    case SKY_PROBE_LUMINANCE: {
+    case PROTO_PROBE_LUMINANCE: {
         view.camera_altitude_km = query->altitude_km;
         view.sun_elevation_deg = 90.0 - query->sun_zenith_deg;
         double dir[1][3];
@@ -44,9 +46,9 @@ int probe_query_run(struct sky_renderer *renderer, const struct render_input *in
                                           &result->rgb);
         break;
     }
-    case SKY_PROBE_ILLUMINANCE:
-        rc = sky_ground_illuminance(renderer, &atm, &view, query->sun_zenith_deg, &result->sun_lux,
-                                    &result->sky_lux);
+    case PROTO_PROBE_ILLUMINANCE:
+        rc = host_ground_illuminance(renderer, &atm, &view, query->sun_zenith_deg, &result->sun_lux,
+                                     &result->sky_lux);
         break;
     }
     /* Which multiple scattering answered (ms_refine.h): the best there is now. */

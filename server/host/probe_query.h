@@ -10,6 +10,6 @@
 /* Fills *result for the query's quantity under the input state's atmosphere and sun
  * photometry. Returns 0 or -1. */
 int probe_query_run(struct sky_renderer *renderer, const struct render_input *input,
-                    const struct sky_msg_probe *query, struct sky_msg_probe_result *result);
+                    const struct proto_msg_probe *query, struct proto_msg_probe_result *result);
 
 #endif

@@ -41,16 +41,16 @@ struct render_context {
     uint64_t conflict_revision;
     /* The message render_commands_handle is handling (NULL between messages), for the log of
      * refusals. */
-    const struct sky_client_msg *handling;
+    const struct proto_client_msg *handling;
     /* A preset folder's listing (16 KiB): the render thread's scratch, kept off its stack. */
-    char preset_names[SKY_MSG_MAX_PRESETS][SKY_PRESET_NAME_MAX + 1];
+    char preset_names[PROTO_MSG_MAX_PRESETS][WORLD_PRESET_NAME_MAX + 1];
 };
 
 /* false: a change to a shared world found it moved on; the caller tries the message again
  * at the next tick, after the world's stream is applied, and says how long it has been
  * trying (waited_s). Past a limit the sender gets `unavailable` instead. */
 bool render_commands_handle(struct render_context *ctx, struct session *session,
-                            const struct sky_client_msg *msg, double waited_s);
+                            const struct proto_client_msg *msg, double waited_s);
 /* What following the forecast changes now (forecast_feed_plan), committed as the forecast's
  * own change and announced to every client. */
 void render_commands_follow_forecast(struct render_context *ctx);

@@ -32,7 +32,7 @@ struct command {
     struct command *next;
     enum command_kind kind;
     struct session *session; /* a reference */
-    struct sky_client_msg msg;
+    struct proto_client_msg msg;
     char *reply;
     double first_tried_s; /* a change to a shared world tried again: when it was first tried */
 };
@@ -54,12 +54,12 @@ struct render_loop {
     char failure[384]; /* why the loop stopped on its own; "" while it runs (under lock) */
     /* report_tick's scratch (10 KiB, kept off the stack): the render thread's, and the
      * creating thread's before the render thread starts. */
-    struct sky_msg_subscription_stats traffic[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
+    struct proto_msg_subscription_stats traffic[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
 };
 
 static void free_command(struct command *c)
 {
-    sky_client_msg_free(&c->msg);
+    proto_client_msg_free(&c->msg);
     free(c->reply);
     session_unref(&c->session);
     free(c);
@@ -83,11 +83,11 @@ static void enqueue(struct render_loop *loop, struct command *c)
 }
 
 void render_loop_submit_message(struct render_loop *loop, struct session *session,
-                                struct sky_client_msg *msg)
+                                struct proto_client_msg *msg)
 {
     struct command *c = calloc(1, sizeof *c);
     if (!c) {
-        sky_client_msg_free(msg);
+        proto_client_msg_free(msg);
         return;
     }
     c->kind = COMMAND_MESSAGE;

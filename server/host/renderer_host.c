@@ -24,7 +24,7 @@ struct renderer_host {
     bool clouds_set;
     /* The client weather map the renderer holds (no texels: none) and the input's generation
      * it came with (0: none taken since the renderer was made). */
-    struct sky_weather_map map;
+    struct proto_weather_map map;
     uint64_t map_generation;
     /* The atmosphere of the last frame or at-once build; built: its LUTs are complete. */
     struct sky_render_atmosphere atmosphere;
@@ -114,7 +114,7 @@ void renderer_host_destroy(struct renderer_host **host)
     if (!h)
         return;
     sky_renderer_destroy(&h->renderer);
-    sky_weather_map_free(&h->map);
+    proto_weather_map_free(&h->map);
     free(h);
     *host = NULL;
 }
@@ -132,17 +132,17 @@ const char *renderer_host_device_name(const struct renderer_host *h)
 /* Hands the input's client weather map over when it is another; old: the one it replaced,
  * which the caller frees or puts back (restore_map). */
 static int take_map(struct renderer_host *h, const struct render_input *input,
-                    struct sky_weather_map *old, char *why, size_t whylen)
+                    struct proto_weather_map *old, char *why, size_t whylen)
 {
-    struct sky_weather_map copy;
-    if (!sky_weather_map_copy(input->client_map, &copy)) {
+    struct proto_weather_map copy;
+    if (!proto_weather_map_copy(input->client_map, &copy)) {
         snprintf(why, whylen, "out of memory for the weather map");
         return -1;
     }
     if (sky_renderer_set_weather_map(h->renderer, copy.rgba, copy.width, copy.height) != 0 &&
         !renderer_host_lost(h)) {
         renderer_host_describe_failure(h, "uploading the weather map", why, whylen);
-        sky_weather_map_free(&copy);
+        proto_weather_map_free(&copy);
         return -1;
     }
     *old = h->map;
@@ -151,10 +151,10 @@ static int take_map(struct renderer_host *h, const struct render_input *input,
     return 0;
 }
 
-static void restore_map(struct renderer_host *h, struct sky_weather_map *old, uint64_t generation)
+static void restore_map(struct renderer_host *h, struct proto_weather_map *old, uint64_t generation)
 {
     sky_renderer_set_weather_map(h->renderer, old->rgba, old->width, old->height);
-    sky_weather_map_free(&h->map);
+    proto_weather_map_free(&h->map);
     h->map = *old;
     h->map_generation = generation;
     memset(old, 0, sizeof *old);
@@ -206,7 +206,7 @@ int renderer_host_take(struct renderer_host *h, const struct render_input *input
 {
     if (!h->renderer)
         return 0; /* the rebuild after the tick takes the input */
-    struct sky_weather_map old_map = { 0 };
+    struct proto_weather_map old_map = { 0 };
     uint64_t old_generation = h->map_generation;
     bool new_map = input->map_generation != h->map_generation;
     if (new_map && take_map(h, input, &old_map, why, whylen) != 0)
@@ -221,7 +221,7 @@ int renderer_host_take(struct renderer_host *h, const struct render_input *input
             restore_map(h, &old_map, old_generation);
         return -1;
     }
-    sky_weather_map_free(&old_map);
+    proto_weather_map_free(&old_map);
     bool built = h->built &&
                  memcmp(&h->atmosphere, &input->frame_atmosphere, sizeof h->atmosphere) == 0;
     if (input->atmosphere_at_once && !built) {
@@ -268,7 +268,7 @@ void renderer_host_converged_probes(struct renderer_host *h)
 }
 
 int renderer_host_probe(struct renderer_host *h, const struct render_input *input,
-                        const struct sky_msg_probe *query, struct sky_msg_probe_result *result)
+                        const struct proto_msg_probe *query, struct proto_msg_probe_result *result)
 {
     if (!h->renderer)
         return -1;
@@ -293,9 +293,9 @@ static int warm_up_pipelines(struct renderer_host *h, const struct render_input 
     warm->clouds.low.coverage = fmax(warm->clouds.low.coverage, 0.5);
     warm->clouds.high.coverage = fmax(warm->clouds.high.coverage, 0.3);
     static const double sun_elevation_deg[4] = { 30.0, 30.0, -20.0, 30.0 };
-    const struct sky_msg_view small = { .width = WARM_W,
-                                        .height = WARM_H,
-                                        .format = SKY_FRAME_FORMAT_PNG };
+    const struct proto_msg_view small = { .width = WARM_W,
+                                          .height = WARM_H,
+                                          .format = PROTO_FRAME_FORMAT_PNG };
     int status = 0;
     for (int k = 0; k < 4 && status == 0; k++) {
         if (k == 3) /* the clear sky's composite pipelines are others */

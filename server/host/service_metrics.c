@@ -30,7 +30,7 @@ struct service_metrics {
     pthread_mutex_t lock;
     struct counts c;
     size_t subscription_count;
-    struct sky_msg_subscription_stats subscriptions[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
+    struct proto_msg_subscription_stats subscriptions[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
 };
 
 struct service_metrics *service_metrics_create(void)
@@ -91,16 +91,16 @@ void service_metrics_frame_skipped(struct service_metrics *m)
     LOCKED(m, m->c.frames_skipped++);
 }
 
-void service_metrics_message(struct service_metrics *m, enum sky_msg_type type)
+void service_metrics_message(struct service_metrics *m, enum proto_msg_type type)
 {
     size_t index = (size_t)type < MAX_KINDS ? (size_t)type : 0;
     LOCKED(m, m->c.messages[index]++);
 }
 
-void service_metrics_error(struct service_metrics *m, enum sky_msg_error_code code)
+void service_metrics_error(struct service_metrics *m, enum proto_msg_error_code code)
 {
-    if ((size_t)code >= MAX_KINDS || code == SKY_MSG_OK)
-        code = SKY_MSG_ERR_INTERNAL;
+    if ((size_t)code >= MAX_KINDS || code == PROTO_MSG_OK)
+        code = PROTO_MSG_ERR_INTERNAL;
     LOCKED(m, m->c.errors[code]++);
 }
 
@@ -115,7 +115,7 @@ void service_metrics_tick(struct service_metrics *m, const struct service_metric
 }
 
 void service_metrics_subscriptions(struct service_metrics *m,
-                                   const struct sky_msg_subscription_stats *stats, size_t count)
+                                   const struct proto_msg_subscription_stats *stats, size_t count)
 {
     if (count > SERVICE_METRICS_MAX_SUBSCRIPTIONS)
         count = SERVICE_METRICS_MAX_SUBSCRIPTIONS;
@@ -200,7 +200,7 @@ static void gauge(struct text *t, const char *name, const char *help, double val
 char *service_metrics_exposition(struct service_metrics *m, int clients)
 {
     struct counts copy;
-    struct sky_msg_subscription_stats *subscriptions =
+    struct proto_msg_subscription_stats *subscriptions =
         malloc(sizeof *subscriptions * SERVICE_METRICS_MAX_SUBSCRIPTIONS);
     if (!subscriptions)
         return NULL;
@@ -234,14 +234,14 @@ char *service_metrics_exposition(struct service_metrics *m, int clients)
            "Client messages received, by type "
            "(\"invalid\": not parsed far enough to know it).");
     for (size_t i = 0; i < MAX_KINDS; i++) {
-        const char *name = i == 0 ? "invalid" : sky_msg_type_name((enum sky_msg_type)i);
+        const char *name = i == 0 ? "invalid" : proto_msg_type_name((enum proto_msg_type)i);
         if (name)
             append(&t, "skyd_messages_total{type=\"%s\"} %llu\n", name,
                    (unsigned long long)copy.messages[i]);
     }
     family(&t, "skyd_errors_total", "counter", "Error replies sent to clients, by code.");
     for (size_t i = 1; i < MAX_KINDS; i++) {
-        const char *name = sky_msg_error_name((int)i);
+        const char *name = proto_msg_error_name((int)i);
         if (name)
             append(&t, "skyd_errors_total{code=\"%s\"} %llu\n", name,
                    (unsigned long long)copy.errors[i]);

@@ -13,13 +13,13 @@
 
 struct shared_world {
     struct cluster_store *store;
-    struct cluster_entry *start; /* the snapshot the node starts from */
-    struct sky_weather_map map;  /* its client weather map (no texels: none) */
+    struct cluster_entry *start;  /* the snapshot the node starts from */
+    struct proto_weather_map map; /* its client weather map (no texels: none) */
 };
 
 /* Reads the world, made from `initial` when it does not exist yet, into *state. */
 static bool read_world(struct shared_world *w, const struct skyd_config *config,
-                       const struct sky_world_state *initial, struct sky_world_state *state,
+                       const struct proto_world_state *initial, struct proto_world_state *state,
                        char *err, size_t errlen)
 {
     char why[512];
@@ -62,7 +62,7 @@ static bool read_password(const char *path, char *password, size_t size, char *w
 }
 
 struct shared_world *shared_world_open(const struct skyd_config *config,
-                                       struct sky_world_state *state, char *err, size_t errlen)
+                                       struct proto_world_state *state, char *err, size_t errlen)
 {
     struct shared_world *w = calloc(1, sizeof *w);
     if (!w) {
@@ -91,7 +91,7 @@ struct shared_world *shared_world_open(const struct skyd_config *config,
     }
     /* A world made by this node gets its epoch now, so that every node that reads it later
      * computes the same simulated instant (a node anchoring it at its own start would not). */
-    struct sky_world_state anchored = config->initial_state;
+    struct proto_world_state anchored = config->initial_state;
     world_sim_anchor(&anchored, wall_clock_seconds());
     if (!read_world(w, config, &anchored, state, err, errlen)) {
         shared_world_close(&w);
@@ -109,7 +109,7 @@ void shared_world_close(struct shared_world **world)
     if (!w)
         return;
     cluster_entry_free(w->start);
-    sky_weather_map_free(&w->map);
+    proto_weather_map_free(&w->map);
     cluster_store_destroy(&w->store);
     free(w);
 }
@@ -124,7 +124,7 @@ const struct cluster_entry *shared_world_start(const struct shared_world *world)
     return world->start;
 }
 
-const struct sky_weather_map *shared_world_client_map(const struct shared_world *world)
+const struct proto_weather_map *shared_world_client_map(const struct shared_world *world)
 {
     return &world->map;
 }

@@ -12,6 +12,6 @@
 struct cluster_store *shared_world_store(struct shared_world *world);
 const struct cluster_entry *shared_world_start(const struct shared_world *world);
 /* No texels: the snapshot has no client weather map, or it cannot be read. */
-const struct sky_weather_map *shared_world_client_map(const struct shared_world *world);
+const struct proto_weather_map *shared_world_client_map(const struct shared_world *world);
 
 #endif

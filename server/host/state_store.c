@@ -21,7 +21,7 @@
 /* A 512 x 512 RGBA8 PNG of noise, stored uncompressed, with room to spare. */
 #define WEATHER_MAP_FILE_MAX_BYTES (4 << 20)
 
-bool state_store_parse(const char *text, size_t length, struct sky_world_state *out, char *msg,
+bool state_store_parse(const char *text, size_t length, struct proto_world_state *out, char *msg,
                        size_t msglen)
 {
     const char *end = NULL;
@@ -39,17 +39,17 @@ bool state_store_parse(const char *text, size_t length, struct sky_world_state *
                revision->valuedouble != floor(revision->valuedouble)) {
         snprintf(msg, msglen, "/revision: expected an integer in [0, 2^53 - 1]");
     } else {
-        struct sky_world_state state;
-        struct sky_field_errors errors;
-        sky_world_state_defaults(&state);
+        struct proto_world_state state;
+        struct proto_field_errors errors;
+        proto_world_state_defaults(&state);
         state.revision = (uint64_t)revision->valuedouble;
         cJSON_DeleteItemFromObjectCaseSensitive(root, "revision");
-        if (sky_world_state_apply_json(&state, root, &errors)) {
+        if (proto_world_state_apply_json(&state, root, &errors)) {
             *out = state;
             ok = true;
         } else {
             char detail[512];
-            sky_field_errors_format(&errors, detail, sizeof detail);
+            proto_field_errors_format(&errors, detail, sizeof detail);
             snprintf(msg, msglen, "invalid state: %s", detail);
         }
     }
@@ -96,8 +96,8 @@ void state_store_remove_temporaries(const char *path)
     free(copy);
 }
 
-enum state_load_result state_store_load(const char *path, struct sky_world_state *state, char *msg,
-                                        size_t msglen)
+enum state_load_result state_store_load(const char *path, struct proto_world_state *state,
+                                        char *msg, size_t msglen)
 {
     char stem[4096];
     state_store_remove_temporaries(path);
@@ -230,10 +230,10 @@ int state_store_write_file(const char *path, const void *data, size_t length, mo
     return rc;
 }
 
-int state_store_save(const char *path, const struct sky_world_state *state, char *err,
+int state_store_save(const char *path, const struct proto_world_state *state, char *err,
                      size_t errlen)
 {
-    cJSON *json = sky_world_state_to_json(state);
+    cJSON *json = proto_world_state_to_json(state);
     char *text = json ? cJSON_Print(json) : NULL;
     cJSON_Delete(json);
     size_t length = text ? strlen(text) : 0;
@@ -271,7 +271,7 @@ void state_store_forecast_map_path(const char *state_path, char *out, size_t out
     map_path(state_path, "forecast-map", out, outlen);
 }
 
-static int save_map(const char *path, const struct sky_weather_map *map, char *err, size_t errlen)
+static int save_map(const char *path, const struct proto_weather_map *map, char *err, size_t errlen)
 {
     if (!map || !map->rgba) {
         if (unlink(path) != 0 && errno != ENOENT) {
@@ -292,7 +292,7 @@ static int save_map(const char *path, const struct sky_weather_map *map, char *e
     return rc;
 }
 
-int state_store_save_weather_map(const char *state_path, const struct sky_weather_map *map,
+int state_store_save_weather_map(const char *state_path, const struct proto_weather_map *map,
                                  char *err, size_t errlen)
 {
     char path[4096];
@@ -300,7 +300,7 @@ int state_store_save_weather_map(const char *state_path, const struct sky_weathe
     return save_map(path, map, err, errlen);
 }
 
-int state_store_save_forecast_map(const char *state_path, const struct sky_weather_map *map,
+int state_store_save_forecast_map(const char *state_path, const struct proto_weather_map *map,
                                   char *err, size_t errlen)
 {
     char path[4096];
@@ -308,7 +308,7 @@ int state_store_save_forecast_map(const char *state_path, const struct sky_weath
     return save_map(path, map, err, errlen);
 }
 
-static enum state_load_result load_map(const char *path, struct sky_weather_map *map, char *msg,
+static enum state_load_result load_map(const char *path, struct proto_weather_map *map, char *msg,
                                        size_t msglen)
 {
     memset(map, 0, sizeof *map);
@@ -320,7 +320,7 @@ static enum state_load_result load_map(const char *path, struct sky_weather_map 
 }
 
 enum state_load_result state_store_load_weather_map(const char *state_path,
-                                                    struct sky_weather_map *map, char *msg,
+                                                    struct proto_weather_map *map, char *msg,
                                                     size_t msglen)
 {
     char path[4096];
@@ -329,7 +329,7 @@ enum state_load_result state_store_load_weather_map(const char *state_path,
 }
 
 enum state_load_result state_store_load_forecast_map(const char *state_path,
-                                                     struct sky_weather_map *map, char *msg,
+                                                     struct proto_weather_map *map, char *msg,
                                                      size_t msglen)
 {
     char path[4096];
@@ -338,7 +338,7 @@ enum state_load_result state_store_load_forecast_map(const char *state_path,
 }
 
 enum state_load_result state_store_read_weather_map(const char *path, size_t max_bytes,
-                                                    struct sky_weather_map *map, char *msg,
+                                                    struct proto_weather_map *map, char *msg,
                                                     size_t msglen)
 {
     memset(map, 0, sizeof *map);
@@ -349,8 +349,8 @@ enum state_load_result state_store_read_weather_map(const char *path, size_t max
         return STATE_LOAD_FAILED;
     }
     char reason[256];
-    bool ok = sky_weather_map_decode(SKY_WEATHER_MAP_PNG, (const uint8_t *)bytes, length, 0, 0, map,
-                                     reason, sizeof reason);
+    bool ok = proto_weather_map_decode(PROTO_WEATHER_MAP_PNG, (const uint8_t *)bytes, length, 0, 0,
+                                       map, reason, sizeof reason);
     free(bytes);
     if (!ok) {
         snprintf(msg, msglen, "%s: %s", path, reason);

@@ -18,16 +18,16 @@ enum state_load_result {
 };
 
 /* msg says what happened (the reason and where the file went) for anything but RESTORED. */
-enum state_load_result state_store_load(const char *path, struct sky_world_state *state, char *msg,
-                                        size_t msglen);
+enum state_load_result state_store_load(const char *path, struct proto_world_state *state,
+                                        char *msg, size_t msglen);
 
 /* A state's JSON text (as saved: the `state` tree plus "revision") onto a copy of the
  * defaults; false with a reason and *state untouched. The cluster's entries carry the same. */
-bool state_store_parse(const char *text, size_t length, struct sky_world_state *state, char *msg,
+bool state_store_parse(const char *text, size_t length, struct proto_world_state *state, char *msg,
                        size_t msglen);
 
 /* Creates missing parent directories. Returns 0, or -1 with a message. */
-int state_store_save(const char *path, const struct sky_world_state *state, char *err,
+int state_store_save(const char *path, const struct proto_world_state *state, char *err,
                      size_t errlen);
 
 /* Writes length bytes to path as the state is written: a temporary "<path>.tmp<pid>" made
@@ -45,28 +45,28 @@ void state_store_weather_map_path(const char *state_path, char *out, size_t outl
 
 /* Writes the map atomically like the state; NULL (or no texels) removes the file. Returns 0,
  * or -1 with a message. */
-int state_store_save_weather_map(const char *state_path, const struct sky_weather_map *map,
+int state_store_save_weather_map(const char *state_path, const struct proto_weather_map *map,
                                  char *err, size_t errlen);
 
-/* RESTORED fills *map (free it with sky_weather_map_free); ABSENT, CORRUPT (not a usable PNG;
+/* RESTORED fills *map (free it with proto_weather_map_free); ABSENT, CORRUPT (not a usable PNG;
  * the file is left where it is) and FAILED (unreadable) leave it empty, with msg saying why. */
 enum state_load_result state_store_load_weather_map(const char *state_path,
-                                                    struct sky_weather_map *map, char *msg,
+                                                    struct proto_weather_map *map, char *msg,
                                                     size_t msglen);
 
 /* The followed forecast's map (weather.map_source "forecast") beside it too, as
  * "var/skyd-state.forecast-map.png": saved and loaded like the client's. */
 void state_store_forecast_map_path(const char *state_path, char *out, size_t outlen);
-int state_store_save_forecast_map(const char *state_path, const struct sky_weather_map *map,
+int state_store_save_forecast_map(const char *state_path, const struct proto_weather_map *map,
                                   char *err, size_t errlen);
 enum state_load_result state_store_load_forecast_map(const char *state_path,
-                                                     struct sky_weather_map *map, char *msg,
+                                                     struct proto_weather_map *map, char *msg,
                                                      size_t msglen);
 
 /* A weather map PNG of at most max_bytes at `path` (the state's, or one given to skyd render):
  * RESTORED, CORRUPT (not a usable map) or FAILED (unreadable), with msg saying why. */
 enum state_load_result state_store_read_weather_map(const char *path, size_t max_bytes,
-                                                    struct sky_weather_map *map, char *msg,
+                                                    struct proto_weather_map *map, char *msg,
                                                     size_t msglen);
 
 #endif

@@ -7,12 +7,12 @@
 #include "json_guard.h"
 #include "state_store.h"
 
-char *world_codec_state_text(const struct sky_world_state *state)
+char *world_codec_state_text(const struct proto_world_state *state)
 {
-    return sky_world_state_to_text(state);
+    return proto_world_state_to_text(state);
 }
 
-bool world_codec_parse_state(const char *text, struct sky_world_state *state, char *why,
+bool world_codec_parse_state(const char *text, struct proto_world_state *state, char *why,
                              size_t whylen)
 {
     json_guard_lock();
@@ -32,7 +32,7 @@ static uint32_t get_u32(const unsigned char *at)
     return (uint32_t)at[0] | (uint32_t)at[1] << 8 | (uint32_t)at[2] << 16 | (uint32_t)at[3] << 24;
 }
 
-unsigned char *world_codec_map_bytes(const struct sky_weather_map *map, size_t *length)
+unsigned char *world_codec_map_bytes(const struct proto_weather_map *map, size_t *length)
 {
     size_t texels = (size_t)map->width * map->height * 4;
     unsigned char *bytes = map->rgba ? malloc(8 + texels) : NULL;
@@ -45,7 +45,7 @@ unsigned char *world_codec_map_bytes(const struct sky_weather_map *map, size_t *
     return bytes;
 }
 
-bool world_codec_parse_map(const unsigned char *bytes, size_t length, struct sky_weather_map *map)
+bool world_codec_parse_map(const unsigned char *bytes, size_t length, struct proto_weather_map *map)
 {
     memset(map, 0, sizeof *map);
     if (length < 8)
@@ -54,8 +54,8 @@ bool world_codec_parse_map(const unsigned char *bytes, size_t length, struct sky
     if (width == 0 || height == 0 || width > 16384 || height > 16384 ||
         (size_t)width * height * 4 != length - 8)
         return false;
-    struct sky_weather_map view = { .width = width,
-                                    .height = height,
-                                    .rgba = (uint8_t *)(bytes + 8) };
-    return sky_weather_map_copy(&view, map);
+    struct proto_weather_map view = { .width = width,
+                                      .height = height,
+                                      .rgba = (uint8_t *)(bytes + 8) };
+    return proto_weather_map_copy(&view, map);
 }

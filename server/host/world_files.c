@@ -3,8 +3,8 @@
 #include "log.h"
 #include "state_store.h"
 
-void world_files_resume_state(const char *state_file, const struct sky_world_state *configured,
-                              struct sky_world_state *state)
+void world_files_resume_state(const char *state_file, const struct proto_world_state *configured,
+                              struct proto_world_state *state)
 {
     *state = *configured;
     if (!state_file[0])
@@ -25,7 +25,7 @@ void world_files_resume_state(const char *state_file, const struct sky_world_sta
     }
 }
 
-bool world_files_read_weather_map(const char *path, size_t max_bytes, struct sky_weather_map *map,
+bool world_files_read_weather_map(const char *path, size_t max_bytes, struct proto_weather_map *map,
                                   char *msg, size_t msglen)
 {
     return state_store_read_weather_map(path, max_bytes, map, msg, msglen) == STATE_LOAD_RESTORED;

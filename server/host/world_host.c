@@ -23,22 +23,22 @@ enum { MAX_CHANGED = 192 };
  * it (world_host_undo_commit). */
 struct world_undo {
     bool valid;
-    struct sky_world_state state, announced;
+    struct proto_world_state state, announced;
     struct sky_render_atmosphere atmosphere;
     bool atmosphere_pending;
     uint64_t settled_revision;
     bool map_replaced;
-    struct sky_weather_map map;
+    struct proto_weather_map map;
     uint64_t map_generation;
 };
 
 struct world_host {
     char state_file[SKYD_CONFIG_STRING];
-    struct sky_world_state state;
-    struct sky_weather_map client_map;
+    struct proto_world_state state;
+    struct proto_weather_map client_map;
     /* The followed forecast's (weather.map_source "forecast"), and whether the file beside the
      * state is older than it. */
-    struct sky_weather_map forecast_map;
+    struct proto_weather_map forecast_map;
     bool forecast_map_dirty;
     uint64_t map_generation; /* counts the maps, client and forecast: 0 none yet */
     /* The render input of the live state; atmosphere is its frame atmosphere. */
@@ -56,14 +56,14 @@ struct world_host {
     double wall_s;            /* the wall instant the state was last brought to */
     struct wind_drift *drift; /* the wind's running sum for the live state */
     /* The state as clients last heard of it (events), and when a simulation event went. */
-    struct sky_world_state announced;
+    struct proto_world_state announced;
     double announced_at_s;
     /* A shared world: commits go to Redis; pending_map is the map set_weather_map commits. */
     struct cluster_store *cluster;
-    const struct sky_weather_map *pending_map;
+    const struct proto_weather_map *pending_map;
     /* The pointers a commit, an entry or a simulation event names (24 KiB, kept off the render
      * thread's stack); each fills and uses it within one call. */
-    char changed[MAX_CHANGED][SKY_MSG_POINTER_MAX];
+    char changed[MAX_CHANGED][PROTO_MSG_POINTER_MAX];
 };
 
 static void restore_weather_map(struct world_host *h);
@@ -95,7 +95,7 @@ struct world_host *world_host_create(const struct world_host_params *params)
     h->announced_at_s = params->now_s;
     h->cluster = params->cluster;
     if (h->cluster && params->client_map && params->client_map->rgba &&
-        !sky_weather_map_copy(params->client_map, &h->client_map)) {
+        !proto_weather_map_copy(params->client_map, &h->client_map)) {
         world_host_destroy(&h);
         return NULL;
     }
@@ -110,15 +110,15 @@ void world_host_destroy(struct world_host **host)
     struct world_host *h = host ? *host : NULL;
     if (!h)
         return;
-    sky_weather_map_free(&h->client_map);
-    sky_weather_map_free(&h->forecast_map);
-    sky_weather_map_free(&h->undo.map);
+    proto_weather_map_free(&h->client_map);
+    proto_weather_map_free(&h->forecast_map);
+    proto_weather_map_free(&h->undo.map);
     wind_drift_destroy(&h->drift);
     free(h);
     *host = NULL;
 }
 
-const struct sky_world_state *world_host_state(const struct world_host *h)
+const struct proto_world_state *world_host_state(const struct world_host *h)
 {
     return &h->state;
 }
@@ -141,7 +141,7 @@ static void save_forecast_map(struct world_host *h)
 
 /* Writes `state` before anything acknowledges it, so that a restart, even after kill -9, comes
  * back to the last acknowledged state (disk full, a read-only or vanished directory: false). */
-static bool persist(struct world_host *h, const struct sky_world_state *state, char *why,
+static bool persist(struct world_host *h, const struct proto_world_state *state, char *why,
                     size_t whylen)
 {
     if (!h->state_file[0])
@@ -170,7 +170,7 @@ static void unpersist(struct world_host *h)
 
 /* A shared world: the change goes to Redis, checked against the revision it was made from;
  * with the changed pointers ('\n' between them) and the map being set, if any. */
-static bool commit_to_cluster(struct world_host *h, const struct sky_world_state *next,
+static bool commit_to_cluster(struct world_host *h, const struct proto_world_state *next,
                               const char *const *pointers, size_t count, const char *by,
                               struct world_commit *out)
 {
@@ -228,7 +228,7 @@ static void finish_input(struct world_host *h)
     h->input.atmosphere_at_once = !h->watched;
     h->input.atmosphere_pending = h->atmosphere_pending;
     h->input.settled_revision = h->atmosphere_pending ? h->settled_revision : h->state.revision;
-    bool forecast = h->state.weather.map_source == SKY_WEATHER_MAP_FORECAST;
+    bool forecast = h->state.weather.map_source == PROTO_WEATHER_MAP_FORECAST;
     h->input.client_map = forecast ? &h->forecast_map : &h->client_map;
     /* Another map, or the other one selected: the renderer takes it. */
     h->input.map_generation = h->map_generation * 2 + (forecast ? 1 : 0);
@@ -247,14 +247,14 @@ static void refresh_input(struct world_host *h, bool adopt)
 
 static void drop_undo(struct world_host *h)
 {
-    sky_weather_map_free(&h->undo.map);
+    proto_weather_map_free(&h->undo.map);
     h->undo.valid = h->undo.map_replaced = false;
 }
 
 /* `next` (settled, with its revision) becomes the live state: its render input is made, and
  * the event names `pointers`. What it replaces is kept for world_host_undo_commit. */
-static void install(struct world_host *h, struct sky_world_state *next, const char *const *pointers,
-                    size_t count, const char *by, char **event)
+static void install(struct world_host *h, struct proto_world_state *next,
+                    const char *const *pointers, size_t count, const char *by, char **event)
 {
     drop_undo(h);
     h->undo = (struct world_undo){ .valid = true,
@@ -273,25 +273,25 @@ static void install(struct world_host *h, struct sky_world_state *next, const ch
         h->atmosphere_pending = true;
     h->atmosphere = h->input.atmosphere; /* a client's change is shown at once */
     finish_input(h);
-    *event = sky_msg_build_state_changed(h->state.revision, pointers, count, &h->state, by);
+    *event = proto_msg_build_state_changed(h->state.revision, pointers, count, &h->state, by);
 }
 
-bool world_host_commit(struct world_host *h, struct sky_world_state *next, const char *also_changed,
-                       const char *by, struct world_commit *out)
+bool world_host_commit(struct world_host *h, struct proto_world_state *next,
+                       const char *also_changed, const char *by, struct world_commit *out)
 {
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
     /* The forecast's map goes with following it: whatever stops that (a client's weather, a
      * preset, an observation) brings the procedural map back, the client's kept for later. */
-    if (next->weather.source != SKY_WEATHER_SOURCE_FORECAST &&
-        next->weather.map_source == SKY_WEATHER_MAP_FORECAST)
-        next->weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+    if (next->weather.source != PROTO_WEATHER_SOURCE_FORECAST &&
+        next->weather.map_source == PROTO_WEATHER_MAP_FORECAST)
+        next->weather.map_source = PROTO_WEATHER_MAP_PROCEDURAL;
     world_sim_commit(&h->state, next, h->wall_s, h->drift);
-    size_t count = sky_msg_state_diff(&h->state, next, h->changed, MAX_CHANGED - 1);
+    size_t count = proto_msg_state_diff(&h->state, next, h->changed, MAX_CHANGED - 1);
     if (count > MAX_CHANGED - 1)
         count = MAX_CHANGED - 1;
     if (also_changed)
-        snprintf(h->changed[count++], SKY_MSG_POINTER_MAX, "%s", also_changed);
+        snprintf(h->changed[count++], PROTO_MSG_POINTER_MAX, "%s", also_changed);
     if (count == 0)
         return true;
     const char *pointers[MAX_CHANGED];
@@ -331,7 +331,7 @@ bool world_host_undo_commit(struct world_host *h, const char *why, struct world_
         if (h->state_file[0] &&
             state_store_save_weather_map(h->state_file, &u->map, err, sizeof err) != 0)
             skyd_log(SKYD_LOG_ERROR, "cannot restore the saved weather map: %s", err);
-        sky_weather_map_free(&h->client_map);
+        proto_weather_map_free(&h->client_map);
         h->client_map = u->map;
         h->map_generation = u->map_generation;
         memset(&u->map, 0, sizeof u->map);
@@ -351,13 +351,13 @@ bool world_host_undo_commit(struct world_host *h, const char *why, struct world_
 /* An entry's map becomes the client map; false when it is not a map. */
 static bool adopt_map(struct world_host *h, const struct cluster_entry *e)
 {
-    struct sky_weather_map map;
+    struct proto_weather_map map;
     if (!world_codec_parse_map(e->map, e->map_length, &map)) {
         skyd_log(SKYD_LOG_ERROR, "cluster revision %llu carries a weather map that cannot be read",
                  (unsigned long long)e->revision);
         return false;
     }
-    sky_weather_map_free(&h->client_map);
+    proto_weather_map_free(&h->client_map);
     h->client_map = map;
     h->map_generation++;
     return true;
@@ -368,7 +368,7 @@ bool world_host_apply_entry(struct world_host *h, const struct cluster_entry *e,
     *event = NULL;
     if (e->revision <= h->state.revision && !(e->snapshot && e->revision < h->state.revision))
         return true;
-    struct sky_world_state next;
+    struct proto_world_state next;
     char why[512];
     if (!world_codec_parse_state(e->state, &next, why, sizeof why)) {
         skyd_log(SKYD_LOG_ERROR, "cluster revision %llu cannot be read: %s",
@@ -387,15 +387,15 @@ bool world_host_apply_entry(struct world_host *h, const struct cluster_entry *e,
     bool map_changed = e->map && adopt_map(h, e);
     size_t count = 0;
     if (e->snapshot) {
-        count = sky_msg_state_diff(&h->state, &next, h->changed, MAX_CHANGED - 1);
+        count = proto_msg_state_diff(&h->state, &next, h->changed, MAX_CHANGED - 1);
         if (count > MAX_CHANGED - 1)
             count = MAX_CHANGED - 1;
         if (map_changed)
-            snprintf(h->changed[count++], SKY_MSG_POINTER_MAX, "/weather/map");
+            snprintf(h->changed[count++], PROTO_MSG_POINTER_MAX, "/weather/map");
     } else {
         for (const char *p = e->changed; *p && count < MAX_CHANGED;) {
             size_t length = strcspn(p, "\n");
-            if (length > 0 && length < SKY_MSG_POINTER_MAX) {
+            if (length > 0 && length < PROTO_MSG_POINTER_MAX) {
                 memcpy(h->changed[count], p, length);
                 h->changed[count++][length] = '\0';
             }
@@ -409,30 +409,30 @@ bool world_host_apply_entry(struct world_host *h, const struct cluster_entry *e,
     return true;
 }
 
-bool world_host_client_map_missing(const struct world_host *h, const struct sky_world_state *next,
-                                   struct sky_field_errors *errors)
+bool world_host_client_map_missing(const struct world_host *h, const struct proto_world_state *next,
+                                   struct proto_field_errors *errors)
 {
     const char *why = NULL;
-    if (next->weather.map_source == SKY_WEATHER_MAP_CLIENT && !h->client_map.rgba)
+    if (next->weather.map_source == PROTO_WEATHER_MAP_CLIENT && !h->client_map.rgba)
         why = "no client weather map has been sent: send set_weather_map first";
-    else if (next->weather.map_source == SKY_WEATHER_MAP_FORECAST &&
-             h->state.weather.map_source != SKY_WEATHER_MAP_FORECAST &&
-             next->weather.source != SKY_WEATHER_SOURCE_FORECAST)
+    else if (next->weather.map_source == PROTO_WEATHER_MAP_FORECAST &&
+             h->state.weather.map_source != PROTO_WEATHER_MAP_FORECAST &&
+             next->weather.source != PROTO_WEATHER_SOURCE_FORECAST)
         why = "the forecast's weather map goes with following it: set weather.source "
               "\"forecast\" too";
     if (!why)
         return false;
-    sky_field_errors_clear(errors);
-    sky_field_errors_add(errors, SKY_FIELD_INCONSISTENT, "/weather/map_source", why);
+    proto_field_errors_clear(errors);
+    proto_field_errors_add(errors, PROTO_FIELD_INCONSISTENT, "/weather/map_source", why);
     return true;
 }
 
-bool world_host_set_forecast_map(struct world_host *h, const struct sky_weather_map *map)
+bool world_host_set_forecast_map(struct world_host *h, const struct proto_weather_map *map)
 {
-    struct sky_weather_map kept;
-    if (!sky_weather_map_copy(map, &kept))
+    struct proto_weather_map kept;
+    if (!proto_weather_map_copy(map, &kept))
         return false;
-    sky_weather_map_free(&h->forecast_map);
+    proto_weather_map_free(&h->forecast_map);
     h->forecast_map = kept;
     h->forecast_map_dirty = true;
     h->sim_dirty = true; /* written with the state at its next save */
@@ -441,13 +441,13 @@ bool world_host_set_forecast_map(struct world_host *h, const struct sky_weather_
     return true;
 }
 
-bool world_host_set_weather_map(struct world_host *h, const struct sky_weather_map *map,
+bool world_host_set_weather_map(struct world_host *h, const struct proto_weather_map *map,
                                 const char *by, struct world_commit *out)
 {
     memset(out, 0, sizeof *out);
     out->revision = h->state.revision;
-    struct sky_weather_map kept;
-    if (!sky_weather_map_copy(map, &kept)) {
+    struct proto_weather_map kept;
+    if (!proto_weather_map_copy(map, &kept)) {
         snprintf(out->error, sizeof out->error,
                  "out of memory for the weather map; the state is unchanged");
         return false;
@@ -458,15 +458,15 @@ bool world_host_set_weather_map(struct world_host *h, const struct sky_weather_m
         skyd_log(SKYD_LOG_ERROR, "cannot save the weather map: %s", err);
         snprintf(out->error, sizeof out->error,
                  "the weather map cannot be saved (%s); the state is unchanged", err);
-        sky_weather_map_free(&kept);
+        proto_weather_map_free(&kept);
         return false;
     }
-    struct sky_weather_map old = h->client_map;
+    struct proto_weather_map old = h->client_map;
     uint64_t old_generation = h->map_generation;
     h->client_map = kept;
     h->map_generation++;
-    struct sky_world_state next = h->state;
-    next.weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    struct proto_world_state next = h->state;
+    next.weather.map_source = PROTO_WEATHER_MAP_CLIENT;
     h->pending_map = map;
     bool committed = world_host_commit(h, &next, "/weather/map", by, out);
     h->pending_map = NULL;
@@ -474,7 +474,7 @@ bool world_host_set_weather_map(struct world_host *h, const struct sky_weather_m
         /* The state was not saved: the old map goes back on disk and to the input. */
         if (h->state_file[0])
             state_store_save_weather_map(h->state_file, &old, err, sizeof err);
-        sky_weather_map_free(&h->client_map);
+        proto_weather_map_free(&h->client_map);
         h->client_map = old;
         h->map_generation = old_generation;
         finish_input(h);
@@ -504,10 +504,10 @@ static void restore_weather_map(struct world_host *h)
         skyd_log(SKYD_LOG_INFO, "restored the client weather map (%ux%u)", h->client_map.width,
                  h->client_map.height);
         h->map_generation++;
-    } else if (h->state.weather.map_source == SKY_WEATHER_MAP_CLIENT) {
+    } else if (h->state.weather.map_source == PROTO_WEATHER_MAP_CLIENT) {
         skyd_log(SKYD_LOG_WARNING, "%s; weather.map_source is procedural",
                  h->state_file[0] ? msg : "no state file keeps a client weather map");
-        h->state.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+        h->state.weather.map_source = PROTO_WEATHER_MAP_PROCEDURAL;
         h->dirty = true;
     } else if (result != STATE_LOAD_ABSENT) {
         skyd_log(SKYD_LOG_WARNING, "%s", msg);
@@ -518,10 +518,10 @@ static void restore_weather_map(struct world_host *h)
  * renderer keeps to the procedural map until the feed makes the forecast's. */
 static void restore_forecast_map(struct world_host *h)
 {
-    if (h->state.weather.map_source != SKY_WEATHER_MAP_FORECAST)
+    if (h->state.weather.map_source != PROTO_WEATHER_MAP_FORECAST)
         return;
-    if (h->state.weather.source != SKY_WEATHER_SOURCE_FORECAST) {
-        h->state.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+    if (h->state.weather.source != PROTO_WEATHER_SOURCE_FORECAST) {
+        h->state.weather.map_source = PROTO_WEATHER_MAP_PROCEDURAL;
         h->dirty = true;
         return;
     }
@@ -539,7 +539,7 @@ void world_host_advance(struct world_host *h, double wall_s, bool watched, bool 
     h->wall_s = wall_s;
     h->watched = watched;
     drop_undo(h);
-    struct sky_world_state before;
+    struct proto_world_state before;
     memcpy(&before, &h->state, sizeof before);
     world_sim_run_to(&h->state, wall_s, h->drift);
     if (memcmp(&before, &h->state, sizeof before) != 0)
@@ -551,7 +551,7 @@ char *world_host_simulation_event(struct world_host *h, double now_s, double per
 {
     if (now_s - h->announced_at_s < period_s)
         return NULL;
-    size_t count = sky_msg_state_diff(&h->announced, &h->state, h->changed, MAX_CHANGED);
+    size_t count = proto_msg_state_diff(&h->announced, &h->state, h->changed, MAX_CHANGED);
     if (count == 0)
         return NULL;
     if (count > MAX_CHANGED)
@@ -559,7 +559,7 @@ char *world_host_simulation_event(struct world_host *h, double now_s, double per
     const char *pointers[MAX_CHANGED];
     for (size_t i = 0; i < count; i++)
         pointers[i] = h->changed[i];
-    char *event = sky_msg_build_simulation_event(h->state.revision, pointers, count, &h->state);
+    char *event = proto_msg_build_simulation_event(h->state.revision, pointers, count, &h->state);
     if (event) {
         h->announced = h->state;
         h->announced_at_s = now_s;

@@ -17,7 +17,7 @@
 
 struct world_host_params {
     const char *state_file; /* "" or NULL: no persistence */
-    struct sky_world_state initial_state;
+    struct proto_world_state initial_state;
     double save_delay_s; /* a failed write is tried again after this */
     double now_s;        /* CLOCK_MONOTONIC seconds at start (save schedule) */
     double wall_s;       /* CLOCK_REALTIME seconds at start: the clock is brought there */
@@ -25,7 +25,7 @@ struct world_host_params {
      * file (then ""), and the world's client weather map at start is `client_map`. NULL: the
      * state file. Borrowed: it outlives the host. */
     struct cluster_store *cluster;
-    const struct sky_weather_map *client_map;
+    const struct proto_weather_map *client_map;
 };
 
 struct world_host;
@@ -36,7 +36,7 @@ struct world_host;
 struct world_host *world_host_create(const struct world_host_params *params);
 void world_host_destroy(struct world_host **host);
 
-const struct sky_world_state *world_host_state(const struct world_host *host);
+const struct proto_world_state *world_host_state(const struct world_host *host);
 /* The live state's render input: its frame atmosphere is a client's change at once, the
  * simulation's haze once frames show the previous one (or at once, nobody watching); it
  * holds the client weather map. Valid until the next verb. */
@@ -67,7 +67,7 @@ struct world_commit {
  * given the next revision, a new render input (out->input) and announced: the event carries
  * the changed fields' new values and `by`, who changed them. false with out->error and
  * nothing changed when the disk or Redis refuses it. */
-bool world_host_commit(struct world_host *host, struct sky_world_state *next,
+bool world_host_commit(struct world_host *host, struct proto_world_state *next,
                        const char *also_changed, const char *by, struct world_commit *out);
 
 /* The renderer could not take the last commit's input (`why`): the state, the client weather
@@ -87,14 +87,14 @@ bool world_host_apply_entry(struct world_host *host, const struct cluster_entry 
 /* Whether `next` samples the client weather map when there is none, or the forecast's while
  * not following a forecast (errors filled). */
 bool world_host_client_map_missing(const struct world_host *host,
-                                   const struct sky_world_state *next,
-                                   struct sky_field_errors *errors);
+                                   const struct proto_world_state *next,
+                                   struct proto_field_errors *errors);
 
 /* A client weather map: written to disk, then made the client map and selected by the state
  * (weather.map_source "client") in one revision whose event names "/weather/map", its render
  * input holding the map. false with out->error and the disk and the state as they were when
  * a step fails; world_host_undo_commit puts the old map back too. */
-bool world_host_set_weather_map(struct world_host *host, const struct sky_weather_map *map,
+bool world_host_set_weather_map(struct world_host *host, const struct proto_weather_map *map,
                                 const char *by, struct world_commit *out);
 
 /* The followed forecast's coverage grid as the map weather.map_source "forecast" selects
@@ -102,7 +102,7 @@ bool world_host_set_weather_map(struct world_host *host, const struct sky_weathe
  * forecast's time like the simulation's weather), written beside the state at its next save
  * and restored at start. false when memory is out (the old map stays). A commit that stops
  * following the forecast brings weather.map_source "procedural" back. */
-bool world_host_set_forecast_map(struct world_host *host, const struct sky_weather_map *map);
+bool world_host_set_forecast_map(struct world_host *host, const struct proto_weather_map *map);
 
 /* A `simulation` event (malloc'd) when at least period_s passed since the last one and the
  * simulation moved fields since clients last heard of the state; NULL otherwise. */

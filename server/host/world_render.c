@@ -38,10 +38,10 @@ double world_humidity_fog_per_km(double humidity)
     return 3.912 * t * t * (3.0 - 2.0 * t);
 }
 
-void world_to_render_atmosphere(const struct sky_world_state *state,
+void world_to_render_atmosphere(const struct proto_world_state *state,
                                 struct sky_render_atmosphere *out)
 {
-    const struct sky_atmosphere_state *a = &state->atmosphere;
+    const struct proto_atmosphere_state *a = &state->atmosphere;
     memset(out, 0, sizeof *out);
     out->bottom_radius_km = a->bottom_radius_km;
     out->top_radius_km = a->top_radius_km;
@@ -62,31 +62,31 @@ void world_to_render_atmosphere(const struct sky_world_state *state,
     out->fog_scale_height_km = a->fog_scale_height_km;
 }
 
-static enum sky_render_limb limb_model(enum sky_limb_darkening model)
+static enum sky_render_limb limb_model(enum proto_limb_darkening model)
 {
     switch (model) {
-    case SKY_LIMB_DARKENING_NECKEL96:
+    case PROTO_LIMB_DARKENING_NECKEL96:
         return SKY_RENDER_LIMB_NECKEL96;
-    case SKY_LIMB_DARKENING_HM98:
+    case PROTO_LIMB_DARKENING_HM98:
         return SKY_RENDER_LIMB_HM98;
     default:
         return SKY_RENDER_LIMB_NONE;
     }
 }
 
-static enum sky_render_tonemap tonemap_op(enum sky_tonemap tonemap)
+static enum sky_render_tonemap tonemap_op(enum proto_tonemap tonemap)
 {
     switch (tonemap) {
-    case SKY_TONEMAP_REINHARD:
+    case PROTO_TONEMAP_REINHARD:
         return SKY_RENDER_TONEMAP_REINHARD;
-    case SKY_TONEMAP_CLAMP:
+    case PROTO_TONEMAP_CLAMP:
         return SKY_RENDER_TONEMAP_CLAMP;
     default:
         return SKY_RENDER_TONEMAP_ACES;
     }
 }
 
-void world_to_render_view(const struct sky_world_state *state, uint32_t width, uint32_t height,
+void world_to_render_view(const struct proto_world_state *state, uint32_t width, uint32_t height,
                           enum sky_render_output_kind output, struct sky_render_view *out)
 {
     memset(out, 0, sizeof *out);
@@ -101,8 +101,8 @@ void world_to_render_view(const struct sky_world_state *state, uint32_t width, u
     out->sun_illuminance_lux = state->sun.illuminance_lux;
     out->sun_angular_diameter_deg = state->sun.angular_diameter_deg;
     out->limb_darkening = limb_model(state->sun.limb_darkening);
-    out->auto_exposure = state->exposure.mode == SKY_EXPOSURE_AUTO;
-    out->night_adaptation = state->exposure.night_adaptation == SKY_SWITCH_ON;
+    out->auto_exposure = state->exposure.mode == PROTO_EXPOSURE_AUTO;
+    out->night_adaptation = state->exposure.night_adaptation == PROTO_SWITCH_ON;
     out->ev100 = state->exposure.ev100;
     out->exposure_compensation_ev = state->exposure.compensation_ev;
     out->tonemap = tonemap_op(state->exposure.tonemap);
@@ -110,9 +110,9 @@ void world_to_render_view(const struct sky_world_state *state, uint32_t width, u
     out->output = output;
 }
 
-void world_to_lut_sizes(const struct sky_world_state *state, struct sky_render_lut_sizes *out)
+void world_to_lut_sizes(const struct proto_world_state *state, struct sky_render_lut_sizes *out)
 {
-    const struct sky_render_settings *r = &state->render;
+    const struct proto_render_settings *r = &state->render;
     for (int i = 0; i < 2; i++) {
         out->transmittance[i] = (uint32_t)r->transmittance_lut[i];
         out->multiscattering[i] = (uint32_t)r->multiscattering_lut[i];
@@ -122,7 +122,7 @@ void world_to_lut_sizes(const struct sky_world_state *state, struct sky_render_l
         out->aerial_perspective[i] = (uint32_t)r->aerial_perspective_lut[i];
 }
 
-static void layer(const struct sky_cloud_layer_state *in, struct sky_render_cloud_layer *out)
+static void layer(const struct proto_cloud_layer_state *in, struct sky_render_cloud_layer *out)
 {
     out->coverage = in->coverage;
     out->type = in->type;
@@ -131,10 +131,10 @@ static void layer(const struct sky_cloud_layer_state *in, struct sky_render_clou
     out->thickness_km = in->thickness_km;
 }
 
-void world_to_render_clouds(const struct sky_world_state *state, struct sky_render_clouds *out)
+void world_to_render_clouds(const struct proto_world_state *state, struct sky_render_clouds *out)
 {
-    const struct sky_cloud_state *c = &state->clouds;
-    const struct sky_weather_state *w = &state->weather;
+    const struct proto_cloud_state *c = &state->clouds;
+    const struct proto_weather_state *w = &state->weather;
     memset(out, 0, sizeof *out);
     layer(&c->low, &out->low);
     layer(&c->mid, &out->mid);
@@ -155,26 +155,26 @@ void world_to_render_clouds(const struct sky_world_state *state, struct sky_rend
     out->primary_steps = c->primary_steps;
     out->light_steps = c->light_steps;
     switch (c->resolution) {
-    case SKY_CLOUD_RESOLUTION_FULL:
+    case PROTO_CLOUD_RESOLUTION_FULL:
         out->resolution = SKY_RENDER_CLOUDS_FULL;
         break;
-    case SKY_CLOUD_RESOLUTION_QUARTER:
+    case PROTO_CLOUD_RESOLUTION_QUARTER:
         out->resolution = SKY_RENDER_CLOUDS_QUARTER;
         break;
-    case SKY_CLOUD_RESOLUTION_SIXTEENTH:
+    case PROTO_CLOUD_RESOLUTION_SIXTEENTH:
         out->resolution = SKY_RENDER_CLOUDS_SIXTEENTH;
         break;
     default:
         out->resolution = SKY_RENDER_CLOUDS_SIXTYFOURTH;
         break;
     }
-    out->temporal = c->temporal == SKY_SWITCH_ON;
+    out->temporal = c->temporal == PROTO_SWITCH_ON;
     out->wind_offset_east_km = w->offset_east_km;
     out->wind_offset_north_km = w->offset_north_km;
     out->weather_seed = (uint32_t)w->seed;
     out->map_extent_km = w->map_extent_km;
-    out->use_client_map = w->map_source != SKY_WEATHER_MAP_PROCEDURAL;
-    out->client_map_drives_procedural = w->map_source == SKY_WEATHER_MAP_FORECAST;
+    out->use_client_map = w->map_source != PROTO_WEATHER_MAP_PROCEDURAL;
+    out->client_map_drives_procedural = w->map_source == PROTO_WEATHER_MAP_FORECAST;
 }
 
 /* ---- night sky ---- */
@@ -190,7 +190,7 @@ static void matmul3(const double a[3][3], const double b[3][3], double out[3][3]
  * P = Rz(-z) Ry(theta) Rz(-zeta) acting on column vectors. */
 static void precession_matrix(double unix_seconds, double p[3][3])
 {
-    double t = (sky_julian_day(unix_seconds) - 2451545.0) / 36525.0;
+    double t = (world_julian_day(unix_seconds) - 2451545.0) / 36525.0;
     double zeta = (2306.2181 * t + 0.30188 * t * t + 0.017998 * t * t * t) / 3600.0 * DEG;
     double z = (2306.2181 * t + 1.09468 * t * t + 0.018203 * t * t * t) / 3600.0 * DEG;
     double theta = (2004.3109 * t - 0.42665 * t * t - 0.041833 * t * t * t) / 3600.0 * DEG;
@@ -212,7 +212,7 @@ void world_star_rotation(double unix_seconds, double latitude_deg, double longit
 {
     /* Equatorial of date -> east/north/up through the local sidereal time (the hour angle is
      * LST - RA; Meeus 13.5-13.6 written as a rotation). */
-    double lst = sky_local_sidereal_time_deg(unix_seconds, longitude_deg) * DEG;
+    double lst = world_local_sidereal_time_deg(unix_seconds, longitude_deg) * DEG;
     double phi = latitude_deg * DEG;
     double sl = sin(lst), cl = cos(lst), sp = sin(phi), cp = cos(phi);
     const double local[3][3] = {
@@ -236,10 +236,10 @@ double world_moon_phase_angle_deg(const double sun[3], const double moon[3],
            DEG;
 }
 
-void world_to_render_night(const struct sky_world_state *state, struct sky_render_night *out)
+void world_to_render_night(const struct proto_world_state *state, struct sky_render_night *out)
 {
     memset(out, 0, sizeof *out);
-    const struct sky_moon_state *moon = &state->moon;
+    const struct proto_moon_state *moon = &state->moon;
     out->moon_azimuth_deg = moon->azimuth_deg;
     out->moon_elevation_deg = moon->elevation_deg;
     out->moon_angular_diameter_deg = moon->angular_diameter_deg;
@@ -249,7 +249,7 @@ void world_to_render_night(const struct sky_world_state *state, struct sky_rende
         sky_direction_from_angles(moon->azimuth_deg, moon->elevation_deg, moon_dir);
         double distance = MOON_RADIUS_KM / sin(0.5 * moon->angular_diameter_deg * DEG);
         double phase = world_moon_phase_angle_deg(sun_dir, moon_dir, distance);
-        out->moon_illuminance_lux = sky_moon_illuminance_lux(phase, distance);
+        out->moon_illuminance_lux = world_moon_illuminance_lux(phase, distance);
     }
     world_star_rotation(state->clock.utc_unix_s, state->location.latitude_deg,
                         state->location.longitude_deg, out->star_rotation);
@@ -257,7 +257,7 @@ void world_to_render_night(const struct sky_world_state *state, struct sky_rende
     out->airglow_luminance_cd_m2 = state->night.airglow_luminance_cd_m2;
 }
 
-void world_render_input(const struct sky_world_state *state, struct render_input *out)
+void world_render_input(const struct proto_world_state *state, struct render_input *out)
 {
     memset(out, 0, sizeof *out);
     out->state = *state;
@@ -269,16 +269,16 @@ void world_render_input(const struct sky_world_state *state, struct render_input
     world_to_lut_sizes(state, &out->lut_sizes);
 }
 
-void world_render_view(const struct render_input *input, const struct sky_msg_view *view,
+void world_render_view(const struct render_input *input, const struct proto_msg_view *view,
                        struct sky_render_view *out)
 {
-    struct sky_world_state resolved = input->state;
-    sky_msg_view_resolve(view, &input->state, &resolved.camera, &resolved.exposure);
+    struct proto_world_state resolved = input->state;
+    proto_msg_view_resolve(view, &input->state, &resolved.camera, &resolved.exposure);
     world_to_render_view(&resolved, view->width, view->height,
-                         view->format == SKY_FRAME_FORMAT_PNG16 ? SKY_RENDER_OUTPUT_LINEAR
-                                                                : SKY_RENDER_OUTPUT_SRGB8,
+                         view->format == PROTO_FRAME_FORMAT_PNG16 ? SKY_RENDER_OUTPUT_LINEAR
+                                                                  : SKY_RENDER_OUTPUT_SRGB8,
                          out);
-    out->projection = view->projection == SKY_VIEW_PROJECTION_EQUIRECTANGULAR
+    out->projection = view->projection == PROTO_VIEW_PROJECTION_EQUIRECTANGULAR
                           ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
                           : SKY_RENDER_PROJECTION_PERSPECTIVE;
 }

@@ -63,7 +63,7 @@ struct rate_peer {
 
 struct http_api {
     struct live_settings *settings;
-    const struct sky_msg_limits *limits;
+    const struct proto_msg_limits *limits;
     struct session_hub *hub;
     struct render_loop *loop;
     struct service_metrics *metrics;
@@ -183,27 +183,27 @@ static void respond(struct http_request *r, unsigned status, const char *content
     lws_callback_on_writable(r->wsi);
 }
 
-static unsigned status_of_error(enum sky_msg_error_code code)
+static unsigned status_of_error(enum proto_msg_error_code code)
 {
     switch (code) {
-    case SKY_MSG_ERR_MALFORMED_JSON:
-    case SKY_MSG_ERR_INVALID_ENCODING:
-    case SKY_MSG_ERR_UNSUPPORTED_PROTOCOL:
+    case PROTO_MSG_ERR_MALFORMED_JSON:
+    case PROTO_MSG_ERR_INVALID_ENCODING:
+    case PROTO_MSG_ERR_UNSUPPORTED_PROTOCOL:
         return HTTP_STATUS_BAD_REQUEST;
-    case SKY_MSG_ERR_MESSAGE_TOO_LARGE:
+    case PROTO_MSG_ERR_MESSAGE_TOO_LARGE:
         return HTTP_STATUS_REQ_ENTITY_TOO_LARGE;
-    case SKY_MSG_ERR_AUTH_FAILED:
+    case PROTO_MSG_ERR_AUTH_FAILED:
         return HTTP_STATUS_UNAUTHORIZED;
-    case SKY_MSG_ERR_FORBIDDEN:
+    case PROTO_MSG_ERR_FORBIDDEN:
         return HTTP_STATUS_FORBIDDEN;
-    case SKY_MSG_ERR_NOT_FOUND:
+    case PROTO_MSG_ERR_NOT_FOUND:
         return HTTP_STATUS_NOT_FOUND;
-    case SKY_MSG_ERR_RATE_LIMITED:
-    case SKY_MSG_ERR_LIMIT_REACHED:
+    case PROTO_MSG_ERR_RATE_LIMITED:
+    case PROTO_MSG_ERR_LIMIT_REACHED:
         return 429;
-    case SKY_MSG_ERR_INTERNAL:
+    case PROTO_MSG_ERR_INTERNAL:
         return HTTP_STATUS_INTERNAL_SERVER_ERROR;
-    case SKY_MSG_ERR_UNAVAILABLE:
+    case PROTO_MSG_ERR_UNAVAILABLE:
         return HTTP_STATUS_SERVICE_UNAVAILABLE;
     default:
         return 422; /* the message was understood, its fields were not acceptable */
@@ -213,11 +213,11 @@ static unsigned status_of_error(enum sky_msg_error_code code)
 /* An error in the protocol's `error` shape, with `status`, or the status the code maps to
  * when status is 0. */
 static void respond_error(struct http_api *api, struct http_request *r, unsigned status,
-                          enum sky_msg_error_code code, const char *message,
-                          const struct sky_field_errors *fields)
+                          enum proto_msg_error_code code, const char *message,
+                          const struct proto_field_errors *fields)
 {
     json_guard_lock();
-    char *text = sky_msg_build_error(NULL, code, message, fields);
+    char *text = proto_msg_build_error(NULL, code, message, fields);
     json_guard_unlock();
     service_metrics_error(api->metrics, code);
     respond(r, status ? status : status_of_error(code), "application/json", text ? text : "{}",
@@ -242,7 +242,7 @@ static int write_response(struct http_api *api, struct http_request *r)
     uint8_t *body = (uint8_t *)(r->response ? r->response + LWS_PRE : NULL);
     size_t length = r->response_length;
     if (r->frame) {
-        body = encoded_frame_message(r->frame) + SKY_FRAME_HEADER_SIZE;
+        body = encoded_frame_message(r->frame) + PROTO_FRAME_HEADER_SIZE;
         length = encoded_frame_payload_length(r->frame);
     }
     if (lws_add_http_common_headers(r->wsi, r->status, r->content_type, length, &p, end))
@@ -290,7 +290,7 @@ static bool take_reply(struct http_api *api, struct http_request *r)
         if (out.kind == SESSION_OUTPUT_FRAME) {
             r->frame = encoded_frame_ref(out.frame);
             r->status = HTTP_STATUS_OK;
-            r->content_type = encoded_frame_meta(out.frame)->format == SKY_FRAME_FORMAT_JPEG
+            r->content_type = encoded_frame_meta(out.frame)->format == PROTO_FRAME_FORMAT_JPEG
                                   ? "image/jpeg"
                                   : "image/png";
             r->ready = true;
@@ -298,7 +298,7 @@ static bool take_reply(struct http_api *api, struct http_request *r)
             return true;
         }
         if (out.kind == SESSION_OUTPUT_CLOSE) {
-            respond_error(api, r, 0, SKY_MSG_ERR_INTERNAL, out.close_reason, NULL);
+            respond_error(api, r, 0, PROTO_MSG_ERR_INTERNAL, out.close_reason, NULL);
             session_output_release(&out);
             return true;
         }
@@ -315,12 +315,12 @@ static bool take_reply(struct http_api *api, struct http_request *r)
         }
         if (strcmp(kind, "error") == 0) {
             const cJSON *code = cJSON_GetObjectItemCaseSensitive(reply, "code");
-            enum sky_msg_error_code value =
+            enum proto_msg_error_code value =
                 cJSON_IsString(code)
-                    ? sky_msg_error_code_named(code->valuestring, strlen(code->valuestring))
-                    : SKY_MSG_OK;
-            if (value == SKY_MSG_OK)
-                value = SKY_MSG_ERR_INTERNAL;
+                    ? proto_msg_error_code_named(code->valuestring, strlen(code->valuestring))
+                    : PROTO_MSG_OK;
+            if (value == PROTO_MSG_OK)
+                value = PROTO_MSG_ERR_INTERNAL;
             respond_json(r, status_of_error(value), reply); /* counted where it was built */
         } else if (strcmp(kind, "ack") == 0) {
             cJSON *answer = cJSON_CreateObject();
@@ -356,34 +356,35 @@ void http_api_detach_loop(struct http_api *api)
     while (api->pending) {
         struct http_request *r = api->pending;
         forget_pending(api, r);
-        respond_error(api, r, HTTP_STATUS_SERVICE_UNAVAILABLE, SKY_MSG_ERR_INTERNAL,
+        respond_error(api, r, HTTP_STATUS_SERVICE_UNAVAILABLE, PROTO_MSG_ERR_INTERNAL,
                       "skyd is shutting down", NULL);
     }
 }
 
 /* Hands a parsed message to the render loop from the request's own session. */
-static void submit(struct http_api *api, struct http_request *r, struct sky_client_msg *msg,
-                   enum sky_msg_role role)
+static void submit(struct http_api *api, struct http_request *r, struct proto_client_msg *msg,
+                   enum proto_msg_role role)
 {
     service_metrics_message(api->metrics, msg->type);
     int cap = live_settings_max_queued_http(api->settings);
     if (api->pending_count >= cap) {
-        sky_client_msg_free(msg);
+        proto_client_msg_free(msg);
         char message[192];
         snprintf(message, sizeof message,
                  "too many HTTP requests are waiting for the render loop: at most %d "
                  "(limits.max_queued_http_requests); try again in %d s",
                  cap, QUEUE_RETRY_AFTER_S);
-        respond_error(api, r, HTTP_STATUS_SERVICE_UNAVAILABLE, SKY_MSG_ERR_UNAVAILABLE, message,
+        respond_error(api, r, HTTP_STATUS_SERVICE_UNAVAILABLE, PROTO_MSG_ERR_UNAVAILABLE, message,
                       NULL);
         r->retry_after_s = QUEUE_RETRY_AFTER_S;
         return;
     }
     r->session = session_create();
     if (!r->session || !api->loop) {
-        sky_client_msg_free(msg);
-        respond_error(api, r, api->loop ? 0 : HTTP_STATUS_SERVICE_UNAVAILABLE, SKY_MSG_ERR_INTERNAL,
-                      api->loop ? "out of memory" : "skyd is shutting down", NULL);
+        proto_client_msg_free(msg);
+        respond_error(api, r, api->loop ? 0 : HTTP_STATUS_SERVICE_UNAVAILABLE,
+                      PROTO_MSG_ERR_INTERNAL, api->loop ? "out of memory" : "skyd is shutting down",
+                      NULL);
         return;
     }
     session_set_transport(r->session, r->wsi);
@@ -401,22 +402,22 @@ static void submit(struct http_api *api, struct http_request *r, struct sky_clie
 /* Parses `json` (given the HTTP id) as a protocol message and hands it to the render loop from
  * the request's own session with `role`; a refusal becomes the response. */
 static void submit_json(struct http_api *api, struct http_request *r, cJSON *json,
-                        enum sky_msg_role role)
+                        enum proto_msg_role role)
 {
     /* A snapshot's image is announced to its id; the response drops it again. */
     cJSON_AddStringToObject(json, "id", HTTP_MESSAGE_ID);
     char *text = json ? cJSON_PrintUnformatted(json) : NULL;
     if (!text) {
-        respond_error(api, r, 0, SKY_MSG_ERR_INTERNAL, "out of memory", NULL);
+        respond_error(api, r, 0, PROTO_MSG_ERR_INTERNAL, "out of memory", NULL);
         return;
     }
-    struct sky_client_msg msg;
-    struct sky_msg_parse_error error;
+    struct proto_client_msg msg;
+    struct proto_msg_parse_error error;
     json_guard_lock();
-    enum sky_msg_error_code code = sky_msg_parse(text, strlen(text), api->limits, &msg, &error);
+    enum proto_msg_error_code code = proto_msg_parse(text, strlen(text), api->limits, &msg, &error);
     json_guard_unlock();
     free(text);
-    if (code != SKY_MSG_OK) {
+    if (code != PROTO_MSG_OK) {
         service_metrics_message(api->metrics, msg.type);
         if (protocol_message_needs_controller(msg.type)) {
             char peer[64] = "";
@@ -556,7 +557,7 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
     const char *change = r->endpoint == ENDPOINT_METAR ? "POST /api/weather/metar"
                                                        : "PATCH /api/state";
     if (r->endpoint == ENDPOINT_NONE) {
-        respond_error(api, r, HTTP_STATUS_NOT_FOUND, SKY_MSG_ERR_NOT_FOUND,
+        respond_error(api, r, HTTP_STATUS_NOT_FOUND, PROTO_MSG_ERR_NOT_FOUND,
                       "no such endpoint: see PROTOCOL.md, \"HTTP API\"", NULL);
         return 0;
     }
@@ -566,7 +567,8 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
                  r->endpoint == ENDPOINT_STATE   ? "GET and PATCH"
                  : r->endpoint == ENDPOINT_METAR ? "POST"
                                                  : "GET");
-        respond_error(api, r, HTTP_STATUS_METHOD_NOT_ALLOWED, SKY_MSG_ERR_BAD_VALUE, message, NULL);
+        respond_error(api, r, HTTP_STATUS_METHOD_NOT_ALLOWED, PROTO_MSG_ERR_BAD_VALUE, message,
+                      NULL);
         return 0;
     }
     bool limited = r->endpoint != ENDPOINT_HEALTH && r->endpoint != ENDPOINT_METRICS;
@@ -574,7 +576,7 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
         char message[96];
         snprintf(message, sizeof message, "more than %g requests per second from this address",
                  api->limits->control_messages_per_second);
-        respond_error(api, r, 0, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
+        respond_error(api, r, 0, PROTO_MSG_ERR_RATE_LIMITED, message, NULL);
         return 0;
     }
     enum live_token_check token = r->patch ? check_bearer_token(api, wsi) : LIVE_TOKEN_MATCHES;
@@ -583,7 +585,7 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
         net_peer_address(wsi, peer, sizeof peer);
         skyd_log(SKYD_LOG_WARNING, "%s from %s: auth failed (%s)", change, peer,
                  token == LIVE_TOKEN_WRONG ? "wrong or missing bearer token" : "nobody controls");
-        respond_error(api, r, 0, SKY_MSG_ERR_AUTH_FAILED,
+        respond_error(api, r, 0, PROTO_MSG_ERR_AUTH_FAILED,
                       token == LIVE_TOKEN_READ_ONLY
                           ? "this server is read-only (read_only in its configuration): nobody "
                             "can control it"

@@ -20,9 +20,9 @@
 #include "session.h"
 
 struct http_api_params {
-    struct live_settings *settings;      /* the controller token and read-only mode */
-    const struct sky_msg_limits *limits; /* kept current by the caller */
-    struct session_hub *hub;             /* the WebSocket clients, for skyd_clients */
+    struct live_settings *settings;        /* the controller token and read-only mode */
+    const struct proto_msg_limits *limits; /* kept current by the caller */
+    struct session_hub *hub;               /* the WebSocket clients, for skyd_clients */
     struct render_loop *loop;
     struct service_metrics *metrics;
 };

@@ -47,14 +47,15 @@ static void answer_json(struct http_answer *out, unsigned status, const cJSON *j
     answer_text(out, text ? status : HTTP_STATUS_INTERNAL_SERVER_ERROR, "application/json", text);
 }
 
-static void answer_error(struct http_answer *out, enum sky_msg_error_code code, const char *message)
+static void answer_error(struct http_answer *out, enum proto_msg_error_code code,
+                         const char *message)
 {
     *out = (struct http_answer){ .kind = HTTP_ANSWER_ERROR, .code = code };
     snprintf(out->message, sizeof out->message, "%s", message);
 }
 
 /* Takes `json`. */
-static void answer_submit(struct http_answer *out, cJSON *json, enum sky_msg_role role)
+static void answer_submit(struct http_answer *out, cJSON *json, enum proto_msg_role role)
 {
     *out = (struct http_answer){ .kind = HTTP_ANSWER_SUBMIT, .json = json, .role = role };
 }
@@ -89,7 +90,7 @@ void http_endpoint_metrics(struct http_answer *out, struct service_metrics *metr
 {
     char *text = service_metrics_exposition(metrics, session_hub_count(hub));
     if (!text)
-        answer_error(out, SKY_MSG_ERR_INTERNAL, "out of memory");
+        answer_error(out, PROTO_MSG_ERR_INTERNAL, "out of memory");
     else
         answer_text(out, HTTP_STATUS_OK, "text/plain; version=0.0.4; charset=utf-8", text);
 }
@@ -97,20 +98,20 @@ void http_endpoint_metrics(struct http_answer *out, struct service_metrics *metr
 void http_endpoint_schema(struct http_answer *out)
 {
     json_guard_lock();
-    cJSON *schema = sky_world_state_json_schema();
+    cJSON *schema = proto_world_state_json_schema();
     if (schema)
         answer_json(out, HTTP_STATUS_OK, schema);
     cJSON_Delete(schema);
     json_guard_unlock();
     if (!schema)
-        answer_error(out, SKY_MSG_ERR_INTERNAL, "out of memory");
+        answer_error(out, PROTO_MSG_ERR_INTERNAL, "out of memory");
 }
 
 /* A time as ISO 8601 text, or null when there is none. */
 static void add_time(cJSON *json, const char *name, bool known, double unix_s)
 {
     char text[32];
-    sky_time_format_iso8601(unix_s, text, sizeof text);
+    proto_time_format_iso8601(unix_s, text, sizeof text);
     if (known)
         cJSON_AddStringToObject(json, name, text);
     else
@@ -121,7 +122,7 @@ static void add_time(cJSON *json, const char *name, bool known, double unix_s)
 static void add_forecast_map(cJSON *json, const struct service_metrics_forecast *f)
 {
     char *data = f->map_width
-                     ? sky_base64_encode(f->map_rgba, (size_t)f->map_width * f->map_height * 4)
+                     ? proto_base64_encode(f->map_rgba, (size_t)f->map_width * f->map_height * 4)
                      : NULL;
     cJSON *map = data ? cJSON_AddObjectToObject(json, "map") : NULL;
     if (!map) {
@@ -174,7 +175,7 @@ void http_endpoint_state(struct http_answer *out)
     cJSON *get_state = cJSON_CreateObject();
     cJSON_AddStringToObject(get_state, "type", "get_state");
     json_guard_unlock();
-    answer_submit(out, get_state, SKY_ROLE_VIEWER);
+    answer_submit(out, get_state, PROTO_ROLE_VIEWER);
 }
 
 /* A query parameter's value as JSON: a number when it reads as one, else the text (which the
@@ -247,10 +248,10 @@ void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi)
     }
     json_guard_unlock();
     if (problem[0]) {
-        answer_error(out, SKY_MSG_ERR_UNKNOWN_FIELD, problem);
+        answer_error(out, PROTO_MSG_ERR_UNKNOWN_FIELD, problem);
         cJSON_Delete(message);
     } else {
-        answer_submit(out, message, SKY_ROLE_VIEWER);
+        answer_submit(out, message, PROTO_ROLE_VIEWER);
     }
 }
 
@@ -263,12 +264,12 @@ static const char *body_text(struct http_answer *out, const char *body, size_t l
         char message[160];
         snprintf(message, sizeof message, "the body is larger than max_message_bytes (%zu)",
                  max_message_bytes);
-        answer_error(out, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message);
+        answer_error(out, PROTO_MSG_ERR_MESSAGE_TOO_LARGE, message);
         return NULL;
     }
     const char *text = body ? body : "";
     if (memchr(text, '\0', length)) {
-        answer_error(out, SKY_MSG_ERR_MALFORMED_JSON, "NUL byte in the body");
+        answer_error(out, PROTO_MSG_ERR_MALFORMED_JSON, "NUL byte in the body");
         return NULL;
     }
     return text;
@@ -297,14 +298,14 @@ void http_endpoint_metar(struct http_answer *out, const char *body, size_t lengt
             cJSON_Delete(observation);
             json_guard_unlock();
             snprintf(message, sizeof message, "the body is not JSON (at offset %zu)", offset);
-            answer_error(out, SKY_MSG_ERR_MALFORMED_JSON, message);
+            answer_error(out, PROTO_MSG_ERR_MALFORMED_JSON, message);
             return;
         }
         if (cJSON_GetObjectItemCaseSensitive(observation, "type") ||
             cJSON_GetObjectItemCaseSensitive(observation, "id")) {
             cJSON_Delete(observation);
             json_guard_unlock();
-            answer_error(out, SKY_MSG_ERR_BAD_VALUE,
+            answer_error(out, PROTO_MSG_ERR_BAD_VALUE,
                          "the body's object holds \"metar\" only (no \"type\" or \"id\")");
             return;
         }
@@ -328,10 +329,10 @@ void http_endpoint_metar(struct http_answer *out, const char *body, size_t lengt
     }
     json_guard_unlock();
     if (!observation) {
-        answer_error(out, SKY_MSG_ERR_INTERNAL, "out of memory");
+        answer_error(out, PROTO_MSG_ERR_INTERNAL, "out of memory");
         return;
     }
-    answer_submit(out, observation, SKY_ROLE_CONTROLLER);
+    answer_submit(out, observation, PROTO_ROLE_CONTROLLER);
 }
 
 void http_endpoint_patch(struct http_answer *out, const char *body, size_t length, bool too_large,
@@ -358,8 +359,8 @@ void http_endpoint_patch(struct http_answer *out, const char *body, size_t lengt
     json_guard_unlock();
     if (!set) {
         snprintf(message, sizeof message, "the body is not JSON (at offset %zu)", offset);
-        answer_error(out, SKY_MSG_ERR_MALFORMED_JSON, message);
+        answer_error(out, PROTO_MSG_ERR_MALFORMED_JSON, message);
         return;
     }
-    answer_submit(out, set, SKY_ROLE_CONTROLLER);
+    answer_submit(out, set, PROTO_ROLE_CONTROLLER);
 }

@@ -32,10 +32,10 @@ struct http_answer {
     const char *content_type;
     char *body; /* malloc'd; NULL: the JSON text "{}" */
     size_t body_length;
-    enum sky_msg_error_code code;
+    enum proto_msg_error_code code;
     char message[HTTP_ANSWER_MESSAGE_MAX];
     struct cJSON *json;
-    enum sky_msg_role role;
+    enum proto_msg_role role;
 };
 
 /* Frees what the answer holds (its body and JSON). */

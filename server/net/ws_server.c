@@ -43,7 +43,7 @@ struct ws_server {
     struct service_metrics *metrics;
     struct live_settings *settings;
     const struct skyd_config *config;
-    struct sky_msg_limits limits;
+    struct proto_msg_limits limits;
     struct session_hub *hub;
     struct render_loop *loop;
     char url[128];
@@ -91,11 +91,11 @@ static int confirm_upgrade(struct ws_server *srv, struct lws *wsi)
 }
 
 /* Every error the lws thread answers is built and counted here. */
-static char *build_error(struct ws_server *srv, const struct sky_msg_id *id,
-                         enum sky_msg_error_code code, const char *message,
-                         const struct sky_field_errors *fields)
+static char *build_error(struct ws_server *srv, const struct proto_msg_id *id,
+                         enum proto_msg_error_code code, const char *message,
+                         const struct proto_field_errors *fields)
 {
-    char *text = sky_msg_build_error(id, code, message, fields);
+    char *text = proto_msg_build_error(id, code, message, fields);
     if (text)
         service_metrics_error(srv->metrics, code);
     return text;
@@ -130,15 +130,15 @@ static int on_established(struct ws_server *srv, struct lws *wsi, struct connect
         snprintf(message, sizeof message, "too many clients: at most %d", srv->limits.max_clients);
         skyd_log(SKYD_LOG_WARNING, "connection %llu refused: %s", c->number, message);
         queue_and_wake(wsi, c->session,
-                       build_error(srv, NULL, SKY_MSG_ERR_LIMIT_REACHED, message, NULL));
+                       build_error(srv, NULL, PROTO_MSG_ERR_LIMIT_REACHED, message, NULL));
         session_request_close(c->session, SESSION_CLOSE_POLICY, "too many clients", true);
         return 0;
     }
     size_t capability_count = 0;
-    const char *const *capabilities = sky_msg_default_capabilities(&capability_count);
+    const char *const *capabilities = proto_msg_default_capabilities(&capability_count);
     queue_and_wake(wsi, c->session,
-                   sky_msg_build_hello(SKYD_VERSION, SKY_ROLE_VIEWER, capabilities,
-                                       capability_count, &srv->limits));
+                   proto_msg_build_hello(SKYD_VERSION, PROTO_ROLE_VIEWER, capabilities,
+                                         capability_count, &srv->limits));
     /* Only now among those that events go to: the render thread broadcasts through the hub,
      * and the hello must be the first message a client receives. */
     session_hub_add(srv->hub, c->session);
@@ -184,25 +184,25 @@ static void on_message(struct ws_server *srv, struct connection *c)
     bool allowed = take_token(srv, c);
     char *error = NULL;
     char message[160];
-    struct sky_client_msg msg;
+    struct proto_client_msg msg;
     memset(&msg, 0, sizeof msg);
     if (c->rx_binary) {
-        error = build_error(srv, NULL, SKY_MSG_ERR_INVALID_ENCODING,
+        error = build_error(srv, NULL, PROTO_MSG_ERR_INVALID_ENCODING,
                             "binary messages are not accepted: send JSON text", NULL);
     } else if (c->rx_out_of_memory) {
-        error = build_error(srv, NULL, SKY_MSG_ERR_INTERNAL,
+        error = build_error(srv, NULL, PROTO_MSG_ERR_INTERNAL,
                             "out of memory while receiving this message", NULL);
     } else if (c->rx_length > c->rx_limit) {
         snprintf(
             message, sizeof message, "message of %zu bytes is larger than %s (%zu)", c->rx_length,
             c->rx_limit > srv->limits.max_message_bytes ? "max_upload_bytes" : "max_message_bytes",
             c->rx_limit);
-        error = build_error(srv, NULL, SKY_MSG_ERR_MESSAGE_TOO_LARGE, message, NULL);
+        error = build_error(srv, NULL, PROTO_MSG_ERR_MESSAGE_TOO_LARGE, message, NULL);
     } else {
-        struct sky_msg_parse_error parse_error;
+        struct proto_msg_parse_error parse_error;
         json_guard_lock();
-        enum sky_msg_error_code code = sky_msg_parse(c->rx ? c->rx : "", c->rx_length, &srv->limits,
-                                                     &msg, &parse_error);
+        enum proto_msg_error_code code = proto_msg_parse(c->rx ? c->rx : "", c->rx_length,
+                                                         &srv->limits, &msg, &parse_error);
         json_guard_unlock();
         service_metrics_message(srv->metrics, msg.type);
         if (!allowed) {
@@ -210,18 +210,18 @@ static void on_message(struct ws_server *srv, struct connection *c)
                      "more than %g messages per second; this one was "
                      "dropped",
                      srv->limits.control_messages_per_second);
-            error = build_error(srv, &msg.id, SKY_MSG_ERR_RATE_LIMITED, message, NULL);
-        } else if (code == SKY_MSG_OK) {
+            error = build_error(srv, &msg.id, PROTO_MSG_ERR_RATE_LIMITED, message, NULL);
+        } else if (code == PROTO_MSG_OK) {
             render_loop_submit_message(srv->loop, c->session, &msg);
         } else {
             error = build_error(srv, &msg.id, parse_error.code, parse_error.message,
                                 &parse_error.fields);
-            if (msg.type == SKY_MSG_AUTH || protocol_message_needs_controller(msg.type))
+            if (msg.type == PROTO_MSG_AUTH || protocol_message_needs_controller(msg.type))
                 skyd_log(SKYD_LOG_WARNING, "%s refused from connection %llu (%s): %s",
-                         sky_msg_type_name(msg.type), c->number, c->peer, parse_error.message);
+                         proto_msg_type_name(msg.type), c->number, c->peer, parse_error.message);
         }
     }
-    sky_client_msg_free(&msg);
+    proto_client_msg_free(&msg);
     if (error)
         render_loop_submit_reply(srv->loop, c->session, error);
     if (c->rx_capacity > srv->limits.max_message_bytes + 1) {
@@ -251,8 +251,8 @@ static bool reserve_rx(struct connection *c, size_t needed, size_t floor_bytes)
  * else's message, stays within max_message_bytes. */
 static size_t message_limit(const struct ws_server *srv, const struct connection *c)
 {
-    if (c->session && session_role(c->session) == SKY_ROLE_CONTROLLER)
-        return sky_msg_upload_limit(&srv->limits);
+    if (c->session && session_role(c->session) == PROTO_ROLE_CONTROLLER)
+        return proto_msg_upload_limit(&srv->limits);
     return srv->limits.max_message_bytes;
 }
 
@@ -298,7 +298,7 @@ static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connectio
         break;
     case SESSION_OUTPUT_FRAME: {
         const struct encoded_frame_meta *meta = encoded_frame_meta(out.frame);
-        struct sky_frame_header header = {
+        struct proto_frame_header header = {
             .format = meta->format,
             .frame_number = out.frame_number,
             .state_revision = meta->state_revision,
@@ -309,7 +309,7 @@ static int on_writeable(struct ws_server *srv, struct lws *wsi, struct connectio
         };
         uint8_t *bytes = encoded_frame_message(out.frame);
         size_t length = encoded_frame_message_length(out.frame);
-        if (sky_frame_header_pack(&header, bytes) != SKY_FRAME_HEADER_OK ||
+        if (proto_frame_header_pack(&header, bytes) != PROTO_FRAME_HEADER_OK ||
             lws_write(wsi, bytes, length, LWS_WRITE_BINARY) < (int)length)
             rc = -1;
         else

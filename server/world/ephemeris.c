@@ -123,7 +123,7 @@ void eph_sun_geocentric(double jde, const struct eph_nutation *n, struct eph_sun
     out->mean_longitude_deg = eph_wrap360(polynomial(mean_longitude, 6, jme));
 }
 
-void eph_site_geocentric(const struct sky_site *site, double *rho_cos, double *rho_sin)
+void eph_site_geocentric(const struct world_site *site, double *rho_cos, double *rho_sin)
 {
     double phi = site->latitude_deg * EPH_RAD;
     double height = site->altitude_m / (EPH_EARTH_RADIUS_KM * 1000.0);
@@ -134,7 +134,8 @@ void eph_site_geocentric(const struct sky_site *site, double *rho_cos, double *r
 }
 
 void eph_topocentric(double hour_angle_deg, double dec_deg, double sin_parallax,
-                     const struct sky_site *site, double *topo_hour_angle_deg, double *topo_dec_deg)
+                     const struct world_site *site, double *topo_hour_angle_deg,
+                     double *topo_dec_deg)
 {
     double h = hour_angle_deg * EPH_RAD, dec = dec_deg * EPH_RAD, x, y;
     eph_site_geocentric(site, &x, &y);
@@ -145,7 +146,7 @@ void eph_topocentric(double hour_angle_deg, double dec_deg, double sin_parallax,
     *topo_hour_angle_deg = hour_angle_deg - dalpha / EPH_RAD; /* SPA eq. 40 */
 }
 
-double sky_refraction_deg(double true_elevation_deg, double pressure_mbar, double temperature_c)
+double world_refraction_deg(double true_elevation_deg, double pressure_mbar, double temperature_c)
 {
     double e0 = true_elevation_deg;
     if (pressure_mbar <= 0.0 || e0 < -(SUN_RADIUS_DEG + HORIZON_REFRACTION_DEG))
@@ -155,7 +156,7 @@ double sky_refraction_deg(double true_elevation_deg, double pressure_mbar, doubl
            (60.0 * tan((e0 + 10.3 / (e0 + 5.11)) * EPH_RAD));
 }
 
-void eph_horizontal(double hour_angle_deg, double dec_deg, const struct sky_site *site,
+void eph_horizontal(double hour_angle_deg, double dec_deg, const struct world_site *site,
                     bool refraction, double *azimuth_deg, double *elevation_deg)
 {
     double phi = site->latitude_deg * EPH_RAD, h = hour_angle_deg * EPH_RAD;
@@ -168,13 +169,14 @@ void eph_horizontal(double hour_angle_deg, double dec_deg, const struct sky_site
     *azimuth_deg = eph_wrap360(gamma / EPH_RAD + 180.0);
     *elevation_deg = e0;
     if (refraction)
-        *elevation_deg += sky_refraction_deg(e0, site->pressure_mbar, site->temperature_c);
+        *elevation_deg += world_refraction_deg(e0, site->pressure_mbar, site->temperature_c);
 }
 
-void sky_sun_position_delta_t(double unix_seconds, double delta_t_s, const struct sky_site *site,
-                              bool refraction, struct sky_body_position *out)
+void world_sun_position_delta_t(double unix_seconds, double delta_t_s,
+                                const struct world_site *site, bool refraction,
+                                struct world_body_position *out)
 {
-    double jd = sky_julian_day(unix_seconds), jde = jd + delta_t_s / 86400.0;
+    double jd = world_julian_day(unix_seconds), jde = jd + delta_t_s / 86400.0;
     struct eph_nutation n;
     eph_nutation(eph_centuries(jde), &n);
     struct eph_sun_place sun;
@@ -188,16 +190,16 @@ void sky_sun_position_delta_t(double unix_seconds, double delta_t_s, const struc
     out->distance_km = sun.distance_au * EPH_AU_KM;
 }
 
-void sky_sun_position(double unix_seconds, const struct sky_site *site, bool refraction,
-                      struct sky_body_position *out)
+void world_sun_position(double unix_seconds, const struct world_site *site, bool refraction,
+                        struct world_body_position *out)
 {
-    sky_sun_position_delta_t(unix_seconds, sky_delta_t_seconds(unix_seconds), site, refraction,
-                             out);
+    world_sun_position_delta_t(unix_seconds, world_delta_t_seconds(unix_seconds), site, refraction,
+                               out);
 }
 
-double sky_equation_of_time_min(double unix_seconds)
+double world_equation_of_time_min(double unix_seconds)
 {
-    double jde = sky_julian_day(unix_seconds) + sky_delta_t_seconds(unix_seconds) / 86400.0;
+    double jde = world_julian_day(unix_seconds) + world_delta_t_seconds(unix_seconds) / 86400.0;
     struct eph_nutation n;
     eph_nutation(eph_centuries(jde), &n);
     struct eph_sun_place sun;
@@ -208,28 +210,28 @@ double sky_equation_of_time_min(double unix_seconds)
     return 4.0 * remainder(e, 360.0);
 }
 
-double sky_greenwich_mean_sidereal_time_deg(double unix_seconds)
+double world_greenwich_mean_sidereal_time_deg(double unix_seconds)
 {
-    return mean_sidereal_deg(sky_julian_day(unix_seconds));
+    return mean_sidereal_deg(world_julian_day(unix_seconds));
 }
 
-double sky_greenwich_sidereal_time_deg(double unix_seconds)
+double world_greenwich_sidereal_time_deg(double unix_seconds)
 {
-    double jd = sky_julian_day(unix_seconds);
+    double jd = world_julian_day(unix_seconds);
     struct eph_nutation n;
-    eph_nutation(eph_centuries(jd + sky_delta_t_seconds(unix_seconds) / 86400.0), &n);
+    eph_nutation(eph_centuries(jd + world_delta_t_seconds(unix_seconds) / 86400.0), &n);
     return eph_apparent_sidereal_deg(jd, &n);
 }
 
-double sky_local_sidereal_time_deg(double unix_seconds, double longitude_deg)
+double world_local_sidereal_time_deg(double unix_seconds, double longitude_deg)
 {
-    return eph_wrap360(sky_greenwich_sidereal_time_deg(unix_seconds) + longitude_deg);
+    return eph_wrap360(world_greenwich_sidereal_time_deg(unix_seconds) + longitude_deg);
 }
 
-void sky_equatorial_to_horizontal(double ra_deg, double dec_deg, double unix_seconds,
-                                  const struct sky_site *site, double *azimuth_deg,
-                                  double *elevation_deg)
+void world_equatorial_to_horizontal(double ra_deg, double dec_deg, double unix_seconds,
+                                    const struct world_site *site, double *azimuth_deg,
+                                    double *elevation_deg)
 {
-    double h = sky_local_sidereal_time_deg(unix_seconds, site->longitude_deg) - ra_deg;
+    double h = world_local_sidereal_time_deg(unix_seconds, site->longitude_deg) - ra_deg;
     eph_horizontal(h, dec_deg, site, false, azimuth_deg, elevation_deg);
 }

@@ -38,17 +38,17 @@ void eph_ecliptic_to_equatorial(double lambda_deg, double beta_deg, double obliq
                                 double *ra_deg, double *dec_deg);
 
 /* ρ cos φ' and ρ sin φ' of the site, in equatorial radii of the Earth. */
-void eph_site_geocentric(const struct sky_site *site, double *rho_cos, double *rho_sin);
+void eph_site_geocentric(const struct world_site *site, double *rho_cos, double *rho_sin);
 
 /* Parallax: moves a geocentric place (hour angle, declination) to the site, for a body whose
  * equatorial horizontal parallax has sine sin_parallax. */
 void eph_topocentric(double hour_angle_deg, double dec_deg, double sin_parallax,
-                     const struct sky_site *site, double *topo_hour_angle_deg,
+                     const struct world_site *site, double *topo_hour_angle_deg,
                      double *topo_dec_deg);
 
 /* Hour angle and declination to azimuth (from north through east) and elevation, with
  * refraction added when asked. */
-void eph_horizontal(double hour_angle_deg, double dec_deg, const struct sky_site *site,
+void eph_horizontal(double hour_angle_deg, double dec_deg, const struct world_site *site,
                     bool refraction, double *azimuth_deg, double *elevation_deg);
 
 #endif

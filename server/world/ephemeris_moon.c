@@ -10,7 +10,7 @@
 
 #define MOON_MEAN_DISTANCE_KM 384400.0
 
-void sky_moon_geocentric(double jde, double *lambda_deg, double *beta_deg, double *distance_km)
+void world_moon_geocentric(double jde, double *lambda_deg, double *beta_deg, double *distance_km)
 {
     double t = eph_centuries(jde), t2 = t * t, t3 = t2 * t, t4 = t3 * t;
     /* Mean longitude, elongation, sun's and moon's anomalies, argument of latitude: Meeus
@@ -63,12 +63,12 @@ static void moon_apparent(double jde, const struct eph_nutation *n, double *ra_d
                           double *distance_km)
 {
     double lambda, beta;
-    sky_moon_geocentric(jde, &lambda, &beta, distance_km);
+    world_moon_geocentric(jde, &lambda, &beta, distance_km);
     /* Apparent longitude: add the nutation in longitude (Meeus ch. 47). */
     eph_ecliptic_to_equatorial(lambda + n->dpsi_deg, beta, n->obliquity_deg, ra_deg, dec_deg);
 }
 
-void sky_moon_geocentric_equatorial(double jde, double *ra_deg, double *dec_deg)
+void world_moon_geocentric_equatorial(double jde, double *ra_deg, double *dec_deg)
 {
     struct eph_nutation n;
     eph_nutation(eph_centuries(jde), &n);
@@ -79,7 +79,7 @@ void sky_moon_geocentric_equatorial(double jde, double *ra_deg, double *dec_deg)
 /* Distance from the site to a body at geocentric distance r_km in (hour angle, declination):
  * the length of the difference of the two vectors in the equatorial frame of the meridian. */
 static double topocentric_distance_km(double hour_angle_deg, double dec_deg, double r_km,
-                                      const struct sky_site *site)
+                                      const struct world_site *site)
 {
     double h = hour_angle_deg * EPH_RAD, dec = dec_deg * EPH_RAD, rho_cos, rho_sin;
     eph_site_geocentric(site, &rho_cos, &rho_sin);
@@ -89,12 +89,12 @@ static double topocentric_distance_km(double hour_angle_deg, double dec_deg, dou
     return sqrt(dx * dx + dy * dy + dz * dz);
 }
 
-void sky_moon_position(double unix_seconds, const struct sky_site *site, bool refraction,
-                       struct sky_body_position *out, double *illuminated_fraction,
-                       double *phase_angle_deg)
+void world_moon_position(double unix_seconds, const struct world_site *site, bool refraction,
+                         struct world_body_position *out, double *illuminated_fraction,
+                         double *phase_angle_deg)
 {
-    double jd = sky_julian_day(unix_seconds);
-    double jde = jd + sky_delta_t_seconds(unix_seconds) / 86400.0;
+    double jd = world_julian_day(unix_seconds);
+    double jde = jd + world_delta_t_seconds(unix_seconds) / 86400.0;
     struct eph_nutation n;
     eph_nutation(eph_centuries(jde), &n);
     double ra, dec, distance;
@@ -124,7 +124,7 @@ void sky_moon_position(double unix_seconds, const struct sky_site *site, bool re
     }
 }
 
-double sky_moon_illuminance_lux(double phase_angle_deg, double distance_km)
+double world_moon_illuminance_lux(double phase_angle_deg, double distance_km)
 {
     double a = fmin(fabs(phase_angle_deg), 180.0);
     /* The moon's V magnitude at phase angle a: Krisciunas & Schaefer 1991, eq. 9 (after Allen

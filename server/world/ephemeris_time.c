@@ -6,16 +6,16 @@
 #define SECONDS_PER_DAY 86400.0
 #define UNIX_EPOCH_JD 2440587.5
 
-double sky_julian_day(double unix_seconds)
+double world_julian_day(double unix_seconds)
 {
     return UNIX_EPOCH_JD + unix_seconds / SECONDS_PER_DAY;
 }
 
-double sky_delta_t_seconds(double unix_seconds)
+double world_delta_t_seconds(double unix_seconds)
 {
     /* Espenak & Meeus, "Five Millennium Canon of Solar Eclipses" (NASA/TP-2006-214141),
      * polynomial expressions for ΔT; y is the decimal year. */
-    double y = 2000.0 + (sky_julian_day(unix_seconds) - 2451544.5) / 365.2425, t;
+    double y = 2000.0 + (world_julian_day(unix_seconds) - 2451544.5) / 365.2425, t;
     if (y < 1800.0 || y >= 2150.0) {
         double u = (y - 1820.0) / 100.0;
         return -20.0 + 32.0 * u * u;

@@ -39,13 +39,13 @@ static bool is_name_char(char c)
     return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
 }
 
-bool sky_preset_name_is_valid(const char *name)
+bool world_preset_name_is_valid(const char *name)
 {
     if (!name)
         return false;
     size_t length = 0;
     for (; name[length]; length++) {
-        if (length >= SKY_PRESET_NAME_MAX || !is_name_char(name[length]))
+        if (length >= WORLD_PRESET_NAME_MAX || !is_name_char(name[length]))
             return false;
     }
     return length > 0;
@@ -54,22 +54,22 @@ bool sky_preset_name_is_valid(const char *name)
 /* ---- listing ---------------------------------------------------------------------------- */
 
 /* The preset name of a directory entry "<name>.json", if it is one. */
-static bool preset_name_of_file(const char *file_name, char name[SKY_PRESET_NAME_MAX + 1])
+static bool preset_name_of_file(const char *file_name, char name[WORLD_PRESET_NAME_MAX + 1])
 {
     size_t length = strlen(file_name);
     size_t suffix_length = strlen(PRESET_SUFFIX);
     if (length <= suffix_length || strcmp(file_name + length - suffix_length, PRESET_SUFFIX) != 0)
         return false;
     size_t name_length = length - suffix_length;
-    if (name_length > SKY_PRESET_NAME_MAX)
+    if (name_length > WORLD_PRESET_NAME_MAX)
         return false;
     memcpy(name, file_name, name_length);
     name[name_length] = '\0';
-    return sky_preset_name_is_valid(name);
+    return world_preset_name_is_valid(name);
 }
 
 /* Keeps names sorted and at most max_names long, dropping whatever sorts last. */
-static void insert_sorted(char names[][SKY_PRESET_NAME_MAX + 1], int *count, int max_names,
+static void insert_sorted(char names[][WORLD_PRESET_NAME_MAX + 1], int *count, int max_names,
                           const char *name)
 {
     int position = 0;
@@ -98,10 +98,10 @@ static char *join_path(const char *directory, const char *kind, const char *file
     return path;
 }
 
-int sky_preset_list(const char *config_dir, const char *kind, char names[][SKY_PRESET_NAME_MAX + 1],
-                    int max_names)
+int world_preset_list(const char *config_dir, const char *kind,
+                      char names[][WORLD_PRESET_NAME_MAX + 1], int max_names)
 {
-    if (!config_dir || !sky_preset_name_is_valid(kind) || max_names < 0 || (!names && max_names))
+    if (!config_dir || !world_preset_name_is_valid(kind) || max_names < 0 || (!names && max_names))
         return -1;
     char *directory_path = join_path(config_dir, kind, NULL);
     if (!directory_path)
@@ -113,7 +113,7 @@ int sky_preset_list(const char *config_dir, const char *kind, char names[][SKY_P
     int count = 0;
     struct dirent *entry;
     while ((entry = readdir(directory)) != NULL) {
-        char name[SKY_PRESET_NAME_MAX + 1];
+        char name[WORLD_PRESET_NAME_MAX + 1];
         if (preset_name_of_file(entry->d_name, name))
             insert_sorted(names, &count, max_names, name);
     }
@@ -126,8 +126,8 @@ int sky_preset_list(const char *config_dir, const char *kind, char names[][SKY_P
 static void describe_available(const char *config_dir, const char *kind, char *text,
                                size_t capacity)
 {
-    char names[MAX_LISTED_PRESETS][SKY_PRESET_NAME_MAX + 1];
-    int count = sky_preset_list(config_dir, kind, names, MAX_LISTED_PRESETS);
+    char names[MAX_LISTED_PRESETS][WORLD_PRESET_NAME_MAX + 1];
+    int count = world_preset_list(config_dir, kind, names, MAX_LISTED_PRESETS);
     size_t used = 0;
     text[0] = '\0';
     if (count <= 0) {
@@ -152,7 +152,7 @@ static void report_read_failure(const char *config_dir, const char *kind, const 
                     name, path, available);
     } else if (error == EFBIG) {
         set_message(msg, msglen, "%s: preset file larger than the limit of %d bytes", path,
-                    SKY_PRESET_MAX_FILE_BYTES);
+                    WORLD_PRESET_MAX_FILE_BYTES);
     } else if (error == EINVAL) {
         set_message(msg, msglen, "%s: not a regular file", path);
     } else {
@@ -218,14 +218,15 @@ static cJSON *parse_preset(const char *path, const char *contents, size_t length
 }
 
 /* Removes the optional "description" member; false (with an error) when it is not a string. */
-static bool strip_description(cJSON *patch, struct sky_field_errors *errors)
+static bool strip_description(cJSON *patch, struct proto_field_errors *errors)
 {
     if (!cJSON_IsObject(patch))
         return true;
     cJSON *description;
     while ((description = cJSON_GetObjectItemCaseSensitive(patch, "description")) != NULL) {
         if (!cJSON_IsString(description)) {
-            sky_field_errors_add(errors, SKY_FIELD_WRONG_TYPE, "/description", "expected a string");
+            proto_field_errors_add(errors, PROTO_FIELD_WRONG_TYPE, "/description",
+                                   "expected a string");
             return false;
         }
         cJSON_DeleteItemFromObjectCaseSensitive(patch, "description");
@@ -233,58 +234,58 @@ static bool strip_description(cJSON *patch, struct sky_field_errors *errors)
     return true;
 }
 
-static void summarize_rejection(const char *path, const struct sky_field_errors *errors, char *msg,
-                                size_t msglen)
+static void summarize_rejection(const char *path, const struct proto_field_errors *errors,
+                                char *msg, size_t msglen)
 {
     if (errors->count == 0) {
         set_message(msg, msglen, "%s: preset rejected", path);
         return;
     }
-    const struct sky_field_error *first = &errors->items[0];
+    const struct proto_field_error *first = &errors->items[0];
     set_message(msg, msglen, "%s: preset rejected, %d invalid field%s; first: %s: %s", path,
                 errors->total, errors->total == 1 ? "" : "s",
                 first->pointer[0] ? first->pointer : "(root)", first->reason);
 }
 
 static bool apply_preset_file(const char *path, const char *contents, size_t length,
-                              struct sky_world_state *state, struct sky_field_errors *errors,
+                              struct proto_world_state *state, struct proto_field_errors *errors,
                               char *msg, size_t msglen)
 {
     cJSON *patch = parse_preset(path, contents, length, msg, msglen);
     if (!patch)
         return false;
     bool applied = strip_description(patch, errors) &&
-                   sky_world_state_apply_json(state, patch, errors);
+                   proto_world_state_apply_json(state, patch, errors);
     cJSON_Delete(patch);
     if (!applied)
         summarize_rejection(path, errors, msg, msglen);
     return applied;
 }
 
-bool sky_preset_apply(const char *config_dir, const char *kind, const char *name,
-                      struct sky_world_state *state, struct sky_field_errors *errors, char *msg,
-                      size_t msglen)
+bool world_preset_apply(const char *config_dir, const char *kind, const char *name,
+                        struct proto_world_state *state, struct proto_field_errors *errors,
+                        char *msg, size_t msglen)
 {
-    struct sky_field_errors scratch;
+    struct proto_field_errors scratch;
     if (!errors)
         errors = &scratch;
-    sky_field_errors_clear(errors);
+    proto_field_errors_clear(errors);
     set_message(msg, msglen, "%s", "");
     if (!config_dir || !state) {
         set_message(msg, msglen, "no config directory or state given");
         return false;
     }
-    if (!sky_preset_name_is_valid(kind)) {
+    if (!world_preset_name_is_valid(kind)) {
         set_message(msg, msglen, "invalid preset kind \"%.80s\": must match %s", kind ? kind : "",
                     NAME_RULE);
         return false;
     }
-    if (!sky_preset_name_is_valid(name)) {
+    if (!world_preset_name_is_valid(name)) {
         set_message(msg, msglen, "invalid preset name \"%.80s\": must match %s", name ? name : "",
                     NAME_RULE);
         return false;
     }
-    char file_name[SKY_PRESET_NAME_MAX + sizeof PRESET_SUFFIX];
+    char file_name[WORLD_PRESET_NAME_MAX + sizeof PRESET_SUFFIX];
     snprintf(file_name, sizeof file_name, "%s%s", name, PRESET_SUFFIX);
     char *path = join_path(config_dir, kind, file_name);
     if (!path) {
@@ -292,7 +293,7 @@ bool sky_preset_apply(const char *config_dir, const char *kind, const char *name
         return false;
     }
     size_t length = 0;
-    char *contents = text_file_read(path, SKY_PRESET_MAX_FILE_BYTES, &length);
+    char *contents = text_file_read(path, WORLD_PRESET_MAX_FILE_BYTES, &length);
     bool applied = false;
     if (!contents) {
         report_read_failure(config_dir, kind, name, path, errno, msg, msglen);

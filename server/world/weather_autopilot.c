@@ -79,8 +79,8 @@ double weather_autopilot_wetness(int seed, double unix_s)
 
 double weather_local_solar_hour(double unix_s, double longitude_deg)
 {
-    double h = fmod(hours(unix_s) + longitude_deg / 15.0 + sky_equation_of_time_min(unix_s) / 60.0,
-                    24.0);
+    double h = fmod(
+        hours(unix_s) + longitude_deg / 15.0 + world_equation_of_time_min(unix_s) / 60.0, 24.0);
     return h < 0.0 ? h + 24.0 : h;
 }
 
@@ -98,7 +98,7 @@ double weather_autopilot_convection(int seed, double unix_s, double longitude_de
 }
 
 void weather_autopilot_sample(int seed, double unix_s, double longitude_deg,
-                              struct sky_weather_params *out)
+                              struct proto_weather_params *out)
 {
     memset(out, 0, sizeof *out);
     double h = hours(unix_s);

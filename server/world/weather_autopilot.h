@@ -11,7 +11,7 @@
 /* The weather at simulated time unix_s (UTC seconds) for seed, at longitude_deg (east
  * positive). Every value lies inside its field's range. */
 void weather_autopilot_sample(int seed, double unix_s, double longitude_deg,
-                              struct sky_weather_params *out);
+                              struct proto_weather_params *out);
 
 /* Apparent local solar time in hours [0, 24) (mean solar time plus the equation of time). */
 double weather_local_solar_hour(double unix_s, double longitude_deg);

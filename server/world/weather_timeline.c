@@ -5,21 +5,21 @@
 
 #include "weather_autopilot.h"
 
-_Static_assert(sizeof(struct sky_weather_params) == 19 * sizeof(double),
+_Static_assert(sizeof(struct proto_weather_params) == 19 * sizeof(double),
                "weather parameters are 19 doubles");
-#define DIRECTION_INDEX (offsetof(struct sky_weather_params, wind_direction_deg) / sizeof(double))
+#define DIRECTION_INDEX (offsetof(struct proto_weather_params, wind_direction_deg) / sizeof(double))
 
 static double clamp(double x, double lo, double hi)
 {
     return x < lo ? lo : x > hi ? hi : x;
 }
 
-static double *params_array(struct sky_weather_params *p)
+static double *params_array(struct proto_weather_params *p)
 {
     return (double *)p;
 }
 
-static const double *const_params_array(const struct sky_weather_params *p)
+static const double *const_params_array(const struct proto_weather_params *p)
 {
     return (const double *)p;
 }
@@ -33,41 +33,41 @@ static double wrap_degrees(double deg)
 }
 
 /* Time fraction of the transition at unix_s, in [0, 1]. */
-static double transition_fraction(const struct sky_transition_state *t, double unix_s)
+static double transition_fraction(const struct proto_transition_state *t, double unix_s)
 {
     return clamp((unix_s - t->start_unix_s) / t->duration_s, 0.0, 1.0);
 }
 
 /* Whether the transition blends the weather at unix_s (a time before its start counts: it
  * shows its start values there). */
-static bool blending_at(const struct sky_transition_state *t, double unix_s)
+static bool blending_at(const struct proto_transition_state *t, double unix_s)
 {
     return t->duration_s > 0.0 && transition_fraction(t, unix_s) < 1.0;
 }
 
-static bool mid_blend(const struct sky_transition_state *t)
+static bool mid_blend(const struct proto_transition_state *t)
 {
     return t->duration_s > 0.0 && t->progress < 1.0;
 }
 
-bool weather_timeline_active(const struct sky_world_state *state)
+bool weather_timeline_active(const struct proto_world_state *state)
 {
     return blending_at(&state->weather.transition, state->clock.utc_unix_s);
 }
 
-bool weather_timeline_mid_blend(const struct sky_world_state *state)
+bool weather_timeline_mid_blend(const struct proto_world_state *state)
 {
     return mid_blend(&state->weather.transition);
 }
 
-void weather_timeline_mix(const struct sky_weather_params *from,
-                          const struct sky_weather_params *to, double s,
-                          struct sky_weather_params *out)
+void weather_timeline_mix(const struct proto_weather_params *from,
+                          const struct proto_weather_params *to, double s,
+                          struct proto_weather_params *out)
 {
     s = clamp(s, 0.0, 1.0);
     double eased = s * s * (3.0 - 2.0 * s); /* smoothstep: monotonic, flat at both ends */
     const double *a = const_params_array(from), *b = const_params_array(to);
-    struct sky_weather_params mixed;
+    struct proto_weather_params mixed;
     double *m = params_array(&mixed);
     for (size_t i = 0; i < WEATHER_PARAM_COUNT; i++) {
         /* Exact at eased = 0 and 1; in between, rounding can put the blend one ulp outside
@@ -82,12 +82,12 @@ void weather_timeline_mix(const struct sky_weather_params *from,
     *out = mixed;
 }
 
-void weather_timeline_at(const struct sky_world_state *state, double unix_s,
-                         struct sky_weather_params *out)
+void weather_timeline_at(const struct proto_world_state *state, double unix_s,
+                         struct proto_weather_params *out)
 {
-    const struct sky_transition_state *t = &state->weather.transition;
-    bool autopilot = state->weather.autopilot == SKY_SWITCH_ON;
-    struct sky_weather_params target;
+    const struct proto_transition_state *t = &state->weather.transition;
+    bool autopilot = state->weather.autopilot == PROTO_SWITCH_ON;
+    struct proto_weather_params target;
     if (autopilot)
         weather_autopilot_sample(state->weather.autopilot_seed, unix_s,
                                  state->location.longitude_deg, &target);
@@ -100,29 +100,29 @@ void weather_timeline_at(const struct sky_world_state *state, double unix_s,
     else if (mid_blend(t))
         *out = t->to; /* it ends between the state's clock and unix_s */
     else
-        sky_weather_params_get(state, out);
+        proto_weather_params_get(state, out);
 }
 
-void weather_timeline_settle(struct sky_world_state *state)
+void weather_timeline_settle(struct proto_world_state *state)
 {
-    struct sky_transition_state *t = &state->weather.transition;
+    struct proto_transition_state *t = &state->weather.transition;
     double now_s = state->clock.utc_unix_s;
-    bool autopilot = state->weather.autopilot == SKY_SWITCH_ON;
+    bool autopilot = state->weather.autopilot == PROTO_SWITCH_ON;
     if (!autopilot && !mid_blend(t) && !blending_at(t, now_s))
         return; /* the parameters are the state's own */
-    struct sky_weather_params now;
+    struct proto_weather_params now;
     weather_timeline_at(state, now_s, &now); /* before progress moves: it reads it */
     if (t->duration_s > 0.0)
         t->progress = transition_fraction(t, now_s);
-    sky_weather_params_put(state, &now);
+    proto_weather_params_put(state, &now);
 }
 
-void weather_timeline_hold(const struct sky_world_state *before, struct sky_world_state *after)
+void weather_timeline_hold(const struct proto_world_state *before, struct proto_world_state *after)
 {
-    struct sky_transition_state *t = &after->weather.transition;
-    struct sky_weather_params old_values, new_values;
-    sky_weather_params_get(before, &old_values);
-    sky_weather_params_get(after, &new_values);
+    struct proto_transition_state *t = &after->weather.transition;
+    struct proto_weather_params old_values, new_values;
+    proto_weather_params_get(before, &old_values);
+    proto_weather_params_get(after, &new_values);
     const double *o = const_params_array(&old_values), *n = const_params_array(&new_values);
     double *from = params_array(&t->from), *to = params_array(&t->to);
     for (size_t i = 0; i < WEATHER_PARAM_COUNT; i++) {

@@ -10,10 +10,10 @@ static const double DEG_TO_RAD = 3.14159265358979323846 / 180.0;
 
 struct wind_drift {
     bool valid;
-    struct sky_wind_anchor anchor; /* the anchor the running sum starts from */
-    double at_s;                   /* a cell boundary at or after the anchor's time */
-    double east_km, north_km;      /* the offsets there */
-    long cells;                    /* summed by the last call */
+    struct proto_wind_anchor anchor; /* the anchor the running sum starts from */
+    double at_s;                     /* a cell boundary at or after the anchor's time */
+    double east_km, north_km;        /* the offsets there */
+    long cells;                      /* summed by the last call */
 };
 
 struct wind_drift *wind_drift_create(void)
@@ -50,10 +50,10 @@ static double wrap_offset(double km)
 
 /* Adds the wind's displacement from simulated time `from` to `to` (either order): the wind at
  * the midpoint blows from direction_deg, so the map moves toward direction_deg + 180. */
-static void add_cell(const struct sky_world_state *state, double from, double to, double *east,
+static void add_cell(const struct proto_world_state *state, double from, double to, double *east,
                      double *north)
 {
-    struct sky_weather_params mid;
+    struct proto_weather_params mid;
     weather_timeline_at(state, from + 0.5 * (to - from), &mid);
     double to_rad = (mid.wind_direction_deg + 180.0) * DEG_TO_RAD;
     double distance_km = mid.wind_speed_m_s * (to - from) / 1000.0;
@@ -82,16 +82,16 @@ static double boundary_before(double t)
     return b;
 }
 
-static bool same_anchor(const struct sky_wind_anchor *a, const struct sky_wind_anchor *b)
+static bool same_anchor(const struct proto_wind_anchor *a, const struct proto_wind_anchor *b)
 {
     return a->utc_unix_s == b->utc_unix_s && a->offset_east_km == b->offset_east_km &&
            a->offset_north_km == b->offset_north_km;
 }
 
-void wind_drift_offsets(struct wind_drift *drift, const struct sky_world_state *state, double utc_s,
-                        double *east_km, double *north_km)
+void wind_drift_offsets(struct wind_drift *drift, const struct proto_world_state *state,
+                        double utc_s, double *east_km, double *north_km)
 {
-    const struct sky_wind_anchor *anchor = &state->weather.anchor;
+    const struct proto_wind_anchor *anchor = &state->weather.anchor;
     double at = anchor->utc_unix_s;
     double east = anchor->offset_east_km, north = anchor->offset_north_km;
     long cells = 0;

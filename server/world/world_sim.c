@@ -38,51 +38,51 @@ static double time_kept(double unix_s)
 {
     char text[48], err[96];
     double kept;
-    sky_time_format_iso8601(unix_s, text, sizeof text);
-    return sky_time_parse_iso8601(text, &kept, err, sizeof err) ? kept : unix_s;
+    proto_time_format_iso8601(unix_s, text, sizeof text);
+    return proto_time_parse_iso8601(text, &kept, err, sizeof err) ? kept : unix_s;
 }
 
-static void update_sky_bodies(struct sky_world_state *state)
+static void update_sky_bodies(struct proto_world_state *state)
 {
-    if (state->clock.sky_bodies != SKY_BODIES_EPHEMERIS)
+    if (state->clock.sky_bodies != PROTO_BODIES_EPHEMERIS)
         return;
-    struct sky_site site = { state->location.latitude_deg, state->location.longitude_deg,
-                             state->location.altitude_m, SKY_SITE_PRESSURE_MBAR,
-                             SKY_SITE_TEMPERATURE_C };
-    struct sky_body_position sun, moon;
-    sky_sun_position(state->clock.utc_unix_s, &site, true, &sun);
-    sky_moon_position(state->clock.utc_unix_s, &site, true, &moon, NULL, NULL);
+    struct world_site site = { state->location.latitude_deg, state->location.longitude_deg,
+                               state->location.altitude_m, WORLD_SITE_PRESSURE_MBAR,
+                               WORLD_SITE_TEMPERATURE_C };
+    struct world_body_position sun, moon;
+    world_sun_position(state->clock.utc_unix_s, &site, true, &sun);
+    world_moon_position(state->clock.utc_unix_s, &site, true, &moon, NULL, NULL);
     state->sun.azimuth_deg = wrap_degrees(sun.azimuth_deg);
     state->sun.elevation_deg = clamp(sun.elevation_deg, -90.0, 90.0);
     state->moon.azimuth_deg = wrap_degrees(moon.azimuth_deg);
     state->moon.elevation_deg = clamp(moon.elevation_deg, -90.0, 90.0);
 }
 
-bool world_sim_anchored(const struct sky_world_state *state)
+bool world_sim_anchored(const struct proto_world_state *state)
 {
     return state->clock.epoch.wall_unix_s != 0.0;
 }
 
-double world_sim_clock_at(const struct sky_world_state *state, double wall_s)
+double world_sim_clock_at(const struct proto_world_state *state, double wall_s)
 {
-    const struct sky_clock_state *c = &state->clock;
+    const struct proto_clock_state *c = &state->clock;
     if (!world_sim_anchored(state))
         return c->utc_unix_s;
     return clamp(c->epoch.utc_unix_s + (wall_s - c->epoch.wall_unix_s) * c->time_scale, UTC_MIN_S,
                  UTC_MAX_S);
 }
 
-void world_sim_anchor_wind(struct sky_world_state *state)
+void world_sim_anchor_wind(struct proto_world_state *state)
 {
-    struct sky_wind_anchor *a = &state->weather.anchor;
+    struct proto_wind_anchor *a = &state->weather.anchor;
     a->utc_unix_s = time_kept(state->clock.utc_unix_s);
     a->offset_east_km = state->weather.offset_east_km;
     a->offset_north_km = state->weather.offset_north_km;
 }
 
-void world_sim_anchor(struct sky_world_state *state, double wall_s)
+void world_sim_anchor(struct proto_world_state *state, double wall_s)
 {
-    struct sky_clock_state *c = &state->clock;
+    struct proto_clock_state *c = &state->clock;
     /* clock.utc is the reading at wall_s; the epoch's wall instant is kept to the millisecond
      * and its reading follows the clock's pace to it. */
     double wall = time_kept(wall_s);
@@ -93,20 +93,20 @@ void world_sim_anchor(struct sky_world_state *state, double wall_s)
     world_sim_anchor_wind(state);
 }
 
-bool world_sim_clock_changed(const struct sky_world_state *before,
-                             const struct sky_world_state *after)
+bool world_sim_clock_changed(const struct proto_world_state *before,
+                             const struct proto_world_state *after)
 {
     return !world_sim_anchored(after) || before->clock.utc_unix_s != after->clock.utc_unix_s ||
            before->clock.time_scale != after->clock.time_scale;
 }
 
-bool world_sim_wind_changed(const struct sky_world_state *before,
-                            const struct sky_world_state *after)
+bool world_sim_wind_changed(const struct proto_world_state *before,
+                            const struct proto_world_state *after)
 {
-    const struct sky_weather_state *b = &before->weather, *a = &after->weather;
-    struct sky_weather_params pb, pa;
-    sky_weather_params_get(before, &pb);
-    sky_weather_params_get(after, &pa);
+    const struct proto_weather_state *b = &before->weather, *a = &after->weather;
+    struct proto_weather_params pb, pa;
+    proto_weather_params_get(before, &pb);
+    proto_weather_params_get(after, &pa);
     return before->clock.utc_unix_s != after->clock.utc_unix_s ||
            b->offset_east_km != a->offset_east_km || b->offset_north_km != a->offset_north_km ||
            memcmp(&pb, &pa, sizeof pb) != 0 ||
@@ -115,7 +115,7 @@ bool world_sim_wind_changed(const struct sky_world_state *before,
            before->location.longitude_deg != after->location.longitude_deg;
 }
 
-void world_sim_commit(const struct sky_world_state *before, struct sky_world_state *after,
+void world_sim_commit(const struct proto_world_state *before, struct proto_world_state *after,
                       double wall_s, struct wind_drift *drift)
 {
     if (world_sim_clock_changed(before, after)) {
@@ -128,7 +128,7 @@ void world_sim_commit(const struct sky_world_state *before, struct sky_world_sta
     world_sim_run_to(after, wall_s, drift);
 }
 
-void world_sim_set_time(struct sky_world_state *state, double utc_s, struct wind_drift *drift)
+void world_sim_set_time(struct proto_world_state *state, double utc_s, struct wind_drift *drift)
 {
     double t = clamp(utc_s, UTC_MIN_S, UTC_MAX_S);
     /* The offsets first: the wind's integral reads the weather of the state as it was. */
@@ -138,27 +138,27 @@ void world_sim_set_time(struct sky_world_state *state, double utc_s, struct wind
     world_sim_settle(state);
 }
 
-void world_sim_run_to(struct sky_world_state *state, double wall_s, struct wind_drift *drift)
+void world_sim_run_to(struct proto_world_state *state, double wall_s, struct wind_drift *drift)
 {
     world_sim_set_time(state, world_sim_clock_at(state, wall_s), drift);
 }
 
-void world_sim_advance(struct sky_world_state *state, double sim_dt_s)
+void world_sim_advance(struct proto_world_state *state, double sim_dt_s)
 {
     world_sim_set_time(state, state->clock.utc_unix_s + (sim_dt_s > 0.0 ? sim_dt_s : 0.0), NULL);
 }
 
-void world_sim_settle(struct sky_world_state *state)
+void world_sim_settle(struct proto_world_state *state)
 {
     weather_timeline_settle(state);
     update_sky_bodies(state);
 }
 
-void world_sim_start_transition(struct sky_world_state *state,
-                                const struct sky_weather_params *target, double duration_s)
+void world_sim_start_transition(struct proto_world_state *state,
+                                const struct proto_weather_params *target, double duration_s)
 {
-    struct sky_transition_state *t = &state->weather.transition;
-    sky_weather_params_get(state, &t->from);
+    struct proto_transition_state *t = &state->weather.transition;
+    proto_weather_params_get(state, &t->from);
     t->to = *target;
     t->start_unix_s = time_kept(state->clock.utc_unix_s);
     if (duration_s > 0.0) {
@@ -167,7 +167,7 @@ void world_sim_start_transition(struct sky_world_state *state,
     } else {
         t->duration_s = 0.0;
         t->progress = 1.0;
-        sky_weather_params_put(state, target);
+        proto_weather_params_put(state, target);
     }
 }
 
@@ -180,7 +180,7 @@ static const char *const ephemeris_fields[] = {
     "moon.elevation_deg",
 };
 
-/* The schema paths of struct sky_weather_params, in its member order. */
+/* The schema paths of struct proto_weather_params, in its member order. */
 static const char *const weather_fields[] = {
     "clouds.low.coverage",
     "clouds.low.type",
@@ -213,37 +213,37 @@ static bool listed(const char *path, const char *const *list, size_t count)
     return false;
 }
 
-bool world_sim_check_client_patch(const struct sky_world_state *before,
-                                  const struct sky_world_state *after,
-                                  const struct sky_world_patch *patch,
-                                  struct sky_field_errors *errors)
+bool world_sim_check_client_patch(const struct proto_world_state *before,
+                                  const struct proto_world_state *after,
+                                  const struct proto_world_patch *patch,
+                                  struct proto_field_errors *errors)
 {
     size_t count;
-    const struct sky_field_desc *fields = sky_world_state_fields(&count);
+    const struct proto_field_desc *fields = proto_world_state_fields(&count);
     int failures = 0;
     for (size_t i = 0; i < count; i++) {
-        const struct sky_field_desc *f = &fields[i];
+        const struct proto_field_desc *f = &fields[i];
         if (memcmp((const char *)before + f->offset, (const char *)after + f->offset,
-                   sky_field_size(f)) == 0 ||
-            !sky_world_patch_names(patch, f))
+                   proto_field_size(f)) == 0 ||
+            !proto_world_patch_names(patch, f))
             continue;
         char pointer[128];
-        sky_field_pointer(f, pointer, sizeof pointer);
+        proto_field_pointer(f, pointer, sizeof pointer);
         if (f->read_only) {
-            sky_field_errors_add(errors, SKY_FIELD_BAD_VALUE, pointer,
-                                 "read-only: kept by the simulation (apply_preset with "
-                                 "transition_s starts a weather transition)");
-        } else if (after->clock.sky_bodies == SKY_BODIES_EPHEMERIS &&
+            proto_field_errors_add(errors, PROTO_FIELD_BAD_VALUE, pointer,
+                                   "read-only: kept by the simulation (apply_preset with "
+                                   "transition_s starts a weather transition)");
+        } else if (after->clock.sky_bodies == PROTO_BODIES_EPHEMERIS &&
                    listed(f->path, ephemeris_fields,
                           sizeof ephemeris_fields / sizeof *ephemeris_fields)) {
-            sky_field_errors_add(errors, SKY_FIELD_INCONSISTENT, pointer,
-                                 "follows the ephemeris while clock.sky_bodies is \"ephemeris\"; "
-                                 "set clock.sky_bodies to \"manual\" in the same patch");
-        } else if (after->weather.autopilot == SKY_SWITCH_ON &&
+            proto_field_errors_add(errors, PROTO_FIELD_INCONSISTENT, pointer,
+                                   "follows the ephemeris while clock.sky_bodies is \"ephemeris\"; "
+                                   "set clock.sky_bodies to \"manual\" in the same patch");
+        } else if (after->weather.autopilot == PROTO_SWITCH_ON &&
                    listed(f->path, weather_fields, WEATHER_PARAM_COUNT)) {
-            sky_field_errors_add(errors, SKY_FIELD_INCONSISTENT, pointer,
-                                 "driven by the autopilot while weather.autopilot is \"on\"; "
-                                 "set weather.autopilot to \"off\" in the same patch");
+            proto_field_errors_add(errors, PROTO_FIELD_INCONSISTENT, pointer,
+                                   "driven by the autopilot while weather.autopilot is \"on\"; "
+                                   "set weather.autopilot to \"off\" in the same patch");
         } else {
             continue;
         }
@@ -252,20 +252,21 @@ bool world_sim_check_client_patch(const struct sky_world_state *before,
     return failures == 0;
 }
 
-void world_sim_client_changed(const struct sky_world_state *before, struct sky_world_state *after)
+void world_sim_client_changed(const struct proto_world_state *before,
+                              struct proto_world_state *after)
 {
-    struct sky_transition_state *t = &after->weather.transition;
-    bool was_on = before->weather.autopilot == SKY_SWITCH_ON;
-    bool is_on = after->weather.autopilot == SKY_SWITCH_ON;
+    struct proto_transition_state *t = &after->weather.transition;
+    bool was_on = before->weather.autopilot == PROTO_SWITCH_ON;
+    bool is_on = after->weather.autopilot == PROTO_SWITCH_ON;
     if (is_on && (!was_on || before->weather.autopilot_seed != after->weather.autopilot_seed)) {
-        struct sky_weather_params end;
+        struct proto_weather_params end;
         weather_autopilot_sample(after->weather.autopilot_seed,
                                  after->clock.utc_unix_s + WORLD_SIM_AUTOPILOT_BLEND_S,
                                  after->location.longitude_deg, &end);
         world_sim_start_transition(after, &end, WORLD_SIM_AUTOPILOT_BLEND_S);
     } else if (was_on && !is_on && weather_timeline_active(after)) {
         /* Switched off mid-blend: the weather stays where it is, and the blend ends now. */
-        sky_weather_params_get(after, &t->to);
+        proto_weather_params_get(after, &t->to);
         t->duration_s = fmax(after->clock.utc_unix_s - t->start_unix_s, 0.0);
         t->progress = 1.0;
     } else if (!weather_timeline_mid_blend(before) && before->weather.transition.duration_s > 0.0 &&

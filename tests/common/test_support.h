@@ -47,8 +47,8 @@ static inline int test_run_with_renderer(struct sky_renderer **renderer, void (*
 
 static inline void test_earth_atmosphere(struct sky_render_atmosphere *out)
 {
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
+    struct proto_world_state state;
+    proto_world_state_defaults(&state);
     world_to_render_atmosphere(&state, out);
 }
 
@@ -81,8 +81,9 @@ static inline double test_relative_difference(const float *a, const float *b, si
 /* A client weather map with one footprint of `radius` km (coverage 1 at its centre falling to 0
  * at its rim; cloud type `type`, 255 cumulonimbus; precipitation `rain` inside it) `north` km
  * north of the camera, given to `renderer`. Returns sky_renderer_set_weather_map's result. */
-static inline int test_set_cell_map(struct sky_renderer *renderer, const struct sky_world_state *s,
-                                    double radius, double north, uint8_t type, uint8_t rain)
+static inline int test_set_cell_map(struct sky_renderer *renderer,
+                                    const struct proto_world_state *s, double radius, double north,
+                                    uint8_t type, uint8_t rain)
 {
     enum { MAP = 128 };
     static uint8_t map[MAP * MAP * 4];
@@ -104,9 +105,10 @@ static inline int test_set_cell_map(struct sky_renderer *renderer, const struct 
 /* Renders the world state `s` as the daemon does (atmosphere, clouds, night, view) at w x h
  * into `out` (`bytes` long) with the view's history `key`; `live` asks for a stream's frames
  * (see sky_render_view.live). Returns sky_renderer_render's result. */
-static inline int test_render_world(struct sky_renderer *renderer, const struct sky_world_state *s,
-                                    uint32_t w, uint32_t h, enum sky_render_output_kind output,
-                                    uint64_t key, bool live, void *out, size_t bytes)
+static inline int test_render_world(struct sky_renderer *renderer,
+                                    const struct proto_world_state *s, uint32_t w, uint32_t h,
+                                    enum sky_render_output_kind output, uint64_t key, bool live,
+                                    void *out, size_t bytes)
 {
     struct sky_render_atmosphere atm;
     struct sky_render_view view;

@@ -106,8 +106,8 @@ static void test_hello(const char *url, struct limits limits)
 static void test_corrupt_state_moved(const char *url)
 {
     CHECK(count_files_with_prefix(scratch, "state.json.corrupt-") == 1);
-    struct sky_world_state defaults;
-    sky_world_state_defaults(&defaults);
+    struct proto_world_state defaults;
+    proto_world_state_defaults(&defaults);
     struct sky_client *c = serve_connect(url, NULL, NULL);
     cJSON *state = c ? serve_request(c, "{\"type\":\"get_state\"}") : NULL;
     CHECK(strcmp(jstr(state, "/type"), "state") == 0);
@@ -219,7 +219,7 @@ static bool read_frame(struct sky_client *c, int timeout_ms, uint32_t width, uin
     }
     uint32_t w = 0, h = 0;
     bool constant = true;
-    CHECK(f->header.format == SKY_FRAME_FORMAT_PNG);
+    CHECK(f->header.format == PROTO_FRAME_FORMAT_PNG);
     CHECK(f->header.width == width && f->header.height == height);
     CHECK(png_inspect(f->payload, f->header.payload_length, &w, &h, &constant));
     CHECK(w == width && h == height);

@@ -11,15 +11,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     struct skyd_config config;
-    struct sky_field_errors errors;
+    struct proto_field_errors errors;
     char msg[512];
     if (skyd_config_parse((const char *)data, size, "fuzz.json", &config, &errors, msg,
                           sizeof msg)) {
-        struct sky_msg_limits limits;
+        struct proto_msg_limits limits;
         skyd_config_limits(&config, &limits);
     } else {
         char text[4096];
-        sky_field_errors_format(&errors, text, sizeof text);
+        proto_field_errors_format(&errors, text, sizeof text);
     }
     return 0;
 }

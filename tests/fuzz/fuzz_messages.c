@@ -14,36 +14,37 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    struct sky_msg_limits limits;
-    sky_msg_limits_default(&limits);
-    struct sky_client_msg msg;
-    struct sky_msg_parse_error error;
-    enum sky_msg_error_code code = sky_msg_parse((const char *)data, size, &limits, &msg, &error);
+    struct proto_msg_limits limits;
+    proto_msg_limits_default(&limits);
+    struct proto_client_msg msg;
+    struct proto_msg_parse_error error;
+    enum proto_msg_error_code code = proto_msg_parse((const char *)data, size, &limits, &msg,
+                                                     &error);
     char *reply = NULL;
-    if (code != SKY_MSG_OK) {
-        reply = sky_msg_build_parse_error(&msg, &error);
-    } else if (msg.type == SKY_MSG_SET) {
-        struct sky_world_state state;
-        struct sky_field_errors errors;
-        sky_world_state_defaults(&state);
-        struct sky_world_state before = state;
-        if (sky_world_state_apply_patch(&state, msg.set.patch, &errors)) {
-            char changed[64][SKY_MSG_POINTER_MAX];
-            size_t count = sky_msg_state_diff(&before, &state, changed, 64);
+    if (code != PROTO_MSG_OK) {
+        reply = proto_msg_build_parse_error(&msg, &error);
+    } else if (msg.type == PROTO_MSG_SET) {
+        struct proto_world_state state;
+        struct proto_field_errors errors;
+        proto_world_state_defaults(&state);
+        struct proto_world_state before = state;
+        if (proto_world_state_apply_patch(&state, msg.set.patch, &errors)) {
+            char changed[64][PROTO_MSG_POINTER_MAX];
+            size_t count = proto_msg_state_diff(&before, &state, changed, 64);
             (void)count;
-            reply = sky_msg_build_state(&msg.id, &state);
+            reply = proto_msg_build_state(&msg.id, &state);
         } else {
-            reply = sky_msg_build_error(&msg.id, SKY_MSG_ERR_BAD_VALUE, "rejected", &errors);
+            reply = proto_msg_build_error(&msg.id, PROTO_MSG_ERR_BAD_VALUE, "rejected", &errors);
         }
-    } else if (msg.type == SKY_MSG_SUBSCRIBE || msg.type == SKY_MSG_SNAPSHOT) {
-        reply = sky_msg_build_subscribed(&msg.id, 1, &msg.view);
-        struct sky_world_state state;
-        sky_world_state_defaults(&state);
-        struct sky_camera_state camera;
-        struct sky_exposure_state exposure;
-        sky_msg_view_resolve(&msg.view, &state, &camera, &exposure);
+    } else if (msg.type == PROTO_MSG_SUBSCRIBE || msg.type == PROTO_MSG_SNAPSHOT) {
+        reply = proto_msg_build_subscribed(&msg.id, 1, &msg.view);
+        struct proto_world_state state;
+        proto_world_state_defaults(&state);
+        struct proto_camera_state camera;
+        struct proto_exposure_state exposure;
+        proto_msg_view_resolve(&msg.view, &state, &camera, &exposure);
     } else {
-        reply = sky_msg_build_ack(&msg.id, 1, SKY_ROLE_NONE);
+        reply = proto_msg_build_ack(&msg.id, 1, PROTO_ROLE_NONE);
     }
     if (reply) {
         cJSON *parsed = cJSON_Parse(reply); /* every reply is valid JSON */
@@ -52,6 +53,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         cJSON_Delete(parsed);
     }
     free(reply);
-    sky_client_msg_free(&msg);
+    proto_client_msg_free(&msg);
     return 0;
 }

@@ -13,15 +13,16 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static void check_decoded(const struct sky_metar_report *r)
+static void check_decoded(const struct proto_metar_report *r)
 {
-    if (r->layer_count < 0 || r->layer_count > SKY_METAR_MAX_LAYERS || r->weather.group_count < 0 ||
-        r->weather.group_count > SKY_METAR_MAX_WEATHER || strlen(r->station) != 4)
+    if (r->layer_count < 0 || r->layer_count > PROTO_METAR_MAX_LAYERS ||
+        r->weather.group_count < 0 || r->weather.group_count > PROTO_METAR_MAX_WEATHER ||
+        strlen(r->station) != 4)
         abort();
     double previous = -1.0;
     bool unknown_seen = false;
     for (int i = 0; i < r->layer_count; i++) {
-        const struct sky_metar_cloud_layer *l = &r->layers[i];
+        const struct proto_metar_cloud_layer *l = &r->layers[i];
         if (!(l->coverage >= 0.0 && l->coverage <= 1.0))
             abort();
         if (l->base_known) {
@@ -32,16 +33,16 @@ static void check_decoded(const struct sky_metar_report *r)
             unknown_seen = true;
         }
     }
-    const struct sky_metar_visibility *v = &r->visibility;
+    const struct proto_metar_visibility *v = &r->visibility;
     if (v->reported && (!(v->metres > 0.0) || fabs(v->extinction_per_m * v->metres - 3.912) > 1e-9))
         abort();
     if (r->relative_humidity_known && !(r->relative_humidity > 0.0 && r->relative_humidity <= 1.0))
         abort();
-    const struct sky_metar_wind *w = &r->wind;
+    const struct proto_metar_wind *w = &r->wind;
     if (!(w->speed_m_s >= 0.0 && w->gust_m_s >= 0.0 && w->direction_deg >= 0.0 &&
           w->direction_deg <= 360.0))
         abort();
-    cJSON *json = sky_metar_to_json(r);
+    cJSON *json = proto_metar_to_json(r);
     char *text = json ? cJSON_PrintUnformatted(json) : NULL;
     cJSON *again = text ? cJSON_Parse(text) : NULL;
     if (!again || !cJSON_Compare(json, again, true))
@@ -50,22 +51,22 @@ static void check_decoded(const struct sky_metar_report *r)
     free(text);
     cJSON_Delete(json);
     char summary[160];
-    sky_metar_summary(r, summary, sizeof summary);
+    proto_metar_summary(r, summary, sizeof summary);
     if (strlen(summary) >= sizeof summary)
         abort();
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    struct sky_metar_report report;
-    struct sky_metar_error error;
+    struct proto_metar_report report;
+    struct proto_metar_error error;
     memset(&report, 0xa5, sizeof report);
-    if (sky_metar_decode((const char *)data, size, &report, &error)) {
+    if (proto_metar_decode((const char *)data, size, &report, &error)) {
         check_decoded(&report);
         return 0;
     }
-    static const struct sky_metar_report zero;
-    if (memcmp(&report, &zero, sizeof report) != 0 || error.code == SKY_METAR_OK ||
+    static const struct proto_metar_report zero;
+    if (memcmp(&report, &zero, sizeof report) != 0 || error.code == PROTO_METAR_OK ||
         !error.message[0] || error.group < 0 || error.offset > size ||
         strlen(error.message) >= sizeof error.message)
         abort();

@@ -177,8 +177,8 @@ static void test_luminance(const struct sky_render_atmosphere *atm,
     struct error_stats noise_sky = { 0 }, noise_ground = { 0 }, noise_twilight = { 0 };
     for (size_t e = 0; e < sizeof sun_elevations / sizeof *sun_elevations; e++) {
         double elevation = sun_elevations[e];
-        struct sky_world_state state;
-        sky_world_state_defaults(&state);
+        struct proto_world_state state;
+        proto_world_state_defaults(&state);
         state.camera.altitude_km = 0.0;
         state.sun.azimuth_deg = 0.0;
         state.sun.elevation_deg = elevation;
@@ -324,8 +324,8 @@ static void test_illuminance(const struct sky_render_atmosphere *atm,
     float *irradiance_lut = sky_renderer_read_lut(renderer, "irradiance", lut_size);
     CHECK(irradiance_lut != NULL);
     const double sun_zeniths[] = { 0, 30, 60, 80, 88 };
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
+    struct proto_world_state state;
+    proto_world_state_defaults(&state);
     struct sky_render_view view;
     world_to_render_view(&state, 1, 1, SKY_RENDER_OUTPUT_LINEAR, &view);
     double e_top[3];
@@ -357,8 +357,8 @@ static void test_illuminance(const struct sky_render_atmosphere *atm,
         for (int m = 0; m < 2; m++) {
             double sun_lux, sky_lux;
             sky_renderer_set_probe_multiple_scattering(renderer, modes[m]);
-            CHECK(sky_ground_illuminance(renderer, atm, &view, sun_zeniths[k], &sun_lux,
-                                         &sky_lux) == 0);
+            CHECK(host_ground_illuminance(renderer, atm, &view, sun_zeniths[k], &sun_lux,
+                                          &sky_lux) == 0);
             printf("illuminance (%s), sun zenith %4.1f: sun %9.1f lx (ref %9.1f, %+.2f%%), sky "
                    "%8.1f lx (ref %8.1f, %+.2f%%)\n",
                    m == 0 ? "fast" : "converged", sun_zeniths[k], sun_lux, ref_sun,
@@ -378,8 +378,8 @@ static void test_illuminance(const struct sky_render_atmosphere *atm,
 static void test_aerial_perspective(const struct sky_render_atmosphere *atm,
                                     const struct ref_atmosphere *ref)
 {
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
+    struct proto_world_state state;
+    proto_world_state_defaults(&state);
     state.camera.altitude_km = 0.5;
     /* Every froxel column looks at the sky (elevations from about 10 to 60 degrees). */
     state.camera.pitch_deg = 35;
@@ -484,8 +484,8 @@ static void test_random_samples(const struct sky_render_atmosphere *atm,
         else
             zenith = acos(1.0 - ref_uniform(&rng) * (1.0 - cos(75.0 * DEG))) / DEG;
         double azimuth = 360.0 * ref_uniform(&rng);
-        struct sky_world_state state;
-        sky_world_state_defaults(&state);
+        struct proto_world_state state;
+        proto_world_state_defaults(&state);
         state.camera.altitude_km = random_run.altitude_km;
         state.sun.azimuth_deg = 0.0;
         state.sun.elevation_deg = elevation;

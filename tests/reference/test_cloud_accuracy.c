@@ -15,7 +15,7 @@
  * light (ambient scale 0), a black ground, an atmosphere of zero optical depth (a transmittance
  * LUT of optical depth 0) and a small planet (1000 km) so that floats resolve the deck.
  *
- * Phase, albedo, octaves, steps and the deck's extinction are sky_world_state_defaults()'s,
+ * Phase, albedo, octaves, steps and the deck's extinction are proto_world_state_defaults()'s,
  * so the test follows the defaults; arguments override them to explore, and comma-separated
  * lists of a, b, c, octaves, powder (and g0, g1, w) evaluate every combination (a sweep, one
  * summary line each, then the table of the best):
@@ -215,8 +215,8 @@ static void print_table(const struct options *o, const struct slab_answer mc[NCA
 int main(int argc, char **argv)
 {
     double t_start = now_s();
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
+    struct proto_world_state state;
+    proto_world_state_defaults(&state);
     struct options o;
     if (!slab_parse_options(argc, argv, &state, &o))
         return 2;

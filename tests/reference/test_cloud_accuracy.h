@@ -91,12 +91,12 @@ static inline uint32_t rays_per_case(const struct options *o)
 
 /* test_cloud_accuracy_options.c: the defaults from `state`, then the arguments; false (with
  * a message on stderr) when they are not understood. */
-bool slab_parse_options(int argc, char **argv, const struct sky_world_state *state,
+bool slab_parse_options(int argc, char **argv, const struct proto_world_state *state,
                         struct options *o);
 
 /* test_cloud_accuracy_harness.c */
 bool slab_harness_create(struct vk_context *ctx, const struct options *o, struct harness *h);
-bool slab_harness_run(struct harness *h, const struct sky_world_state *state,
+bool slab_harness_run(struct harness *h, const struct proto_world_state *state,
                       const struct options *o, const struct phase_set *ph,
                       const struct octave_set *os, struct slab_answer out[NCASE]);
 void slab_harness_destroy(struct harness *h);

@@ -132,10 +132,10 @@ bool slab_harness_create(struct vk_context *ctx, const struct options *o, struct
 }
 
 /* The deck of a case: bottom radius, thickness and extinction giving optical depth tau. */
-static void deck(const struct sky_world_state *state, const struct options *o, double tau,
+static void deck(const struct proto_world_state *state, const struct options *o, double tau,
                  double *bottom, double *thickness, double *extinction)
 {
-    const struct sky_cloud_state *c = &state->clouds;
+    const struct proto_cloud_state *c = &state->clouds;
     *bottom = o->radius_km + c->low.bottom_km;
     double sigma = c->extinction_per_km * c->low.density;
     *thickness = o->thickness_km > 0.0 ? o->thickness_km : tau / sigma;
@@ -143,7 +143,7 @@ static void deck(const struct sky_world_state *state, const struct options *o, d
 }
 
 /* Marches every ray of every case for one phase and octave set; answers per case. */
-bool slab_harness_run(struct harness *h, const struct sky_world_state *state,
+bool slab_harness_run(struct harness *h, const struct proto_world_state *state,
                       const struct options *o, const struct phase_set *ph,
                       const struct octave_set *os, struct slab_answer out[NCASE])
 {

@@ -105,10 +105,10 @@ static bool parse_value(const struct option_spec *spec, const char *v, struct op
     return true;
 }
 
-bool slab_parse_options(int argc, char **argv, const struct sky_world_state *state,
+bool slab_parse_options(int argc, char **argv, const struct proto_world_state *state,
                         struct options *o)
 {
-    const struct sky_cloud_state *c = &state->clouds;
+    const struct proto_cloud_state *c = &state->clouds;
     memset(o, 0, sizeof *o);
     single(&o->a, c->multiscatter_a);
     single(&o->b, c->multiscatter_b);

@@ -281,8 +281,8 @@ int main(void)
 {
     double t_start = now();
     const struct phase iso = { 0.0, 0.0, 0.0 }, forward = { 0.8, -0.5, 0.2 };
-    struct sky_world_state ws;
-    sky_world_state_defaults(&ws);
+    struct proto_world_state ws;
+    proto_world_state_defaults(&ws);
     const struct phase cloud = { ws.clouds.phase_g0, ws.clouds.phase_g1, ws.clouds.phase_w };
     const double albedo = ws.clouds.albedo;
     const double g_cloud = (1.0 - cloud.w) * cloud.g0 + cloud.w * cloud.g1;

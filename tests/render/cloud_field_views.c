@@ -67,12 +67,12 @@ void field_fraction_offset_km(int i, double offset_km[2])
 }
 
 bool field_state(const struct field_views *v, const struct field_view *view,
-                 struct sky_world_state *s)
+                 struct proto_world_state *s)
 {
-    sky_world_state_defaults(s);
-    struct sky_field_errors errors = { 0 };
+    proto_world_state_defaults(s);
+    struct proto_field_errors errors = { 0 };
     char msg[1024] = "";
-    if (!sky_preset_apply(v->config_dir, "weather", view->preset, s, &errors, msg, sizeof msg)) {
+    if (!world_preset_apply(v->config_dir, "weather", view->preset, s, &errors, msg, sizeof msg)) {
         printf("weather preset %s: %s\n", view->preset, msg);
         return false;
     }
@@ -89,7 +89,7 @@ bool field_state(const struct field_views *v, const struct field_view *view,
     s->camera.pitch_deg = -90.0;
     s->camera.yaw_deg = 0.0;
     s->camera.fov_deg = view->fov_deg;
-    s->clouds.resolution = SKY_CLOUD_RESOLUTION_FULL;
+    s->clouds.resolution = PROTO_CLOUD_RESOLUTION_FULL;
     for (int i = 0; i < v->set_count; i++) {
         char path[256];
         const char *eq = strchr(v->sets[i], '=');
@@ -100,7 +100,7 @@ bool field_state(const struct field_views *v, const struct field_view *view,
         }
         memcpy(path, v->sets[i], len);
         path[len] = '\0';
-        if (!sky_world_state_set_path(s, path, eq + 1, &errors)) {
+        if (!proto_world_state_set_path(s, path, eq + 1, &errors)) {
             printf("--set %s rejected\n", v->sets[i]);
             return false;
         }
@@ -111,7 +111,7 @@ bool field_state(const struct field_views *v, const struct field_view *view,
 /* A pinhole over a level layer: the view's height on the ground at distance d is
  * 2 d tan(fov / 2). The Earth's curvature drops the layer by 13 m at the corners of a 26 km
  * view, a thousandth of the distance: left out. */
-double field_pixel_km(const struct sky_world_state *s)
+double field_pixel_km(const struct proto_world_state *s)
 {
     double mid = s->clouds.low.bottom_km + 0.5 * s->clouds.low.thickness_km;
     double d = s->camera.altitude_km - mid;
@@ -123,7 +123,7 @@ double field_pixel_km(const struct sky_world_state *s)
  * humidity changes the atmosphere. A probe that asks for the converged table builds it at once
  * and shows it fully: then a view's figures do not depend on what was rendered before it (the
  * test's order, or the probe tool's first frame). */
-static bool settle_atmosphere(const struct field_views *v, const struct sky_world_state *s)
+static bool settle_atmosphere(const struct field_views *v, const struct proto_world_state *s)
 {
     enum { SMALL = 8 };
     static float small[SMALL * SMALL * 4];
@@ -149,7 +149,7 @@ static bool settle_atmosphere(const struct field_views *v, const struct sky_worl
 }
 
 /* A side x side render (side <= FIELD_SIDE) into rgba[] and its luminance into luma. */
-static bool render(const struct field_views *v, const struct sky_world_state *s, int side,
+static bool render(const struct field_views *v, const struct proto_world_state *s, int side,
                    float *luma)
 {
     if (!settle_atmosphere(v, s))
@@ -235,7 +235,7 @@ static bool add_spectrum(const float *luma, double pixel_km, struct field_spectr
     return one.rings > 0 && field_sum_spectra(spectrum, &one);
 }
 
-static void black_ground(struct sky_world_state *s)
+static void black_ground(struct proto_world_state *s)
 {
     for (int c = 0; c < 3; c++)
         s->atmosphere.ground_albedo[c] = 0.0;
@@ -271,7 +271,7 @@ static double nadir_fraction(const unsigned char *m, int side, double fov_deg)
 /* The state of the view moved by field_fraction_offset_km(i) over a black ground. The offset
  * is added after field_state(), so to offsets that v->sets give too. */
 static bool moved_state(const struct field_views *v, const struct field_view *view, int i,
-                        struct sky_world_state *s)
+                        struct proto_world_state *s)
 {
     double offset_km[2];
     if (!field_state(v, view, s))
@@ -286,7 +286,7 @@ static bool moved_state(const struct field_views *v, const struct field_view *vi
 bool field_render_clear(const struct field_views *v, const struct field_view *view)
 {
     for (int i = 0; i < FIELD_FRACTION_VIEWS; i++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         if (!moved_state(v, view, i, &s))
             return false;
         s.clouds.low.coverage = 0.0;
@@ -301,7 +301,7 @@ bool field_render_clear(const struct field_views *v, const struct field_view *vi
 static bool moved_fraction(const struct field_views *v, const struct field_view *view,
                            const char *name, int i, double *fraction)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     if (!moved_state(v, view, i, &s) || !render(v, &s, FIELD_FRACTION_SIDE, moved_cloudy))
         return false;
     double offset_km[2];
@@ -319,7 +319,7 @@ bool field_measure_cumulus(const struct field_views *v, const struct field_view 
                            const char *name, struct cumulus_figures *out,
                            struct field_spectrum *spectrum)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     if (!moved_state(v, view, 0, &s) || !render(v, &s, FIELD_SIDE, cloudy))
         return false;
     save_render(v, name, FIELD_SIDE);
@@ -355,7 +355,7 @@ bool field_measure_cumulus(const struct field_views *v, const struct field_view 
 bool field_add_spectrum(const struct field_views *v, const struct field_view *view,
                         const char *name, struct field_spectrum *spectrum)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     if (!field_state(v, view, &s) || !render(v, &s, FIELD_SIDE, cloudy))
         return false;
     save_render(v, name, FIELD_SIDE);

@@ -100,10 +100,10 @@ void field_fraction_offset_km(int i, double offset_km[2]);
 /* The world state of a view: defaults, the weather preset, the view's fields, the camera
  * (FIELD_CAMERA_KM, straight down), clouds traced at every pixel, then v->sets. */
 bool field_state(const struct field_views *v, const struct field_view *view,
-                 struct sky_world_state *s);
+                 struct proto_world_state *s);
 
 /* Side of a pixel in km at the low layer's middle altitude. */
-double field_pixel_km(const struct sky_world_state *s);
+double field_pixel_km(const struct proto_world_state *s);
 
 /* Renders the view without its low layer over a black ground, and the same for the view moved
  * by field_fraction_offset_km() at FIELD_FRACTION_SIDE: the clear halves of the pairs that

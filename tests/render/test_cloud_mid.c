@@ -25,11 +25,11 @@ static struct sky_renderer *renderer;
 static float frame_a[W * H * 4], frame_b[W * H * 4];
 
 /* A clear day with the sun at 45 degrees in the south and an empty middle layer at 3.5-4.5 km. */
-static void mid_state(struct sky_world_state *s)
+static void mid_state(struct proto_world_state *s)
 {
-    sky_world_state_defaults(s);
-    s->clouds.resolution = SKY_CLOUD_RESOLUTION_FULL;
-    s->exposure.mode = SKY_EXPOSURE_MANUAL;
+    proto_world_state_defaults(s);
+    s->clouds.resolution = PROTO_CLOUD_RESOLUTION_FULL;
+    s->exposure.mode = PROTO_EXPOSURE_MANUAL;
     s->exposure.ev100 = 14.5;
     s->sun.azimuth_deg = 180.0;
     s->sun.elevation_deg = 45.0;
@@ -41,20 +41,20 @@ static void mid_state(struct sky_world_state *s)
     s->clouds.mid.thickness_km = 1.0;
 }
 
-static void altostratus(struct sky_world_state *s)
+static void altostratus(struct proto_world_state *s)
 {
     s->clouds.mid.coverage = 0.8;
     s->clouds.mid.type = 0.0;
 }
 
-static void render(const struct sky_world_state *s, uint64_t key, float *linear)
+static void render(const struct proto_world_state *s, uint64_t key, float *linear)
 {
     CHECK(test_render_world(renderer, s, W, H, SKY_RENDER_OUTPUT_LINEAR, key, false, linear,
                             (size_t)W * H * 16) == 0);
     CHECK(test_count_bad(linear, (size_t)W * H) == 0);
 }
 
-static void save_png(const struct sky_world_state *s, uint64_t key, const char *name)
+static void save_png(const struct proto_world_state *s, uint64_t key, const char *name)
 {
     static uint8_t pixels[W * H * 4];
     CHECK(test_render_world(renderer, s, W, H, SKY_RENDER_OUTPUT_SRGB8, key, false, pixels,
@@ -101,7 +101,7 @@ static void test_dims_sun_and_ground(void)
     double sun_clear = 0.0, sun_mid = 0.0, ground_clear = 0.0, ground_mid = 0.0;
     int dimmed = 0;
     for (int k = 0; k < 8; k++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         mid_state(&s);
         s.sun.azimuth_deg = 45.0 * k;
         s.camera.yaw_deg = s.sun.azimuth_deg;
@@ -153,7 +153,7 @@ static void test_between_layers(void)
         { "under_up", 3.0, 60.0, true },
     };
     for (size_t v = 0; v < sizeof views / sizeof views[0]; v++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         mid_state(&s);
         s.clouds.low.coverage = 0.4;
         s.clouds.low.bottom_km = 1.0;
@@ -235,7 +235,7 @@ static double pixels_per_crossing(const float *f)
  * with breaks kilometres apart. */
 static void test_altocumulus_cells(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     mid_state(&s);
     s.camera.altitude_km = 0.2;
     s.camera.pitch_deg = 89.0;
@@ -266,7 +266,7 @@ static void test_altocumulus_cells(void)
  * pixel. */
 static void test_empty_is_nothing(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     mid_state(&s);
     s.clouds.low.coverage = 0.5;
     s.clouds.high.coverage = 0.3;
@@ -298,7 +298,7 @@ static void test_empty_is_nothing(void)
  * behind each sample and the incidence on its top (cloud_light.glsl), which the low layer's
  * stratus has; that gap is open, and this bound keeps it from growing. */
 static const double mid_reference_tolerance[2] = { 0.4, 0.15 }; /* altostratus, altocumulus */
-static void render_reference(const struct sky_world_state *s, uint32_t spp, uint64_t key,
+static void render_reference(const struct proto_world_state *s, uint32_t spp, uint64_t key,
                              float *rgba)
 {
     struct sky_render_atmosphere atm;
@@ -321,7 +321,7 @@ static void render_reference(const struct sky_world_state *s, uint32_t spp, uint
 static void test_reference(void)
 {
     for (int k = 0; k < 2; k++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         mid_state(&s);
         s.camera.altitude_km = 0.2;
         s.camera.yaw_deg = 0.0;

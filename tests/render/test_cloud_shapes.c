@@ -30,19 +30,19 @@ static uint64_t next_history_key = 1;
 
 /* The defaults with config/weather/<name>.json applied, as `skyd render --weather NAME`
  * does (server/cli/cli_args.c); clouds traced at every pixel. */
-bool shapes_weather_state(const char *name, struct sky_world_state *s)
+bool shapes_weather_state(const char *name, struct proto_world_state *s)
 {
-    sky_world_state_defaults(s);
-    struct sky_field_errors errors = { 0 };
+    proto_world_state_defaults(s);
+    struct proto_field_errors errors = { 0 };
     char msg[1024] = "";
-    bool ok = sky_preset_apply(config_dir, "weather", name, s, &errors, msg, sizeof msg);
+    bool ok = world_preset_apply(config_dir, "weather", name, s, &errors, msg, sizeof msg);
     CHECK_MSG(ok, "weather preset %s: %s", name, msg);
-    s->clouds.resolution = SKY_CLOUD_RESOLUTION_FULL;
+    s->clouds.resolution = PROTO_CLOUD_RESOLUTION_FULL;
     return ok;
 }
 
 /* Renders linear RGBA (cd/m2) into rgba[] and its luminance into luma[]. */
-void shapes_render(const struct sky_world_state *s, float *luma)
+void shapes_render(const struct proto_world_state *s, float *luma)
 {
     /* A one-off view, converged from scratch. */
     CHECK(test_render_world(shapes_renderer, s, W, H, SKY_RENDER_OUTPUT_LINEAR, next_history_key++,
@@ -93,7 +93,7 @@ void shapes_save_mask(const char *name, int count, int min_area, int min_width)
 }
 
 /* The camera's basis as render/sky/sky_uniforms.c builds it, and tan(fov / 2). */
-double shapes_camera_basis(const struct sky_world_state *s, double f[3], double r[3], double u[3])
+double shapes_camera_basis(const struct proto_world_state *s, double f[3], double r[3], double u[3])
 {
     double yaw = s->camera.yaw_deg * DEG;
     sky_direction_from_angles(s->camera.yaw_deg, s->camera.pitch_deg, f);
@@ -122,7 +122,7 @@ void shapes_pixel_direction(const double f[3], const double r[3], const double u
 /* Renders the cloudy state `s`, then `s` without its low layer (its cirrus stays in both: the
  * shapes measured are the cumulus'), both over a black ground so that no shadow on it makes an
  * object; saves the cloudy render as <name>.png. */
-void shapes_render_pair(struct sky_world_state *s, const char *name)
+void shapes_render_pair(struct proto_world_state *s, const char *name)
 {
     for (int c = 0; c < 3; c++)
         s->atmosphere.ground_albedo[c] = 0.0;
@@ -137,7 +137,7 @@ void shapes_render_pair(struct sky_world_state *s, const char *name)
 /* shapes_mask: where the cloudy render differs from the clear one by more than 10 % of the
  * clear one, below the horizon as `below` says. Then its objects into shapes_objects[]: returns
  * how many, and the masked fraction of the image in *cover. */
-int shapes_label(const struct sky_world_state *s, enum below_horizon below, double *cover)
+int shapes_label(const struct proto_world_state *s, enum below_horizon below, double *cover)
 {
     double f[3], r[3], u[3], d[3], tan_half = shapes_camera_basis(s, f, r, u);
     double radius = s->atmosphere.bottom_radius_km;
@@ -162,8 +162,8 @@ int shapes_label(const struct sky_world_state *s, enum below_horizon below, doub
 }
 
 /* test_set_cell_map with the shapes' renderer. */
-void shapes_set_cell_map(const struct sky_world_state *s, double radius, double north, uint8_t type,
-                         uint8_t rain)
+void shapes_set_cell_map(const struct proto_world_state *s, double radius, double north,
+                         uint8_t type, uint8_t rain)
 {
     CHECK(test_set_cell_map(shapes_renderer, s, radius, north, type, rain) == 0);
 }

@@ -48,18 +48,19 @@ enum below_horizon {
                        camera, not the air their shadows darken */
 };
 
-bool shapes_weather_state(const char *name, struct sky_world_state *s);
-void shapes_render(const struct sky_world_state *s, float *luma);
+bool shapes_weather_state(const char *name, struct proto_world_state *s);
+void shapes_render(const struct proto_world_state *s, float *luma);
 void shapes_save_render(const char *name);
 bool shapes_measured(const struct cloud_object *o, int min_area, int min_width);
 void shapes_save_mask(const char *name, int count, int min_area, int min_width);
-double shapes_camera_basis(const struct sky_world_state *s, double f[3], double r[3], double u[3]);
+double shapes_camera_basis(const struct proto_world_state *s, double f[3], double r[3],
+                           double u[3]);
 void shapes_pixel_direction(const double f[3], const double r[3], const double u[3],
                             double tan_half, int x, int y, double d[3]);
-void shapes_render_pair(struct sky_world_state *s, const char *name);
-int shapes_label(const struct sky_world_state *s, enum below_horizon below, double *cover);
-void shapes_set_cell_map(const struct sky_world_state *s, double radius, double north, uint8_t type,
-                         uint8_t rain);
+void shapes_render_pair(struct proto_world_state *s, const char *name);
+int shapes_label(const struct proto_world_state *s, enum below_horizon below, double *cover);
+void shapes_set_cell_map(const struct proto_world_state *s, double radius, double north,
+                         uint8_t type, uint8_t rain);
 
 /* ---- the tests of each file ---- */
 

@@ -37,10 +37,10 @@ void test_silver_lining(void)
 {
     double ratio[2];
     for (int k = 0; k < 2; k++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         if (!shapes_weather_state("fair_cumulus", &s))
             return;
-        s.weather.map_source = SKY_WEATHER_MAP_CLIENT;
+        s.weather.map_source = PROTO_WEATHER_MAP_CLIENT;
         s.clouds.high.coverage = 0.0;
         s.camera.altitude_km = 0.2;
         s.camera.yaw_deg = 0.0;
@@ -53,7 +53,7 @@ void test_silver_lining(void)
         shapes_set_cell_map(&s, 1.5, 8.0, 168, 0);
         shapes_render(&s, shapes_cloudy);
         shapes_save_render(k == 0 ? "silver_lining" : "silver_lining_isotropic");
-        s.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+        s.weather.map_source = PROTO_WEATHER_MAP_PROCEDURAL;
         s.clouds.low.coverage = 0.0;
         shapes_render(&s, shapes_clear);
         double cover;
@@ -68,7 +68,7 @@ void test_silver_lining(void)
 }
 
 /* The overcast deck alone (no high layer, no rain), the camera 200 m over its top. */
-static bool deck_state(struct sky_world_state *s)
+static bool deck_state(struct proto_world_state *s)
 {
     if (!shapes_weather_state("overcast", s))
         return false;
@@ -88,7 +88,7 @@ static double deck_grazing_over_down(double powder)
 {
     double mean[2];
     for (int k = 0; k < 2; k++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         if (!deck_state(&s))
             return NAN;
         s.clouds.multiscatter_powder = powder;
@@ -112,8 +112,8 @@ static double deck_grazing_over_down(double powder)
 
 void test_powder(void)
 {
-    struct sky_world_state defaults;
-    sky_world_state_defaults(&defaults);
+    struct proto_world_state defaults;
+    proto_world_state_defaults(&defaults);
     double with = deck_grazing_over_down(defaults.clouds.multiscatter_powder);
     double without = deck_grazing_over_down(0.0);
     CHECK_MSG(defaults.clouds.multiscatter_powder > 0.0, "powder is on by default");
@@ -131,7 +131,7 @@ static double deck_toward_over_away(bool isotropic)
 {
     double mean[2];
     for (int k = 0; k < 2; k++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         if (!deck_state(&s))
             return NAN;
         s.camera.yaw_deg = k == 0 ? 0.0 : 180.0;
@@ -166,7 +166,7 @@ void test_sky_ambient(void)
 
 /* The brightest pixel whose centre lies within disk_deg of the sun (the pinhole of
  * shaders/include/camera.glsl, as cloud_metrics_sun_contrast measures it). */
-static double sun_peak(const struct sky_world_state *s, const double sun[3], double disk_deg)
+static double sun_peak(const struct proto_world_state *s, const double sun[3], double disk_deg)
 {
     double f[3], r[3], u[3], d[3], tan_half = shapes_camera_basis(s, f, r, u), peak = 0.0;
     for (int y = 0; y < H; y++)
@@ -180,7 +180,7 @@ static double sun_peak(const struct sky_world_state *s, const double sun[3], dou
 
 /* Looks at the sun (30 deg up) through the clouds of `s`: its contrast against the sky 3-6 deg
  * away (cloud_metrics_sun_contrast, disk 0.5 deg) and the brightest pixel of its disk. */
-static double sun_view(struct sky_world_state *s, const char *name, double *peak)
+static double sun_view(struct proto_world_state *s, const char *name, double *peak)
 {
     s->sun.elevation_deg = 30.0;
     s->camera.yaw_deg = s->sun.azimuth_deg;
@@ -197,7 +197,8 @@ static double sun_view(struct sky_world_state *s, const char *name, double *peak
 
 /* Nominal optical depth of a layer along the sun's ray: extinction x density x thickness /
  * sin(elevation), at full density throughout (the noise thins it). */
-static double nominal_tau(const struct sky_world_state *s, const struct sky_cloud_layer_state *l)
+static double nominal_tau(const struct proto_world_state *s,
+                          const struct proto_cloud_layer_state *l)
 {
     return s->clouds.extinction_per_km * l->density * l->thickness_km /
            sin(s->sun.elevation_deg * DEG);
@@ -208,7 +209,7 @@ static double nominal_tau(const struct sky_world_state *s, const struct sky_clou
  * disk and leaves it plainly visible (over ten times the sky around it). */
 void test_sun_through_clouds(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     double clear_peak, peak;
     shapes_weather_state("clear", &s);
     s.clouds.low.coverage = s.clouds.high.coverage = 0.0;

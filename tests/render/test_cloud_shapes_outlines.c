@@ -17,7 +17,7 @@ static int compare_int(const void *a, const void *b)
 void test_from_above(const char *name, int seed, double sun_azimuth_deg, double altitude_km,
                      double fov_deg)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     if (!shapes_weather_state("fair_cumulus", &s))
         return;
     s.weather.seed = seed;
@@ -65,7 +65,7 @@ void test_edge_on(void)
     static struct cloud_object pooled[MAX_OBJECTS];
     int count = 0;
     for (int k = 0; k < 8; k++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         if (!shapes_weather_state("fair_cumulus", &s))
             return;
         s.clouds.low.coverage = 0.12;
@@ -145,7 +145,7 @@ void test_smooth_outlines(void)
 {
     double aligned[4];
     for (int k = 0; k < 4; k++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         if (!shapes_weather_state("broken", &s))
             return;
         s.clouds.high.coverage = 0.0;

@@ -4,11 +4,11 @@
 
 /* The storm preset from the ground with the sun behind the camera, on a client map (by
  * shapes_set_cell_map) and without the high layer. */
-static bool storm_cell_state(struct sky_world_state *s)
+static bool storm_cell_state(struct proto_world_state *s)
 {
     if (!shapes_weather_state("storm", s))
         return false;
-    s->weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    s->weather.map_source = PROTO_WEATHER_MAP_CLIENT;
     s->clouds.high.coverage = 0.0;
     s->camera.altitude_km = 0.2;
     s->camera.yaw_deg = 0.0;
@@ -25,7 +25,7 @@ static bool storm_cell_state(struct sky_world_state *s)
  * is a whole object taller than it is wide: a tower, not a pancake or a dome. */
 void test_storm_tower(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     if (!storm_cell_state(&s))
         return;
     shapes_set_cell_map(&s, 3.0, 25.0, 255, 230);
@@ -33,7 +33,7 @@ void test_storm_tower(void)
         s.atmosphere.ground_albedo[c] = 0.0;
     shapes_render(&s, shapes_cloudy);
     shapes_save_render("storm_cell");
-    s.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL; /* the clear sky: no low layer */
+    s.weather.map_source = PROTO_WEATHER_MAP_PROCEDURAL; /* the clear sky: no low layer */
     s.clouds.low.coverage = 0.0;
     shapes_render(&s, shapes_clear);
     double cover;
@@ -61,7 +61,7 @@ void test_storm_tower(void)
  * beside it (15 deg and more off the cell's azimuth) by under 1 %. */
 void test_rain_shaft(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     if (!storm_cell_state(&s))
         return;
     s.clouds.low.bottom_km = 1.5;
@@ -127,7 +127,7 @@ void test_storm_steps(void)
     enum { ROWS = H * 55 / 100 }; /* above the horizon */
     static float blurred[2][(size_t)W * ROWS];
     for (int k = 0; k < 2; k++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         if (!shapes_weather_state("storm", &s))
             return;
         s.clouds.low.coverage = 0.55;

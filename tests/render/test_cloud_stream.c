@@ -40,10 +40,10 @@ static uint64_t one_off_key = 1000; /* one-off renders: a new history each */
 
 /* Fair-weather cumulus to a storm's towers (config/weather/fair_cumulus.json, storm.json):
  * the transition's smoothstep of `t` in [0, 1], the wind's displacement after `frame` frames. */
-static void stream_state(struct sky_world_state *s, double t, int frame)
+static void stream_state(struct proto_world_state *s, double t, int frame)
 {
-    sky_world_state_defaults(s);
-    s->exposure.mode = SKY_EXPOSURE_MANUAL;
+    proto_world_state_defaults(s);
+    s->exposure.mode = PROTO_EXPOSURE_MANUAL;
     s->exposure.ev100 = 14.5;
     double u = t * t * (3.0 - 2.0 * t);
     s->clouds.low.coverage = 0.3 + (0.85 - 0.3) * u;
@@ -58,7 +58,7 @@ static void stream_state(struct sky_world_state *s, double t, int frame)
     s->weather.offset_east_km = frame * WIND_M_S * 1e-3 * TIME_SCALE / FPS;
 }
 
-static void render(const struct sky_world_state *s, uint64_t key, bool live, float *linear)
+static void render(const struct proto_world_state *s, uint64_t key, bool live, float *linear)
 {
     CHECK(test_render_world(renderer, s, W, H, SKY_RENDER_OUTPUT_LINEAR, key, live, linear,
                             (size_t)W * H * 16) == 0);
@@ -133,7 +133,7 @@ static double cloud_grid_blockiness(const float *linear)
 /* The transition streamed live, each frame against a converged render of its state. */
 static void test_transition(int *frame)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     for (int k = 0; k < WARMUP; k++, (*frame)++) {
         stream_state(&s, 0.0, *frame);
         render(&s, STREAM_KEY, true, live);
@@ -183,7 +183,7 @@ static void test_transition(int *frame)
  * fast as a new stream starting then converges, and stays no blockier than converged renders. */
 static void test_instant_change(int *frame)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     double ratio[3];
     int n = 0;
     for (int k = 1; k <= AFTER_CHANGE; k++, (*frame)++) {

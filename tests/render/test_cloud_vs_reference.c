@@ -71,13 +71,13 @@ static double seconds(void)
     return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-static bool scene_state(const struct scene *sc, struct sky_world_state *s)
+static bool scene_state(const struct scene *sc, struct proto_world_state *s)
 {
-    sky_world_state_defaults(s);
+    proto_world_state_defaults(s);
     char msg[1024] = "";
-    bool ok = sky_preset_apply(config_dir, "weather", sc->preset, s, NULL, msg, sizeof msg);
+    bool ok = world_preset_apply(config_dir, "weather", sc->preset, s, NULL, msg, sizeof msg);
     CHECK_MSG(ok, "weather preset %s: %s", sc->preset, msg);
-    s->weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    s->weather.map_source = PROTO_WEATHER_MAP_CLIENT;
     s->clouds.high.coverage = 0.0;
     /* No rain: the shafts under a base are the renderer's own march, not cloud density, and
      * the reference traces the density alone. */
@@ -92,7 +92,7 @@ static bool scene_state(const struct scene *sc, struct sky_world_state *s)
 }
 
 /* Renders `s` (reference_spp 0: the renderer) into rgba and its luminance into luma. */
-static void render(const struct sky_world_state *s, uint32_t spp, uint32_t seed, float *rgba,
+static void render(const struct proto_world_state *s, uint32_t spp, uint32_t seed, float *rgba,
                    float *luma)
 {
     struct sky_render_atmosphere atm;
@@ -160,7 +160,7 @@ static void save_pair(const char *name, const float *a, const float *b)
 
 /* The cloud: where the reference differs from the clear sky by over 10 %, above the horizon
  * (under it the clouds' shadows change the ground). */
-static int cloud_mask(const struct sky_world_state *s, const float *ref, const float *clear,
+static int cloud_mask(const struct proto_world_state *s, const float *ref, const float *clear,
                       unsigned char *mask)
 {
     double f[3], r[3], u[3];
@@ -236,7 +236,7 @@ static unsigned char mask[W * H];
 
 static void compare_scene(const struct scene *sc)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     if (!scene_state(sc, &s))
         return;
     uint32_t spp = ref_spp_override ? ref_spp_override : sc->spp;
@@ -252,8 +252,8 @@ static void compare_scene(const struct scene *sc)
             save_cached(sc->name, spp, k, ref_rgba[k]);
         }
     double t2 = seconds();
-    struct sky_world_state c = s;
-    c.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+    struct proto_world_state c = s;
+    c.weather.map_source = PROTO_WEATHER_MAP_PROCEDURAL;
     c.clouds.low.coverage = 0.0;
     render(&c, 0, 0, clear_rgba, clear);
     for (int i = 0; i < W * H; i++) {

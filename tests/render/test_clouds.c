@@ -26,18 +26,18 @@ static struct sky_renderer *renderer;
 static float frame_a[W * H * 4], frame_b[W * H * 4];
 static bool live_views; /* render() asks for a stream's frames (see sky_render_view.live) */
 
-static void cloudy_state(struct sky_world_state *s)
+static void cloudy_state(struct proto_world_state *s)
 {
-    sky_world_state_defaults(s);
+    proto_world_state_defaults(s);
     s->clouds.low.coverage = 0.5;
     s->clouds.high.coverage = 0.3;
-    s->clouds.resolution = SKY_CLOUD_RESOLUTION_FULL;
-    s->exposure.mode = SKY_EXPOSURE_MANUAL;
+    s->clouds.resolution = PROTO_CLOUD_RESOLUTION_FULL;
+    s->exposure.mode = PROTO_EXPOSURE_MANUAL;
     s->exposure.ev100 = 14.5;
 }
 
 /* Renders linear luminance (cd/m2), or sRGB bytes when `srgb` is not NULL. */
-static void render(const struct sky_world_state *s, uint64_t key, float *linear, uint8_t *srgb)
+static void render(const struct proto_world_state *s, uint64_t key, float *linear, uint8_t *srgb)
 {
     void *out = srgb ? (void *)srgb : (void *)linear;
     size_t bytes = (size_t)W * H * (srgb ? 4 : 16);
@@ -54,7 +54,7 @@ static double mean_luminance(const float *f)
     return sum / (W * H);
 }
 
-static void save_png(const struct sky_world_state *s, uint64_t key, const char *name)
+static void save_png(const struct proto_world_state *s, uint64_t key, const char *name)
 {
     static uint8_t pixels[W * H * 4];
     render(s, key, NULL, pixels);
@@ -78,7 +78,7 @@ static void test_views(void)
         { "orbit", 400, -90, 50, 3e4 },
     };
     for (size_t v = 0; v < sizeof views / sizeof views[0]; v++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         cloudy_state(&s);
         if (strcmp(views[v].name, "inside") == 0)
             s.clouds.low.coverage = 1.0;
@@ -101,7 +101,7 @@ static void test_views(void)
  * within a 16th of the layer). */
 static void test_step_count_independence(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     cloudy_state(&s);
     s.clouds.high.coverage = 0.0;
     s.clouds.low.coverage = 0.6;
@@ -141,7 +141,7 @@ static double slab_single_scattering(double e, double albedo, double mu0, double
  * from two angles like a diffuse surface, and match the single-scattering reference. */
 static void test_thick_isotropic_cloud(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     cloudy_state(&s);
     s.clouds.high.coverage = 0.0;
     s.clouds.low.coverage = 1.0;
@@ -187,7 +187,7 @@ static void test_thick_isotropic_cloud(void)
 /* The ground under an overcast deck receives less light than under a clear sky. */
 static void test_overcast_ground_darker(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     cloudy_state(&s);
     s.clouds.high.coverage = 0.0;
     s.camera.pitch_deg = -60.0;
@@ -204,9 +204,9 @@ static void test_overcast_ground_darker(void)
 /* A static view at a reduced resolution settles: frame-to-frame change falls below 2 % within
  * a few frames; then under a steady camera turn the reprojected result stays close to a fresh
  * converged render of the same camera (no smearing). */
-static void test_temporal(enum sky_cloud_resolution resolution, uint64_t key)
+static void test_temporal(enum proto_cloud_resolution resolution, uint64_t key)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     cloudy_state(&s);
     s.clouds.resolution = resolution;
     s.camera.pitch_deg = 30;
@@ -236,16 +236,16 @@ static void test_temporal(enum sky_cloud_resolution resolution, uint64_t key)
      * light from deep inside the clouds, whose estimate varies from sample to sample, and in
      * this small view most clouds are a few pixels wide. Measured 0.16 and 0.11; an
      * unaccumulated first frame differs by 0.4. */
-    CHECK_LE(smear, resolution == SKY_CLOUD_RESOLUTION_SIXTYFOURTH ? 0.14 : 0.20);
+    CHECK_LE(smear, resolution == PROTO_CLOUD_RESOLUTION_SIXTYFOURTH ? 0.14 : 0.20);
 }
 
 /* A stream's new history shows its first frame at once (no accumulation), unconverged, and
  * within two cycles of its 4x4 pattern (32 frames) comes close to what a one-off render shows. */
 static void test_live_convergence(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     cloudy_state(&s);
-    s.clouds.resolution = SKY_CLOUD_RESOLUTION_SIXTYFOURTH;
+    s.clouds.resolution = PROTO_CLOUD_RESOLUTION_SIXTYFOURTH;
     s.camera.pitch_deg = 30;
     static float first[W * H * 4];
     render(&s, 601, frame_b, NULL); /* one-off: converged before it is shown */
@@ -271,9 +271,9 @@ static void test_live_convergence(void)
  * whole map built for that sun. */
 static void test_sliced_shadow_map_sun(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     cloudy_state(&s);
-    s.clouds.resolution = SKY_CLOUD_RESOLUTION_SIXTYFOURTH;
+    s.clouds.resolution = PROTO_CLOUD_RESOLUTION_SIXTYFOURTH;
     s.camera.pitch_deg = 20;
     s.sun.elevation_deg = 35;
     s.sun.azimuth_deg = 180;
@@ -308,7 +308,7 @@ static void test_sliced_shadow_map_sun(void)
  * frame is the clear one, not the overcast the interrupted build was for. */
 static void test_at_once_after_sliced_build(void)
 {
-    struct sky_world_state clear, overcast;
+    struct proto_world_state clear, overcast;
     cloudy_state(&clear);
     clear.camera.pitch_deg = 25;
     clear.clouds.low.coverage = 0.05;
@@ -345,7 +345,7 @@ static void test_at_once_after_sliced_build(void)
  * percent of the sky's in-scattering at least) and never negative. */
 static void test_light_shafts(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     cloudy_state(&s);
     s.clouds.low.coverage = 0.6;
     s.sun.elevation_deg = 10.0;
@@ -393,10 +393,10 @@ static void test_light_shafts(void)
  * it, and forgetting it brings the procedural map back. */
 static void test_client_weather_map(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     cloudy_state(&s);
     s.camera.pitch_deg = 40;
-    s.weather.map_source = SKY_WEATHER_MAP_CLIENT;
+    s.weather.map_source = PROTO_WEATHER_MAP_CLIENT;
     static uint8_t map[16 * 16 * 4];
     memset(map, 0, sizeof map);
     CHECK(sky_renderer_set_weather_map(renderer, map, 16, 16) == 0);
@@ -407,7 +407,7 @@ static void test_client_weather_map(void)
     render(&s, 501, frame_b, NULL);
     s.clouds.low.coverage = 0.0;
     s.clouds.high.coverage = 0.0;
-    s.weather.map_source = SKY_WEATHER_MAP_PROCEDURAL;
+    s.weather.map_source = PROTO_WEATHER_MAP_PROCEDURAL;
     static float clear[W * H * 4];
     render(&s, 502, clear, NULL);
     double empty_vs_clear = test_relative_difference(frame_a, clear, (size_t)W * H);
@@ -425,9 +425,9 @@ static void test_client_weather_map(void)
  * darker than the same deck by day. */
 static void test_moonlit_clouds(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     cloudy_state(&s);
-    s.clock.sky_bodies = SKY_BODIES_MANUAL;
+    s.clock.sky_bodies = PROTO_BODIES_MANUAL;
     s.clouds.high.coverage = 0.0;
     s.clouds.low.coverage = 1.0;
     s.camera.pitch_deg = 60;
@@ -460,8 +460,8 @@ static void run_tests(void)
     test_step_count_independence();
     test_thick_isotropic_cloud();
     test_overcast_ground_darker();
-    test_temporal(SKY_CLOUD_RESOLUTION_SIXTEENTH, 400);
-    test_temporal(SKY_CLOUD_RESOLUTION_SIXTYFOURTH, 410);
+    test_temporal(PROTO_CLOUD_RESOLUTION_SIXTEENTH, 400);
+    test_temporal(PROTO_CLOUD_RESOLUTION_SIXTYFOURTH, 410);
     test_live_convergence();
     test_sliced_shadow_map_sun();
     test_at_once_after_sliced_build();

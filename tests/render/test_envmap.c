@@ -20,9 +20,9 @@
 static struct sky_renderer *renderer;
 static const char *out_dir = ".";
 
-static void clear_state(struct sky_world_state *s, double sun_azimuth, double sun_elevation)
+static void clear_state(struct proto_world_state *s, double sun_azimuth, double sun_elevation)
 {
-    sky_world_state_defaults(s);
+    proto_world_state_defaults(s);
     s->clouds.low.coverage = 0.0;
     s->clouds.high.coverage = 0.0;
     s->camera.yaw_deg = 40.0;
@@ -31,7 +31,7 @@ static void clear_state(struct sky_world_state *s, double sun_azimuth, double su
     s->sun.elevation_deg = sun_elevation;
 }
 
-static void panorama_view(const struct sky_world_state *s, uint32_t width,
+static void panorama_view(const struct proto_world_state *s, uint32_t width,
                           enum sky_render_output_kind output, struct sky_render_view *view)
 {
     world_to_render_view(s, width, width / 2, output, view);
@@ -48,7 +48,7 @@ static void pixel_direction(double yaw_deg, uint32_t width, uint32_t height, uin
     sky_direction_from_angles(azimuth, elevation, out);
 }
 
-static float *render_linear(const struct sky_world_state *s, uint32_t width,
+static float *render_linear(const struct proto_world_state *s, uint32_t width,
                             struct sky_render_stats *stats)
 {
     struct sky_render_atmosphere atm;
@@ -71,7 +71,7 @@ static double luma(const float *rgba)
 static void test_pixels_look_where_documented(void)
 {
     enum { W = 128, H = 64, STEP_X = 8, STEP_Y = 4 };
-    struct sky_world_state s;
+    struct proto_world_state s;
     clear_state(&s, 100.0, 30.0);
     float *px = render_linear(&s, W, NULL);
     struct sky_render_atmosphere atm;
@@ -123,7 +123,7 @@ static void test_pixels_look_where_documented(void)
 
 /* The sun disk's illuminance sum(L - L_sky) dOmega over the pixels around it, with a
  * pixel's solid angle (2 pi / W)(pi / H) cos(elevation). */
-static double disk_illuminance(const struct sky_world_state *s, uint32_t width)
+static double disk_illuminance(const struct proto_world_state *s, uint32_t width)
 {
     uint32_t height = width / 2;
     float *px = render_linear(s, width, NULL);
@@ -163,7 +163,7 @@ static double disk_illuminance(const struct sky_world_state *s, uint32_t width)
 static void test_sun_disk_whole_anywhere(void)
 {
     enum { W = 512 };
-    struct sky_world_state s;
+    struct proto_world_state s;
     clear_state(&s, 0.0, 30.0);
     s.sun.angular_diameter_deg = 8.0; /* about 11 pixels across */
     s.sun.azimuth_deg = s.camera.yaw_deg;
@@ -189,9 +189,9 @@ static void test_sun_disk_whole_anywhere(void)
 static void test_metering_weighs_solid_angle(void)
 {
     enum { W = 256, H = W / 2 };
-    struct sky_world_state s;
+    struct proto_world_state s;
     clear_state(&s, 200.0, 12.0);
-    s.exposure.night_adaptation = SKY_SWITCH_OFF;
+    s.exposure.night_adaptation = PROTO_SWITCH_OFF;
     s.exposure.compensation_ev = 0.0;
     struct sky_render_stats stats;
     float *px = render_linear(&s, W, &stats);
@@ -212,8 +212,8 @@ static void test_metering_weighs_solid_angle(void)
     free(px);
 }
 
-static void save_srgb(const struct sky_world_state *s, uint32_t width, const char *name, bool live,
-                      int frames)
+static void save_srgb(const struct proto_world_state *s, uint32_t width, const char *name,
+                      bool live, int frames)
 {
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
@@ -235,7 +235,7 @@ static void save_srgb(const struct sky_world_state *s, uint32_t width, const cha
 static void test_clouds_in_panorama(void)
 {
     enum { W = 256, H = W / 2 };
-    struct sky_world_state s;
+    struct proto_world_state s;
     clear_state(&s, 135.0, 25.0);
     float *clear = render_linear(&s, W, NULL);
     s.clouds.low.coverage = 0.6;

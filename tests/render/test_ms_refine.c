@@ -17,9 +17,9 @@
 
 static void view_for(double sun_elevation, struct sky_render_view *v)
 {
-    struct sky_world_state s;
-    sky_world_state_defaults(&s);
-    s.exposure.mode = SKY_EXPOSURE_MANUAL;
+    struct proto_world_state s;
+    proto_world_state_defaults(&s);
+    s.exposure.mode = PROTO_EXPOSURE_MANUAL;
     s.sun.elevation_deg = sun_elevation;
     s.camera.pitch_deg = 5.0;
     world_to_render_view(&s, W, H, SKY_RENDER_OUTPUT_SRGB8, v);

@@ -14,9 +14,9 @@ static const char *out_dir = ".";
 static struct sky_renderer *renderer;
 float night_test_frame[W * H * 4];
 
-void night_test_state(struct sky_world_state *s)
+void night_test_state(struct proto_world_state *s)
 {
-    sky_world_state_defaults(s);
+    proto_world_state_defaults(s);
     s->sun.azimuth_deg = 0;
     s->sun.elevation_deg = -30;
     s->moon.elevation_deg = -40; /* down unless a test raises it */
@@ -24,7 +24,7 @@ void night_test_state(struct sky_world_state *s)
 }
 
 /* Renders linear luminance with the state's night; `tweak` may edit the night first. */
-void night_test_render(const struct sky_world_state *s, const struct sky_render_night *override)
+void night_test_render(const struct proto_world_state *s, const struct sky_render_night *override)
 {
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
@@ -38,7 +38,7 @@ void night_test_render(const struct sky_world_state *s, const struct sky_render_
 }
 
 /* Renders the state's exposed sRGB8 image of w x h into pixels; stats may be NULL. */
-static bool render_srgb8(const struct sky_world_state *s, unsigned w, unsigned h, uint8_t *pixels,
+static bool render_srgb8(const struct proto_world_state *s, unsigned w, unsigned h, uint8_t *pixels,
                          struct sky_render_stats *stats)
 {
     struct sky_render_atmosphere atm;
@@ -52,7 +52,7 @@ static bool render_srgb8(const struct sky_world_state *s, unsigned w, unsigned h
            sky_renderer_render(renderer, &atm, &view, pixels, (size_t)w * h * 4, stats) == 0;
 }
 
-static void save_png(const struct sky_world_state *s, const char *name, unsigned w, unsigned h)
+static void save_png(const struct proto_world_state *s, const char *name, unsigned w, unsigned h)
 {
     uint8_t *pixels = malloc((size_t)w * h * 4);
     CHECK(render_srgb8(s, w, h, pixels, NULL));
@@ -76,7 +76,7 @@ int night_test_count_bad(void)
 }
 
 /* Transmittance (luminance-weighted) from the ground toward elevation el. */
-double night_test_transmittance_at(const struct sky_world_state *s, double el_deg)
+double night_test_transmittance_at(const struct proto_world_state *s, double el_deg)
 {
     struct sky_render_atmosphere atm;
     world_to_render_atmosphere(s, &atm);
@@ -98,7 +98,7 @@ static double mean_sky(void)
 
 static void test_night_lighting(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     night_test_state(&s);
     s.camera.pitch_deg = 30;
     s.camera.yaw_deg = 90;
@@ -159,7 +159,7 @@ static void test_night_lighting(void)
 }
 
 /* Mean of the upper half of an sRGB8 frame with auto exposure, and the metered EV100. */
-static double exposed_mean(const struct sky_world_state *s, double *ev100)
+static double exposed_mean(const struct proto_world_state *s, double *ev100)
 {
     static uint8_t pixels[W * H * 4];
     struct sky_render_stats stats;
@@ -181,7 +181,7 @@ static double key_value(double l_avg)
  * by the EV the key value gives for the metered luminance. */
 static void test_night_adaptation(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     const double sun_elevations[3] = { 45, -30, -8 }; /* day, night, nautical twilight */
     double adapted[3], camera[3];
     for (int k = 0; k < 3; k++) {
@@ -190,9 +190,9 @@ static void test_night_adaptation(void)
         s.camera.yaw_deg = 90;
         s.sun.azimuth_deg = 200, s.sun.elevation_deg = sun_elevations[k];
         double ev_on, ev_off;
-        s.exposure.night_adaptation = SKY_SWITCH_ON;
+        s.exposure.night_adaptation = PROTO_SWITCH_ON;
         adapted[k] = exposed_mean(&s, &ev_on);
-        s.exposure.night_adaptation = SKY_SWITCH_OFF;
+        s.exposure.night_adaptation = PROTO_SWITCH_OFF;
         camera[k] = exposed_mean(&s, &ev_off);
         /* EV100 = log2(L * 100 / 12.5) when metered like a camera. */
         double l_avg = exp2(ev_off) * 12.5 / 100.0;
@@ -215,7 +215,7 @@ static void test_no_nan(void)
     const double pitch[] = { -30, 5, 60 };
     for (int a = 0; a < 3; a++)
         for (int m = 0; m < 3; m++) {
-            struct sky_world_state s;
+            struct proto_world_state s;
             night_test_state(&s);
             s.camera.altitude_km = altitudes[a];
             s.moon.elevation_deg = moon_el[m];
@@ -233,7 +233,7 @@ static void test_no_nan(void)
 
 static void write_review_images(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     night_test_state(&s);
     s.clock.utc_unix_s = 1768514400; /* 2026-01-15 22:00 UTC, Greenwich: Orion and Sirius */
     s.location.latitude_deg = 51.4769;

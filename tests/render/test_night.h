@@ -23,10 +23,10 @@
 /* The last linear render (night_test_render): RGBA, cd/m2. */
 extern float night_test_frame[W * H * 4];
 
-void night_test_state(struct sky_world_state *s);
-void night_test_render(const struct sky_world_state *s, const struct sky_render_night *override);
+void night_test_state(struct proto_world_state *s);
+void night_test_render(const struct proto_world_state *s, const struct sky_render_night *override);
 int night_test_count_bad(void);
-double night_test_transmittance_at(const struct sky_world_state *s, double el_deg);
+double night_test_transmittance_at(const struct proto_world_state *s, double el_deg);
 
 /* Luminance of pixel (x, y) of the last linear render (night_test_render). */
 static inline double lum_at(int x, int y)
@@ -52,7 +52,7 @@ struct camera {
     double f[3], r[3], u[3], tan_half, aspect;
 };
 
-static inline struct camera camera_of(const struct sky_world_state *s)
+static inline struct camera camera_of(const struct proto_world_state *s)
 {
     struct camera c;
     local_dir(s->camera.yaw_deg, s->camera.pitch_deg, c.f);
@@ -90,7 +90,7 @@ void test_star_positions(void);
 void test_star_photometry(void);
 
 /* The moon scene of test_night_moon.c: the moon 12 deg up in the south, filling the view. */
-void night_test_moon_scene(struct sky_world_state *s, double sun_az, double sun_el);
+void night_test_moon_scene(struct proto_world_state *s, double sun_az, double sun_el);
 void test_moon_phases(void);
 void test_full_moon_luminance(void);
 void test_moon_hidden_below_horizon(void);

@@ -13,7 +13,7 @@ struct disc_stats {
 };
 
 /* background: the same frame without the moon (NULL: none). */
-static void measure_disc(const struct sky_world_state *s, const double *background,
+static void measure_disc(const struct proto_world_state *s, const double *background,
                          double threshold, struct disc_stats *d)
 {
     struct camera c = camera_of(s);
@@ -39,7 +39,7 @@ static void measure_disc(const struct sky_world_state *s, const double *backgrou
         }
 }
 
-void night_test_moon_scene(struct sky_world_state *s, double sun_az, double sun_el)
+void night_test_moon_scene(struct proto_world_state *s, double sun_az, double sun_el)
 {
     night_test_state(s);
     s->moon.azimuth_deg = 180;
@@ -68,7 +68,7 @@ void test_moon_phases(void)
     /* Sun below the horizon at several elongations from the moon. */
     const double sun_az[] = { 200, 240, 290, 330, 0 };
     for (size_t i = 0; i < sizeof sun_az / sizeof *sun_az; i++) {
-        struct sky_world_state s;
+        struct proto_world_state s;
         night_test_moon_scene(&s, sun_az[i], -8);
         struct sky_render_night night;
         world_to_render_night(&s, &night);
@@ -114,7 +114,7 @@ void test_full_moon_luminance(void)
     /* Seed 001 4.2: a 0.568 deg full moon of 0.26 lux has a mean luminance of about 3658
      * cd/m2 (E / solid angle gives 3368; the two agree to 10 %). Outside the atmosphere: a
      * camera at 200 km. */
-    struct sky_world_state s;
+    struct proto_world_state s;
     night_test_moon_scene(&s, 0, -12);
     s.moon.angular_diameter_deg = 0.568;
     s.camera.altitude_km = 200;
@@ -142,7 +142,7 @@ void test_full_moon_luminance(void)
 
 void test_moon_hidden_below_horizon(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     night_test_moon_scene(&s, 0, -20);
     s.moon.elevation_deg = -1.0;
     s.camera.pitch_deg = -1.0;

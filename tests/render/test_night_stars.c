@@ -53,7 +53,7 @@ void test_star_positions(void)
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         const struct star_case *k = &cases[i];
-        struct sky_world_state s;
+        struct proto_world_state s;
         night_test_state(&s);
         s.location.latitude_deg = k->lat;
         s.location.longitude_deg = k->lon;
@@ -94,7 +94,7 @@ void test_star_positions(void)
 
 void test_star_photometry(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     night_test_state(&s);
     s.location.latitude_deg = 51.4769;
     s.location.longitude_deg = -0.0005;

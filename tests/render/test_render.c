@@ -24,14 +24,14 @@ static const char *out_dir = ".";
 
 static struct sky_renderer *renderer;
 
-static void state_for(struct sky_world_state *s, const char *preset, double sun_elevation)
+static void state_for(struct proto_world_state *s, const char *preset, double sun_elevation)
 {
-    sky_world_state_defaults(s);
+    proto_world_state_defaults(s);
     if (preset) {
-        struct sky_field_errors errors;
+        struct proto_field_errors errors;
         char msg[512];
-        bool ok = sky_preset_apply(SKYD_SOURCE_DIR "/config", "atmosphere", preset, s, &errors, msg,
-                                   sizeof msg);
+        bool ok = world_preset_apply(SKYD_SOURCE_DIR "/config", "atmosphere", preset, s, &errors,
+                                     msg, sizeof msg);
         if (!ok)
             printf("preset %s: %s\n", preset, msg);
         CHECK(ok);
@@ -40,7 +40,7 @@ static void state_for(struct sky_world_state *s, const char *preset, double sun_
 }
 
 /* Renders linear luminance (cd/m2) for the state. */
-static void render_linear(const struct sky_world_state *s, struct frame *f)
+static void render_linear(const struct proto_world_state *s, struct frame *f)
 {
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
@@ -49,7 +49,7 @@ static void render_linear(const struct sky_world_state *s, struct frame *f)
     CHECK(sky_renderer_render(renderer, &atm, &view, f->rgba, sizeof f->rgba, NULL) == 0);
 }
 
-static void save_png(const struct sky_world_state *s, const char *name)
+static void save_png(const struct proto_world_state *s, const char *name)
 {
     static uint8_t pixels[W * H * 4];
     struct sky_render_atmosphere atm;
@@ -100,7 +100,7 @@ static void test_no_nan_anywhere(struct frame *f)
     for (int p = 0; p < 2; p++)
         for (size_t e = 0; e < sizeof elevations / sizeof *elevations; e++)
             for (size_t a = 0; a < sizeof altitudes / sizeof *altitudes; a++) {
-                struct sky_world_state s;
+                struct proto_world_state s;
                 state_for(&s, presets[p], elevations[e]);
                 s.camera.altitude_km = altitudes[a];
                 s.camera.pitch_deg = pitches[(e + a) % 5];
@@ -116,7 +116,7 @@ static void test_no_nan_anywhere(struct frame *f)
 
 static void test_night_darker_than_day(struct frame *f)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     double day[3], night[3], twilight[3];
     state_for(&s, NULL, 45);
     render_linear(&s, f);
@@ -136,7 +136,7 @@ static void test_night_darker_than_day(struct frame *f)
 /* Horizon sky facing the sun: R/B at sunset above R/B at noon. */
 static void test_sunset_redder_than_noon(struct frame *f)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     double noon[3], sunset[3];
     state_for(&s, NULL, 60);
     s.camera.pitch_deg = 5;
@@ -155,7 +155,7 @@ static void test_sunset_redder_than_noon(struct frame *f)
 /* Mars: butterscotch sky away from the sun, blue halo around the setting sun. */
 static void test_mars_blue_sunset_halo(struct frame *f)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     double halo[3], away[3];
     state_for(&s, "mars", 3);
     s.camera.yaw_deg = s.sun.azimuth_deg;
@@ -177,7 +177,7 @@ static void test_mars_blue_sunset_halo(struct frame *f)
 /* From 400 km looking at the horizon: black space above, a bright limb, the lit planet. */
 static void test_orbit_shows_planet_and_limb(struct frame *f)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     state_for(&s, NULL, 30);
     s.camera.altitude_km = 400;
     s.camera.pitch_deg = -20;
@@ -208,7 +208,7 @@ static void test_orbit_shows_planet_and_limb(struct frame *f)
 /* Other LUT sizes change resolution, not the physics: the mean luminance stays within 3%. */
 static void test_lut_sizes_are_honoured(struct frame *f)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     double base[3], small[3];
     state_for(&s, NULL, 20);
     s.camera.yaw_deg = s.sun.azimuth_deg + 150; /* sky and ground, no sun disk */
@@ -240,7 +240,7 @@ static void test_lut_sizes_are_honoured(struct frame *f)
 static void test_manual_exposure_matches_metered(void)
 {
     static uint8_t auto_px[W * H * 4], manual_px[W * H * 4];
-    struct sky_world_state s;
+    struct proto_world_state s;
     state_for(&s, NULL, 30);
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
@@ -273,7 +273,7 @@ static void test_manual_exposure_matches_metered(void)
 
 static void write_review_images(void)
 {
-    struct sky_world_state s;
+    struct proto_world_state s;
     state_for(&s, NULL, 60);
     save_png(&s, "noon");
     state_for(&s, NULL, 1.5);

@@ -33,9 +33,9 @@
 
 static void test_view(uint32_t width, uint32_t height, struct sky_render_view *v)
 {
-    struct sky_world_state s;
-    sky_world_state_defaults(&s);
-    s.exposure.mode = SKY_EXPOSURE_MANUAL;
+    struct proto_world_state s;
+    proto_world_state_defaults(&s);
+    s.exposure.mode = PROTO_EXPOSURE_MANUAL;
     s.sun.elevation_deg = 20.0;
     world_to_render_view(&s, width, height, SKY_RENDER_OUTPUT_SRGB8, v);
 }

@@ -12,8 +12,8 @@
 
 static void state_round_trip(void)
 {
-    struct sky_world_state state, back;
-    sky_world_state_defaults(&state);
+    struct proto_world_state state, back;
+    proto_world_state_defaults(&state);
     state.revision = 4242;
     state.weather.humidity = 0.123456789012345;
     state.location.latitude_deg = -33.8688;
@@ -22,7 +22,7 @@ static void state_round_trip(void)
     if (!text)
         return;
     char why[512] = "";
-    sky_world_state_defaults(&back);
+    proto_world_state_defaults(&back);
     CHECK(world_codec_parse_state(text, &back, why, sizeof why));
     CHECK(back.revision == 4242);
     CHECK(back.weather.humidity == state.weather.humidity); /* exact: the text keeps doubles */
@@ -31,7 +31,7 @@ static void state_round_trip(void)
     CHECK(again && strcmp(again, text) == 0);
     free(again);
     free(text);
-    struct sky_world_state untouched = back;
+    struct proto_world_state untouched = back;
     CHECK(!world_codec_parse_state("{\"revision\":1,\"weather\":{\"humidity\":7}}", &back, why,
                                    sizeof why));
     CHECK(strstr(why, "humidity") != NULL);
@@ -43,7 +43,7 @@ static void map_round_trip(void)
     uint8_t texels[3 * 2 * 4];
     for (size_t i = 0; i < sizeof texels; i++)
         texels[i] = (uint8_t)(i * 11);
-    struct sky_weather_map map = { .width = 3, .height = 2, .rgba = texels }, back;
+    struct proto_weather_map map = { .width = 3, .height = 2, .rgba = texels }, back;
     size_t length = 0;
     unsigned char *bytes = world_codec_map_bytes(&map, &length);
     CHECK(bytes && length == 8 + sizeof texels);
@@ -52,7 +52,7 @@ static void map_round_trip(void)
     CHECK(world_codec_parse_map(bytes, length, &back));
     CHECK(back.width == 3 && back.height == 2 && back.rgba &&
           memcmp(back.rgba, texels, sizeof texels) == 0);
-    sky_weather_map_free(&back);
+    proto_weather_map_free(&back);
     CHECK(!world_codec_parse_map(bytes, length - 1, &back) && back.rgba == NULL);
     CHECK(!world_codec_parse_map(bytes, 7, &back));
     bytes[0] = 0; /* width 0 */

@@ -37,7 +37,7 @@ int main(int argc, char **argv)
     if (!mkdtemp(dir))
         return 1;
     struct skyd_config c, defaults;
-    struct sky_field_errors errors;
+    struct proto_field_errors errors;
     char msg[512];
     skyd_config_defaults(&defaults);
 
@@ -45,12 +45,12 @@ int main(int argc, char **argv)
     CHECK(strcmp(c.listen_address, "127.0.0.1") == 0 && c.listen_port == 8080);
     CHECK(c.max_clients == 64 && c.max_message_bytes == 65536 && c.origin_count == 2);
     /* The shipped daemon starts on the current UTC time, the sun and moon from the ephemeris. */
-    CHECK(c.initial_state.clock.sky_bodies == SKY_BODIES_EPHEMERIS);
+    CHECK(c.initial_state.clock.sky_bodies == PROTO_BODIES_EPHEMERIS);
     CHECK(c.initial_state.clock.time_scale == 1);
     CHECK(fabs(c.initial_state.clock.utc_unix_s - (double)time(NULL)) < 5);
     CHECK(memcmp(&defaults.initial_state.atmosphere, &c.initial_state.atmosphere,
                  sizeof c.initial_state.atmosphere) == 0);
-    CHECK(defaults.initial_state.clock.sky_bodies == SKY_BODIES_MANUAL);
+    CHECK(defaults.initial_state.clock.sky_bodies == PROTO_BODIES_MANUAL);
 
     const char *partial = write_temp("partial.json",
                                      "{\"listen\":{\"port\":0},\"render\":{\"device\":\"cpu\"},"
@@ -102,52 +102,52 @@ int main(int argc, char **argv)
 
     const struct bad_case cases[] = {
         { "{\"cluster\":{\"redis\":\"redis://h:1\",\"world\":\"a b\"}}", "/cluster/world",
-          SKY_FIELD_BAD_VALUE },
+          PROTO_FIELD_BAD_VALUE },
         { "{\"cluster\":{\"redis\":\"redis://h:1\",\"world\":\"x/../y\"}}", "/cluster/world",
-          SKY_FIELD_BAD_VALUE },
-        { "{\"cluster\":{\"redis\":\"redis://h:1\"}}", "/cluster/world", SKY_FIELD_MISSING },
-        { "{\"cluster\":{\"world\":\"w\"}}", "/cluster/redis", SKY_FIELD_MISSING },
+          PROTO_FIELD_BAD_VALUE },
+        { "{\"cluster\":{\"redis\":\"redis://h:1\"}}", "/cluster/world", PROTO_FIELD_MISSING },
+        { "{\"cluster\":{\"world\":\"w\"}}", "/cluster/redis", PROTO_FIELD_MISSING },
         { "{\"cluster\":{\"redis\":\"tcp://h:1\",\"world\":\"w\"}}", "/cluster/redis",
-          SKY_FIELD_BAD_VALUE },
+          PROTO_FIELD_BAD_VALUE },
         { "{\"cluster\":{\"redis\":\"redis://h\",\"world\":\"w\"}}", "/cluster/redis",
-          SKY_FIELD_BAD_VALUE },
+          PROTO_FIELD_BAD_VALUE },
         { "{\"cluster\":{\"redis\":\"redis://h:0\",\"world\":\"w\"}}", "/cluster/redis",
-          SKY_FIELD_BAD_VALUE },
+          PROTO_FIELD_BAD_VALUE },
         { "{\"cluster\":{\"redis\":\"redis://h:6379/x\",\"world\":\"w\"}}", "/cluster/redis",
-          SKY_FIELD_BAD_VALUE },
+          PROTO_FIELD_BAD_VALUE },
         { "{\"cluster\":{\"redis\":\"redis://u:p%zz@h:6379\",\"world\":\"w\"}}", "/cluster/redis",
-          SKY_FIELD_BAD_VALUE },
+          PROTO_FIELD_BAD_VALUE },
         { "{\"cluster\":{\"redis\":\"redis://u:p@h:6379\",\"world\":\"w\","
           "\"redis_password_file\":\"/run/p\"}}",
-          "/cluster/redis_password_file", SKY_FIELD_INCONSISTENT },
+          "/cluster/redis_password_file", PROTO_FIELD_INCONSISTENT },
         { "{\"cluster\":{\"redis_password_file\":\"/run/p\"}}", "/cluster/redis",
-          SKY_FIELD_MISSING },
+          PROTO_FIELD_MISSING },
         { "{\"cluster\":{\"redis\":\"redis://h:1\",\"world\":\"w\",\"x\":1}}", "/cluster/x",
-          SKY_FIELD_UNKNOWN },
+          PROTO_FIELD_UNKNOWN },
         { "{\"cluster\":{\"redis\":6379,\"world\":\"w\"}}", "/cluster/redis",
-          SKY_FIELD_WRONG_TYPE },
-        { "{\"bogus\":1}", "/bogus", SKY_FIELD_UNKNOWN },
-        { "{\"listen\":{\"portt\":1}}", "/listen/portt", SKY_FIELD_UNKNOWN },
-        { "{\"listen\":{\"port\":\"80\"}}", "/listen/port", SKY_FIELD_WRONG_TYPE },
-        { "{\"listen\":{\"port\":70000}}", "/listen/port", SKY_FIELD_OUT_OF_RANGE },
-        { "{\"listen\":{\"port\":80.5}}", "/listen/port", SKY_FIELD_BAD_VALUE },
-        { "{\"listen\":7}", "/listen", SKY_FIELD_WRONG_TYPE },
-        { "{\"render\":{\"validation\":\"yes\"}}", "/render/validation", SKY_FIELD_WRONG_TYPE },
-        { "{\"read_only\":1}", "/read_only", SKY_FIELD_WRONG_TYPE },
-        { "{\"limits\":{\"max_fps\":0}}", "/limits/max_fps", SKY_FIELD_OUT_OF_RANGE },
-        { "{\"limits\":{\"max_clients\":-1}}", "/limits/max_clients", SKY_FIELD_OUT_OF_RANGE },
+          PROTO_FIELD_WRONG_TYPE },
+        { "{\"bogus\":1}", "/bogus", PROTO_FIELD_UNKNOWN },
+        { "{\"listen\":{\"portt\":1}}", "/listen/portt", PROTO_FIELD_UNKNOWN },
+        { "{\"listen\":{\"port\":\"80\"}}", "/listen/port", PROTO_FIELD_WRONG_TYPE },
+        { "{\"listen\":{\"port\":70000}}", "/listen/port", PROTO_FIELD_OUT_OF_RANGE },
+        { "{\"listen\":{\"port\":80.5}}", "/listen/port", PROTO_FIELD_BAD_VALUE },
+        { "{\"listen\":7}", "/listen", PROTO_FIELD_WRONG_TYPE },
+        { "{\"render\":{\"validation\":\"yes\"}}", "/render/validation", PROTO_FIELD_WRONG_TYPE },
+        { "{\"read_only\":1}", "/read_only", PROTO_FIELD_WRONG_TYPE },
+        { "{\"limits\":{\"max_fps\":0}}", "/limits/max_fps", PROTO_FIELD_OUT_OF_RANGE },
+        { "{\"limits\":{\"max_clients\":-1}}", "/limits/max_clients", PROTO_FIELD_OUT_OF_RANGE },
         { "{\"limits\":{\"max_queued_http_requests\":0}}", "/limits/max_queued_http_requests",
-          SKY_FIELD_OUT_OF_RANGE },
+          PROTO_FIELD_OUT_OF_RANGE },
         { "{\"limits\":{\"max_queued_http_requests\":\"8\"}}", "/limits/max_queued_http_requests",
-          SKY_FIELD_WRONG_TYPE },
-        { "{\"allowed_origins\":\"*\"}", "/allowed_origins", SKY_FIELD_WRONG_TYPE },
-        { "{\"allowed_origins\":[1]}", "/allowed_origins/0", SKY_FIELD_WRONG_TYPE },
-        { "[]", "", SKY_FIELD_WRONG_TYPE },
+          PROTO_FIELD_WRONG_TYPE },
+        { "{\"allowed_origins\":\"*\"}", "/allowed_origins", PROTO_FIELD_WRONG_TYPE },
+        { "{\"allowed_origins\":[1]}", "/allowed_origins/0", PROTO_FIELD_WRONG_TYPE },
+        { "[]", "", PROTO_FIELD_WRONG_TYPE },
         { "{\"initial_state\":{\"clock\":{\"time_scale\":-1}}}", "/initial_state/clock/time_scale",
-          SKY_FIELD_OUT_OF_RANGE },
+          PROTO_FIELD_OUT_OF_RANGE },
         { "{\"initial_state\":{\"clock\":{\"utc\":\"yesterday\"}}}", "/initial_state/clock/utc",
-          SKY_FIELD_BAD_VALUE },
-        { "{\"initial_state\":3}", "/initial_state", SKY_FIELD_WRONG_TYPE },
+          PROTO_FIELD_BAD_VALUE },
+        { "{\"initial_state\":3}", "/initial_state", PROTO_FIELD_WRONG_TYPE },
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const char *path = write_temp("bad.json", cases[i].text);

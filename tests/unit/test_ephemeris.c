@@ -30,7 +30,7 @@ static double parse(const char *text)
 {
     double t = NAN;
     char err[160] = "";
-    if (!sky_time_parse_iso8601(text, &t, err, sizeof err))
+    if (!proto_time_parse_iso8601(text, &t, err, sizeof err))
         printf("  parse \"%s\": %s\n", text, err);
     return t;
 }
@@ -39,7 +39,7 @@ static void check_rejected(const char *text, const char *reason_part)
 {
     double t = 12345.0;
     char err[160] = "";
-    bool ok = sky_time_parse_iso8601(text, &t, err, sizeof err);
+    bool ok = proto_time_parse_iso8601(text, &t, err, sizeof err);
     CHECK(!ok);
     CHECK(t == 12345.0);
     if (!ok && !strstr(err, reason_part)) {
@@ -62,18 +62,18 @@ static void test_time(void)
     CHECK_NEAR(parse("2000-02-29T00:00Z") + 86400.0, parse("2000-03-01T00:00Z"), 0.0);
     CHECK_NEAR(parse("2100-02-28T00:00Z") + 86400.0, parse("2100-03-01T00:00Z"), 0.0);
 
-    sky_time_format_iso8601(parse("2026-06-21T12:00:00Z"), text, sizeof text);
+    proto_time_format_iso8601(parse("2026-06-21T12:00:00Z"), text, sizeof text);
     CHECK(strcmp(text, "2026-06-21T12:00:00Z") == 0);
-    sky_time_format_iso8601(parse("1905-03-04T05:06:07.250+01:00"), text, sizeof text);
+    proto_time_format_iso8601(parse("1905-03-04T05:06:07.250+01:00"), text, sizeof text);
     CHECK(strcmp(text, "1905-03-04T04:06:07.250Z") == 0);
-    sky_time_format_iso8601(-2208988800.0 - 0.5, text, sizeof text);
+    proto_time_format_iso8601(-2208988800.0 - 0.5, text, sizeof text);
     CHECK(strcmp(text, "1899-12-31T23:59:59.500Z") == 0);
 
     /* Round trips every 3 days and some hours over 1900..2100, and the table's own times (whose
      * POSIX seconds came from Python's calendar module). */
     int mismatches = 0;
     for (double t = -2208988800.0; t < 4133980800.0; t += 3 * 86400.0 + 3671.0) {
-        sky_time_format_iso8601(t, text, sizeof text);
+        proto_time_format_iso8601(t, text, sizeof text);
         if (parse(text) != t && mismatches++ < 5)
             printf("FAIL: round trip of %.0f through \"%s\"\n", t, text);
     }
@@ -81,7 +81,7 @@ static void test_time(void)
     for (size_t i = 0; i < REFERENCE_COUNT; i++) {
         const struct ephemeris_reference *c = &ephemeris_reference[i];
         CHECK_NEAR(parse(c->time), c->unix_seconds, 1e-5);
-        sky_time_format_iso8601(c->unix_seconds, text, sizeof text);
+        proto_time_format_iso8601(c->unix_seconds, text, sizeof text);
         CHECK_NEAR(parse(text), c->unix_seconds, 1e-5);
     }
 
@@ -109,28 +109,28 @@ static void test_spa_example(void)
 {
     /* Reda & Andreas 2004, table A5.1: 2003-10-17 12:30:30 at UTC-7, ΔT = 67 s. */
     double t = parse("2003-10-17T12:30:30-07:00");
-    struct sky_site site = { 39.742476, -105.1786, 1830.14, 820.0, 11.0 };
-    struct sky_body_position p;
-    sky_sun_position_delta_t(t, 67.0, &site, true, &p);
+    struct world_site site = { 39.742476, -105.1786, 1830.14, 820.0, 11.0 };
+    struct world_body_position p;
+    world_sun_position_delta_t(t, 67.0, &site, true, &p);
     CHECK_NEAR(90.0 - p.elevation_deg, 50.11162, 0.00001);
     CHECK_NEAR(p.azimuth_deg, 194.34024, 0.00001);
     CHECK_NEAR(p.distance_km / 149597870.7, 0.9965422974, 1e-9);
     /* The same through the ΔT polynomial, which differs by a few seconds in 2003. */
-    sky_sun_position(t, &site, true, &p);
+    world_sun_position(t, &site, true, &p);
     CHECK_NEAR(90.0 - p.elevation_deg, 50.11162, 0.001);
     CHECK_NEAR(p.azimuth_deg, 194.34024, 0.001);
-    CHECK_NEAR(sky_equation_of_time_min(t), 14.641503, 1e-4);
+    CHECK_NEAR(world_equation_of_time_min(t), 14.641503, 1e-4);
 }
 
 static void test_moon_example(void)
 {
     /* Meeus example 47.a: 1992-04-12 0h TD. */
     double lambda, beta, distance, ra, dec;
-    sky_moon_geocentric(2448724.5, &lambda, &beta, &distance);
+    world_moon_geocentric(2448724.5, &lambda, &beta, &distance);
     CHECK_NEAR(lambda, 133.162655, 1e-6);
     CHECK_NEAR(beta, -3.229126, 1e-6);
     CHECK_NEAR(distance, 368409.7, 0.1);
-    sky_moon_geocentric_equatorial(2448724.5, &ra, &dec);
+    world_moon_geocentric_equatorial(2448724.5, &ra, &dec);
     CHECK_NEAR(ra, 134.688470, 3e-6);
     CHECK_NEAR(dec, 13.768368, 3e-6);
 }
@@ -140,25 +140,26 @@ static void test_sidereal_time(void)
     /* Meeus example 12.a: 1987-04-10 0h UT, mean 13h10m46.3668s, apparent 13h10m46.1351s. */
     double t = parse("1987-04-10T00:00:00Z");
     double hms = (13.0 + 10.0 / 60.0) * 15.0;
-    CHECK_NEAR(sky_greenwich_mean_sidereal_time_deg(t), hms + 46.3668 / 240.0, 0.0001 / 240.0);
-    CHECK_NEAR(sky_greenwich_sidereal_time_deg(t), hms + 46.1351 / 240.0, 0.001 / 240.0);
-    CHECK_NEAR(sky_local_sidereal_time_deg(t, -77.0), hms + 46.1351 / 240.0 - 77.0, 0.001 / 240.0);
-    CHECK_NEAR(sky_local_sidereal_time_deg(t, 170.0), hms + 46.1351 / 240.0 + 170.0 - 360.0,
+    CHECK_NEAR(world_greenwich_mean_sidereal_time_deg(t), hms + 46.3668 / 240.0, 0.0001 / 240.0);
+    CHECK_NEAR(world_greenwich_sidereal_time_deg(t), hms + 46.1351 / 240.0, 0.001 / 240.0);
+    CHECK_NEAR(world_local_sidereal_time_deg(t, -77.0), hms + 46.1351 / 240.0 - 77.0,
+               0.001 / 240.0);
+    CHECK_NEAR(world_local_sidereal_time_deg(t, 170.0), hms + 46.1351 / 240.0 + 170.0 - 360.0,
                0.001 / 240.0);
 
     /* Stars: the celestial pole stands at the latitude due north; a star on the meridian at
      * declination 0 culminates at 90 - latitude due south. */
-    struct sky_site site = { 48.0, 11.0, 500.0, 1010.0, 10.0 };
+    struct world_site site = { 48.0, 11.0, 500.0, 1010.0, 10.0 };
     double az, el;
-    sky_equatorial_to_horizontal(123.0, 90.0, t, &site, &az, &el);
+    world_equatorial_to_horizontal(123.0, 90.0, t, &site, &az, &el);
     CHECK_NEAR(el, 48.0, 1e-9);
     CHECK(fabs(remainder(az, 360.0)) < 1e-6);
-    sky_equatorial_to_horizontal(sky_local_sidereal_time_deg(t, 11.0), 0.0, t, &site, &az, &el);
+    world_equatorial_to_horizontal(world_local_sidereal_time_deg(t, 11.0), 0.0, t, &site, &az, &el);
     CHECK_NEAR(el, 42.0, 1e-9);
     CHECK_NEAR(az, 180.0, 1e-6);
     /* Six sidereal hours later the same star sets due west. */
-    sky_equatorial_to_horizontal(sky_local_sidereal_time_deg(t, 11.0) - 90.0, 0.0, t, &site, &az,
-                                 &el);
+    world_equatorial_to_horizontal(world_local_sidereal_time_deg(t, 11.0) - 90.0, 0.0, t, &site,
+                                   &az, &el);
     CHECK_NEAR(el, 0.0, 1e-9);
     CHECK_NEAR(az, 270.0, 1e-6);
 }
@@ -174,12 +175,12 @@ static void test_delta_t(void)
         { "1960-01-01T00:00Z", 33.2 }, { "1980-01-01T00:00Z", 50.5 }, { "2000-01-01T00:00Z", 63.8 },
     };
     for (size_t i = 0; i < sizeof observed / sizeof observed[0]; i++)
-        CHECK_NEAR(sky_delta_t_seconds(parse(observed[i].time)), observed[i].delta_t, 1.0);
+        CHECK_NEAR(world_delta_t_seconds(parse(observed[i].time)), observed[i].delta_t, 1.0);
     /* The polynomials join without jumps of more than a second over 1900..2100. */
-    double previous = sky_delta_t_seconds(parse("1900-01-01T00:00Z"));
+    double previous = world_delta_t_seconds(parse("1900-01-01T00:00Z"));
     double largest_step = 0.0;
     for (double t = parse("1900-01-01T00:00Z"); t < 4133980800.0; t += 86400.0 * 30) {
-        double dt = sky_delta_t_seconds(t);
+        double dt = world_delta_t_seconds(t);
         largest_step = fmax(largest_step, fabs(dt - previous));
         previous = dt;
     }
@@ -218,13 +219,13 @@ static void test_reference_table(void)
     CHECK(REFERENCE_COUNT >= 60);
     for (size_t i = 0; i < REFERENCE_COUNT; i++) {
         const struct ephemeris_reference *c = &ephemeris_reference[i];
-        struct sky_site site = { c->latitude_deg, c->longitude_deg, c->altitude_m, c->pressure_mbar,
-                                 c->temperature_c };
-        struct sky_body_position p, pr;
+        struct world_site site = { c->latitude_deg, c->longitude_deg, c->altitude_m,
+                                   c->pressure_mbar, c->temperature_c };
+        struct world_body_position p, pr;
         double e;
 
-        sky_sun_position(c->unix_seconds, &site, false, &p);
-        sky_sun_position(c->unix_seconds, &site, true, &pr);
+        world_sun_position(c->unix_seconds, &site, false, &p);
+        world_sun_position(c->unix_seconds, &site, true, &pr);
         e = separation_deg(p.azimuth_deg, p.elevation_deg, c->sun_azimuth_deg,
                            c->sun_elevation_deg);
         add_error(&sun, e);
@@ -242,8 +243,8 @@ static void test_reference_table(void)
         }
 
         double k, phase_angle;
-        sky_moon_position(c->unix_seconds, &site, false, &p, &k, &phase_angle);
-        sky_moon_position(c->unix_seconds, &site, true, &pr, NULL, NULL);
+        world_moon_position(c->unix_seconds, &site, false, &p, &k, &phase_angle);
+        world_moon_position(c->unix_seconds, &site, true, &pr, NULL, NULL);
         e = separation_deg(p.azimuth_deg, p.elevation_deg, c->moon_azimuth_deg,
                            c->moon_elevation_deg);
         add_error(&moon, e);
@@ -284,34 +285,34 @@ static void test_reference_table(void)
 static void test_refraction(void)
 {
     /* Bennett: about 29' at the horizon at 1010 mbar and 10 C, nearly 0 at the zenith. */
-    CHECK_NEAR(sky_refraction_deg(0.0, 1010.0, 10.0), 0.483, 0.005);
-    CHECK_LE(sky_refraction_deg(89.9, 1010.0, 10.0), 0.0001);
-    CHECK(sky_refraction_deg(5.0, 1010.0, 10.0) > sky_refraction_deg(10.0, 1010.0, 10.0));
-    CHECK(sky_refraction_deg(5.0, 820.0, 10.0) < sky_refraction_deg(5.0, 1010.0, 10.0));
-    CHECK(sky_refraction_deg(5.0, 1010.0, -20.0) > sky_refraction_deg(5.0, 1010.0, 30.0));
-    CHECK(sky_refraction_deg(-0.8, 1010.0, 10.0) > 0.5);
-    CHECK(sky_refraction_deg(-0.9, 1010.0, 10.0) == 0.0);
-    CHECK(sky_refraction_deg(10.0, 0.0, 10.0) == 0.0);
+    CHECK_NEAR(world_refraction_deg(0.0, 1010.0, 10.0), 0.483, 0.005);
+    CHECK_LE(world_refraction_deg(89.9, 1010.0, 10.0), 0.0001);
+    CHECK(world_refraction_deg(5.0, 1010.0, 10.0) > world_refraction_deg(10.0, 1010.0, 10.0));
+    CHECK(world_refraction_deg(5.0, 820.0, 10.0) < world_refraction_deg(5.0, 1010.0, 10.0));
+    CHECK(world_refraction_deg(5.0, 1010.0, -20.0) > world_refraction_deg(5.0, 1010.0, 30.0));
+    CHECK(world_refraction_deg(-0.8, 1010.0, 10.0) > 0.5);
+    CHECK(world_refraction_deg(-0.9, 1010.0, 10.0) == 0.0);
+    CHECK(world_refraction_deg(10.0, 0.0, 10.0) == 0.0);
 }
 
 static void test_moon_illuminance(void)
 {
-    double full = sky_moon_illuminance_lux(0.0, 384400.0);
+    double full = world_moon_illuminance_lux(0.0, 384400.0);
     CHECK(full >= 0.2 && full <= 0.35);
-    CHECK_NEAR(sky_moon_illuminance_lux(0.0, 384400.0 / 1.1), full * 1.21, 1e-12);
+    CHECK_NEAR(world_moon_illuminance_lux(0.0, 384400.0 / 1.1), full * 1.21, 1e-12);
     double previous = full;
     bool decreasing = true;
     for (double a = 1.0; a <= 180.0; a += 1.0) {
-        double e = sky_moon_illuminance_lux(a, 384400.0);
+        double e = world_moon_illuminance_lux(a, 384400.0);
         decreasing = decreasing && e < previous && e > 0.0;
         previous = e;
     }
     CHECK(decreasing);
     /* A quarter moon gives roughly a tenth of the full moon's light (opposition surge). */
-    double quarter = sky_moon_illuminance_lux(90.0, 384400.0) / full;
+    double quarter = world_moon_illuminance_lux(90.0, 384400.0) / full;
     CHECK(quarter > 0.07 && quarter < 0.12);
-    CHECK_NEAR(sky_moon_illuminance_lux(-60.0, 384400.0), sky_moon_illuminance_lux(60.0, 384400.0),
-               0.0);
+    CHECK_NEAR(world_moon_illuminance_lux(-60.0, 384400.0),
+               world_moon_illuminance_lux(60.0, 384400.0), 0.0);
 }
 
 int main(void)

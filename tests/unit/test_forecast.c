@@ -24,10 +24,10 @@
 
 #define DEG (FORECAST_PI / 180.0)
 
-static struct sky_forecast_grid_info make_grid(long ni, long nj, double lat_first, double lon_first,
-                                               double lat_last, double lon_last)
+static struct forecast_grid_info make_grid(long ni, long nj, double lat_first, double lon_first,
+                                           double lat_last, double lon_last)
 {
-    struct sky_forecast_grid_info grid;
+    struct forecast_grid_info grid;
     char why[200] = "";
     memset(&grid, 0, sizeof grid);
     bool ok = forecast_grid_make(ni, nj, lat_first, lon_first, lat_last, lon_last, &grid, why,
@@ -39,20 +39,20 @@ static struct sky_forecast_grid_info make_grid(long ni, long nj, double lat_firs
 static void test_grids(void)
 {
     /* GFS 0.25: 0..359.75 E; ECMWF open data: from 180 W (GRIB2 writes 180) to 179.75 E. */
-    struct sky_forecast_grid_info gfs = make_grid(1440, 721, 90, 0, -90, 359.75);
+    struct forecast_grid_info gfs = make_grid(1440, 721, 90, 0, -90, 359.75);
     CHECK(gfs.global);
     CHECK_DOUBLE(gfs.lon_step, 0.25);
     CHECK_DOUBLE(gfs.lat_step, -0.25);
-    struct sky_forecast_grid_info ecmwf = make_grid(1440, 721, 90, 180, -90, 179.75);
+    struct forecast_grid_info ecmwf = make_grid(1440, 721, 90, 180, -90, 179.75);
     CHECK(ecmwf.global);
     CHECK_DOUBLE(ecmwf.lon_step, 0.25);
     /* A limited area across the antimeridian, south to north. */
-    struct sky_forecast_grid_info pacific = make_grid(21, 11, -10, 170, 10, -170);
+    struct forecast_grid_info pacific = make_grid(21, 11, -10, 170, 10, -170);
     CHECK(!pacific.global);
     CHECK_DOUBLE(pacific.lon_step, 1.0);
     CHECK_DOUBLE(pacific.lat_step, 2.0);
     /* One point along an axis, or the same first and last latitudes: no grid. */
-    struct sky_forecast_grid_info grid;
+    struct forecast_grid_info grid;
     char why[200];
     CHECK(!forecast_grid_make(1, 10, 0, 0, 9, 0, &grid, why, sizeof why));
     CHECK_CONTAINS(why, "1 x 10 points");
@@ -60,17 +60,17 @@ static void test_grids(void)
     CHECK_CONTAINS(why, "latitudes 5 to 5");
 }
 
-static bool locate(const struct sky_forecast_grid_info *grid, double lat, double lon, double extent,
-                   struct forecast_window *window, struct sky_forecast_points *points,
-                   enum sky_forecast_error_code *code, char *why, size_t size)
+static bool locate(const struct forecast_grid_info *grid, double lat, double lon, double extent,
+                   struct forecast_window *window, struct forecast_points *points,
+                   enum forecast_error_code *code, char *why, size_t size)
 {
-    struct sky_forecast_request request = { lat, lon, extent, 4 };
+    struct forecast_request request = { lat, lon, extent, 4 };
     return forecast_window_locate(grid, &request, window, points, code, why, size);
 }
 
 /* A field linear in latitude and longitude over the window (longitudes from the window's
  * first column's, taken in -180..180, eastwards), which bilinear interpolation reproduces. */
-static void fill_linear(const struct sky_forecast_grid_info *grid, const struct forecast_window *w,
+static void fill_linear(const struct forecast_grid_info *grid, const struct forecast_window *w,
                         double a, double b, double c, double *values)
 {
     for (int r = 0; r < w->rows; r++)
@@ -85,10 +85,10 @@ static void fill_linear(const struct sky_forecast_grid_info *grid, const struct 
 
 static void test_windows(void)
 {
-    struct sky_forecast_grid_info gfs = make_grid(1440, 721, 90, 0, -90, 359.75);
+    struct forecast_grid_info gfs = make_grid(1440, 721, 90, 0, -90, 359.75);
     struct forecast_window w;
-    struct sky_forecast_points p;
-    enum sky_forecast_error_code code;
+    struct forecast_points p;
+    enum forecast_error_code code;
     char why[300];
     /* 100 km around 45 N 6 E: +-0.4497 deg of latitude, +-0.6360 of longitude. */
     CHECK(locate(&gfs, 45, 6, 100, &w, &p, &code, why, sizeof why));
@@ -103,7 +103,7 @@ static void test_windows(void)
     CHECK_INT(w.inside_rows * w.inside_columns, 15);
     /* The same place as 366 - 360 gives the same points. */
     struct forecast_window w2;
-    struct sky_forecast_points p2;
+    struct forecast_points p2;
     CHECK(locate(&gfs, 45, 366 - 360, 100, &w2, &p2, &code, why, sizeof why));
     CHECK_INT(p2.first_column, p.first_column);
     /* Across 0 E on the 0..360 grid: columns 1438 .. 2, longitudes -0.5 .. 0.5. */
@@ -118,7 +118,7 @@ static void test_windows(void)
     CHECK_INT(forecast_window_value_index(&gfs, &w, 0, 3) % 1440, 0);
 
     /* A square smaller than a cell: the four points around, bilinear. */
-    struct sky_forecast_grid_info coarse = make_grid(72, 37, 90, 180, -90, 175);
+    struct forecast_grid_info coarse = make_grid(72, 37, 90, 180, -90, 175);
     CHECK(locate(&coarse, 46, 7, 10, &w, &p, &code, why, sizeof why));
     CHECK(p.bilinear);
     CHECK_INT(p.count, 4);
@@ -146,19 +146,19 @@ static void test_windows(void)
     CHECK_NEAR(cells[2], 0.25 + 0.01 * (46 - dlat) - 0.002 * (7 - dlon), 1e-12);
 
     /* Refusals. A limited area across the antimeridian, 10 S .. 10 N, 170 E .. 170 W. */
-    struct sky_forecast_grid_info pacific = make_grid(21, 11, -10, 170, 10, -170);
+    struct forecast_grid_info pacific = make_grid(21, 11, -10, 170, 10, -170);
     CHECK(locate(&pacific, 0, 180, 500, &w, &p, &code, why, sizeof why));
     CHECK(locate(&pacific, 0, -175, 500, &w, &p, &code, why, sizeof why));
     CHECK(!locate(&pacific, 0, -165, 100, &w, &p, &code, why, sizeof why));
-    CHECK_INT(code, SKY_FORECAST_ERR_OUTSIDE);
+    CHECK_INT(code, FORECAST_ERR_OUTSIDE);
     CHECK_CONTAINS(why, "0.0000, -165.0000 is outside the grid (latitudes -10..10, longitudes "
                         "170..190 east)");
     CHECK(!locate(&pacific, 9, 180, 500, &w, &p, &code, why, sizeof why));
-    CHECK_INT(code, SKY_FORECAST_ERR_OUTSIDE);
+    CHECK_INT(code, FORECAST_ERR_OUTSIDE);
     CHECK_CONTAINS(why, "the 500 km square around 9.0000, 180.0000 reaches beyond the grid");
     CHECK(!locate(&gfs, 89.9, 0, 100, &w, &p, &code, why, sizeof why));
     CHECK_CONTAINS(why, "reaches a pole");
-    CHECK_INT(code, SKY_FORECAST_ERR_OUTSIDE);
+    CHECK_INT(code, FORECAST_ERR_OUTSIDE);
     /* Near a pole, a wide square still spans less than all longitudes (sin h > h / 180). */
     CHECK(locate(&gfs, 80, 0, 2000, &w, &p, &code, why, sizeof why));
     CHECK(w.columns < 1440);
@@ -166,27 +166,27 @@ static void test_windows(void)
 
 /* A forecast around 45 N 6 E on a 1-degree grid, a 250 km square (+-1.12 degrees of latitude,
  * +-1.59 of longitude: nine points), with hand-made steps. */
-static struct sky_forecast *small_forecast(void)
+static struct forecast *small_forecast(void)
 {
-    struct sky_forecast_grid_info grid = make_grid(360, 181, 90, 0, -90, 359);
-    struct sky_forecast_request request = { 45, 6, 250, 2 };
+    struct forecast_grid_info grid = make_grid(360, 181, 90, 0, -90, 359);
+    struct forecast_request request = { 45, 6, 250, 2 };
     struct forecast_window w;
-    struct sky_forecast_points p;
-    enum sky_forecast_error_code code;
+    struct forecast_points p;
+    enum forecast_error_code code;
     char why[300];
     bool ok = forecast_window_locate(&grid, &request, &w, &p, &code, why, sizeof why);
     CHECK_MSG(ok, "%s", why);
     CHECK_INT(p.count, 9);
-    struct sky_forecast *forecast = forecast_series_new(&request, &grid, &w, &p);
+    struct forecast *forecast = forecast_series_new(&request, &grid, &w, &p);
     forecast->info.reference_unix_s = 1782000000.0; /* 2026-06-21T00:00:00Z */
     return forecast;
 }
 
 /* Sets `field` at the step valid `hours` after the run to value + slope x (window index). */
-static void set_field(struct sky_forecast *forecast, double hours, enum forecast_field field,
+static void set_field(struct forecast *forecast, double hours, enum forecast_field field,
                       double value, double slope)
 {
-    struct sky_forecast_error error;
+    struct forecast_error error;
     struct forecast_step *step =
         forecast_series_step(forecast, forecast->info.reference_unix_s + hours * 3600.0, &error);
     double *values = step ? forecast_series_field(forecast, step, field, 1, &error) : NULL;
@@ -198,7 +198,7 @@ static void set_field(struct sky_forecast *forecast, double hours, enum forecast
         values[i] = value + slope * i;
 }
 
-static void fill_step(struct sky_forecast *forecast, double hours, double k)
+static void fill_step(struct forecast *forecast, double hours, double k)
 {
     set_field(forecast, hours, FIELD_LCC, 0.2 + 0.1 * k, 0.01);
     set_field(forecast, hours, FIELD_MCC, 0.5, 0.0);
@@ -211,15 +211,15 @@ static void fill_step(struct sky_forecast *forecast, double hours, double k)
 
 static void test_series_refusals(void)
 {
-    struct sky_forecast_error error;
-    struct sky_forecast *f = small_forecast();
+    struct forecast_error error;
+    struct forecast *f = small_forecast();
     fill_step(f, 0, 0);
     fill_step(f, 6, 1);
     /* No precipitation at all. */
     CHECK(!forecast_series_finish(f, &error));
-    CHECK_INT(error.code, SKY_FORECAST_ERR_MISSING);
+    CHECK_INT(error.code, FORECAST_ERR_MISSING);
     CHECK_CONTAINS(error.text, "no prate (precipitation rate) in the file, nor tp at every step");
-    sky_forecast_free(f);
+    forecast_free(f);
 
     /* hcc missing at +6 h only; the steps come in any order. */
     f = small_forecast();
@@ -228,17 +228,17 @@ static void test_series_refusals(void)
     CHECK(!forecast_series_finish(f, &error));
     CHECK_CONTAINS(error.text, "mcc (medium cloud cover) is missing at the step valid "
                                "2026-06-21T03:00:00Z (+3 h)");
-    sky_forecast_free(f);
+    forecast_free(f);
 
     /* A field twice at one step. */
     f = small_forecast();
     set_field(f, 0, FIELD_LCC, 0.1, 0);
     struct forecast_step *step = forecast_series_step(f, f->info.reference_unix_s, &error);
     CHECK(forecast_series_field(f, step, FIELD_LCC, 7, &error) == NULL);
-    CHECK_INT(error.code, SKY_FORECAST_ERR_INCONSISTENT);
+    CHECK_INT(error.code, FORECAST_ERR_INCONSISTENT);
     CHECK_CONTAINS(error.text, "message 7 gives lcc valid at 2026-06-21T00:00:00Z (+0 h) again, "
                                "after message 1");
-    sky_forecast_free(f);
+    forecast_free(f);
 
     /* 10 m wind without 10v, and no 850 hPa wind: 10v is named. */
     f = small_forecast();
@@ -249,13 +249,13 @@ static void test_series_refusals(void)
     CHECK(!forecast_series_finish(f, &error));
     CHECK_CONTAINS(error.text, "no 10v (10 m wind towards north) in the file, nor u and v at "
                                "850 hPa at every step");
-    sky_forecast_free(f);
+    forecast_free(f);
 }
 
 static void test_interpolation(void)
 {
-    struct sky_forecast_error error;
-    struct sky_forecast *f = small_forecast();
+    struct forecast_error error;
+    struct forecast *f = small_forecast();
     double run = f->info.reference_unix_s;
     fill_step(f, 6, 1);
     fill_step(f, 0, 0);
@@ -271,18 +271,18 @@ static void test_interpolation(void)
     bool ok = forecast_series_finish(f, &error);
     CHECK_MSG(ok, "%s", error.text);
     if (!ok) {
-        sky_forecast_free(f);
+        forecast_free(f);
         return;
     }
-    CHECK_INT(f->info.wind_level, SKY_FORECAST_WIND_10M);
-    CHECK_INT(f->info.precipitation_source, SKY_FORECAST_PRECIP_RATE);
-    CHECK_DOUBLE(sky_forecast_step_unix(f, 0), run);
-    struct sky_forecast_moment *m = malloc(sizeof *m);
+    CHECK_INT(f->info.wind_level, FORECAST_WIND_10M);
+    CHECK_INT(f->info.precipitation_source, FORECAST_PRECIP_RATE);
+    CHECK_DOUBLE(forecast_step_unix(f, 0), run);
+    struct forecast_moment *m = malloc(sizeof *m);
     /* 1.5 h: a quarter of the way. The window holds 5 x 5 points (a ring around the square
      * for the bilinear samples), the nine inside are its middle, whose mean index is 12: lcc's
      * mean is 0.2 + 0.01 x 12 at the run. */
     CHECK_INT(f->window.rows * f->window.columns, 25);
-    CHECK(sky_forecast_at(f, run + 5400, m, &error));
+    CHECK(forecast_at(f, run + 5400, m, &error));
     CHECK_INT(m->step_before, 0);
     CHECK_INT(m->step_after, 1);
     CHECK_DOUBLE(m->weight, 0.25);
@@ -297,10 +297,10 @@ static void test_interpolation(void)
     CHECK_NEAR(m->sample.wind_v_m_s, -3.0, 1e-15);
     CHECK_NEAR(m->sample.wind_speed_m_s, sqrt(10.0), 1e-12);
     CHECK_NEAR(m->sample.wind_direction_deg, 360.0 - atan(1.0 / 3.0) / DEG, 1e-12);
-    CHECK_DOUBLE(m->sample.relative_humidity, sky_metar_relative_humidity(20.5, 10.0));
+    CHECK_DOUBLE(m->sample.relative_humidity, proto_metar_relative_humidity(20.5, 10.0));
     /* The coverage grid interpolates the same way. */
     CHECK_INT(m->sample.grid_size, 2);
-    struct sky_forecast_sample *first = malloc(sizeof *first), *second = malloc(sizeof *second);
+    struct forecast_sample *first = malloc(sizeof *first), *second = malloc(sizeof *second);
     forecast_series_sample(f, 0, first);
     forecast_series_sample(f, 1, second);
     for (int i = 0; i < 4; i++)
@@ -308,24 +308,24 @@ static void test_interpolation(void)
                    1e-15);
     CHECK(first->low_grid[0] < first->low_grid[1]); /* grows east along the window's rows */
     /* At a step exactly: that step, weight 0, one step on either side. */
-    CHECK(sky_forecast_at(f, run + 6 * 3600, m, &error));
+    CHECK(forecast_at(f, run + 6 * 3600, m, &error));
     CHECK_INT(m->step_before, 1);
     CHECK_INT(m->step_after, 1);
     CHECK_DOUBLE(m->sample.high_cover, second->high_cover);
     /* Calm: direction 0. At the run, u = 0 and v = -4: from the north. */
-    CHECK(sky_forecast_at(f, run, m, &error));
+    CHECK(forecast_at(f, run, m, &error));
     CHECK_DOUBLE(m->sample.wind_direction_deg, 0.0);
     CHECK_DOUBLE(m->sample.wind_speed_m_s, 4.0);
     /* Outside the range: refused with the range. */
-    CHECK(!sky_forecast_at(f, run + 6 * 3600 + 1, m, &error));
-    CHECK_INT(error.code, SKY_FORECAST_ERR_TIME);
+    CHECK(!forecast_at(f, run + 6 * 3600 + 1, m, &error));
+    CHECK_INT(error.code, FORECAST_ERR_TIME);
     CHECK_STR(error.text, "2026-06-21T06:00:01Z is outside the forecast: its 2 steps cover "
                           "2026-06-21T00:00:00Z to 2026-06-21T06:00:00Z");
-    CHECK(!sky_forecast_at(f, run - 1, m, &error));
-    CHECK(!sky_forecast_at(f, NAN, m, &error));
+    CHECK(!forecast_at(f, run - 1, m, &error));
+    CHECK(!forecast_at(f, NAN, m, &error));
     /* The JSON names what the CLI test reads. */
-    CHECK(sky_forecast_at(f, run + 5400, m, &error));
-    cJSON *json = sky_forecast_to_json(f, m);
+    CHECK(forecast_at(f, run + 5400, m, &error));
+    cJSON *json = forecast_to_json(f, m);
     CHECK(json != NULL);
     cJSON *steps = cJSON_GetObjectItem(json, "steps");
     CHECK(cJSON_GetNumberValue(cJSON_GetObjectItem(steps, "weight")) == 0.25);
@@ -337,21 +337,21 @@ static void test_interpolation(void)
               "10m");
     cJSON_Delete(json);
     char summary[512];
-    sky_forecast_summary(f, m, summary, sizeof summary);
+    forecast_summary(f, m, summary, sizeof summary);
     CHECK_CONTAINS(summary, "2026-06-21T01:30:00Z at 45.000 N 6.000 E (250 km, 9 grid points, "
                             "steps +0 h..+6 h): cloud low 0.35 medium 0.50 high 0.85");
     free(first);
     free(second);
     free(m);
-    sky_forecast_free(f);
+    forecast_free(f);
 }
 
 /* tp into rates: ECMWF accumulates from the run (0, 0-6, 0-12); GFS in buckets that restart
  * every 6 hours (0-3, 0-6, 6-9, 6-12). */
 static void test_accumulations(void)
 {
-    struct sky_forecast_error error;
-    struct sky_forecast *f = small_forecast();
+    struct forecast_error error;
+    struct forecast *f = small_forecast();
     double run = f->info.reference_unix_s;
     const double hours[] = { 0, 3, 6, 9, 12 }, starts[] = { 0, 0, 0, 6, 6 };
     const double totals[] = { 0, 1.5, 6, 3, 3 }; /* mm */
@@ -365,23 +365,23 @@ static void test_accumulations(void)
     bool ok = forecast_series_finish(f, &error);
     CHECK_MSG(ok, "%s", error.text);
     if (ok) {
-        CHECK_INT(f->info.precipitation_source, SKY_FORECAST_PRECIP_ACCUMULATED);
+        CHECK_INT(f->info.precipitation_source, FORECAST_PRECIP_ACCUMULATED);
         /* (0, 3]: 1.5 mm in 3 h; (3, 6]: 4.5 mm; (6, 9]: the 6-9 bucket; (9, 12]: 0. */
         const double rates[] = { 0.5, 0.5, 1.5, 1.0, 0.0 };
-        struct sky_forecast_moment *m = malloc(sizeof *m);
+        struct forecast_moment *m = malloc(sizeof *m);
         for (int k = 0; k < 5; k++) {
-            CHECK(sky_forecast_at(f, run + hours[k] * 3600.0, m, &error));
+            CHECK(forecast_at(f, run + hours[k] * 3600.0, m, &error));
             CHECK_NEAR(m->sample.precipitation_mm_h, rates[k], 1e-15);
         }
         /* Between steps: the rate of the interval, not a blend. */
-        CHECK(sky_forecast_at(f, run + 4 * 3600.0, m, &error));
+        CHECK(forecast_at(f, run + 4 * 3600.0, m, &error));
         CHECK_NEAR(m->sample.precipitation_mm_h, 1.5, 1e-15);
-        CHECK(sky_forecast_at(f, run + 3600.0, m, &error));
+        CHECK(forecast_at(f, run + 3600.0, m, &error));
         CHECK_NEAR(m->sample.precipitation_mm_h, 0.5, 1e-15);
         CHECK_NEAR(m->sample.precipitation_grid[3], 0.5, 1e-15);
         free(m);
     }
-    sky_forecast_free(f);
+    forecast_free(f);
 
     /* One step of tp accumulating over no time, and nothing after it: no rate. */
     f = small_forecast();
@@ -390,14 +390,14 @@ static void test_accumulations(void)
     f->steps[0].tp_start_unix_s = run;
     CHECK(!forecast_series_finish(f, &error));
     CHECK_CONTAINS(error.text, "accumulates over no time");
-    sky_forecast_free(f);
+    forecast_free(f);
 }
 
 /* The cover grid as a weather map: the channels, and the grid shifted against the wind's
  * offsets (wrapped), so that the renderer's drift puts each cell back over its ground. */
 static void test_weather_map(void)
 {
-    struct sky_forecast_sample *s = calloc(1, sizeof *s);
+    struct forecast_sample *s = calloc(1, sizeof *s);
     if (!s)
         return;
     s->grid_size = 4;
@@ -407,8 +407,8 @@ static void test_weather_map(void)
             s->high_grid[j * 4 + i] = j / 3.0; /* high cover in the south */
             s->precipitation_grid[j * 4 + i] = i == 3 ? 10.0 : 0.0;
         }
-    struct sky_weather_map map;
-    CHECK(sky_forecast_weather_map(s, 40.0, 0.0, 0.0, &map));
+    struct proto_weather_map map;
+    CHECK(forecast_weather_map(s, 40.0, 0.0, 0.0, &map));
     CHECK_INT(map.width, 4);
     CHECK_INT(map.height, 4);
     if (map.rgba) {
@@ -419,12 +419,12 @@ static void test_weather_map(void)
         CHECK_INT(t[4 * 12 + 1], 255); /* the south-west texel's high cover */
         CHECK_INT(t[4 * 3 + 3], 230);  /* 10 mm/h: 0.9 */
         CHECK_INT(t[4 * 0 + 3], 0);
-        CHECK_INT(t[4 * 1 + 2], (int)lround(sky_obs_low_type(1.0 / 3.0, 1000.0) * 255));
+        CHECK_INT(t[4 * 1 + 2], (int)lround(proto_obs_low_type(1.0 / 3.0, 1000.0) * 255));
     }
-    sky_weather_map_free(&map);
+    proto_weather_map_free(&map);
     /* The wind carried the map 10 km (a cell) east and 10 km north: texel (i, j) shows the
      * ground of cell (i + 1, j - 1). */
-    CHECK(sky_forecast_weather_map(s, 40.0, 10.0, 10.0, &map));
+    CHECK(forecast_weather_map(s, 40.0, 10.0, 10.0, &map));
     if (map.rgba) {
         const uint8_t *t = map.rgba;
         CHECK_INT(t[4 * (1 * 4 + 0)], 85);      /* (0, 1) holds (1, 0): low 1/3 */
@@ -432,12 +432,12 @@ static void test_weather_map(void)
         CHECK_INT(t[4 * (0 * 4 + 0) + 1], 255); /* (0, 0) holds (1, 3), wrapped: south */
         CHECK_INT(t[4 * (2 * 4 + 0) + 1], 85);  /* (0, 2) holds (1, 1) */
     }
-    sky_weather_map_free(&map);
+    proto_weather_map_free(&map);
     /* Half a cell: bilinear between neighbours. */
-    CHECK(sky_forecast_weather_map(s, 40.0, 5.0, 0.0, &map));
+    CHECK(forecast_weather_map(s, 40.0, 5.0, 0.0, &map));
     if (map.rgba)
         CHECK_INT(map.rgba[0], (int)lround(255.0 / 6.0));
-    sky_weather_map_free(&map);
+    proto_weather_map_free(&map);
     free(s);
 }
 

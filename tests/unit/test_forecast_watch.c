@@ -57,7 +57,7 @@ static bool take_within(struct forecast_watch *w, double seconds, struct forecas
     return false;
 }
 
-static const struct sky_forecast_request place = {
+static const struct forecast_request place = {
     .lat_deg = 45.0, .lon_deg = 6.0, .extent_km = 60.0, .grid_size = 16
 };
 
@@ -109,27 +109,27 @@ static void read_and_handed_over(void)
     CHECK_STR(news.file, "global.grib2");
     CHECK_INT(news.refusals, 0);
     if (news.forecast) {
-        CHECK_INT(sky_forecast_info(news.forecast)->step_count, 3);
-        sky_forecast_free(news.forecast);
+        CHECK_INT(forecast_info(news.forecast)->step_count, 3);
+        forecast_free(news.forecast);
     }
     forecast_watch_look(w, &place); /* the same file: nothing new */
     CHECK(!take_within(w, 0.3, &news));
-    struct sky_forecast_request elsewhere = place;
+    struct forecast_request elsewhere = place;
     elsewhere.lat_deg = -30.0;
     forecast_watch_look(w, &elsewhere); /* another place: read again for it */
     CHECK(take_within(w, 10.0, &news));
     CHECK(news.replaced && news.forecast != NULL);
     if (news.forecast) {
-        CHECK_DOUBLE(sky_forecast_info(news.forecast)->request.lat_deg, -30.0);
-        sky_forecast_free(news.forecast);
+        CHECK_DOUBLE(forecast_info(news.forecast)->request.lat_deg, -30.0);
+        forecast_free(news.forecast);
     }
     forecast_watch_destroy(&w);
 
     atomic_bool cancel;
     atomic_init(&cancel, true);
-    struct sky_forecast_error error;
-    CHECK(sky_forecast_read_until(path, &place, &cancel, &error) == NULL);
-    CHECK_INT(error.code, SKY_FORECAST_ERR_CANCELLED);
+    struct forecast_error error;
+    CHECK(forecast_read_until(path, &place, &cancel, &error) == NULL);
+    CHECK_INT(error.code, FORECAST_ERR_CANCELLED);
     remove_file(folder, "global.grib2");
 }
 

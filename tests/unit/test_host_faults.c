@@ -95,8 +95,8 @@ static void disk_full(void)
 {
     char path[256], err[512];
     snprintf(path, sizeof path, "%s/state.json", dir);
-    struct sky_world_state a, b, back;
-    sky_world_state_defaults(&a);
+    struct proto_world_state a, b, back;
+    proto_world_state_defaults(&a);
     a.revision = 7;
     b = a;
     b.revision = 8;

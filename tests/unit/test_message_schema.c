@@ -17,13 +17,13 @@
 
 static bool parses(const char *text)
 {
-    struct sky_msg_limits limits;
-    sky_msg_limits_default(&limits);
-    struct sky_client_msg msg;
-    struct sky_msg_parse_error error;
-    enum sky_msg_error_code code = sky_msg_parse(text, strlen(text), &limits, &msg, &error);
-    sky_client_msg_free(&msg);
-    return code == SKY_MSG_OK;
+    struct proto_msg_limits limits;
+    proto_msg_limits_default(&limits);
+    struct proto_client_msg msg;
+    struct proto_msg_parse_error error;
+    enum proto_msg_error_code code = proto_msg_parse(text, strlen(text), &limits, &msg, &error);
+    proto_client_msg_free(&msg);
+    return code == PROTO_MSG_OK;
 }
 
 static bool conforms_text(const cJSON *schema, const char *text)
@@ -161,15 +161,15 @@ static void test_shape(const cJSON *schema)
               "https://json-schema.org/draft/2020-12/schema");
     const cJSON *options = at(schema, "oneOf");
     int types = 0;
-    for (int t = SKY_MSG_HELLO; sky_msg_type_name((enum sky_msg_type)t); t++, types++) {
+    for (int t = PROTO_MSG_HELLO; proto_msg_type_name((enum proto_msg_type)t); t++, types++) {
         char path[96];
-        snprintf(path, sizeof path, "$defs/%s", sky_msg_type_name((enum sky_msg_type)t));
+        snprintf(path, sizeof path, "$defs/%s", proto_msg_type_name((enum proto_msg_type)t));
         check_case_name = path;
         CHECK(at(schema, path) != NULL);
     }
     CHECK_INT(cJSON_GetArraySize(options), types);
     check_case_name = "view ranges from the world state's rows";
-    const struct sky_field_desc *fov = sky_world_state_find_field("camera.fov_deg");
+    const struct proto_field_desc *fov = proto_world_state_find_field("camera.fov_deg");
     CHECK(cJSON_GetNumberValue(at(schema, "$defs/view/properties/camera/properties/fov_deg/"
                                           "minimum")) == fov->min);
     CHECK_STR(cJSON_GetStringValue(at(schema, "$defs/view/properties/camera/properties/fov_deg/"
@@ -182,11 +182,11 @@ static void test_shape(const cJSON *schema)
 static void test_limits(void)
 {
     check_case_name = "limits";
-    struct sky_msg_limits limits;
-    sky_msg_limits_default(&limits);
+    struct proto_msg_limits limits;
+    proto_msg_limits_default(&limits);
     limits.max_width = 640;
     limits.max_fps = 5;
-    cJSON *schema = sky_msg_json_schema(&limits);
+    cJSON *schema = proto_msg_json_schema(&limits);
     CHECK(cJSON_GetNumberValue(at(schema, "$defs/view/properties/width/maximum")) == 640);
     CHECK(cJSON_GetNumberValue(at(schema, "$defs/view/properties/fps/maximum")) == 5);
     CHECK(cJSON_GetNumberValue(at(schema, "$defs/view/properties/fps/default")) == 5);
@@ -197,9 +197,9 @@ static void test_limits(void)
 
 void test_message_schema(const char *protocol_md)
 {
-    struct sky_msg_limits limits;
-    sky_msg_limits_default(&limits);
-    cJSON *schema = sky_msg_json_schema(&limits);
+    struct proto_msg_limits limits;
+    proto_msg_limits_default(&limits);
+    cJSON *schema = proto_msg_json_schema(&limits);
     CHECK(schema != NULL);
     if (!schema)
         return;

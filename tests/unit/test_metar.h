@@ -7,7 +7,7 @@
 #include "metar.h"
 
 /* Decodes text, counting a check that it was accepted (printing the error when not). */
-bool decode_ok(const char *text, struct sky_metar_report *report);
+bool decode_ok(const char *text, struct proto_metar_report *report);
 
 /* test_metar_refusals.c: malformed, truncated, garbage and overlong reports. */
 void test_metar_refusals(void);

@@ -16,50 +16,50 @@
 /* ---- the documented examples (also in protocol/PROTOCOL.md, in this order) -------------- */
 
 const struct protocol_client_example protocol_client_examples[] = {
-    { "{\"type\":\"hello\",\"id\":1,\"client\":\"sky-web 0.1\",\"protocol\":1}", SKY_MSG_HELLO },
+    { "{\"type\":\"hello\",\"id\":1,\"client\":\"sky-web 0.1\",\"protocol\":1}", PROTO_MSG_HELLO },
     { "{\"type\":\"hello\",\"id\":2,\"client\":\"sky-web 0.1\",\"protocol\":1,"
       "\"simulation_events\":true}",
-      SKY_MSG_HELLO },
-    { "{\"type\":\"auth\",\"id\":2,\"token\":\"s3cret-token\"}", SKY_MSG_AUTH },
-    { "{\"type\":\"get_state\",\"id\":3}", SKY_MSG_GET_STATE },
+      PROTO_MSG_HELLO },
+    { "{\"type\":\"auth\",\"id\":2,\"token\":\"s3cret-token\"}", PROTO_MSG_AUTH },
+    { "{\"type\":\"get_state\",\"id\":3}", PROTO_MSG_GET_STATE },
     { "{\"type\":\"set\",\"id\":4,\"patch\":{\"sun\":{\"elevation_deg\":2,\"azimuth_deg\":250},"
       "\"atmosphere\":{\"mie\":{\"g\":0.76}}}}",
-      SKY_MSG_SET },
+      PROTO_MSG_SET },
     { "{\"type\":\"subscribe\",\"id\":\"main-view\",\"view\":{\"camera\":{\"yaw_deg\":200,"
       "\"fov_deg\":60},\"width\":1280,\"height\":720,\"fps\":30,\"exposure\":{\"mode\":"
       "\"manual\",\"ev100\":12},\"format\":\"png\"}}",
-      SKY_MSG_SUBSCRIBE },
-    { "{\"type\":\"unsubscribe\",\"id\":6,\"subscription\":1}", SKY_MSG_UNSUBSCRIBE },
+      PROTO_MSG_SUBSCRIBE },
+    { "{\"type\":\"unsubscribe\",\"id\":6,\"subscription\":1}", PROTO_MSG_UNSUBSCRIBE },
     { "{\"type\":\"snapshot\",\"id\":7,\"view\":{\"width\":640,\"height\":360}}",
-      SKY_MSG_SNAPSHOT },
+      PROTO_MSG_SNAPSHOT },
     { "{\"type\":\"probe\",\"id\":8,\"quantity\":\"transmittance\",\"altitude_km\":0,\"mu\":0.5}",
-      SKY_MSG_PROBE },
+      PROTO_MSG_PROBE },
     { "{\"type\":\"probe\",\"id\":9,\"quantity\":\"luminance\",\"altitude_km\":0,"
       "\"view_zenith_deg\":45,\"view_azimuth_deg\":90,\"sun_zenith_deg\":30}",
-      SKY_MSG_PROBE },
+      PROTO_MSG_PROBE },
     { "{\"type\":\"probe\",\"id\":10,\"quantity\":\"illuminance\",\"sun_zenith_deg\":0}",
-      SKY_MSG_PROBE },
-    { "{\"type\":\"list_presets\",\"id\":11,\"kind\":\"atmosphere\"}", SKY_MSG_LIST_PRESETS },
+      PROTO_MSG_PROBE },
+    { "{\"type\":\"list_presets\",\"id\":11,\"kind\":\"atmosphere\"}", PROTO_MSG_LIST_PRESETS },
     { "{\"type\":\"apply_preset\",\"id\":12,\"kind\":\"atmosphere\",\"name\":\"mars\"}",
-      SKY_MSG_APPLY_PRESET },
-    { "{\"type\":\"list_presets\",\"id\":14,\"kind\":\"weather\"}", SKY_MSG_LIST_PRESETS },
+      PROTO_MSG_APPLY_PRESET },
+    { "{\"type\":\"list_presets\",\"id\":14,\"kind\":\"weather\"}", PROTO_MSG_LIST_PRESETS },
     { "{\"type\":\"apply_preset\",\"id\":15,\"kind\":\"weather\",\"name\":\"storm\","
       "\"transition_s\":1200}",
-      SKY_MSG_APPLY_PRESET },
-    { "{\"type\":\"stats\",\"id\":13}", SKY_MSG_STATS },
+      PROTO_MSG_APPLY_PRESET },
+    { "{\"type\":\"stats\",\"id\":13}", PROTO_MSG_STATS },
     { "{\"type\":\"set_weather_map\",\"id\":16,\"format\":\"rgba8\",\"width\":2,\"height\":1,"
       "\"data\":\"/wCgAIBAoCg=\"}",
-      SKY_MSG_SET_WEATHER_MAP },
+      PROTO_MSG_SET_WEATHER_MAP },
     { "{\"type\":\"apply_observation\",\"id\":19,\"metar\":\"METAR LFLY 211200Z 18008KT 9999 "
       "FEW040 22/10 Q1018\"}",
-      SKY_MSG_APPLY_OBSERVATION },
-    { "{\"type\":\"describe\",\"id\":18}", SKY_MSG_DESCRIBE },
+      PROTO_MSG_APPLY_OBSERVATION },
+    { "{\"type\":\"describe\",\"id\":18}", PROTO_MSG_DESCRIBE },
     { "{\"type\":\"snapshot\",\"id\":17,\"view\":{\"width\":1024,\"height\":512,"
       "\"projection\":\"equirectangular\",\"format\":\"png16\"}}",
-      SKY_MSG_SNAPSHOT },
+      PROTO_MSG_SNAPSHOT },
     { "{\"type\":\"subscribe\",\"id\":\"phone\",\"view\":{\"width\":1280,\"height\":720,"
       "\"fps\":30,\"format\":\"jpeg\",\"quality\":80,\"max_kbps\":2000}}",
-      SKY_MSG_SUBSCRIBE },
+      PROTO_MSG_SUBSCRIBE },
 };
 const size_t protocol_client_example_count = COUNT_OF(protocol_client_examples);
 
@@ -67,15 +67,15 @@ const size_t protocol_client_example_count = COUNT_OF(protocol_client_examples);
 static char *build_observation_example(void)
 {
     const char *text = "METAR LFLY 211200Z 18008KT 9999 FEW040 22/10 Q1018";
-    struct sky_metar_report report;
+    struct proto_metar_report report;
     cJSON *patch = NULL, *unmapped = NULL;
     char why[160];
-    if (!sky_metar_decode(text, strlen(text), &report, NULL) ||
-        !sky_obs_metar_patch(&report, &patch, &unmapped, why, sizeof why))
+    if (!proto_metar_decode(text, strlen(text), &report, NULL) ||
+        !proto_obs_metar_patch(&report, &patch, &unmapped, why, sizeof why))
         return NULL;
-    cJSON *decoded = sky_metar_to_json(&report);
-    struct sky_msg_id id = int_id(19);
-    char *built = sky_msg_build_observation(&id, 7, decoded, patch, unmapped);
+    cJSON *decoded = proto_metar_to_json(&report);
+    struct proto_msg_id id = int_id(19);
+    char *built = proto_msg_build_observation(&id, 7, decoded, patch, unmapped);
     cJSON_Delete(decoded);
     cJSON_Delete(patch);
     cJSON_Delete(unmapped);
@@ -86,16 +86,16 @@ static char *build_observation_example(void)
 static size_t build_server_examples(char **out, size_t max)
 {
     size_t n = 0;
-    struct sky_msg_limits limits;
-    sky_msg_limits_default(&limits);
+    struct proto_msg_limits limits;
+    proto_msg_limits_default(&limits);
     size_t capability_count;
-    const char *const *caps = sky_msg_default_capabilities(&capability_count);
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
+    const char *const *caps = proto_msg_default_capabilities(&capability_count);
+    struct proto_world_state state;
+    proto_world_state_defaults(&state);
     state.revision = 5;
-    struct sky_msg_id id2 = int_id(2), id3 = int_id(3), id4 = int_id(4), id7 = int_id(7);
-    struct sky_msg_id id8 = int_id(8), id9 = int_id(9), id10 = int_id(10), id11 = int_id(11);
-    struct sky_msg_id id13 = int_id(13);
+    struct proto_msg_id id2 = int_id(2), id3 = int_id(3), id4 = int_id(4), id7 = int_id(7);
+    struct proto_msg_id id8 = int_id(8), id9 = int_id(9), id10 = int_id(10), id11 = int_id(11);
+    struct proto_msg_id id13 = int_id(13);
 
 #define ADD(expression)                                                                            \
     do {                                                                                           \
@@ -104,66 +104,69 @@ static size_t build_server_examples(char **out, size_t max)
         n++;                                                                                       \
     } while (0)
 
-    ADD(sky_msg_build_hello("0.1.0", SKY_ROLE_VIEWER, caps, capability_count, &limits));
-    ADD(sky_msg_build_state(&id3, &state));
-    ADD(sky_msg_build_ack(&id4, 6, SKY_ROLE_NONE));
-    ADD(sky_msg_build_ack(&id2, 5, SKY_ROLE_CONTROLLER));
+    ADD(proto_msg_build_hello("0.1.0", PROTO_ROLE_VIEWER, caps, capability_count, &limits));
+    ADD(proto_msg_build_state(&id3, &state));
+    ADD(proto_msg_build_ack(&id4, 6, PROTO_ROLE_NONE));
+    ADD(proto_msg_build_ack(&id2, 5, PROTO_ROLE_CONTROLLER));
     ADD(build_observation_example());
 
-    struct sky_client_msg msg;
-    struct sky_msg_parse_error error;
+    struct proto_client_msg msg;
+    struct proto_msg_parse_error error;
     parse("{\"type\":\"set\",\"id\":4,\"patch\":{\"atmosphere\":{\"bogus\":1}}}", &msg, &error);
-    ADD(sky_msg_build_parse_error(&msg, &error));
-    sky_client_msg_free(&msg);
-    ADD(sky_msg_build_error(&id4, SKY_MSG_ERR_FORBIDDEN, "set needs the controller role", NULL));
+    ADD(proto_msg_build_parse_error(&msg, &error));
+    proto_client_msg_free(&msg);
+    ADD(proto_msg_build_error(&id4, PROTO_MSG_ERR_FORBIDDEN, "set needs the controller role",
+                              NULL));
 
     parse(protocol_client_examples[5].text, &msg, &error);
-    ADD(sky_msg_build_subscribed(&msg.id, 1, &msg.view));
-    sky_client_msg_free(&msg);
-    ADD(sky_msg_build_frame(NULL, 1, 42));
-    ADD(sky_msg_build_frame(&id7, 0, 43));
+    ADD(proto_msg_build_subscribed(&msg.id, 1, &msg.view));
+    proto_client_msg_free(&msg);
+    ADD(proto_msg_build_frame(NULL, 1, 42));
+    ADD(proto_msg_build_frame(&id7, 0, 43));
 
-    struct sky_world_state after = state;
+    struct proto_world_state after = state;
     parse(protocol_client_examples[4].text, &msg, &error);
-    sky_world_state_apply_patch(&after, msg.set.patch, NULL);
-    sky_client_msg_free(&msg);
+    proto_world_state_apply_patch(&after, msg.set.patch, NULL);
+    proto_client_msg_free(&msg);
     after.revision = 6;
-    char changed[8][SKY_MSG_POINTER_MAX];
-    size_t changed_count = sky_msg_state_diff(&state, &after, changed, 8);
+    char changed[8][PROTO_MSG_POINTER_MAX];
+    size_t changed_count = proto_msg_state_diff(&state, &after, changed, 8);
     const char *pointers[8];
     for (size_t i = 0; i < changed_count && i < 8; i++)
         pointers[i] = changed[i];
-    ADD(sky_msg_build_state_changed(after.revision, pointers, changed_count, &after,
-                                    "sky-web 0.1"));
-    struct sky_world_state moved = after;
+    ADD(proto_msg_build_state_changed(after.revision, pointers, changed_count, &after,
+                                      "sky-web 0.1"));
+    struct proto_world_state moved = after;
     moved.clock.utc_unix_s = 1782066600.25;
     moved.sun.elevation_deg = 11.42;
     moved.sun.azimuth_deg = 295.1;
-    changed_count = sky_msg_state_diff(&after, &moved, changed, 8);
+    changed_count = proto_msg_state_diff(&after, &moved, changed, 8);
     for (size_t i = 0; i < changed_count && i < 8; i++)
         pointers[i] = changed[i];
-    ADD(sky_msg_build_simulation_event(moved.revision, pointers, changed_count, &moved));
+    ADD(proto_msg_build_simulation_event(moved.revision, pointers, changed_count, &moved));
 
     const char *presets[] = { "earth", "mars" };
-    ADD(sky_msg_build_presets(&id11, SKY_PRESET_ATMOSPHERE, presets, 2));
-    struct sky_msg_probe_result t = { SKY_PROBE_TRANSMITTANCE, { 0.8, 0.67, 0.46 }, 0, 0, NULL };
-    struct sky_msg_probe_result l = {
-        SKY_PROBE_LUMINANCE, { 3200, 4100, 6900 }, 0, 0, "converged"
+    ADD(proto_msg_build_presets(&id11, PROTO_PRESET_ATMOSPHERE, presets, 2));
+    struct proto_msg_probe_result t = {
+        PROTO_PROBE_TRANSMITTANCE, { 0.8, 0.67, 0.46 }, 0, 0, NULL
     };
-    struct sky_msg_probe_result e = { SKY_PROBE_ILLUMINANCE, { 0, 0, 0 }, 120014, 18700, NULL };
-    ADD(sky_msg_build_probe_result(&id8, &t));
-    ADD(sky_msg_build_probe_result(&id9, &l));
-    ADD(sky_msg_build_probe_result(&id10, &e));
-    const struct sky_msg_pass_time passes[] = { { "skyview", 0.42 },
-                                                { "aerial_perspective", 0.31 },
-                                                { "composite", 1.9 },
-                                                { "sun_disk", 0.05 } };
-    const struct sky_msg_subscription_stats subscriptions[] = { { 1, 5242880, 12.5, 70, 2000 } };
-    const struct sky_msg_multiple_scattering ms = { 0.4, 1, 0 };
-    struct sky_msg_stats stats = { 29.8, 3,          passes,        COUNT_OF(passes),
-                                   1,    1782043200, subscriptions, COUNT_OF(subscriptions),
-                                   &ms };
-    ADD(sky_msg_build_stats(&id13, &stats));
+    struct proto_msg_probe_result l = {
+        PROTO_PROBE_LUMINANCE, { 3200, 4100, 6900 }, 0, 0, "converged"
+    };
+    struct proto_msg_probe_result e = { PROTO_PROBE_ILLUMINANCE, { 0, 0, 0 }, 120014, 18700, NULL };
+    ADD(proto_msg_build_probe_result(&id8, &t));
+    ADD(proto_msg_build_probe_result(&id9, &l));
+    ADD(proto_msg_build_probe_result(&id10, &e));
+    const struct proto_msg_pass_time passes[] = { { "skyview", 0.42 },
+                                                  { "aerial_perspective", 0.31 },
+                                                  { "composite", 1.9 },
+                                                  { "sun_disk", 0.05 } };
+    const struct proto_msg_subscription_stats subscriptions[] = { { 1, 5242880, 12.5, 70, 2000 } };
+    const struct proto_msg_multiple_scattering ms = { 0.4, 1, 0 };
+    struct proto_msg_stats stats = { 29.8, 3,          passes,        COUNT_OF(passes),
+                                     1,    1782043200, subscriptions, COUNT_OF(subscriptions),
+                                     &ms };
+    ADD(proto_msg_build_stats(&id13, &stats));
 #undef ADD
     return n;
 }
@@ -223,13 +226,14 @@ static void test_documented_examples(const char *doc_path)
 {
     check_case_name = "client examples parse";
     for (size_t i = 0; i < protocol_client_example_count; i++) {
-        struct sky_client_msg msg;
-        struct sky_msg_parse_error error;
-        CHECK_INT(parse(protocol_client_examples[i].text, &msg, &error), SKY_MSG_OK);
-        if (error.code != SKY_MSG_OK)
+        struct proto_client_msg msg;
+        struct proto_msg_parse_error error;
+        CHECK_INT(parse(protocol_client_examples[i].text, &msg, &error), PROTO_MSG_OK);
+        if (error.code != PROTO_MSG_OK)
             printf("    %s: %s\n", protocol_client_examples[i].text, error.message);
-        CHECK_STR(sky_msg_type_name(msg.type), sky_msg_type_name(protocol_client_examples[i].type));
-        sky_client_msg_free(&msg);
+        CHECK_STR(proto_msg_type_name(msg.type),
+                  proto_msg_type_name(protocol_client_examples[i].type));
+        proto_client_msg_free(&msg);
     }
 
     char *doc = text_file_read(doc_path, 1 << 22, &(size_t){ 0 });

@@ -28,30 +28,30 @@
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 
-static inline struct sky_msg_limits test_limits(void)
+static inline struct proto_msg_limits test_limits(void)
 {
-    struct sky_msg_limits limits;
-    sky_msg_limits_default(&limits);
+    struct proto_msg_limits limits;
+    proto_msg_limits_default(&limits);
     limits.max_message_bytes = 1024;
     return limits;
 }
 
-static inline enum sky_msg_error_code parse_with(const char *text, size_t length,
-                                                 const struct sky_msg_limits *limits,
-                                                 struct sky_client_msg *msg,
-                                                 struct sky_msg_parse_error *error)
+static inline enum proto_msg_error_code parse_with(const char *text, size_t length,
+                                                   const struct proto_msg_limits *limits,
+                                                   struct proto_client_msg *msg,
+                                                   struct proto_msg_parse_error *error)
 {
-    return sky_msg_parse(text, length, limits, msg, error);
+    return proto_msg_parse(text, length, limits, msg, error);
 }
 
-static inline enum sky_msg_error_code parse(const char *text, struct sky_client_msg *msg,
-                                            struct sky_msg_parse_error *error)
+static inline enum proto_msg_error_code parse(const char *text, struct proto_client_msg *msg,
+                                              struct proto_msg_parse_error *error)
 {
-    struct sky_msg_limits limits = test_limits();
+    struct proto_msg_limits limits = test_limits();
     return parse_with(text, strlen(text), &limits, msg, error);
 }
 
-static inline const char *first_pointer(const struct sky_msg_parse_error *error)
+static inline const char *first_pointer(const struct proto_msg_parse_error *error)
 {
     return error->fields.count > 0 ? error->fields.items[0].pointer : "(none)";
 }
@@ -95,15 +95,15 @@ static inline char *repeat(char c, size_t count)
     return text;
 }
 
-static inline struct sky_msg_id int_id(int64_t number)
+static inline struct proto_msg_id int_id(int64_t number)
 {
-    struct sky_msg_id id = { .kind = SKY_MSG_ID_INTEGER, .number = number };
+    struct proto_msg_id id = { .kind = PROTO_MSG_ID_INTEGER, .number = number };
     return id;
 }
 
-static inline struct sky_msg_id string_id(const char *text)
+static inline struct proto_msg_id string_id(const char *text)
 {
-    struct sky_msg_id id = { .kind = SKY_MSG_ID_STRING };
+    struct proto_msg_id id = { .kind = PROTO_MSG_ID_STRING };
     snprintf(id.text, sizeof id.text, "%s", text);
     return id;
 }
@@ -112,7 +112,7 @@ static inline struct sky_msg_id string_id(const char *text)
 
 struct protocol_client_example {
     const char *text;
-    enum sky_msg_type type;
+    enum proto_msg_type type;
 };
 
 extern const struct protocol_client_example protocol_client_examples[];

@@ -7,53 +7,53 @@
 struct parse_case {
     const char *name;
     const char *text;
-    enum sky_msg_error_code code;
-    enum sky_msg_type type; /* checked when not SKY_MSG_NONE */
-    const char *pointer;    /* first field error's pointer; checked when not NULL */
+    enum proto_msg_error_code code;
+    enum proto_msg_type type; /* checked when not PROTO_MSG_NONE */
+    const char *pointer;      /* first field error's pointer; checked when not NULL */
 };
 
 /* clang-format off */
-#define OK(name, text, type) {name, text, SKY_MSG_OK, type, NULL}
-#define BAD(name, text, code, pointer) {name, text, SKY_MSG_ERR_##code, SKY_MSG_NONE, pointer}
+#define OK(name, text, type) {name, text, PROTO_MSG_OK, type, NULL}
+#define BAD(name, text, code, pointer) {name, text, PROTO_MSG_ERR_##code, PROTO_MSG_NONE, pointer}
 
 static const struct parse_case parse_cases[] = {
-    OK("hello empty", "{\"type\":\"hello\"}", SKY_MSG_HELLO),
-    OK("whitespace around", " \t\r\n{ \"type\" : \"stats\" }\n ", SKY_MSG_STATS),
-    OK("string id", "{\"type\":\"get_state\",\"id\":\"r-1\"}", SKY_MSG_GET_STATE),
-    OK("max integer id", "{\"type\":\"stats\",\"id\":9007199254740991}", SKY_MSG_STATS),
-    OK("min integer id", "{\"type\":\"stats\",\"id\":-9007199254740991}", SKY_MSG_STATS),
+    OK("hello empty", "{\"type\":\"hello\"}", PROTO_MSG_HELLO),
+    OK("whitespace around", " \t\r\n{ \"type\" : \"stats\" }\n ", PROTO_MSG_STATS),
+    OK("string id", "{\"type\":\"get_state\",\"id\":\"r-1\"}", PROTO_MSG_GET_STATE),
+    OK("max integer id", "{\"type\":\"stats\",\"id\":9007199254740991}", PROTO_MSG_STATS),
+    OK("min integer id", "{\"type\":\"stats\",\"id\":-9007199254740991}", PROTO_MSG_STATS),
     OK("64-byte id", "{\"type\":\"stats\",\"id\":\"" "0123456789012345678901234567890123456789"
-       "012345678901234567890123\"}", SKY_MSG_STATS),
+       "012345678901234567890123\"}", PROTO_MSG_STATS),
     OK("utf-8 client", "{\"type\":\"hello\",\"client\":\"h\xc3\xa9llo \xe2\x98\x80 \xf0\x9f\x8c\x85\"}",
-       SKY_MSG_HELLO),
-    OK("escaped slash and unicode", "{\"type\":\"hello\",\"client\":\"a\\/b\\u00e9\"}", SKY_MSG_HELLO),
+       PROTO_MSG_HELLO),
+    OK("escaped slash and unicode", "{\"type\":\"hello\",\"client\":\"a\\/b\\u00e9\"}", PROTO_MSG_HELLO),
     OK("inconsistent patch deferred", "{\"type\":\"set\",\"patch\":{\"atmosphere\":"
-       "{\"bottom_radius_km\":7000}}}", SKY_MSG_SET),
-    OK("empty patch", "{\"type\":\"set\",\"patch\":{}}", SKY_MSG_SET),
+       "{\"bottom_radius_km\":7000}}}", PROTO_MSG_SET),
+    OK("empty patch", "{\"type\":\"set\",\"patch\":{}}", PROTO_MSG_SET),
     OK("rgb patch", "{\"type\":\"set\",\"patch\":{\"atmosphere\":{\"ground_albedo\":[0.1,0.2,0.3]}}}",
-       SKY_MSG_SET),
+       PROTO_MSG_SET),
     OK("view at limits", "{\"type\":\"snapshot\",\"view\":{\"width\":3840,\"height\":2160,"
        "\"fps\":60,\"camera\":{\"altitude_km\":100000,\"yaw_deg\":-360,\"pitch_deg\":90,"
        "\"fov_deg\":170},\"exposure\":{\"mode\":\"auto\",\"ev100\":-10,\"compensation_ev\":10}}}",
-       SKY_MSG_SNAPSHOT),
+       PROTO_MSG_SNAPSHOT),
     OK("view jpeg", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
-       "\"format\":\"jpeg\"}}", SKY_MSG_SUBSCRIBE),
+       "\"format\":\"jpeg\"}}", PROTO_MSG_SUBSCRIBE),
     OK("view jpeg quality ends", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
        "\"format\":\"jpeg\",\"quality\":1,"
-       "\"max_kbps\":1000000}}", SKY_MSG_SUBSCRIBE),
+       "\"max_kbps\":1000000}}", PROTO_MSG_SUBSCRIBE),
     OK("view jpeg quality 100", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
        "\"format\":\"jpeg\",\"quality\":100,"
-       "\"max_kbps\":0.001}}", SKY_MSG_SUBSCRIBE),
+       "\"max_kbps\":0.001}}", PROTO_MSG_SUBSCRIBE),
     OK("view png max_kbps", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
-       "\"format\":\"png\",\"max_kbps\":500}}", SKY_MSG_SUBSCRIBE),
+       "\"format\":\"png\",\"max_kbps\":500}}", PROTO_MSG_SUBSCRIBE),
     OK("view minimum", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"fps\":0.5,"
-       "\"camera\":{},\"exposure\":{}}}", SKY_MSG_SUBSCRIBE),
+       "\"camera\":{},\"exposure\":{}}}", PROTO_MSG_SUBSCRIBE),
     OK("probe at range ends", "{\"type\":\"probe\",\"quantity\":\"luminance\",\"altitude_km\":100000,"
-       "\"view_zenith_deg\":180,\"view_azimuth_deg\":-360,\"sun_zenith_deg\":0}", SKY_MSG_PROBE),
+       "\"view_zenith_deg\":180,\"view_azimuth_deg\":-360,\"sun_zenith_deg\":0}", PROTO_MSG_PROBE),
     OK("probe mu -1", "{\"type\":\"probe\",\"quantity\":\"transmittance\",\"altitude_km\":0,"
-       "\"mu\":-1}", SKY_MSG_PROBE),
+       "\"mu\":-1}", PROTO_MSG_PROBE),
     OK("preset name charset", "{\"type\":\"apply_preset\",\"kind\":\"atmosphere\","
-       "\"name\":\"a-z_0-9\"}", SKY_MSG_APPLY_PRESET),
+       "\"name\":\"a-z_0-9\"}", PROTO_MSG_APPLY_PRESET),
 
     BAD("empty message", "", MALFORMED_JSON, ""),
     BAD("blank message", "   ", MALFORMED_JSON, ""),
@@ -277,27 +277,27 @@ void test_parse_table(void)
     for (size_t i = 0; i < COUNT_OF(parse_cases); i++) {
         const struct parse_case *c = &parse_cases[i];
         check_case_name = c->name;
-        struct sky_client_msg msg;
-        struct sky_msg_parse_error error;
-        enum sky_msg_error_code code = parse(c->text, &msg, &error);
-        CHECK_STR(sky_msg_error_name(code), sky_msg_error_name(c->code));
+        struct proto_client_msg msg;
+        struct proto_msg_parse_error error;
+        enum proto_msg_error_code code = parse(c->text, &msg, &error);
+        CHECK_STR(proto_msg_error_name(code), proto_msg_error_name(c->code));
         CHECK_INT(error.code, code);
-        if (c->type != SKY_MSG_NONE)
-            CHECK_STR(sky_msg_type_name(msg.type), sky_msg_type_name(c->type));
+        if (c->type != PROTO_MSG_NONE)
+            CHECK_STR(proto_msg_type_name(msg.type), proto_msg_type_name(c->type));
         if (c->pointer)
             CHECK_STR(first_pointer(&error), c->pointer);
-        if (code == SKY_MSG_OK) {
+        if (code == PROTO_MSG_OK) {
             CHECK_INT(error.fields.total, 0);
         } else {
             CHECK(error.fields.count >= 1);
             CHECK(error.message[0] != '\0');
-            CHECK(msg.type != SKY_MSG_SET || msg.set.patch == NULL);
-            char *reply = sky_msg_build_parse_error(&msg, &error);
+            CHECK(msg.type != PROTO_MSG_SET || msg.set.patch == NULL);
+            char *reply = proto_msg_build_parse_error(&msg, &error);
             cJSON *json = parse_built(reply, "error");
-            CHECK_STR(string_at(json, "code"), sky_msg_error_name(c->code));
+            CHECK_STR(string_at(json, "code"), proto_msg_error_name(c->code));
             cJSON_Delete(json);
         }
-        sky_client_msg_free(&msg);
+        proto_client_msg_free(&msg);
     }
     check_case_name = "";
 }

@@ -19,25 +19,25 @@
 #include "check.h"
 
 /* The default world with the report's patch applied; *unmapped: how many groups were left. */
-static struct sky_world_state mapped(const char *text, int *unmapped_count, cJSON **unmapped_out)
+static struct proto_world_state mapped(const char *text, int *unmapped_count, cJSON **unmapped_out)
 {
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
-    struct sky_metar_report report;
-    struct sky_metar_error error;
-    bool decoded = sky_metar_decode(text, strlen(text), &report, &error);
+    struct proto_world_state state;
+    proto_world_state_defaults(&state);
+    struct proto_metar_report report;
+    struct proto_metar_error error;
+    bool decoded = proto_metar_decode(text, strlen(text), &report, &error);
     CHECK_MSG(decoded, "%s: %s", text, error.message);
     cJSON *patch = NULL, *unmapped = NULL;
     char why[160] = "";
-    bool ok = decoded && sky_obs_metar_patch(&report, &patch, &unmapped, why, sizeof why);
+    bool ok = decoded && proto_obs_metar_patch(&report, &patch, &unmapped, why, sizeof why);
     CHECK_MSG(ok, "%s: %s", text, why);
     if (ok) {
-        struct sky_field_errors errors;
-        sky_field_errors_clear(&errors);
-        bool applied = sky_world_state_apply_json(&state, patch, &errors);
+        struct proto_field_errors errors;
+        proto_field_errors_clear(&errors);
+        bool applied = proto_world_state_apply_json(&state, patch, &errors);
         char *json = cJSON_PrintUnformatted(patch);
         char reasons[512];
-        sky_field_errors_format(&errors, reasons, sizeof reasons);
+        proto_field_errors_format(&errors, reasons, sizeof reasons);
         CHECK_MSG(applied, "%s: the patch %s is refused: %s", text, json, reasons);
         cJSON_free(json);
         *unmapped_count = cJSON_GetArraySize(unmapped);
@@ -53,17 +53,17 @@ static struct sky_world_state mapped(const char *text, int *unmapped_count, cJSO
 static void test_fair_cumulus(void)
 {
     int unmapped = -1;
-    struct sky_world_state s = mapped("METAR LFLY 281200Z 18008KT 9999 FEW040 22/10 Q1018",
-                                      &unmapped, NULL);
+    struct proto_world_state s = mapped("METAR LFLY 281200Z 18008KT 9999 FEW040 22/10 Q1018",
+                                        &unmapped, NULL);
     CHECK_NEAR(s.clouds.low.coverage, 1.5 / 8.0, 1e-9); /* FEW: 1-2 oktas */
     CHECK_NEAR(s.clouds.low.bottom_km, 4000 * 0.3048 / 1000.0, 1e-9);
     CHECK_NEAR(s.clouds.low.type, 2.0 / 3.0, 1e-9); /* cumulus */
     CHECK_NEAR(s.clouds.high.coverage, 0.0, 0);
     CHECK_NEAR(s.clouds.precipitation, 0.0, 0);
     CHECK_NEAR(s.atmosphere.fog_density_per_km, 0.0, 0); /* 9999: no fog */
-    CHECK_NEAR(s.weather.humidity, sky_metar_relative_humidity(22, 10), 1e-9);
-    CHECK(s.weather.source == SKY_WEATHER_SOURCE_METAR);
-    CHECK(s.weather.autopilot == SKY_SWITCH_OFF);
+    CHECK_NEAR(s.weather.humidity, proto_metar_relative_humidity(22, 10), 1e-9);
+    CHECK(s.weather.source == PROTO_WEATHER_SOURCE_METAR);
+    CHECK(s.weather.autopilot == PROTO_SWITCH_OFF);
     /* 8 kt at 10 m is 4.1 m/s; at the 1.2 km base (1219/10)^(1/7) = 1.99 times that. */
     CHECK_NEAR(s.weather.wind.speed_m_s, 8 * 1852.0 / 3600.0 * pow(121.92, 1.0 / 7.0), 1e-6);
     CHECK_NEAR(s.weather.wind.direction_deg, 180.0, 0);
@@ -73,15 +73,15 @@ static void test_fair_cumulus(void)
 static void test_fog(void)
 {
     int unmapped = -1;
-    struct sky_world_state s = mapped("METAR EGLL 280650Z 00000KT 0200 FG OVC005 08/08 Q1025",
-                                      &unmapped, NULL);
+    struct proto_world_state s = mapped("METAR EGLL 280650Z 00000KT 0200 FG OVC005 08/08 Q1025",
+                                        &unmapped, NULL);
     CHECK_NEAR(s.clouds.low.coverage, 1.0, 0);
     CHECK_NEAR(s.clouds.low.type, 0.0, 0); /* overcast below 600 m: stratus */
     CHECK_NEAR(s.clouds.low.bottom_km, 0.1524, 1e-9);
     CHECK_NEAR(s.weather.wind.speed_m_s, 0.0, 0);
     /* 200 m: 3.912 / 0.2 = 19.56 /km in all, the humidity fog and the fog term together. */
     double total = s.atmosphere.fog_density_per_km + world_humidity_fog_per_km(s.weather.humidity);
-    CHECK_NEAR(total, 3.912 / 0.2 - SKY_OBS_CLEAR_EXTINCTION_PER_KM, 1e-6);
+    CHECK_NEAR(total, 3.912 / 0.2 - PROTO_OBS_CLEAR_EXTINCTION_PER_KM, 1e-6);
     CHECK(s.atmosphere.fog_density_per_km > 15.0);
     CHECK_NEAR(s.weather.humidity, 1.0, 1e-9); /* T = Td */
     CHECK_NEAR(s.atmosphere.fog_scale_height_km, 0.2, 1e-9);
@@ -98,7 +98,7 @@ static void test_clear(void)
     };
     for (size_t i = 0; i < sizeof reports / sizeof reports[0]; i++) {
         int unmapped = -1;
-        struct sky_world_state s = mapped(reports[i], &unmapped, NULL);
+        struct proto_world_state s = mapped(reports[i], &unmapped, NULL);
         CHECK_MSG(s.clouds.low.coverage == 0 && s.clouds.high.coverage == 0, "%s", reports[i]);
         CHECK_MSG(s.atmosphere.fog_density_per_km == 0, "%s", reports[i]);
         /* At least 10 km: the humidity fog stays within 3.912 / 10 km. */
@@ -106,11 +106,11 @@ static void test_clear(void)
     }
     /* A humid CAVOK: the humidity held where its fog keeps 10 km. */
     int unmapped = -1;
-    struct sky_world_state s = mapped("METAR LFPG 280530Z 00000KT CAVOK 10/10 Q1020", &unmapped,
-                                      NULL);
-    CHECK(s.weather.humidity < 0.95 && s.weather.humidity > SKY_OBS_FOG_ONSET_HUMIDITY);
+    struct proto_world_state s = mapped("METAR LFPG 280530Z 00000KT CAVOK 10/10 Q1020", &unmapped,
+                                        NULL);
+    CHECK(s.weather.humidity < 0.95 && s.weather.humidity > PROTO_OBS_FOG_ONSET_HUMIDITY);
     CHECK_LE(world_humidity_fog_per_km(s.weather.humidity),
-             0.3912 - SKY_OBS_CLEAR_EXTINCTION_PER_KM + 1e-6);
+             0.3912 - PROTO_OBS_CLEAR_EXTINCTION_PER_KM + 1e-6);
 }
 
 static void test_middle_etage(void)
@@ -119,9 +119,9 @@ static void test_middle_etage(void)
      * deep), FEW and SCT altocumulus (type 1, 0.5 km); the low layer is left clear. */
     int unmapped = -1;
     cJSON *list = NULL;
-    struct sky_world_state s = mapped("METAR LFLY 281200Z 18008KT 9999 BKN100 12/05 Q1010",
-                                      &unmapped, &list);
-    CHECK(strcmp(sky_obs_etage_layer(SKY_OBS_ETAGE_MIDDLE), "mid") == 0);
+    struct proto_world_state s = mapped("METAR LFLY 281200Z 18008KT 9999 BKN100 12/05 Q1010",
+                                        &unmapped, &list);
+    CHECK(strcmp(proto_obs_etage_layer(PROTO_OBS_ETAGE_MIDDLE), "mid") == 0);
     CHECK_NEAR(s.clouds.mid.coverage, 6.0 / 8.0, 1e-9);
     CHECK_NEAR(s.clouds.mid.bottom_km, 3.048, 1e-9);
     CHECK_NEAR(s.clouds.mid.type, 0.0, 0);
@@ -149,7 +149,7 @@ static void test_middle_etage(void)
 static void test_convection(void)
 {
     int unmapped = -1;
-    struct sky_world_state s = mapped(
+    struct proto_world_state s = mapped(
         "METAR LIMC 281450Z 22015G30KT 3000 +TSRA SCT025CB BKN080 25/20 Q1008", &unmapped, NULL);
     CHECK_NEAR(s.clouds.low.type, 1.0, 0); /* cumulonimbus */
     CHECK_NEAR(s.clouds.low.coverage, 3.5 / 8.0, 1e-9);
@@ -184,8 +184,8 @@ static void test_convection(void)
 static void test_vertical_visibility(void)
 {
     int unmapped = -1;
-    struct sky_world_state s = mapped("METAR EDDM 280620Z 00000KT 0050 FG VV001 02/02 Q1030",
-                                      &unmapped, NULL);
+    struct proto_world_state s = mapped("METAR EDDM 280620Z 00000KT 0050 FG VV001 02/02 Q1030",
+                                        &unmapped, NULL);
     CHECK_NEAR(s.clouds.low.coverage, 1.0, 0);
     CHECK_NEAR(s.clouds.low.type, 0.0, 0);
     CHECK_NEAR(s.clouds.low.bottom_km, 0.03048, 1e-9);
@@ -195,19 +195,20 @@ static void test_vertical_visibility(void)
 
 static void test_refusals(void)
 {
-    struct sky_metar_report report;
-    struct sky_metar_error error;
+    struct proto_metar_report report;
+    struct proto_metar_error error;
     const char *nil = "METAR EGLL 281150Z NIL";
-    CHECK(sky_metar_decode(nil, strlen(nil), &report, &error));
+    CHECK(proto_metar_decode(nil, strlen(nil), &report, &error));
     cJSON *patch = NULL, *unmapped = NULL;
     char why[160] = "";
-    CHECK(!sky_obs_metar_patch(&report, &patch, &unmapped, why, sizeof why));
+    CHECK(!proto_obs_metar_patch(&report, &patch, &unmapped, why, sizeof why));
     CHECK(patch == NULL && unmapped == NULL && strstr(why, "NIL") != NULL);
     /* No cloud group at all: the clouds are left as they are. */
     int count = -1;
-    struct sky_world_state s = mapped("METAR EGLL 281150Z 24010KT 9999 12/09 Q1005", &count, NULL);
-    struct sky_world_state d;
-    sky_world_state_defaults(&d);
+    struct proto_world_state s = mapped("METAR EGLL 281150Z 24010KT 9999 12/09 Q1005", &count,
+                                        NULL);
+    struct proto_world_state d;
+    proto_world_state_defaults(&d);
     CHECK_NEAR(s.clouds.low.coverage, d.clouds.low.coverage, 0);
     CHECK_NEAR(s.clouds.low.bottom_km, d.clouds.low.bottom_km, 0);
 }
@@ -215,22 +216,22 @@ static void test_refusals(void)
 static void test_humidity_fog_matches(void)
 {
     for (double h = 0.0; h <= 1.0; h += 0.01)
-        CHECK_NEAR(sky_obs_humidity_fog_per_km(h), world_humidity_fog_per_km(h), 1e-12);
-    CHECK_NEAR(SKY_OBS_FOG_ONSET_HUMIDITY, WORLD_FOG_ONSET_HUMIDITY, 0);
+        CHECK_NEAR(proto_obs_humidity_fog_per_km(h), world_humidity_fog_per_km(h), 1e-12);
+    CHECK_NEAR(PROTO_OBS_FOG_ONSET_HUMIDITY, WORLD_FOG_ONSET_HUMIDITY, 0);
 }
 
 /* A forecast's rate to clouds.precipitation: the METAR intensities at the AMS rates. */
 static void test_forecast_precipitation(void)
 {
-    CHECK_NEAR(sky_forecast_precipitation_level(0.0), 0.0, 0);
-    CHECK_NEAR(sky_forecast_precipitation_level(-1.0), 0.0, 0);
-    CHECK_NEAR(sky_forecast_precipitation_level(0.25), 0.15, 1e-12);
-    CHECK_NEAR(sky_forecast_precipitation_level(0.5), 0.3, 1e-12);
-    CHECK_NEAR(sky_forecast_precipitation_level(4.0), 0.6, 1e-12);
-    CHECK_NEAR(sky_forecast_precipitation_level(7.0), 0.75, 1e-12);
-    CHECK_NEAR(sky_forecast_precipitation_level(10.0), 0.9, 1e-12);
-    CHECK_NEAR(sky_forecast_precipitation_level(20.0), 1.0, 0);
-    CHECK_NEAR(sky_forecast_precipitation_level(300.0), 1.0, 0);
+    CHECK_NEAR(forecast_precipitation_level(0.0), 0.0, 0);
+    CHECK_NEAR(forecast_precipitation_level(-1.0), 0.0, 0);
+    CHECK_NEAR(forecast_precipitation_level(0.25), 0.15, 1e-12);
+    CHECK_NEAR(forecast_precipitation_level(0.5), 0.3, 1e-12);
+    CHECK_NEAR(forecast_precipitation_level(4.0), 0.6, 1e-12);
+    CHECK_NEAR(forecast_precipitation_level(7.0), 0.75, 1e-12);
+    CHECK_NEAR(forecast_precipitation_level(10.0), 0.9, 1e-12);
+    CHECK_NEAR(forecast_precipitation_level(20.0), 1.0, 0);
+    CHECK_NEAR(forecast_precipitation_level(300.0), 1.0, 0);
 }
 
 int main(void)

@@ -26,14 +26,14 @@ static const char *config_dir = "config";
 static const double W0 = 1795000000.123;
 
 struct node {
-    struct sky_world_state state;
+    struct proto_world_state state;
     struct wind_drift *drift;
     double wall_s;    /* the last tick */
     unsigned step_ms; /* its tick pattern: every step_ms, or 0: irregular */
     unsigned rng;
 };
 
-static void node_start(struct node *n, const struct sky_world_state *from, double wall_s,
+static void node_start(struct node *n, const struct proto_world_state *from, double wall_s,
                        unsigned pattern)
 {
     n->state = *from;
@@ -77,28 +77,28 @@ static void node_run_until(struct node *n, double wall_s)
 }
 
 /* A client's change at the node's last tick, as the world host commits it. */
-static void node_commit(struct node *n, const struct sky_world_state *changed)
+static void node_commit(struct node *n, const struct proto_world_state *changed)
 {
-    struct sky_world_state before = n->state;
+    struct proto_world_state before = n->state;
     n->state = *changed;
     world_sim_client_changed(&before, &n->state);
     world_sim_commit(&before, &n->state, n->wall_s, n->drift);
 }
 
 /* The state written to JSON and read back as state_store does. */
-static void through_json(const struct sky_world_state *state, struct sky_world_state *out)
+static void through_json(const struct proto_world_state *state, struct proto_world_state *out)
 {
-    char *text = sky_world_state_to_text(state);
+    char *text = proto_world_state_to_text(state);
     cJSON *root = cJSON_Parse(text);
     free(text);
     cJSON_DeleteItemFromObjectCaseSensitive(root, "revision");
-    struct sky_field_errors errors;
-    sky_world_state_defaults(out);
-    bool ok = sky_world_state_apply_json(out, root, &errors);
+    struct proto_field_errors errors;
+    proto_world_state_defaults(out);
+    bool ok = proto_world_state_apply_json(out, root, &errors);
     CHECK(ok);
     if (!ok) {
         char why[512];
-        sky_field_errors_format(&errors, why, sizeof why);
+        proto_field_errors_format(&errors, why, sizeof why);
         printf("  state JSON refused: %s\n", why);
     }
     out->revision = state->revision;
@@ -106,13 +106,13 @@ static void through_json(const struct sky_world_state *state, struct sky_world_s
 }
 
 /* Bit for bit: every field's JSON (numbers to 17 digits) and the doubles the text rounds. */
-static bool same_world(const char *what, const struct sky_world_state *a,
-                       const struct sky_world_state *b)
+static bool same_world(const char *what, const struct proto_world_state *a,
+                       const struct proto_world_state *b)
 {
-    char *ta = sky_world_state_to_text(a), *tb = sky_world_state_to_text(b);
-    struct sky_weather_params pa, pb;
-    sky_weather_params_get(a, &pa);
-    sky_weather_params_get(b, &pb);
+    char *ta = proto_world_state_to_text(a), *tb = proto_world_state_to_text(b);
+    struct proto_weather_params pa, pb;
+    proto_weather_params_get(a, &pa);
+    proto_weather_params_get(b, &pb);
     bool same = strcmp(ta, tb) == 0 && a->clock.utc_unix_s == b->clock.utc_unix_s &&
                 a->weather.offset_east_km == b->weather.offset_east_km &&
                 a->weather.offset_north_km == b->weather.offset_north_km &&
@@ -129,17 +129,17 @@ static bool same_world(const char *what, const struct sky_world_state *a,
     return same;
 }
 
-static void base_state(struct sky_world_state *s, const char *preset, double time_scale)
+static void base_state(struct proto_world_state *s, const char *preset, double time_scale)
 {
-    sky_world_state_defaults(s);
+    proto_world_state_defaults(s);
     char msg[512];
-    struct sky_field_errors errors;
-    bool ok = sky_preset_apply(config_dir, "weather", preset, s, &errors, msg, sizeof msg);
+    struct proto_field_errors errors;
+    bool ok = world_preset_apply(config_dir, "weather", preset, s, &errors, msg, sizeof msg);
     if (!ok)
         printf("preset %s: %s\n", preset, msg);
     CHECK(ok);
     s->clock.time_scale = time_scale;
-    s->clock.sky_bodies = SKY_BODIES_EPHEMERIS;
+    s->clock.sky_bodies = PROTO_BODIES_EPHEMERIS;
     s->location.latitude_deg = 46.2;
     s->location.longitude_deg = 6.1;
     s->weather.wind.speed_m_s = 9;
@@ -152,13 +152,13 @@ static void base_state(struct sky_world_state *s, const char *preset, double tim
  * it, E computing each instant from the anchors alone. */
 static void test_autopilot_nodes(void)
 {
-    struct sky_world_state s, changed, stored, mid_blend = { 0 }, after_blend = { 0 };
+    struct proto_world_state s, changed, stored, mid_blend = { 0 }, after_blend = { 0 };
     base_state(&s, "fair_cumulus", 120);
     struct node a, b, c, d;
     node_start(&a, &s, W0, 0);
     node_run_until(&a, W0 + 1.0);
     changed = a.state;
-    changed.weather.autopilot = SKY_SWITCH_ON;
+    changed.weather.autopilot = PROTO_SWITCH_ON;
     changed.weather.autopilot_seed = 5;
     node_commit(&a, &changed);
     CHECK(weather_timeline_active(&a.state));
@@ -198,7 +198,7 @@ static void test_autopilot_nodes(void)
             snprintf(what, sizeof what, "A and D (after-blend JSON) at W0 + %.0f s", t - W0);
             CHECK(same_world(what, &a.state, &d.state));
         }
-        struct sky_world_state e = stored;
+        struct proto_world_state e = stored;
         world_sim_run_to(&e, t, NULL);
         snprintf(what, sizeof what, "A and the anchors alone at W0 + %.0f s", t - W0);
         CHECK(same_world(what, &a.state, &e));
@@ -213,7 +213,7 @@ static void test_autopilot_nodes(void)
     /* A wall clock that steps back reads the world of that instant. */
     node_tick(&a, W0 + 60.0);
     node_tick(&c, W0 + 60.0);
-    struct sky_world_state e = stored;
+    struct proto_world_state e = stored;
     world_sim_run_to(&e, W0 + 60.0, NULL);
     CHECK(same_world("stepped back", &a.state, &e));
     CHECK(same_world("stepped back, C", &c.state, &e));
@@ -228,17 +228,17 @@ static void test_autopilot_nodes(void)
  * mid-transition, so the cell where it ends is summed from a state that still blends. */
 static void test_transition_nodes(void)
 {
-    struct sky_world_state s, target, goal_state, stored, mid = { 0 };
+    struct proto_world_state s, target, goal_state, stored, mid = { 0 };
     base_state(&s, "clear", 60);
     base_state(&target, "storm", 60);
-    struct sky_weather_params goal;
-    sky_weather_params_get(&target, &goal);
+    struct proto_weather_params goal;
+    proto_weather_params_get(&target, &goal);
     struct node a, b, l;
     node_start(&a, &s, W0, 0);
     node_run_until(&a, W0 + 1.0);
     goal_state = a.state;
     world_sim_start_transition(&goal_state, &goal, 1200);
-    struct sky_world_state before = a.state;
+    struct proto_world_state before = a.state;
     a.state = goal_state;
     world_sim_commit(&before, &a.state, a.wall_s, a.drift); /* as apply_preset commits */
     CHECK(a.state.weather.anchor.utc_unix_s == a.state.weather.transition.start_unix_s);
@@ -254,8 +254,8 @@ static void test_transition_nodes(void)
     node_run_until(&b, W0 + 40.0);
     CHECK(same_world("after the end, A and B", &a.state, &b.state));
     CHECK(same_world("after the end, A and L", &a.state, &l.state));
-    struct sky_weather_params now;
-    sky_weather_params_get(&l.state, &now);
+    struct proto_weather_params now;
+    proto_weather_params_get(&l.state, &now);
     CHECK(memcmp(&now, &goal, sizeof now) == 0); /* the preset's values, exactly */
     CHECK(l.state.weather.transition.progress == 1.0);
     node_stop(&a);
@@ -267,7 +267,7 @@ static void test_transition_nodes(void)
  * running clock's current time, not the stored one. */
 static void test_pause_and_late_start(void)
 {
-    struct sky_world_state s, changed, stored;
+    struct proto_world_state s, changed, stored;
     base_state(&s, "scattered", 1);
     struct node a, b;
     node_start(&a, &s, W0, 0);
@@ -302,12 +302,12 @@ static void test_pause_and_late_start(void)
 /* The anchors keep what their JSON keeps: whole milliseconds, and the numbers exactly. */
 static void test_anchor_text(void)
 {
-    struct sky_world_state s, back;
+    struct proto_world_state s, back;
     base_state(&s, "broken", 7);
     world_sim_anchor(&s, W0 + 0.0004567);
     world_sim_run_to(&s, W0 + 3.21, NULL);
-    struct sky_weather_params goal;
-    sky_weather_params_get(&s, &goal);
+    struct proto_weather_params goal;
+    proto_weather_params_get(&s, &goal);
     goal.low.coverage = 0.2;
     world_sim_start_transition(&s, &goal, 100);
     through_json(&s, &back);
@@ -317,18 +317,18 @@ static void test_anchor_text(void)
     CHECK(back.weather.transition.start_unix_s == s.weather.transition.start_unix_s);
     CHECK_NEAR(s.clock.epoch.wall_unix_s, 1795000000.123, 1e-6);
     /* Not anchored in JSON: epoch.wall reads 1970. */
-    struct sky_world_state fresh;
-    sky_world_state_defaults(&fresh);
-    cJSON *json = sky_world_state_to_json(&fresh);
+    struct proto_world_state fresh;
+    proto_world_state_defaults(&fresh);
+    cJSON *json = proto_world_state_to_json(&fresh);
     const cJSON *clock = cJSON_GetObjectItemCaseSensitive(json, "clock");
     const cJSON *epoch = cJSON_GetObjectItemCaseSensitive(clock, "epoch");
     const cJSON *wall = cJSON_GetObjectItemCaseSensitive(epoch, "wall");
     CHECK(cJSON_IsString(wall) && strcmp(wall->valuestring, "1970-01-01T00:00:00Z") == 0);
     cJSON_Delete(json);
     /* A client may not set them. */
-    const struct sky_field_desc *f = sky_world_state_find_field("clock.epoch.utc");
+    const struct proto_field_desc *f = proto_world_state_find_field("clock.epoch.utc");
     CHECK(f && f->read_only);
-    f = sky_world_state_find_field("weather.anchor.offset_east_km");
+    f = proto_world_state_find_field("weather.anchor.offset_east_km");
     CHECK(f && f->read_only);
 }
 

@@ -54,25 +54,25 @@ static int count_leaves(const cJSON *schema)
     return n;
 }
 
-static const char *expected_type(enum sky_field_type type)
+static const char *expected_type(enum proto_field_type type)
 {
     switch (type) {
-    case SKY_FIELD_TYPE_NUMBER:
+    case PROTO_FIELD_TYPE_NUMBER:
         return "number";
-    case SKY_FIELD_TYPE_INT:
-    case SKY_FIELD_TYPE_INT64:
+    case PROTO_FIELD_TYPE_INT:
+    case PROTO_FIELD_TYPE_INT64:
         return "integer";
-    case SKY_FIELD_TYPE_INT_PAIR:
-    case SKY_FIELD_TYPE_INT_TRIPLE:
+    case PROTO_FIELD_TYPE_INT_PAIR:
+    case PROTO_FIELD_TYPE_INT_TRIPLE:
         return "array";
-    case SKY_FIELD_TYPE_ENUM:
-    case SKY_FIELD_TYPE_TIME:
+    case PROTO_FIELD_TYPE_ENUM:
+    case PROTO_FIELD_TYPE_TIME:
         return "string";
-    case SKY_FIELD_TYPE_RGB:
+    case PROTO_FIELD_TYPE_RGB:
         return NULL; /* oneOf a number and three */
-    case SKY_FIELD_TYPE_STRING:
+    case PROTO_FIELD_TYPE_STRING:
         return "string";
-    case SKY_FIELD_TYPE_BOOL:
+    case PROTO_FIELD_TYPE_BOOL:
         return "boolean";
     }
     return NULL;
@@ -81,12 +81,12 @@ static const char *expected_type(enum sky_field_type type)
 static void test_every_field(const cJSON *schema)
 {
     size_t count = 0;
-    const struct sky_field_desc *fields = sky_world_state_fields(&count);
+    const struct proto_field_desc *fields = proto_world_state_fields(&count);
     CHECK(count > 50);
     /* The table's leaves and "revision", nothing else. */
     CHECK_INT(count_leaves(schema), (long long)count + 1);
     for (size_t i = 0; i < count; i++) {
-        const struct sky_field_desc *f = &fields[i];
+        const struct proto_field_desc *f = &fields[i];
         check_case_name = f->path;
         const cJSON *leaf = leaf_schema(schema, f->path);
         CHECK(leaf != NULL);
@@ -103,17 +103,17 @@ static void test_every_field(const cJSON *schema)
         CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(leaf, "readOnly")) == f->read_only);
         CHECK(cJSON_GetObjectItemCaseSensitive(leaf, "default") != NULL);
         const cJSON *unit = cJSON_GetObjectItemCaseSensitive(leaf, "x-unit");
-        const char *want_unit = sky_field_unit(f);
+        const char *want_unit = proto_field_unit(f);
         CHECK((unit == NULL) == (want_unit == NULL));
         if (unit && want_unit)
             CHECK_STR(unit->valuestring, want_unit);
-        if (f->type == SKY_FIELD_TYPE_NUMBER || f->type == SKY_FIELD_TYPE_INT) {
+        if (f->type == PROTO_FIELD_TYPE_NUMBER || f->type == PROTO_FIELD_TYPE_INT) {
             const cJSON *lo = cJSON_GetObjectItemCaseSensitive(leaf, "minimum");
             const cJSON *hi = cJSON_GetObjectItemCaseSensitive(leaf, "maximum");
             CHECK(lo && lo->valuedouble == f->min);
             CHECK(hi && hi->valuedouble == f->max);
         }
-        if (f->type == SKY_FIELD_TYPE_ENUM)
+        if (f->type == PROTO_FIELD_TYPE_ENUM)
             CHECK_INT(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(leaf, "enum")),
                       f->enum_count);
     }
@@ -140,9 +140,9 @@ static void test_units(void)
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         check_case_name = cases[i].path;
-        const struct sky_field_desc *f = sky_world_state_find_field(cases[i].path);
+        const struct proto_field_desc *f = proto_world_state_find_field(cases[i].path);
         CHECK(f != NULL);
-        const char *unit = f ? sky_field_unit(f) : NULL;
+        const char *unit = f ? proto_field_unit(f) : NULL;
         if (cases[i].unit)
             CHECK_STR(unit, cases[i].unit);
         else
@@ -155,13 +155,13 @@ static void test_units(void)
 
 static void test_defaults_conform(const cJSON *schema)
 {
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
-    cJSON *json = sky_world_state_to_json(&state);
+    struct proto_world_state state;
+    proto_world_state_defaults(&state);
+    cJSON *json = proto_world_state_to_json(&state);
     CHECK(json && conforms(schema, json));
     /* The defaults in the schema are the default state's. */
     size_t count = 0;
-    const struct sky_field_desc *fields = sky_world_state_fields(&count);
+    const struct proto_field_desc *fields = proto_world_state_fields(&count);
     for (size_t i = 0; i < count && json; i++) {
         check_case_name = fields[i].path;
         const cJSON *value = json;
@@ -175,12 +175,12 @@ static void test_defaults_conform(const cJSON *schema)
     }
     check_case_name = "";
     /* Another state the engine accepted conforms too. */
-    struct sky_field_errors errors;
+    struct proto_field_errors errors;
     cJSON *patch = cJSON_Parse("{\"sun\":{\"elevation_deg\":-12},\"clouds\":{\"low\":"
                                "{\"coverage\":0.6}},\"exposure\":{\"tonemap\":\"clamp\"}}");
-    CHECK(patch && sky_world_state_apply_json(&state, patch, &errors));
+    CHECK(patch && proto_world_state_apply_json(&state, patch, &errors));
     cJSON_Delete(patch);
-    cJSON *changed = sky_world_state_to_json(&state);
+    cJSON *changed = proto_world_state_to_json(&state);
     CHECK(changed && conforms(schema, changed));
     cJSON_Delete(changed);
     cJSON_Delete(json);
@@ -191,14 +191,14 @@ static void test_defaults_conform(const cJSON *schema)
 static void check_both_refuse(const cJSON *schema, const char *patch_text)
 {
     check_case_name = patch_text;
-    struct sky_world_state state;
-    sky_world_state_defaults(&state);
-    struct sky_field_errors errors;
+    struct proto_world_state state;
+    proto_world_state_defaults(&state);
+    struct proto_field_errors errors;
     cJSON *patch = cJSON_Parse(patch_text);
     CHECK(patch != NULL);
-    CHECK(!sky_world_state_apply_json(&state, patch, &errors));
-    sky_world_state_defaults(&state);
-    cJSON *json = sky_world_state_to_json(&state);
+    CHECK(!proto_world_state_apply_json(&state, patch, &errors));
+    proto_world_state_defaults(&state);
+    cJSON *json = proto_world_state_to_json(&state);
     /* Merge the patch into the state's JSON, replacing leaves. */
     const cJSON *group;
     cJSON_ArrayForEach(group, patch)
@@ -273,7 +273,7 @@ static void test_config_schema(const char *shipped_path)
     for (size_t i = 0; i < sizeof refused / sizeof refused[0]; i++) {
         check_case_name = refused[i];
         struct skyd_config config;
-        struct sky_field_errors errors;
+        struct proto_field_errors errors;
         char msg[256];
         CHECK(!skyd_config_parse(refused[i], strlen(refused[i]), "test", &config, &errors, msg,
                                  sizeof msg));
@@ -293,7 +293,7 @@ int main(int argc, char **argv)
     }
     test_config_schema(argv[1]);
     test_message_schema(argv[2]);
-    cJSON *schema = sky_world_state_json_schema();
+    cJSON *schema = proto_world_state_json_schema();
     CHECK(schema != NULL);
     if (schema) {
         const cJSON *dialect = cJSON_GetObjectItemCaseSensitive(schema, "$schema");

@@ -36,16 +36,16 @@ static double utc(const char *iso)
 {
     double t = 0;
     char err[160];
-    if (!sky_time_parse_iso8601(iso, &t, err, sizeof err))
+    if (!proto_time_parse_iso8601(iso, &t, err, sizeof err))
         printf("bad time %s: %s\n", iso, err);
     return t;
 }
 
-static void load_preset(const char *name, struct sky_world_state *state)
+static void load_preset(const char *name, struct proto_world_state *state)
 {
     char msg[512];
-    struct sky_field_errors errors;
-    bool ok = sky_preset_apply(config_dir, "weather", name, state, &errors, msg, sizeof msg);
+    struct proto_field_errors errors;
+    bool ok = world_preset_apply(config_dir, "weather", name, state, &errors, msg, sizeof msg);
     if (!ok)
         printf("preset %s: %s\n", name, msg);
     CHECK(ok);
@@ -53,8 +53,8 @@ static void load_preset(const char *name, struct sky_world_state *state)
 
 static void test_clock(void)
 {
-    struct sky_world_state s, before;
-    sky_world_state_defaults(&s);
+    struct proto_world_state s, before;
+    proto_world_state_defaults(&s);
     double t0 = s.clock.utc_unix_s;
     /* Not anchored: the clock reads what it holds, whatever the wall clock says. */
     CHECK(!world_sim_anchored(&s));
@@ -101,10 +101,10 @@ static void test_clock(void)
     world_sim_commit(&before, &s, wall0 + 60.0, NULL);
     world_sim_run_to(&s, wall0 + 86400.0, NULL);
     CHECK_NEAR(s.clock.utc_unix_s, utc("2100-12-31T23:59:59Z"), 0);
-    CHECK(sky_world_state_validate(&s, NULL));
+    CHECK(proto_world_state_validate(&s, NULL));
     CHECK(s.revision == 0);
     /* world_sim_advance moves the clock by simulated seconds (offline time-lapses). */
-    sky_world_state_defaults(&s);
+    proto_world_state_defaults(&s);
     world_sim_advance(&s, 300.0);
     CHECK_NEAR(s.clock.utc_unix_s, t0 + 300.0, 0);
     world_sim_advance(&s, -5.0);
@@ -113,33 +113,34 @@ static void test_clock(void)
 
 static void test_ephemeris_mode(void)
 {
-    struct sky_world_state s;
-    sky_world_state_defaults(&s);
+    struct proto_world_state s;
+    proto_world_state_defaults(&s);
     /* Manual mode leaves the angles alone. */
     world_sim_advance(&s, 3600.0);
     CHECK_NEAR(s.sun.elevation_deg, 45.0, 0);
     CHECK_NEAR(s.moon.azimuth_deg, 90.0, 0);
 
-    s.clock.sky_bodies = SKY_BODIES_EPHEMERIS;
+    s.clock.sky_bodies = PROTO_BODIES_EPHEMERIS;
     s.location.latitude_deg = 48.85;
     s.location.longitude_deg = 2.35;
     s.location.altitude_m = 35;
     s.clock.utc_unix_s = utc("2026-03-20T06:00:00Z");
     world_sim_anchor_wind(&s);
-    struct sky_site site = { 48.85, 2.35, 35, SKY_SITE_PRESSURE_MBAR, SKY_SITE_TEMPERATURE_C };
+    struct world_site site = { 48.85, 2.35, 35, WORLD_SITE_PRESSURE_MBAR,
+                               WORLD_SITE_TEMPERATURE_C };
     double min_elevation = 90, max_elevation = -90;
     for (int hour = 0; hour < 24; hour++) {
         world_sim_advance(&s, 3600.0);
-        struct sky_body_position sun, moon;
-        sky_sun_position(s.clock.utc_unix_s, &site, true, &sun);
-        sky_moon_position(s.clock.utc_unix_s, &site, true, &moon, NULL, NULL);
+        struct world_body_position sun, moon;
+        world_sun_position(s.clock.utc_unix_s, &site, true, &sun);
+        world_moon_position(s.clock.utc_unix_s, &site, true, &moon, NULL, NULL);
         CHECK_NEAR(s.sun.azimuth_deg, sun.azimuth_deg, 1e-9);
         CHECK_NEAR(s.sun.elevation_deg, sun.elevation_deg, 1e-9);
         CHECK_NEAR(s.moon.azimuth_deg, moon.azimuth_deg, 1e-9);
         CHECK_NEAR(s.moon.elevation_deg, moon.elevation_deg, 1e-9);
         min_elevation = fmin(min_elevation, s.sun.elevation_deg);
         max_elevation = fmax(max_elevation, s.sun.elevation_deg);
-        CHECK(sky_world_state_validate(&s, NULL));
+        CHECK(proto_world_state_validate(&s, NULL));
     }
     /* Equinox in Paris: noon sun near 90 - 48.85, night below -30. */
     CHECK_NEAR(max_elevation, 41.1, 1.0);
@@ -153,8 +154,8 @@ static void test_ephemeris_mode(void)
 
 static void test_wind(void)
 {
-    struct sky_world_state s, before;
-    sky_world_state_defaults(&s);
+    struct proto_world_state s, before;
+    proto_world_state_defaults(&s);
     s.weather.wind.speed_m_s = 10;
     s.weather.wind.direction_deg = 270; /* a westerly blows toward the east */
     world_sim_anchor_wind(&s);
@@ -182,7 +183,7 @@ static void test_wind(void)
     world_sim_client_changed(&before, &s);
     world_sim_advance(&s, 100);
     CHECK_NEAR(s.weather.offset_east_km, -999991.0, 1e-3);
-    CHECK(sky_world_state_validate(&s, NULL));
+    CHECK(proto_world_state_validate(&s, NULL));
     /* A change that does not touch the wind leaves its anchor. */
     before = s;
     s.camera.fov_deg = 50;
@@ -190,25 +191,25 @@ static void test_wind(void)
     CHECK(memcmp(&s.weather.anchor, &before.weather.anchor, sizeof s.weather.anchor) == 0);
 }
 
-#define PARAM_COUNT (sizeof(struct sky_weather_params) / sizeof(double))
-#define PARAM_INDEX(member) (offsetof(struct sky_weather_params, member) / sizeof(double))
+#define PARAM_COUNT (sizeof(struct proto_weather_params) / sizeof(double))
+#define PARAM_INDEX(member) (offsetof(struct proto_weather_params, member) / sizeof(double))
 
-static void params_of(const struct sky_world_state *s, double out[PARAM_COUNT])
+static void params_of(const struct proto_world_state *s, double out[PARAM_COUNT])
 {
-    struct sky_weather_params p;
-    sky_weather_params_get(s, &p);
+    struct proto_weather_params p;
+    proto_weather_params_get(s, &p);
     memcpy(out, &p, sizeof p);
 }
 
 static void test_transition(void)
 {
-    struct sky_world_state s;
-    sky_world_state_defaults(&s);
+    struct proto_world_state s;
+    proto_world_state_defaults(&s);
     load_preset("clear", &s);
-    struct sky_world_state target = s;
+    struct proto_world_state target = s;
     load_preset("storm", &target);
-    struct sky_weather_params goal;
-    sky_weather_params_get(&target, &goal);
+    struct proto_weather_params goal;
+    proto_weather_params_get(&target, &goal);
     double start[PARAM_COUNT], end[PARAM_COUNT], previous[PARAM_COUNT], now[PARAM_COUNT];
     params_of(&s, start);
     memcpy(end, &goal, sizeof end);
@@ -249,21 +250,21 @@ static void test_transition(void)
     CHECK_NEAR(s.weather.transition.progress, 1.0, 0);
     params_of(&s, now);
     CHECK(memcmp(now, end, sizeof now) == 0); /* exactly the preset at the end */
-    CHECK(sky_world_state_validate(&s, NULL));
+    CHECK(proto_world_state_validate(&s, NULL));
 
     /* A zero-length transition applies at once. */
     load_preset("clear", &target);
-    sky_weather_params_get(&target, &goal);
+    proto_weather_params_get(&target, &goal);
     world_sim_start_transition(&s, &goal, 0);
     CHECK(!weather_timeline_active(&s));
     CHECK_NEAR(s.clouds.low.coverage, 0.0, 0);
 
     /* A clock set past the end finishes it exactly. */
     load_preset("overcast", &target);
-    sky_weather_params_get(&target, &goal);
+    proto_weather_params_get(&target, &goal);
     world_sim_start_transition(&s, &goal, 3600);
     world_sim_advance(&s, 60);
-    struct sky_world_state before = s;
+    struct proto_world_state before = s;
     s.clock.utc_unix_s += 7200;
     world_sim_client_changed(&before, &s);
     CHECK(!weather_timeline_active(&s));
@@ -272,7 +273,7 @@ static void test_transition(void)
 
     /* The middle layer moves with the others: halfway to an altostratus sheet. */
     load_preset("warm_front", &target);
-    sky_weather_params_get(&target, &goal);
+    proto_weather_params_get(&target, &goal);
     double mid_from = s.clouds.mid.coverage;
     world_sim_start_transition(&s, &goal, 1000);
     world_sim_advance(&s, 500);
@@ -284,16 +285,16 @@ static void test_transition(void)
 
 static void test_set_during_transition(void)
 {
-    struct sky_world_state s;
-    sky_world_state_defaults(&s);
+    struct proto_world_state s;
+    proto_world_state_defaults(&s);
     load_preset("clear", &s);
-    struct sky_world_state target = s;
+    struct proto_world_state target = s;
     load_preset("broken", &target);
-    struct sky_weather_params goal;
-    sky_weather_params_get(&target, &goal);
+    struct proto_weather_params goal;
+    proto_weather_params_get(&target, &goal);
     world_sim_start_transition(&s, &goal, 1000);
     world_sim_advance(&s, 250);
-    struct sky_world_state before = s;
+    struct proto_world_state before = s;
     s.clouds.low.density = 3.0; /* a client's set */
     world_sim_client_changed(&before, &s);
     world_sim_advance(&s, 500);
@@ -318,19 +319,19 @@ static void test_set_during_transition(void)
     for (int i = 0; i < 1000; i++) {
         world_sim_advance(&s, 1.0);
         outside += s.clouds.low.thickness_km != 15.0 || s.clouds.high.thickness_km != 5.0;
-        invalid += !sky_world_state_validate(&s, NULL);
+        invalid += !proto_world_state_validate(&s, NULL);
     }
     CHECK(outside == 0);
     CHECK(invalid == 0);
 }
 
-static void run_autopilot(int seed, double span_s, int steps, struct sky_world_state *out)
+static void run_autopilot(int seed, double span_s, int steps, struct proto_world_state *out)
 {
-    sky_world_state_defaults(out);
+    proto_world_state_defaults(out);
     out->clock.utc_unix_s = utc("2026-07-01T00:00:00Z");
-    out->weather.autopilot = SKY_SWITCH_ON;
+    out->weather.autopilot = PROTO_SWITCH_ON;
     out->weather.autopilot_seed = seed;
-    out->clock.sky_bodies = SKY_BODIES_EPHEMERIS;
+    out->clock.sky_bodies = PROTO_BODIES_EPHEMERIS;
     world_sim_anchor_wind(out);
     struct wind_drift *drift = wind_drift_create();
     double t0 = out->clock.utc_unix_s;
@@ -341,15 +342,15 @@ static void run_autopilot(int seed, double span_s, int steps, struct sky_world_s
 
 static void test_determinism(void)
 {
-    struct sky_world_state a, b, c, d;
+    struct proto_world_state a, b, c, d;
     run_autopilot(7, 600, 600, &a);
     run_autopilot(7, 600, 600, &b);
-    char *ta = sky_world_state_to_text(&a), *tb = sky_world_state_to_text(&b);
+    char *ta = proto_world_state_to_text(&a), *tb = proto_world_state_to_text(&b);
     CHECK(strcmp(ta, tb) == 0); /* same seed, same steps: identical */
     free(tb);
     run_autopilot(7, 600, 1, &c);
     /* Step sizes: the weather and the wind offsets are functions of time, bit for bit. */
-    char *tc = sky_world_state_to_text(&c);
+    char *tc = proto_world_state_to_text(&c);
     CHECK(strcmp(ta, tc) == 0);
     free(tc);
     CHECK(c.clock.utc_unix_s == a.clock.utc_unix_s);
@@ -364,7 +365,7 @@ static void test_determinism(void)
     CHECK(fabs(c.weather.offset_east_km) + fabs(c.weather.offset_north_km) > 50);
     /* Another seed, another weather. */
     run_autopilot(8, 600, 600, &b);
-    tb = sky_world_state_to_text(&b);
+    tb = proto_world_state_to_text(&b);
     CHECK(strcmp(ta, tb) != 0);
     free(ta);
     free(tb);
@@ -392,12 +393,12 @@ static void test_autopilot_physics(void)
                 double w = weather_autopilot_wetness(seed, t);
                 wet_min = fmin(wet_min, w);
                 wet_max = fmax(wet_max, w);
-                struct sky_world_state s;
-                sky_world_state_defaults(&s);
-                struct sky_weather_params p;
+                struct proto_world_state s;
+                proto_world_state_defaults(&s);
+                struct proto_weather_params p;
                 weather_autopilot_sample(seed, t, lon, &p);
-                sky_weather_params_put(&s, &p);
-                CHECK(sky_world_state_validate(&s, NULL)); /* inside every range */
+                proto_weather_params_put(&s, &p);
+                CHECK(proto_world_state_validate(&s, NULL)); /* inside every range */
                 cover_min = fmin(cover_min, p.low.coverage);
                 cover_max = fmax(cover_max, p.low.coverage);
                 /* Bases at the lifting condensation level: lower in moister air. */
@@ -412,7 +413,7 @@ static void test_autopilot_physics(void)
     CHECK(cover_min < 0.15 && cover_max > 0.9);
 
     /* Rain comes with the wet fronts and with the thick cumulonimbus. */
-    struct sky_weather_params p;
+    struct proto_weather_params p;
     int raining = 0, raining_wet = 0;
     for (int h = 0; h < 24 * 60; h++) {
         double t = t0 + h * 3600.0;
@@ -428,43 +429,43 @@ static void test_autopilot_physics(void)
 
 static void test_autopilot_blend(void)
 {
-    struct sky_world_state s, before;
-    sky_world_state_defaults(&s);
+    struct proto_world_state s, before;
+    proto_world_state_defaults(&s);
     load_preset("clear", &s);
     before = s;
-    s.weather.autopilot = SKY_SWITCH_ON;
+    s.weather.autopilot = PROTO_SWITCH_ON;
     world_sim_client_changed(&before, &s);
     /* No jump: it starts where the weather was and blends in. */
     CHECK(weather_timeline_active(&s));
     CHECK_NEAR(s.clouds.low.coverage, 0.0, 1e-12);
     world_sim_advance(&s, WORLD_SIM_AUTOPILOT_BLEND_S);
     CHECK(!weather_timeline_active(&s));
-    struct sky_weather_params p;
+    struct proto_weather_params p;
     weather_autopilot_sample(s.weather.autopilot_seed, s.clock.utc_unix_s, s.location.longitude_deg,
                              &p);
     CHECK_NEAR(s.clouds.low.coverage, p.low.coverage, 0);
     CHECK_NEAR(s.weather.wind.speed_m_s, p.wind_speed_m_s, 0);
     /* Switched off: the weather stays. */
     before = s;
-    s.weather.autopilot = SKY_SWITCH_OFF;
+    s.weather.autopilot = PROTO_SWITCH_OFF;
     world_sim_client_changed(&before, &s);
     world_sim_advance(&s, 7200);
     CHECK_NEAR(s.clouds.low.coverage, p.low.coverage, 0);
 }
 
-static bool check_patch(const struct sky_world_state *live, const char *patch_text,
+static bool check_patch(const struct proto_world_state *live, const char *patch_text,
                         const char *expect_pointer)
 {
     cJSON *json = cJSON_Parse(patch_text);
-    static struct sky_world_patch patch_storage;
-    struct sky_world_patch *patch = &patch_storage;
-    struct sky_world_state next = *live;
-    struct sky_field_errors errors;
-    sky_field_errors_clear(&errors);
-    bool applied = sky_world_patch_compile(json, "", patch, &errors) &&
-                   sky_world_state_apply_patch(&next, patch, &errors);
+    static struct proto_world_patch patch_storage;
+    struct proto_world_patch *patch = &patch_storage;
+    struct proto_world_state next = *live;
+    struct proto_field_errors errors;
+    proto_field_errors_clear(&errors);
+    bool applied = proto_world_patch_compile(json, "", patch, &errors) &&
+                   proto_world_state_apply_patch(&next, patch, &errors);
     CHECK(applied);
-    sky_field_errors_clear(&errors);
+    proto_field_errors_clear(&errors);
     bool ok = applied && world_sim_check_client_patch(live, &next, patch, &errors);
     if (expect_pointer) {
         CHECK(!ok);
@@ -483,12 +484,12 @@ static bool check_patch(const struct sky_world_state *live, const char *patch_te
 
 static void test_client_rules(void)
 {
-    struct sky_world_state s;
-    sky_world_state_defaults(&s);
+    struct proto_world_state s;
+    proto_world_state_defaults(&s);
     check_patch(&s, "{\"sun\":{\"elevation_deg\":10}}", NULL);
     check_patch(&s, "{\"clock\":{\"sky_bodies\":\"ephemeris\"},\"sun\":{\"elevation_deg\":10}}",
                 "/sun/elevation_deg");
-    s.clock.sky_bodies = SKY_BODIES_EPHEMERIS;
+    s.clock.sky_bodies = PROTO_BODIES_EPHEMERIS;
     world_sim_settle(&s);
     check_patch(&s, "{\"moon\":{\"azimuth_deg\":10}}", "/moon/azimuth_deg");
     check_patch(&s, "{\"clock\":{\"sky_bodies\":\"manual\"},\"sun\":{\"elevation_deg\":10}}", NULL);
@@ -500,7 +501,7 @@ static void test_client_rules(void)
                 "/weather/transition/duration_s");
     check_patch(&s, "{\"weather\":{\"humidity\":0.9}}", NULL);
     check_patch(&s, "{\"weather\":{\"autopilot\":\"on\",\"humidity\":0.9}}", "/weather/humidity");
-    s.weather.autopilot = SKY_SWITCH_ON;
+    s.weather.autopilot = PROTO_SWITCH_ON;
     check_patch(&s, "{\"clouds\":{\"low\":{\"coverage\":0.2}}}", "/clouds/low/coverage");
     check_patch(&s, "{\"weather\":{\"autopilot\":\"off\"},\"clouds\":{\"low\":{\"coverage\":0.2}}}",
                 NULL);
@@ -509,14 +510,14 @@ static void test_client_rules(void)
 
 static void test_presets(void)
 {
-    char names[16][SKY_PRESET_NAME_MAX + 1];
-    int count = sky_preset_list(config_dir, "weather", names, 16);
+    char names[16][WORLD_PRESET_NAME_MAX + 1];
+    int count = world_preset_list(config_dir, "weather", names, 16);
     CHECK(count == (int)PRESET_COUNT);
     double coverage[PRESET_COUNT];
     for (size_t i = 0; i < PRESET_COUNT; i++) {
-        struct sky_world_state s, defaults;
-        sky_world_state_defaults(&s);
-        sky_world_state_defaults(&defaults);
+        struct proto_world_state s, defaults;
+        proto_world_state_defaults(&s);
+        proto_world_state_defaults(&defaults);
         load_preset(weather_preset_names[i], &s);
         /* A weather preset touches the weather and nothing else. */
         CHECK(memcmp(&s.atmosphere, &defaults.atmosphere, sizeof s.atmosphere) == 0);
@@ -539,8 +540,8 @@ static void test_presets(void)
     }
     for (size_t i = 1; i + 1 < LOW_PRESET_COUNT; i++)
         CHECK(coverage[i] > coverage[i - 1]); /* clear < fair < scattered < broken < overcast */
-    struct sky_world_state s;
-    sky_world_state_defaults(&s);
+    struct proto_world_state s;
+    proto_world_state_defaults(&s);
     load_preset("fair_cumulus", &s);
     CHECK(s.clouds.low.coverage >= 0.2 && s.clouds.low.coverage <= 0.4);
     CHECK(s.clouds.low.bottom_km >= 1.2 && s.clouds.low.bottom_km <= 1.5);
@@ -565,8 +566,8 @@ static void test_presets(void)
 
 static void test_haze(void)
 {
-    struct sky_world_state s;
-    sky_world_state_defaults(&s);
+    struct proto_world_state s;
+    proto_world_state_defaults(&s);
     struct sky_render_atmosphere dry, humid, foggy;
     world_to_render_atmosphere(&s, &dry);
     CHECK_NEAR(dry.mie_scattering[0], s.atmosphere.mie_scattering_per_km[0], 0);

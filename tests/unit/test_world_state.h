@@ -30,50 +30,52 @@
 
 #define STARTING_REVISION 7
 
-static inline void starting_state(struct sky_world_state *state)
+static inline void starting_state(struct proto_world_state *state)
 {
     memset(state, 0, sizeof *state);
-    sky_world_state_defaults(state);
+    proto_world_state_defaults(state);
     state->revision = STARTING_REVISION;
 }
 
-static inline int field_elements(const struct sky_field_desc *field)
+static inline int field_elements(const struct proto_field_desc *field)
 {
     return schema_element_count(field->type);
 }
 
 /* Reads element `index` of a leaf through the public descriptor table. */
-static inline double read_element(const struct sky_world_state *state, const char *path, int index)
+static inline double read_element(const struct proto_world_state *state, const char *path,
+                                  int index)
 {
-    const struct sky_field_desc *field = sky_world_state_find_field(path);
+    const struct proto_field_desc *field = proto_world_state_find_field(path);
     if (!field)
         return NAN;
     const char *base = (const char *)state + field->offset;
     switch (field->type) {
-    case SKY_FIELD_TYPE_NUMBER:
-    case SKY_FIELD_TYPE_RGB:
-    case SKY_FIELD_TYPE_TIME:
+    case PROTO_FIELD_TYPE_NUMBER:
+    case PROTO_FIELD_TYPE_RGB:
+    case PROTO_FIELD_TYPE_TIME:
         return ((const double *)base)[index];
-    case SKY_FIELD_TYPE_INT_PAIR:
-    case SKY_FIELD_TYPE_INT_TRIPLE:
-    case SKY_FIELD_TYPE_ENUM:
-    case SKY_FIELD_TYPE_INT:
+    case PROTO_FIELD_TYPE_INT_PAIR:
+    case PROTO_FIELD_TYPE_INT_TRIPLE:
+    case PROTO_FIELD_TYPE_ENUM:
+    case PROTO_FIELD_TYPE_INT:
         return ((const int *)base)[index];
-    case SKY_FIELD_TYPE_STRING:
-    case SKY_FIELD_TYPE_BOOL:
-    case SKY_FIELD_TYPE_INT64:
+    case PROTO_FIELD_TYPE_STRING:
+    case PROTO_FIELD_TYPE_BOOL:
+    case PROTO_FIELD_TYPE_INT64:
         break;
     }
     return NAN;
 }
 
 /* Exact equality of every field and the revision; unlike memcmp, blind to padding bytes. */
-static inline bool states_equal(const struct sky_world_state *a, const struct sky_world_state *b)
+static inline bool states_equal(const struct proto_world_state *a,
+                                const struct proto_world_state *b)
 {
     if (a->revision != b->revision)
         return false;
     size_t count = 0;
-    const struct sky_field_desc *fields = sky_world_state_fields(&count);
+    const struct proto_field_desc *fields = proto_world_state_fields(&count);
     for (size_t i = 0; i < count; i++) {
         for (int e = 0; e < field_elements(&fields[i]); e++) {
             if (read_element(a, fields[i].path, e) != read_element(b, fields[i].path, e))
@@ -83,8 +85,8 @@ static inline bool states_equal(const struct sky_world_state *a, const struct sk
     return true;
 }
 
-static inline bool apply_patch_text(struct sky_world_state *state, const char *text,
-                                    struct sky_field_errors *errors)
+static inline bool apply_patch_text(struct proto_world_state *state, const char *text,
+                                    struct proto_field_errors *errors)
 {
     cJSON *patch = cJSON_Parse(text);
     if (!patch) {
@@ -92,7 +94,7 @@ static inline bool apply_patch_text(struct sky_world_state *state, const char *t
         printf("test patch is not valid JSON: %s\n", text);
         return false;
     }
-    bool applied = sky_world_state_apply_json(state, patch, errors);
+    bool applied = proto_world_state_apply_json(state, patch, errors);
     cJSON_Delete(patch);
     return applied;
 }

@@ -7,8 +7,8 @@
 void test_real_presets(const char *config_dir)
 {
     check_case_name = "preset list";
-    char names[8][SKY_PRESET_NAME_MAX + 1];
-    int count = sky_preset_list(config_dir, "atmosphere", names, 8);
+    char names[8][WORLD_PRESET_NAME_MAX + 1];
+    int count = world_preset_list(config_dir, "atmosphere", names, 8);
     CHECK(count >= 2);
     bool has_earth = false, has_mars = false;
     for (int i = 0; i < count; i++) {
@@ -21,12 +21,12 @@ void test_real_presets(const char *config_dir)
     CHECK(has_mars);
 
     check_case_name = "mars preset";
-    struct sky_world_state state, defaults;
-    struct sky_field_errors errors;
+    struct proto_world_state state, defaults;
+    struct proto_field_errors errors;
     char msg[512];
     starting_state(&state);
     starting_state(&defaults);
-    CHECK(sky_preset_apply(config_dir, "atmosphere", "mars", &state, &errors, msg, sizeof msg));
+    CHECK(world_preset_apply(config_dir, "atmosphere", "mars", &state, &errors, msg, sizeof msg));
     CHECK_CONTAINS(msg, "applied atmosphere preset \"mars\"");
     CHECK_DOUBLE(state.atmosphere.bottom_radius_km, 3389.5);
     CHECK_DOUBLE(state.atmosphere.top_radius_km, 3389.5 + 80);
@@ -34,19 +34,19 @@ void test_real_presets(const char *config_dir)
     CHECK_DOUBLE(state.atmosphere.mie_absorption_per_km[2], 0.0130);
     CHECK_DOUBLE(state.atmosphere.ground_albedo[1], 0.18);
     CHECK_DOUBLE(state.atmosphere.ozone_absorption_per_km[0], 0);
-    struct sky_world_state only_atmosphere_changed = defaults;
+    struct proto_world_state only_atmosphere_changed = defaults;
     only_atmosphere_changed.atmosphere = state.atmosphere;
     CHECK(states_equal(&state, &only_atmosphere_changed));
     CHECK_INT(state.revision, STARTING_REVISION);
 
     check_case_name = "earth preset restores the default atmosphere";
-    CHECK(sky_preset_apply(config_dir, "atmosphere", "earth", &state, &errors, msg, sizeof msg));
+    CHECK(world_preset_apply(config_dir, "atmosphere", "earth", &state, &errors, msg, sizeof msg));
     CHECK(states_equal(&state, &defaults));
 
     check_case_name = "missing preset lists the available ones";
-    struct sky_world_state before;
+    struct proto_world_state before;
     memcpy(&before, &state, sizeof before);
-    CHECK(!sky_preset_apply(config_dir, "atmosphere", "venus", &state, &errors, msg, sizeof msg));
+    CHECK(!world_preset_apply(config_dir, "atmosphere", "venus", &state, &errors, msg, sizeof msg));
     CHECK_CONTAINS(msg, "no atmosphere preset named \"venus\"");
     CHECK_CONTAINS(msg, "available: ");
     CHECK_CONTAINS(msg, "earth");
@@ -61,18 +61,18 @@ void test_real_presets(const char *config_dir)
     };
     for (size_t i = 0; i < sizeof invalid_names / sizeof invalid_names[0]; i++) {
         check_case_name = invalid_names[i];
-        CHECK(!sky_preset_apply(config_dir, "atmosphere", invalid_names[i], &state, &errors, msg,
-                                sizeof msg));
+        CHECK(!world_preset_apply(config_dir, "atmosphere", invalid_names[i], &state, &errors, msg,
+                                  sizeof msg));
         CHECK_CONTAINS(msg, "invalid preset name");
         CHECK(memcmp(&state, &before, sizeof state) == 0);
     }
     check_case_name = "longest valid name";
-    CHECK(sky_preset_name_is_valid(
+    CHECK(world_preset_name_is_valid(
         "a1234567890123456789012345678901234567890123456789012345678901-_"));
     check_case_name = "invalid kind";
-    CHECK(!sky_preset_apply(config_dir, "../config", "earth", &state, &errors, msg, sizeof msg));
+    CHECK(!world_preset_apply(config_dir, "../config", "earth", &state, &errors, msg, sizeof msg));
     CHECK_CONTAINS(msg, "invalid preset kind");
-    CHECK(!sky_preset_apply(config_dir, "atmosphere", NULL, &state, &errors, msg, sizeof msg));
+    CHECK(!world_preset_apply(config_dir, "atmosphere", NULL, &state, &errors, msg, sizeof msg));
     CHECK_CONTAINS(msg, "invalid preset name");
 }
 
@@ -125,12 +125,12 @@ static void expect_preset_failure(const char *dir, const char *name, const char 
                                   int error_total)
 {
     check_case_name = name;
-    struct sky_world_state state, before;
-    struct sky_field_errors errors;
+    struct proto_world_state state, before;
+    struct proto_field_errors errors;
     char msg[512];
     starting_state(&state);
     memcpy(&before, &state, sizeof before);
-    CHECK(!sky_preset_apply(dir, "atmosphere", name, &state, &errors, msg, sizeof msg));
+    CHECK(!world_preset_apply(dir, "atmosphere", name, &state, &errors, msg, sizeof msg));
     CHECK_CONTAINS(msg, msg_part);
     CHECK_INT(errors.total, error_total);
     CHECK(memcmp(&state, &before, sizeof state) == 0);
@@ -158,7 +158,7 @@ static void write_temp_presets(struct temp_tree *tree)
     check_case_name = "writing temporary presets";
     CHECK(ok);
 
-    size_t huge_length = SKY_PRESET_MAX_FILE_BYTES + 1;
+    size_t huge_length = WORLD_PRESET_MAX_FILE_BYTES + 1;
     char *huge = malloc(huge_length);
     CHECK(huge != NULL);
     if (huge) {
@@ -195,28 +195,28 @@ void test_temp_presets(void)
     expect_preset_failure(dir, "nothing", "available: baddesc, badfield, broken, described", 0);
 
     check_case_name = "description is stripped";
-    struct sky_world_state state;
-    struct sky_field_errors errors;
+    struct proto_world_state state;
+    struct proto_field_errors errors;
     char msg[512];
     starting_state(&state);
-    CHECK(sky_preset_apply(dir, "atmosphere", "described", &state, &errors, msg, sizeof msg));
+    CHECK(world_preset_apply(dir, "atmosphere", "described", &state, &errors, msg, sizeof msg));
     CHECK_DOUBLE(state.sun.elevation_deg, 10);
-    CHECK(sky_preset_apply(dir, "atmosphere", "described", &state, NULL, NULL, 0));
+    CHECK(world_preset_apply(dir, "atmosphere", "described", &state, NULL, NULL, 0));
 
     check_case_name = "missing kind directory";
-    CHECK(!sky_preset_apply(dir, "scene", "x", &state, &errors, msg, sizeof msg));
+    CHECK(!world_preset_apply(dir, "scene", "x", &state, &errors, msg, sizeof msg));
     CHECK_CONTAINS(msg, "available: none");
 
     check_case_name = "listing is sorted and filtered";
-    char names[4][SKY_PRESET_NAME_MAX + 1];
-    CHECK_INT(sky_preset_list(dir, "listing", names, 4), 2);
+    char names[4][WORLD_PRESET_NAME_MAX + 1];
+    CHECK_INT(world_preset_list(dir, "listing", names, 4), 2);
     CHECK_STR(names[0], "a");
     CHECK_STR(names[1], "b");
-    CHECK_INT(sky_preset_list(dir, "listing", names, 1), 1);
+    CHECK_INT(world_preset_list(dir, "listing", names, 1), 1);
     CHECK_STR(names[0], "a");
-    CHECK_INT(sky_preset_list(dir, "listing", names, 0), 0);
-    CHECK_INT(sky_preset_list(dir, "scene", names, 4), -1);
-    CHECK_INT(sky_preset_list(dir, "../listing", names, 4), -1);
+    CHECK_INT(world_preset_list(dir, "listing", names, 0), 0);
+    CHECK_INT(world_preset_list(dir, "scene", names, 4), -1);
+    CHECK_INT(world_preset_list(dir, "../listing", names, 4), -1);
 
     remove_temp_tree(&tree);
     check_case_name = "temporary directory removed";

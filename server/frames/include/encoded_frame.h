@@ -16,7 +16,7 @@ struct encoded_frame_meta {
     uint64_t state_revision;
     double simulation_time_s;
     uint32_t width, height;
-    enum sky_frame_format format;
+    enum proto_frame_format format;
     int quality; /* JPEG: 1..100; 0 for PNG */
 };
 

@@ -13,7 +13,7 @@
 struct encode_target {
     struct session *session; /* a reference, released by the pool */
     uint64_t subscription;   /* >= 1; 0 for a snapshot */
-    struct sky_msg_id snapshot_id;
+    struct proto_msg_id snapshot_id;
 };
 
 struct encode_job {

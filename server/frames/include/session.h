@@ -45,11 +45,11 @@ void session_set_transport(struct session *session, void *transport);
 void *session_transport(const struct session *session);
 
 /* Role; changed by the render thread (auth), read anywhere. */
-enum sky_msg_role session_role(struct session *session);
-void session_set_role(struct session *session, enum sky_msg_role role);
+enum proto_msg_role session_role(struct session *session);
+void session_set_role(struct session *session, enum proto_msg_role role);
 
 /* The name the client gave in its hello ("" until it gives one), copied into out (at least
- * SKY_MSG_CLIENT_MAX + 1 bytes); set by the render thread, read anywhere. */
+ * PROTO_MSG_CLIENT_MAX + 1 bytes); set by the render thread, read anywhere. */
 void session_client_name(struct session *session, char *out, size_t capacity);
 void session_set_client_name(struct session *session, const char *name);
 /* Whether its hello asked for simulation events. */
@@ -102,12 +102,12 @@ bool session_slot_traffic(struct session *session, uint64_t subscription, struct
 /* Snapshots: reserve a place before rendering (false when SESSION_MAX_SNAPSHOTS are pending);
  * deliver the frame (or NULL after a failure, which frees the place). */
 bool session_snapshot_reserve(struct session *session);
-void session_snapshot_deliver(struct session *session, const struct sky_msg_id *id,
+void session_snapshot_deliver(struct session *session, const struct proto_msg_id *id,
                               struct encoded_frame *frame);
 /* A snapshot that could not be rendered or encoded: frees its place and queues an `error`
  * `internal` reply with `message` (the sender must not wait in silence). false when the reply
  * could not be built; the caller counts the ones that were. */
-bool session_snapshot_fail(struct session *session, const struct sky_msg_id *id,
+bool session_snapshot_fail(struct session *session, const struct proto_msg_id *id,
                            const char *message);
 
 enum session_output_kind {

@@ -51,7 +51,7 @@ struct skyd_config {
     /* The world state the daemon starts from when no state file can be restored: the
      * defaults with the "initial_state" patch applied. Its "clock.utc" may be "now", the UTC
      * time at which the configuration is loaded. */
-    struct sky_world_state initial_state;
+    struct proto_world_state initial_state;
     /* A world shared by many nodes (docs/SCALING.md): both set, or both empty (the state
      * file). The state file is then not used. */
     char cluster_redis[SKYD_CONFIG_STRING]; /* "redis://[USER[:PASSWORD]@]HOST:PORT[/DB]" */
@@ -68,18 +68,18 @@ struct skyd_config {
 void skyd_config_defaults(struct skyd_config *config);
 
 /* The protocol limits the config sets (announced in hello and enforced per connection). */
-void skyd_config_limits(const struct skyd_config *config, struct sky_msg_limits *limits);
+void skyd_config_limits(const struct skyd_config *config, struct proto_msg_limits *limits);
 
 /* Reads and validates `path` over the defaults. On failure *config keeps the defaults, errors
  * lists every bad field as a JSON Pointer, and msg says what went wrong (file, parse
  * position). */
-bool skyd_config_load(const char *path, struct skyd_config *config, struct sky_field_errors *errors,
-                      char *msg, size_t msglen);
+bool skyd_config_load(const char *path, struct skyd_config *config,
+                      struct proto_field_errors *errors, char *msg, size_t msglen);
 
 /* The same for a configuration's text (`length` bytes, no terminator needed); `name` stands
  * for the file in messages. */
 bool skyd_config_parse(const char *text, size_t length, const char *name,
-                       struct skyd_config *config, struct sky_field_errors *errors, char *msg,
+                       struct skyd_config *config, struct proto_field_errors *errors, char *msg,
                        size_t msglen);
 
 /* The configuration's JSON Schema (draft 2020-12), from the same rows that read it. NULL when

@@ -17,7 +17,7 @@ struct live_settings;
 struct live_settings *live_settings_create(const struct skyd_config *config);
 void live_settings_destroy(struct live_settings **settings);
 
-void live_settings_limits(struct live_settings *s, struct sky_msg_limits *limits);
+void live_settings_limits(struct live_settings *s, struct proto_msg_limits *limits);
 /* limits.max_queued_http_requests: HTTP requests that may wait for the render loop at once. */
 int live_settings_max_queued_http(struct live_settings *s);
 bool live_settings_origin_allowed(struct live_settings *s, const char *origin);

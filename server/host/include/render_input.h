@@ -16,7 +16,7 @@
 struct render_input {
     /* The state it was made from: views (world_render_view) and probes resolve against it,
      * and frames carry its simulation time. */
-    struct sky_world_state state;
+    struct proto_world_state state;
     /* The state's own atmosphere (probes), and the one frames are asked to show: the same,
      * except while the simulation's haze waits for the previous change to settle. */
     struct sky_render_atmosphere atmosphere;
@@ -33,7 +33,7 @@ struct render_input {
     struct sky_render_lut_sizes lut_sizes;
     /* The client weather map (NULL or no texels: none), and a number that changes whenever it
      * does. The map is the world host's: valid as long as this input is. */
-    const struct sky_weather_map *client_map;
+    const struct proto_weather_map *client_map;
     uint64_t map_generation;
 };
 

@@ -24,7 +24,7 @@ struct render_loop_params {
     bool validation;
     const char *config_dir; /* presets: <config_dir>/atmosphere/<name>.json */
     const char *state_file; /* "" = no persistence */
-    struct sky_world_state initial_state;
+    struct proto_world_state initial_state;
     /* A shared world initial_state was read from (shared_world.h): borrowed, used by the
      * render thread only, outliving the loop. NULL: the state file. */
     struct shared_world *shared_world;
@@ -56,7 +56,7 @@ void render_loop_destroy(struct render_loop **loop);
 
 /* Queues a parsed client message; takes ownership of its contents (msg is emptied). */
 void render_loop_submit_message(struct render_loop *loop, struct session *session,
-                                struct sky_client_msg *msg);
+                                struct proto_client_msg *msg);
 /* Queues a reply built elsewhere, so it leaves in order with the replies before it. Takes
  * ownership of text (malloc'd). */
 void render_loop_submit_reply(struct render_loop *loop, struct session *session, char *text);

@@ -69,7 +69,7 @@ int renderer_host_render(struct renderer_host *host, const struct render_input *
 void renderer_host_converged_probes(struct renderer_host *host);
 /* A physical query (protocol probe, skyd probe) under the input's state. 0 or -1. */
 int renderer_host_probe(struct renderer_host *host, const struct render_input *input,
-                        const struct sky_msg_probe *query, struct sky_msg_probe_result *result);
+                        const struct proto_msg_probe *query, struct proto_msg_probe_result *result);
 
 enum renderer_host_check {
     RENDERER_HOST_OK,      /* the renderer is usable */

@@ -22,10 +22,10 @@ void service_metrics_frame_rendered(struct service_metrics *m, double render_sec
 void service_metrics_frame_sent(struct service_metrics *m, size_t bytes);
 /* A subscription's frame that was due but not rendered: its client had not taken the last one. */
 void service_metrics_frame_skipped(struct service_metrics *m);
-/* A client message by its type; SKY_MSG_NONE for one that could not be parsed. */
-void service_metrics_message(struct service_metrics *m, enum sky_msg_type type);
+/* A client message by its type; PROTO_MSG_NONE for one that could not be parsed. */
+void service_metrics_message(struct service_metrics *m, enum proto_msg_type type);
 /* An error answered to a client. */
-void service_metrics_error(struct service_metrics *m, enum sky_msg_error_code code);
+void service_metrics_error(struct service_metrics *m, enum proto_msg_error_code code);
 void service_metrics_device_lost(struct service_metrics *m);
 
 /* The render thread's view of the world, once per tick: also its heartbeat. */
@@ -44,9 +44,9 @@ void service_metrics_tick(struct service_metrics *m, const struct service_metric
  * per-subscription families; at most SERVICE_METRICS_MAX_SUBSCRIPTIONS are kept. */
 #define SERVICE_METRICS_MAX_SUBSCRIPTIONS 256
 void service_metrics_subscriptions(struct service_metrics *m,
-                                   const struct sky_msg_subscription_stats *stats, size_t count);
+                                   const struct proto_msg_subscription_stats *stats, size_t count);
 
-/* The forecast's weather map is at most this many texels a side (SKY_FORECAST_MAX_GRID). */
+/* The forecast's weather map is at most this many texels a side (FORECAST_MAX_GRID). */
 #define SERVICE_METRICS_FORECAST_MAP_SIDE 32
 /* The forecast folder's state (weather.forecast_dir), as the render thread last published it:
  * for GET /api/weather/forecast and the skyd_forecast_* families. Times are unix seconds. */

@@ -16,7 +16,7 @@ struct shared_world;
 /* The world named by the configuration's "cluster"; fills *state (with its revision) from it.
  * NULL with `err` naming the field and the cluster. */
 struct shared_world *shared_world_open(const struct skyd_config *config,
-                                       struct sky_world_state *state, char *err, size_t errlen);
+                                       struct proto_world_state *state, char *err, size_t errlen);
 void shared_world_close(struct shared_world **world);
 
 #endif

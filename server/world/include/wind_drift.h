@@ -28,8 +28,8 @@ void wind_drift_forget(struct wind_drift *drift);
 
 /* weather.offset_east_km and offset_north_km of `state` at simulated time utc_s. Before the
  * anchor's time the cells are summed backwards from the anchor. drift may be NULL. */
-void wind_drift_offsets(struct wind_drift *drift, const struct sky_world_state *state, double utc_s,
-                        double *east_km, double *north_km);
+void wind_drift_offsets(struct wind_drift *drift, const struct proto_world_state *state,
+                        double utc_s, double *east_km, double *north_km);
 
 /* How many cells the last call summed (for tests of the running sum). */
 long wind_drift_cells_summed(const struct wind_drift *drift);
