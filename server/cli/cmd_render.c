@@ -202,246 +202,361 @@ static void print_stats(const struct sky_render_stats *s)
     printf("}}\n");
 }
 
-int skyd_cmd_render(int argc, char **argv)
-{
+/* Everything the command line settles before the first frame. */
+struct render_args {
     struct cli_common common;
-    cli_common_init(&common);
-    unsigned width = 0, height = 0;
-    const char *out_path = NULL, *weather_map_path = NULL, *forecast_path = NULL;
-    bool stats_json = false, linear16 = false, reference = false;
-    unsigned spp = 0;
-    const char *format = NULL;
-    unsigned quality = 0;
-    enum sky_render_projection projection = SKY_RENDER_PROJECTION_PERSPECTIVE;
-    struct lapse_args lapse = { .frames = 1, .step_s = 60.0 };
-    for (int i = 0; i < argc; i++) {
-        int rc = cli_parse_common(argc, argv, &i, &common);
-        if (rc == 0)
-            rc = cli_parse_sim_option(argc, argv, &i, &common);
-        if (rc == 0)
-            rc = parse_lapse_option(argc, argv, &i, &lapse);
-        if (rc < 0)
-            return SKYD_EXIT_USAGE;
-        if (rc > 0)
-            continue;
-        const char *opt = argv[i];
-        const char *value = NULL;
-        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
-            usage(stdout);
-            return SKYD_EXIT_OK;
-        } else if (strcmp(opt, "--stats") == 0) {
-            stats_json = true;
-        } else if (strcmp(opt, "--reference") == 0) {
-            reference = true;
-        } else if (strcmp(opt, "--spp") == 0) {
-            if (!(value = cli_take_value(argc, argv, &i)) ||
-                !cli_parse_uint(opt, value, 1, MAX_REFERENCE_SPP, &spp))
-                return SKYD_EXIT_USAGE;
-        } else if (strcmp(opt, "--width") == 0 || strcmp(opt, "--height") == 0) {
-            if (!(value = cli_take_value(argc, argv, &i)) ||
-                !cli_parse_uint(opt, value, 1, MAX_DIMENSION, opt[2] == 'w' ? &width : &height))
-                return SKYD_EXIT_USAGE;
-        } else if (strcmp(opt, "--projection") == 0) {
-            if (!(value = cli_take_value(argc, argv, &i)))
-                return SKYD_EXIT_USAGE;
-            if (strcmp(value, "perspective") != 0 && strcmp(value, "equirectangular") != 0) {
-                fprintf(stderr,
-                        "skyd render: --projection: expected perspective or "
-                        "equirectangular, got \"%s\"\n",
-                        value);
-                return SKYD_EXIT_USAGE;
-            }
-            projection = value[0] == 'e' ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
-                                         : SKY_RENDER_PROJECTION_PERSPECTIVE;
-        } else if (strcmp(opt, "--format") == 0) {
-            if (!(value = cli_take_value(argc, argv, &i)))
-                return SKYD_EXIT_USAGE;
-            if (strcmp(value, "png") != 0 && strcmp(value, "png16") != 0 &&
-                strcmp(value, "jpeg") != 0) {
-                fprintf(stderr,
-                        "skyd render: --format: expected png, png16 or jpeg, got "
-                        "\"%s\"\n",
-                        value);
-                return SKYD_EXIT_USAGE;
-            }
-            format = value;
-            linear16 = strcmp(value, "png16") == 0;
-        } else if (strcmp(opt, "--quality") == 0) {
-            if (!(value = cli_take_value(argc, argv, &i)) ||
-                !cli_parse_uint(opt, value, JPEG_QUALITY_MIN, JPEG_QUALITY_MAX, &quality))
-                return SKYD_EXIT_USAGE;
-        } else if (strcmp(opt, "--weather-map") == 0) {
-            if (!(weather_map_path = cli_take_value(argc, argv, &i)))
-                return SKYD_EXIT_USAGE;
-        } else if (strcmp(opt, "--metar") == 0) {
-            if (!(value = cli_take_value(argc, argv, &i)) || !cli_apply_metar(&common.state, value))
-                return SKYD_EXIT_USAGE;
-        } else if (strcmp(opt, "--forecast") == 0) {
-            if (!(forecast_path = cli_take_value(argc, argv, &i)))
-                return SKYD_EXIT_USAGE;
-        } else if (strcmp(opt, "--out") == 0) {
-            if (!(out_path = cli_take_value(argc, argv, &i)))
-                return SKYD_EXIT_USAGE;
-        } else if (strcmp(opt, "--sun-azimuth") == 0 || strcmp(opt, "--sun-elevation") == 0) {
-            if (!(value = cli_take_value(argc, argv, &i)))
-                return SKYD_EXIT_USAGE;
-            const char *path = opt[6] == 'a' ? "sun.azimuth_deg" : "sun.elevation_deg";
-            struct proto_field_errors errors;
-            if (!proto_world_state_set_path(&common.state, path, value, &errors)) {
-                char buf[1024];
-                proto_field_errors_format(&errors, buf, sizeof buf);
-                fprintf(stderr, "skyd: %s: %s\n", opt, buf);
-                return SKYD_EXIT_USAGE;
-            }
-        } else {
-            fprintf(stderr, "skyd render: unknown option \"%s\"\n", opt);
-            usage(stderr);
-            return SKYD_EXIT_USAGE;
-        }
+    struct lapse_args lapse;
+    unsigned width, height, spp, quality;
+    const char *out_path, *weather_map_path, *forecast_path, *format;
+    bool stats_json, linear16, reference, help;
+    enum sky_render_projection projection;
+};
+
+/* One of `skyd render`'s own options: 0 taken, -1 after a message. */
+struct render_option {
+    const char *name;
+    bool takes_value;
+    int (*take)(struct render_args *a, const char *opt, const char *value);
+};
+
+static int take_help(struct render_args *a, const char *opt, const char *value)
+{
+    (void)opt, (void)value;
+    a->help = true;
+    return 0;
+}
+
+static int take_stats(struct render_args *a, const char *opt, const char *value)
+{
+    (void)opt, (void)value;
+    a->stats_json = true;
+    return 0;
+}
+
+static int take_reference(struct render_args *a, const char *opt, const char *value)
+{
+    (void)opt, (void)value;
+    a->reference = true;
+    return 0;
+}
+
+static int take_spp(struct render_args *a, const char *opt, const char *value)
+{
+    return cli_parse_uint(opt, value, 1, MAX_REFERENCE_SPP, &a->spp) ? 0 : -1;
+}
+
+static int take_size(struct render_args *a, const char *opt, const char *value)
+{
+    unsigned *size = opt[2] == 'w' ? &a->width : &a->height;
+    return cli_parse_uint(opt, value, 1, MAX_DIMENSION, size) ? 0 : -1;
+}
+
+static int take_projection(struct render_args *a, const char *opt, const char *value)
+{
+    (void)opt;
+    if (strcmp(value, "perspective") != 0 && strcmp(value, "equirectangular") != 0) {
+        fprintf(stderr,
+                "skyd render: --projection: expected perspective or equirectangular, got "
+                "\"%s\"\n",
+                value);
+        return -1;
     }
-    if (!width || !height || !out_path) {
+    a->projection = value[0] == 'e' ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
+                                    : SKY_RENDER_PROJECTION_PERSPECTIVE;
+    return 0;
+}
+
+static int take_format(struct render_args *a, const char *opt, const char *value)
+{
+    (void)opt;
+    if (strcmp(value, "png") != 0 && strcmp(value, "png16") != 0 && strcmp(value, "jpeg") != 0) {
+        fprintf(stderr, "skyd render: --format: expected png, png16 or jpeg, got \"%s\"\n", value);
+        return -1;
+    }
+    a->format = value;
+    a->linear16 = strcmp(value, "png16") == 0;
+    return 0;
+}
+
+static int take_quality(struct render_args *a, const char *opt, const char *value)
+{
+    return cli_parse_uint(opt, value, JPEG_QUALITY_MIN, JPEG_QUALITY_MAX, &a->quality) ? 0 : -1;
+}
+
+static int take_path(struct render_args *a, const char *opt, const char *value)
+{
+    const char **slot = strcmp(opt, "--out") == 0        ? &a->out_path
+                        : strcmp(opt, "--forecast") == 0 ? &a->forecast_path
+                                                         : &a->weather_map_path;
+    *slot = value;
+    return 0;
+}
+
+/* Applied where it stands among the options, as --set is. */
+static int take_metar(struct render_args *a, const char *opt, const char *value)
+{
+    (void)opt;
+    return cli_apply_metar(&a->common.state, value) ? 0 : -1;
+}
+
+static int take_sun_angle(struct render_args *a, const char *opt, const char *value)
+{
+    const char *path = opt[6] == 'a' ? "sun.azimuth_deg" : "sun.elevation_deg";
+    struct proto_field_errors errors;
+    if (proto_world_state_set_path(&a->common.state, path, value, &errors))
+        return 0;
+    char buf[1024];
+    proto_field_errors_format(&errors, buf, sizeof buf);
+    fprintf(stderr, "skyd: %s: %s\n", opt, buf);
+    return -1;
+}
+
+static const struct render_option render_options[] = {
+    { "--help", false, take_help },
+    { "-h", false, take_help },
+    { "--stats", false, take_stats },
+    { "--reference", false, take_reference },
+    { "--spp", true, take_spp },
+    { "--width", true, take_size },
+    { "--height", true, take_size },
+    { "--projection", true, take_projection },
+    { "--format", true, take_format },
+    { "--quality", true, take_quality },
+    { "--weather-map", true, take_path },
+    { "--forecast", true, take_path },
+    { "--out", true, take_path },
+    { "--metar", true, take_metar },
+    { "--sun-azimuth", true, take_sun_angle },
+    { "--sun-elevation", true, take_sun_angle },
+};
+
+/* One option at argv[*i] (its value too): 1 taken, -1 after a message. */
+static int take_option(int argc, char **argv, int *i, struct render_args *a)
+{
+    int rc = cli_parse_common(argc, argv, i, &a->common);
+    if (rc == 0)
+        rc = cli_parse_sim_option(argc, argv, i, &a->common);
+    if (rc == 0)
+        rc = parse_lapse_option(argc, argv, i, &a->lapse);
+    if (rc != 0)
+        return rc;
+    const char *opt = argv[*i];
+    for (size_t k = 0; k < sizeof render_options / sizeof render_options[0]; k++) {
+        const struct render_option *o = &render_options[k];
+        if (strcmp(opt, o->name) != 0)
+            continue;
+        const char *value = o->takes_value ? cli_take_value(argc, argv, i) : NULL;
+        if (o->takes_value && !value)
+            return -1;
+        return o->take(a, opt, value) == 0 ? 1 : -1;
+    }
+    fprintf(stderr, "skyd render: unknown option \"%s\"\n", opt);
+    usage(stderr);
+    return -1;
+}
+
+/* The options that only make sense together; false after a message. */
+static bool check_args(struct render_args *a)
+{
+    if (!a->width || !a->height || !a->out_path) {
         fprintf(stderr, "skyd render: --width, --height and --out are required\n");
         usage(stderr);
-        return SKYD_EXIT_USAGE;
+        return false;
     }
-
-    if (spp && !reference) {
+    if (a->spp && !a->reference) {
         fprintf(stderr, "skyd render: --spp is for the path-traced reference: give --reference\n");
-        return SKYD_EXIT_USAGE;
+        return false;
     }
-    if (reference)
-        common.reference_spp = spp ? spp : DEFAULT_REFERENCE_SPP;
-
-    if (!format && (has_suffix(out_path, ".jpg") || has_suffix(out_path, ".jpeg")))
-        format = "jpeg";
-    bool jpeg = format && strcmp(format, "jpeg") == 0;
-    if (quality && !jpeg) {
+    if (a->reference)
+        a->common.reference_spp = a->spp ? a->spp : DEFAULT_REFERENCE_SPP;
+    if (!a->format && (has_suffix(a->out_path, ".jpg") || has_suffix(a->out_path, ".jpeg")))
+        a->format = "jpeg";
+    bool jpeg = a->format && strcmp(a->format, "jpeg") == 0;
+    if (a->quality && !jpeg) {
         fprintf(stderr, "skyd render: --quality is for JPEG: give --format jpeg or --out "
                         "FILE.jpg\n");
-        return SKYD_EXIT_USAGE;
+        return false;
     }
-    if (jpeg && !quality)
-        quality = JPEG_QUALITY_DEFAULT;
-    if (projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR && width != 2 * height) {
+    if (jpeg && !a->quality)
+        a->quality = JPEG_QUALITY_DEFAULT;
+    if (a->projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR && a->width != 2 * a->height) {
         fprintf(stderr,
                 "skyd render: an equirectangular image is 2:1: --width must be twice "
                 "--height (%u), got %u\n",
-                height, width);
-        return SKYD_EXIT_USAGE;
+                a->height, a->width);
+        return false;
     }
-    if (lapse.has_transition && !lapse.weather_to) {
+    if (a->lapse.has_transition && !a->lapse.weather_to) {
         fprintf(stderr, "skyd render: --transition-s needs --weather-to\n");
-        return SKYD_EXIT_USAGE;
+        return false;
     }
-    char prefix[1024];
-    const char *suffix;
-    int number_width;
-    if (!split_pattern(out_path, lapse.frames > 1, prefix, sizeof prefix, &number_width, &suffix)) {
-        fprintf(stderr, "skyd render: --out \"%s\": %s\n", out_path,
-                lapse.frames > 1 ? "a time-lapse needs one %d or %0Nd for the frame number"
-                                 : "only one %d or %0Nd may appear");
-        return SKYD_EXIT_USAGE;
-    }
-    /* The forecast at the location and clock the options settled on. */
-    struct forecast *forecast = forecast_path ? cli_open_forecast(&common.state, forecast_path)
-                                              : NULL;
-    struct proto_weather_map forecast_map = { 0 };
-    if (forecast_path &&
-        (!forecast || !cli_apply_forecast(&common.state, forecast, false, false, &forecast_map))) {
-        forecast_free(forecast);
-        proto_weather_map_free(&forecast_map);
-        return SKYD_EXIT_USAGE;
-    }
-    if (forecast) /* the forecast's cover over the map's square, as the daemon follows it */
-        common.state.weather.map_source = PROTO_WEATHER_MAP_FORECAST;
-    if (!start_lapse_transition(&common, &lapse)) {
-        forecast_free(forecast);
-        proto_weather_map_free(&forecast_map);
-        return SKYD_EXIT_USAGE;
-    }
-    struct proto_weather_map weather_map = { 0 };
-    if (weather_map_path) {
-        if (!load_weather_map(weather_map_path, &weather_map)) {
-            forecast_free(forecast);
-            proto_weather_map_free(&forecast_map);
-            return SKYD_EXIT_USAGE;
-        }
-        common.state.weather.map_source = PROTO_WEATHER_MAP_CLIENT;
-    }
-    world_sim_settle(&common.state);
+    return true;
+}
 
-    size_t texels = (size_t)width * height;
-    size_t bytes = texels * (linear16 ? 16 : 4);
-    void *pixels = malloc(bytes);
-    uint16_t *rgb16 = linear16 ? malloc(texels * 3 * sizeof *rgb16) : NULL;
-    if (linear16 && !rgb16) {
-        free(pixels);
-        pixels = NULL;
+/* The weather sources the frames read besides the state: a forecast, a client map. */
+struct render_maps {
+    struct forecast *forecast;
+    struct proto_weather_map forecast_map, weather_map;
+};
+
+static void render_maps_free(struct render_maps *m)
+{
+    forecast_free(m->forecast);
+    proto_weather_map_free(&m->forecast_map);
+    proto_weather_map_free(&m->weather_map);
+}
+
+/* The forecast at the location and clock the options settled on, the lapse's transition and
+ * the client map, in that order (as the daemon would take them); false after a message. */
+static bool open_maps(struct render_args *a, struct render_maps *m)
+{
+    struct proto_world_state *state = &a->common.state;
+    if (a->forecast_path) {
+        m->forecast = cli_open_forecast(state, a->forecast_path);
+        if (!m->forecast || !cli_apply_forecast(state, m->forecast, false, false, &m->forecast_map))
+            return false;
+        /* the forecast's cover over the map's square, as the daemon follows it */
+        state->weather.map_source = PROTO_WEATHER_MAP_FORECAST;
     }
-    struct renderer_host *renderer = pixels ? cli_create_renderer(&common) : NULL;
-    struct render_input *input = malloc(sizeof *input);
-    if (!input)
-        cli_finish(&common, &renderer, SKYD_EXIT_FAILURE);
-    if (!renderer) {
-        forecast_free(forecast);
-        free(input);
-        proto_weather_map_free(&weather_map);
-        proto_weather_map_free(&forecast_map);
-        free(pixels);
-        free(rgb16);
-        return SKYD_EXIT_FAILURE;
+    if (!start_lapse_transition(&a->common, &a->lapse))
+        return false;
+    if (a->weather_map_path) {
+        if (!load_weather_map(a->weather_map_path, &m->weather_map))
+            return false;
+        state->weather.map_source = PROTO_WEATHER_MAP_CLIENT;
     }
-    struct sky_render_view view;
-    struct sky_render_stats stats;
-    int status = SKYD_EXIT_OK;
-    char err[512], path[1200];
-    world_sim_anchor_wind(&common.state); /* the lapse's wind runs from the state as given */
+    return true;
+}
+
+/* Pixel buffers of one frame: RGBA (8-bit, or 32-bit float for png16) and png16's RGB. */
+struct render_buffers {
+    void *pixels;
+    size_t bytes;
+    uint16_t *rgb16;
+    struct render_input *input;
+};
+
+static bool render_buffers_alloc(const struct render_args *a, struct render_buffers *b)
+{
+    size_t texels = (size_t)a->width * a->height;
+    b->bytes = texels * (a->linear16 ? 16 : 4);
+    b->pixels = malloc(b->bytes);
+    b->rgb16 = a->linear16 ? malloc(texels * 3 * sizeof *b->rgb16) : NULL;
+    b->input = malloc(sizeof *b->input);
+    return b->pixels && b->input && (b->rgb16 || !a->linear16);
+}
+
+static void render_buffers_free(struct render_buffers *b)
+{
+    free(b->pixels);
+    free(b->rgb16);
+    free(b->input);
+}
+
+/* One frame of the lapse through the daemon's path (world_render_input, renderer_host_render),
+ * written to its file. */
+static int render_frame(struct render_args *a, struct render_maps *m, struct renderer_host *host,
+                        struct render_buffers *b, unsigned frame, const char *path)
+{
+    struct proto_world_state *state = &a->common.state;
     const struct proto_msg_view asked = {
-        .width = width,
-        .height = height,
-        .format = linear16 ? PROTO_FRAME_FORMAT_PNG16 : PROTO_FRAME_FORMAT_PNG,
-        .projection = projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR
+        .width = a->width,
+        .height = a->height,
+        .format = a->linear16 ? PROTO_FRAME_FORMAT_PNG16 : PROTO_FRAME_FORMAT_PNG,
+        .projection = a->projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR
                           ? PROTO_VIEW_PROJECTION_EQUIRECTANGULAR
                           : PROTO_VIEW_PROJECTION_PERSPECTIVE,
     };
-    for (unsigned frame = 0; frame < lapse.frames && status == SKYD_EXIT_OK; frame++) {
+    world_render_input(state, b->input);
+    bool forecast_selected = state->weather.map_source == PROTO_WEATHER_MAP_FORECAST;
+    b->input->client_map = forecast_selected ? &m->forecast_map : &m->weather_map;
+    b->input->map_generation = forecast_selected ? 2 + frame : m->weather_map.rgba ? 1 : 0;
+    struct sky_render_view view;
+    struct sky_render_stats stats;
+    world_render_view(b->input, &asked, &view);
+    if (renderer_host_render(host, b->input, &view, false, b->pixels, b->bytes, &stats) != 0) {
+        fprintf(stderr, "skyd render: rendering failed\n");
+        return SKYD_EXIT_FAILURE;
+    }
+    char err[512];
+    if (write_frame(path, b->pixels, b->rgb16, (int)a->quality, a->width, a->height, stats.exposure,
+                    err, sizeof err) != 0) {
+        fprintf(stderr, "skyd render: %s\n", err);
+        return SKYD_EXIT_FAILURE;
+    }
+    if (a->stats_json)
+        print_stats(&stats);
+    else
+        printf("%s\n", path);
+    fprintf(stderr, "skyd render: %ux%u in %.1f ms (GPU %.1f ms), sun at %.2f deg\n", a->width,
+            a->height, stats.wall_ms, stats.gpu_ms, state->sun.elevation_deg);
+    return SKYD_EXIT_OK;
+}
+
+/* The frames: the world advances by the lapse's step between them, the weather following the
+ * forecast (held at its last step beyond it). */
+static int render_lapse(struct render_args *a, struct render_maps *m, struct renderer_host *host,
+                        struct render_buffers *b, const char *prefix, int number_width,
+                        const char *suffix)
+{
+    world_sim_anchor_wind(&a->common.state); /* the lapse's wind runs from the state as given */
+    for (unsigned frame = 0; frame < a->lapse.frames; frame++) {
         if (frame > 0) {
-            world_sim_advance(&common.state, lapse.step_s);
-            /* The weather follows the forecast, held at its last step beyond it. */
-            if (forecast &&
-                !cli_apply_forecast(&common.state, forecast, true, true, &forecast_map)) {
-                status = SKYD_EXIT_FAILURE;
-                break;
-            }
+            world_sim_advance(&a->common.state, a->lapse.step_s);
+            if (m->forecast &&
+                !cli_apply_forecast(&a->common.state, m->forecast, true, true, &m->forecast_map))
+                return SKYD_EXIT_FAILURE;
         }
-        world_render_input(&common.state, input);
-        bool forecast_selected = common.state.weather.map_source == PROTO_WEATHER_MAP_FORECAST;
-        input->client_map = forecast_selected ? &forecast_map : &weather_map;
-        input->map_generation = forecast_selected ? 2 + frame : weather_map.rgba ? 1 : 0;
-        world_render_view(input, &asked, &view);
+        char path[1200];
         frame_path(prefix, number_width, suffix, frame, path, sizeof path);
-        if (renderer_host_render(renderer, input, &view, false, pixels, bytes, &stats) != 0) {
-            fprintf(stderr, "skyd render: rendering failed\n");
-            status = SKYD_EXIT_FAILURE;
-        } else if (write_frame(path, pixels, rgb16, (int)quality, width, height, stats.exposure,
-                               err, sizeof err) != 0) {
-            fprintf(stderr, "skyd render: %s\n", err);
-            status = SKYD_EXIT_FAILURE;
-        } else {
-            if (stats_json)
-                print_stats(&stats);
-            else
-                printf("%s\n", path);
-            fprintf(stderr, "skyd render: %ux%u in %.1f ms (GPU %.1f ms), sun at %.2f deg\n", width,
-                    height, stats.wall_ms, stats.gpu_ms, common.state.sun.elevation_deg);
+        int status = render_frame(a, m, host, b, frame, path);
+        if (status != SKYD_EXIT_OK)
+            return status;
+    }
+    return SKYD_EXIT_OK;
+}
+
+int skyd_cmd_render(int argc, char **argv)
+{
+    struct render_args a = {
+        .lapse = { .frames = 1, .step_s = 60.0 },
+        .projection = SKY_RENDER_PROJECTION_PERSPECTIVE,
+    };
+    cli_common_init(&a.common);
+    for (int i = 0; i < argc; i++) {
+        if (take_option(argc, argv, &i, &a) < 0)
+            return SKYD_EXIT_USAGE;
+        if (a.help) {
+            usage(stdout);
+            return SKYD_EXIT_OK;
         }
     }
-    status = cli_finish(&common, &renderer, status);
-    forecast_free(forecast);
-    free(input);
-    proto_weather_map_free(&weather_map);
-    proto_weather_map_free(&forecast_map);
-    free(pixels);
-    free(rgb16);
+    if (!check_args(&a))
+        return SKYD_EXIT_USAGE;
+    char prefix[1024];
+    const char *suffix;
+    int number_width;
+    if (!split_pattern(a.out_path, a.lapse.frames > 1, prefix, sizeof prefix, &number_width,
+                       &suffix)) {
+        fprintf(stderr, "skyd render: --out \"%s\": %s\n", a.out_path,
+                a.lapse.frames > 1 ? "a time-lapse needs one %d or %0Nd for the frame number"
+                                   : "only one %d or %0Nd may appear");
+        return SKYD_EXIT_USAGE;
+    }
+    struct render_maps maps = { 0 };
+    if (!open_maps(&a, &maps)) {
+        render_maps_free(&maps);
+        return SKYD_EXIT_USAGE;
+    }
+    world_sim_settle(&a.common.state);
+    struct render_buffers buffers = { 0 };
+    struct renderer_host *host = render_buffers_alloc(&a, &buffers) ? cli_create_renderer(&a.common)
+                                                                    : NULL;
+    int status = SKYD_EXIT_FAILURE;
+    if (host)
+        status = render_lapse(&a, &maps, host, &buffers, prefix, number_width, suffix);
+    status = host ? cli_finish(&a.common, &host, status) : SKYD_EXIT_FAILURE;
+    render_maps_free(&maps);
+    render_buffers_free(&buffers);
     return status;
 }
