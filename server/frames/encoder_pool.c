@@ -56,15 +56,16 @@ static void run_job(struct encoder_pool *pool, struct encode_job *job)
         uint16_t *rgb = malloc((size_t)width * height * 3 * sizeof *rgb);
         if (rgb) {
             png_linear16_quantize(job->pixels, (size_t)width * height, job->full_scale_cd_m2, rgb);
-            encoded = png_encode_linear16(rgb, width, height, job->full_scale_cd_m2, &encoded_bytes,
-                                          &length);
+            encoded = png_encode_linear16(rgb, width, height, job->full_scale_cd_m2,
+                                          PNG_EFFORT_STREAM, &encoded_bytes, &length);
         }
         free(rgb);
     } else if (job->meta.format == PROTO_FRAME_FORMAT_JPEG) {
         encoded = jpeg_encode_rgba8(job->pixels, width, height, job->quality, &encoded_bytes,
                                     &length);
     } else {
-        encoded = png_encode_rgba8(job->pixels, width, height, &encoded_bytes, &length);
+        encoded = png_encode_rgba8(job->pixels, width, height, PNG_EFFORT_STREAM, &encoded_bytes,
+                                   &length);
     }
     if (encoded == 0)
         frame = encoded_frame_create(&job->meta, encoded_bytes, length);

@@ -283,7 +283,7 @@ static int save_map(const char *path, const struct proto_weather_map *map, char 
     }
     uint8_t *png = NULL;
     size_t length = 0;
-    if (png_encode_rgba8(map->rgba, map->width, map->height, &png, &length) != 0) {
+    if (png_encode_rgba8(map->rgba, map->width, map->height, PNG_EFFORT_FILE, &png, &length) != 0) {
         snprintf(err, errlen, "cannot encode the weather map as PNG");
         return -1;
     }

@@ -11,9 +11,16 @@
 int png_write_rgba8_file(const char *path, const uint8_t *rgba, uint32_t width, uint32_t height,
                          char *err, size_t errlen);
 
+/* How hard zlib works: a live stream's frames are encoded fast (level 1, one filter), files
+ * and stored state smaller (level 3, libpng's filter choice per row). Both decode alike. */
+enum png_effort {
+    PNG_EFFORT_STREAM,
+    PNG_EFFORT_FILE,
+};
+
 /* Encodes to a malloc'd buffer (*out, *out_len); returns 0 or -1. */
-int png_encode_rgba8(const uint8_t *rgba, uint32_t width, uint32_t height, uint8_t **out,
-                     size_t *out_len);
+int png_encode_rgba8(const uint8_t *rgba, uint32_t width, uint32_t height, enum png_effort effort,
+                     uint8_t **out, size_t *out_len);
 
 /* 16-bit linear PNGs: sample = min(1, L / full_scale) x 65535 per channel, L the luminance
  * (cd/m2) before exposure; gAMA 1.0, sRGB primaries, and full_scale in cd/m2 as the tEXt
@@ -31,7 +38,8 @@ void png_linear16_quantize(const float *rgba_cd_m2, size_t texels, double full_s
                            uint16_t *rgb);
 
 int png_encode_linear16(const uint16_t *rgb, uint32_t width, uint32_t height,
-                        double full_scale_cd_m2, uint8_t **out, size_t *out_len);
+                        double full_scale_cd_m2, enum png_effort effort, uint8_t **out,
+                        size_t *out_len);
 int png_write_linear16_file(const char *path, const uint16_t *rgb, uint32_t width, uint32_t height,
                             double full_scale_cd_m2, char *err, size_t errlen);
 
