@@ -1,6 +1,8 @@
 /* skyd bench: renders N frames per resolution through the daemon's render path and prints
  * per-pass GPU times (timestamp queries) and whole-frame times, medians and p99 over the
  * frames, plus the full atmosphere LUT rebuild time. Not a test: it asserts nothing. */
+#include <errno.h>
+#include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -219,11 +221,26 @@ static int bench_drag(struct sky_renderer *r, const struct cli_common *c, unsign
 /* The converged multiple scattering (ms_refine.h): from an atmosphere change, frames under the
  * LUT budget until the table has faded in fully, then as many frames after. Prints the wall
  * time to each stage, the refinement's passes per frame and the frames' p99 during the
- * refinement against after it, in the same run. */
+ * refinement against after it, in the same run. With fps > 0 the frames come at that rate, as
+ * a stream's (the renderer idle between them); otherwise back to back. */
 #define CONVERGE_GOAL_S 10.0
 
+/* Sleeps until `seconds` after t0 (CLOCK_MONOTONIC); at once when that has passed. */
+static void sleep_until(const struct timespec *t0, double seconds)
+{
+    struct timespec due = *t0;
+    due.tv_sec += (time_t)seconds;
+    due.tv_nsec += (long)((seconds - floor(seconds)) * 1e9);
+    if (due.tv_nsec >= 1000000000L) {
+        due.tv_sec++;
+        due.tv_nsec -= 1000000000L;
+    }
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &due, NULL) == EINTR)
+        ;
+}
+
 static int bench_converge(struct sky_renderer *r, const struct cli_common *c, unsigned w,
-                          unsigned h, double budget_ms, double budget_fraction,
+                          unsigned h, double budget_ms, double budget_fraction, double fps,
                           struct series *during, struct series *after)
 {
     static double ms_passes[MAX_FRAMES];
@@ -285,11 +302,16 @@ static int bench_converge(struct sky_renderer *r, const struct cli_common *c, un
             fprintf(stderr, "bench: the table did not converge in 120 s\n");
             goto fail;
         }
+        if (fps > 0.0)
+            sleep_until(&t0, (double)(i + 1) / fps);
     }
-    printf("converge %ux%u (LUT budget %.1f ms, at most %.3f of the rest of the frame): LUTs "
-           "settled %.2f s, table complete %.2f s, faded in %.2f s after the change; %d frames "
-           "refining\n",
-           w, h, budget_ms, budget_fraction, settled_s, complete_s, faded_s, n_during);
+    char rate[32] = "back to back";
+    if (fps > 0.0)
+        snprintf(rate, sizeof rate, "%.0f fps", fps);
+    printf("converge %ux%u, %s (LUT budget %.1f ms, at most %.3f of the rest of the frame "
+           "unless idle time leaves more): LUTs settled %.2f s, table complete %.2f s, faded in "
+           "%.2f s after the change; %d frames refining\n",
+           w, h, rate, budget_ms, budget_fraction, settled_s, complete_s, faded_s, n_during);
     if (n_during > 0 && n_after > 0) {
         printf(
             "    refinement passes per frame: median %.2f ms, p99 %.2f ms; in all: moments %.0f, "
@@ -320,7 +342,8 @@ int main(int argc, char **argv)
     struct cli_common common;
     cli_common_init(&common);
     int frames = 30, rebuilds = 10;
-    double drag_budget_ms = 0.0, drag_fraction = 0.05; /* the daemon's defaults: 2 ms, 0.05 */
+    double drag_budget_ms = 0.0, drag_fraction = 0.05; /* the daemon's defaults: 8 ms, 0.05 */
+    double converge_fps = 0.0;
     bool converge = false;
     unsigned sizes[MAX_SIZES][2];
     int size_count = 0;
@@ -343,6 +366,10 @@ int main(int argc, char **argv)
                 return 2;
         } else if (strcmp(argv[i], "--converge") == 0) {
             converge = true;
+        } else if (strcmp(argv[i], "--fps") == 0) {
+            if (!(v = cli_take_value(argc, argv, &i)) ||
+                !cli_parse_double("--fps", v, 0.1, 1000, &converge_fps))
+                return 2;
         } else if (strcmp(argv[i], "--drag-fraction") == 0) {
             if (!(v = cli_take_value(argc, argv, &i)) ||
                 !cli_parse_double("--drag-fraction", v, 0.0, 1.0, &drag_fraction))
@@ -379,7 +406,8 @@ int main(int argc, char **argv)
             size_count++;
         } else {
             fprintf(stderr, "usage: skyd_bench [--frames N] [--rebuilds N] [--size WxH]... "
-                            "[--drag BUDGET_MS] [--drag-fraction F] [--converge] [--clouds] "
+                            "[--drag BUDGET_MS] [--drag-fraction F] [--converge [--fps N]] "
+                            "[--clouds] "
                             "[--projection NAME] "
                             "[--preset NAME] "
                             "[--set PATH=VALUE] [--device NAME]\n");
@@ -422,15 +450,16 @@ int main(int argc, char **argv)
                             drag_fraction, s, drag) == 0
                      ? 0
                      : 1;
-    /* --converge: the table's convergence under the drag's budget (2 ms when not given). */
+    /* --converge: the table's convergence under the drag's budget (the daemon's 8 ms when not
+     * given), at --fps or back to back. */
     struct series *after = converge ? calloc(1, sizeof *after) : NULL;
     struct series *during = converge ? calloc(1, sizeof *during) : NULL;
     if (converge && (!after || !during))
         status = 1;
     for (int k = 0; k < size_count && status == 0 && converge; k++)
         status = bench_converge(r, &common, sizes[k][0], sizes[k][1],
-                                drag_budget_ms > 0 ? drag_budget_ms : 2.0, drag_fraction, during,
-                                after) == 0
+                                drag_budget_ms > 0 ? drag_budget_ms : 8.0, drag_fraction,
+                                converge_fps, during, after) == 0
                      ? 0
                      : 1;
     free(after);

@@ -83,6 +83,7 @@ struct sky_renderer {
     struct skyview_inputs skyview_shown; /* what the sky-view LUTs were last built for */
     enum sky_render_probe_ms probe_ms;   /* which multiple scattering probes answer with */
     struct sky_render_log log;           /* the caller's sink, which the context's forwards to */
+    double frame_end_ms; /* when the last frame's call returned (now_ms); 0 before the first */
 };
 
 /* After a failed submission or recreated images nothing the LUTs hold can be trusted. */
@@ -384,6 +385,9 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     if (!call_begins(r))
         return -1;
     double start = now_ms();
+    /* The time since the last frame is idle (a stream's period less its frames): LUT work may
+     * take part of it without delaying the next frame. */
+    atmosphere_luts_observe_idle(r->luts, r->frame_end_ms > 0.0 ? start - r->frame_end_ms : 0.0);
     size_t texel = v->output == SKY_RENDER_OUTPUT_LINEAR ? 16 : 4;
     if (v->width == 0 || v->height == 0 || pixels_bytes < (size_t)v->width * v->height * texel) {
         vk_log(r->ctx, VK_LOG_ERROR, "render: output buffer too small for %ux%u", v->width,
@@ -456,6 +460,7 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     if (stats)
         stats->exposure = sky_ev100_to_exposure(v->auto_exposure ? stats->metered_ev100 : v->ev100);
     fault_injection_frame_rendered();
+    r->frame_end_ms = now_ms();
     return 0;
 }
 

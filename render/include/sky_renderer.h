@@ -226,7 +226,9 @@ void sky_renderer_multiple_scattering(const struct sky_renderer *renderer,
 /* Amortized atmosphere LUT updates (seed 001, 3.5.1). With budget_ms > 0, a frame whose
  * atmosphere differs from the displayed one starts a rebuild that is spread over frames, about
  * budget_ms of GPU time each, or budget_fraction of the frame's own GPU time (the rest of the
- * frame, smoothed over frames) when that is less and budget_fraction > 0; at least one slice
+ * frame, smoothed over frames) when that is less and budget_fraction > 0, unless half the wall
+ * time since the previous frame returned is more (the idle part of a stream's frame period,
+ * which a fast device has most of: frames back to back leave none); at least one slice
  * (a transmittance row, a multiple-scattering texel) per frame. Frames keep using the last complete
  * LUTs and atmosphere; when it completes they blend to the new ones over blend_frames frames.
  * A different atmosphere during a rebuild restarts it. budget_ms <= 0 (the default) rebuilds at

@@ -62,7 +62,7 @@ static const struct proto_field_desc config_fields[] = {
     NUMBER("render.lut_budget_ms", lut_budget_ms, 0, 1000,
            "GPU ms per frame for amortized LUT rebuilds; 0: at once"),
     NUMBER("render.lut_budget_fraction", lut_budget_fraction, 0, 1,
-           "and at most this share of the rest of a frame"),
+           "and at most this share of the rest of a frame, unless idle time leaves more"),
     INT("render.lut_blend_frames", lut_blend_frames, 1, 240,
         "frames over which rebuilt LUTs blend in"),
     NUMBER("state_save_delay_s", state_save_delay_s, 0, 3600,
@@ -115,7 +115,7 @@ void skyd_config_defaults(struct skyd_config *c)
     c->listen_port = 8080;
     snprintf(c->state_file, sizeof c->state_file, "var/skyd-state.json");
     c->encoder_threads = 0;
-    c->lut_budget_ms = 2.0;
+    c->lut_budget_ms = 8.0;
     c->lut_budget_fraction = 0.05;
     c->lut_blend_frames = 4;
     c->state_save_delay_s = 1.0;
