@@ -35,6 +35,7 @@ struct series {
     int pass_count;
     double pass_ms[SKY_RENDER_MAX_PASSES][MAX_FRAMES];
     double gpu_ms[MAX_FRAMES], wall_ms[MAX_FRAMES], cpu_ms[MAX_FRAMES];
+    enum sky_render_cloud_resolution last_cloud_resolution; /* what the last frame traced at */
 };
 
 /* CPU time of the whole process (lavapipe's worker threads included): unlike wall time it
@@ -70,6 +71,9 @@ static void record_sample(struct series *s, int i, const struct sky_render_stats
     }
     s->gpu_ms[i] = st->gpu_ms;
     s->wall_ms[i] = st->wall_ms;
+    s->last_cloud_resolution = st->cloud_resolution < SKY_RENDER_CLOUDS_AUTO
+                                   ? st->cloud_resolution
+                                   : SKY_RENDER_CLOUDS_SIXTYFOURTH;
 }
 
 static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosphere *atm, int n,
@@ -143,6 +147,10 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
     char label[64];
     snprintf(label, sizeof label, "frame %ux%u", w, h);
     print_series(label, s, n);
+    static const char *const levels[] = { "full", "quarter", "sixteenth", "sixtyfourth" };
+    if (s->pass_count > 0 && c->state.clouds.resolution == PROTO_CLOUD_RESOLUTION_AUTO)
+        printf("    clouds.quality.resolution auto: the last frame traced at %s\n",
+               levels[s->last_cloud_resolution]);
     double wall = percentile(s->wall_ms, n, 0.5), gpu = percentile(s->gpu_ms, n, 0.5);
     printf("    trivial write %ux%u: %.2f ms; frame/trivial: wall %.2fx, gpu %.2fx\n", w, h,
            trivial, wall / trivial, gpu / trivial);
@@ -343,7 +351,7 @@ int main(int argc, char **argv)
     cli_common_init(&common);
     int frames = 30, rebuilds = 10;
     double drag_budget_ms = 0.0, drag_fraction = 0.05; /* the daemon's defaults: 8 ms, 0.05 */
-    double converge_fps = 0.0;
+    double converge_fps = 0.0, frame_budget_ms = 0.0;
     bool converge = false;
     unsigned sizes[MAX_SIZES][2];
     int size_count = 0;
@@ -366,6 +374,10 @@ int main(int argc, char **argv)
                 return 2;
         } else if (strcmp(argv[i], "--converge") == 0) {
             converge = true;
+        } else if (strcmp(argv[i], "--frame-budget") == 0) {
+            if (!(v = cli_take_value(argc, argv, &i)) ||
+                !cli_parse_double("--frame-budget", v, 0.0, 1000, &frame_budget_ms))
+                return 2;
         } else if (strcmp(argv[i], "--fps") == 0) {
             if (!(v = cli_take_value(argc, argv, &i)) ||
                 !cli_parse_double("--fps", v, 0.1, 1000, &converge_fps))
@@ -407,7 +419,7 @@ int main(int argc, char **argv)
         } else {
             fprintf(stderr, "usage: skyd_bench [--frames N] [--rebuilds N] [--size WxH]... "
                             "[--drag BUDGET_MS] [--drag-fraction F] [--converge [--fps N]] "
-                            "[--clouds] "
+                            "[--clouds] [--frame-budget MS] "
                             "[--projection NAME] "
                             "[--preset NAME] "
                             "[--set PATH=VALUE] [--device NAME]\n");
@@ -428,6 +440,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "skyd_bench: cannot start the Vulkan renderer\n");
         return 1;
     }
+    sky_renderer_set_frame_budget(r, frame_budget_ms); /* clouds.quality.resolution auto */
     printf("device: %s; projection %s\n", sky_renderer_device_name(r),
            projection == SKY_RENDER_PROJECTION_EQUIRECTANGULAR ? "equirectangular" : "perspective");
     struct series *s = calloc(1, sizeof *s);

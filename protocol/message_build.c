@@ -431,6 +431,15 @@ char *proto_msg_build_stats(const struct proto_msg_id *id, const struct proto_ms
         put_number(&b, item, "progress", ms->progress);
         put_count(&b, item, "order", (uint64_t)ms->order);
     }
+    if (stats->cloud_resolution) {
+        const char *name = *stats->cloud_resolution < PROTO_CLOUD_RESOLUTION_AUTO
+                               ? proto_cloud_resolution_name(*stats->cloud_resolution)
+                               : NULL;
+        if (name)
+            put_string(&b, b.root, "cloud_resolution", name);
+        else
+            b.ok = false;
+    }
     cJSON *subscriptions = put(&b, b.root, "subscriptions", cJSON_CreateArray());
     for (size_t i = 0; i < stats->subscription_count && b.ok; i++) {
         const struct proto_msg_subscription_stats *s = &stats->subscriptions[i];

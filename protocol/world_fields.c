@@ -21,8 +21,8 @@ static const char *const exposure_mode_names[] = { "auto", "manual" };
 static const char *const tonemap_names[] = { "aces", "reinhard", "clamp" };
 static const char *const bodies_names[] = { "manual", "ephemeris" };
 static const char *const switch_names[] = { "off", "on" };
-static const char *const cloud_resolution_names[] = { "full", "quarter", "sixteenth",
-                                                      "sixtyfourth" };
+static const char *const cloud_resolution_names[] = { "full", "quarter", "sixteenth", "sixtyfourth",
+                                                      "auto" };
 static const char *const weather_map_source_names[] = { "procedural", "client", "forecast" };
 static const char *const weather_source_names[] = { "procedural", "client", "metar", "forecast" };
 
@@ -242,7 +242,8 @@ const struct proto_field_desc proto_world_field_table[] = {
         "steps of the secondary march toward the sun"),
     ENUM("clouds.quality.resolution", clouds.resolution, cloud_resolution_names,
          "share of the pixels ray-marched per frame: full, quarter (2x2 cycle), sixteenth "
-         "(4x4 cycle) or sixtyfourth (clouds at half size, 4x4 cycle)"),
+         "(4x4 cycle), sixtyfourth (clouds at half size, 4x4 cycle), or auto: the finest whose "
+         "frames fit the daemon's render.frame_budget_ms, from their measured GPU time"),
     ENUM("clouds.quality.temporal", clouds.temporal, switch_names,
          "temporal reprojection: frames accumulate into a history"),
     NUMBER("weather.humidity", weather.humidity, 0, 1,
@@ -497,4 +498,10 @@ void proto_weather_params_put(struct proto_world_state *state,
     state->weather.humidity = in->humidity;
     state->weather.wind.speed_m_s = in->wind_speed_m_s;
     state->weather.wind.direction_deg = in->wind_direction_deg;
+}
+
+const char *proto_cloud_resolution_name(enum proto_cloud_resolution resolution)
+{
+    size_t count = sizeof cloud_resolution_names / sizeof cloud_resolution_names[0];
+    return (size_t)resolution < count ? cloud_resolution_names[resolution] : NULL;
 }

@@ -271,6 +271,7 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
     if (!stats)
         return;
     memset(stats, 0, sizeof *stats);
+    stats->cloud_resolution = cloud_renderer_resolution(r->clouds); /* before the frame moves it */
     struct gpu_timer_result t;
     if (gpu_timer_read(r->ctx, r->timer, &t)) {
         for (int i = 0; i < t.count && i < SKY_RENDER_MAX_PASSES; i++) {
@@ -547,6 +548,11 @@ void sky_renderer_multiple_scattering(const struct sky_renderer *r,
     out->progress = ms_refine_progress(ms);
     out->order = ms_refine_order(ms);
     out->build_s = ms_refine_build_seconds(ms);
+}
+
+void sky_renderer_set_frame_budget(struct sky_renderer *r, double frame_budget_ms)
+{
+    cloud_renderer_set_frame_budget(r->clouds, frame_budget_ms);
 }
 
 void sky_renderer_set_amortization(struct sky_renderer *r,

@@ -109,6 +109,7 @@ if [ $run_tests = 1 ]; then
   run envmap 1800 "$t/test_envmap" "$out"
   run lut_amortization 1800 "$t/test_lut_amortization"
   run render_multiple_scattering 1800 "$t/test_ms_refine"
+  run cloud_quality 1800 "$t/test_cloud_quality"
   run units 1800 "$t/test_units"
 fi
 
@@ -123,7 +124,10 @@ if [ $run_benches = 1 ]; then
   bench="$build/bench/skyd_bench"
   run bench_sky 1800 "$bench" --rebuilds 15 --frames $frames "${sizes[@]}"
   run bench_clouds 1800 "$bench" --rebuilds 1 --frames $frames --clouds "${sizes[@]}"
-  run bench_converge 1800 "$bench" --rebuilds 1 --frames 300 --size 1280x720 --drag 2 --converge
+  # clouds.quality.resolution auto under a 2 ms frame budget: the level it reaches, and the cost
+  run bench_clouds_auto 1800 "$bench" --rebuilds 1 --frames $frames --clouds "${sizes[@]}" \
+    --set clouds.quality.resolution=auto --frame-budget 2
+  run bench_converge 1800 "$bench" --rebuilds 1 --frames 300 --size 1280x720 --converge --fps 60
   for size in "${stream_sizes[@]}"; do
     for format in jpeg png; do
       run "stream_${format}_$size" 600 "$build/bench/skyd_bench_serve" --skyd "$build/skyd" \

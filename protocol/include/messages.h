@@ -369,6 +369,9 @@ struct proto_msg_stats {
     size_t subscription_count;
     /* The converged multiple scattering's refinement (NULL: left out). */
     const struct proto_msg_multiple_scattering *multiple_scattering;
+    /* The resolution the last frame's clouds were traced at, the level clouds.quality.resolution
+     * "auto" chose (PROTO_CLOUD_RESOLUTION_FULL .. SIXTYFOURTH; NULL: left out). */
+    const enum proto_cloud_resolution *cloud_resolution;
 };
 
 char *proto_msg_build_stats(const struct proto_msg_id *id, const struct proto_msg_stats *stats);

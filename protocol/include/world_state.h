@@ -44,6 +44,7 @@ enum proto_cloud_resolution {
     PROTO_CLOUD_RESOLUTION_QUARTER = 1,     /* one pixel of each 2x2 block per frame */
     PROTO_CLOUD_RESOLUTION_SIXTEENTH = 2,   /* one pixel of each 4x4 block per frame */
     PROTO_CLOUD_RESOLUTION_SIXTYFOURTH = 3, /* half-size clouds, one of each 4x4 per frame */
+    PROTO_CLOUD_RESOLUTION_AUTO = 4,        /* the finest whose frames fit the frame budget */
 };
 
 /* Where the weather map comes from. */
@@ -259,6 +260,9 @@ void proto_weather_params_put(struct proto_world_state *state,
 
 /* Earth defaults (DESIGN.md constants); revision 0. */
 void proto_world_state_defaults(struct proto_world_state *state);
+
+/* The name clouds.quality.resolution gives a resolution ("full" .. "auto"); NULL out of range. */
+const char *proto_cloud_resolution_name(enum proto_cloud_resolution resolution);
 
 /* Validates `patch` (a JSON object, any subset of the state's tree) against the schema and
  * applies it to *state only when every field is valid and the result is consistent. Unknown

@@ -9,6 +9,7 @@
 #include "cloud_noise.h"
 #include "cloud_params.h"
 #include "cloud_passes.h"
+#include "cloud_quality.h"
 #include "cloud_view.h"
 #include "compute_pass.h"
 #include "gpu_timer.h"
@@ -95,10 +96,11 @@ struct cloud_renderer {
     float shown_shadow_sun[3]; /* the sun of the shown shadow map and sun-depth volume */
     bool shadow_has_sun, env_dirty;
     double budget_ms;
-    double last_frame_ms;       /* GPU time of the last frame, for the relative map budget */
-    uint32_t params_generation; /* counts changes of the clouds other than the wind's drift */
-    float client_max_rain;      /* the largest precipitation of the client map */
-    float client_max_type;      /* the largest cloud type of the client map */
+    double last_frame_ms;         /* GPU time of the last frame, for the relative map budget */
+    struct cloud_quality quality; /* the level resolution AUTO traces at */
+    uint32_t params_generation;   /* counts changes of the clouds other than the wind's drift */
+    float client_max_rain;        /* the largest precipitation of the client map */
+    float client_max_type;        /* the largest cloud type of the client map */
     /* Whether each weather image may hold towering clouds (a type above
      * CLOUD_TOWERING_TYPE): the marches read the shown one's through their variant. */
     bool weather_towering[2];
@@ -160,6 +162,7 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
     if (!cr)
         return NULL;
     cr->quiet = quiet;
+    cloud_quality_init(&cr->quality);
     VK_CHECK_GOTO(gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_REPEAT, &cr->repeat),
                   destroy_partial);
     if (cloud_noise_create(ctx, &cr->noise) != 0 ||
@@ -247,6 +250,16 @@ int cloud_renderer_prepare_noise(struct vk_context *ctx, struct cloud_renderer *
 void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms)
 {
     cr->budget_ms = budget_ms;
+}
+
+void cloud_renderer_set_frame_budget(struct cloud_renderer *cr, double frame_budget_ms)
+{
+    cloud_quality_set_budget(&cr->quality, frame_budget_ms);
+}
+
+enum sky_render_cloud_resolution cloud_renderer_resolution(const struct cloud_renderer *cr)
+{
+    return cloud_quality_resolve(&cr->quality, cr->clouds.resolution);
 }
 
 /* ---- client weather map ---- */
@@ -574,8 +587,10 @@ int cloud_renderer_record_view(struct vk_context *ctx, struct cloud_renderer *cr
     float ceiling = (float)cr->clouds.precipitation;
     if (cr->has_client_map && cr->client_max_rain > ceiling)
         ceiling = cr->client_max_rain;
+    struct sky_render_clouds traced = cr->clouds;
+    traced.resolution = cloud_renderer_resolution(cr);
     const struct cloud_view_inputs in = {
-        .clouds = &cr->clouds,
+        .clouds = &traced,
         .march = march,
         .march_variant = march_variant(cr, f),
         .params = &cr->params,
@@ -590,6 +605,7 @@ int cloud_renderer_record_view(struct vk_context *ctx, struct cloud_renderer *cr
 
 void cloud_renderer_observe(struct cloud_renderer *cr, const char *pass_name, double ms)
 {
+    cloud_quality_observe_pass(&cr->quality, pass_name, ms);
     struct cloud_map *m = strcmp(pass_name, "cloud_weather") == 0  ? &cr->weather
                           : strcmp(pass_name, "cloud_shadow") == 0 ? &cr->shadow
                                                                    : NULL;
@@ -603,6 +619,7 @@ void cloud_renderer_observe_frame(struct cloud_renderer *cr, double gpu_ms)
 {
     if (gpu_ms > 0.0)
         cr->last_frame_ms = gpu_ms;
+    cloud_quality_observe_frame(&cr->quality, gpu_ms);
 }
 
 int cloud_renderer_reference_stats(const struct cloud_renderer *cr,

@@ -29,6 +29,10 @@ int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer
                                    const uint8_t *rgba8, uint32_t width, uint32_t height);
 /* GPU ms per frame for weather and shadow map rebuilds; <= 0 rebuilds at once. */
 void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms);
+/* GPU ms a whole frame may take, which resolution AUTO fits (cloud_quality.h); <= 0 none. */
+void cloud_renderer_set_frame_budget(struct cloud_renderer *cr, double frame_budget_ms);
+/* The resolution frames trace at now: the clouds' own, or the level AUTO chose. */
+enum sky_render_cloud_resolution cloud_renderer_resolution(const struct cloud_renderer *cr);
 
 /* The cloud work of a frame, in two parts around the view's aerial-perspective volume (which
  * takes the shadow map and is read by the trace). First the shared maps (weather, shadow,

@@ -122,6 +122,19 @@ struct sky_render_multiple_scattering {
     double build_s;  /* wall time of the last complete build (NAN before one) */
 };
 
+/* How many of the cloud pixels are traced each frame (the rest from reprojected history). */
+enum sky_render_cloud_resolution {
+    SKY_RENDER_CLOUDS_FULL = 0,      /* every pixel traced every frame */
+    SKY_RENDER_CLOUDS_QUARTER = 1,   /* one pixel of each 2x2 block per frame */
+    SKY_RENDER_CLOUDS_SIXTEENTH = 2, /* one pixel of each 4x4 block per frame */
+    /* Clouds at half width and height, one pixel of each 4x4 block of those per frame
+     * (Schneider 2015's scheme): 1/64 of the output's pixels. */
+    SKY_RENDER_CLOUDS_SIXTYFOURTH = 3,
+    /* One of the above, the finest whose frames fit the frame budget
+     * (sky_renderer_set_frame_budget), from the measured GPU time: the coarsest without one. */
+    SKY_RENDER_CLOUDS_AUTO = 4,
+};
+
 struct sky_render_stats {
     int pass_count;
     const char *pass_names[SKY_RENDER_MAX_PASSES];
@@ -136,6 +149,8 @@ struct sky_render_stats {
      * luminance x exposure; with LINEAR output it says how the frame would have been exposed. */
     double exposure;
     struct sky_render_multiple_scattering multiple_scattering;
+    /* The resolution the frame's clouds were traced at (the level AUTO chose). */
+    enum sky_render_cloud_resolution cloud_resolution;
 };
 
 struct sky_renderer;
@@ -241,6 +256,9 @@ struct sky_render_amortization {
 void sky_renderer_set_amortization(struct sky_renderer *renderer,
                                    const struct sky_render_amortization *amortization);
 
+/* The GPU time a frame may take (ms; <= 0: none), which clouds at resolution AUTO fit. */
+void sky_renderer_set_frame_budget(struct sky_renderer *renderer, double frame_budget_ms);
+
 /* Whether a pass of sky_render_stats is atmosphere LUT work (a rebuild's slices, the save and
  * blend of the displayed LUTs). */
 bool sky_render_pass_is_atmosphere_lut(const char *pass_name);
@@ -253,15 +271,6 @@ bool sky_render_pass_is_atmosphere_lut(const char *pass_name);
 float *sky_renderer_read_lut(struct sky_renderer *renderer, const char *name, uint32_t size[3]);
 
 /* ---- Clouds (seed 001 section 5) ---- */
-
-enum sky_render_cloud_resolution {
-    SKY_RENDER_CLOUDS_FULL = 0,      /* every pixel traced every frame */
-    SKY_RENDER_CLOUDS_QUARTER = 1,   /* one pixel of each 2x2 block per frame */
-    SKY_RENDER_CLOUDS_SIXTEENTH = 2, /* one pixel of each 4x4 block per frame */
-    /* Clouds at half width and height, one pixel of each 4x4 block of those per frame
-     * (Schneider 2015's scheme): 1/64 of the output's pixels. */
-    SKY_RENDER_CLOUDS_SIXTYFOURTH = 3,
-};
 
 struct sky_render_cloud_layer {
     double coverage; /* 0..1 */

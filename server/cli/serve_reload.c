@@ -89,6 +89,7 @@ static void note_restart_fields(const struct skyd_config *a, const struct skyd_c
                         a->lut_budget_ms != b->lut_budget_ms ||
                         a->lut_budget_fraction != b->lut_budget_fraction ||
                         a->lut_blend_frames != b->lut_blend_frames ||
+                        a->frame_budget_ms != b->frame_budget_ms ||
                         a->render_validation != b->render_validation },
         { "cluster",
           strcmp(a->cluster_redis, b->cluster_redis) != 0 ||

@@ -63,6 +63,9 @@ static const struct proto_field_desc config_fields[] = {
            "GPU ms per frame for amortized LUT rebuilds; 0: at once"),
     NUMBER("render.lut_budget_fraction", lut_budget_fraction, 0, 1,
            "and at most this share of the rest of a frame, unless idle time leaves more"),
+    NUMBER("render.frame_budget_ms", frame_budget_ms, 0, 1000,
+           "GPU ms a frame may take: clouds.quality.resolution auto traces the finest clouds "
+           "that fit; 0: none (auto stays at the coarsest)"),
     INT("render.lut_blend_frames", lut_blend_frames, 1, 240,
         "frames over which rebuilt LUTs blend in"),
     NUMBER("state_save_delay_s", state_save_delay_s, 0, 3600,
@@ -117,6 +120,7 @@ void skyd_config_defaults(struct skyd_config *c)
     c->encoder_threads = 0;
     c->lut_budget_ms = 8.0;
     c->lut_budget_fraction = 0.05;
+    c->frame_budget_ms = 16.0;
     c->lut_blend_frames = 4;
     c->state_save_delay_s = 1.0;
     c->forecast_poll_s = 5.0;

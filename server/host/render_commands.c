@@ -15,6 +15,7 @@
 #include "monotonic_clock.h"
 #include "presets.h"
 #include "weather_observation.h"
+#include "world_render.h"
 #include "world_sim.h"
 
 /* Preset folders under the config directory, by enum proto_preset_kind. */
@@ -494,6 +495,9 @@ static void handle_stats(struct render_context *ctx, struct session *session,
         ms = (struct proto_msg_multiple_scattering){ last->multiple_scattering.weight,
                                                      last->multiple_scattering.progress,
                                                      last->multiple_scattering.order };
+    enum proto_cloud_resolution traced = last
+                                             ? world_render_cloud_resolution(last->cloud_resolution)
+                                             : PROTO_CLOUD_RESOLUTION_AUTO;
     struct proto_msg_stats stats = {
         .fps = frame_scheduler_fps(ctx->frames),
         .clients = session_hub_count(ctx->hub),
@@ -503,7 +507,8 @@ static void handle_stats(struct render_context *ctx, struct session *session,
         .simulation_time_s = world_host_state(ctx->world)->clock.utc_unix_s,
         .subscriptions = subscriptions,
         .subscription_count = subscription_count,
-        .multiple_scattering = &ms
+        .multiple_scattering = &ms,
+        .cloud_resolution = traced != PROTO_CLOUD_RESOLUTION_AUTO ? &traced : NULL,
     };
     reply(ctx, session, &msg->id, proto_msg_build_stats(&msg->id, &stats));
 }

@@ -427,6 +427,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         .amortize = true,
         .lut_budget_ms = params->config->lut_budget_ms,
         .lut_budget_fraction = params->config->lut_budget_fraction,
+        .frame_budget_ms = params->config->frame_budget_ms,
         .lut_blend_frames = params->config->lut_blend_frames,
     };
     ctx->renderer = renderer_host_create(&host, world_host_render_input(ctx->world), err, errlen);

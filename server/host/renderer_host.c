@@ -78,6 +78,7 @@ static int open_renderer(struct renderer_host *h, const struct render_input *inp
     h->map_generation = 0;
     h->built = false;
     set_amortization(h, h->params.lut_budget_ms);
+    sky_renderer_set_frame_budget(h->renderer, h->params.frame_budget_ms);
     if (build_atmosphere) {
         struct sky_render_atmosphere atm = input->frame_atmosphere;
         if (sky_renderer_rebuild_atmosphere(h->renderer, &atm, NULL) != 0) {

@@ -164,6 +164,9 @@ void world_to_render_clouds(const struct proto_world_state *state, struct sky_re
     case PROTO_CLOUD_RESOLUTION_SIXTEENTH:
         out->resolution = SKY_RENDER_CLOUDS_SIXTEENTH;
         break;
+    case PROTO_CLOUD_RESOLUTION_AUTO:
+        out->resolution = SKY_RENDER_CLOUDS_AUTO;
+        break;
     default:
         out->resolution = SKY_RENDER_CLOUDS_SIXTYFOURTH;
         break;
@@ -281,4 +284,20 @@ void world_render_view(const struct render_input *input, const struct proto_msg_
     out->projection = view->projection == PROTO_VIEW_PROJECTION_EQUIRECTANGULAR
                           ? SKY_RENDER_PROJECTION_EQUIRECTANGULAR
                           : SKY_RENDER_PROJECTION_PERSPECTIVE;
+}
+
+enum proto_cloud_resolution world_render_cloud_resolution(enum sky_render_cloud_resolution traced)
+{
+    switch (traced) {
+    case SKY_RENDER_CLOUDS_FULL:
+        return PROTO_CLOUD_RESOLUTION_FULL;
+    case SKY_RENDER_CLOUDS_QUARTER:
+        return PROTO_CLOUD_RESOLUTION_QUARTER;
+    case SKY_RENDER_CLOUDS_SIXTEENTH:
+        return PROTO_CLOUD_RESOLUTION_SIXTEENTH;
+    case SKY_RENDER_CLOUDS_SIXTYFOURTH:
+        return PROTO_CLOUD_RESOLUTION_SIXTYFOURTH;
+    default:
+        return PROTO_CLOUD_RESOLUTION_AUTO;
+    }
 }

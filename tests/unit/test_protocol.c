@@ -163,9 +163,10 @@ static size_t build_server_examples(char **out, size_t max)
                                                   { "sun_disk", 0.05 } };
     const struct proto_msg_subscription_stats subscriptions[] = { { 1, 5242880, 12.5, 70, 2000 } };
     const struct proto_msg_multiple_scattering ms = { 0.4, 1, 0 };
+    const enum proto_cloud_resolution traced = PROTO_CLOUD_RESOLUTION_SIXTYFOURTH;
     struct proto_msg_stats stats = { 29.8, 3,          passes,        COUNT_OF(passes),
                                      1,    1782043200, subscriptions, COUNT_OF(subscriptions),
-                                     &ms };
+                                     &ms,  &traced };
     ADD(proto_msg_build_stats(&id13, &stats));
 #undef ADD
     return n;

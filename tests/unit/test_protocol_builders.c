@@ -279,7 +279,8 @@ void test_builders(void)
     struct proto_msg_subscription_stats subs[] = { { 2, 1000, 10, 0, 0 },
                                                    { 3, 4096, 2.5, 55, 80 } };
     struct proto_msg_multiple_scattering ms = { 0.25, 0.5, 3 };
-    struct proto_msg_stats stats = { 30, 2, passes, 2, 0.5, 1782043200.25, subs, 2, &ms };
+    enum proto_cloud_resolution traced = PROTO_CLOUD_RESOLUTION_QUARTER;
+    struct proto_msg_stats stats = { 30, 2, passes, 2, 0.5, 1782043200.25, subs, 2, &ms, &traced };
     json = parse_built(proto_msg_build_stats(NULL, &stats), "stats");
     const cJSON *sub_items = get(json, "subscriptions");
     CHECK_INT(cJSON_GetArraySize(sub_items), 2);
@@ -299,7 +300,18 @@ void test_builders(void)
     CHECK_DOUBLE(number_at(get(json, "multiple_scattering"), "weight"), 0.25);
     CHECK_DOUBLE(number_at(get(json, "multiple_scattering"), "progress"), 0.5);
     CHECK_DOUBLE(number_at(get(json, "multiple_scattering"), "order"), 3);
+    CHECK(cJSON_IsString(get(json, "cloud_resolution")) &&
+          strcmp(get(json, "cloud_resolution")->valuestring, "quarter") == 0);
     cJSON_Delete(json);
+    /* "auto" is asked for, never traced at: a frame's level is one of the four */
+    traced = PROTO_CLOUD_RESOLUTION_AUTO;
+    CHECK(proto_msg_build_stats(NULL, &stats) == NULL);
+    stats.cloud_resolution = NULL;
+    json = parse_built(proto_msg_build_stats(NULL, &stats), "stats");
+    CHECK(get(json, "cloud_resolution") == NULL);
+    cJSON_Delete(json);
+    stats.cloud_resolution = &traced;
+    traced = PROTO_CLOUD_RESOLUTION_FULL;
     ms.weight = 1.5;
     CHECK(proto_msg_build_stats(NULL, &stats) == NULL);
     ms.weight = 1;

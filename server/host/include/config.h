@@ -30,9 +30,10 @@ struct skyd_config {
     char render_device[64];               /* "" = automatic (a GPU when present, else lavapipe) */
     int encoder_threads;                  /* 0: skyd_config_encoder_threads() decides */
     /* Amortized atmosphere LUT rebuilds: GPU ms per frame (0 = at once) and blend frames. */
-    double lut_budget_ms;       /* 2 */
+    double lut_budget_ms;       /* 8 */
     double lut_budget_fraction; /* 0.05: and at most this share of the rest of a frame */
     int lut_blend_frames;       /* 4 */
+    double frame_budget_ms;     /* 16: clouds.quality.resolution auto fits frames to it */
     bool render_validation;
     int max_message_bytes;              /* 65536 */
     int max_clients;                    /* 64 */

@@ -30,6 +30,7 @@ struct renderer_host_params {
     bool amortize;
     double lut_budget_ms, lut_budget_fraction;
     int lut_blend_frames;
+    double frame_budget_ms; /* config render.frame_budget_ms: clouds at resolution auto */
     /* Path-traced reference clouds with this many samples per pixel (0: the real-time ones). */
     uint32_t cloud_reference_spp;
 };

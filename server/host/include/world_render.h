@@ -27,6 +27,8 @@ void world_to_render_view(const struct proto_world_state *state, uint32_t width,
                           enum sky_render_output_kind output, struct sky_render_view *out);
 /* The state's clouds.* and weather.* as the renderer's clouds (sky_renderer_set_clouds). */
 void world_to_render_clouds(const struct proto_world_state *state, struct sky_render_clouds *out);
+/* The world state's name for a resolution the renderer traced at (the way back of the above). */
+enum proto_cloud_resolution world_render_cloud_resolution(enum sky_render_cloud_resolution traced);
 
 /* The state's moon, stars and airglow: the moon's illuminance from its phase angle (the sun-moon
  * elongation) and distance (its angular diameter) through server/ephemeris' phase law; the
