@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "config.h"
+#include "error_text.h"
 #include "field_errors.h"
 #include "install_paths.h"
 #include "presets.h"
@@ -82,7 +83,7 @@ static int apply_set(struct cli_common *c, const char *assignment)
 static int apply_preset(struct cli_common *c, const char *name)
 {
     struct proto_field_errors errors = { 0 };
-    char msg[1024] = "";
+    error_text msg = "";
     if (!world_preset_apply(cli_presets_dir(c), "atmosphere", name, &c->state, &errors, msg,
                             sizeof msg)) {
         fprintf(stderr, "skyd: --preset %s: %s\n", name, msg);
@@ -120,7 +121,7 @@ int cli_parse_sim_option(int argc, char **argv, int *i, struct cli_common *c)
         if (!(value = cli_take_value(argc, argv, i)))
             return -1;
         struct proto_field_errors errors = { 0 };
-        char msg[1024] = "";
+        error_text msg = "";
         if (!world_preset_apply(cli_presets_dir(c), "weather", value, &c->state, &errors, msg,
                                 sizeof msg)) {
             fprintf(stderr, "skyd: --weather %s: %s\n", value, msg);
@@ -145,7 +146,7 @@ static int apply_config_file(struct cli_common *c, const char *path)
 {
     struct skyd_config config;
     struct proto_field_errors errors;
-    char msg[512];
+    error_text msg;
     if (!skyd_config_load(path, &config, &errors, msg, sizeof msg)) {
         fprintf(stderr, "skyd: --config: %s\n", msg);
         if (errors.count > 0)
@@ -242,7 +243,7 @@ struct renderer_host *cli_create_renderer(struct cli_common *c)
         .validation_message_counter = &c->validation_messages,
         .cloud_reference_spp = c->reference_spp,
     };
-    char err[256];
+    error_text err;
     struct render_input input;
     world_render_input(&c->state, &input);
     struct renderer_host *r = renderer_host_create(&params, &input, err, sizeof err);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "error_text.h"
 #include "field_errors.h"
 #include "forecast.h"
 #include "metar.h"
@@ -55,7 +56,7 @@ bool cli_apply_metar(struct proto_world_state *state, const char *text)
         return false;
     }
     cJSON *patch = NULL, *unmapped = NULL;
-    char why[256];
+    error_text why;
     bool ok = proto_obs_metar_patch(report, &patch, &unmapped, why, sizeof why);
     if (!ok)
         fprintf(stderr, "skyd render: --metar: %s\n", why);

@@ -11,6 +11,7 @@
 
 #include "cli_args.h"
 #include "commands.h"
+#include "error_text.h"
 #include "forecast.h"
 #include "messages.h"
 #include "utc_time.h"
@@ -41,7 +42,7 @@ static bool parse_time(const char *text, double *unix_s)
         *unix_s = value;
         return true;
     }
-    char why[128];
+    error_text why;
     if (proto_time_parse_iso8601(text, unix_s, why, sizeof why))
         return true;
     fprintf(stderr, "skyd forecast: --time \"%s\" is neither ISO 8601 nor seconds since 1970: %s\n",

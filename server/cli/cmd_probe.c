@@ -7,6 +7,7 @@
 #include "cli_args.h"
 #include "commands.h"
 #include "ephemeris.h"
+#include "error_text.h"
 #include "renderer_host.h"
 #include "world_render.h"
 
@@ -105,7 +106,7 @@ static int parse_body_option(int argc, char **argv, int *i, struct body_args *a)
     }
     if (strcmp(option, "--time") == 0) {
         const char *value = cli_take_value(argc, argv, i);
-        char err[160];
+        error_text err;
         if (!value)
             return -1;
         if (!proto_time_parse_iso8601(value, &a->unix_seconds, err, sizeof err)) {

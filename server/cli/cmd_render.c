@@ -9,6 +9,7 @@
 #include "cli_args.h"
 #include "cli_observation.h"
 #include "commands.h"
+#include "error_text.h"
 #include "field_errors.h"
 #include "forecast.h"
 #include "messages.h"
@@ -147,7 +148,7 @@ static bool start_lapse_transition(struct cli_common *common, const struct lapse
     if (!a->weather_to)
         return true;
     struct proto_world_state target = common->state;
-    char msg[1024];
+    error_text msg;
     if (!world_preset_apply(cli_presets_dir(common), "weather", a->weather_to, &target, NULL, msg,
                             sizeof msg)) {
         fprintf(stderr, "skyd: --weather-to %s: %s\n", a->weather_to, msg);
@@ -164,7 +165,7 @@ static bool start_lapse_transition(struct cli_common *common, const struct lapse
 /* --weather-map: the PNG a client would send in set_weather_map. */
 static bool load_weather_map(const char *path, struct proto_weather_map *map)
 {
-    char msg[640];
+    error_text msg;
     if (world_files_read_weather_map(path, 16u << 20, map, msg, sizeof msg))
         return true;
     fprintf(stderr, "skyd render: --weather-map: %s\n", msg);
@@ -478,7 +479,7 @@ static int render_frame(struct render_args *a, struct render_maps *m, struct ren
         fprintf(stderr, "skyd render: rendering failed\n");
         return SKYD_EXIT_FAILURE;
     }
-    char err[512];
+    error_text err;
     if (write_frame(path, b->pixels, b->rgb16, (int)a->quality, a->width, a->height, stats.exposure,
                     err, sizeof err) != 0) {
         fprintf(stderr, "skyd render: %s\n", err);

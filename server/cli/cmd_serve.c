@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "config.h"
 #include "control_token.h"
+#include "error_text.h"
 #include "field_errors.h"
 #include "install_paths.h"
 #include "log.h"
@@ -137,7 +138,7 @@ static bool load_config(const void *options, struct skyd_config *config)
     skyd_config_defaults(config);
     if (o->config_path) {
         struct proto_field_errors errors;
-        char msg[512];
+        error_text msg;
         if (!skyd_config_load(o->config_path, config, &errors, msg, sizeof msg)) {
             char detail[2048];
             proto_field_errors_format(&errors, detail, sizeof detail);
@@ -351,7 +352,7 @@ int skyd_cmd_serve(int argc, char **argv)
                                               .validation = validation,
                                               .config_dir = config_dir,
                                               .state_file = config.state_file };
-    char err[512];
+    error_text err;
     if (config.cluster_redis[0]) {
         if (!(parts.shared_world = shared_world_open(&config, &loop_params.initial_state, err,
                                                      sizeof err)))
@@ -408,7 +409,7 @@ int skyd_cmd_serve(int argc, char **argv)
 
     ws_server_run(parts.server, &parts.watch.stop);
     service_notify_stopping(parts.notify);
-    char failure[512] = "";
+    error_text failure = "";
     const char *why = render_loop_failure(parts.loop);
     if (why)
         snprintf(failure, sizeof failure, "%s", why);

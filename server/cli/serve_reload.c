@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "error_text.h"
 #include "log.h"
 #include "world_state.h"
 
@@ -55,7 +56,7 @@ static void check_presets(struct serve_reload *r, struct text *t)
                 add(t, "; %s preset %s added", preset_kinds[k], now[i]);
             struct proto_world_state scratch;
             proto_world_state_defaults(&scratch);
-            char why[512];
+            error_text why;
             if (!world_preset_apply(r->config_dir, preset_kinds[k], now[i], &scratch, NULL, why,
                                     sizeof why))
                 add(t, "; %s preset %s does not apply: %s", preset_kinds[k], now[i], why);

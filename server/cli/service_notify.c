@@ -9,6 +9,7 @@
 
 #include <systemd/sd-daemon.h>
 
+#include "error_text.h"
 #include "log.h"
 
 struct service_notify {
@@ -32,7 +33,7 @@ static void *watchdog_main(void *arg)
     pthread_mutex_lock(&n->lock);
     while (!n->stopping) {
         pthread_mutex_unlock(&n->lock);
-        char why[256] = "";
+        error_text why = "";
         bool healthy = !n->healthy || n->healthy(n->user, why, sizeof why);
         if (healthy)
             sd_notify(0, "WATCHDOG=1");

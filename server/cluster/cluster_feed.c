@@ -11,6 +11,7 @@
 
 #include "cluster_redis.h"
 #include "cluster_url.h"
+#include "error_text.h"
 
 static const double CONNECT_TIMEOUT_S = 1.0;
 static const double COMMAND_TIMEOUT_S = 3.0; /* longer than a blocked read */
@@ -102,7 +103,7 @@ static void set_connected(struct cluster_feed *f, bool connected)
 /* The stream does not go on from where the node is: the whole world instead. */
 static bool queue_snapshot(struct cluster_feed *f, redisContext *c)
 {
-    char why[320];
+    error_text why;
     bool absent = false;
     struct cluster_entry *e = cluster_redis_snapshot(c, &f->keys, 0, NULL, &absent, why,
                                                      sizeof why);
@@ -122,7 +123,7 @@ static bool read_once(struct cluster_feed *f, redisContext *c, int block_ms)
     redisReply *r = redisCommand(c, "XREAD COUNT 64 BLOCK %d STREAMS %s %s", block_ms,
                                  f->keys.stream, f->last_id);
     if (!r || r->type == REDIS_REPLY_ERROR) {
-        char why[320];
+        error_text why;
         cluster_redis_describe(c, r, why, sizeof why);
         feed_log(f, CLUSTER_LOG_WARNING, "reading the stream: %s", why);
         if (r)
@@ -134,7 +135,7 @@ static bool read_once(struct cluster_feed *f, redisContext *c, int block_ms)
         r->element[0]->type == REDIS_REPLY_ARRAY && r->element[0]->elements == 2) {
         const redisReply *items = r->element[0]->element[1];
         for (size_t i = 0; ok && items->type == REDIS_REPLY_ARRAY && i < items->elements; i++) {
-            char why[320];
+            error_text why;
             struct cluster_entry *e = cluster_redis_parse_entry(items->element[i], why, sizeof why);
             if (!e) {
                 feed_log(f, CLUSTER_LOG_ERROR, "%s", why);
@@ -174,7 +175,7 @@ static bool catch_up(struct cluster_feed *f, redisContext *c)
     }
     bool ok = true;
     if (r->elements == 1) {
-        char why[320];
+        error_text why;
         struct cluster_entry *oldest = cluster_redis_parse_entry(r->element[0], why, sizeof why);
         if (oldest && oldest->revision > f->last_revision + 1) {
             ok = queue_snapshot(f, c);
@@ -193,7 +194,7 @@ static void *feed_main(void *arg)
     double retry = RETRY_MIN_S;
     unsigned failures = 0; /* connection attempts failed in a row: the first is logged */
     while (!stopping(f)) {
-        char why[320];
+        error_text why;
         redisContext *c = cluster_redis_connect(&f->address, CONNECT_TIMEOUT_S, COMMAND_TIMEOUT_S,
                                                 why, sizeof why);
         if (c && catch_up(f, c)) {
@@ -233,7 +234,7 @@ struct cluster_feed *cluster_feed_create(const struct cluster_feed_params *p, ch
         snprintf(err, errlen, "out of memory");
         return NULL;
     }
-    char why[320];
+    error_text why;
     f->address = *p->address;
     if (!cluster_world_name_check(p->world, why, sizeof why)) {
         snprintf(err, errlen, "cluster: %s", why);

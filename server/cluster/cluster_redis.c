@@ -8,6 +8,8 @@
 #include <string.h>
 #include <sys/time.h>
 
+#include "error_text.h"
+
 void cluster_entry_free(struct cluster_entry *e)
 {
     if (!e)
@@ -70,7 +72,7 @@ static bool authenticate(redisContext *c, const struct cluster_address *a, char 
     redisReply *r = redisCommandArgv(c, argc, argv, lengths);
     bool ok = r && r->type == REDIS_REPLY_STATUS;
     if (!ok) {
-        char reason[320];
+        error_text reason;
         cluster_redis_describe(c, r, reason, sizeof reason);
         snprintf(why, whylen, "Redis refused AUTH as user \"%s\": %s%s",
                  a->user[0] ? a->user : "default", reason,
@@ -111,7 +113,7 @@ redisContext *cluster_redis_connect(const struct cluster_address *a, double time
                  "redis://USER:PASSWORD@HOST:PORT, or the password in a file",
                  r->str);
     } else if (!ok) {
-        char reason[320];
+        error_text reason;
         cluster_redis_describe(c, r, reason, sizeof reason);
         snprintf(why, whylen, "SELECT %d: %s", a->db, reason);
     }

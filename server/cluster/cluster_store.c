@@ -8,6 +8,7 @@
 
 #include "cluster_redis.h"
 #include "cluster_url.h"
+#include "error_text.h"
 
 /* At start a slow Redis is waited for; later a connection is made again on the render thread,
  * when a change comes, so an unreachable host may hold up frames only this long, and at most
@@ -15,12 +16,6 @@
 static const double START_CONNECT_TIMEOUT_S = 2.0, CONNECT_TIMEOUT_S = 0.25;
 static const double COMMAND_TIMEOUT_S = 2.0;
 static const double RETRY_MIN_S = 0.1, RETRY_MAX_S = 2.0;
-
-/* A reason kept from hiredis or from us (at most REASON_MAX characters), and the room a
- * message built around one needs: the reason, what connected() adds (a retry delay) or what
- * a caller adds (a host and port, a world's name). */
-#define REASON_MAX 300
-#define WHY_MAX (REASON_MAX + 100)
 
 struct cluster_store {
     struct cluster_address address;
@@ -30,7 +25,10 @@ struct cluster_store {
     char name[CLUSTER_URL_TEXT_MAX + CLUSTER_WORLD_MAX + 16];
     redisContext *redis;
     double retry_at, retry_delay; /* when a lost connection is tried again, and the back-off */
-    char last_error[REASON_MAX + 1];
+    /* A reason from hiredis or from us, kept to 300 characters (%.300s) so that what
+     * connected() and its callers add around it (a retry delay, a host and port, a world's
+     * name) still fits an error_text. */
+    error_text last_error;
 };
 
 static double now_seconds(void)
@@ -84,7 +82,7 @@ struct cluster_store *cluster_store_create(const struct cluster_store_params *p,
         snprintf(err, errlen, "out of memory");
         return NULL;
     }
-    char why[WHY_MAX];
+    error_text why;
     if (!cluster_url_parse(p->url, &s->address, why, sizeof why) ||
         !cluster_world_name_check(p->world, why, sizeof why)) {
         snprintf(err, errlen, "cluster: %s", why);
@@ -154,7 +152,7 @@ const struct cluster_address *cluster_store_address(const struct cluster_store *
 struct cluster_entry *cluster_store_open(struct cluster_store *s, uint64_t initial_revision,
                                          const char *initial_state, char *err, size_t errlen)
 {
-    char why[WHY_MAX];
+    error_text why;
     if (!connected(s, CONNECT_TIMEOUT_S, why, sizeof why)) {
         snprintf(err, errlen, "cannot reach the cluster %s: %s", s->name, why);
         return NULL;
@@ -194,7 +192,7 @@ enum cluster_commit_result cluster_store_commit(struct cluster_store *s, uint64_
 {
     *current = expected;
     id[0] = '\0';
-    char why[WHY_MAX];
+    error_text why;
     if (!connected(s, CONNECT_TIMEOUT_S, why, sizeof why)) {
         snprintf(err, errlen, "the cluster %s is unavailable: %s", s->name, why);
         return CLUSTER_UNAVAILABLE;

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "error_text.h"
 #include "forecast_grid.h"
 #include "forecast_series.h"
 #include "utc_time.h"
@@ -176,7 +177,7 @@ static bool check_grid(struct reader *r, codes_handle *h, double reference_unix_
                                r->name, mine, r->first, theirs);
     }
     struct forecast_grid_info grid;
-    char why[300];
+    error_text why;
     if (!forecast_grid_make(g.ni, g.nj, g.lat_first, g.lon_first, g.lat_last, g.lon_last, &grid,
                             why, sizeof why))
         return forecast_refuse(r->error, FORECAST_ERR_GRID, r->index, "message %d (%s): %s",

@@ -14,6 +14,7 @@
 #include <cjson/cJSON.h>
 
 #include "cluster_url.h"
+#include "error_text.h"
 #include "utc_time.h"
 
 #define MAX_CONFIG_BYTES (1 << 20)
@@ -206,7 +207,7 @@ static void check_cluster(const struct skyd_config *c, struct proto_field_errors
 {
     if (!c->cluster_redis[0] && !c->cluster_world[0] && !c->cluster_redis_password_file[0])
         return;
-    char why[320];
+    error_text why;
     struct cluster_address address;
     if (!c->cluster_redis[0]) {
         proto_field_errors_addf(errors, PROTO_FIELD_MISSING, "/cluster/redis",

@@ -1,4 +1,5 @@
 #include "control_token.h"
+#include "error_text.h"
 #include "secret_file.h"
 #include "state_store.h"
 
@@ -119,7 +120,7 @@ enum control_token_source control_token_settle(struct skyd_config *config, char 
     }
     if (token[0])
         return CONTROL_TOKEN_CONFIGURED;
-    char err[512];
+    error_text err;
     if (!config->state_file[0]) {
         if (!control_token_generate(token, sizeof config->controller_token, err, sizeof err)) {
             snprintf(note, notelen, "%s", err);
@@ -130,7 +131,7 @@ enum control_token_source control_token_settle(struct skyd_config *config, char 
     char path[sizeof config->state_file + 8];
     control_token_path(config->state_file, path, sizeof path);
     state_store_remove_temporaries(path);
-    char why[768] = "";
+    error_text why = "";
     switch (read_token_file(path, token, sizeof config->controller_token, why, sizeof why)) {
     case FILE_GOOD:
         return CONTROL_TOKEN_RESTORED;

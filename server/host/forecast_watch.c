@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#include "error_text.h"
 #include "log.h"
 #include "monotonic_clock.h"
 #include "test_faults.h"
@@ -51,7 +52,7 @@ struct forecast_watch {
     struct forecast_request request;
     struct file_mark refused[MAX_REFUSED];
     int refused_count;
-    char error[704];
+    error_text error;
     uint64_t refusals;
 };
 

@@ -12,6 +12,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "error_text.h"
 #include "forecast.h"
 
 struct forecast_watch_params {
@@ -28,9 +29,9 @@ struct forecast_watch_news {
      * file reads for the place any more. */
     bool replaced;
     struct forecast *forecast;
-    char file[256];  /* its file's name in the folder */
-    double read_s;   /* how long its read took */
-    char error[704]; /* the last refusal, "the folder cannot be read", or "" */
+    char file[256];   /* its file's name in the folder */
+    double read_s;    /* how long its read took */
+    error_text error; /* the last refusal, "the folder cannot be read", or "" */
     uint64_t refusals;
 };
 

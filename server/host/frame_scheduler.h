@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "error_text.h"
 #include "messages.h"
 #include "render_input.h"
 #include "renderer_host.h"
@@ -38,7 +39,7 @@ void frame_scheduler_destroy(struct frame_scheduler **scheduler);
 /* A refusal: PROTO_MSG_OK, or the error and a message for the client. */
 struct frame_refusal {
     enum proto_msg_error_code code;
-    char message[160];
+    error_text message;
 };
 
 /* A new subscription of the session to `view` (its fps sets the period); *id is its number. */

@@ -8,6 +8,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "error_text.h"
 #include "field_errors.h"
 #include "json_guard.h"
 #include "log.h"
@@ -77,7 +78,7 @@ static void reply_error(struct render_context *ctx, struct session *session,
                         const char *format, ...)
 /* clang-format on */
 {
-    char message[512];
+    error_text message;
     va_list args;
     va_start(args, format);
     vsnprintf(message, sizeof message, format, args);
@@ -98,7 +99,7 @@ static void reply_field_errors(struct render_context *ctx, struct session *sessi
     enum proto_msg_error_code code = prefixed.count
                                          ? (enum proto_msg_error_code)prefixed.items[0].code
                                          : PROTO_MSG_ERR_BAD_VALUE;
-    char message[320];
+    error_text message;
     if (prefixed.count)
         snprintf(message, sizeof message, "%s: %s", prefixed.items[0].pointer,
                  prefixed.items[0].reason);
@@ -136,7 +137,7 @@ static void commit_refused(struct render_context *ctx, struct session *session,
  * weather map); when it cannot, the commit is undone (world_host_undo_commit). false: it was. */
 static bool renderer_takes(struct render_context *ctx, struct world_commit *commit)
 {
-    char why[448];
+    error_text why;
     if (!commit->input || renderer_host_take(ctx->renderer, commit->input, why, sizeof why) == 0)
         return true;
     return !world_host_undo_commit(ctx->world, why, commit);
@@ -223,7 +224,7 @@ static bool weather_source_after_set(const struct render_context *ctx,
             next->weather.source = PROTO_WEATHER_SOURCE_CLIENT;
         return true;
     }
-    char why[1024];
+    error_text why;
     if (next->weather.source != PROTO_WEATHER_SOURCE_FORECAST ||
         live->weather.source == PROTO_WEATHER_SOURCE_FORECAST)
         return true;
@@ -281,7 +282,7 @@ static void handle_apply_observation(struct render_context *ctx, struct session 
         return;
     }
     cJSON *patch = NULL, *unmapped = NULL;
-    char why[256];
+    error_text why;
     if (!proto_obs_metar_patch(&report, &patch, &unmapped, why, sizeof why)) {
         proto_field_errors_add(&errors, PROTO_FIELD_BAD_VALUE, "/metar", why);
         log_refusal(ctx, session, why);
@@ -345,7 +346,7 @@ static void handle_apply_preset(struct render_context *ctx, struct session *sess
     const struct proto_world_state *live = world_host_state(ctx->world);
     struct proto_world_state next = *live;
     struct proto_field_errors errors;
-    char why[320];
+    error_text why;
     json_guard_lock();
     bool applied = world_preset_apply(ctx->config_dir, folder, msg->preset.name, &next, &errors,
                                       why, sizeof why);
@@ -468,7 +469,7 @@ static void handle_probe(struct render_context *ctx, struct session *session,
     struct proto_msg_probe_result result;
     if (renderer_host_probe(ctx->renderer, world_host_render_input(ctx->world), &msg->probe,
                             &result) != 0) {
-        char why[512];
+        error_text why;
         renderer_host_describe_failure(ctx->renderer, "the probe", why, sizeof why);
         reply_error(ctx, session, &msg->id, PROTO_MSG_ERR_INTERNAL, "%s", why);
         return;

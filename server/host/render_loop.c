@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "error_text.h"
 #include "log.h"
 #include "render_commands.h"
 #include "monotonic_clock.h"
@@ -51,7 +52,7 @@ struct render_loop {
     double last_trim_s;
     void (*on_failure)(void *user);
     void *failure_user;
-    char failure[384]; /* why the loop stopped on its own; "" while it runs (under lock) */
+    error_text failure; /* why the loop stopped on its own; "" while it runs (under lock) */
     /* report_tick's scratch (10 KiB, kept off the stack): the render thread's, and the
      * creating thread's before the render thread starts. */
     struct proto_msg_subscription_stats traffic[SERVICE_METRICS_MAX_SUBSCRIPTIONS];
@@ -164,8 +165,9 @@ static bool run_command(struct render_loop *loop, struct command *c)
 static void stop_on_failure(struct render_loop *loop, const char *why)
 {
     skyd_log(SKYD_LOG_ERROR, "%s; saving the state and stopping", why);
-    char message[448];
-    snprintf(message, sizeof message, "the daemon is stopping: %s", why);
+    error_text message;
+    error_text_mark_cut(message, sizeof message,
+                        snprintf(message, sizeof message, "the daemon is stopping: %s", why));
     frame_scheduler_fail_snapshots(loop->ctx.frames, message);
     pthread_mutex_lock(&loop->lock);
     snprintf(loop->failure, sizeof loop->failure, "%s", why);
@@ -179,7 +181,7 @@ static void stop_on_failure(struct render_loop *loop, const char *why)
 static bool renderer_usable(struct render_loop *loop)
 {
     struct render_context *ctx = &loop->ctx;
-    char why[384];
+    error_text why;
     switch (
         renderer_host_check(ctx->renderer, world_host_render_input(ctx->world), why, sizeof why)) {
     case RENDERER_HOST_OK:
@@ -261,7 +263,7 @@ static void report_tick(struct render_loop *loop, double now)
 static void take_input(struct render_loop *loop)
 {
     const struct render_input *input = world_host_render_input(loop->ctx.world);
-    char why[448];
+    error_text why;
     if (renderer_host_take(loop->ctx.renderer, input, why, sizeof why) != 0)
         skyd_log(SKYD_LOG_ERROR, "the renderer did not take revision %llu: %s",
                  (unsigned long long)input->state.revision, why);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "error_text.h"
 #include "log.h"
 #include "monotonic_clock.h"
 #include "probe_query.h"
@@ -239,7 +240,7 @@ int renderer_host_render(struct renderer_host *h, const struct render_input *inp
                          const struct sky_render_view *view, bool at_once, void *pixels,
                          size_t bytes, struct sky_render_stats *stats)
 {
-    char why[256];
+    error_text why;
     /* A frame that cannot show the input's clouds fails rather than show others. */
     if (!h->renderer || renderer_host_take(h, input, why, sizeof why) != 0)
         return -1;
@@ -326,7 +327,7 @@ int renderer_host_prepare(struct renderer_host *h, const struct render_input *in
         snprintf(err, errlen, "rendering the start-up frames failed");
         return -1;
     }
-    char why[256];
+    error_text why;
     if (renderer_host_take(h, input, why, sizeof why) != 0 && !renderer_host_lost(h))
         skyd_log(SKYD_LOG_ERROR, "%s", why);
     return 0;
@@ -364,7 +365,7 @@ enum renderer_host_check renderer_host_check(struct renderer_host *h,
     }
     /* The new renderer, made like the first one, takes the whole input, its client weather
      * map included. */
-    char why[256];
+    error_text why;
     if (open_renderer(h, input, true, true, why, sizeof why) != 0 ||
         renderer_host_prepare(h, input, why, sizeof why) != 0) {
         sky_renderer_destroy(&h->renderer);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "error_text.h"
 #include "log.h"
 #include "secret_file.h"
 #include "shared_world_internal.h"
@@ -22,7 +23,7 @@ static bool read_world(struct shared_world *w, const struct skyd_config *config,
                        const struct proto_world_state *initial, struct proto_world_state *state,
                        char *err, size_t errlen)
 {
-    char why[512];
+    error_text why;
     char *initial_text = world_codec_state_text(initial);
     if (!initial_text) {
         snprintf(err, errlen, "out of memory");
@@ -52,10 +53,11 @@ static bool read_password(const char *path, char *password, size_t size, char *w
     size_t length = 0;
     if (secret_file_read(path, password, size, &length, why, whylen) != SECRET_FILE_READ)
         return false;
-    char reason[160];
+    error_text reason;
     if (!secret_file_first_line(password, length, size, reason, sizeof reason)) {
         memset(password, 0, size);
-        snprintf(why, whylen, "%s holds no password: %s", path, reason);
+        error_text_mark_cut(why, whylen,
+                            snprintf(why, whylen, "%s holds no password: %s", path, reason));
         return false;
     }
     return true;
@@ -71,7 +73,7 @@ struct shared_world *shared_world_open(const struct skyd_config *config,
     }
     struct cluster_store_params params = { .url = config->cluster_redis,
                                            .world = config->cluster_world };
-    char why[512];
+    error_text why;
     char password[CLUSTER_PASSWORD_MAX + 2];
     if (config->cluster_redis_password_file[0]) {
         if (!read_password(config->cluster_redis_password_file, password, sizeof password, why,

@@ -1,4 +1,5 @@
 #include "state_store.h"
+#include "error_text.h"
 #include "field_errors.h"
 #include "png_write.h"
 #include "test_faults.h"
@@ -109,7 +110,7 @@ enum state_load_result state_store_load(const char *path, struct proto_world_sta
         snprintf(msg, msglen, "no state file at %s: starting from the defaults", path);
         return STATE_LOAD_ABSENT;
     }
-    char reason[640];
+    error_text reason;
     size_t length = 0;
     char *text = text_file_read(path, STATE_FILE_MAX_BYTES, &length);
     if (!text)
@@ -348,7 +349,7 @@ enum state_load_result state_store_read_weather_map(const char *path, size_t max
         text_file_describe_error(path, max_bytes, msg, msglen);
         return STATE_LOAD_FAILED;
     }
-    char reason[256];
+    error_text reason;
     bool ok = proto_weather_map_decode(PROTO_WEATHER_MAP_PNG, (const uint8_t *)bytes, length, 0, 0,
                                        map, reason, sizeof reason);
     free(bytes);

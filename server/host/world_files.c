@@ -1,5 +1,6 @@
 #include "world_files.h"
 
+#include "error_text.h"
 #include "log.h"
 #include "state_store.h"
 
@@ -9,7 +10,7 @@ void world_files_resume_state(const char *state_file, const struct proto_world_s
     *state = *configured;
     if (!state_file[0])
         return;
-    char msg[1024];
+    error_text msg;
     switch (state_store_load(state_file, state, msg, sizeof msg)) {
     case STATE_LOAD_RESTORED:
         skyd_log(SKYD_LOG_INFO, "restored the world state (revision %llu) from %s",

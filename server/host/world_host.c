@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "config.h"
+#include "error_text.h"
 #include "field_errors.h"
 #include "log.h"
 #include "messages.h"
@@ -130,7 +131,7 @@ const struct render_input *world_host_render_input(const struct world_host *h)
 
 static void save_forecast_map(struct world_host *h)
 {
-    char err[448];
+    error_text err;
     if (!h->state_file[0] || !h->forecast_map_dirty)
         return;
     if (state_store_save_forecast_map(h->state_file, &h->forecast_map, err, sizeof err) == 0)
@@ -146,10 +147,13 @@ static bool persist(struct world_host *h, const struct proto_world_state *state,
 {
     if (!h->state_file[0])
         return true;
-    char err[448];
+    error_text err;
     if (state_store_save(h->state_file, state, err, sizeof err) != 0) {
         skyd_log(SKYD_LOG_ERROR, "cannot save the state: %s", err);
-        snprintf(why, whylen, "the state cannot be saved (%s); the change is not applied", err);
+        error_text_mark_cut(why, whylen,
+                            snprintf(why, whylen,
+                                     "the state cannot be saved (%s); the change is not applied",
+                                     err));
         return false;
     }
     h->dirty = h->sim_dirty = false;
@@ -161,7 +165,7 @@ static bool persist(struct world_host *h, const struct proto_world_state *state,
 /* After a failure past persist(): the file goes back to the live state. */
 static void unpersist(struct world_host *h)
 {
-    char err[512];
+    error_text err;
     if (h->state_file[0] && state_store_save(h->state_file, &h->state, err, sizeof err) != 0) {
         h->dirty = true; /* written again after save_delay_s */
         h->last_change_s = monotonic_seconds();
@@ -327,7 +331,7 @@ bool world_host_undo_commit(struct world_host *h, const char *why, struct world_
     h->atmosphere_pending = u->atmosphere_pending;
     h->settled_revision = u->settled_revision;
     if (u->map_replaced) {
-        char err[448];
+        error_text err;
         if (h->state_file[0] &&
             state_store_save_weather_map(h->state_file, &u->map, err, sizeof err) != 0)
             skyd_log(SKYD_LOG_ERROR, "cannot restore the saved weather map: %s", err);
@@ -369,7 +373,7 @@ bool world_host_apply_entry(struct world_host *h, const struct cluster_entry *e,
     if (e->revision <= h->state.revision && !(e->snapshot && e->revision < h->state.revision))
         return true;
     struct proto_world_state next;
-    char why[512];
+    error_text why;
     if (!world_codec_parse_state(e->state, &next, why, sizeof why)) {
         skyd_log(SKYD_LOG_ERROR, "cluster revision %llu cannot be read: %s",
                  (unsigned long long)e->revision, why);
@@ -452,12 +456,14 @@ bool world_host_set_weather_map(struct world_host *h, const struct proto_weather
                  "out of memory for the weather map; the state is unchanged");
         return false;
     }
-    char err[448];
+    error_text err;
     if (h->state_file[0] &&
         state_store_save_weather_map(h->state_file, map, err, sizeof err) != 0) {
         skyd_log(SKYD_LOG_ERROR, "cannot save the weather map: %s", err);
-        snprintf(out->error, sizeof out->error,
-                 "the weather map cannot be saved (%s); the state is unchanged", err);
+        error_text_mark_cut(out->error, sizeof out->error,
+                            snprintf(out->error, sizeof out->error,
+                                     "the weather map cannot be saved (%s); the state is unchanged",
+                                     err));
         proto_weather_map_free(&kept);
         return false;
     }
@@ -490,7 +496,7 @@ bool world_host_set_weather_map(struct world_host *h, const struct proto_weather
  * A state that selects it without one falls back to the procedural map (said on stderr). */
 static void restore_weather_map(struct world_host *h)
 {
-    char msg[640];
+    error_text msg;
     enum state_load_result result = STATE_LOAD_ABSENT;
     if (h->cluster && h->client_map.rgba) {
         skyd_log(SKYD_LOG_INFO, "the shared world's client weather map (%ux%u)",
@@ -525,7 +531,7 @@ static void restore_forecast_map(struct world_host *h)
         h->dirty = true;
         return;
     }
-    char msg[640];
+    error_text msg;
     if (h->state_file[0] && state_store_load_forecast_map(h->state_file, &h->forecast_map, msg,
                                                           sizeof msg) == STATE_LOAD_RESTORED) {
         skyd_log(SKYD_LOG_INFO, "restored the forecast's weather map (%ux%u)",
@@ -578,7 +584,7 @@ void world_host_save(struct world_host *h, double now_s)
 {
     if (!h->state_file[0] || !(h->dirty || h->sim_dirty))
         return;
-    char err[512];
+    error_text err;
     h->last_save_s = now_s;
     if (state_store_save(h->state_file, &h->state, err, sizeof err) == 0) {
         h->dirty = false;

@@ -11,6 +11,7 @@
 
 #include "cluster_entry.h"
 #include "cluster_store.h"
+#include "error_text.h"
 #include "render_input.h"
 #include "weather_map.h"
 #include "world_state.h"
@@ -57,7 +58,7 @@ struct world_commit {
     char *event;       /* the state_changed event for every client (malloc'd); NULL: none */
     /* The new render input when something changed (else NULL): for the renderer host. */
     const struct render_input *input;
-    char error[512]; /* why it failed */
+    error_text error; /* why it failed */
 };
 
 /* Makes `next` (validated) the live state: re-anchored where its clock or wind changed and

@@ -8,6 +8,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "error_text.h"
 #include "field_errors.h"
 #include "http_endpoints.h"
 #include "json_guard.h"
@@ -369,7 +370,7 @@ static void submit(struct http_api *api, struct http_request *r, struct proto_cl
     int cap = live_settings_max_queued_http(api->settings);
     if (api->pending_count >= cap) {
         proto_client_msg_free(msg);
-        char message[192];
+        error_text message;
         snprintf(message, sizeof message,
                  "too many HTTP requests are waiting for the render loop: at most %d "
                  "(limits.max_queued_http_requests); try again in %d s",
@@ -562,7 +563,7 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
         return 0;
     }
     if (!get && !r->patch) {
-        char message[320];
+        error_text message;
         snprintf(message, sizeof message, "%s allows only %s", path,
                  r->endpoint == ENDPOINT_STATE   ? "GET and PATCH"
                  : r->endpoint == ENDPOINT_METAR ? "POST"
@@ -573,7 +574,7 @@ static int on_request(struct http_api *api, struct http_request *r, struct lws *
     }
     bool limited = r->endpoint != ENDPOINT_HEALTH && r->endpoint != ENDPOINT_METRICS;
     if (limited && !take_rate_token(api, wsi)) {
-        char message[96];
+        error_text message;
         snprintf(message, sizeof message, "more than %g requests per second from this address",
                  api->limits->control_messages_per_second);
         respond_error(api, r, 0, PROTO_MSG_ERR_RATE_LIMITED, message, NULL);

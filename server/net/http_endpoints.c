@@ -9,6 +9,7 @@
 #include <cjson/cJSON.h>
 #include <libwebsockets.h>
 
+#include "error_text.h"
 #include "json_guard.h"
 #include "monotonic_clock.h"
 #include "render_loop.h"
@@ -66,7 +67,7 @@ void http_endpoint_health(struct http_answer *out, struct service_metrics *metri
     struct service_metrics_tick tick = service_metrics_last_tick(metrics);
     double age = monotonic_seconds() - tick.at_s;
     const char *failure = loop ? render_loop_failure(loop) : "shutting down";
-    char reason[448] = "";
+    error_text reason = "";
     if (failure)
         snprintf(reason, sizeof reason, "rendering stopped: %s", failure);
     else if (tick.at_s <= 0 || age > HEALTHY_TICK_AGE_S)
@@ -214,7 +215,8 @@ void http_endpoint_snapshot(struct http_answer *out, struct lws *wsi)
     cJSON *message = cJSON_CreateObject();
     cJSON_AddStringToObject(message, "type", "snapshot");
     cJSON *view = cJSON_AddObjectToObject(message, "view");
-    char fragment[256], problem[HTTP_ANSWER_MESSAGE_MAX] = "";
+    char fragment[256];
+    error_text problem = "";
     for (int n = 0; !problem[0] && lws_hdr_copy_fragment(wsi, fragment, sizeof fragment,
                                                          WSI_TOKEN_HTTP_URI_ARGS, n) > 0;
          n++) {
@@ -261,7 +263,7 @@ static const char *body_text(struct http_answer *out, const char *body, size_t l
                              bool too_large, size_t max_message_bytes)
 {
     if (too_large) {
-        char message[160];
+        error_text message;
         snprintf(message, sizeof message, "the body is larger than max_message_bytes (%zu)",
                  max_message_bytes);
         answer_error(out, PROTO_MSG_ERR_MESSAGE_TOO_LARGE, message);
@@ -281,7 +283,7 @@ void http_endpoint_metar(struct http_answer *out, const char *body, size_t lengt
     const char *text = body_text(out, body, length, too_large, max_message_bytes);
     if (!text)
         return;
-    char message[160];
+    error_text message;
     size_t start = 0;
     while (start < length && strchr(" \t\r\n", text[start]))
         start++;
@@ -341,7 +343,7 @@ void http_endpoint_patch(struct http_answer *out, const char *body, size_t lengt
     const char *text = body_text(out, body, length, too_large, max_message_bytes);
     if (!text)
         return;
-    char message[160];
+    error_text message;
     json_guard_lock();
     const char *end = NULL;
     cJSON *patch = cJSON_ParseWithLengthOpts(text, length, &end, false);

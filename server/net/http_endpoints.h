@@ -10,6 +10,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "error_text.h"
 #include "messages.h"
 
 struct cJSON;
@@ -24,8 +25,6 @@ enum http_answer_kind {
     HTTP_ANSWER_SUBMIT,   /* json, sent as a protocol message with role */
 };
 
-#define HTTP_ANSWER_MESSAGE_MAX 320
-
 struct http_answer {
     enum http_answer_kind kind;
     unsigned status;
@@ -33,7 +32,7 @@ struct http_answer {
     char *body; /* malloc'd; NULL: the JSON text "{}" */
     size_t body_length;
     enum proto_msg_error_code code;
-    char message[HTTP_ANSWER_MESSAGE_MAX];
+    error_text message;
     struct cJSON *json;
     enum proto_msg_role role;
 };

@@ -9,6 +9,7 @@
 
 #include <libwebsockets.h>
 
+#include "error_text.h"
 #include "field_errors.h"
 #include "frame_header.h"
 #include "http_api.h"
@@ -126,7 +127,7 @@ static int on_established(struct ws_server *srv, struct lws *wsi, struct connect
     c->refilled_at = monotonic_seconds();
     if (session_hub_count(srv->hub) >= srv->limits.max_clients) {
         c->rejected = true;
-        char message[96];
+        error_text message;
         snprintf(message, sizeof message, "too many clients: at most %d", srv->limits.max_clients);
         skyd_log(SKYD_LOG_WARNING, "connection %llu refused: %s", c->number, message);
         queue_and_wake(wsi, c->session,
@@ -183,7 +184,7 @@ static void on_message(struct ws_server *srv, struct connection *c)
 {
     bool allowed = take_token(srv, c);
     char *error = NULL;
-    char message[160];
+    error_text message;
     struct proto_client_msg msg;
     memset(&msg, 0, sizeof msg);
     if (c->rx_binary) {

@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "error_text.h"
 #include "messages.h"
 
 struct service_metrics;
@@ -58,9 +59,9 @@ struct service_metrics_forecast {
     double run_unix_s; /* the run's reference time */
     int steps;
     double first_step_unix_s, last_step_unix_s;
-    bool following;  /* weather.source is "forecast" */
-    bool in_range;   /* the world's clock is within the steps (while following) */
-    char error[704]; /* the last refusal: the file and the reader's error; "" none */
+    bool following;   /* weather.source is "forecast" */
+    bool in_range;    /* the world's clock is within the steps (while following) */
+    error_text error; /* the last refusal: the file and the reader's error; "" none */
     uint64_t loads, refusals;
     /* The last weather map made of the forecast's cover grid (while following; 0 x 0 none):
      * RGBA8 texels as set_weather_map's, row-major from the north-west corner. */
