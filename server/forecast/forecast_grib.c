@@ -203,7 +203,8 @@ static bool reference_time(struct reader *r, codes_handle *h, double *unix_s)
     if (!get_long(r, h, "dataDate", &date, FORECAST_ERR_NOT_GRIB) ||
         !get_long(r, h, "dataTime", &time, FORECAST_ERR_NOT_GRIB))
         return false;
-    char iso[160], why[128];
+    char iso[160];
+    error_text why;
     snprintf(iso, sizeof iso, "%04ld-%02ld-%02ldT%02ld:%02ld:00Z", date / 10000, date / 100 % 100,
              date % 100, time / 100, time % 100);
     if (!proto_time_parse_iso8601(iso, unix_s, why, sizeof why))

@@ -145,7 +145,8 @@ static void refuse(struct forecast_watch *w, const struct file_mark *f,
         w->refused_count = 0;
     w->refused[w->refused_count++] = *f;
     w->refusals++;
-    snprintf(w->error, sizeof w->error, "%.255s: %.383s", f->name, error->text);
+    error_text_mark_cut(w->error, sizeof w->error,
+                        snprintf(w->error, sizeof w->error, "%s: %s", f->name, error->text));
     skyd_log(SKYD_LOG_WARNING, "forecast %s/%s refused: %s%s", w->dir, f->name, error->text,
              w->has_forecast ? "; the forecast in use stays" : "");
 }

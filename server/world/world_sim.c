@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "ephemeris.h"
+#include "error_text.h"
 #include "field_errors.h"
 #include "field_schema.h"
 #include "utc_time.h"
@@ -36,7 +37,8 @@ static double wrap_degrees(double deg)
  * the state anchors on is stored so, so that a node reading the JSON gets the same double. */
 static double time_kept(double unix_s)
 {
-    char text[48], err[96];
+    char text[48];
+    error_text err;
     double kept;
     proto_time_format_iso8601(unix_s, text, sizeof text);
     return proto_time_parse_iso8601(text, &kept, err, sizeof err) ? kept : unix_s;

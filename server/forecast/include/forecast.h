@@ -16,6 +16,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "error_text.h"
+
 struct cJSON;
 struct proto_weather_map;
 
@@ -49,7 +51,7 @@ struct forecast_error {
     enum forecast_error_code code;
     int message; /* 1-based index of the offending GRIB message; 0: the file as a whole */
     /* `message 3 (hcc): grid 16 x 31 from 60 N 0 E differs from message 1's 16 x 31 ...` */
-    char text[384];
+    error_text text;
 };
 
 /* Where the forecast is wanted: a square of side extent_km centred on lat/lon, on the local
