@@ -109,6 +109,27 @@ static void *frame_setup(struct sky_renderer *r, const struct cli_common *c, uns
     return malloc(*bytes);
 }
 
+static bool per_frame; /* --per-frame: every frame's times, to find outliers */
+/* --stream: frames as a subscription's are (a live view, the clouds' maps and the LUTs under
+ * the daemon's budget), instead of one-off views whose history starts over, 64 internal
+ * frames, whenever the clouds' maps change, and maps built at once. */
+static bool stream;
+
+/* One frame: wall and GPU time, and its costliest pass. */
+static void print_frame(int i, const struct sky_render_stats *st)
+{
+    int top = 0;
+    for (int p = 1; p < st->pass_count; p++)
+        if (st->pass_ms[p] > st->pass_ms[top])
+            top = p;
+    printf("  frame %4d: wall %8.2f ms, gpu %8.2f ms; costliest %s %.2f ms\n", i, st->wall_ms,
+           st->gpu_ms, st->pass_count ? st->pass_names[top] : "-",
+           st->pass_count ? st->pass_ms[top] : 0.0);
+    if (getenv("SKYD_BENCH_PASSES"))
+        for (int p = 0; p < st->pass_count; p++)
+            printf("      %s %.2f\n", st->pass_names[p], st->pass_ms[p]);
+}
+
 static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsigned w, unsigned h,
                         int n, int warmup, struct series *s)
 {
@@ -119,6 +140,10 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
     void *pixels = frame_setup(r, c, w, h, &atm, &view, &bytes);
     if (!pixels)
         return -1;
+    view.live = stream;
+    sky_renderer_set_amortization(
+        r, &(struct sky_render_amortization){
+               .budget_ms = stream ? 8.0 : 0.0, .budget_fraction = 0.05, .blend_frames = 4 });
     struct sky_render_night night; /* the state's moon, stars and airglow */
     world_to_render_night(&c->state, &night);
     sky_renderer_set_night(r, &night);
@@ -143,6 +168,8 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
         }
         if (i >= 0)
             record_sample(s, i, &st, process_cpu_ms() - cpu0);
+        if (i >= 0 && per_frame)
+            print_frame(i, &st);
     }
     char label[64];
     snprintf(label, sizeof label, "frame %ux%u", w, h);
@@ -374,6 +401,10 @@ int main(int argc, char **argv)
                 return 2;
         } else if (strcmp(argv[i], "--converge") == 0) {
             converge = true;
+        } else if (strcmp(argv[i], "--per-frame") == 0) {
+            per_frame = true;
+        } else if (strcmp(argv[i], "--stream") == 0) {
+            stream = true;
         } else if (strcmp(argv[i], "--frame-budget") == 0) {
             if (!(v = cli_take_value(argc, argv, &i)) ||
                 !cli_parse_double("--frame-budget", v, 0.0, 1000, &frame_budget_ms))
@@ -419,7 +450,7 @@ int main(int argc, char **argv)
         } else {
             fprintf(stderr, "usage: skyd_bench [--frames N] [--rebuilds N] [--size WxH]... "
                             "[--drag BUDGET_MS] [--drag-fraction F] [--converge [--fps N]] "
-                            "[--clouds] [--frame-budget MS] "
+                            "[--clouds] [--frame-budget MS] [--per-frame] [--stream] "
                             "[--projection NAME] "
                             "[--preset NAME] "
                             "[--set PATH=VALUE] [--device NAME]\n");
