@@ -174,6 +174,33 @@ double cloud_metrics_blockiness(const float *luma, int w, int h, int period)
     return (on / n_on) / (off / n_off);
 }
 
+double cloud_metrics_autocorrelation(const float *luma, int w, int h, int dx, int dy)
+{
+    int x0 = dx < 0 ? -dx : 0, x1 = dx > 0 ? w - dx : w;
+    int y0 = dy < 0 ? -dy : 0, y1 = dy > 0 ? h - dy : h;
+    if (x1 <= x0 || y1 <= y0 || (long)(x1 - x0) * (y1 - y0) < 2)
+        return NAN;
+    double sa = 0, sb = 0;
+    long n = (long)(x1 - x0) * (y1 - y0);
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            sa += luma[(size_t)y * (size_t)w + (size_t)x];
+            sb += luma[(size_t)(y + dy) * (size_t)w + (size_t)(x + dx)];
+        }
+    double ma = sa / n, mb = sb / n, ab = 0, aa = 0, bb = 0;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            double a = luma[(size_t)y * (size_t)w + (size_t)x] - ma;
+            double b = luma[(size_t)(y + dy) * (size_t)w + (size_t)(x + dx)] - mb;
+            ab += a * b;
+            aa += a * a;
+            bb += b * b;
+        }
+    if (aa <= 0 || bb <= 0)
+        return NAN;
+    return ab / sqrt(aa * bb);
+}
+
 double cloud_metrics_sun_contrast(const float *luma, int w, int h, const double forward[3],
                                   const double right[3], const double up[3], double tan_half,
                                   const double sun_dir[3], double disk_deg,

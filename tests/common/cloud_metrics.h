@@ -1,7 +1,7 @@
 /* Image measurements of rendered clouds, for the cloud-shape, light and stream tests: masks,
  * connected cloud objects, the area-perimeter fractal dimension of their outlines (Lovejoy
- * 1982), their aspect ratios, blockiness on a pixel grid, and the sun's brightness against the
- * sky around it. Pure C on float images; no Vulkan. */
+ * 1982), their aspect ratios, blockiness on a pixel grid, autocorrelation at a shift, and the
+ * sun's brightness against the sky around it. Pure C on float images; no Vulkan. */
 #ifndef SKYD_TEST_CLOUD_METRICS_H
 #define SKYD_TEST_CLOUD_METRICS_H
 
@@ -53,6 +53,13 @@ double cloud_metrics_median_aspect(const struct cloud_object *objects, int count
  * over all rows. Horizontal differences only. 1 for an image without block structure; NAN
  * for a flat image (nothing to divide by), a period under 2 or an image not wider than it. */
 double cloud_metrics_blockiness(const float *luma, int w, int h, int period);
+
+/* Normalized autocorrelation of a w x h luminance image at shift (dx, dy) pixels: Pearson's
+ * correlation between L(x, y) and L(x + dx, y + dy) over the pixels where both lie in the image,
+ * each side about its own mean. 1 for an image that repeats with that shift, near 0 for one
+ * whose structure is smaller than the shift and not periodic. NAN when the images overlap in
+ * fewer than 2 pixels or either side is flat. */
+double cloud_metrics_autocorrelation(const float *luma, int w, int h, int dx, int dy);
 
 /* The sun against the sky around it in a pinhole view (camera.glsl's conventions: uv (0,0)
  * at the top left, aspect w / h; forward, right and up unit vectors in any common frame;

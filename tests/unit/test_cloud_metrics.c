@@ -1,8 +1,9 @@
 /* Unit tests for the cloud image measurements (tests/common/cloud_metrics.c) on synthetic images with
  * known answers: objects, perimeters and 8-connectivity; the area-perimeter dimension of
  * squares and discs (1) and of quadratic Koch islands (1.5, exactly on the pixel grid);
- * aspect ratios of rectangles; blockiness of ramps, blocks and bilinear upsampling; the sun's
- * contrast in a pinhole view. */
+ * aspect ratios of rectangles; blockiness of ramps, blocks and bilinear upsampling;
+ * autocorrelation of a repeated tile, of white noise and of a checkerboard; the sun's contrast
+ * in a pinhole view. */
 #include "cloud_metrics.h"
 
 #include <math.h>
@@ -432,6 +433,48 @@ static double angle_deg(const double a[3], const double b[3])
     return acos(d > 1 ? 1 : d < -1 ? -1 : d) * 180.0 / PI;
 }
 
+/* A random 12 x 9 tile repeated over the image correlates fully with itself one tile over,
+ * in either direction and diagonally, and hardly at other shifts; white noise hardly at any;
+ * a checkerboard is anticorrelated one pixel over. A flat image has none to measure. */
+static void test_autocorrelation(void)
+{
+    const int w = 96, h = 54, tw = 12, th = 9;
+    float *l = malloc(sizeof(float) * w * h), tile[12 * 9];
+    if (!l)
+        abort();
+    unsigned state = 11;
+    for (int i = 0; i < tw * th; i++)
+        tile[i] = (float)(next_random(&state) % 1000) / 1000.0f;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            l[y * w + x] = tile[(y % th) * tw + x % tw];
+    CHECK_NEAR(cloud_metrics_autocorrelation(l, w, h, 0, 0), 1.0, 1e-9);
+    CHECK_NEAR(cloud_metrics_autocorrelation(l, w, h, tw, 0), 1.0, 1e-9);
+    CHECK_NEAR(cloud_metrics_autocorrelation(l, w, h, 0, -th), 1.0, 1e-9);
+    CHECK_NEAR(cloud_metrics_autocorrelation(l, w, h, -2 * tw, th), 1.0, 1e-9);
+    CHECK(fabs(cloud_metrics_autocorrelation(l, w, h, tw / 2, 0)) < 0.3);
+    CHECK(fabs(cloud_metrics_autocorrelation(l, w, h, 5, 4)) < 0.3);
+
+    for (int i = 0; i < w * h; i++)
+        l[i] = (float)(next_random(&state) % 1000) / 1000.0f;
+    for (int d = 1; d < 40; d += 7) {
+        CHECK(fabs(cloud_metrics_autocorrelation(l, w, h, d, 0)) < 0.1);
+        CHECK(fabs(cloud_metrics_autocorrelation(l, w, h, 0, 1 + d / 2)) < 0.1);
+    }
+
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            l[y * w + x] = (float)((x + y) % 2);
+    CHECK_NEAR(cloud_metrics_autocorrelation(l, w, h, 1, 0), -1.0, 1e-9);
+    CHECK_NEAR(cloud_metrics_autocorrelation(l, w, h, 1, 1), 1.0, 1e-9);
+
+    for (int i = 0; i < w * h; i++)
+        l[i] = 0.5f;
+    CHECK(isnan(cloud_metrics_autocorrelation(l, w, h, 3, 0)));
+    CHECK(isnan(cloud_metrics_autocorrelation(l, w, h, w, 0)));
+    free(l);
+}
+
 static void test_sun_contrast(void)
 {
     const int w = 160, h = 120;
@@ -494,6 +537,7 @@ int main(void)
     test_dimension_of_fractal_outlines();
     test_aspect();
     test_blockiness();
+    test_autocorrelation();
     test_sun_contrast();
     return check_summary();
 }
