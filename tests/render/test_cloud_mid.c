@@ -95,7 +95,9 @@ static double blue_over_red(const float *f)
 /* An altostratus sheet (coverage 0.8, optical depth of several where it is whole) hides the
  * sun's disk, which a clear sky shows at full strength, and darkens the sunlit ground. Over
  * eight sun azimuths, so that the sheet's thinner fifth (coverage 0.8) decides no result
- * alone: the sun's ray crosses the sheet 4 km from the camera, at a new place for each. */
+ * alone: the sun's ray crosses the sheet 4 km from the camera, and the pattern moves 8 km
+ * (its wind offset) from one azimuth to the next, so that each crossing and each patch of
+ * ground falls on another part of the sheet, whose breaks come in patches kilometres wide. */
 static void test_dims_sun_and_ground(void)
 {
     double sun_clear = 0.0, sun_mid = 0.0, ground_clear = 0.0, ground_mid = 0.0;
@@ -105,6 +107,8 @@ static void test_dims_sun_and_ground(void)
         mid_state(&s);
         s.sun.azimuth_deg = 45.0 * k;
         s.camera.yaw_deg = s.sun.azimuth_deg;
+        s.weather.offset_east_km = 7.3 * k;
+        s.weather.offset_north_km = 4.1 * k;
         s.camera.altitude_km = 0.2;
         s.camera.pitch_deg = 45.0;
         s.camera.fov_deg = 10.0;
@@ -121,6 +125,8 @@ static void test_dims_sun_and_ground(void)
 
         mid_state(&s);
         s.sun.azimuth_deg = 45.0 * k;
+        s.weather.offset_east_km = 7.3 * k;
+        s.weather.offset_north_km = 4.1 * k;
         s.camera.altitude_km = 0.2;
         s.camera.pitch_deg = -60.0;
         render(&s, 102 + 4 * k, frame_a);
