@@ -198,24 +198,54 @@ float high_density(vec3 p, float r, vec4 wm)
 
 // Middle layer (altostratus .. altocumulus, mid_shape.y 0 .. 1), on the low layer's machinery
 // with its coverage from the uniforms, not the weather map. Two shapes, mixed by the type:
-//  - altostratus, a sheet: the columns where a pattern twice the base tile (cells of about a
-//    kilometre, constant in height) lies above 1 - coverage hold it, so coverage is the
-//    fraction of the sky it covers, with soft breaks; it fills its layer from a base rounded
-//    over 10 % of it up to an undulating top (the same pattern at each height: 50-100 % of the
-//    layer), its liquid water growing with the height above the base as in a low sheet;
-//  - altocumulus, cells: the low layer's threshold of the base shape's lowest octave at half
-//    the base tile, cells of about 300 m (WMO: elements of 1-5 degrees, some hundreds of metres
-//    at 3-6 km), the coverage varied from column to column by the larger pattern (normal
+//  - altostratus, a sheet: the columns where a patch pattern lies above 1 - coverage hold it,
+//    so coverage is the fraction of the sky it covers, with soft breaks; it fills its layer
+//    from a base rounded over 10 % of it up to an undulating top (50-100 % of the layer), its
+//    liquid water growing with the height above the base as in a low sheet;
+//  - altocumulus, cells: the low layer's threshold of the base shape's lowest octave at about
+//    half the base tile, cells of about 300 m (WMO: elements of 1-5 degrees, some hundreds of metres
+//    at 3-6 km), the coverage varied from column to column by the patch pattern (normal
 //    scores, as coverage_at) so that the cells come in patches, tops rising as the low
 //    layer's (profile_rise) to 90 % of the layer.
+// The patch pattern combines the base shape's lowest octave on two lattices of incommensurate
+// size and orientation (tiles of about 5 and 11 km), each read on a plane that climbs slowly
+// through the noise's third dimension, so that neither repeats on its lattice; the cells'
+// and the undulation's lookups move through that dimension with the patch pattern. Within
+// the extent no shift brings both lattices and their climbs within 3/4 of a cell of
+// themselves, and nothing repeats short of the extent.
 // -1 where it holds no cloud at all.
-const float MID_SHEET_TILE = 2.0; // of cloud.tiles.x
-const float MID_CELL_TILE = 0.5;
+//
+// Each lattice is a Gaussian integer k, given for 24 base tiles over the extent and scaled
+// with their count: a lookup reads the noise at k (x + iy) / extent, its tiles turned by arg k
+// and repeating |k| times over the extent, so that every pattern still tiles the extent and
+// the wind's wrap at it (cloud_params.c) stays seamless. Their norms (136, 29, 2341) are
+// coprime, so no shorter period is common to all three.
+const vec2 MID_PATCH_LATTICE = vec2(10.0, 6.0);  // 5.1 km tiles over 60 km, at 31 degrees
+const vec2 MID_SWELL_LATTICE = vec2(5.0, 2.0);   // 11.1 km, at 22 degrees
+const vec2 MID_CELL_LATTICE = vec2(46.0, -15.0); // 1.24 km, at -18 degrees
+// Tiles of the noise each plane climbs across the extent eastward and northward: whole ones,
+// so that it tiles the extent too; slopes of a third of a tile per tile and less, which hardly
+// squeeze the features. The patch's starts half a tile from the swell's, independent of it.
+const vec2 MID_PATCH_CLIMB = vec2(4.0, -1.0);
+const vec2 MID_SWELL_CLIMB = vec2(1.0, 1.0);
+const float MID_PATCH_SLICE = 0.5;
+// How far (of their tile) the cells' and the undulation's lookups move as the patch pattern
+// goes from 0 to 1.
+const float MID_CELL_DRIFT = 1.0;
+const float MID_UNDULATION_DRIFT = 0.25;
 const float MID_BREAK_RAMP = 0.15;   // of the pattern's range: the soft edge of a break
 const float MID_SHEET_BASE = 0.1;    // base rounding, of the layer
 const vec2 MID_SHEET_TOP = vec2(0.5, 1.0);
 const vec4 MID_CELL_SHAPE = vec4(0.9, 0.2, 0.0, 0.0); // top, base rounding
 const float MID_CELL_SPREAD = 2.0;
+
+// Noise coordinates (in tiles) of pattern position xy at height z (km) on lattice k.
+vec3 mid_lattice(vec2 xy, float z, vec2 k)
+{
+    k = round(k * (cloud.weather.w / (24.0 * cloud.tiles.x)));
+    return vec3(k.x * xy.x - k.y * xy.y, k.y * xy.x + k.x * xy.y, length(k) * z) * cloud.weather.z;
+}
+
 float mid_density_or_empty(vec3 p, float r)
 {
     float h = layer_fraction(r, cloud.mid);
@@ -224,13 +254,26 @@ float mid_density_or_empty(vec3 p, float r)
     float coverage = cloud.mid_shape.x, type = cloud.mid_shape.y;
     vec2 xy = cloud_pattern_xy(p);
     float z = r - bottom_radius();
-    float column = textureLod(base_noise, vec3(xy, 0.0) / (MID_SHEET_TILE * cloud.tiles.x), 0.0).g;
+    vec3 patch_at = mid_lattice(xy, 0.0, MID_PATCH_LATTICE);
+    patch_at.z = MID_PATCH_SLICE + dot(xy, MID_PATCH_CLIMB) * cloud.weather.z;
+    float patchiness = textureLod(base_noise, patch_at, 0.0).g;
+    vec3 swell_at = mid_lattice(xy, 0.0, MID_SWELL_LATTICE);
+    swell_at.z = dot(xy, MID_SWELL_CLIMB) * cloud.weather.z;
+    float swell = textureLod(base_noise, swell_at, 0.0).g;
+    // Both uniform and independent: (Phi^-1(a) + Phi^-1(b)) / sqrt(2) is a normal score again.
+    // In the logistic approximation of Phi (coverage_at), Phi^-1(u) is u's log odds over
+    // LOGISTIC_PROBIT, so the column's odds are the product of theirs to the power 1 / sqrt(2);
+    // 0.96 fits the sum's lighter tails (to 0.5 % of coverage).
+    vec2 both = clamp(vec2(patchiness, swell), 1e-3, 1.0 - 1e-3);
+    float odds = both.x * both.y / ((1.0 - both.x) * (1.0 - both.y));
+    float column = 1.0 / (1.0 + pow(odds, -0.96 / sqrt(2.0)));
     float sheet = -1.0, cells = -1.0;
     if (type < 1.0) {
         float covered = clamp((column - (1.0 - coverage)) / MID_BREAK_RAMP, 0.0, 1.0);
         if (covered > 0.0) {
-            float undulation =
-                textureLod(base_noise, vec3(xy, 0.5 * z) / (MID_SHEET_TILE * cloud.tiles.x), 0.0).r;
+            vec3 at = mid_lattice(xy, 0.5 * z, MID_PATCH_LATTICE);
+            at.z += MID_UNDULATION_DRIFT * column;
+            float undulation = textureLod(base_noise, at, 0.0).r;
             float top = mix(MID_SHEET_TOP.x, MID_SHEET_TOP.y, undulation);
             sheet = covered * smoothstep(0.0, MID_SHEET_BASE, h) *
                     (1.0 - smoothstep(top - 0.3, top, h)) * clamp(2.0 * h, 0.25, 2.0);
@@ -240,8 +283,9 @@ float mid_density_or_empty(vec3 p, float r)
         float c_column = coverage_at(coverage, MID_CELL_SPREAD * (0.5 - column));
         float c = coverage_at(c_column, profile_rise(h, MID_CELL_SHAPE)) - MIN_COVERAGE;
         if (c > 0.0) {
-            float u =
-                textureLod(base_noise, vec3(xy, z) / (MID_CELL_TILE * cloud.tiles.x), 0.0).g;
+            vec3 at = mid_lattice(xy, z, MID_CELL_LATTICE);
+            at.z += MID_CELL_DRIFT * column;
+            float u = textureLod(base_noise, at, 0.0).g;
             // Far away (the march's level of detail) the cells' edges soften.
             float ramp = mix(EDGE_RAMP.x, EDGE_RAMP.y, cloud_lod);
             cells = clamp((u - (1.0 - c)) / ramp, 0.0, 1.0) * smoothstep(0.0, MID_CELL_SHAPE.y, h);
