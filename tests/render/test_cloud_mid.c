@@ -2,7 +2,8 @@
  * lavapipe with validation: an altostratus sheet dims the sun and the ground; it lies between
  * the low and the high layers (an aircraft above it sees it below and not above, one under it
  * sees it above); altocumulus shows cells of a few hundred metres where altostratus is smooth;
- * every frame is finite; an empty middle layer changes nothing, whatever its other fields say.
+ * seen from above neither repeats and both cover about their coverage; every frame is finite;
+ * an empty middle layer changes nothing, whatever its other fields say.
  * Review images go to argv[1]. */
 #include <math.h>
 #include <stdio.h>
@@ -10,6 +11,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "cloud_metrics.h"
 #include "png_write.h"
 #include "test_support.h"
 
@@ -268,6 +270,138 @@ static void test_altocumulus_cells(void)
     save_png(&s, 302, "altocumulus");
 }
 
+/* Straight down from 14 km over 60 degrees, 160 x 160 pixels: about 70 m a pixel at the
+ * layer (4-4.5 km), over a black ground, so that the light that comes back is the layer's and
+ * the air's, and the layer's shadows do not repeat it. */
+#define AW 160
+#define AH 160
+static const double above_altitude_km = 14.0, above_fov_deg = 60.0;
+static float frame_above[AW * AH * 4], luma_above[AW * AH], luma_clear[AW * AH],
+    luma_white[AW * AH];
+
+static void above_state(struct proto_world_state *s, double coverage, double type)
+{
+    mid_state(s);
+    s->sun.azimuth_deg = 135.0;
+    s->sun.elevation_deg = 60.0;
+    s->camera.yaw_deg = 0.0;
+    s->camera.altitude_km = above_altitude_km;
+    s->camera.pitch_deg = -90.0;
+    s->camera.fov_deg = above_fov_deg;
+    s->clouds.mid.coverage = coverage;
+    s->clouds.mid.type = type;
+    s->clouds.mid.bottom_km = 4.0;
+    s->clouds.mid.thickness_km = 0.5;
+    s->clouds.mid.density = 0.6;
+    for (int c = 0; c < 3; c++)
+        s->atmosphere.ground_albedo[c] = 0.0;
+}
+
+static void render_above(const struct proto_world_state *s, uint64_t key, float *luma)
+{
+    CHECK(test_render_world(renderer, s, AW, AH, SKY_RENDER_OUTPUT_LINEAR, key, false, frame_above,
+                            sizeof frame_above) == 0);
+    CHECK(test_count_bad(frame_above, (size_t)AW * AH) == 0);
+    cloud_metrics_luma(frame_above, AW, AH, luma);
+}
+
+/* The largest autocorrelation along either image axis within 2 pixels of `shift` (the
+ * perspective of the layer's 0.5 km depth spreads a period over about 3 pixels). */
+static double autocorrelation_near(const float *luma, double shift)
+{
+    double best = -1.0;
+    int s0 = (int)lround(shift);
+    for (int d = s0 - 2; d <= s0 + 2; d++)
+        for (int across = -2; across <= 2; across++) {
+            best = fmax(best, cloud_metrics_autocorrelation(luma, AW, AH, d, across));
+            best = fmax(best, cloud_metrics_autocorrelation(luma, AW, AH, across, d));
+        }
+    return best;
+}
+
+/* The fraction of the pixels where the layer reflects at least a tenth of what a white ground
+ * would: its light beyond the clear view's, over a white ground's beyond the same (both seen
+ * through the same air), is an apparent reflectance, which a satellite's cloud mask
+ * thresholds. Cloud of optical depth above about 1.5 counts; a thin edge or wisp does not. */
+static double covered_fraction(const float *luma, const float *clear, const float *white)
+{
+    int n = 0;
+    for (int i = 0; i < AW * AH; i++)
+        n += luma[i] - clear[i] > 0.1 * (white[i] - clear[i]);
+    return (double)n / (AW * AH);
+}
+
+/* Seen from above the layer does not tile: its luminance hardly correlates with itself one
+ * period over along the image's axes, at twice and half the base tile (2.5 km over the default
+ * 60 km weather extent, render/clouds/cloud_params.c), the periods of the noise read at those
+ * scales unrotated, where a pattern that repeats correlates fully. And its covered fraction is
+ * about its coverage. */
+static void test_from_above(void)
+{
+    static const double base_tile_km = 2.5;
+    static const double periods_km[] = { 2.0 * base_tile_km, 0.5 * base_tile_km };
+    static const struct {
+        const char *name;
+        double coverage, type;
+    } layers[] = {
+        { "altocumulus", 0.6, 1.0 },
+        { "altocumulus_sparse", 0.3, 1.0 },
+        { "altostratus", 0.8, 0.0 },
+        { "altostratus_broken", 0.5, 0.0 },
+    };
+    struct proto_world_state s;
+    above_state(&s, 0.0, 0.0);
+    render_above(&s, 600, luma_clear);
+    for (int c = 0; c < 3; c++)
+        s.atmosphere.ground_albedo[c] = 1.0;
+    render_above(&s, 599, luma_white);
+    /* Pixels per km where the cells are, the upper half of the layer. */
+    const double cells_km = 4.0 + 0.35;
+    const double pixels_per_km =
+        AH / (2.0 * (above_altitude_km - cells_km) * tan(0.5 * above_fov_deg * M_PI / 180.0));
+    for (size_t k = 0; k < sizeof layers / sizeof layers[0]; k++) {
+        above_state(&s, layers[k].coverage, layers[k].type);
+        render_above(&s, 601 + k, luma_above);
+        double covered = covered_fraction(luma_above, luma_clear, luma_white);
+        printf("%s from above: coverage %.2f, covered %.3f; autocorrelation", layers[k].name,
+               layers[k].coverage, covered);
+        for (size_t p = 0; p < sizeof periods_km / sizeof periods_km[0]; p++) {
+            double shift = periods_km[p] * pixels_per_km;
+            double r = autocorrelation_near(luma_above, shift);
+            printf(" %.3f at %.2f km (%.1f pixels)", r, periods_km[p], shift);
+            CHECK(r < 0.35);
+        }
+        printf("\n");
+        CHECK_NEAR(covered, layers[k].coverage, 0.08);
+        static uint8_t pixels[AW * AH * 4];
+        cloud_metrics_picture(frame_above, AW, AH, pixels);
+        char path[1024], err[256];
+        snprintf(path, sizeof path, "%s/cloud_mid_above_%s.png", out_dir, layers[k].name);
+        CHECK(png_write_rgba8_file(path, pixels, AW, AH, err, sizeof err) == 0);
+        printf("wrote %s\n", path);
+    }
+}
+
+/* The pattern tiles the weather extent (60 km), so the wind's offset, kept within it
+ * (render/clouds/cloud_params.c), wraps without a seam: a layer moved 10 m short of the extent
+ * east and north looks as one moved 10 m back. */
+static void test_wraps_with_extent(void)
+{
+    for (int type = 0; type <= 1; type++) {
+        struct proto_world_state s;
+        above_state(&s, 0.6, type);
+        s.camera.fov_deg = 40.0;
+        s.weather.offset_east_km = s.weather.offset_north_km = 60.0 - 0.01;
+        render(&s, 650 + 2 * type, frame_a);
+        s.weather.offset_east_km = s.weather.offset_north_km = -0.01;
+        render(&s, 651 + 2 * type, frame_b);
+        double diff = test_relative_difference(frame_a, frame_b, (size_t)W * H);
+        printf("%s across the extent's wrap: relative difference %.2g\n",
+               type ? "altocumulus" : "altostratus", diff);
+        CHECK(diff < 0.01);
+    }
+}
+
 /* An empty middle layer is no layer: with coverage 0 (or density 0) its other fields change no
  * pixel. */
 static void test_empty_is_nothing(void)
@@ -364,6 +498,8 @@ static void run_tests(void)
     test_dims_sun_and_ground();
     test_between_layers();
     test_altocumulus_cells();
+    test_from_above();
+    test_wraps_with_extent();
     test_empty_is_nothing();
     test_reference();
 }
