@@ -3,7 +3,10 @@
 // Multiple-scattering LUT (Hillaire 2020 section 5.2, eqs. 5-10): for each (sun cos-zenith,
 // altitude), second-order luminance L2 and transfer f_ms integrated over the sphere with an
 // isotropic phase, Psi_ms = L2 / (1 - f_ms). One workgroup per texel, one invocation per
-// direction of an 8x8 sphere grid. A dispatch covers consecutive texels (row-major) from
+// direction of an 8x8 sphere grid's half: the sun lies in the y-z plane and the atmosphere is
+// spherical, so a direction and its mirror x -> -x see the same light, and the grid's azimuths
+// (i + 0.5) / 8 turns pair up as i and 3 - i (mod 8); each marched direction counts twice,
+// the same sum as the whole grid's. A dispatch covers consecutive texels (row-major) from
 // rows.row_offset, so that an amortized rebuild can slice it finer than a row.
 #include "sky_shared.h"
 #include "sky_layouts.h"
@@ -18,8 +21,8 @@ layout(push_constant) uniform RowsPush { sky_rows_push rows; };
 #include "atmosphere.glsl"
 
 const float STEPS = 20.0;
-shared vec3 shared_l2[64];
-shared vec3 shared_fms[64];
+shared vec3 shared_l2[SKY_MULTISCATTERING_LOCAL];
+shared vec3 shared_fms[SKY_MULTISCATTERING_LOCAL];
 
 void main()
 {
@@ -36,8 +39,10 @@ void main()
     vec3 origin = vec3(0.0, 0.0, r);
     vec3 sun_dir = vec3(0.0, sqrt(max(0.0, 1.0 - mu_s * mu_s)), mu_s);
 
-    // Uniform sphere directions: stratified in azimuth and in cos(zenith).
-    float i = float(dir_index % 8u), j = float(dir_index / 8u);
+    // Uniform sphere directions: stratified in azimuth and in cos(zenith); azimuths 0, 1, 4, 5
+    // of 8 (their mirrors are 3, 2, 7, 6).
+    uint azimuth = dir_index % 4u;
+    float i = float(azimuth < 2u ? azimuth : azimuth + 2u), j = float(dir_index / 4u);
     float phi = 2.0 * PI * (i + 0.5) / 8.0;
     float cos_theta = 1.0 - 2.0 * (j + 0.5) / 8.0;
     float sin_theta = sqrt(max(0.0, 1.0 - cos_theta * cos_theta));
@@ -76,7 +81,7 @@ void main()
     shared_l2[dir_index] = l2;
     shared_fms[dir_index] = fms;
     barrier();
-    for (uint stride = 32u; stride > 0u; stride >>= 1u) {
+    for (uint stride = SKY_MULTISCATTERING_LOCAL / 2u; stride > 0u; stride >>= 1u) {
         if (dir_index < stride) {
             shared_l2[dir_index] += shared_l2[dir_index + stride];
             shared_fms[dir_index] += shared_fms[dir_index + stride];
@@ -84,9 +89,10 @@ void main()
         barrier();
     }
     if (dir_index == 0u) {
-        // Sphere integrals with an isotropic phase: 4 pi / 64 per direction times 1 / (4 pi).
-        vec3 l2_total = shared_l2[0] / 64.0;
-        vec3 fms_total = shared_fms[0] / 64.0;
+        // Sphere integrals with an isotropic phase: 4 pi / 64 per direction times 1 / (4 pi),
+        // each of the 32 marched directions twice.
+        vec3 l2_total = shared_l2[0] * (2.0 / 64.0);
+        vec3 fms_total = shared_fms[0] * (2.0 / 64.0);
         vec3 psi = l2_total / max(vec3(1e-6), 1.0 - fms_total); // eq. 9-10
         imageStore(multiscattering_out, px, vec4(psi, 1.0));
     }

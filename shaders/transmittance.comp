@@ -14,7 +14,7 @@ layout(push_constant) uniform RowsPush { sky_rows_push rows; };
 
 #include "atmosphere.glsl"
 
-const float STEPS = 96.0;
+const float STEPS = 64.0;
 
 void main()
 {
