@@ -7,7 +7,8 @@
 # per pixel (default 16). The references take nearly all of its time: on two lavapipe cores
 # about an hour at 16, most of it in the decks seen from below (light diffuses through tens
 # of optical depths, and the few paths that bring it make bright specks); 64 takes four times
-# as long.
+# as long. REVIEW_ONLY="altocumulus altostratus" renders those rows alone (the page is
+# rewritten whole, the other rows keep their images; the README's images are left as they are).
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -17,6 +18,7 @@ mkdir -p "$out"
 skyd="$root/$build/skyd"
 size=(--width 320 --height 180)
 spp=${REVIEW_SPP:-16}
+only=${REVIEW_ONLY:-}
 
 # name | weather preset | extra settings
 types=(
@@ -55,6 +57,10 @@ for t in "${types[@]}"; do
   for v in "${views[@]}"; do
     IFS='|' read -r view settings <<< "$v"
     file="$out/$name-$view.png"
+    if [ -n "$only" ] && [[ " $only " != *" $name "* ]]; then
+      row="$row ![$name, $view](images/clouds/$name-$view.png) | ![$name, $view, reference](images/clouds/$name-$view-reference.png) |"
+      continue
+    fi
     # One exposure for the pair: the renderer's metered one, read back from its stats.
     # shellcheck disable=SC2086
     ev=$("$skyd" render "${size[@]}" --weather "$preset" $extra $settings --out "$file" --stats |
@@ -77,6 +83,7 @@ done
   echo "and 0)."
 } >> "$doc"
 
+[ -z "$only" ] || exit 0
 # The README's images: fair-weather cumulus under a thin high layer, and a day's time-lapse
 # (the command the README shows; twelve of its hourly frames, four to a row).
 "$skyd" render --width 640 --height 360 --weather fair_cumulus --set camera.pitch_deg=10 \
