@@ -388,7 +388,9 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     double start = now_ms();
     /* The time since the last frame is idle (a stream's period less its frames): LUT work may
      * take part of it without delaying the next frame. */
-    atmosphere_luts_observe_idle(r->luts, r->frame_end_ms > 0.0 ? start - r->frame_end_ms : 0.0);
+    double idle_ms = r->frame_end_ms > 0.0 ? start - r->frame_end_ms : 0.0;
+    atmosphere_luts_observe_idle(r->luts, idle_ms);
+    cloud_renderer_observe_idle(r->clouds, idle_ms);
     size_t texel = v->output == SKY_RENDER_OUTPUT_LINEAR ? 16 : 4;
     if (v->width == 0 || v->height == 0 || pixels_bytes < (size_t)v->width * v->height * texel) {
         vk_log(r->ctx, VK_LOG_ERROR, "render: output buffer too small for %ux%u", v->width,

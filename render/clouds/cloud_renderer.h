@@ -27,8 +27,12 @@ int cloud_renderer_set(struct vk_context *ctx, struct cloud_renderer *cr,
                        const struct sky_render_clouds *clouds);
 int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer *cr,
                                    const uint8_t *rgba8, uint32_t width, uint32_t height);
-/* GPU ms per frame for weather and shadow map rebuilds; <= 0 rebuilds at once. */
+/* GPU ms per frame for weather and shadow map rebuilds; <= 0 rebuilds at once. Frames back to
+ * back give them at most 2 ms of it (or a tenth of the frame, when more); idle time before a
+ * frame (cloud_renderer_observe_idle) up to all of it. */
 void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms);
+/* Wall time since the renderer's previous frame returned (0 back to back). */
+void cloud_renderer_observe_idle(struct cloud_renderer *cr, double idle_ms);
 /* GPU ms a whole frame may take, which resolution AUTO fits (cloud_quality.h); <= 0 none. */
 void cloud_renderer_set_frame_budget(struct cloud_renderer *cr, double frame_budget_ms);
 /* The resolution frames trace at now: the clouds' own, or the level AUTO chose. */
