@@ -121,7 +121,7 @@ const char *proto_msg_type_name(enum proto_msg_type type)
     return type_names[type];
 }
 
-bool protocol_message_needs_controller(enum proto_msg_type type)
+bool proto_msg_needs_controller(enum proto_msg_type type)
 {
     return type == PROTO_MSG_SET || type == PROTO_MSG_APPLY_PRESET ||
            type == PROTO_MSG_SET_WEATHER_MAP || type == PROTO_MSG_APPLY_OBSERVATION;

@@ -4,7 +4,7 @@
  * Pure functions on cJSON: no sockets, no I/O, no globals except constant tables. The caller
  * owns transport concerns: it turns binary messages (or text frames its WebSocket library found
  * not to be UTF-8) into an PROTO_MSG_ERR_INVALID_ENCODING error itself, enforces roles with
- * protocol_message_needs_controller(), rate limits, and applies validated patches to the live
+ * proto_msg_needs_controller(), rate limits, and applies validated patches to the live
  * state with proto_world_state_apply_json() at the next tick.
  */
 #ifndef SKYD_MESSAGES_H
@@ -91,7 +91,7 @@ const char *proto_msg_type_name(enum proto_msg_type type);
 
 /* True for the types only a controller may send (set, apply_preset, set_weather_map,
  * apply_observation). */
-bool protocol_message_needs_controller(enum proto_msg_type type);
+bool proto_msg_needs_controller(enum proto_msg_type type);
 
 enum proto_msg_role {
     PROTO_ROLE_NONE = 0, /* "no role given" where a role is optional */

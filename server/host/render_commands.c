@@ -60,7 +60,7 @@ static void log_refusal(const struct render_context *ctx, struct session *sessio
 {
     const struct proto_client_msg *handling = ctx->handling;
     if (!handling ||
-        (handling->type != PROTO_MSG_AUTH && !protocol_message_needs_controller(handling->type)))
+        (handling->type != PROTO_MSG_AUTH && !proto_msg_needs_controller(handling->type)))
         return;
     char name[PROTO_MSG_CLIENT_MAX + 1];
     session_client_name(session, name, sizeof name);
@@ -525,8 +525,7 @@ static void handle_describe(struct render_context *ctx, struct session *session,
 static void dispatch(struct render_context *ctx, struct session *session,
                      const struct proto_client_msg *msg)
 {
-    if (protocol_message_needs_controller(msg->type) &&
-        session_role(session) != PROTO_ROLE_CONTROLLER) {
+    if (proto_msg_needs_controller(msg->type) && session_role(session) != PROTO_ROLE_CONTROLLER) {
         reply_error(ctx, session, &msg->id, PROTO_MSG_ERR_FORBIDDEN, "%s needs the controller role",
                     proto_msg_type_name(msg->type));
         return;

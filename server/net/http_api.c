@@ -420,7 +420,7 @@ static void submit_json(struct http_api *api, struct http_request *r, cJSON *jso
     free(text);
     if (code != PROTO_MSG_OK) {
         service_metrics_message(api->metrics, msg.type);
-        if (protocol_message_needs_controller(msg.type)) {
+        if (proto_msg_needs_controller(msg.type)) {
             char peer[64] = "";
             net_peer_address(r->wsi, peer, sizeof peer);
             skyd_log(SKYD_LOG_WARNING, "%s from %s refused: %s",

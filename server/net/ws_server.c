@@ -217,7 +217,7 @@ static void on_message(struct ws_server *srv, struct connection *c)
         } else {
             error = build_error(srv, &msg.id, parse_error.code, parse_error.message,
                                 &parse_error.fields);
-            if (msg.type == PROTO_MSG_AUTH || protocol_message_needs_controller(msg.type))
+            if (msg.type == PROTO_MSG_AUTH || proto_msg_needs_controller(msg.type))
                 skyd_log(SKYD_LOG_WARNING, "%s refused from connection %llu (%s): %s",
                          proto_msg_type_name(msg.type), c->number, c->peer, parse_error.message);
         }

@@ -261,7 +261,7 @@ void test_parsed_values(void)
     check_case_name = "roles";
     for (int t = PROTO_MSG_HELLO; t <= PROTO_MSG_STATS; t++) {
         bool expected = t == PROTO_MSG_SET || t == PROTO_MSG_APPLY_PRESET;
-        CHECK_INT(protocol_message_needs_controller((enum proto_msg_type)t), expected);
+        CHECK_INT(proto_msg_needs_controller((enum proto_msg_type)t), expected);
         CHECK(proto_msg_type_name((enum proto_msg_type)t) != NULL);
     }
     CHECK(proto_msg_type_name(PROTO_MSG_NONE) == NULL);

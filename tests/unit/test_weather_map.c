@@ -196,7 +196,7 @@ static void test_message(void)
     limits.max_upload_bytes = 8192;
     struct proto_client_msg msg;
     struct proto_msg_parse_error error;
-    CHECK(protocol_message_needs_controller(PROTO_MSG_SET_WEATHER_MAP));
+    CHECK(proto_msg_needs_controller(PROTO_MSG_SET_WEATHER_MAP));
 
     uint8_t texels[32 * 32 * 4];
     for (size_t i = 0; i < sizeof texels; i++)
