@@ -353,7 +353,10 @@ class Client:
             self.events.append(m)
             return ("event", m)
         if m.get("type") == "frame":
-            b = await self.raw(timeout)
+            # The binary follows its frame message at once, but the caller's time may be
+            # nearly spent: waiting only that long would leave the binary to be read
+            # alone next time, unpaired from the frame message already taken.
+            b = await self.raw(max(timeout, REPLY_TIMEOUT))
             if not isinstance(b, bytes):
                 check(f"{self.name}: frame message immediately followed by a binary message",
                       False, f"after {short(m)} came {short(b)}")
