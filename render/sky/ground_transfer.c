@@ -20,7 +20,7 @@ static void ray_transfer(const struct sky_render_atmosphere *a, double mu, doubl
     double r0 = a->bottom_radius_km, top = a->top_radius_km;
     /* Distance to the top along cos-zenith mu from radius r0. */
     double length = -r0 * mu + sqrt(r0 * r0 * (mu * mu - 1.0) + top * top);
-    double tau[3] = { 0, 0, 0 };
+    double transmittance[3] = { 1, 1, 1 };
     out[0] = out[1] = out[2] = 0.0;
     for (int i = 0; i < RAY_STEPS; i++) {
         /* Quadratic spacing: short steps near the ground where the air is dense. */
@@ -30,7 +30,9 @@ static void ray_transfer(const struct sky_render_atmosphere *a, double mu, doubl
         double h = r - r0;
         double rayleigh = exp(-h / a->rayleigh_scale_height_km);
         double mie = exp(-h / a->mie_scale_height_km);
-        double fog = a->fog_density_per_km * exp(-h / a->fog_scale_height_km);
+        double fog = a->fog_density_per_km > 0.0
+                         ? a->fog_density_per_km * exp(-h / a->fog_scale_height_km)
+                         : 0.0;
         double ozone = ozone_tent(h, a->ozone_peak_km, a->ozone_width_km);
         for (int c = 0; c < 3; c++) {
             double scattering = a->rayleigh_scattering[c] * rayleigh + a->mie_scattering[c] * mie +
@@ -41,8 +43,8 @@ static void ray_transfer(const struct sky_render_atmosphere *a, double mu, doubl
             double step_t = exp(-extinction * dt);
             double integral = extinction > 1e-12 ? scattering * (1.0 - step_t) / extinction
                                                  : scattering * dt;
-            out[c] += exp(-tau[c]) * integral;
-            tau[c] += extinction * dt;
+            out[c] += transmittance[c] * integral;
+            transmittance[c] *= step_t;
         }
     }
 }
