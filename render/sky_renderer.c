@@ -21,6 +21,11 @@
 #include "vk_context.h"
 #include "vk_resources.h"
 
+/* Of the time the renderer sat idle before a frame, the share background work (LUT rebuilds,
+ * refinement, cloud maps) may take: the rest absorbs jitter and leaves the CPU to the
+ * encoders. */
+#define IDLE_SHARE 0.5
+
 /* What the sky-view LUTs depend on besides the displayed atmosphere LUTs: the camera's
  * distance from the planet's centre and the sun and moon in the camera's local frame. */
 struct skyview_inputs {
@@ -386,11 +391,11 @@ int sky_renderer_render(struct sky_renderer *r, const struct sky_render_atmosphe
     if (!call_begins(r))
         return -1;
     double start = now_ms();
-    /* The time since the last frame is idle (a stream's period less its frames): LUT work may
-     * take part of it without delaying the next frame. */
+    /* The time since the last frame is idle (a stream's period less its frames): LUT and map
+     * work may take part of it without delaying the next frame. */
     double idle_ms = r->frame_end_ms > 0.0 ? start - r->frame_end_ms : 0.0;
-    atmosphere_luts_observe_idle(r->luts, idle_ms);
-    cloud_renderer_observe_idle(r->clouds, idle_ms);
+    atmosphere_luts_observe_idle(r->luts, IDLE_SHARE * idle_ms);
+    cloud_renderer_observe_idle(r->clouds, IDLE_SHARE * idle_ms);
     size_t texel = v->output == SKY_RENDER_OUTPUT_LINEAR ? 16 : 4;
     if (v->width == 0 || v->height == 0 || pixels_bytes < (size_t)v->width * v->height * texel) {
         vk_log(r->ctx, VK_LOG_ERROR, "render: output buffer too small for %ux%u", v->width,

@@ -22,9 +22,8 @@
 /* Share of the last frame's GPU time that weather and shadow map builds may take. */
 #define RELATIVE_MAP_BUDGET 0.1
 /* What map builds take of frames back to back (ms, when the budget allows): more comes only
- * from the idle time before a frame, of which they take this share. */
+ * from the usable idle time before a frame. */
 #define BACK_TO_BACK_MAP_MS 2.0
-#define IDLE_SHARE 0.5
 #define FLOAT_FORMAT VK_FORMAT_R32G32B32A32_SFLOAT
 #define SUN_DEPTH_FORMAT VK_FORMAT_R32G32_SFLOAT
 #define WEATHER_FORMAT VK_FORMAT_R16G16B16A16_SFLOAT
@@ -101,7 +100,7 @@ struct cloud_renderer {
     bool shadow_has_sun, env_dirty;
     double budget_ms;
     double last_frame_ms;         /* GPU time of the last frame, for the relative map budget */
-    double idle_ms;               /* wall time idle before this frame (a stream's period) */
+    double usable_idle_ms;        /* of the idle time before this frame, what maps may take */
     struct cloud_quality quality; /* the level resolution AUTO traces at */
     uint32_t params_generation;   /* counts changes of the clouds other than the wind's drift */
     float client_max_rain;        /* the largest precipitation of the client map */
@@ -257,9 +256,9 @@ void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms)
     cr->budget_ms = budget_ms;
 }
 
-void cloud_renderer_observe_idle(struct cloud_renderer *cr, double idle_ms)
+void cloud_renderer_observe_idle(struct cloud_renderer *cr, double usable_idle_ms)
 {
-    cr->idle_ms = idle_ms > 0.0 && isfinite(idle_ms) ? idle_ms : 0.0;
+    cr->usable_idle_ms = usable_idle_ms > 0.0 && isfinite(usable_idle_ms) ? usable_idle_ms : 0.0;
 }
 
 void cloud_renderer_set_frame_budget(struct cloud_renderer *cr, double frame_budget_ms)
@@ -570,7 +569,7 @@ int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr
      * about 10 % of its neighbours. Up to budget_ms, idle time before the frame is free. */
     double budget = cr->budget_ms;
     if (budget > 0.0) {
-        budget = fmin(budget, fmax(BACK_TO_BACK_MAP_MS, IDLE_SHARE * cr->idle_ms));
+        budget = fmin(budget, fmax(BACK_TO_BACK_MAP_MS, cr->usable_idle_ms));
         budget = fmax(budget, RELATIVE_MAP_BUDGET * cr->last_frame_ms);
     }
     cr->weather.rows_this_frame = cr->shadow.rows_this_frame = 0;

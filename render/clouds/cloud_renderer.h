@@ -31,8 +31,9 @@ int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer
  * back give them at most 2 ms of it (or a tenth of the frame, when more); idle time before a
  * frame (cloud_renderer_observe_idle) up to all of it. */
 void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms);
-/* Wall time since the renderer's previous frame returned (0 back to back). */
-void cloud_renderer_observe_idle(struct cloud_renderer *cr, double idle_ms);
+/* The part of the wall time since the renderer's previous frame returned that map builds may
+ * take (sky_renderer.c decides the share; 0 back to back). */
+void cloud_renderer_observe_idle(struct cloud_renderer *cr, double usable_idle_ms);
 /* GPU ms a whole frame may take, which resolution AUTO fits (cloud_quality.h); <= 0 none. */
 void cloud_renderer_set_frame_budget(struct cloud_renderer *cr, double frame_budget_ms);
 /* The resolution frames trace at now: the clouds' own, or the level AUTO chose. */

@@ -16,9 +16,6 @@ enum phase { PHASE_IDLE, PHASE_BUILDING, PHASE_BLENDING };
 #define INITIAL_MS_PER_TRANSMITTANCE_BLOCK 0.15 /* 64 texels */
 #define INITIAL_MS_PER_MULTISCATTERING_TEXEL 0.04
 #define IRRADIANCE_MS 0.2
-/* Of the time the renderer sat idle before a frame (a stream's frame period less its frames),
- * the share LUT work may take: the rest absorbs jitter and leaves the CPU to the encoders. */
-#define IDLE_SHARE 0.5
 
 struct atmosphere_luts {
     uint64_t display_generation; /* counts changes of what the displayed LUTs hold */
@@ -29,7 +26,7 @@ struct atmosphere_luts {
     /* GPU time of the rest of the frame (smoothed; 0 before the first), and this frame's LUT
      * work so far. */
     double frame_ms, lut_ms_this_frame;
-    double idle_ms; /* wall time idle before this frame */
+    double usable_idle_ms; /* of the idle time before this frame, what LUT work may take */
     /* What frames are shaded with now, and the two ends of a rebuild. */
     struct sky_render_atmosphere displayed, previous, target;
     struct sky_atmosphere_uniforms displayed_u, previous_u, target_u;
@@ -197,14 +194,14 @@ double atmosphere_luts_frame_budget(const struct atmosphere_luts *luts)
     double budget = luts->budget_ms;
     if (luts->budget_fraction > 0.0 && luts->frame_ms > 0.0) {
         double share = luts->budget_fraction * luts->frame_ms;
-        budget = fmin(budget, fmax(share, IDLE_SHARE * luts->idle_ms));
+        budget = fmin(budget, fmax(share, luts->usable_idle_ms));
     }
     return budget;
 }
 
-void atmosphere_luts_observe_idle(struct atmosphere_luts *luts, double idle_ms)
+void atmosphere_luts_observe_idle(struct atmosphere_luts *luts, double usable_idle_ms)
 {
-    luts->idle_ms = idle_ms > 0.0 && isfinite(idle_ms) ? idle_ms : 0.0;
+    luts->usable_idle_ms = usable_idle_ms > 0.0 && isfinite(usable_idle_ms) ? usable_idle_ms : 0.0;
 }
 
 bool atmosphere_luts_record_frame(struct atmosphere_luts *luts, struct sky_passes *passes,

@@ -22,8 +22,9 @@ struct atmosphere_luts *atmosphere_luts_create(void);
 void atmosphere_luts_destroy(struct atmosphere_luts **luts);
 
 /* budget_ms <= 0: every change is rebuilt at once. budget_fraction > 0 caps a frame's share at
- * that fraction of the rest of the frame (atmosphere_luts_observe_frame), or at half the time
- * the renderer sat idle before it (atmosphere_luts_observe_idle) when that is more. */
+ * that fraction of the rest of the frame (atmosphere_luts_observe_frame), or at the usable
+ * part of the time the renderer sat idle before it (atmosphere_luts_observe_idle) when that
+ * is more. */
 void atmosphere_luts_set_amortization(struct atmosphere_luts *luts, double budget_ms,
                                       double budget_fraction, int blend_frames);
 /* The LUT images were recreated or a submission failed: the next frame rebuilds at once. */
@@ -41,10 +42,10 @@ bool atmosphere_luts_record_frame(struct atmosphere_luts *luts, struct sky_passe
 /* This frame's GPU-time budget for LUT work (ms): budget_ms, or less by budget_fraction
  * unless the idle time before the frame leaves more; <= 0 when amortization is off. */
 double atmosphere_luts_frame_budget(const struct atmosphere_luts *luts);
-/* Wall time since the renderer's previous call ended, before this frame: a frame period's
- * idle part, which LUT work can take without delaying the next frame. 0 when frames come back
- * to back. */
-void atmosphere_luts_observe_idle(struct atmosphere_luts *luts, double idle_ms);
+/* The part of the wall time since the renderer's previous call ended (a frame period's idle
+ * part) that LUT work may take without delaying the next frame; sky_renderer.c decides the
+ * share. 0 when frames come back to back. */
+void atmosphere_luts_observe_idle(struct atmosphere_luts *luts, double usable_idle_ms);
 
 /* Changes whenever the displayed LUTs do (an exact build, a blend step); slices of a rebuild
  * under way leave it, as they leave the display. */
