@@ -5,7 +5,10 @@
 #include "sky_renderer.h"
 
 #define PI 3.14159265358979323846
-#define ZENITH_STEPS 32
+/* Gauss-Legendre nodes in zenith: 16 rays are within 1.3e-4 of a plane-parallel atmosphere's
+ * closed form from optical depth 0.016 to 0.64 (test_units), where the midpoint rule on 32
+ * zeniths was up to 4.6e-3 off; for Earth they agree with 24 nodes to 1e-5. */
+#define ZENITH_NODES 16
 #define RAY_STEPS 400
 
 static double ozone_tent(double h, double peak, double width)
@@ -49,15 +52,40 @@ static void ray_transfer(const struct sky_render_atmosphere *a, double mu, doubl
     }
 }
 
+/* Nodes x and weights w of n-point Gauss-Legendre quadrature on [-1, 1]: the roots of the
+ * Legendre polynomial P_n by Newton's method from Tricomi's first guesses. */
+static void gauss_legendre(int n, double *x, double *w)
+{
+    for (int i = 0; i < n; i++) {
+        double z = cos(PI * (i + 0.75) / (n + 0.5)), derivative = 1.0;
+        for (int iteration = 0; iteration < 100; iteration++) {
+            double p = 1.0, p_previous = 0.0;
+            for (int j = 1; j <= n; j++) {
+                double p_before = p_previous;
+                p_previous = p;
+                p = ((2.0 * j - 1.0) * z * p_previous - (j - 1.0) * p_before) / j;
+            }
+            derivative = n * (z * p - p_previous) / (z * z - 1.0);
+            double step = p / derivative;
+            z -= step;
+            if (fabs(step) < 1e-15)
+                break;
+        }
+        x[i] = z;
+        w[i] = 2.0 / ((1.0 - z * z) * derivative * derivative);
+    }
+}
+
 void sky_ground_transfer(const struct sky_render_atmosphere *a, double out[3])
 {
     /* Axially symmetric: (1/pi) * 2 pi * integral_0^{pi/2} F(mu) cos sin dtheta. */
-    double d_theta = 0.5 * PI / ZENITH_STEPS;
+    double x[ZENITH_NODES], w[ZENITH_NODES];
+    gauss_legendre(ZENITH_NODES, x, w);
     out[0] = out[1] = out[2] = 0.0;
-    for (int i = 0; i < ZENITH_STEPS; i++) {
-        double theta = (i + 0.5) * d_theta, f[3];
+    for (int i = 0; i < ZENITH_NODES; i++) {
+        double theta = 0.25 * PI * (x[i] + 1.0), weight = 0.25 * PI * w[i], f[3];
         ray_transfer(a, cos(theta), f);
         for (int c = 0; c < 3; c++)
-            out[c] += 2.0 * f[c] * cos(theta) * sin(theta) * d_theta;
+            out[c] += 2.0 * f[c] * cos(theta) * sin(theta) * weight;
     }
 }

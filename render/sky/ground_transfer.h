@@ -8,7 +8,7 @@
 
 struct sky_render_atmosphere;
 
-/* A per channel, by a midpoint rule in zenith and azimuth and along each ray. */
+/* A per channel: Gauss-Legendre in zenith, a midpoint rule along each ray. */
 void sky_ground_transfer(const struct sky_render_atmosphere *atmosphere, double out[3]);
 
 #endif

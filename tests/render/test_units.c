@@ -7,6 +7,7 @@
 #include "check.h"
 #include "cloud_history.h"
 #include "compute_pass.h"
+#include "ground_transfer.h"
 #include "lut_selftest.spv.h"
 #include "sky_photometry.h"
 #include "sky_uniforms.h"
@@ -51,6 +52,42 @@ static void test_photometry(void)
     double e[3];
     sky_sun_illuminance_top(&a, 1000.0, e);
     CHECK_NEAR(e[0] * t[0], 1000.0, 1e-6);
+}
+
+/* E_3(x), the third exponential integral, from E_1's series (x small): E_{n+1} = (e^-x - x E_n)/n. */
+static double exponential_integral_3(double x)
+{
+    double e1 = -0.57721566490153286 - log(x), term = 1.0;
+    for (int k = 1; k < 60; k++) {
+        term *= -x / k;
+        e1 -= term / k;
+    }
+    double e2 = exp(-x) - x * e1;
+    return 0.5 * (exp(-x) - x * e2);
+}
+
+/* The ground transfer of a pure scatterer over a planet so large that the atmosphere is plane
+ * parallel: F(mu) = 1 - exp(-tau / mu) along each ray, so A = 2 int_0^1 F mu dmu = 1 - 2 E_3(tau). */
+static void test_ground_transfer(void)
+{
+    struct sky_render_atmosphere a;
+    memset(&a, 0, sizeof a);
+    a.bottom_radius_km = 1e7;
+    a.top_radius_km = 1e7 + 100.0;
+    a.rayleigh_scale_height_km = 8;
+    a.mie_scale_height_km = 1.2;
+    a.fog_scale_height_km = 1;
+    a.ozone_width_km = 30;
+    a.rayleigh_scattering[0] = 0.002;
+    a.rayleigh_scattering[1] = 0.0135;
+    a.rayleigh_scattering[2] = 0.08;
+    double transfer[3];
+    sky_ground_transfer(&a, transfer);
+    for (int c = 0; c < 3; c++) {
+        double tau = a.rayleigh_scattering[c] * 8.0 * -expm1(-100.0 / 8.0);
+        double expected = 1.0 - 2.0 * exponential_integral_3(tau);
+        CHECK_NEAR(transfer[c] / expected, 1.0, 3e-4);
+    }
 }
 
 static void test_shader_functions(struct vk_context *ctx)
@@ -188,6 +225,7 @@ static void test_view_outputs(struct vk_context *ctx)
 int main(void)
 {
     test_photometry();
+    test_ground_transfer();
     unsigned validation_messages = 0;
     struct vk_context_params params = { .validation = test_validation_requested(),
                                         .validation_message_counter = &validation_messages };
