@@ -16,6 +16,20 @@
 #include "vk_context.h"
 #include "vk_resources.h"
 
+/* A 100 km atmosphere with Earth's scale heights and no medium: each test adds its species. */
+static struct sky_render_atmosphere empty_atmosphere(double bottom_radius_km)
+{
+    struct sky_render_atmosphere a;
+    memset(&a, 0, sizeof a);
+    a.bottom_radius_km = bottom_radius_km;
+    a.top_radius_km = bottom_radius_km + 100.0;
+    a.rayleigh_scale_height_km = 8;
+    a.mie_scale_height_km = 1.2;
+    a.fog_scale_height_km = 1;
+    a.ozone_width_km = 30;
+    return a;
+}
+
 static void test_photometry(void)
 {
     /* Seed 001, 4.1: 0.545 deg -> 0.0000711 sr; 120000 lx -> 1.69e9 cd/m2. */
@@ -30,14 +44,7 @@ static void test_photometry(void)
     CHECK_NEAR(sky_rgb_to_luminance(white), 1.0, 1e-12);
 
     /* Zenith transmittance of a single exponential species: exp(-sigma H (1 - e^(-D/H))). */
-    struct sky_render_atmosphere a;
-    memset(&a, 0, sizeof a);
-    a.bottom_radius_km = 6360;
-    a.top_radius_km = 6460;
-    a.rayleigh_scale_height_km = 8;
-    a.mie_scale_height_km = 1.2;
-    a.fog_scale_height_km = 1;
-    a.ozone_width_km = 30;
+    struct sky_render_atmosphere a = empty_atmosphere(6360);
     a.rayleigh_scattering[0] = 0.01;
     a.mie_scattering[1] = 0.02;
     a.mie_absorption[1] = 0.005;
@@ -70,14 +77,7 @@ static double exponential_integral_3(double x)
  * parallel: F(mu) = 1 - exp(-tau / mu) along each ray, so A = 2 int_0^1 F mu dmu = 1 - 2 E_3(tau). */
 static void test_ground_transfer(void)
 {
-    struct sky_render_atmosphere a;
-    memset(&a, 0, sizeof a);
-    a.bottom_radius_km = 1e7;
-    a.top_radius_km = 1e7 + 100.0;
-    a.rayleigh_scale_height_km = 8;
-    a.mie_scale_height_km = 1.2;
-    a.fog_scale_height_km = 1;
-    a.ozone_width_km = 30;
+    struct sky_render_atmosphere a = empty_atmosphere(1e7);
     a.rayleigh_scattering[0] = 0.002;
     a.rayleigh_scattering[1] = 0.0135;
     a.rayleigh_scattering[2] = 0.08;
