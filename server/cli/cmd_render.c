@@ -111,7 +111,7 @@ static void frame_path(const char *prefix, int width, const char *suffix, unsign
     if (width < 0)
         snprintf(out, capacity, "%s", prefix);
     else
-        snprintf(out, capacity, "%s%0*u%s", prefix, width, frame, suffix);
+        snprintf(out, capacity, "%s%0*u%s", prefix, width < 20 ? width : 20, frame, suffix);
 }
 
 static int parse_lapse_option(int argc, char **argv, int *i, struct lapse_args *a)

@@ -92,7 +92,9 @@ async def check_map(port, state_file, folder, grib, ctl):
     got = columns(body)
     if check("GET /api/weather/forecast carries the map", got is not None, short(body)):
         w, h, (r_, g_, b_, a_) = got
-        west, east = r_[:w * 3 // 8], r_[w - w * 3 // 8:]
+        # The map tiles its extent, laid against the wind's drift: as simulated time passes
+        # (more of it on a loaded machine) the column at each edge mixes with the other edge's.
+        west, east = r_[1:w * 3 // 8], r_[w - w * 3 // 8:w - 1]
         info("map %dx%d, low cover by column: %s" % (w, h, " ".join("%.0f" % v for v in r_)))
         check("the forecast's grid size", (w, h) == (16, 16), f"{w}x{h}")
         check("west of the place clear, east overcast",
