@@ -53,12 +53,12 @@ test: build
 	@./scripts/fuzz.sh 60
 	@./scripts/format.sh --check
 
-# The tests labelled long (the clouds against the path tracer, the cloud fields from 14 km
-# against the published statistics, the middle layer against the path tracer, an installation,
-# device faults on the daemon, no pipeline compiled at dispatch, skyd forecast and render
-# --metar/--forecast, a slow forecast read and the forecast's weather map), kept out of
-# `make test`'s 20 minutes; CI runs them after it, and make test-asan runs those not labelled
-# shader_bound.
+# The tests labelled long (the sky against the Monte Carlo reference, the cloud shapes, the
+# clouds against the path tracer, the cloud fields from 14 km against the published
+# statistics, the middle layer against the path tracer, an installation, device faults on the
+# daemon, no pipeline compiled at dispatch, skyd forecast and render --metar/--forecast, a slow
+# forecast read and the forecast's weather map), kept out of `make test`'s 20 minutes; CI runs
+# them after it, and make test-asan runs those not labelled shader_bound or reference_bound.
 test-long: build
 	@cd $(BUILD) && ctest --output-on-failure --timeout 1800 --label-regex long
 
@@ -77,7 +77,9 @@ fuzz: deps
 # Tests labelled shader_bound (the path tracer, the cloud shapes, fields and middle layer, the
 # pipeline-compile count) spend their time in lavapipe running shaders, which the sanitizers do
 # not see; their C paths (a render's setup, its passes, readback) run in the other render tests.
-# They are left out here, which keeps CI, which runs them unsanitized, inside its time.
+# They are left out here, as is accuracy (reference_bound: a Monte Carlo reference in tests/,
+# whose library ctest reference runs here), which keeps CI, which runs them unsanitized,
+# inside its time.
 ASAN_RUNTIME = $(shell $(CC) -print-file-name=libasan.so)
 VK_DRIVER = $(wildcard /usr/lib/*/libvulkan_lvp.so)
 test-asan: deps
@@ -85,7 +87,7 @@ test-asan: deps
 	@cmake --build $(ASAN_BUILD) -j$(JOBS)
 	@cd $(ASAN_BUILD) && LD_PRELOAD="$(ASAN_RUNTIME) $(VK_DRIVER)" \
 	  ASAN_OPTIONS=detect_leaks=1:quarantine_size_mb=16 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/common/lsan.supp \
-	  UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure --timeout 1800 --label-exclude shader_bound
+	  UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure --timeout 1800 --label-exclude 'shader_bound|reference_bound'
 
 bench: build
 	@$(BUILD)/bench/skyd_bench $(BENCH_ARGS)
