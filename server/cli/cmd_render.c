@@ -77,6 +77,9 @@ static void usage(FILE *out)
             "  --spp N                the reference's samples per pixel, 1..65536 (default 256)\n");
 }
 
+/* The widest %0Nd split_pattern takes: its digit loop stops at a value of 2 or more. */
+#define FRAME_NUMBER_MAX_WIDTH 19
+
 /* Splits an --out pattern at its one %d or %0Nd; false when it has none, another conversion,
  * or more than one. A lone frame may have no conversion at all. */
 static bool split_pattern(const char *pattern, bool need_number, char *prefix, size_t capacity,
@@ -111,7 +114,8 @@ static void frame_path(const char *prefix, int width, const char *suffix, unsign
     if (width < 0)
         snprintf(out, capacity, "%s", prefix);
     else
-        snprintf(out, capacity, "%s%0*u%s", prefix, width < 20 ? width : 20, frame, suffix);
+        snprintf(out, capacity, "%s%0*u%s", prefix,
+                 width < FRAME_NUMBER_MAX_WIDTH ? width : FRAME_NUMBER_MAX_WIDTH, frame, suffix);
 }
 
 static int parse_lapse_option(int argc, char **argv, int *i, struct lapse_args *a)
