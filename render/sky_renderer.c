@@ -187,7 +187,7 @@ struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *param
     size_t star_words;
     const uint32_t(*words)[4] = night_stars_words(stars, &star_words);
     struct sky_star_field field = { words, star_words, night_stars_brightest_lux(stars) };
-    r->passes = sky_passes_create(r->ctx, &r->sizes, &no_clouds, &field);
+    r->passes = sky_passes_create(r->ctx, &r->sizes, &no_clouds, &field, params->warm_up_variants);
     night_stars_destroy(&stars);
     if (!r->passes)
         goto destroy_partial;

@@ -108,6 +108,10 @@ struct sky_renderer_params {
      * while the renderer is destroyed. Must outlive the renderer. */
     unsigned *validation_message_counter;
     struct sky_render_log log;
+    /* The first frame of each output kind (sRGB, linear) dispatches every composite pipeline
+     * of that kind, so none compiles later: a daemon then neither stalls a stream when a view
+     * first needs one nor grows as views find new ones. One-shot renders leave it off. */
+    bool warm_up_variants;
 };
 
 #define SKY_RENDER_MAX_PASSES 32 /* = GPU_TIMER_MAX_PASSES */

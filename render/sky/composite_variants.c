@@ -22,6 +22,7 @@ struct composite_variants {
      * variants created so far, and the updates of the others were most of the daemon's
      * allocations (heaptrack, soak). 64 bits: never wraps back to a variant's stamp. */
     uint64_t generation;
+    bool warmed_up[2]; /* by output kind: sRGB8, linear */
 };
 
 /* Flags that make no difference in a pipeline collapse onto one: from space every pixel is
@@ -36,9 +37,29 @@ static unsigned normalized(unsigned flags)
     return flags & (COMPOSITE_VARIANT_COUNT - 1);
 }
 
-struct composite_variants *composite_variants_create(void)
+bool composite_variants_claim_warm_up(struct composite_variants *cv, unsigned kind)
 {
-    return calloc(1, sizeof(struct composite_variants));
+    bool *warmed = &cv->warmed_up[(kind & COMPOSITE_LINEAR) != 0];
+    bool claimed = !*warmed;
+    *warmed = true;
+    return claimed;
+}
+
+int composite_variants_of_kind(unsigned kind, unsigned flags[COMPOSITE_VARIANT_COUNT])
+{
+    int count = 0;
+    for (unsigned f = 0; f < COMPOSITE_VARIANT_COUNT; f++)
+        if ((f & COMPOSITE_LINEAR) == (kind & COMPOSITE_LINEAR) && normalized(f) == f)
+            flags[count++] = f;
+    return count;
+}
+
+struct composite_variants *composite_variants_create(bool warm_up)
+{
+    struct composite_variants *cv = calloc(1, sizeof(struct composite_variants));
+    if (cv && !warm_up)
+        cv->warmed_up[0] = cv->warmed_up[1] = true;
+    return cv;
 }
 
 void composite_variants_destroy(struct vk_context *ctx, struct composite_variants **cvp)

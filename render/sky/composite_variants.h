@@ -2,7 +2,9 @@
  * (composite.comp, the SKY_CONST_* of sky_layouts.h), so each pipeline carries only its own paths. lavapipe
  * executes both sides of every branch under a mask, so a uniform `if (no clouds) return` still
  * costs the clouds' work: leaving code out of the pipeline is the only way to skip it.
- * Pipelines are created at first use and bound to the resources last given. */
+ * Pipelines are created at first use and bound to the resources last given. With warm-up, the
+ * first frame of each output kind uses all of that kind's (composite_variants_claim_warm_up),
+ * so their number and memory are fixed from then on, whatever combinations later views need. */
 #ifndef SKYD_COMPOSITE_VARIANTS_H
 #define SKYD_COMPOSITE_VARIANTS_H
 
@@ -26,7 +28,7 @@ enum composite_flag {
 
 struct composite_variants;
 
-struct composite_variants *composite_variants_create(void);
+struct composite_variants *composite_variants_create(bool warm_up);
 void composite_variants_destroy(struct vk_context *ctx, struct composite_variants **cv);
 
 /* Points every pipeline, those created later included, at `resources` (binding order of
@@ -38,5 +40,12 @@ void composite_variants_bind(struct composite_variants *cv,
  * at first use; NULL when it cannot be created. */
 const struct compute_pass *composite_variants_get(struct vk_context *ctx,
                                                   struct composite_variants *cv, unsigned flags);
+
+/* With warm-up, true once per output kind (0 or COMPOSITE_LINEAR): the caller then dispatches
+ * every one of that kind's pipelines, listed by composite_variants_of_kind, once. */
+bool composite_variants_claim_warm_up(struct composite_variants *cv, unsigned kind);
+
+/* The flag sets of the distinct pipelines of one output kind; returns their number. */
+int composite_variants_of_kind(unsigned kind, unsigned flags[COMPOSITE_VARIANT_COUNT]);
 
 #endif

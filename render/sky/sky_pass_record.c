@@ -146,17 +146,36 @@ static bool record_region(struct vk_context *ctx, struct sky_passes *p, VkComman
     return true;
 }
 
+/* Every pipeline of the output kind, each dispatched on pixel (0, 0), which the frame's own
+ * regions then write again. lavapipe compiles a pipeline's code at its first dispatch and keeps
+ * it: had each combination (sun in view, night, camera in space...) waited for a view that
+ * needs it, a stream would stall at that frame, and a daemon's memory would keep growing for
+ * hours as new ones came (heaptrack on the cluster soak's node A). */
+static bool warm_up_variants(struct vk_context *ctx, struct sky_passes *p, VkCommandBuffer cmd,
+                             unsigned kind)
+{
+    static const int32_t first_pixel[4] = { 0, 0, 1, 1 };
+    unsigned flags[COMPOSITE_VARIANT_COUNT];
+    int count = composite_variants_of_kind(kind, flags);
+    for (int i = 0; i < count; i++)
+        if (!record_region(ctx, p, cmd, flags[i], first_pixel))
+            return false;
+    return true;
+}
+
 int sky_passes_record_composite(struct vk_context *ctx, struct sky_passes *p, VkCommandBuffer cmd,
                                 struct gpu_timer *timer, const struct sky_composite_job *job)
 {
-    unsigned base = (job->kind == SKY_RENDER_OUTPUT_LINEAR ? COMPOSITE_LINEAR : 0) |
-                    (job->clouds ? COMPOSITE_CLOUDS : 0);
+    unsigned kind = job->kind == SKY_RENDER_OUTPUT_LINEAR ? COMPOSITE_LINEAR : 0;
+    unsigned base = kind | (job->clouds ? COMPOSITE_CLOUDS : 0);
     unsigned main_flags = base | (job->night_sky ? COMPOSITE_NIGHT_SKY : 0);
     int32_t w = (int32_t)p->out->image.width, h = (int32_t)p->out->image.height;
     bool ok = true;
+    if (composite_variants_claim_warm_up(p->composite, kind))
+        ok = warm_up_variants(ctx, p, cmd, kind);
     if (job->from_space) {
         const int32_t full[4] = { 0, 0, w, h };
-        ok = record_region(ctx, p, cmd, main_flags | COMPOSITE_FROM_SPACE, full);
+        ok = ok && record_region(ctx, p, cmd, main_flags | COMPOSITE_FROM_SPACE, full);
     } else {
         /* The rows that may see the ground get the ground's work; the rest go without it. */
         int32_t g0 = h, g1 = h;

@@ -327,7 +327,8 @@ static int create_stars(struct vk_context *ctx, struct sky_passes *p,
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
                                      const struct sky_render_lut_sizes *sizes,
                                      const struct sky_cloud_bindings *clouds,
-                                     const struct sky_star_field *stars)
+                                     const struct sky_star_field *stars,
+                                     bool warm_up_variants)
 {
     if (!format_supports(ctx, LUT_FORMAT,
                          VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |
@@ -346,7 +347,7 @@ struct sky_passes *sky_passes_create(struct vk_context *ctx,
         destroy_partial);
     for (int i = 0; i < PASS_COUNT; i++)
         VK_CHECK_GOTO(compute_pass_create(ctx, &pass_descs[i], &p->pass[i]), destroy_partial);
-    p->composite = composite_variants_create();
+    p->composite = composite_variants_create(warm_up_variants);
     if (!p->composite)
         goto destroy_partial;
     VkBufferUsageFlags params = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;

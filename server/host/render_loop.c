@@ -431,6 +431,7 @@ struct render_loop *render_loop_create(const struct render_loop_params *params, 
         .lut_budget_fraction = params->config->lut_budget_fraction,
         .frame_budget_ms = params->config->frame_budget_ms,
         .lut_blend_frames = params->config->lut_blend_frames,
+        .warm_up_variants = true,
     };
     ctx->renderer = renderer_host_create(&host, world_host_render_input(ctx->world), err, errlen);
     if (!ctx->renderer) {

@@ -68,6 +68,7 @@ static int open_renderer(struct renderer_host *h, const struct render_input *inp
         .quiet = quiet,
         .log = { .write = log_render_line },
         .lut_sizes = input->lut_sizes,
+        .warm_up_variants = h->params.warm_up_variants,
     };
     h->renderer = sky_renderer_create(&rp);
     if (!h->renderer) {
@@ -279,11 +280,32 @@ int renderer_host_probe(struct renderer_host *h, const struct render_input *inpu
 
 /* The CPU driver (lavapipe) compiles a shader variant at its first dispatch: a second or more
  * for each cloud pass on two cores, which stalled every stream the first time clouds showed.
- * A few small frames with clouds, by day (both halves of the reconstruction's ping-pong) and
- * by night, then one clear, dispatch those passes now, before the first client. */
+ * llvmpipe also compiles a pipeline again for each new kind of image bound to it, so each kind
+ * of view is drawn once: with clouds by day (both halves of the reconstruction's ping-pong)
+ * and by night, a clear sky, linear output (PNG16), a panorama and a camera in space. That
+ * dispatches those passes now, before the first client. */
+struct warm_up_frame {
+    double sun_elevation_deg;
+    bool clouds;
+    enum proto_frame_format format;
+    enum proto_view_projection projection;
+    double altitude_km; /* 0: the state's */
+};
+
+static const struct warm_up_frame warm_up_frames[] = {
+    { 30.0, true, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
+    { 30.0, true, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
+    { -20.0, true, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
+    { 30.0, false, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
+    { 30.0, true, PROTO_FRAME_FORMAT_PNG16, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
+    { 30.0, true, PROTO_FRAME_FORMAT_PNG16, PROTO_VIEW_PROJECTION_EQUIRECTANGULAR, 0.0 },
+    { 30.0, true, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 150.0 },
+};
+#define WARM_UP_FRAME_COUNT (sizeof warm_up_frames / sizeof warm_up_frames[0])
+
 static int warm_up_pipelines(struct renderer_host *h, const struct render_input *input)
 {
-    enum { WARM_W = 64, WARM_H = 36, WARM_BYTES = WARM_W * WARM_H * 4 };
+    enum { WARM_W = 64, WARM_H = 36, WARM_BYTES = WARM_W * WARM_H * 16 }; /* RGBA float */
     uint8_t *rgba = malloc(WARM_BYTES);
     struct render_input *warm = malloc(sizeof *warm);
     if (!rgba || !warm) {
@@ -291,20 +313,23 @@ static int warm_up_pipelines(struct renderer_host *h, const struct render_input 
         free(warm);
         return -1;
     }
-    *warm = *input;
-    warm->clouds.low.coverage = fmax(warm->clouds.low.coverage, 0.5);
-    warm->clouds.high.coverage = fmax(warm->clouds.high.coverage, 0.3);
-    static const double sun_elevation_deg[4] = { 30.0, 30.0, -20.0, 30.0 };
-    const struct proto_msg_view small = { .width = WARM_W,
-                                          .height = WARM_H,
-                                          .format = PROTO_FRAME_FORMAT_PNG };
     int status = 0;
-    for (int k = 0; k < 4 && status == 0; k++) {
-        if (k == 3) /* the clear sky's composite pipelines are others */
-            warm->clouds.low.coverage = warm->clouds.high.coverage = 0.0;
+    for (size_t k = 0; k < WARM_UP_FRAME_COUNT && status == 0; k++) {
+        const struct warm_up_frame *f = &warm_up_frames[k];
+        *warm = *input;
+        warm->clouds.low.coverage = f->clouds ? fmax(input->clouds.low.coverage, 0.5) : 0.0;
+        warm->clouds.high.coverage = f->clouds ? fmax(input->clouds.high.coverage, 0.3) : 0.0;
+        const struct proto_msg_view small = {
+            .width = WARM_W,
+            .height = WARM_H,
+            .format = f->format,
+            .projection = f->projection,
+            .has_altitude_km = f->altitude_km > 0.0,
+            .altitude_km = f->altitude_km,
+        };
         struct sky_render_view view;
         world_render_view(warm, &small, &view);
-        view.sun_elevation_deg = sun_elevation_deg[k];
+        view.sun_elevation_deg = f->sun_elevation_deg;
         view.history_key = UINT64_MAX;
         view.live = true;
         /* at once: the weather and shadow maps within the frame */

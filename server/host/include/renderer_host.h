@@ -33,6 +33,8 @@ struct renderer_host_params {
     double frame_budget_ms; /* config render.frame_budget_ms: clouds at resolution auto */
     /* Path-traced reference clouds with this many samples per pixel (0: the real-time ones). */
     uint32_t cloud_reference_spp;
+    /* Every composite pipeline made and dispatched in the first frames (sky_renderer_params). */
+    bool warm_up_variants;
 };
 
 struct renderer_host;

@@ -1,0 +1,96 @@
+#!/usr/bin/python3
+"""A serving daemon compiles no shader after start-up, whatever views its clients ask for.
+
+The composite pass has a pipeline per combination of output kind, camera in space, sun or moon
+in view, night sky, clouds and ground (render/sky/composite_variants.h). lavapipe compiles
+each at its first dispatch and keeps it, so before the daemon made them all at start-up, a
+view that needed a new combination stalled its stream for the compile, and a daemon whose
+clients kept finding new ones grew for hours (the cluster soak's node A: heaptrack put the
+growth in those compiles).
+
+The daemon runs with an empty Mesa shader cache of its own (MESA_SHADER_CACHE_DIR), which
+llvmpipe writes every compiled variant to. Once it listens, snapshots cover the combinations:
+sRGB and linear (PNG16) output, a panorama (sun, ground and sky in one view), a view straight
+up, a camera at 150 km, by day and by night, with and without clouds. The cache must hold as
+many entries after them as before, and every snapshot must be answered with a frame.
+
+Usage: /usr/bin/python3 tests/e2e/test_daemon_variants.py PATH_TO_SKYD SCRATCH_DIR
+"""
+
+import os
+import shutil
+import sys
+import time
+
+from serve_harness import Client, Daemon, check, info, make_config, run_daemon_test, short
+
+VIEWS = {
+    "panorama": {"projection": "equirectangular", "width": 96, "height": 48},
+    "zenith": {"camera": {"pitch_deg": 80, "fov_deg": 30}, "width": 48, "height": 27},
+    "space": {"camera": {"altitude_km": 150, "pitch_deg": -30}, "width": 48, "height": 27},
+}
+FORMATS = ["png", "png16"]
+SUN_ELEVATIONS = [35.0, -20.0]
+LOW_COVERAGES = [0.6, 0.0]
+SNAPSHOT_TIMEOUT_S = 60.0
+
+
+def cache_entries(cache_dir):
+    return sum(len(files) for _, _, files in os.walk(cache_dir))
+
+
+async def run(skyd, scratch):
+    cache = os.path.join(scratch, "shader-cache")
+    shutil.rmtree(cache, ignore_errors=True)
+    os.makedirs(cache)
+    config = make_config(scratch, os.path.join(scratch, "state.json"))
+    d = Daemon(skyd, scratch, "variants", config,
+               env={"MESA_SHADER_CACHE_DIR": cache, "MESA_SHADER_CACHE_DISABLE": "false"})
+    t = time.monotonic()
+    d.start()
+    info(f"listening after {time.monotonic() - t:.1f} s")
+    try:
+        at_start = cache_entries(cache)
+        check("the daemon's start-up wrote its compiled shaders to the cache", at_start > 0,
+              f"{at_start} entries in {cache}")
+        ctl = await Client.connect(d.url(), "variants-controller")
+        await ctl.auth()
+        answered = asked = 0
+        seen = at_start
+        slowest = (0.0, "")
+        for sun in SUN_ELEVATIONS:
+            for coverage in LOW_COVERAGES:
+                r = await ctl.request({"type": "set", "patch": {
+                    "sun": {"elevation_deg": sun}, "clouds": {"low": {"coverage": coverage}}}})
+                check(f"sun {sun}, low coverage {coverage}: set", r.get("type") == "ack",
+                      short(r))
+                for view_name, view in VIEWS.items():
+                    for fmt in FORMATS:
+                        what = f"sun {sun}, coverage {coverage}, {view_name}, {fmt}"
+                        start = time.monotonic()
+                        r = await ctl.request({"type": "snapshot", "id": f"s{asked}",
+                                               "view": dict(view, format=fmt)},
+                                              SNAPSHOT_TIMEOUT_S)
+                        took = time.monotonic() - start
+                        now = cache_entries(cache)
+                        if now != seen:
+                            info(f"{what}: {now - seen} new shader cache entries, {took:.2f} s")
+                            seen = now
+                        slowest = max(slowest, (took, what))
+                        asked += 1
+                        answered += check(f"{what}: a frame", r.get("type") == "frame",
+                                          short(r))
+        after = cache_entries(cache)
+        info(f"{answered} of {asked} snapshots answered; slowest {slowest[0]:.2f} s "
+             f"({slowest[1]})")
+        check("no shader compiled after start-up: the cache holds as many entries as when "
+              "the daemon began to listen", after == at_start,
+              f"{at_start} entries at start-up, {after} after the snapshots")
+        info(f"shader cache entries: {at_start} at start-up, {after} after {asked} snapshots")
+        await ctl.close()
+    finally:
+        d.kill()
+
+
+if __name__ == "__main__":
+    sys.exit(run_daemon_test(run, __doc__, 600))
