@@ -2,6 +2,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cloud_layouts.h"
@@ -58,13 +59,16 @@ static int vc_find(const struct vc_state *s, bool cluster)
     return best;
 }
 
-void cloud_blue_noise(uint32_t seed, float out[VC_N])
+int cloud_blue_noise(uint32_t seed, float out[VC_N])
 {
-    static struct vc_state s, initial;
-    memset(&s, 0, sizeof s);
+    /* The pattern and its relaxed start, each call its own (tens of kilobytes: the heap). */
+    struct vc_state *work = calloc(2, sizeof *work);
+    if (!work)
+        return -1;
+    struct vc_state *s = &work[0], *initial = &work[1];
     for (int dy = -VC_RADIUS; dy <= VC_RADIUS; dy++)
         for (int dx = -VC_RADIUS; dx <= VC_RADIUS; dx++)
-            s.kernel[dy + VC_RADIUS][dx + VC_RADIUS] =
+            s->kernel[dy + VC_RADIUS][dx + VC_RADIUS] =
                 exp(-(dx * dx + dy * dy) / (2.0 * VC_SIGMA * VC_SIGMA));
     /* A random initial pattern of a tenth of the cells (xorshift from the seed)... */
     uint32_t state = seed * 2654435761u + 0x9e3779b9u;
@@ -74,36 +78,38 @@ void cloud_blue_noise(uint32_t seed, float out[VC_N])
         state ^= state >> 17;
         state ^= state << 5;
         int i = (int)(state % VC_N);
-        if (!s.on[i]) {
-            vc_set(&s, i, true);
+        if (!s->on[i]) {
+            vc_set(s, i, true);
             ones++;
         }
     }
     /* ...relaxed by moving the tightest cluster into the largest void until stable. */
     for (int iter = 0; iter < VC_N; iter++) {
-        int c = vc_find(&s, true);
-        vc_set(&s, c, false);
-        int v = vc_find(&s, false);
-        vc_set(&s, v, true);
+        int c = vc_find(s, true);
+        vc_set(s, c, false);
+        int v = vc_find(s, false);
+        vc_set(s, v, true);
         if (v == c)
             break;
     }
-    initial = s;
+    *initial = *s;
     /* Ranks: remove clusters from the initial pattern downward, then fill voids upward. */
     int rank[VC_N];
     for (int r = ones - 1; r >= 0; r--) {
-        int c = vc_find(&s, true);
-        vc_set(&s, c, false);
+        int c = vc_find(s, true);
+        vc_set(s, c, false);
         rank[c] = r;
     }
-    s = initial;
+    *s = *initial;
     for (int r = ones; r < VC_N; r++) {
-        int v = vc_find(&s, false);
-        vc_set(&s, v, true);
+        int v = vc_find(s, false);
+        vc_set(s, v, true);
         rank[v] = r;
     }
     for (int i = 0; i < VC_N; i++)
         out[i] = ((float)rank[i] + 0.5f) / VC_N;
+    free(work);
+    return 0;
 }
 
 /* ---- GPU generation ---- */
@@ -195,7 +201,8 @@ static int generate_volumes(struct vk_context *ctx, struct cloud_noise *n, uint3
 
 static int generate_curl(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed)
 {
-    cloud_blue_noise(seed, n->blue.mapped);
+    if (cloud_blue_noise(seed, n->blue.mapped) != 0)
+        return -1;
     struct sky_cloud_noise_push push = { .seed = seed };
     const uint32_t size[3] = { CURL_SIZE, CURL_SIZE, 1 };
     const uint32_t local[3] = { SKY_CLOUD_LOCAL, SKY_CLOUD_LOCAL, 1 };

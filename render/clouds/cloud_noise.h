@@ -33,7 +33,8 @@ void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *noise);
 int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *noise, uint32_t seed,
                          bool quiet);
 
-/* The 64x64 blue-noise ranks in [0, 1) for `seed` (void-and-cluster), row-major. */
-void cloud_blue_noise(uint32_t seed, float out[64 * 64]);
+/* The 64x64 blue-noise ranks in [0, 1) for `seed` (void-and-cluster), row-major. Returns 0, or
+ * -1 when its working memory cannot be had. */
+int cloud_blue_noise(uint32_t seed, float out[64 * 64]);
 
 #endif
