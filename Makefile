@@ -75,8 +75,9 @@ fuzz: deps
 # times slower, almost all of it in the kernel. A 16 MiB quarantine still holds the last
 # frames' frees, so a use after free in our code is still caught.
 # Tests labelled shader_bound (the path tracer, the cloud shapes, fields and middle layer, the
-# pipeline-compile count) spend their time in lavapipe running shaders, which the sanitizers do
-# not see; their C paths (a render's setup, its passes, readback) run in the other render tests.
+# pipeline-compile counts of skyd render and of a daemon) spend their time in lavapipe running
+# shaders, which the sanitizers do not see; their C paths (a render's setup, its passes,
+# readback) run in the other render tests.
 # They are left out here, as is accuracy (reference_bound: a Monte Carlo reference in tests/,
 # whose library ctest reference runs here), which keeps CI, which runs them unsanitized,
 # inside its time.
