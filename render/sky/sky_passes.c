@@ -327,8 +327,7 @@ static int create_stars(struct vk_context *ctx, struct sky_passes *p,
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
                                      const struct sky_render_lut_sizes *sizes,
                                      const struct sky_cloud_bindings *clouds,
-                                     const struct sky_star_field *stars,
-                                     bool warm_up_variants)
+                                     const struct sky_star_field *stars, bool warm_up_variants)
 {
     if (!format_supports(ctx, LUT_FORMAT,
                          VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |

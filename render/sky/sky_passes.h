@@ -45,8 +45,7 @@ struct sky_star_field {
 struct sky_passes *sky_passes_create(struct vk_context *ctx,
                                      const struct sky_render_lut_sizes *sizes,
                                      const struct sky_cloud_bindings *clouds,
-                                     const struct sky_star_field *stars,
-                                     bool warm_up_variants);
+                                     const struct sky_star_field *stars, bool warm_up_variants);
 void sky_passes_destroy(struct vk_context *ctx, struct sky_passes **passes);
 
 /* Recreates the LUT images at new sizes; -1 keeps the old ones (and their sizes). */
