@@ -36,6 +36,7 @@ struct series {
     double pass_ms[SKY_RENDER_MAX_PASSES][MAX_FRAMES];
     double gpu_ms[MAX_FRAMES], wall_ms[MAX_FRAMES], cpu_ms[MAX_FRAMES];
     enum sky_render_cloud_resolution last_cloud_resolution; /* what the last frame traced at */
+    int last_cloud_steps;                                   /* with these march steps */
 };
 
 /* CPU time of the whole process (lavapipe's worker threads included): unlike wall time it
@@ -74,6 +75,7 @@ static void record_sample(struct series *s, int i, const struct sky_render_stats
     s->last_cloud_resolution = st->cloud_resolution < SKY_RENDER_CLOUDS_AUTO
                                    ? st->cloud_resolution
                                    : SKY_RENDER_CLOUDS_SIXTYFOURTH;
+    s->last_cloud_steps = st->cloud_primary_steps;
 }
 
 static int bench_rebuild(struct sky_renderer *r, const struct sky_render_atmosphere *atm, int n,
@@ -176,8 +178,9 @@ static int bench_frames(struct sky_renderer *r, const struct cli_common *c, unsi
     print_series(label, s, n);
     static const char *const levels[] = { "full", "quarter", "sixteenth", "sixtyfourth" };
     if (s->pass_count > 0 && c->state.clouds.resolution == PROTO_CLOUD_RESOLUTION_AUTO)
-        printf("    clouds.quality.resolution auto: the last frame traced at %s\n",
-               levels[s->last_cloud_resolution]);
+        printf("    clouds.quality.resolution auto: the last frame traced at %s with %d "
+               "march steps\n",
+               levels[s->last_cloud_resolution], s->last_cloud_steps);
     double wall = percentile(s->wall_ms, n, 0.5), gpu = percentile(s->gpu_ms, n, 0.5);
     printf("    trivial write %ux%u: %.2f ms; frame/trivial: wall %.2fx, gpu %.2fx\n", w, h,
            trivial, wall / trivial, gpu / trivial);

@@ -440,6 +440,8 @@ char *proto_msg_build_stats(const struct proto_msg_id *id, const struct proto_ms
         else
             b.ok = false;
     }
+    if (stats->cloud_primary_steps > 0)
+        put_count(&b, b.root, "cloud_primary_steps", (uint64_t)stats->cloud_primary_steps);
     cJSON *subscriptions = put(&b, b.root, "subscriptions", cJSON_CreateArray());
     for (size_t i = 0; i < stats->subscription_count && b.ok; i++) {
         const struct proto_msg_subscription_stats *s = &stats->subscriptions[i];

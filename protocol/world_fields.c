@@ -243,7 +243,8 @@ const struct proto_field_desc proto_world_field_table[] = {
     ENUM("clouds.quality.resolution", clouds.resolution, cloud_resolution_names,
          "share of the pixels ray-marched per frame: full, quarter (2x2 cycle), sixteenth "
          "(4x4 cycle), sixtyfourth (clouds at half size, 4x4 cycle), or auto: the finest whose "
-         "frames fit the daemon's render.frame_budget_ms, from their measured GPU time"),
+         "frames fit the daemon's render.frame_budget_ms, from their measured GPU time, with "
+         "primary_steps halved below sixtyfourth and doubled above full"),
     ENUM("clouds.quality.temporal", clouds.temporal, switch_names,
          "temporal reprojection: frames accumulate into a history"),
     NUMBER("weather.humidity", weather.humidity, 0, 1,

@@ -276,7 +276,9 @@ static void collect_stats(struct sky_renderer *r, struct sky_render_stats *stats
     if (!stats)
         return;
     memset(stats, 0, sizeof *stats);
-    stats->cloud_resolution = cloud_renderer_resolution(r->clouds); /* before the frame moves it */
+    /* before the frame moves them */
+    stats->cloud_resolution = cloud_renderer_resolution(r->clouds);
+    stats->cloud_primary_steps = cloud_renderer_primary_steps(r->clouds);
     struct gpu_timer_result t;
     if (gpu_timer_read(r->ctx, r->timer, &t)) {
         for (int i = 0; i < t.count && i < SKY_RENDER_MAX_PASSES; i++) {

@@ -372,6 +372,9 @@ struct proto_msg_stats {
     /* The resolution the last frame's clouds were traced at, the level clouds.quality.resolution
      * "auto" chose (PROTO_CLOUD_RESOLUTION_FULL .. SIXTYFOURTH; NULL: left out). */
     const enum proto_cloud_resolution *cloud_resolution;
+    /* The low layer's march steps of that frame (clouds.quality.primary_steps, or what "auto"
+     * chose); 0: left out. */
+    int cloud_primary_steps;
 };
 
 char *proto_msg_build_stats(const struct proto_msg_id *id, const struct proto_msg_stats *stats);

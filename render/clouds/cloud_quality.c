@@ -1,21 +1,47 @@
 #include "cloud_quality.h"
 
+#include <math.h>
 #include <string.h>
 
-/* Frames in a row that must agree before the level moves: one slow frame (a LUT slice, a
- * map row) does not. */
+/* Frames in a row that must agree before the rung moves: one slow frame (a LUT slice, a map
+ * row) does not. */
 #define VOTES 3
-/* A finer level is tried only when the frame with its view passes four times as costly
- * (four times the traced pixels) stays under this share of the budget. */
+/* A finer rung is tried only when the frame with its view passes as costly as that rung's
+ * would be stays under this share of the budget. */
 #define HEADROOM 0.8
-/* Frames before a level that overran the budget is tried again. */
+/* Frames before a rung that overran the budget is tried again. */
 #define OVERRUN_MEMORY 600
+/* The bounds of clouds.quality.primary_steps (protocol/world_fields.c). */
+#define STEPS_MIN 4
+#define STEPS_MAX 512
+
+/* Finest first. The trace's cost goes with the traced pixels times the march steps (the step
+ * length is the layer's depth over the steps). */
+static const struct rung {
+    enum sky_render_cloud_resolution resolution;
+    double traced_share; /* of the output's pixels, per frame */
+    double step_factor;
+} ladder[] = {
+    { SKY_RENDER_CLOUDS_FULL, 1.0, 2.0 },
+    { SKY_RENDER_CLOUDS_FULL, 1.0, 1.0 },
+    { SKY_RENDER_CLOUDS_QUARTER, 1.0 / 4.0, 1.0 },
+    { SKY_RENDER_CLOUDS_SIXTEENTH, 1.0 / 16.0, 1.0 },
+    { SKY_RENDER_CLOUDS_SIXTYFOURTH, 1.0 / 64.0, 1.0 },
+    { SKY_RENDER_CLOUDS_SIXTYFOURTH, 1.0 / 64.0, 0.5 },
+};
+#define RUNG_COUNT ((int)(sizeof ladder / sizeof ladder[0]))
+#define START_RUNG 4 /* sixtyfourth with the clouds' own steps */
+
+static double rung_cost(int rung)
+{
+    return ladder[rung].traced_share * ladder[rung].step_factor;
+}
 
 void cloud_quality_init(struct cloud_quality *q)
 {
     memset(q, 0, sizeof *q);
-    q->level = SKY_RENDER_CLOUDS_SIXTYFOURTH;
-    q->overran = SKY_RENDER_CLOUDS_AUTO;
+    q->rung = START_RUNG;
+    q->overran = -1;
 }
 
 void cloud_quality_set_budget(struct cloud_quality *q, double frame_budget_ms)
@@ -40,20 +66,21 @@ void cloud_quality_observe_frame(struct cloud_quality *q, double frame_ms)
         q->overran_frames--;
     if (q->budget_ms <= 0.0 || !(frame_ms > 0.0) || !(view_ms > 0.0))
         return; /* no budget, or a frame without clouds: nothing to judge by */
-    enum sky_render_cloud_resolution finer = q->level - 1;
-    bool over = frame_ms > q->budget_ms && q->level < SKY_RENDER_CLOUDS_SIXTYFOURTH;
-    bool room = q->level > SKY_RENDER_CLOUDS_FULL &&
-                frame_ms + 3.0 * view_ms <= HEADROOM * q->budget_ms &&
+    int finer = q->rung - 1;
+    bool over = frame_ms > q->budget_ms && q->rung < RUNG_COUNT - 1;
+    bool room = finer >= 0 &&
+                frame_ms + (rung_cost(finer) / rung_cost(q->rung) - 1.0) * view_ms <=
+                    HEADROOM * q->budget_ms &&
                 !(q->overran_frames > 0 && finer <= q->overran);
     q->votes_coarser = over ? q->votes_coarser + 1 : 0;
     q->votes_finer = room ? q->votes_finer + 1 : 0;
     if (q->votes_coarser >= VOTES) {
-        q->overran = q->level;
+        q->overran = q->rung;
         q->overran_frames = OVERRUN_MEMORY;
-        q->level++;
+        q->rung++;
         q->votes_coarser = 0;
     } else if (q->votes_finer >= VOTES) {
-        q->level = finer;
+        q->rung = finer;
         q->votes_finer = 0;
     }
 }
@@ -61,5 +88,14 @@ void cloud_quality_observe_frame(struct cloud_quality *q, double frame_ms)
 enum sky_render_cloud_resolution cloud_quality_resolve(const struct cloud_quality *q,
                                                        enum sky_render_cloud_resolution asked)
 {
-    return asked == SKY_RENDER_CLOUDS_AUTO ? q->level : asked;
+    return asked == SKY_RENDER_CLOUDS_AUTO ? ladder[q->rung].resolution : asked;
+}
+
+int cloud_quality_steps(const struct cloud_quality *q, enum sky_render_cloud_resolution asked,
+                        int steps)
+{
+    if (asked != SKY_RENDER_CLOUDS_AUTO)
+        return steps;
+    double scaled = round(steps * ladder[q->rung].step_factor);
+    return (int)fmin(fmax(scaled, STEPS_MIN), STEPS_MAX);
 }

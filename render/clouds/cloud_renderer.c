@@ -271,6 +271,11 @@ enum sky_render_cloud_resolution cloud_renderer_resolution(const struct cloud_re
     return cloud_quality_resolve(&cr->quality, cr->clouds.resolution);
 }
 
+int cloud_renderer_primary_steps(const struct cloud_renderer *cr)
+{
+    return cloud_quality_steps(&cr->quality, cr->clouds.resolution, cr->clouds.primary_steps);
+}
+
 /* ---- client weather map ---- */
 
 int cloud_renderer_set_weather_map(struct vk_context *ctx, struct cloud_renderer *cr,
@@ -564,6 +569,7 @@ int cloud_renderer_record_maps(struct vk_context *ctx, struct cloud_renderer *cr
         return 0;
     }
     cloud_params_fill(&cr->clouds, f->bottom_radius_km, &cr->u);
+    cr->u.march.x = (float)cloud_renderer_primary_steps(cr);
     /* The budget grows with the frame: on a slow device a fixed few ms would stretch a map
      * build over hundreds of frames, while a tenth of the frame keeps every frame within
      * about 10 % of its neighbours. Up to budget_ms, idle time before the frame is free. */

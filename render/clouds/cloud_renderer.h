@@ -34,10 +34,12 @@ void cloud_renderer_set_budget(struct cloud_renderer *cr, double budget_ms);
 /* The part of the wall time since the renderer's previous frame returned that map builds may
  * take (sky_renderer.c decides the share; 0 back to back). */
 void cloud_renderer_observe_idle(struct cloud_renderer *cr, double usable_idle_ms);
-/* GPU ms a whole frame may take, which resolution AUTO fits (cloud_quality.h); <= 0 none. */
+/* GPU ms a whole frame may take, which quality AUTO fits (cloud_quality.h); <= 0 none. */
 void cloud_renderer_set_frame_budget(struct cloud_renderer *cr, double frame_budget_ms);
-/* The resolution frames trace at now: the clouds' own, or the level AUTO chose. */
+/* The resolution frames trace at now: the clouds' own, or the rung AUTO chose. */
 enum sky_render_cloud_resolution cloud_renderer_resolution(const struct cloud_renderer *cr);
+/* The low layer's march steps frames take now: the clouds' own, or the rung AUTO chose. */
+int cloud_renderer_primary_steps(const struct cloud_renderer *cr);
 
 /* The cloud work of a frame, in two parts around the view's aerial-perspective volume (which
  * takes the shadow map and is read by the trace). First the shared maps (weather, shadow,

@@ -135,7 +135,9 @@ enum sky_render_cloud_resolution {
      * (Schneider 2015's scheme): 1/64 of the output's pixels. */
     SKY_RENDER_CLOUDS_SIXTYFOURTH = 3,
     /* One of the above, the finest whose frames fit the frame budget
-     * (sky_renderer_set_frame_budget), from the measured GPU time: the coarsest without one. */
+     * (sky_renderer_set_frame_budget), from the measured GPU time, with the low layer's march
+     * steps halved below the coarsest and doubled above full (render/clouds/cloud_quality.h);
+     * sixtyfourth with the clouds' own steps without a budget. */
     SKY_RENDER_CLOUDS_AUTO = 4,
 };
 
@@ -153,8 +155,10 @@ struct sky_render_stats {
      * luminance x exposure; with LINEAR output it says how the frame would have been exposed. */
     double exposure;
     struct sky_render_multiple_scattering multiple_scattering;
-    /* The resolution the frame's clouds were traced at (the level AUTO chose). */
+    /* The resolution the frame's clouds were traced at and the low layer's march steps (what
+     * resolution AUTO chose, or the clouds' own). */
     enum sky_render_cloud_resolution cloud_resolution;
+    int cloud_primary_steps;
 };
 
 struct sky_renderer;

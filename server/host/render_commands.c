@@ -510,6 +510,8 @@ static void handle_stats(struct render_context *ctx, struct session *session,
         .subscription_count = subscription_count,
         .multiple_scattering = &ms,
         .cloud_resolution = traced != PROTO_CLOUD_RESOLUTION_AUTO ? &traced : NULL,
+        .cloud_primary_steps =
+            last && traced != PROTO_CLOUD_RESOLUTION_AUTO ? last->cloud_primary_steps : 0,
     };
     reply(ctx, session, &msg->id, proto_msg_build_stats(&msg->id, &stats));
 }

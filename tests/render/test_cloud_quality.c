@@ -1,9 +1,10 @@
 /* clouds.quality.resolution "auto" on lavapipe with validation (render/clouds/cloud_quality.c):
- * a small live view whose frames cost far less than a large budget climbs from the coarsest
- * level (half size, one pixel in 64 per frame) to every pixel traced at full size, one level
- * at a time; a budget its frames overrun brings it back down; no budget leaves it at the
- * coarsest; a fixed resolution is never moved. The frames' cost is measured, not assumed:
- * lavapipe with a large budget on a small view stands for a fast device. */
+ * a small live view whose frames cost far less than a large budget climbs the ladder from the
+ * start (half size, one pixel in 64 per frame) to every pixel traced at full size and then to
+ * twice the march steps, one rung at a time; a budget its frames overrun brings it back down
+ * to the coarsest, half the steps at half size; no budget leaves it at the start; a fixed
+ * resolution is never moved and keeps the clouds' own steps. The frames' cost is measured, not
+ * assumed: lavapipe with a large budget on a small view stands for a fast device. */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -13,6 +14,23 @@
 #define W 64
 #define H 36
 #define MAX_FRAMES 60
+#define STEPS 64 /* clouds.quality.primary_steps */
+
+/* The rungs, finest first, as the frames report them: resolution and march steps. */
+static const struct {
+    enum sky_render_cloud_resolution resolution;
+    int steps;
+} rungs[] = {
+    { SKY_RENDER_CLOUDS_FULL, 2 * STEPS },    { SKY_RENDER_CLOUDS_FULL, STEPS },
+    { SKY_RENDER_CLOUDS_QUARTER, STEPS },     { SKY_RENDER_CLOUDS_SIXTEENTH, STEPS },
+    { SKY_RENDER_CLOUDS_SIXTYFOURTH, STEPS }, { SKY_RENDER_CLOUDS_SIXTYFOURTH, STEPS / 2 },
+};
+#define RUNGS ((int)(sizeof rungs / sizeof rungs[0]))
+#define FINEST 0
+#define START 4
+#define COARSEST (RUNGS - 1)
+
+static uint8_t pixels[W * H * 4];
 
 static void cumulus_state(struct proto_world_state *s, enum proto_cloud_resolution resolution)
 {
@@ -23,13 +41,12 @@ static void cumulus_state(struct proto_world_state *s, enum proto_cloud_resoluti
     s->clouds.low.type = 0.67;
     s->camera.pitch_deg = 10.0;
     s->clouds.resolution = resolution;
+    s->clouds.primary_steps = STEPS;
 }
 
-/* One live frame of the state; the level it was traced at. */
-static enum sky_render_cloud_resolution frame(struct sky_renderer *r,
-                                              const struct proto_world_state *s)
+/* One live frame of the state; its rung (-1: none matches what it reports). */
+static int frame(struct sky_renderer *r, const struct proto_world_state *s)
 {
-    static uint8_t pixels[W * H * 4];
     struct sky_render_atmosphere atm;
     struct sky_render_view view;
     struct sky_render_clouds clouds;
@@ -40,19 +57,23 @@ static enum sky_render_cloud_resolution frame(struct sky_renderer *r,
     CHECK(sky_renderer_set_clouds(r, &clouds) == 0);
     struct sky_render_stats st;
     CHECK(sky_renderer_render(r, &atm, &view, pixels, sizeof pixels, &st) == 0);
-    return st.cloud_resolution;
+    for (int k = 0; k < RUNGS; k++)
+        if (rungs[k].resolution == st.cloud_resolution && rungs[k].steps == st.cloud_primary_steps)
+            return k;
+    printf("a frame traced at resolution %d with %d steps: no rung\n", (int)st.cloud_resolution,
+           st.cloud_primary_steps);
+    return -1;
 }
 
-/* Frames until the level is `goal` (or MAX_FRAMES); checks it moves one level at a time, in
- * the goal's direction. Returns the frames it took. */
-static int frames_until(struct sky_renderer *r, const struct proto_world_state *s,
-                        enum sky_render_cloud_resolution goal)
+/* Frames until the rung is `goal` (or MAX_FRAMES); checks it moves one rung at a time, in the
+ * goal's direction. Returns the frames it took. */
+static int frames_until(struct sky_renderer *r, const struct proto_world_state *s, int goal)
 {
-    enum sky_render_cloud_resolution last = frame(r, s);
+    int last = frame(r, s);
     for (int n = 1; n < MAX_FRAMES; n++) {
         if (last == goal)
             return n;
-        enum sky_render_cloud_resolution now = frame(r, s);
+        int now = frame(r, s);
         CHECK(now == last || (goal < last ? now == last - 1 : now == last + 1));
         last = now;
     }
@@ -69,33 +90,34 @@ int main(void)
     struct proto_world_state s;
     cumulus_state(&s, PROTO_CLOUD_RESOLUTION_AUTO);
 
-    /* No budget: the coarsest, whatever the frames cost. */
+    /* No budget: the start, whatever the frames cost. */
     sky_renderer_set_frame_budget(r, 0.0);
     for (int i = 0; i < 10; i++)
-        CHECK(frame(r, &s) == SKY_RENDER_CLOUDS_SIXTYFOURTH);
+        CHECK(frame(r, &s) == START);
 
-    /* A budget far above a 64x36 frame: up to full size, every pixel, level by level. */
+    /* A budget far above a 64x36 frame: up to full size, every pixel, then twice the steps,
+     * rung by rung. */
     sky_renderer_set_frame_budget(r, 1000.0);
-    int up = frames_until(r, &s, SKY_RENDER_CLOUDS_FULL);
-    printf("budget 1000 ms: full resolution after %d frames\n", up);
+    int up = frames_until(r, &s, FINEST);
+    printf("budget 1000 ms: full resolution with twice the steps after %d frames\n", up);
     CHECK(up < MAX_FRAMES);
     for (int i = 0; i < 10; i++)
-        CHECK(frame(r, &s) == SKY_RENDER_CLOUDS_FULL);
+        CHECK(frame(r, &s) == FINEST);
 
     /* A budget every frame overruns: back down to the coarsest, and it stays there. */
     sky_renderer_set_frame_budget(r, 0.001);
-    int down = frames_until(r, &s, SKY_RENDER_CLOUDS_SIXTYFOURTH);
-    printf("budget 0.001 ms: the coarsest after %d frames\n", down);
+    int down = frames_until(r, &s, COARSEST);
+    printf("budget 0.001 ms: the coarsest (half the steps) after %d frames\n", down);
     CHECK(down < MAX_FRAMES);
     for (int i = 0; i < 10; i++)
-        CHECK(frame(r, &s) == SKY_RENDER_CLOUDS_SIXTYFOURTH);
+        CHECK(frame(r, &s) == COARSEST);
 
-    /* A fixed resolution is the one traced, whatever the budget. */
+    /* A fixed resolution is the one traced, with the clouds' own steps, whatever the budget. */
     struct proto_world_state fixed;
     cumulus_state(&fixed, PROTO_CLOUD_RESOLUTION_SIXTEENTH);
     sky_renderer_set_frame_budget(r, 1000.0);
     for (int i = 0; i < 10; i++)
-        CHECK(frame(r, &fixed) == SKY_RENDER_CLOUDS_SIXTEENTH);
+        CHECK(frame(r, &fixed) == 3); /* sixteenth, the clouds' own steps */
 
     sky_renderer_destroy(&r);
     CHECK(messages == 0);

@@ -164,9 +164,19 @@ static size_t build_server_examples(char **out, size_t max)
     const struct proto_msg_subscription_stats subscriptions[] = { { 1, 5242880, 12.5, 70, 2000 } };
     const struct proto_msg_multiple_scattering ms = { 0.4, 1, 0 };
     const enum proto_cloud_resolution traced = PROTO_CLOUD_RESOLUTION_SIXTYFOURTH;
-    struct proto_msg_stats stats = { 29.8, 3,          passes,        COUNT_OF(passes),
-                                     1,    1782043200, subscriptions, COUNT_OF(subscriptions),
-                                     &ms,  &traced };
+    struct proto_msg_stats stats = {
+        .fps = 29.8,
+        .clients = 3,
+        .passes = passes,
+        .pass_count = COUNT_OF(passes),
+        .lut_rebuild_progress = 1,
+        .simulation_time_s = 1782043200,
+        .subscriptions = subscriptions,
+        .subscription_count = COUNT_OF(subscriptions),
+        .multiple_scattering = &ms,
+        .cloud_resolution = &traced,
+        .cloud_primary_steps = 64,
+    };
     ADD(proto_msg_build_stats(&id13, &stats));
 #undef ADD
     return n;

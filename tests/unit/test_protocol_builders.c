@@ -280,7 +280,19 @@ void test_builders(void)
                                                    { 3, 4096, 2.5, 55, 80 } };
     struct proto_msg_multiple_scattering ms = { 0.25, 0.5, 3 };
     enum proto_cloud_resolution traced = PROTO_CLOUD_RESOLUTION_QUARTER;
-    struct proto_msg_stats stats = { 30, 2, passes, 2, 0.5, 1782043200.25, subs, 2, &ms, &traced };
+    struct proto_msg_stats stats = {
+        .fps = 30,
+        .clients = 2,
+        .passes = passes,
+        .pass_count = 2,
+        .lut_rebuild_progress = 0.5,
+        .simulation_time_s = 1782043200.25,
+        .subscriptions = subs,
+        .subscription_count = 2,
+        .multiple_scattering = &ms,
+        .cloud_resolution = &traced,
+        .cloud_primary_steps = 128,
+    };
     json = parse_built(proto_msg_build_stats(NULL, &stats), "stats");
     const cJSON *sub_items = get(json, "subscriptions");
     CHECK_INT(cJSON_GetArraySize(sub_items), 2);
@@ -302,13 +314,15 @@ void test_builders(void)
     CHECK_DOUBLE(number_at(get(json, "multiple_scattering"), "order"), 3);
     CHECK(cJSON_IsString(get(json, "cloud_resolution")) &&
           strcmp(get(json, "cloud_resolution")->valuestring, "quarter") == 0);
+    CHECK_DOUBLE(number_at(json, "cloud_primary_steps"), 128);
     cJSON_Delete(json);
     /* "auto" is asked for, never traced at: a frame's level is one of the four */
     traced = PROTO_CLOUD_RESOLUTION_AUTO;
     CHECK(proto_msg_build_stats(NULL, &stats) == NULL);
     stats.cloud_resolution = NULL;
+    stats.cloud_primary_steps = 0;
     json = parse_built(proto_msg_build_stats(NULL, &stats), "stats");
-    CHECK(get(json, "cloud_resolution") == NULL);
+    CHECK(get(json, "cloud_resolution") == NULL && get(json, "cloud_primary_steps") == NULL);
     cJSON_Delete(json);
     stats.cloud_resolution = &traced;
     traced = PROTO_CLOUD_RESOLUTION_FULL;
