@@ -83,11 +83,13 @@ def section(a):
                   ""]
     auto_text = read(os.path.join(logs, "bench_clouds_auto.txt"))
     auto = series(auto_text)
-    levels = re.findall(r"traced at (\w+)", auto_text)
+    levels = [f"{level}, {steps} steps" if steps else level
+              for level, steps in re.findall(r"traced at (\w+)(?: with (\d+) march steps)?",
+                                             auto_text)]
     auto_frames = [k for k in auto if k.startswith("frame ")]
     if auto_frames:
         lines += ["| size | clouds.quality.resolution auto, 2 ms budget: GPU median / p99 (ms) "
-                  "| level reached |", "| --- | --- | --- |"]
+                  "| level reached, march steps |", "| --- | --- | --- |"]
         for i, k in enumerate(auto_frames):
             level = levels[i] if i < len(levels) else "?"
             lines.append(f"| {k[6:]} | {auto[k]['gpu']:.2f} / {auto[k]['p99']:.2f} | {level} |")
