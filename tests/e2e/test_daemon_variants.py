@@ -23,7 +23,12 @@ import shutil
 import sys
 import time
 
+import serve_harness
 from serve_harness import Client, Daemon, check, info, make_config, run_daemon_test, short
+
+# With an empty shader cache every pipeline compiles before the daemon listens: about 20 s on
+# two idle cores, a minute on a loaded machine.
+serve_harness.READY_TIMEOUT = 240.0
 
 VIEWS = {
     "panorama": {"projection": "equirectangular", "width": 96, "height": 48},
