@@ -39,8 +39,6 @@ FORMATS = ["png", "png16"]
 SUN_ELEVATIONS = [35.0, -20.0]
 LOW_COVERAGES = [0.6, 0.0]
 SNAPSHOT_TIMEOUT_S = 60.0
-
-
 SETTLE_S = 3.0  # Mesa writes its cache from a thread of its own: the count must hold this long
 
 
