@@ -3,6 +3,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "cloud_params.h"
+
 /* Frames in a row that must agree before the rung moves: one slow frame (a LUT slice, a map
  * row) does not. */
 #define VOTES 3
@@ -15,26 +17,26 @@
 #define STEPS_MIN 4
 #define STEPS_MAX 512
 
-/* Finest first. The trace's cost goes with the traced pixels times the march steps (the step
- * length is the layer's depth over the steps). */
+/* Finest first. */
 static const struct rung {
     enum sky_render_cloud_resolution resolution;
-    double traced_share; /* of the output's pixels, per frame */
     double step_factor;
 } ladder[] = {
-    { SKY_RENDER_CLOUDS_FULL, 1.0, 2.0 },
-    { SKY_RENDER_CLOUDS_FULL, 1.0, 1.0 },
-    { SKY_RENDER_CLOUDS_QUARTER, 1.0 / 4.0, 1.0 },
-    { SKY_RENDER_CLOUDS_SIXTEENTH, 1.0 / 16.0, 1.0 },
-    { SKY_RENDER_CLOUDS_SIXTYFOURTH, 1.0 / 64.0, 1.0 },
-    { SKY_RENDER_CLOUDS_SIXTYFOURTH, 1.0 / 64.0, 0.5 },
+    { SKY_RENDER_CLOUDS_FULL, 2.0 },        { SKY_RENDER_CLOUDS_FULL, 1.0 },
+    { SKY_RENDER_CLOUDS_QUARTER, 1.0 },     { SKY_RENDER_CLOUDS_SIXTEENTH, 1.0 },
+    { SKY_RENDER_CLOUDS_SIXTYFOURTH, 1.0 }, { SKY_RENDER_CLOUDS_SIXTYFOURTH, 0.5 },
 };
 #define RUNG_COUNT ((int)(sizeof ladder / sizeof ladder[0]))
 #define START_RUNG 4 /* sixtyfourth with the clouds' own steps */
 
+/* The trace's cost goes with the traced share of the output's pixels (one per block of the
+ * cloud image, itself the output downscaled) times the march steps (the step length is the
+ * layer's depth over the steps). */
 static double rung_cost(int rung)
 {
-    return ladder[rung].traced_share * ladder[rung].step_factor;
+    enum sky_render_cloud_resolution r = ladder[rung].resolution;
+    double pixels_per_trace = cloud_params_block(r) * cloud_params_downscale(r);
+    return ladder[rung].step_factor / (pixels_per_trace * pixels_per_trace);
 }
 
 void cloud_quality_init(struct cloud_quality *q)
