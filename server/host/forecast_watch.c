@@ -163,7 +163,7 @@ static void publish(struct forecast_watch *w, bool replaced, struct forecast *fo
             forecast_free(n->forecast);
         n->replaced = true;
         n->forecast = forecast;
-        snprintf(n->file, sizeof n->file, "%s", file);
+        snprintf(n->file, sizeof n->file, "%.255s", file); /* a name in the folder: 255 at most */
         n->read_s = read_s;
     }
     snprintf(n->error, sizeof n->error, "%s", w->error);
