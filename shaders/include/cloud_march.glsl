@@ -166,11 +166,12 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
     if (moon_on)
         moon_depth = sun_depths(p, frame.moon_direction.xyz, s.moon_marched,
                                 s.moon_reach_r >= 0.0, s.moon_reach_r, s.sigma_t, layer);
-    // The ground under a cloud lies in its shadow: where the volume knows the sun's optical
-    // depth to the ground below the sample, its sunlit half becomes that share.
+    // The ground under a cloud lies in its shadow: where the shadow map knows the sun's
+    // optical depth to the ground below the sample (every layer's), its sunlit half becomes
+    // that share.
     vec2 below_uv;
     float ground_sun = 0.5;
-    if (layer == LAYER_LOW &&
+    if (layer != LAYER_HIGH &&
         sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv))
         ground_sun = exp(-sun_column(below_uv).depth);
     // The ambient's height in the low layer (the layers above it: its top), in the middle

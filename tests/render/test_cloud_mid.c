@@ -431,13 +431,13 @@ static void test_empty_is_nothing(void)
 
 /* The path-traced reference (`skyd render --reference`) traces the middle layer too: no density
  * sample above its majorant (the bound of cloud_pathtrace.glsl's pt_bound_mid), finite, and
- * the renderer's mean luminance near it. Cells over a few cumulus within 15 % (as the low
- * layer's cumulus in test_cloud_vs_reference: +8 % measured). A sheet of optical depth 5-10
- * seen from below, away from the sun, within 40 %: measured +32 %, the renderer too bright.
- * Its light takes the low layer's two-stream octaves without the sun-space volume's depth
- * behind each sample and the incidence on its top (cloud_light.glsl), which the low layer's
- * stratus has; that gap is open, and this bound keeps it from growing. */
-static const double mid_reference_tolerance[2] = { 0.4, 0.15 }; /* altostratus, altocumulus */
+ * the renderer's mean luminance near it, within 15 %: cells over a few cumulus (measured -2 %),
+ * and a sheet of optical depth 5-10 seen from below, away from the sun (+11.5 % against these
+ * 4 samples per pixel, -1.4 % against 16: the few long paths that carry the light diffused
+ * through the sheet are what 4 samples miss most). That sheet's base is lit by the ground in
+ * the shadow the map knows (cloud_march.glsl): with half the sun on the ground, as before, it
+ * was +29.5 % (+14.6 % against 16 samples). */
+static const double MID_REFERENCE_TOLERANCE = 0.15;
 static void render_reference(const struct proto_world_state *s, uint32_t spp, uint64_t key,
                              float *rgba)
 {
@@ -489,7 +489,7 @@ static void test_reference(void)
                100.0 * (fast - reference) / reference, st.density_samples, st.bound_violations);
         CHECK(st.bound_violations == 0);
         CHECK(st.density_samples > 0);
-        CHECK_NEAR(fast / reference, 1.0, mid_reference_tolerance[k]);
+        CHECK_NEAR(fast / reference, 1.0, MID_REFERENCE_TOLERANCE);
     }
 }
 
