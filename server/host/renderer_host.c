@@ -282,26 +282,77 @@ int renderer_host_probe(struct renderer_host *h, const struct render_input *inpu
  * for each cloud pass on two cores, which stalled every stream the first time clouds showed.
  * llvmpipe also compiles a pipeline again for each new kind of image bound to it, so each kind
  * of view is drawn once: with clouds by day (both halves of the reconstruction's ping-pong)
- * and by night, a clear sky, linear output (PNG16), a panorama and a camera in space. That
- * dispatches those passes now, before the first client. */
+ * and by night, a clear sky, linear output (PNG16), a panorama and a camera in space. So is
+ * each kind of light and map the clouds' passes are compiled for: the moon lighting them (under
+ * another sun than the night before, so that the passes the sun's direction drives, such as
+ * the hemisphere's, run again), and a client's weather map of a power-of-two size and of
+ * another (a repeating texture is sampled by other code for each). A probe dispatches its own
+ * pass. That compiles every variant a client can ask for now, before the first one: a variant
+ * first compiled for a client stalled its stream, and the memory each keeps grew a
+ * long-running daemon for hours. */
+enum warm_up_map { WARM_MAP_STATE, WARM_MAP_POWER_OF_TWO, WARM_MAP_OTHER };
 struct warm_up_frame {
     double sun_elevation_deg;
     bool clouds;
     enum proto_frame_format format;
     enum proto_view_projection projection;
     double altitude_km; /* 0: the state's */
+    bool moonlit;
+    enum warm_up_map map;
 };
 
+#define PNG8 PROTO_FRAME_FORMAT_PNG
+#define PERSPECTIVE PROTO_VIEW_PROJECTION_PERSPECTIVE
 static const struct warm_up_frame warm_up_frames[] = {
-    { 30.0, true, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
-    { 30.0, true, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
-    { -20.0, true, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
-    { 30.0, false, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
-    { 30.0, true, PROTO_FRAME_FORMAT_PNG16, PROTO_VIEW_PROJECTION_PERSPECTIVE, 0.0 },
-    { 30.0, true, PROTO_FRAME_FORMAT_PNG16, PROTO_VIEW_PROJECTION_EQUIRECTANGULAR, 0.0 },
-    { 30.0, true, PROTO_FRAME_FORMAT_PNG, PROTO_VIEW_PROJECTION_PERSPECTIVE, 150.0 },
+    { 30.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
+    { 30.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
+    { -20.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
+    { -25.0, true, PNG8, PERSPECTIVE, 0.0, true, WARM_MAP_STATE },
+    { 30.0, false, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
+    { 30.0, true, PROTO_FRAME_FORMAT_PNG16, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
+    { 30.0, true, PROTO_FRAME_FORMAT_PNG16, PROTO_VIEW_PROJECTION_EQUIRECTANGULAR, 0.0, false,
+      WARM_MAP_STATE },
+    { 30.0, true, PNG8, PERSPECTIVE, 150.0, false, WARM_MAP_STATE },
+    { 30.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_POWER_OF_TWO },
+    { 30.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_OTHER },
 };
+#undef PNG8
+#undef PERSPECTIVE
 #define WARM_UP_FRAME_COUNT (sizeof warm_up_frames / sizeof warm_up_frames[0])
+
+/* A client weather map of side x side texels, half covered by cumulus; its generation is one
+ * no world's map has (renderer_host_take then hands the world's own over after the warm-up). */
+enum { WARM_MAP_MAX_SIDE = 3 };
+static void warm_up_map(enum warm_up_map kind, struct render_input *warm,
+                        uint8_t texels[WARM_MAP_MAX_SIDE * WARM_MAP_MAX_SIDE * 4],
+                        struct proto_weather_map *map)
+{
+    uint32_t side = kind == WARM_MAP_POWER_OF_TWO ? 2 : WARM_MAP_MAX_SIDE;
+    for (uint32_t i = 0; i < side * side; i++) {
+        uint8_t *t = texels + 4 * i;
+        t[0] = i % 2 ? 200 : 0; /* low coverage */
+        t[1] = 0;               /* high coverage */
+        t[2] = 170;             /* cumulus */
+        t[3] = 0;               /* no rain */
+    }
+    *map = (struct proto_weather_map){ .width = side, .height = side, .rgba = texels };
+    warm->client_map = map;
+    warm->map_generation = UINT64_MAX - (uint64_t)kind;
+    warm->clouds.use_client_map = true;
+    warm->clouds.client_map_drives_procedural = false;
+}
+
+static int warm_up_probe(struct renderer_host *h, const struct render_input *input)
+{
+    const struct proto_msg_probe luminance = {
+        .quantity = PROTO_PROBE_LUMINANCE,
+        .altitude_km = 1.0,
+        .view_zenith_deg = 40.0,
+        .sun_zenith_deg = 50.0,
+    };
+    struct proto_msg_probe_result result;
+    return renderer_host_probe(h, input, &luminance, &result);
+}
 
 static int warm_up_pipelines(struct renderer_host *h, const struct render_input *input)
 {
@@ -319,6 +370,16 @@ static int warm_up_pipelines(struct renderer_host *h, const struct render_input 
         *warm = *input;
         warm->clouds.low.coverage = f->clouds ? fmax(input->clouds.low.coverage, 0.5) : 0.0;
         warm->clouds.high.coverage = f->clouds ? fmax(input->clouds.high.coverage, 0.3) : 0.0;
+        struct proto_weather_map map;
+        uint8_t texels[WARM_MAP_MAX_SIDE * WARM_MAP_MAX_SIDE * 4];
+        if (f->map != WARM_MAP_STATE)
+            warm_up_map(f->map, warm, texels, &map);
+        if (f->moonlit) {
+            warm->night.moon_elevation_deg = 40.0;
+            warm->night.moon_illuminance_lux = fmax(input->night.moon_illuminance_lux, 0.25);
+            warm->night.moon_angular_diameter_deg = fmax(input->night.moon_angular_diameter_deg,
+                                                         0.5);
+        }
         const struct proto_msg_view small = {
             .width = WARM_W,
             .height = WARM_H,
@@ -335,6 +396,8 @@ static int warm_up_pipelines(struct renderer_host *h, const struct render_input 
         /* at once: the weather and shadow maps within the frame */
         status = renderer_host_render(h, warm, &view, true, rgba, WARM_BYTES, NULL);
     }
+    if (status == 0)
+        status = warm_up_probe(h, input);
     free(warm);
     free(rgba);
     return status;

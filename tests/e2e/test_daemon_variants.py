@@ -11,13 +11,16 @@ growth in those compiles).
 The daemon runs with an empty Mesa shader cache of its own (MESA_SHADER_CACHE_DIR), which
 llvmpipe writes every compiled variant to. Once it listens, snapshots cover the combinations:
 sRGB and linear (PNG16) output, a panorama (sun, ground and sky in one view), a view straight
-up, a camera at 150 km, by day and by night, with and without clouds. The cache must hold as
-many entries after them as before, and every snapshot must be answered with a frame.
+up, a camera at 150 km, by day and by night, with and without clouds; then probes, a client
+weather map of a power-of-two size and one of another, and a night whose moon lights the
+clouds. The cache must hold as many entries after them as before, and every snapshot and probe
+must be answered.
 
 Usage: /usr/bin/python3 tests/e2e/test_daemon_variants.py PATH_TO_SKYD SCRATCH_DIR
 """
 
 import asyncio
+import base64
 import os
 import shutil
 import sys
@@ -56,6 +59,34 @@ async def settled_entries(cache_dir, limit_s=60.0):
         if now != count:
             count, since = now, time.monotonic()
     return count
+
+
+def weather_map(side_x, side_y):
+    """A client weather map (rgba8) of cumulus in every other texel."""
+    texels = b"".join(bytes((200 if i % 2 else 0, 0, 170, 0)) for i in range(side_x * side_y))
+    return {"type": "set_weather_map", "format": "rgba8", "width": side_x, "height": side_y,
+            "data": base64.b64encode(texels).decode()}
+
+
+def extra_requests():
+    """(what, message, expected reply type): the requests beyond the views that run passes of
+    their own or bind other images."""
+    snap = {"type": "snapshot", "view": {"width": 40, "height": 30}}
+    probes = [{"type": "probe", "quantity": "transmittance", "altitude_km": 1, "mu": 0.3},
+              {"type": "probe", "quantity": "luminance", "altitude_km": 2,
+               "view_zenith_deg": 60, "view_azimuth_deg": 20, "sun_zenith_deg": 70},
+              {"type": "probe", "quantity": "illuminance", "sun_zenith_deg": 40}]
+    out = [(f"probe {p['quantity']}", p, "probe_result") for p in probes]
+    for w, h in ((64, 64), (7, 5)):
+        out += [(f"weather map {w}x{h}", weather_map(w, h), "ack"),
+                (f"weather map {w}x{h}: snapshot", snap, "frame")]
+    out += [("procedural map", {"type": "set", "patch": {
+        "weather": {"map_source": "procedural"}}}, "ack"),
+        ("moonlit clouds", {"type": "set", "patch": {
+            "sun": {"elevation_deg": -30}, "moon": {"elevation_deg": 40},
+            "clouds": {"low": {"coverage": 0.6}}}}, "ack"),
+        ("moonlit clouds: snapshot", snap, "frame")]
+    return out
 
 
 async def run(skyd, scratch):
@@ -99,8 +130,16 @@ async def run(skyd, scratch):
                         asked += 1
                         answered += check(f"{what}: a frame", r.get("type") == "frame",
                                           short(r))
+        for what, message, reply_type in extra_requests():
+            r = await ctl.request(dict(message, id=f"x{asked}"), SNAPSHOT_TIMEOUT_S)
+            asked += 1
+            answered += check(f"{what}: answered", r.get("type") == reply_type, short(r))
+            now = cache_entries(cache)
+            if now != seen:
+                info(f"{what}: {now - seen} new shader cache entries")
+                seen = now
         after = await settled_entries(cache)
-        info(f"{answered} of {asked} snapshots answered; slowest {slowest[0]:.2f} s "
+        info(f"{answered} of {asked} requests answered; slowest snapshot {slowest[0]:.2f} s "
              f"({slowest[1]})")
         check("no shader compiled after start-up: the cache holds as many entries as when "
               "the daemon began to listen", after == at_start,

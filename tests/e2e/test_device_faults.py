@@ -8,24 +8,24 @@ destroyed after a loss, or a create that failed half way, may leave no object be
 
 Usage: /usr/bin/python3 tests/e2e/test_device_faults.py PATH_TO_SKYD SCRATCH_DIR
 
-Frames are counted over the process, the start-up's warm-up frames included (seven of them,
+Frames are counted over the process, the start-up's warm-up frames included (ten of them,
 again in each rebuilt renderer); where a check needs the fault to meet one request, a loop
 finds the failing one instead of assuming that count.
 
-1. A recovered loss (device_lost:after_frames=15), met while a subscriber streams, a
+1. A recovered loss (device_lost:after_frames=18), met while a subscriber streams, a
    controller sets the sun again and again and a viewer asks for snapshot after snapshot:
    the log reports it and the rebuild, frames come again (and show the last revision),
    /metrics counts the loss and /healthz is ok again, every
    set is acknowledged, every snapshot is answered (a frame, or an `internal` error saying the
    device was lost), and the revision, the state and the state file are the last
    acknowledged ones.
-2. A loss the renderer cannot be rebuilt after (device_lost:after_frames=8:permanent: creating
+2. A loss the renderer cannot be rebuilt after (device_lost:after_frames=11:permanent: creating
    a device fails too): the snapshot that met it gets an `internal` error saying so, the
    client is closed with 1011, the daemon exits 1 within a bound, and the state file holds
    the last acknowledged state.
-3. Losses that keep coming (device_lost:after_frames=8:times=3): two are rebuilt, the third
+3. Losses that keep coming (device_lost:after_frames=11:times=3): two are rebuilt, the third
    within the minute stops the daemon the same way.
-4. Out of device memory (out_of_memory:after_frames=12): a snapshot at a new size gets an
+4. Out of device memory (out_of_memory:after_frames=15): a snapshot at a new size gets an
    `internal` error naming the image that could not be allocated and why; the subscriber at
    another size keeps its frames; the same snapshot then succeeds.
 
@@ -145,7 +145,7 @@ async def snapshotter(viewer, replies, stop):
 
 async def recovered(skyd, scratch):
     name = "recovered"
-    d = start(skyd, scratch, name, "device_lost:after_frames=15")
+    d = start(skyd, scratch, name, "device_lost:after_frames=18")
     try:
         ctl = await Client.connect(d.url(), f"{name}-controller")
         await ctl.auth()
@@ -260,7 +260,7 @@ async def check_stopped(name, d, client, expected, within=EXIT_BOUND_S):
 
 async def unrecoverable(skyd, scratch):
     name = "unrecoverable"
-    d = start(skyd, scratch, name, "device_lost:after_frames=8:permanent")
+    d = start(skyd, scratch, name, "device_lost:after_frames=11:permanent")
     try:
         ctl = await Client.connect(d.url(), f"{name}-controller")
         await ctl.auth()
@@ -285,7 +285,7 @@ async def unrecoverable(skyd, scratch):
 
 async def repeated(skyd, scratch):
     name = "repeated"
-    d = start(skyd, scratch, name, "device_lost:after_frames=8:times=3")
+    d = start(skyd, scratch, name, "device_lost:after_frames=11:times=3")
     try:
         ctl = await Client.connect(d.url(), f"{name}-controller")
         await ctl.auth()
@@ -318,12 +318,12 @@ async def repeated(skyd, scratch):
 
 async def out_of_memory(skyd, scratch):
     name = "out_of_memory"
-    d = start(skyd, scratch, name, "out_of_memory:after_frames=12")
+    d = start(skyd, scratch, name, "out_of_memory:after_frames=15")
     try:
         sub = await Client.connect(d.url(), f"{name}-subscriber")
         r = await sub.request({"type": "subscribe", "id": "sub", "view": SUB_VIEW})
         check(f"{name}: subscribed", r.get("type") == "subscribed", short(r))
-        # Seven warm-up frames, then five of the subscription's: the fault is armed and the
+        # Ten warm-up frames, then five of the subscription's: the fault is armed and the
         # subscription's images exist, so the next allocation is the snapshot's.
         armed = await pump_until(sub, lambda: sum(sub.frame_count.values()) >= 5, 15)
         check(f"{name}: the subscription streams", armed, f"{sub.frame_count}")

@@ -32,7 +32,7 @@ from serve_harness import (Client, Daemon, check, info, make_config,  # noqa: E4
                            run_daemon_test, short)
 
 STALL_S = 14          # the late submission; /healthz's limit is 5 s
-AFTER_FRAMES = 13     # the start-up's warm-up renders seven; the subscription the rest
+AFTER_FRAMES = 16     # the start-up's warm-up renders ten; the subscription the rest
 QUEUE_CAP = 2
 
 
