@@ -2,9 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // The path tracer's majorant grid (cloud_pathtrace.glsl): per cell of a grid over the weather
 // map, 1 in x (y) where the low (high) layer's coverage is positive in any texel of the 3x3
-// cells around it or one texel beyond (the bilinear read's reach), else 0. The density is 0
-// where a layer's coverage is (cloud_density.glsl); the path tracer counts any sample that
-// says otherwise.
+// cells around it or one texel beyond (the bilinear read's reach), else 0; in z the largest
+// sheet share of the low layer's cloud there, whose density reaches 1 + z times the layer's
+// (cloud_density.glsl: a deck is densest at its top). The density is 0 where a layer's
+// coverage is; the path tracer counts any sample that says otherwise.
+#include "cloud_shared.h"
 #include "cloud_layouts.h"
 
 layout(local_size_x = SKY_CLOUD_LOCAL, local_size_y = SKY_CLOUD_LOCAL) in;
@@ -21,10 +23,16 @@ void main()
     ivec2 per_cell = max(size / cells, ivec2(1));
     ivec2 first = (cell - 1) * per_cell - 1, last = (cell + 2) * per_cell;
     vec2 flags = vec2(0.0);
+    float sheet = 0.0;
     for (int y = first.y; y <= last.y; y++)
         for (int x = first.x; x <= last.x; x++) {
             vec4 wm = texelFetch(weather_map, (ivec2(x, y) % size + size) % size, 0);
             flags = max(flags, vec2(greaterThan(wm.rg, vec2(0.0))));
+            // The share falls with the type, so a bilinear read between texels holds no more
+            // than the largest texel's.
+            if (wm.r > 0.0)
+                sheet = max(sheet, 1.0 - smoothstep(CLOUD_SHEET_TYPES_END,
+                                                    CLOUD_HEAPED_TYPES_START, wm.b));
         }
-    imageStore(grid, cell, vec4(flags, 0.0, 0.0));
+    imageStore(grid, cell, vec4(flags, sheet, 0.0));
 }

@@ -146,7 +146,7 @@ float low_density_or_empty(vec3 p, float r, vec4 wm, bool detail)
     // relief, with soft tops and no detail erosion: radiative smoothing leaves real decks
     // smooth below a few hundred metres, and their structure is the weather map's, on every
     // scale (cloud_weather.comp); at full relief the base tile's cells would tile the deck.
-    float sheet = 1.0 - smoothstep(0.3, 0.55, wm.b);
+    float sheet = 1.0 - smoothstep(CLOUD_SHEET_TYPES_END, CLOUD_HEAPED_TYPES_START, wm.b);
     float u = mix(n.r, n.g, max(max(cloud_lod, sheet), TURRET_SMOOTHING));
     u = 0.5 + (u - 0.5) * mix(1.0, SHEET_RELIEF, sheet);
     float ramp = mix(mix(EDGE_RAMP.x, EDGE_RAMP.y, cloud_lod), SHEET_RAMP, sheet);
@@ -164,7 +164,7 @@ float low_density_or_empty(vec3 p, float r, vec4 wm, bool detail)
         d = clamp(remap(d, modifier * erosion, 1.0, 0.0, 1.0), 0.0, 1.0);
     }
     // A sheet's liquid water grows with the height above its base (adiabatic ascent), so a
-    // thicker part of a deck is also denser.
+    // thicker part of a deck is also denser: up to 1 + sheet times the layer's density.
     d *= mix(1.0, clamp(2.0 * h / shape.x, 0.25, 2.0), sheet);
     // Precipitation also darkens the base: denser toward it.
     return d * cloud.low.z * (1.0 + wm.a * (1.0 - h));

@@ -48,11 +48,17 @@ float pt_flight(float m)
 }
 
 // Upper bounds of cloud_extinction in each layer's shell: the low layer's density is at most
-// low.z (1 + precipitation) (the envelope and the billows are at most 1; precipitation darkens
-// the base), the high layer's at most high.z.
+// low.z (1 + sheet) (1 + precipitation) (the envelope and the billows are at most 1; a sheet's
+// share `sheet` of the cloud is denser toward its top, up to twice; precipitation darkens the
+// base), the high layer's at most high.z. Without the grid's sheet share, the largest.
+float pt_bound_low_sheet(float sheet)
+{
+    return cloud.low.z * (1.0 + sheet) * (1.0 + pt_precipitation_ceiling);
+}
+
 float pt_bound_low()
 {
-    return cloud.low.z * (1.0 + pt_precipitation_ceiling);
+    return pt_bound_low_sheet(1.0);
 }
 
 float pt_bound_high()
@@ -152,9 +158,9 @@ float pt_local_majorant(vec3 p, float segment_majorant)
     // The weather map's coordinates of p, as sample_weather (cloud_density.glsl) reads it.
     vec2 uv = fract(cloud_pattern_xy(p) * cloud.weather.z + 0.5);
     ivec2 n = textureSize(pt_grid, 0);
-    vec2 g = texelFetch(pt_grid, min(ivec2(uv * vec2(n)), n - 1), 0).xy;
+    vec3 g = texelFetch(pt_grid, min(ivec2(uv * vec2(n)), n - 1), 0).xyz;
     // (The middle layer's coverage is the same everywhere: its bound wherever it is on.)
-    return min(segment_majorant, (g.x > 0.0 ? pt_bound_low() : 0.0) +
+    return min(segment_majorant, (g.x > 0.0 ? pt_bound_low_sheet(g.z) : 0.0) +
                                      (g.y > 0.0 ? pt_bound_high() : 0.0) + pt_bound_mid());
 #endif
 }

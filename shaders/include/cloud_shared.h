@@ -24,6 +24,13 @@
 #define CLOUD_TOWERING_TYPE 0.8
 #define CLOUD_TYPE_VARIATION 0.15
 
+/* Cloud types from 0 up to the first are sheets (stratus, stratocumulus), up from the second
+ * heaped clouds; between them the sheet's share falls smoothly. A sheet's density grows with the
+ * height above its base, up to twice the layer's (cloud_density.glsl), which the path tracer's
+ * majorant grid bounds per cell (cloud_majorant.comp). */
+#define CLOUD_SHEET_TYPES_END 0.3
+#define CLOUD_HEAPED_TYPES_START 0.55
+
 /* Weather-map texel channels (procedural and client maps alike). */
 #define CLOUD_WEATHER_LOW_COVERAGE 0  /* r */
 #define CLOUD_WEATHER_HIGH_COVERAGE 1 /* g */
