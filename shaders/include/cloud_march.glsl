@@ -22,7 +22,9 @@ struct CloudResult {
 // atmosphere, seed 001 4.2) and the airglow floor.
 struct CloudAmbient {
     vec3 top, bottom;
-    vec3 bottom_sun; // the part of bottom that the sun lights on the ground, at full sun
+    // The parts of bottom that the sun and its sky light on the ground, in a clear sky (bottom
+    // holds half the first and all of the second).
+    vec3 bottom_sun, bottom_sky;
 };
 
 // Directions of the sky ambient's quadrature: cosine-weighted over the upper hemisphere on a
@@ -92,6 +94,7 @@ CloudAmbient cloud_ambient(vec3 sun_dir, vec3 d)
     vec3 ground_e = (0.5 * direct + sky) * frame.sun_illuminance.xyz;
     a.bottom_sun = atmo.ground_albedo.xyz * direct * frame.sun_illuminance.xyz / PI *
                    cloud.media.z;
+    a.bottom_sky = atmo.ground_albedo.xyz * sky * frame.sun_illuminance.xyz / PI * cloud.media.z;
     if (moon_lights_clouds()) {
         ground_light_per_lux(frame.moon_direction.xyz, sky, direct);
         sky_e += sky * frame.moon_illuminance.xyz;
@@ -102,6 +105,22 @@ CloudAmbient cloud_ambient(vec3 sun_dir, vec3 d)
     a.top = (sky_e / PI + airglow) * cloud.media.z;
     a.bottom = atmo.ground_albedo.xyz * (ground_e / PI + airglow) * cloud.media.z;
     return a;
+}
+
+// The share of the sun's (x) and of its sky's (y) light that reaches the ground through a
+// column of cloud whose optical depth along the sun's ray is tau_sun, the sun at cosine mu0: the
+// Eddington solution's total transmission of a conservative deck of vertical optical depth
+// tau = mu0 tau_sun, [1/2 + 3/4 mu0 + (1/2 - 3/4 mu0) exp(-tau/mu0)] / (1 + 3/4 (1 - g) tau)
+// (Joseph, Wiscombe & Weinman 1976), the direct beam included; the sky's diffuse light enters
+// as at mu0 = 2/3. Under a deck the ground is lit by what the deck diffuses, not by the blue
+// sky above it.
+vec2 ground_transmission(float tau_sun, float mu0)
+{
+    mu0 = max(mu0, 0.05);
+    float g = mix(cloud.phase.x, cloud.phase.y, cloud.phase.z);
+    float diffusion = 1.0 + 0.75 * (1.0 - g) * mu0 * tau_sun;
+    float sun = (0.5 + 0.75 * mu0 + (0.5 - 0.75 * mu0) * exp(-tau_sun)) / diffusion;
+    return vec2(sun, 1.0 / diffusion);
 }
 
 // Empty-space skipping: after EMPTY_RUN empty fine samples the march probes where the layer may
@@ -167,18 +186,20 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
         moon_depth = sun_depths(p, frame.moon_direction.xyz, s.moon_marched,
                                 s.moon_reach_r >= 0.0, s.moon_reach_r, s.sigma_t, layer);
     // The ground under a cloud lies in its shadow: where the shadow map knows the sun's
-    // optical depth to the ground below the sample (every layer's), its sunlit half becomes
-    // that share.
+    // optical depth to the ground below the sample (every layer's), the ground's sun and sky
+    // light are what that column lets through (ground_transmission).
     vec2 below_uv;
-    float ground_sun = 0.5;
+    vec3 ground = amb.bottom;
     if (layer != LAYER_HIGH &&
-        sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv))
-        ground_sun = exp(-sun_column(below_uv).depth);
+        sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv)) {
+        vec2 through = ground_transmission(sun_column(below_uv).depth, sun_dir.z);
+        ground += amb.bottom_sun * (through.x - 0.5) + amb.bottom_sky * (through.y - 1.0);
+    }
     // The ambient's height in the low layer (the layers above it: its top), in the middle
     // layer its own: its base sees the lit ground and the low clouds' tops.
     vec4 amb_shell = layer == LAYER_MID ? cloud.mid : cloud.low;
     float h = clamp((r - amb_shell.x) / (amb_shell.y - amb_shell.x), 0.0, 1.0);
-    vec3 ambient = mix(amb.bottom + amb.bottom_sun * (ground_sun - 0.5), amb.top, h);
+    vec3 ambient = mix(ground, amb.top, h);
     float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
     float top = layer_shell(layer).y;
     float tau_up = s.sigma_t * max(top - r, 0.0);

@@ -2,8 +2,9 @@
  * shaders/cloud_pathtrace.comp), both through the same resolve and composite: one cumulus
  * (a client weather map with one round cell, as test_cloud_shapes places it) lit from behind
  * the camera, from the side and from behind the cloud (the sun out of the frame), and one
- * cumulonimbus, seen from the ground. Over the cloud's pixels (where the reference differs from
- * the clear sky by more than 10 %, above the horizon; tests/common/cloud_compare.h):
+ * cumulonimbus, seen from the ground (an overcast deck's base has checks of its own,
+ * compare_deck_base). Over the cloud's pixels (where the reference differs from the clear sky
+ * by more than 10 %, above the horizon; tests/common/cloud_compare.h):
  *   - mean relative luminance error <= 15 %;
  *   - outline (2 px band) / interior brightness within 15 % of the reference's;
  *   - pixel-scale grain (high-pass std / mean, inside the outline) at most 1.2 x the
@@ -332,6 +333,71 @@ static void compare_scene(const struct scene *sc)
               grain_rt, grain_clean);
 }
 
+/* An overcast deck seen from below: its base is lit by the sun's light diffused through it and
+ * by the ground, which the deck itself lights (the Eddington transmission of its column,
+ * cloud_march.glsl's ground_transmission), not by the blue sky above it. Over the sky (every
+ * pixel above the horizon is deck): mean luminance within MAX_RELATIVE_ERROR of the
+ * reference's (measured +1.8 %; with the ground lit by the clear sky's irradiance, -21.1 %),
+ * and its colour, blue over red, within MAX_DECK_TINT (measured -10 %, the clear sky's +10.3 %:
+ * the sky's light diffused down through the deck from its top is what the renderer lacks). */
+#define MAX_DECK_TINT 0.12
+#define DECK_SPP 16
+static void compare_deck_base(void)
+{
+    struct proto_world_state s;
+    proto_world_state_defaults(&s);
+    char msg[1024] = "";
+    CHECK_MSG(world_preset_apply(config_dir, "weather", "overcast", &s, NULL, msg, sizeof msg),
+              "weather preset overcast: %s", msg);
+    s.clouds.high.coverage = 0.0;
+    s.clouds.precipitation = 0.0;
+    s.camera.altitude_km = 0.2;
+    s.camera.yaw_deg = 20.0;
+    s.camera.pitch_deg = 25.0;
+    s.camera.fov_deg = 60.0;
+    s.sun.azimuth_deg = 150.0;
+    s.sun.elevation_deg = 40.0;
+    uint32_t spp = ref_spp_override ? ref_spp_override : DECK_SPP;
+    printf("deck_base: overcast from below, sun at elevation 40 deg; %dx%d, reference %u spp x 2\n",
+           W, H, spp);
+    render(&s, 0, 0, rt_rgba, rt);
+    for (int k = 0; k < 2; k++)
+        if (!load_cached("deck_base", spp, k, ref_rgba[k], ref[k])) {
+            render(&s, spp, (uint32_t)k + 1, ref_rgba[k], ref[k]);
+            save_cached("deck_base", spp, k, ref_rgba[k]);
+        }
+    for (int i = 0; i < W * H; i++)
+        clear[i] = 0.0f; /* every pixel above the horizon is cloud */
+    for (int i = 0; i < W * H * 4; i++)
+        ref_rgba[0][i] = 0.5f * (ref_rgba[0][i] + ref_rgba[1][i]);
+    save_pair("deck_base", rt_rgba, ref_rgba[0]);
+    int pixels = cloud_mask(&s, ref[0], clear, mask);
+    double sum[3][3] = { { 0 } }; /* renderer, reference (both seeds), seed 2: r, g, b */
+    for (int i = 0; i < W * H; i++)
+        if (mask[i])
+            for (int c = 0; c < 3; c++) {
+                sum[0][c] += rt_rgba[4 * i + c];
+                sum[1][c] += ref_rgba[0][4 * i + c];
+                sum[2][c] += ref_rgba[1][4 * i + c];
+            }
+    double lum[3], tint[3];
+    for (int k = 0; k < 3; k++) {
+        lum[k] = 0.2126 * sum[k][0] + 0.7152 * sum[k][1] + 0.0722 * sum[k][2];
+        tint[k] = sum[k][2] / sum[k][0];
+    }
+    /* Seed 2 against the mean of both: half the two seeds' difference. */
+    double noise = fabs(lum[2] / lum[1] - 1.0);
+    printf("  sky pixels %d; mean luminance renderer / reference %.3f (the reference's own noise "
+           "%.3f); blue / red: renderer %.3f, reference %.3f (%+.1f %%)\n",
+           pixels, lum[0] / lum[1], noise, tint[0], tint[1], 100.0 * (tint[0] / tint[1] - 1.0));
+    CHECK_MSG(pixels > W * H / 2, "deck_base: only %d sky pixels", pixels);
+    CHECK_MSG(noise < MAX_RELATIVE_ERROR / 3.0, "deck_base: the reference's noise %.3f", noise);
+    CHECK_MSG(fabs(lum[0] / lum[1] - 1.0) <= MAX_RELATIVE_ERROR,
+              "deck_base: mean luminance renderer / reference %.3f", lum[0] / lum[1]);
+    CHECK_MSG(fabs(tint[0] / tint[1] - 1.0) <= MAX_DECK_TINT,
+              "deck_base: blue / red %.3f, reference %.3f", tint[0], tint[1]);
+}
+
 static void run(void)
 {
     const char *only = getenv("SKYD_COMPARE_CASE");
@@ -341,6 +407,8 @@ static void run(void)
     for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++)
         if (!only || strcmp(only, scenes[k].name) == 0)
             compare_scene(&scenes[k]);
+    if (!only || strcmp(only, "deck_base") == 0)
+        compare_deck_base();
     CHECK(sky_renderer_set_weather_map(renderer, NULL, 0, 0) == 0);
 }
 
