@@ -59,6 +59,9 @@ struct msg_schema {
     const char *discriminator;           /* NULL: none */
     const struct proto_schema *variants; /* indexed by the discriminator's value */
     size_t variant_count;
+    /* The reply is told from other messages by the request's id (a snapshot's frame from a
+     * subscription's), so the request must give one. */
+    bool id_required;
 };
 
 /* NULL for PROTO_MSG_NONE and values out of range. */

@@ -242,7 +242,7 @@ cJSON *proto_msg_json_schema(const struct proto_msg_limits *limits)
         cJSON *def = kind->discriminator ? variants_schema(name, kind)
                                          : message_schema(name, kind->schema, name);
         cJSON *option = reference(name);
-        ok = attach(defs, name, def) &&
+        ok = attach(defs, name, def) && (!kind->id_required || add_required(def, "id")) &&
              (type != PROTO_MSG_APPLY_PRESET || add_weather_only_transition(def));
         ok = attach(ok ? options : NULL, NULL, option) && ok;
     }

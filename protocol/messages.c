@@ -353,6 +353,8 @@ static void parse_object(struct parser *p, struct proto_client_msg *msg)
             snprintf(errors->items[i].reason, sizeof errors->items[i].reason, "required for %s",
                      discriminator->valuestring);
     check_members(p, msg);
+    if (kind->id_required)
+        parser_require(p, id, "/id");
 }
 
 size_t proto_msg_upload_limit(const struct proto_msg_limits *limits)

@@ -65,7 +65,8 @@ static const char *const accepted[] = {
     "{\"type\":\"hello\",\"client\":\"\"}",
     "{\"type\":\"stats\",\"id\":9007199254740991}",
     "{\"type\":\"stats\",\"id\":\"x\"}",
-    "{\"type\":\"snapshot\",\"view\":{\"width\":3840,\"height\":2160,\"fps\":60,\"camera\":"
+    "{\"type\":\"snapshot\",\"id\":1,\"view\":{\"width\":3840,\"height\":2160,\"fps\":60,"
+    "\"camera\":"
     "{\"altitude_km\":100000,\"yaw_deg\":-360,\"pitch_deg\":90,\"fov_deg\":170},\"exposure\":"
     "{\"mode\":\"auto\",\"ev100\":-10,\"compensation_ev\":10}}}",
     "{\"type\":\"probe\",\"quantity\":\"transmittance\",\"altitude_km\":0,\"mu\":-1}",
@@ -76,7 +77,7 @@ static const char *const accepted[] = {
     "{\"type\":\"set\",\"patch\":{\"atmosphere\":{\"ground_albedo\":0.2}}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"format\":\"jpeg\","
     "\"quality\":100,\"max_kbps\":1000000}}",
-    "{\"type\":\"snapshot\",\"view\":{\"width\":1,\"height\":1,\"format\":\"jpeg\","
+    "{\"type\":\"snapshot\",\"id\":1,\"view\":{\"width\":1,\"height\":1,\"format\":\"jpeg\","
     "\"quality\":1,\"max_kbps\":0.5}}",
 };
 
@@ -97,6 +98,8 @@ static const char *const refused[] = {
     "{\"type\":\"set\",\"patch\":{\"atmosphere\":{\"bogus\":1}}}",
     "{\"type\":\"set\",\"patch\":{\"revision\":3}}",
     "{\"type\":\"subscribe\"}",
+    /* a snapshot's frame is told from a subscription's by the request's id */
+    "{\"type\":\"snapshot\",\"view\":{\"width\":2,\"height\":2}}",
     "{\"type\":\"subscribe\",\"view\":{\"height\":10}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":3841,\"height\":10}}",
     "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,\"fps\":0}}",
@@ -190,7 +193,8 @@ static void test_limits(void)
     CHECK(cJSON_GetNumberValue(at(schema, "$defs/view/properties/width/maximum")) == 640);
     CHECK(cJSON_GetNumberValue(at(schema, "$defs/view/properties/fps/maximum")) == 5);
     CHECK(cJSON_GetNumberValue(at(schema, "$defs/view/properties/fps/default")) == 5);
-    CHECK(!conforms_text(schema, "{\"type\":\"snapshot\",\"view\":{\"width\":641,\"height\":1}}"));
+    CHECK(!conforms_text(schema,
+                         "{\"type\":\"snapshot\",\"id\":1,\"view\":{\"width\":641,\"height\":1}}"));
     cJSON_Delete(schema);
     check_case_name = "";
 }

@@ -148,8 +148,9 @@ void test_builders(void)
     CHECK_DOUBLE(number_at(jpeg_view, "quality"), PROTO_MSG_JPEG_QUALITY_DEFAULT);
     CHECK_DOUBLE(number_at(jpeg_view, "max_kbps"), 250);
     cJSON_Delete(json);
-    CHECK_INT(parse("{\"type\":\"snapshot\",\"view\":{\"width\":2,\"height\":2}}", &msg, &error),
-              PROTO_MSG_OK);
+    CHECK_INT(
+        parse("{\"type\":\"snapshot\",\"id\":1,\"view\":{\"width\":2,\"height\":2}}", &msg, &error),
+        PROTO_MSG_OK);
     CHECK_INT(msg.view.quality, 0);
     CHECK_DOUBLE(msg.view.max_kbps, 0);
     json = parse_built(proto_msg_build_subscribed(&msg.id, 4, &msg.view), "subscribed");

@@ -32,7 +32,7 @@ static const struct parse_case parse_cases[] = {
     OK("empty patch", "{\"type\":\"set\",\"patch\":{}}", PROTO_MSG_SET),
     OK("rgb patch", "{\"type\":\"set\",\"patch\":{\"atmosphere\":{\"ground_albedo\":[0.1,0.2,0.3]}}}",
        PROTO_MSG_SET),
-    OK("view at limits", "{\"type\":\"snapshot\",\"view\":{\"width\":3840,\"height\":2160,"
+    OK("view at limits", "{\"type\":\"snapshot\",\"id\":1,\"view\":{\"width\":3840,\"height\":2160,"
        "\"fps\":60,\"camera\":{\"altitude_km\":100000,\"yaw_deg\":-360,\"pitch_deg\":90,"
        "\"fov_deg\":170},\"exposure\":{\"mode\":\"auto\",\"ev100\":-10,\"compensation_ev\":10}}}",
        PROTO_MSG_SNAPSHOT),
@@ -129,7 +129,9 @@ static const struct parse_case parse_cases[] = {
     BAD("view array", "{\"type\":\"subscribe\",\"view\":[]}", WRONG_TYPE, "/view"),
     BAD("view no width", "{\"type\":\"subscribe\",\"view\":{\"height\":10}}", MISSING_FIELD,
         "/view/width"),
-    BAD("view no height", "{\"type\":\"snapshot\",\"view\":{\"width\":10}}", MISSING_FIELD,
+    BAD("snapshot without id", "{\"type\":\"snapshot\",\"view\":{\"width\":2,\"height\":2}}",
+        MISSING_FIELD, "/id"),
+    BAD("view no height", "{\"type\":\"snapshot\",\"id\":1,\"view\":{\"width\":10}}", MISSING_FIELD,
         "/view/height"),
     BAD("view width 0", "{\"type\":\"subscribe\",\"view\":{\"width\":0,\"height\":10}}",
         OUT_OF_RANGE, "/view/width"),
@@ -177,9 +179,9 @@ static const struct parse_case parse_cases[] = {
         "\"format\":1}}", WRONG_TYPE, "/view/format"),
     BAD("view projection unknown", "{\"type\":\"subscribe\",\"view\":{\"width\":2,\"height\":1,"
         "\"projection\":\"fisheye\"}}", BAD_VALUE, "/view/projection"),
-    BAD("view projection number", "{\"type\":\"snapshot\",\"view\":{\"width\":2,\"height\":1,"
+    BAD("view projection number", "{\"type\":\"snapshot\",\"id\":1,\"view\":{\"width\":2,\"height\":1,"
         "\"projection\":1}}", WRONG_TYPE, "/view/projection"),
-    BAD("equirectangular not 2:1", "{\"type\":\"snapshot\",\"view\":{\"width\":300,"
+    BAD("equirectangular not 2:1", "{\"type\":\"snapshot\",\"id\":1,\"view\":{\"width\":300,"
         "\"height\":200,\"projection\":\"equirectangular\"}}", INCONSISTENT, "/view/width"),
     BAD("view unknown field", "{\"type\":\"subscribe\",\"view\":{\"width\":1,\"height\":1,"
         "\"depth\":1}}", UNKNOWN_FIELD, "/view/depth"),
