@@ -177,21 +177,22 @@ _Static_assert(COUNT_OF(weather_map_variants) == COUNT_OF(weather_map_format_nam
 
 /* clang-format off */
 static const struct msg_schema message_schemas[] = {
-    [PROTO_MSG_HELLO] = {&hello_schema, NULL, NULL, 0},
-    [PROTO_MSG_AUTH] = {&auth_schema, NULL, NULL, 0},
-    [PROTO_MSG_GET_STATE] = {&envelope_schema, NULL, NULL, 0},
-    [PROTO_MSG_SET] = {&set_schema, NULL, NULL, 0},
-    [PROTO_MSG_SUBSCRIBE] = {&view_message_schema, NULL, NULL, 0},
-    [PROTO_MSG_UNSUBSCRIBE] = {&unsubscribe_schema, NULL, NULL, 0},
+    [PROTO_MSG_HELLO] = {&hello_schema, NULL, NULL, 0, false},
+    [PROTO_MSG_AUTH] = {&auth_schema, NULL, NULL, 0, false},
+    [PROTO_MSG_GET_STATE] = {&envelope_schema, NULL, NULL, 0, false},
+    [PROTO_MSG_SET] = {&set_schema, NULL, NULL, 0, false},
+    [PROTO_MSG_SUBSCRIBE] = {&view_message_schema, NULL, NULL, 0, false},
+    [PROTO_MSG_UNSUBSCRIBE] = {&unsubscribe_schema, NULL, NULL, 0, false},
     [PROTO_MSG_SNAPSHOT] = {&view_message_schema, NULL, NULL, 0, true},
-    [PROTO_MSG_PROBE] = {&probe_schema, "quantity", probe_variants, COUNT_OF(probe_variants)},
-    [PROTO_MSG_LIST_PRESETS] = {&list_presets_schema, NULL, NULL, 0},
-    [PROTO_MSG_APPLY_PRESET] = {&apply_preset_schema, NULL, NULL, 0},
-    [PROTO_MSG_STATS] = {&envelope_schema, NULL, NULL, 0},
+    [PROTO_MSG_PROBE] = {&probe_schema, "quantity", probe_variants, COUNT_OF(probe_variants),
+                         false},
+    [PROTO_MSG_LIST_PRESETS] = {&list_presets_schema, NULL, NULL, 0, false},
+    [PROTO_MSG_APPLY_PRESET] = {&apply_preset_schema, NULL, NULL, 0, false},
+    [PROTO_MSG_STATS] = {&envelope_schema, NULL, NULL, 0, false},
     [PROTO_MSG_SET_WEATHER_MAP] = {&weather_map_schema, "format", weather_map_variants,
-                                 COUNT_OF(weather_map_variants)},
-    [PROTO_MSG_DESCRIBE] = {&envelope_schema, NULL, NULL, 0},
-    [PROTO_MSG_APPLY_OBSERVATION] = {&observation_schema, NULL, NULL, 0},
+                                 COUNT_OF(weather_map_variants), false},
+    [PROTO_MSG_DESCRIBE] = {&envelope_schema, NULL, NULL, 0, false},
+    [PROTO_MSG_APPLY_OBSERVATION] = {&observation_schema, NULL, NULL, 0, false},
 };
 /* clang-format on */
 
