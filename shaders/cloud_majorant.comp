@@ -31,8 +31,7 @@ void main()
             // The share falls with the type, so a bilinear read between texels holds no more
             // than the largest texel's.
             if (wm.r > 0.0)
-                sheet = max(sheet, 1.0 - smoothstep(CLOUD_SHEET_TYPES_END,
-                                                    CLOUD_HEAPED_TYPES_START, wm.b));
+                sheet = max(sheet, cloud_sheet_share(wm.b));
         }
     imageStore(grid, cell, vec4(flags, sheet, 0.0));
 }

@@ -146,7 +146,7 @@ float low_density_or_empty(vec3 p, float r, vec4 wm, bool detail)
     // relief, with soft tops and no detail erosion: radiative smoothing leaves real decks
     // smooth below a few hundred metres, and their structure is the weather map's, on every
     // scale (cloud_weather.comp); at full relief the base tile's cells would tile the deck.
-    float sheet = 1.0 - smoothstep(CLOUD_SHEET_TYPES_END, CLOUD_HEAPED_TYPES_START, wm.b);
+    float sheet = cloud_sheet_share(wm.b);
     float u = mix(n.r, n.g, max(max(cloud_lod, sheet), TURRET_SMOOTHING));
     u = 0.5 + (u - 0.5) * mix(1.0, SHEET_RELIEF, sheet);
     float ramp = mix(mix(EDGE_RAMP.x, EDGE_RAMP.y, cloud_lod), SHEET_RAMP, sheet);

@@ -30,6 +30,13 @@
  * majorant grid bounds per cell (cloud_majorant.comp). */
 #define CLOUD_SHEET_TYPES_END 0.3
 #define CLOUD_HEAPED_TYPES_START 0.55
+#if defined(VULKAN) || defined(GL_core_profile)
+/* The share of a low-layer texel's cloud that is a sheet, from its type (weather map b). */
+float cloud_sheet_share(float type)
+{
+    return 1.0 - smoothstep(CLOUD_SHEET_TYPES_END, CLOUD_HEAPED_TYPES_START, type);
+}
+#endif
 
 /* Weather-map texel channels (procedural and client maps alike). */
 #define CLOUD_WEATHER_LOW_COVERAGE 0  /* r */
