@@ -72,12 +72,19 @@ static double seconds(void)
     return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-static bool scene_state(const struct scene *sc, struct proto_world_state *s)
+/* The defaults with a weather preset applied. */
+static bool weather_state(const char *preset, struct proto_world_state *s)
 {
     proto_world_state_defaults(s);
     char msg[1024] = "";
-    bool ok = world_preset_apply(config_dir, "weather", sc->preset, s, NULL, msg, sizeof msg);
-    CHECK_MSG(ok, "weather preset %s: %s", sc->preset, msg);
+    bool ok = world_preset_apply(config_dir, "weather", preset, s, NULL, msg, sizeof msg);
+    CHECK_MSG(ok, "weather preset %s: %s", preset, msg);
+    return ok;
+}
+
+static bool scene_state(const struct scene *sc, struct proto_world_state *s)
+{
+    bool ok = weather_state(sc->preset, s);
     s->weather.map_source = PROTO_WEATHER_MAP_CLIENT;
     s->clouds.high.coverage = 0.0;
     /* No rain: the shafts under a base are the renderer's own march, not cloud density, and
@@ -345,10 +352,8 @@ static void compare_scene(const struct scene *sc)
 static void compare_deck_base(void)
 {
     struct proto_world_state s;
-    proto_world_state_defaults(&s);
-    char msg[1024] = "";
-    CHECK_MSG(world_preset_apply(config_dir, "weather", "overcast", &s, NULL, msg, sizeof msg),
-              "weather preset overcast: %s", msg);
+    if (!weather_state("overcast", &s))
+        return;
     s.clouds.high.coverage = 0.0;
     s.clouds.precipitation = 0.0;
     s.camera.altitude_km = 0.2;
