@@ -24,6 +24,13 @@ float hg_phase(float cos_theta, float g)
     return (1.0 - g2) / (4.0 * PI * pow(max(1.0 + g2 - 2.0 * g * cos_theta, 1e-5), 1.5));
 }
 
+// The dual lobe's mean cosine (seed 000 eq. 14.17: g0 + w (g1 - g0)): the asymmetry the
+// diffusion terms take.
+float dual_lobe_mean_cosine()
+{
+    return mix(cloud.phase.x, cloud.phase.y, cloud.phase.z);
+}
+
 // seed 000 eq. 14.17: p0 + w (p1 - p0).
 float dual_lobe_phase(float cos_theta, float g0, float g1, float w)
 {
@@ -251,7 +258,7 @@ void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence,
     float mu0 = clamp(min(tau_up / max(sd.smooth_to_sun, 1e-6), incidence), MU0_FLOOR, 1.0);
     float x_s = mu0 * sd.to_sun, x_b = mu0 * sd.behind;
     src[0] = o.weighted[0] * exp(-sd.to_sun);
-    float g = mix(cloud.phase.x, cloud.phase.y, cloud.phase.z);
+    float g = dual_lobe_mean_cosine();
     float s = 0.75 * (1.0 - g);
     float albedo = cloud.media.x;
     float absorption = sqrt(3.0 * max(1.0 - albedo, 0.0) * (1.0 - albedo * g));

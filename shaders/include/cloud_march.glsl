@@ -117,7 +117,7 @@ CloudAmbient cloud_ambient(vec3 sun_dir, vec3 d)
 vec2 ground_transmission(float tau_sun, float mu0)
 {
     mu0 = max(mu0, 0.05);
-    float g = mix(cloud.phase.x, cloud.phase.y, cloud.phase.z);
+    float g = dual_lobe_mean_cosine();
     float diffusion = 1.0 + 0.75 * (1.0 - g) * mu0 * tau_sun;
     float sun = (0.5 + 0.75 * mu0 + (0.5 - 0.75 * mu0) * exp(-tau_sun)) / diffusion;
     return vec2(sun, 1.0 / diffusion);
