@@ -176,7 +176,7 @@ struct sky_renderer *sky_renderer_create(const struct sky_renderer_params *param
     if (!r->luts)
         goto destroy_partial;
     r->sizes = sizes_with_defaults(&p->lut_sizes);
-    r->clouds = cloud_renderer_create(r->ctx, p->quiet);
+    r->clouds = cloud_renderer_create(r->ctx, p->quiet, p->cache_dir);
     if (!r->clouds)
         goto destroy_partial;
     struct sky_cloud_bindings no_clouds;

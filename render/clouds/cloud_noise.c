@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cloud_layouts.h"
+#include "cloud_noise_cache.h"
 #include "compute_pass.h"
 #include "vk_check.h"
 #include "vk_context.h"
@@ -209,9 +210,11 @@ static int generate_curl(struct vk_context *ctx, struct cloud_noise *n, uint32_t
     return run_pass(ctx, &n->curl_pass, &push, size, local);
 }
 
-int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *n)
+int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *n, const char *cache_dir)
 {
     memset(n, 0, sizeof *n);
+    if (cache_dir && cache_dir[0] && !(n->cache_dir = strdup(cache_dir)))
+        return -1;
     VK_CHECK_GOTO(gpu_image_create(ctx, VK_FORMAT_R8G8B8A8_UNORM, BASE_SIZE, BASE_SIZE, BASE_SIZE,
                                    "cloud_base_noise", &n->base),
                   destroy_partial);
@@ -241,15 +244,22 @@ void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *n)
     gpu_image_destroy(ctx, &n->base);
     gpu_image_destroy(ctx, &n->detail);
     gpu_image_destroy(ctx, &n->curl);
+    free(n->cache_dir);
+    n->cache_dir = NULL;
     n->generated = false;
 }
 
 int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed, bool quiet)
 {
     n->generated = false;
-    if (generate_volumes(ctx, n, seed, quiet) != 0 || generate_curl(ctx, n, seed) != 0) {
+    if (cloud_noise_cache_load(ctx, n, n->cache_dir, seed) == 0) {
+        if (!quiet)
+            vk_log(ctx, VK_LOG_INFO, "cloud noise read from the cache in %s", n->cache_dir);
+    } else if (generate_volumes(ctx, n, seed, quiet) != 0 || generate_curl(ctx, n, seed) != 0) {
         vk_log(ctx, VK_LOG_ERROR, "render: cloud noise generation failed");
         return -1;
+    } else {
+        cloud_noise_cache_store(ctx, n, n->cache_dir, seed);
     }
     n->seed = seed;
     n->generated = true;

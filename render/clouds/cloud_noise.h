@@ -19,17 +19,20 @@ struct cloud_noise {
      * lavapipe tenths of a second and code memory it does not give back). */
     struct compute_pass base_pass, detail_pass, curl_pass;
     struct gpu_buffer blue; /* the curl pass's 64x64 blue-noise ranks */
+    char *cache_dir;        /* cloud_noise_cache.h; NULL: none */
     uint32_t seed;
     bool generated;
 };
 
-/* Creates the images (zero until generated) and the passes that generate them. Returns 0 or
- * -1. */
-int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *noise);
+/* Creates the images (zero until generated) and the passes that generate them; generated
+ * volumes are kept in cache_dir and read from there (cloud_noise_cache.h; NULL or "": none).
+ * Returns 0 or -1. */
+int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *noise, const char *cache_dir);
 void cloud_noise_destroy(struct vk_context *ctx, struct cloud_noise *noise);
 
-/* Generates every volume from `seed` now (synchronous, in slabs; unless quiet, progress on
- * stderr, or one line at the end through the context's log sink). Returns 0 or -1. */
+/* Reads every volume for `seed` from the cache, or else generates them now (synchronous, in
+ * slabs; unless quiet, progress on stderr, or one line at the end through the context's log
+ * sink) and stores them there. Returns 0 or -1. */
 int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *noise, uint32_t seed,
                          bool quiet);
 

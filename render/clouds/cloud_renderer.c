@@ -160,7 +160,8 @@ static void map_destroy(struct vk_context *ctx, struct cloud_map *m)
     gpu_image_destroy(ctx, &m->image[1]);
 }
 
-struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
+struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet,
+                                             const char *cache_dir)
 {
     struct cloud_renderer *cr = calloc(1, sizeof *cr);
     if (!cr)
@@ -169,7 +170,7 @@ struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet)
     cloud_quality_init(&cr->quality);
     VK_CHECK_GOTO(gpu_linear_sampler_create(ctx, VK_SAMPLER_ADDRESS_MODE_REPEAT, &cr->repeat),
                   destroy_partial);
-    if (cloud_noise_create(ctx, &cr->noise) != 0 ||
+    if (cloud_noise_create(ctx, &cr->noise, cache_dir) != 0 ||
         map_create(ctx, &cr->weather, WEATHER_FORMAT, WEATHER_SIZE, "cloud_weather",
                    INITIAL_MS_PER_WEATHER_ROW) != 0 ||
         map_create(ctx, &cr->shadow, FLOAT_FORMAT, SHADOW_SIZE, "cloud_shadow",

@@ -16,7 +16,10 @@ struct vk_context;
 struct gpu_timer;
 struct cloud_renderer;
 
-struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet);
+/* cache_dir: where the noise volumes are kept between runs (cloud_noise_cache.h); NULL: not
+ * kept. */
+struct cloud_renderer *cloud_renderer_create(struct vk_context *ctx, bool quiet,
+                                             const char *cache_dir);
 void cloud_renderer_destroy(struct vk_context *ctx, struct cloud_renderer **cr);
 
 /* Generates the noise volumes for `seed` now unless they exist already: a service calls it at

@@ -112,6 +112,10 @@ struct sky_renderer_params {
      * of that kind, so none compiles later: a daemon then neither stalls a stream when a view
      * first needs one nor grows as views find new ones. One-shot renders leave it off. */
     bool warm_up_variants;
+    /* Where the generated cloud noise is kept between runs, one file per seed, device and
+     * build of its shaders (render/clouds/cloud_noise_cache.h): a start then reads it in
+     * milliseconds instead of generating it for seconds. NULL or "": generated every time. */
+    const char *cache_dir;
 };
 
 #define SKY_RENDER_MAX_PASSES 32 /* = GPU_TIMER_MAX_PASSES */

@@ -1,11 +1,13 @@
 #include "renderer_host.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "cache_dir.h"
 #include "error_text.h"
 #include "log.h"
 #include "monotonic_clock.h"
@@ -17,6 +19,7 @@ _Static_assert(RENDERER_HOST_MAX_LOSSES <= LOSSES_KEPT, "too few loss times are 
 
 struct renderer_host {
     struct renderer_host_params params;
+    char cache_dir[PATH_MAX]; /* cache_dir.h; "": none */
     struct sky_renderer *renderer;
     struct sky_render_lut_sizes lut_sizes;
     /* The clouds the renderer holds: the simulation moves them every tick (wind, transitions,
@@ -69,6 +72,7 @@ static int open_renderer(struct renderer_host *h, const struct render_input *inp
         .log = { .write = log_render_line },
         .lut_sizes = input->lut_sizes,
         .warm_up_variants = h->params.warm_up_variants,
+        .cache_dir = h->cache_dir,
     };
     h->renderer = sky_renderer_create(&rp);
     if (!h->renderer) {
@@ -104,6 +108,7 @@ struct renderer_host *renderer_host_create(const struct renderer_host_params *pa
         return NULL;
     }
     h->params = *params;
+    skyd_cache_dir(h->cache_dir, sizeof h->cache_dir);
     if (open_renderer(h, input, input->atmosphere_at_once, params->quiet, err, errlen) != 0) {
         free(h);
         return NULL;

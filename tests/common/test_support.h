@@ -21,11 +21,13 @@ static inline bool test_validation_requested(void)
 }
 
 /* A renderer with validation as requested, counting its messages into *validation_messages
- * through its destruction (check it after sky_renderer_destroy). */
+ * through its destruction (check it after sky_renderer_destroy). Its cloud noise is kept in
+ * $SKYD_CACHE_DIR (ctest sets one for the build's tests), as the daemon's is. */
 static inline struct sky_renderer *test_renderer_create(unsigned *validation_messages)
 {
     struct sky_renderer_params params = { .validation = test_validation_requested(),
-                                          .validation_message_counter = validation_messages };
+                                          .validation_message_counter = validation_messages,
+                                          .cache_dir = getenv("SKYD_CACHE_DIR") };
     return sky_renderer_create(&params);
 }
 

@@ -8,11 +8,14 @@ Usage: /usr/bin/python3 tests/e2e/test_log_level.py PATH_TO_SKYD SCRATCH_DIR
   are info and do not appear; a warning from render/ (fault injection armed, SKYD_FAULT set to
   a fault that never fires) does, with the daemon's "skyd: warning: " prefix.
 - --log-level info: the start-up lines appear, each once, as the daemon's lines ("skyd: "), the
-  cloud noise as one whole line rather than a progress rewritten with carriage returns.
+  cloud noise as one whole line rather than a progress rewritten with carriage returns; with an
+  empty cache directory (SKYD_CACHE_DIR) the noise is generated, and the next start says it
+  read the noise from there instead.
 Exit 0 when every check passed.
 """
 
 import os
+import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -43,7 +46,10 @@ async def run(skyd, scratch):
           f"skyd: warning: fault injection armed (tests only): SKYD_FAULT={IDLE_FAULT}\n"
           in quiet, quiet[-600:])
 
-    shown = start_up_log(skyd, scratch, "info", ["--log-level", "info"])
+    cache = os.path.join(scratch, "cache")
+    shutil.rmtree(cache, ignore_errors=True)
+    shown = start_up_log(skyd, scratch, "info", ["--log-level", "info"],
+                         env={"SKYD_CACHE_DIR": cache})
     lines = shown.splitlines()
     check("--log-level info: one vulkan device line",
           len([line for line in lines if line.startswith("skyd: vulkan device: ")]) == 1,
@@ -52,6 +58,13 @@ async def run(skyd, scratch):
           lines.count("skyd: cloud noise 100%") == 1 and "\r" not in shown, repr(shown[-600:]))
     check("--log-level info: no fault injection without SKYD_FAULT",
           "fault injection" not in shown, shown[-600:])
+
+    again = start_up_log(skyd, scratch, "again", ["--log-level", "info"],
+                         env={"SKYD_CACHE_DIR": cache})
+    lines = again.splitlines()
+    check("--log-level info, next start: one line says the noise was read from the cache",
+          lines.count(f"skyd: cloud noise read from the cache in {cache}") == 1 and
+          "cloud noise 100%" not in again, repr(again[-600:]))
 
 
 if __name__ == "__main__":
