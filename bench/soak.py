@@ -325,7 +325,8 @@ def main():
     os.makedirs(shader_cache, exist_ok=True)
     soak.daemon = H.Daemon(args.skyd, args.scratch, "skyd", config,
                            env={"MESA_SHADER_CACHE_DIR": os.path.abspath(shader_cache),
-                                "SKYD_FAULT_DIR": soak.faults.dir})
+                                "SKYD_FAULT_DIR": soak.faults.dir},
+                           ready_timeout=H.EMPTY_SHADER_CACHE_READY_TIMEOUT)
     print(f"soak: {args.simulated_minutes:g} simulated minutes measured after a "
           f"{args.warmup_minutes:g}-minute warm-up, at time scale {args.time_scale:g} (about "
           f"{args.expected_real_s + args.warmup_minutes * 60 / args.time_scale:.0f} real s), "

@@ -43,7 +43,8 @@ class Cluster:
               f"(AUTH as skyd), world {self.world!r}", flush=True)
 
     def start_node_b(self, config, env):
-        self.node_b = H.Daemon(self.args.skyd, self.args.scratch, "skyd-b", config, env=env)
+        self.node_b = H.Daemon(self.args.skyd, self.args.scratch, "skyd-b", config, env=env,
+                               ready_timeout=H.EMPTY_SHADER_CACHE_READY_TIMEOUT)
         self.node_b.start()
         print(f"soak: node B pid {self.node_b.proc.pid} on {self.node_b.url()}", flush=True)
 

@@ -38,6 +38,10 @@ ALLOWED_ORIGIN = "http://example.test"
 REPLY_TIMEOUT = 10.0      # a control reply (set waits for the next render tick)
 FIRST_FRAME_TIMEOUT = 30.0  # the first frame of a run (LUTs are built at start)
 READY_TIMEOUT = 60.0      # the "listening" line
+# ... when the daemon has an empty Mesa shader cache of its own (MESA_SHADER_CACHE_DIR): it
+# compiles every variant before it listens, 34 s on two quiet cores and several times that
+# under the sanitizers on a loaded machine.
+EMPTY_SHADER_CACHE_READY_TIMEOUT = 240.0
 EXIT_TIMEOUT = 20.0       # exit after SIGTERM
 
 CAPABILITIES = ["hello", "auth", "get_state", "set", "subscribe", "unsubscribe", "snapshot",
@@ -157,8 +161,10 @@ def stop_process(proc, sig=signal.SIGTERM, timeout=EXIT_TIMEOUT):
 
 
 class Daemon:
-    def __init__(self, skyd, scratch, name, config, env=None, args=None):
+    def __init__(self, skyd, scratch, name, config, env=None, args=None,
+                 ready_timeout=READY_TIMEOUT):
         self.skyd = skyd
+        self.ready_timeout = ready_timeout  # s until the "listening" line
         self.args = list(args or [])  # after `serve --config FILE`
         self.scratch = scratch
         self.name = name
@@ -186,7 +192,7 @@ class Daemon:
         log.close()
         threading.Thread(target=self._read_stdout, args=(self.proc, self.lines),
                          daemon=True).start()
-        deadline = time.monotonic() + READY_TIMEOUT
+        deadline = time.monotonic() + self.ready_timeout
         while True:
             remaining = deadline - time.monotonic()
             try:
@@ -198,7 +204,7 @@ class Daemon:
                     code = self.proc.wait(timeout=1)
                     why = f"exited with status {code} before printing the listening line"
                 except subprocess.TimeoutExpired:
-                    why = f"no listening line within {READY_TIMEOUT:.0f} s"
+                    why = f"no listening line within {self.ready_timeout:.0f} s"
                 raise RuntimeError(f"{self.name}: {why}; log {self.log_path}: "
                                    f"{self.log_tail()}")
             m = re.fullmatch(r"skyd: listening on http://127\.0\.0\.1:(\d+)/", line.rstrip("\n"))

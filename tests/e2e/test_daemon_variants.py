@@ -95,7 +95,8 @@ async def run(skyd, scratch):
     os.makedirs(cache)
     config = make_config(scratch, os.path.join(scratch, "state.json"))
     d = Daemon(skyd, scratch, "variants", config,
-               env={"MESA_SHADER_CACHE_DIR": cache, "MESA_SHADER_CACHE_DISABLE": "false"})
+               env={"MESA_SHADER_CACHE_DIR": cache, "MESA_SHADER_CACHE_DISABLE": "false"},
+               ready_timeout=serve_harness.EMPTY_SHADER_CACHE_READY_TIMEOUT)
     t = time.monotonic()
     d.start()
     info(f"listening after {time.monotonic() - t:.1f} s")
