@@ -40,7 +40,8 @@ node A kept finding new combinations for hours. The daemon now makes and dispatc
 them at start-up (ctest daemon_variants).
 
 The daemon gets an empty Mesa shader cache of its own (MESA_SHADER_CACHE_DIR, in the scratch
-directory; --shader-cache DIR to give one). With the user's cache, most shader variants load
+directory; --shader-cache DIR to give one; with --no-rss-verdict, which judges no memory, the
+user's). With the user's cache, most shader variants load
 from it and LLVM's optimizer and code generator are first used at the first variant the cache
 lacks, whenever the random changes happen to ask for one: about 11 MiB of libLLVM's code paged
 in and about 20 MiB more anonymous memory, once per process. After the baseline that failed
@@ -238,7 +239,8 @@ def parse_args():
     p.add_argument("--uncapped", action="store_true",
                    help="draw LUT sizes and cloud step counts from their whole ranges")
     p.add_argument("--shader-cache", help="Mesa shader cache directory for the daemon "
-                   "(default: a new empty one in the scratch directory)")
+                   "(default: a new empty one in the scratch directory; with "
+                   "--no-rss-verdict, the user's)")
     p.add_argument("--scratch", help="state, config and log directory (default: a new one "
                    "under build/)")
     p.add_argument("--rss-csv", help="write the RSS samples (real s, simulated s, KiB, phase) "
@@ -321,11 +323,14 @@ def main():
                   "sky_bodies": "ephemeris"},
         "clouds": {"low": {"coverage": 0.35}, "high": {"coverage": 0.2}},
     }
-    shader_cache = args.shader_cache or os.path.join(args.scratch, "shader-cache")
-    os.makedirs(shader_cache, exist_ok=True)
-    soak.daemon = H.Daemon(args.skyd, args.scratch, "skyd", config,
-                           env={"MESA_SHADER_CACHE_DIR": os.path.abspath(shader_cache),
-                                "SKYD_FAULT_DIR": soak.faults.dir},
+    env = {"SKYD_FAULT_DIR": soak.faults.dir}
+    # The empty cache is for the RSS verdict; a run without one takes the user's, so that its
+    # two starts load the variants rather than compile them (make test's short soak).
+    if args.shader_cache or not args.no_rss_verdict:
+        shader_cache = args.shader_cache or os.path.join(args.scratch, "shader-cache")
+        os.makedirs(shader_cache, exist_ok=True)
+        env["MESA_SHADER_CACHE_DIR"] = os.path.abspath(shader_cache)
+    soak.daemon = H.Daemon(args.skyd, args.scratch, "skyd", config, env=env,
                            ready_timeout=H.EMPTY_SHADER_CACHE_READY_TIMEOUT)
     print(f"soak: {args.simulated_minutes:g} simulated minutes measured after a "
           f"{args.warmup_minutes:g}-minute warm-up, at time scale {args.time_scale:g} (about "
