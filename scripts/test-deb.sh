@@ -95,6 +95,8 @@ if [ -z "$url" ]; then
   fail "skyd serve as skyd did not listen: $(cat "$scratch/serve.err")"
 else
   pass "skyd serve as skyd listens on $url"
+  expect "skyd serve read the cloud noise skyd render kept in ~skyd/.cache/skyd" \
+    grep -q '^skyd: cloud noise read from the cache in /var/lib/skyd/.cache/skyd$' "$scratch/serve.err"
   sleep 0.5 # the control line follows the listening line
   shown=$(sed -n 's/^skyd: control at .*#token=\([0-9a-f]*\)$/\1/p' "$scratch/serve.out")
   kept=$("${as_root[@]}" cat /var/lib/skyd/state.json.token 2>/dev/null)
@@ -132,8 +134,8 @@ fi
 if [ "$installed_before" -eq 0 ]; then
   echo "test-deb: dpkg --purge skyd-clients skyd"
   "${as_root[@]}" dpkg --purge skyd-clients skyd >/dev/null
-  expect "purged: no /var/lib/skyd, no /etc/skyd, no enabled unit" \
-    "${as_root[@]}" sh -c '! [ -e /var/lib/skyd ] && ! [ -e /etc/skyd ] && ! [ -e /etc/systemd/system/multi-user.target.wants/skyd.service ]'
+  expect "purged: no /var/lib/skyd, no /var/cache/skyd, no /etc/skyd, no enabled unit" \
+    "${as_root[@]}" sh -c '! [ -e /var/lib/skyd ] && ! [ -e /var/cache/skyd ] && ! [ -e /etc/skyd ] && ! [ -e /etc/systemd/system/multi-user.target.wants/skyd.service ]'
 else
   echo "test-deb: skyd was installed before: left installed (this version)"
 fi
