@@ -210,6 +210,28 @@ static int generate_curl(struct vk_context *ctx, struct cloud_noise *n, uint32_t
     return run_pass(ctx, &n->curl_pass, &push, size, local);
 }
 
+/* After a read from the cache: one workgroup of each pass, rewriting texels with the values
+ * they hold (the blue noise made as generation makes it), so that lavapipe compiles the
+ * passes' variants now, at start-up, and not at the first new seed a client sets: a compile
+ * then would stall its frames and keep its code for the daemon's life. */
+static int dispatch_one_group_each(struct vk_context *ctx, struct cloud_noise *n, uint32_t seed)
+{
+    if (cloud_blue_noise(seed, n->blue.mapped) != 0)
+        return -1;
+    VkCommandBuffer cmd;
+    if (vk_context_begin_commands(ctx, &cmd) != VK_SUCCESS)
+        return -1;
+    const struct sky_cloud_noise_push push = { .seed = seed, .z_offset = 0 };
+    const uint32_t volume[3] = { SKY_CLOUD_NOISE_VOLUME_LOCAL, SKY_CLOUD_NOISE_VOLUME_LOCAL,
+                                 SKY_CLOUD_NOISE_VOLUME_LOCAL };
+    const uint32_t plane[3] = { SKY_CLOUD_LOCAL, SKY_CLOUD_LOCAL, 1 };
+    compute_pass_record(cmd, &n->base_pass, &push, volume, volume);
+    compute_pass_record(cmd, &n->detail_pass, &push, volume, volume);
+    compute_pass_record(cmd, &n->curl_pass, &push, plane, plane);
+    gpu_barrier_compute_to_compute(cmd);
+    return vk_context_submit_and_wait(ctx, &cmd) == VK_SUCCESS ? 0 : -1;
+}
+
 int cloud_noise_create(struct vk_context *ctx, struct cloud_noise *n, const char *cache_dir)
 {
     memset(n, 0, sizeof *n);
@@ -253,6 +275,10 @@ int cloud_noise_generate(struct vk_context *ctx, struct cloud_noise *n, uint32_t
 {
     n->generated = false;
     if (cloud_noise_cache_load(ctx, n, n->cache_dir, seed) == 0) {
+        if (dispatch_one_group_each(ctx, n, seed) != 0) {
+            vk_log(ctx, VK_LOG_ERROR, "render: cloud noise passes failed");
+            return -1;
+        }
         if (!quiet)
             vk_log(ctx, VK_LOG_INFO, "cloud noise read from the cache in %s", n->cache_dir);
     } else if (generate_volumes(ctx, n, seed, quiet) != 0 || generate_curl(ctx, n, seed) != 0) {
