@@ -32,10 +32,6 @@ import time
 import serve_harness
 from serve_harness import Client, Daemon, check, info, make_config, run_daemon_test, short
 
-# With an empty shader cache every pipeline compiles before the daemon listens: about 20 s on
-# two idle cores, a minute on a loaded machine.
-serve_harness.READY_TIMEOUT = 240.0
-
 VIEWS = {
     "panorama": {"projection": "equirectangular", "width": 96, "height": 48},
     "zenith": {"camera": {"pitch_deg": 80, "fov_deg": 30}, "width": 48, "height": 27},
