@@ -104,6 +104,7 @@ from soak_clients import (churn, monitor, resilient, stalled_reader,  # noqa: E4
                           subscriber, viewer)
 from soak_controller import Controller  # noqa: E402
 from soak_cluster import Cluster, node_b_client, node_b_memory  # noqa: E402
+from soak_compiles import CacheWatch  # noqa: E402
 from soak_faults import FaultPlan  # noqa: E402
 from soak_fields import (CLOCK_FIELDS, EPHEMERIS_ANGLES, HOME_VIEWS,  # noqa: E402
                          VALIDATION_PREFIX, Draw, weather_params)
@@ -150,6 +151,8 @@ def summary_of(values):
 
 async def soak_main(args, soak, fields):
     soak.daemon.start()
+    for watch in soak.compile_watches:  # node B listened before node A started
+        watch.mark_ready()
     pid = soak.daemon.proc.pid
     print(f"soak: daemon pid {pid} on {soak.daemon.url()}, scratch {args.scratch}", flush=True)
     ctl = await connect(soak, "controller")
@@ -171,6 +174,7 @@ async def soak_main(args, soak, fields):
         tasks.append(asyncio.ensure_future(node_b_client(soak, soak.cluster,
                                                          args.seed * 1000 + 60)))
         tasks.append(asyncio.ensure_future(node_b_memory(soak, soak.cluster)))
+    tasks += [asyncio.ensure_future(watch.run(soak)) for watch in soak.compile_watches]
     tasks.append(asyncio.ensure_future(churn(soak, args.seed * 1000 + 30)))
     tasks.append(asyncio.ensure_future(stalled_reader(soak)))
     main = asyncio.ensure_future(controller.run())
@@ -332,6 +336,10 @@ def main():
         env["MESA_SHADER_CACHE_DIR"] = os.path.abspath(shader_cache)
     soak.daemon = H.Daemon(args.skyd, args.scratch, "skyd", config, env=env,
                            ready_timeout=H.EMPTY_SHADER_CACHE_READY_TIMEOUT)
+    if not args.no_rss_verdict:  # the user's cache holds every variant already
+        soak.compile_watch = CacheWatch("node A " if soak.cluster else "",
+                                        env["MESA_SHADER_CACHE_DIR"])
+        soak.compile_watches.append(soak.compile_watch)
     print(f"soak: {args.simulated_minutes:g} simulated minutes measured after a "
           f"{args.warmup_minutes:g}-minute warm-up, at time scale {args.time_scale:g} (about "
           f"{args.expected_real_s + args.warmup_minutes * 60 / args.time_scale:.0f} real s), "
@@ -346,6 +354,7 @@ def main():
         os.makedirs(os.path.join(args.scratch, "faults-b"), exist_ok=True)
         env_b = {"MESA_SHADER_CACHE_DIR": cache_b,
                  "SKYD_FAULT_DIR": os.path.join(args.scratch, "faults-b")}
+        soak.compile_watches.append(CacheWatch("node B ", cache_b))
         try:
             soak.cluster.start_redis()
         except (OSError, RuntimeError, subprocess.SubprocessError) as e:
@@ -452,6 +461,9 @@ def report(args, soak):
               f"{statistics.median(fps):.1f}, min {min(fps):.1f}; longest gap between two "
               f"frames of one subscription: " + ", ".join(
                   f"{k} {v:.1f} s" for k, v in sorted(soak.max_frame_gap.items())), flush=True)
+    if soak.compile_watches:
+        print("soak: shader cache entries written: "
+              + ", ".join(w.summary() for w in soak.compile_watches), flush=True)
     writable = [f for f in soak.schema_fields if not f.read_only]
     print(f"soak: fields set {len(soak.fields_set & {f.path for f in writable})} of "
           f"{len(writable)}, enum values {len(soak.enum_values_set)}; replies by type: "

@@ -14,6 +14,7 @@ _E2E = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
 if _E2E not in sys.path:  # bench/soak.py puts it there; this for an import on its own
     sys.path.insert(0, _E2E)
 import serve_harness as H  # noqa: E402
+from soak_compiles import RecentRequests  # noqa: E402
 
 # ------------------------------------------------------------------------------------------
 # Bookkeeping
@@ -56,6 +57,9 @@ class Soak:
         self.reconnects = {}     # client name -> reconnections after a restart
         self.disk_refused = 0
         self.clock_steps = 0
+        self.recent = RecentRequests()  # every client's requests of the last seconds
+        self.compile_watches = []       # soak_compiles.CacheWatch per daemon
+        self.compile_watch = None       # the one of the daemon the clients use
 
     def fail(self, what):
         self.failures.append(what)
@@ -105,6 +109,12 @@ class SoakClient(H.Client):
         self.subscription_frames = 0
         self.event_count = 0
         self.decode_every = 25
+
+    async def send(self, obj):
+        if self.soak is not None and isinstance(obj, dict):
+            self.soak.recent.add(self.name, H.short({k: v for k, v in obj.items()
+                                                     if k not in ("data", "id")}))
+        await super().send(obj)
 
     async def _dispatch(self, timeout):
         item = await super()._dispatch(timeout)

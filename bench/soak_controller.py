@@ -309,6 +309,8 @@ class Controller:
             took = time.monotonic() - t
         finally:
             soak.generation += 1
+            if soak.compile_watch is not None:  # a start reads what the last process made
+                soak.compile_watch.mark_ready()
             soak.restarting = False
             soak.clock_epoch += 1
         soak.restarts += 1
