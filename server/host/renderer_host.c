@@ -291,8 +291,9 @@ int renderer_host_probe(struct renderer_host *h, const struct render_input *inpu
  * each kind of light and map the clouds' passes are compiled for: the moon lighting them (under
  * another sun than the night before, so that the passes the sun's direction drives, such as
  * the hemisphere's, run again), and a client's weather map of a power-of-two size and of
- * another (a repeating texture is sampled by other code for each). A probe dispatches its own
- * pass. That compiles every variant a client can ask for now, before the first one: a variant
+ * another (a repeating texture is sampled by other code for each), and towering clouds in the
+ * weather map, with and without the moon (the marches' TOWERING variants). A probe dispatches
+ * its own pass. That compiles every variant a client can ask for now, before the first one: a variant
  * first compiled for a client stalled its stream, and the memory each keeps grew a
  * long-running daemon for hours. */
 enum warm_up_map { WARM_MAP_STATE, WARM_MAP_POWER_OF_TWO, WARM_MAP_OTHER };
@@ -304,7 +305,12 @@ struct warm_up_frame {
     double altitude_km; /* 0: the state's */
     bool moonlit;
     enum warm_up_map map;
+    bool towering; /* a weather map with towering clouds (false: none, whatever the state's) */
 };
+
+/* The low layer's type of the frames without towering clouds: below render's towering type
+ * (0.8, cloud_shared.h) by more than the 0.11 its procedural map adds to the asked type. */
+#define WARM_UP_PLAIN_TYPE 0.5
 
 #define PNG8 PROTO_FRAME_FORMAT_PNG
 #define PERSPECTIVE PROTO_VIEW_PROJECTION_PERSPECTIVE
@@ -314,26 +320,28 @@ struct warm_up_frame {
  * built again after them anyway. A shadow map under a high sun costs a second on two cores,
  * a weather map most of one: 2.9 s of warm-up in this order, 5.3 s day and night mixed. */
 static const struct warm_up_frame warm_up_frames[] = {
-    { 30.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
-    { 30.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
-    { 30.0, true, PROTO_FRAME_FORMAT_PNG16, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
+    { 30.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE, false },
+    { 30.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE, false },
+    { 30.0, true, PROTO_FRAME_FORMAT_PNG16, PERSPECTIVE, 0.0, false, WARM_MAP_STATE, false },
     { 30.0, true, PROTO_FRAME_FORMAT_PNG16, PROTO_VIEW_PROJECTION_EQUIRECTANGULAR, 0.0, false,
-      WARM_MAP_STATE },
-    { 30.0, true, PNG8, PERSPECTIVE, 150.0, false, WARM_MAP_STATE },
-    { 30.0, false, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
-    { -20.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE },
-    { -25.0, true, PNG8, PERSPECTIVE, 0.0, true, WARM_MAP_STATE },
-    { -20.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_POWER_OF_TWO },
-    { -20.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_OTHER },
+      WARM_MAP_STATE, false },
+    { 30.0, true, PNG8, PERSPECTIVE, 150.0, false, WARM_MAP_STATE, false },
+    { 30.0, false, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE, false },
+    { -20.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_STATE, false },
+    { -25.0, true, PNG8, PERSPECTIVE, 0.0, true, WARM_MAP_STATE, false },
+    /* the client maps: towering clouds, by the sun alone, then with the moon */
+    { -20.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_POWER_OF_TWO, true },
+    { -25.0, true, PNG8, PERSPECTIVE, 0.0, true, WARM_MAP_OTHER, true },
 };
 #undef PNG8
 #undef PERSPECTIVE
 #define WARM_UP_FRAME_COUNT (sizeof warm_up_frames / sizeof warm_up_frames[0])
 
-/* A client weather map of side x side texels, half covered by cumulus; its generation is one
- * no world's map has (renderer_host_take then hands the world's own over after the warm-up). */
+/* A client weather map of side x side texels, half covered by cumulus or cumulonimbus
+ * (towering); its generation is one no world's map has (renderer_host_take then hands the
+ * world's own over after the warm-up). */
 enum { WARM_MAP_MAX_SIDE = 3 };
-static void warm_up_map(enum warm_up_map kind, struct render_input *warm,
+static void warm_up_map(enum warm_up_map kind, bool towering, struct render_input *warm,
                         uint8_t texels[WARM_MAP_MAX_SIDE * WARM_MAP_MAX_SIDE * 4],
                         struct proto_weather_map *map)
 {
@@ -342,7 +350,7 @@ static void warm_up_map(enum warm_up_map kind, struct render_input *warm,
         uint8_t *t = texels + 4 * i;
         t[0] = i % 2 ? 200 : 0; /* low coverage */
         t[1] = 0;               /* high coverage */
-        t[2] = 170;             /* cumulus */
+        t[2] = towering ? 255 : 170; /* cumulonimbus or cumulus */
         t[3] = 0;               /* no rain */
     }
     *map = (struct proto_weather_map){ .width = side, .height = side, .rgba = texels };
@@ -382,8 +390,10 @@ static int warm_up_pipelines(struct renderer_host *h, const struct render_input 
         warm->clouds.high.coverage = f->clouds ? fmax(input->clouds.high.coverage, 0.3) : 0.0;
         struct proto_weather_map map;
         uint8_t texels[WARM_MAP_MAX_SIDE * WARM_MAP_MAX_SIDE * 4];
+        warm->clouds.low.type = f->towering ? 1.0
+                                            : fmin(input->clouds.low.type, WARM_UP_PLAIN_TYPE);
         if (f->map != WARM_MAP_STATE)
-            warm_up_map(f->map, warm, texels, &map);
+            warm_up_map(f->map, f->towering, warm, texels, &map);
         if (f->moonlit) {
             warm->night.moon_elevation_deg = 40.0;
             warm->night.moon_illuminance_lux = fmax(input->night.moon_illuminance_lux, 0.25);
