@@ -348,10 +348,10 @@ static void warm_up_map(enum warm_up_map kind, bool towering, struct render_inpu
     uint32_t side = kind == WARM_MAP_POWER_OF_TWO ? 2 : WARM_MAP_MAX_SIDE;
     for (uint32_t i = 0; i < side * side; i++) {
         uint8_t *t = texels + 4 * i;
-        t[0] = i % 2 ? 200 : 0; /* low coverage */
-        t[1] = 0;               /* high coverage */
+        t[0] = i % 2 ? 200 : 0;      /* low coverage */
+        t[1] = 0;                    /* high coverage */
         t[2] = towering ? 255 : 170; /* cumulonimbus or cumulus */
-        t[3] = 0;               /* no rain */
+        t[3] = 0;                    /* no rain */
     }
     *map = (struct proto_weather_map){ .width = side, .height = side, .rgba = texels };
     warm->client_map = map;
