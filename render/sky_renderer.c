@@ -586,6 +586,11 @@ int sky_renderer_set_clouds(struct sky_renderer *r, const struct sky_render_clou
     return cloud_renderer_set(r->ctx, r->clouds, clouds);
 }
 
+double sky_renderer_plain_cloud_type(void)
+{
+    return cloud_renderer_plain_type();
+}
+
 int sky_renderer_prepare_cloud_noise(struct sky_renderer *r, uint32_t noise_seed)
 {
     if (!call_begins(r))

@@ -115,6 +115,15 @@ static const struct gpu_image *shown(const struct cloud_renderer *cr, const stru
     return m->ready ? &m->image[m->shown] : &cr->dummy;
 }
 
+/* The procedural map varies the asked type by CLOUD_TYPE_VARIATION times a 2D gradient noise,
+ * whose values stay within +-sqrt(1/2): at most this far above it. */
+#define PROCEDURAL_TYPE_SPREAD (0.7072f * (float)CLOUD_TYPE_VARIATION)
+
+double cloud_renderer_plain_type(void)
+{
+    return (double)((float)CLOUD_TOWERING_TYPE - PROCEDURAL_TYPE_SPREAD) - 0.01;
+}
+
 /* Offset of this frame's variant of a marching pass (P_HEMISPHERE, the views' trace): the
  * moon's light, and towering clouds in the shown weather map. */
 static int march_variant(const struct cloud_renderer *cr, const struct cloud_frame *f)
@@ -400,11 +409,9 @@ static void record_weather(struct vk_context *ctx, struct cloud_renderer *cr, Vk
     bool differs = memcmp(&key, &cr->weather_target, sizeof key) != 0;
     if (cr->weather.building ? at_once(cr) && differs : !cr->weather.ready || differs) {
         cr->weather_target = key;
-        /* The type varies around the asked one by CLOUD_TYPE_VARIATION times a 2D gradient
-         * noise, whose values stay within +-sqrt(1/2). */
         float max_type = client ? cr->client_max_type : key.params[2];
         if (key.mode != 1u) /* the procedural field's own variation */
-            max_type += 0.7072f * (float)CLOUD_TYPE_VARIATION;
+            max_type += PROCEDURAL_TYPE_SPREAD;
         cr->weather_towering[1 - cr->weather.shown] = max_type > (float)CLOUD_TOWERING_TYPE;
         map_start(&cr->weather);
     }

@@ -65,6 +65,8 @@ void cloud_renderer_observe(struct cloud_renderer *cr, const char *pass_name, do
 /* The last frame's GPU time: map builds may take a tenth of it when that exceeds the budget. */
 void cloud_renderer_observe_frame(struct cloud_renderer *cr, double gpu_ms);
 double cloud_renderer_progress(const struct cloud_renderer *cr);
+/* The largest low-layer type whose procedural weather map holds no towering clouds. */
+double cloud_renderer_plain_type(void);
 /* The last reference frame's counters; -1 when there was none. */
 int cloud_renderer_reference_stats(const struct cloud_renderer *cr,
                                    struct sky_render_reference_stats *out);

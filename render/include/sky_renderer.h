@@ -345,6 +345,10 @@ int sky_renderer_set_clouds(struct sky_renderer *renderer, const struct sky_rend
  * they exist: services call it at start-up so no frame pays for it later. Returns 0 or -1. */
 int sky_renderer_prepare_cloud_noise(struct sky_renderer *renderer, uint32_t noise_seed);
 
+/* The largest clouds.low.type whose procedural weather map holds no towering clouds (types
+ * above it draw the marches' towering variants). */
+double sky_renderer_plain_cloud_type(void);
+
 /* A client weather map of width x height RGBA8 texels, row-major from the north-west corner
  * (x east, y south), tiled over map_extent_km around the camera's foot and moved by the wind:
  *   r  low-layer coverage   0..255 -> 0..1

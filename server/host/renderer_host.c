@@ -293,8 +293,8 @@ int renderer_host_probe(struct renderer_host *h, const struct render_input *inpu
  * the hemisphere's, run again), and a client's weather map of a power-of-two size and of
  * another (a repeating texture is sampled by other code for each), and towering clouds in the
  * weather map, with and without the moon (the marches' TOWERING variants). A probe dispatches
- * its own pass. That compiles every variant a client can ask for now, before the first one: a variant
- * first compiled for a client stalled its stream, and the memory each keeps grew a
+ * its own pass. That compiles every variant a client can ask for now, before the first one: a
+ * variant first compiled for a client stalled its stream, and the memory each keeps grew a
  * long-running daemon for hours. */
 enum warm_up_map { WARM_MAP_STATE, WARM_MAP_POWER_OF_TWO, WARM_MAP_OTHER };
 struct warm_up_frame {
@@ -307,10 +307,6 @@ struct warm_up_frame {
     enum warm_up_map map;
     bool towering; /* a weather map with towering clouds (false: none, whatever the state's) */
 };
-
-/* The low layer's type of the frames without towering clouds: below render's towering type
- * (0.8, cloud_shared.h) by more than the 0.11 its procedural map adds to the asked type. */
-#define WARM_UP_PLAIN_TYPE 0.5
 
 #define PNG8 PROTO_FRAME_FORMAT_PNG
 #define PERSPECTIVE PROTO_VIEW_PROJECTION_PERSPECTIVE
@@ -390,8 +386,9 @@ static int warm_up_pipelines(struct renderer_host *h, const struct render_input 
         warm->clouds.high.coverage = f->clouds ? fmax(input->clouds.high.coverage, 0.3) : 0.0;
         struct proto_weather_map map;
         uint8_t texels[WARM_MAP_MAX_SIDE * WARM_MAP_MAX_SIDE * 4];
-        warm->clouds.low.type = f->towering ? 1.0
-                                            : fmin(input->clouds.low.type, WARM_UP_PLAIN_TYPE);
+        warm->clouds.low.type = f->towering
+                                    ? 1.0
+                                    : fmin(input->clouds.low.type, sky_renderer_plain_cloud_type());
         if (f->map != WARM_MAP_STATE)
             warm_up_map(f->map, f->towering, warm, texels, &map);
         if (f->moonlit) {
