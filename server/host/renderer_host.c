@@ -290,13 +290,20 @@ int renderer_host_probe(struct renderer_host *h, const struct render_input *inpu
  * and by night, a clear sky, linear output (PNG16), a panorama and a camera in space. So is
  * each kind of light and map the clouds' passes are compiled for: the moon lighting them (under
  * another sun than the night before, so that the passes the sun's direction drives, such as
- * the hemisphere's, run again), and a client's weather map of a power-of-two size and of
- * another (a repeating texture is sampled by other code for each), and towering clouds in the
- * weather map, with and without the moon (the marches' TOWERING variants). A probe dispatches
- * its own pass. That compiles every variant a client can ask for now, before the first one: a
- * variant first compiled for a client stalled its stream, and the memory each keeps grew a
- * long-running daemon for hours. */
-enum warm_up_map { WARM_MAP_STATE, WARM_MAP_POWER_OF_TWO, WARM_MAP_OTHER };
+ * the hemisphere's, run again), a client's weather map of a power-of-two size, of another
+ * and of one of each on either axis (a repeating texture is sampled by other code for each axis
+ * whose size is not a power of two: a client's 7x512 map compiled the weather pass again six
+ * minutes into a cluster soak), and towering clouds in the weather map, with and without the
+ * moon (the marches' TOWERING variants). A probe dispatches its own pass. That compiles every
+ * variant a client can ask for now, before the first one: a variant first compiled for a
+ * client stalled its stream, and the memory each keeps grew a long-running daemon for hours. */
+enum warm_up_map {
+    WARM_MAP_STATE,
+    WARM_MAP_POWER_OF_TWO,
+    WARM_MAP_OTHER,
+    WARM_MAP_OTHER_WIDTH, /* only the width not a power of two */
+    WARM_MAP_OTHER_HEIGHT,
+};
 struct warm_up_frame {
     double sun_elevation_deg;
     bool clouds;
@@ -328,28 +335,35 @@ static const struct warm_up_frame warm_up_frames[] = {
     /* the client maps: towering clouds, by the sun alone, then with the moon */
     { -20.0, true, PNG8, PERSPECTIVE, 0.0, false, WARM_MAP_POWER_OF_TWO, true },
     { -25.0, true, PNG8, PERSPECTIVE, 0.0, true, WARM_MAP_OTHER, true },
+    { -25.0, true, PNG8, PERSPECTIVE, 0.0, true, WARM_MAP_OTHER_WIDTH, true },
+    { -25.0, true, PNG8, PERSPECTIVE, 0.0, true, WARM_MAP_OTHER_HEIGHT, true },
 };
 #undef PNG8
 #undef PERSPECTIVE
 #define WARM_UP_FRAME_COUNT (sizeof warm_up_frames / sizeof warm_up_frames[0])
 
-/* A client weather map of side x side texels, half covered by cumulus or cumulonimbus
- * (towering); its generation is one no world's map has (renderer_host_take then hands the
+/* A client weather map of 2 or 3 texels a side (as kind asks), half covered by cumulus or
+ * cumulonimbus (towering); its generation is one no world's map has (renderer_host_take then hands the
  * world's own over after the warm-up). */
 enum { WARM_MAP_MAX_SIDE = 3 };
 static void warm_up_map(enum warm_up_map kind, bool towering, struct render_input *warm,
                         uint8_t texels[WARM_MAP_MAX_SIDE * WARM_MAP_MAX_SIDE * 4],
                         struct proto_weather_map *map)
 {
-    uint32_t side = kind == WARM_MAP_POWER_OF_TWO ? 2 : WARM_MAP_MAX_SIDE;
-    for (uint32_t i = 0; i < side * side; i++) {
+    uint32_t width = kind == WARM_MAP_POWER_OF_TWO || kind == WARM_MAP_OTHER_HEIGHT
+                         ? 2
+                         : WARM_MAP_MAX_SIDE;
+    uint32_t height = kind == WARM_MAP_POWER_OF_TWO || kind == WARM_MAP_OTHER_WIDTH
+                          ? 2
+                          : WARM_MAP_MAX_SIDE;
+    for (uint32_t i = 0; i < width * height; i++) {
         uint8_t *t = texels + 4 * i;
         t[0] = i % 2 ? 200 : 0;      /* low coverage */
         t[1] = 0;                    /* high coverage */
         t[2] = towering ? 255 : 170; /* cumulonimbus or cumulus */
         t[3] = 0;                    /* no rain */
     }
-    *map = (struct proto_weather_map){ .width = side, .height = side, .rgba = texels };
+    *map = (struct proto_weather_map){ .width = width, .height = height, .rgba = texels };
     warm->client_map = map;
     warm->map_generation = UINT64_MAX - (uint64_t)kind;
     warm->clouds.use_client_map = true;

@@ -11,8 +11,9 @@ growth in those compiles).
 The daemon runs with an empty Mesa shader cache of its own (MESA_SHADER_CACHE_DIR), which
 llvmpipe writes every compiled variant to. Once it listens, snapshots cover the combinations:
 sRGB and linear (PNG16) output, a panorama (sun, ground and sky in one view), a view straight
-up, a camera at 150 km, by day and by night, with and without clouds; then probes, a client
-weather map of a power-of-two size and one of another, a night whose moon lights the clouds,
+up, a camera at 150 km, by day and by night, with and without clouds; then probes, client
+weather maps of power-of-two sizes, of other sizes and of one of each on either axis (llvmpipe
+samples a repeating texture by other code for each axis whose size is not a power of two), a night whose moon lights the clouds,
 towering clouds (cumulonimbus in the weather map) by moonlight and by day, and a new noise
 seed (start-up read its noise from the noise cache and ran each noise pass once for this). The
 cache must hold as many entries after them as before, and every snapshot and probe must be
@@ -89,7 +90,7 @@ def extra_requests():
                "view_zenith_deg": 60, "view_azimuth_deg": 20, "sun_zenith_deg": 70},
               {"type": "probe", "quantity": "illuminance", "sun_zenith_deg": 40}]
     out = [(f"probe {p['quantity']}", p, "probe_result") for p in probes]
-    for w, h in ((64, 64), (7, 5)):
+    for w, h in ((64, 64), (7, 5), (7, 512), (512, 5)):
         out += [(f"weather map {w}x{h}", weather_map(w, h), "ack"),
                 (f"weather map {w}x{h}: snapshot", snap, "frame")]
     out += [("procedural map", {"type": "set", "patch": {
