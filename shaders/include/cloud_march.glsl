@@ -170,6 +170,33 @@ struct LitSample {
     float moon_marched, moon_incidence, moon_reach_r;
 };
 
+// The ground under a cloud lies in its shadow: where the shadow map knows the sun's optical
+// depth to the ground (every layer's), the ground's sun and sky light are what those columns let
+// through (ground_transmission). A sample sees the ground over about its height on every side,
+// not the one point below it, whose column would light or darken a whole base with the texture of
+// the shadow right under it: the point below and a ring of GROUND_RING times the height.
+const float GROUND_RING = 1.3;
+const float GROUND_CENTRE_WEIGHT = 0.25;
+const float GROUND_RING_WEIGHT = (1.0 - GROUND_CENTRE_WEIGHT) / 4.0;
+
+vec3 ground_under(vec3 p, float r, vec3 sun_dir, CloudAmbient amb)
+{
+    vec3 below = p * (bottom_radius() / r);
+    vec2 uv;
+    if (!sun_depth_ground_coords(below, sun_dir, uv))
+        return amb.bottom;
+    vec2 through = GROUND_CENTRE_WEIGHT * ground_transmission(sun_column(uv).depth, sun_dir.z);
+    float ring = GROUND_RING * (r - bottom_radius());
+    for (int k = 0; k < 4; k++) {
+        vec2 side = k < 2 ? vec2(k == 0 ? ring : -ring, 0.0) : vec2(0.0, k == 2 ? ring : -ring);
+        if (sun_depth_ground_coords(below + vec3(side, 0.0), sun_dir, uv))
+            through += GROUND_RING_WEIGHT * ground_transmission(sun_column(uv).depth, sun_dir.z);
+        else
+            through += GROUND_RING_WEIGHT * vec2(0.5, 1.0); // amb.bottom's own
+    }
+    return amb.bottom + amb.bottom_sun * (through.x - 0.5) + amb.bottom_sky * (through.y - 1.0);
+}
+
 // Shades one lit sample of the segment (seed 001 eq. 17: the sources integrated over the step
 // against the extinction) and adds its light to res.
 void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 moon,
@@ -185,16 +212,7 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
     if (moon_on)
         moon_depth = sun_depths(p, frame.moon_direction.xyz, s.moon_marched,
                                 s.moon_reach_r >= 0.0, s.moon_reach_r, s.sigma_t, layer);
-    // The ground under a cloud lies in its shadow: where the shadow map knows the sun's
-    // optical depth to the ground below the sample (every layer's), the ground's sun and sky
-    // light are what that column lets through (ground_transmission).
-    vec2 below_uv;
-    vec3 ground = amb.bottom;
-    if (layer != LAYER_HIGH &&
-        sun_depth_coords(p - (r - bottom_radius()) * (p / r), sun_dir, below_uv)) {
-        vec2 through = ground_transmission(sun_column(below_uv).depth, sun_dir.z);
-        ground += amb.bottom_sun * (through.x - 0.5) + amb.bottom_sky * (through.y - 1.0);
-    }
+    vec3 ground = layer != LAYER_HIGH ? ground_under(p, r, sun_dir, amb) : amb.bottom;
     // The ambient's height in the low layer (the layers above it: its top), in the middle
     // layer its own: its base sees the lit ground and the low clouds' tops.
     vec4 amb_shell = layer == LAYER_MID ? cloud.mid : cloud.low;

@@ -27,6 +27,20 @@ bool sun_depth_coords(vec3 p, vec3 sun_dir, out vec2 uv)
     return true;
 }
 
+// The volume's coordinates for a point on the ground: the sun's ray through it meets the ground
+// there. (sun_depth_coords from a point on the sphere leaves the intersection to round-off, which
+// puts some of them on the planet's far side, a random texel of the volume.) False when the
+// volume was not built for this sun or the sun is below the point's horizon.
+bool sun_depth_ground_coords(vec3 ground, vec3 sun_dir, out vec2 uv)
+{
+    uv = vec2(0.0);
+    if (cloud.shadow_sun.w < 0.5 || dot(sun_dir, cloud.shadow_sun.xyz) < SUN_DEPTH_SUN_COS ||
+        dot(sun_dir, ground) <= 0.0)
+        return false;
+    uv = (ground.xy - cloud.weather.xy) * cloud.weather.z + 0.5;
+    return true;
+}
+
 // The low layer's optical depth along the sun's ray through p from the layer's base up to
 // radius r.
 float sun_column_below(vec2 uv, float r)

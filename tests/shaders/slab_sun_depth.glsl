@@ -12,6 +12,11 @@ bool sun_depth_coords(vec3 p, vec3 sun_dir, out vec2 uv)
     return true;
 }
 
+bool sun_depth_ground_coords(vec3 ground, vec3 sun_dir, out vec2 uv)
+{
+    return sun_depth_coords(ground, sun_dir, uv);
+}
+
 float sun_column_below(vec2 uv, float r)
 {
     return cloud.low.z * (clamp(r, cloud.low.x, cloud.low.y) - cloud.low.x) / uv.x;
