@@ -262,6 +262,14 @@ void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence,
     float s = 0.75 * (1.0 - g);
     float albedo = cloud.media.x;
     float absorption = sqrt(3.0 * max(1.0 - albedo, 0.0) * (1.0 - albedo * g));
+    // The diffuse light the column sends back from behind the sample comes from within a
+    // diffusion length: in an absorbing medium the diffuse field falls as exp(-k x) (k the
+    // diffusion rate above, ABSORPTION_SCALE of it as at the lit side), so the dark side's depth
+    // counts as int_0^x_b exp(-k x) dx = (1 - exp(-k x_b)) / k. Without it the kilometres of a
+    // storm tower behind its lit face stored light as a deck of that depth would.
+    float k_absorb = ABSORPTION_SCALE * absorption;
+    if (k_absorb > 1e-4)
+        x_b = (1.0 - exp(-k_absorb * x_b)) / k_absorb;
     // Only what the column scatters at least twice is diffuse: 1 - exp(-tau) of the sun's beam
     // is scattered once, mostly forward (g ~ 0.5-0.8), so about as likely again.
     float once = 1.0 - exp(-(sd.smooth_to_sun + sd.behind));
