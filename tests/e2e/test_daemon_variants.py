@@ -13,11 +13,11 @@ llvmpipe writes every compiled variant to. Once it listens, snapshots cover the 
 sRGB and linear (PNG16) output, a panorama (sun, ground and sky in one view), a view straight
 up, a camera at 150 km, by day and by night, with and without clouds; then probes, client
 weather maps of power-of-two sizes, of other sizes and of one of each on either axis (llvmpipe
-samples a repeating texture by other code for each axis whose size is not a power of two), a night whose moon lights the clouds,
-towering clouds (cumulonimbus in the weather map) by moonlight and by day, and a new noise
-seed (start-up read its noise from the noise cache and ran each noise pass once for this). The
-cache must hold as many entries after them as before, and every snapshot and probe must be
-answered.
+samples a repeating texture by other code for each axis whose size is not a power of two), a
+night whose moon lights the clouds, towering clouds (cumulonimbus in the weather map) by
+moonlight and by day, and a new noise seed (start-up read its noise from the noise cache and ran
+each noise pass once for this). The cache must hold as many entries after them as before, and
+every snapshot and probe must be answered.
 
 Usage: /usr/bin/python3 tests/e2e/test_daemon_variants.py PATH_TO_SKYD SCRATCH_DIR
 """
