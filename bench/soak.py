@@ -159,7 +159,8 @@ async def soak_main(args, soak, fields):
     await ctl.auth()
     state = (await ctl.get_state())["state"]
     check_state(fields, state)
-    soak.ledger = Ledger(ledger_exclusions(fields))
+    soak.ledger = Ledger(ledger_exclusions(fields),
+                         ["/" + f.path.replace(".", "/") for f in fields if f.read_only])
     draw = Draw(random.Random(args.seed), fields, args.uncapped)
     controller = Controller(soak, ctl, draw, reference_patch(state, fields))
     soak.warm_needed = 2 + len(HOME_VIEWS) + 1  # controller, viewer, subscribers, churn

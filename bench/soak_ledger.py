@@ -53,8 +53,12 @@ UNNAMED_PREFIXES = {"preset:weather": ("/weather", "/clouds"),
 
 
 class Ledger:
-    def __init__(self, excluded_prefixes):
+    def __init__(self, excluded_prefixes, derived=()):
         self.excluded = tuple(excluded_prefixes)  # pointer prefixes the simulation moves
+        # readOnly pointers the daemon derives from other fields (weather.anchor from the
+        # offsets and the clock): a change in flight at a kill may have moved them, with no
+        # patch or event of their own to say so.
+        self.derived = frozenset(derived)
         self.events = {}        # revision -> {leaf pointer: value} of state_changed events
         self.patches = {}       # revision -> {leaf pointer: value} of acked set patches
         self.acked = set()      # acknowledged revisions whose event has not been folded in
@@ -145,7 +149,7 @@ class Ledger:
                 self.checked += 1
                 continue
             if any(same(actual, a) for a in alternatives.get(p, [])) or \
-                    p.startswith(unnamed):
+                    p.startswith(unnamed) or (in_flight and p in self.derived):
                 self.expected[p] = (revision, actual)  # a change whose ack was lost
                 rebased += 1
                 continue
