@@ -343,8 +343,8 @@ static const struct warm_up_frame warm_up_frames[] = {
 #define WARM_UP_FRAME_COUNT (sizeof warm_up_frames / sizeof warm_up_frames[0])
 
 /* A client weather map of 2 or 3 texels a side (as kind asks), half covered by cumulus or
- * cumulonimbus (towering); its generation is one no world's map has (renderer_host_take then hands the
- * world's own over after the warm-up). */
+ * cumulonimbus (towering); its generation is one no world's map has (renderer_host_take then
+ * hands the world's own over after the warm-up). */
 enum { WARM_MAP_MAX_SIDE = 3 };
 static void warm_up_map(enum warm_up_map kind, bool towering, struct render_input *warm,
                         uint8_t texels[WARM_MAP_MAX_SIDE * WARM_MAP_MAX_SIDE * 4],

@@ -12,21 +12,6 @@
 // follows it within about 0.3 degree (render/clouds/cloud_renderer.c).
 const float SUN_DEPTH_SUN_COS = 0.99996;
 
-// The volume's coordinates for p: false when it was not built for this sun, or when the sun's
-// ray through p does not come from the ground (a sun at the horizon).
-bool sun_depth_coords(vec3 p, vec3 sun_dir, out vec2 uv)
-{
-    uv = vec2(0.0);
-    if (cloud.shadow_sun.w < 0.5 || dot(sun_dir, cloud.shadow_sun.xyz) < SUN_DEPTH_SUN_COS)
-        return false;
-    float t = ray_sphere_nearest(p, -sun_dir, bottom_radius());
-    if (t < 0.0)
-        return false;
-    vec3 ground = p - sun_dir * t;
-    uv = (ground.xy - cloud.weather.xy) * cloud.weather.z + 0.5;
-    return true;
-}
-
 // The volume's coordinates for a point on the ground: the sun's ray through it meets the ground
 // there. (sun_depth_coords from a point on the sphere leaves the intersection to round-off, which
 // puts some of them on the planet's far side, a random texel of the volume.) False when the
@@ -39,6 +24,15 @@ bool sun_depth_ground_coords(vec3 ground, vec3 sun_dir, out vec2 uv)
         return false;
     uv = (ground.xy - cloud.weather.xy) * cloud.weather.z + 0.5;
     return true;
+}
+
+// The volume's coordinates for p: false when it was not built for this sun, or when the sun's
+// ray through p does not come from the ground (a sun at the horizon).
+bool sun_depth_coords(vec3 p, vec3 sun_dir, out vec2 uv)
+{
+    uv = vec2(0.0);
+    float t = ray_sphere_nearest(p, -sun_dir, bottom_radius());
+    return t >= 0.0 && sun_depth_ground_coords(p - sun_dir * t, sun_dir, uv);
 }
 
 // The low layer's optical depth along the sun's ray through p from the layer's base up to
