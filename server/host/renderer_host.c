@@ -442,10 +442,13 @@ int renderer_host_prepare(struct renderer_host *h, const struct render_input *in
         snprintf(err, errlen, "generating the cloud noise failed");
         return -1;
     }
+    double start = monotonic_seconds();
     if (warm_up_pipelines(h, input) != 0) {
         snprintf(err, errlen, "rendering the start-up frames failed");
         return -1;
     }
+    skyd_log(SKYD_LOG_INFO, "start-up frames: %zu and a probe in %.1f s", WARM_UP_FRAME_COUNT,
+             monotonic_seconds() - start);
     error_text why;
     if (renderer_host_take(h, input, why, sizeof why) != 0 && !renderer_host_lost(h))
         skyd_log(SKYD_LOG_ERROR, "%s", why);

@@ -43,6 +43,10 @@ READY_TIMEOUT = 60.0      # the "listening" line
 # under the sanitizers on a loaded machine.
 EMPTY_SHADER_CACHE_READY_TIMEOUT = 240.0
 EXIT_TIMEOUT = 20.0       # exit after SIGTERM
+# The frames a daemon renders before it listens (renderer_host.c's warm_up_frames), and again
+# in each renderer it rebuilds; SKYD_FAULT counts them with the rest. Its log says how many
+# ("start-up frames: N"), and start_up_frames reads that back.
+WARM_UP_FRAMES = 12
 
 CAPABILITIES = ["hello", "auth", "get_state", "set", "subscribe", "unsubscribe", "snapshot",
                 "probe", "list_presets", "apply_preset", "stats", "set_weather_map", "describe",
@@ -258,6 +262,12 @@ class Daemon:
         if self.proc is not None and self.proc.poll() is None:
             self.proc.kill()
             self.proc.wait()
+
+
+def start_up_frames(log_text):
+    """The warm-up frames the daemon's log says it rendered before listening (None: no line)."""
+    m = re.search(r"start-up frames: (\d+) and a probe", log_text)
+    return int(m.group(1)) if m else None
 
 
 def make_config(scratch, state_file, **limits):

@@ -8,24 +8,25 @@ destroyed after a loss, or a create that failed half way, may leave no object be
 
 Usage: /usr/bin/python3 tests/e2e/test_device_faults.py PATH_TO_SKYD SCRATCH_DIR
 
-Frames are counted over the process, the start-up's warm-up frames included (ten of them,
-again in each rebuilt renderer); where a check needs the fault to meet one request, a loop
+Frames are counted over the process, the start-up's warm-up frames included (W of them,
+serve_harness.WARM_UP_FRAMES, again in each rebuilt renderer; each start checks the log's
+count against it); where a check needs the fault to meet one request, a loop
 finds the failing one instead of assuming that count.
 
-1. A recovered loss (device_lost:after_frames=18), met while a subscriber streams, a
+1. A recovered loss (device_lost:after_frames=W+8), met while a subscriber streams, a
    controller sets the sun again and again and a viewer asks for snapshot after snapshot:
    the log reports it and the rebuild, frames come again (and show the last revision),
    /metrics counts the loss and /healthz is ok again, every
    set is acknowledged, every snapshot is answered (a frame, or an `internal` error saying the
    device was lost), and the revision, the state and the state file are the last
    acknowledged ones.
-2. A loss the renderer cannot be rebuilt after (device_lost:after_frames=11:permanent: creating
+2. A loss the renderer cannot be rebuilt after (device_lost:after_frames=W+1:permanent: creating
    a device fails too): the snapshot that met it gets an `internal` error saying so, the
    client is closed with 1011, the daemon exits 1 within a bound, and the state file holds
    the last acknowledged state.
-3. Losses that keep coming (device_lost:after_frames=11:times=3): two are rebuilt, the third
+3. Losses that keep coming (device_lost:after_frames=W+1:times=3): two are rebuilt, the third
    within the minute stops the daemon the same way.
-4. Out of device memory (out_of_memory:after_frames=15): a snapshot at a new size gets an
+4. Out of device memory (out_of_memory:after_frames=W+5): a snapshot at a new size gets an
    `internal` error naming the image that could not be allocated and why; the subscriber at
    another size keeps its frames; the same snapshot then succeeds.
 
@@ -43,9 +44,9 @@ import urllib.error
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from serve_harness import (HEADER, Client, Daemon, check, check_binary_frame,  # noqa: E402
-                           info, make_config, run_daemon_test, short, stable, approx_equal,
-                           json_diff)
+from serve_harness import (HEADER, WARM_UP_FRAMES, Client, Daemon, check,  # noqa: E402
+                           check_binary_frame, info, make_config, run_daemon_test, short,
+                           stable, approx_equal, json_diff, start_up_frames)
 
 EXIT_BOUND_S = 30.0     # a stopping daemon exits within this (it rebuilds nothing any more)
 REBUILD_BOUND_S = 40.0  # a rebuild (cloud noise, warm-up frames) on a loaded 2-core machine
@@ -60,8 +61,17 @@ def start(skyd, scratch, name, fault):
     config["render"]["validation"] = True
     d = Daemon(skyd, scratch, name, config, env={"SKYD_FAULT": fault})
     t = time.monotonic()
-    d.start()
+    try:
+        d.start()
+    except RuntimeError:
+        if "rendering the start-up frames failed" in d.log_text():
+            info(f"{name}: the fault met a start-up frame; its after_frames counts "
+                 f"WARM_UP_FRAMES ({WARM_UP_FRAMES}): is that still the warm-up's count?")
+        raise
     info(f"{name}: SKYD_FAULT={fault}, listening after {time.monotonic() - t:.1f} s")
+    frames = start_up_frames(d.log_text())
+    check(f"{name}: the start-up renders WARM_UP_FRAMES frames", frames == WARM_UP_FRAMES,
+          f"the log says {frames}, serve_harness.py {WARM_UP_FRAMES}")
     return d
 
 
@@ -145,7 +155,7 @@ async def snapshotter(viewer, replies, stop):
 
 async def recovered(skyd, scratch):
     name = "recovered"
-    d = start(skyd, scratch, name, "device_lost:after_frames=18")
+    d = start(skyd, scratch, name, f"device_lost:after_frames={WARM_UP_FRAMES + 8}")
     try:
         ctl = await Client.connect(d.url(), f"{name}-controller")
         await ctl.auth()
@@ -260,7 +270,7 @@ async def check_stopped(name, d, client, expected, within=EXIT_BOUND_S):
 
 async def unrecoverable(skyd, scratch):
     name = "unrecoverable"
-    d = start(skyd, scratch, name, "device_lost:after_frames=11:permanent")
+    d = start(skyd, scratch, name, f"device_lost:after_frames={WARM_UP_FRAMES + 1}:permanent")
     try:
         ctl = await Client.connect(d.url(), f"{name}-controller")
         await ctl.auth()
@@ -285,7 +295,7 @@ async def unrecoverable(skyd, scratch):
 
 async def repeated(skyd, scratch):
     name = "repeated"
-    d = start(skyd, scratch, name, "device_lost:after_frames=11:times=3")
+    d = start(skyd, scratch, name, f"device_lost:after_frames={WARM_UP_FRAMES + 1}:times=3")
     try:
         ctl = await Client.connect(d.url(), f"{name}-controller")
         await ctl.auth()
@@ -318,12 +328,12 @@ async def repeated(skyd, scratch):
 
 async def out_of_memory(skyd, scratch):
     name = "out_of_memory"
-    d = start(skyd, scratch, name, "out_of_memory:after_frames=15")
+    d = start(skyd, scratch, name, f"out_of_memory:after_frames={WARM_UP_FRAMES + 5}")
     try:
         sub = await Client.connect(d.url(), f"{name}-subscriber")
         r = await sub.request({"type": "subscribe", "id": "sub", "view": SUB_VIEW})
         check(f"{name}: subscribed", r.get("type") == "subscribed", short(r))
-        # Ten warm-up frames, then five of the subscription's: the fault is armed and the
+        # The warm-up's frames, then five of the subscription's: the fault is armed and the
         # subscription's images exist, so the next allocation is the snapshot's.
         armed = await pump_until(sub, lambda: sum(sub.frame_count.values()) >= 5, 15)
         check(f"{name}: the subscription streams", armed, f"{sub.frame_count}")

@@ -28,11 +28,11 @@ import urllib.error
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from serve_harness import (Client, Daemon, check, info, make_config,  # noqa: E402
-                           run_daemon_test, short)
+from serve_harness import (WARM_UP_FRAMES, Client, Daemon, check, info,  # noqa: E402
+                           make_config, run_daemon_test, short)
 
 STALL_S = 14          # the late submission; /healthz's limit is 5 s
-AFTER_FRAMES = 16     # the start-up's warm-up renders ten; the subscription the rest
+AFTER_FRAMES = WARM_UP_FRAMES + 6  # the start-up's warm-up frames, then the subscription's
 QUEUE_CAP = 2
 
 
