@@ -57,7 +57,8 @@ static int encode(const struct png_source *src, FILE *file, struct memory_sink *
     if (!png)
         return -1;
     png_infop info = png_create_info_struct(png);
-    png_bytep *rows = NULL;
+    /* volatile: set after setjmp, read after a longjmp (C11 7.13.2.1) */
+    png_bytep *volatile rows = NULL;
     if (!info || setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, info ? &info : NULL);
         free(rows);
