@@ -158,6 +158,15 @@ async def check_health_and_metrics(port, ws, viewer):
         check(f"/metrics: {name} is a {kind}", families.get(name, {}).get("type") == kind,
               str(families.get(name, {}).get("type")))
         check(f"/metrics: {name} has HELP", bool(families.get(name, {}).get("help")))
+    # glibc's heap (Debian's C library): what the daemon holds and the free space kept.
+    for name in ("skyd_heap_in_use_bytes", "skyd_heap_free_bytes"):
+        check(f"/metrics: {name} is a gauge", families.get(name, {}).get("type") == "gauge",
+              str(families.get(name, {}).get("type")))
+    in_use = metric(families, "skyd_heap_in_use_bytes") or 0
+    check("/metrics: the heap in use is between 1 MiB and 4 GiB", 2**20 < in_use < 2**32,
+          str(in_use))
+    check("/metrics: the heap's free space is not negative",
+          (metric(families, "skyd_heap_free_bytes") or -1) >= 0)
     check("/metrics: skyd_clients counts the WebSocket clients",
           metric(families, "skyd_clients") == 2, str(metric(families, "skyd_clients")))
 
