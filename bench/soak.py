@@ -57,7 +57,9 @@ account by an effective sample size (bench/soak_slope.py), in MiB per real and p
 hour with its 95 % interval, for VmRSS and its parts RssAnon, RssFile and RssShmem. A leak is
 an interval wholly above zero whose upper end reaches --max-slope (1 MiB per real hour): an
 interval that holds zero passes (a short run gives a wide one; the figure says how wide), and
-so does a significantly positive slope known to be below the bound.
+so does a significantly positive slope known to be below the bound. Beside it, each daemon's C
+heap from its /metrics (the heap in use and the free space glibc keeps) is sampled and its
+slopes printed, unjudged, to tell a leak from the allocator's retention (bench/soak_heap.py).
 
 Faults (bench/soak_faults.py; --no-faults for none), drawn from the seed and printed at the
 start: a kill -9 of the daemon during the warm-up with changes in flight and a restart on its
@@ -106,6 +108,7 @@ from soak_controller import Controller  # noqa: E402
 from soak_cluster import Cluster, node_b_client, node_b_memory  # noqa: E402
 from soak_compiles import CacheWatch  # noqa: E402
 from soak_faults import FaultPlan  # noqa: E402
+from soak_heap import heap_sampler, heap_slopes, write_csv as write_heap_csv  # noqa: E402
 from soak_fields import (CLOCK_FIELDS, EPHEMERIS_ANGLES, HOME_VIEWS,  # noqa: E402
                          VALIDATION_PREFIX, Draw, weather_params)
 from soak_ledger import Ledger  # noqa: E402
@@ -175,6 +178,9 @@ async def soak_main(args, soak, fields):
         tasks.append(asyncio.ensure_future(node_b_client(soak, soak.cluster,
                                                          args.seed * 1000 + 60)))
         tasks.append(asyncio.ensure_future(node_b_memory(soak, soak.cluster)))
+        tasks.append(asyncio.ensure_future(heap_sampler(soak, soak.cluster.node_b,
+                                                        soak.heap_b)))
+    tasks.append(asyncio.ensure_future(heap_sampler(soak, soak.daemon, soak.heap)))
     tasks += [asyncio.ensure_future(watch.run(soak)) for watch in soak.compile_watches]
     tasks.append(asyncio.ensure_future(churn(soak, args.seed * 1000 + 30)))
     tasks.append(asyncio.ensure_future(stalled_reader(soak)))
@@ -249,7 +255,7 @@ def parse_args():
     p.add_argument("--scratch", help="state, config and log directory (default: a new one "
                    "under build/)")
     p.add_argument("--rss-csv", help="write the RSS samples (real s, simulated s, KiB, phase) "
-                   "to this file")
+                   "to this file, and the C heap's to F.heap.csv")
     p.add_argument("--no-faults", action="store_true",
                    help="no kill -9, full disk or clock step (bench/soak_faults.py)")
     p.add_argument("--kills", type=int, default=1,
@@ -392,6 +398,9 @@ def report(args, soak):
                 f.write("real_s,simulated_s,rss_kib,phase,anon_kib,file_kib,shmem_kib,pid\n")
                 for t, sim, kib, phase, anon, file_, shmem, pid in soak.cluster.rss_b:
                     f.write(f"{t:.1f},{sim:.0f},{kib},{phase},{anon},{file_},{shmem},{pid}\n")
+        write_heap_csv(args.rss_csv + ".heap.csv", soak.heap)
+        if soak.cluster is not None:
+            write_heap_csv(args.rss_csv + ".node-b.heap.csv", soak.heap_b)
     with open(soak.daemon.log_path, errors="replace") as f:
         log = f.read().splitlines()
     validation = [line for line in log if line.startswith(VALIDATION_PREFIX)]
@@ -430,9 +439,11 @@ def report(args, soak):
     end = statistics.median(soak.settle["end"]) if soak.settle.get("end") else None
     growth = (end - base) / base * 100 if base and end else float("nan")
     slope = leak_slope(args, soak, soak.rss, "node A " if soak.cluster else "")
+    heap_slopes(args, soak.heap, "node A " if soak.cluster else "")
     if soak.cluster is not None:
         slope = "node A " + slope + ", node B " + leak_slope(args, soak, soak.cluster.rss_b,
                                                              "node B ")
+        heap_slopes(args, soak.heap_b, "node B ")
     # A daemon held up by the client that never reads would starve the others' streams.
     for name, gap in sorted(soak.max_frame_gap.items()):
         if gap > args.reply_timeout:

@@ -41,6 +41,9 @@ class Soak:
         self.rss = []          # (real s since start, simulated s, VmRSS KiB, phase, RssAnon,
         #                        RssFile, RssShmem KiB, daemon pid)
         self.settle = {}       # label -> [KiB]
+        self.heap = []         # (real s, simulated s, C heap in use KiB, phase, its free KiB,
+        #                        pid) from /metrics (bench/soak_heap.py)
+        self.heap_b = []       # the same for node B in --cluster
         self.render_fps = []
         self.frames = {}       # client name -> subscription frames
         self.snapshots = 0
