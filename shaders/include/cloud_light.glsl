@@ -174,8 +174,18 @@ SunDepth sun_depths(vec3 p, vec3 dir, float marched, bool with_volume, float rea
     if (layer == LAYER_MID && sun_depth_coords(p, dir, uv))
         above = textureLod(sun_depth_volume, vec3(uv, 0.5 / float(SKY_CLOUD_SUN_DEPTH_LEVELS)),
                            0.0).g;
-    s.to_sun = marched + above;
-    s.smooth_to_sun = marched + above;
+    // The march reaches light_march_km: a low sun's ray through a sheet goes on inside it for
+    // ten times the sheet's depth below its top and more. The rest of the way out through
+    // the layer's top at the march's mean extinction (a sheet's: its horizontal structure is
+    // far finer than that path), or a deck at sunset would be lit as if it ended there.
+    float reach_km = light_march_km(layer);
+    vec3 end = p + dir * reach_km;
+    float rest = length(end) < layer_shell(layer).y
+                     ? max(ray_sphere_far(end, dir, layer_shell(layer).y), 0.0)
+                     : 0.0;
+    float rest_depth = marched / reach_km * rest;
+    s.to_sun = marched + rest_depth + above;
+    s.smooth_to_sun = s.to_sun;
     s.support = 1.0;
     float base = layer_shell(layer).x;
     s.behind = sigma_here * max(r - base, 0.0) / max(dot(dir, p / r), 0.1);
