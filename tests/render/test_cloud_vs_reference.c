@@ -341,6 +341,19 @@ static void compare_scene(const struct scene *sc)
               grain_rt, grain_clean);
 }
 
+/* A deck seen from 200 m without rain (the shafts are the renderer's own), 60 degrees wide. */
+static void deck_view(struct proto_world_state *s, double yaw_deg, double pitch_deg,
+                      double sun_azimuth_deg, double sun_elevation_deg)
+{
+    s->clouds.precipitation = 0.0;
+    s->camera.altitude_km = 0.2;
+    s->camera.yaw_deg = yaw_deg;
+    s->camera.pitch_deg = pitch_deg;
+    s->camera.fov_deg = 60.0;
+    s->sun.azimuth_deg = sun_azimuth_deg;
+    s->sun.elevation_deg = sun_elevation_deg;
+}
+
 /* A deck's mean luminance and colour over every pixel above the horizon, renderer against
  * reference (both seeds); returns false when it could not be measured. */
 struct deck_figures {
@@ -400,13 +413,7 @@ static void compare_deck_base(void)
     if (!weather_state("overcast", &s))
         return;
     s.clouds.high.coverage = 0.0;
-    s.clouds.precipitation = 0.0;
-    s.camera.altitude_km = 0.2;
-    s.camera.yaw_deg = 20.0;
-    s.camera.pitch_deg = 25.0;
-    s.camera.fov_deg = 60.0;
-    s.sun.azimuth_deg = 150.0;
-    s.sun.elevation_deg = 40.0;
+    deck_view(&s, 20.0, 25.0, 150.0, 40.0);
     uint32_t spp = ref_spp_override ? ref_spp_override : DECK_SPP;
     printf("deck_base: overcast from below, sun at elevation 40 deg; %dx%d, reference %u spp x 2\n",
            W, H, spp);
@@ -439,13 +446,7 @@ static void compare_mid_deck_low_sun(void)
         return;
     s.clouds.low.coverage = 0.0;
     s.clouds.high.coverage = 0.0;
-    s.clouds.precipitation = 0.0;
-    s.camera.altitude_km = 0.2;
-    s.camera.yaw_deg = 270.0;
-    s.camera.pitch_deg = 12.0;
-    s.camera.fov_deg = 60.0;
-    s.sun.azimuth_deg = 270.0;
-    s.sun.elevation_deg = 4.0;
+    deck_view(&s, 270.0, 12.0, 270.0, 4.0);
     uint32_t spp = ref_spp_override ? ref_spp_override : MID_DECK_SPP;
     printf("mid_deck_low_sun: altostratus from below toward a sun 4 deg up; %dx%d, reference %u "
            "spp x 2\n",
