@@ -112,7 +112,7 @@ from soak_heap import heap_sampler, heap_slopes, write_csv as write_heap_csv  # 
 from soak_fields import (CLOCK_FIELDS, EPHEMERIS_ANGLES, HOME_VIEWS,  # noqa: E402
                          VALIDATION_PREFIX, Draw, weather_params)
 from soak_ledger import Ledger  # noqa: E402
-from soak_slope import fit_slope  # noqa: E402
+from soak_slope import fit_slope, measured_stretch  # noqa: E402
 from soak_schema import (check_state, leaves, load_schema, schema_fields,  # noqa: E402
                          without_read_only)
 
@@ -503,11 +503,7 @@ def leak_slope(args, soak, rows, node=""):
     """The slopes of VmRSS and its parts over the measured random changes (bench/soak_slope.py),
     printed in MiB per real and per simulated hour with their 95 % intervals; the verdict on
     VmRSS's. Returns the one-line figure for the summary."""
-    measured = [r for r in rows if r[3] == "random"]
-    # The settle before the stretch holds the reference state and the home views, less than
-    # the random changes' working set: the first minutes climb back to it, not a leak.
-    measured = [r for r in measured if r[0] >= measured[0][0] + args.slope_skip_s] \
-        if measured else []
+    measured = measured_stretch(rows, args.slope_skip_s)
     real_s = measured[-1][0] - measured[0][0] if len(measured) > 1 else 0.0
     sim_s = measured[-1][1] - measured[0][1] if len(measured) > 1 else 0.0
     sim_per_real = sim_s / real_s if real_s > 0 else args.time_scale

@@ -9,7 +9,7 @@ import asyncio
 import re
 import urllib.request
 
-from soak_slope import fit_slope
+from soak_slope import fit_slope, measured_stretch
 
 HEAP_INTERVAL_S = 10.0
 _METRIC = re.compile(r"^(skyd_heap_in_use_bytes|skyd_heap_free_bytes) (\S+)$", re.M)
@@ -50,9 +50,7 @@ async def heap_sampler(soak, daemon, rows):
 def heap_slopes(args, rows, node=""):
     """Prints the slopes of the heap in use and of its free space over the measured random
     changes (after --slope-skip-s, as the RSS's), MiB per real hour with 95 % intervals."""
-    measured = [r for r in rows if r[3] == "random"]
-    measured = [r for r in measured if r[0] >= measured[0][0] + args.slope_skip_s] \
-        if measured else []
+    measured = measured_stretch(rows, args.slope_skip_s)
     if not measured:
         print(f"soak: {node}heap: no samples from /metrics in the measured stretch", flush=True)
         return

@@ -52,6 +52,14 @@ def block_means(samples, block_s):
     return out
 
 
+def measured_stretch(rows, skip_s):
+    """The rows (real s first, phase fourth) of the measured random changes after their first
+    skip_s: the settle before the stretch holds the reference state and the home views, less
+    than the random changes' working set, and the first minutes climb back to it."""
+    measured = [r for r in rows if r[3] == "random"]
+    return [r for r in measured if r[0] >= measured[0][0] + skip_s] if measured else []
+
+
 def fit_slope(samples, block_s):
     """The within-process least-squares slope of value against t (units per second) on block
     means, with its 95 % interval. Returns a dict: slope, low, high, n (blocks), n_eff, r1
