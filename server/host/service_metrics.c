@@ -203,7 +203,7 @@ static void gauge(struct text *t, const char *name, const char *help, double val
 /* The C heap as glibc's allocator sees it: what the daemon holds, and the free space the
  * allocator keeps in its arenas (resident until trimmed). Resident memory that grows while
  * the first stays flat is the allocator's, not a leak. mallinfo2 (glibc 2.33) walks every
- * arena's free lists under its lock: a fraction of a millisecond here. */
+ * arena's free lists under its lock, once per scrape. */
 static void append_heap(struct text *t)
 {
 #if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))

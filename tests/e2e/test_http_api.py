@@ -165,8 +165,9 @@ async def check_health_and_metrics(port, ws, viewer):
     in_use = metric(families, "skyd_heap_in_use_bytes") or 0
     check("/metrics: the heap in use is between 1 MiB and 4 GiB", 2**20 < in_use < 2**32,
           str(in_use))
-    check("/metrics: the heap's free space is not negative",
-          (metric(families, "skyd_heap_free_bytes") or -1) >= 0)
+    free = metric(families, "skyd_heap_free_bytes")
+    check("/metrics: the heap's free space is not negative", free is not None and free >= 0,
+          str(free))
     check("/metrics: skyd_clients counts the WebSocket clients",
           metric(families, "skyd_clients") == 2, str(metric(families, "skyd_clients")))
 
