@@ -200,13 +200,36 @@ static void gauge(struct text *t, const char *name, const char *help, double val
     append(t, "%s %.17g\n", name, value);
 }
 
-/* The C heap as glibc's allocator sees it: what the daemon holds, and the free space the
- * allocator keeps in its arenas (resident until trimmed). Resident memory that grows while
- * the first stays flat is the allocator's, not a leak. mallinfo2 (glibc 2.33) walks every
- * arena's free lists under its lock, once per scrape. */
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SKYD_ASAN_ALLOCATOR 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define SKYD_ASAN_ALLOCATOR 1
+#endif
+
+#ifdef SKYD_ASAN_ALLOCATOR
+/* AddressSanitizer replaces malloc, and its mallinfo2 answers zeros; its own allocator
+ * interface (sanitizer/allocator_interface.h, which GCC does not install) has the figures. */
+size_t __sanitizer_get_current_allocated_bytes(void);
+size_t __sanitizer_get_free_bytes(void);
+#endif
+
+/* The C heap as the allocator sees it: what the daemon holds, and the free space the
+ * allocator keeps (resident until trimmed). Resident memory that grows while the first stays
+ * flat is the allocator's, not a leak. mallinfo2 (glibc 2.33) walks every arena's free lists
+ * under its lock, once per scrape. */
 static void append_heap(struct text *t)
 {
-#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+#if defined(SKYD_ASAN_ALLOCATOR)
+    gauge(t, "skyd_heap_in_use_bytes",
+          "Bytes of the C heap in use (AddressSanitizer's allocator: this is a sanitized build).",
+          (double)__sanitizer_get_current_allocated_bytes());
+    gauge(t, "skyd_heap_free_bytes",
+          "Free bytes AddressSanitizer's allocator keeps (a sanitized build).",
+          (double)__sanitizer_get_free_bytes());
+#elif defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
     struct mallinfo2 mi = mallinfo2();
     gauge(t, "skyd_heap_in_use_bytes",
           "Bytes of the C heap in use (glibc's mallinfo2: arenas' allocated chunks and mmap'd "
