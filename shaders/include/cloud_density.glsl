@@ -367,6 +367,7 @@ vec2 cloud_rain(vec3 p)
 // false when it misses it or the planet is in the way first.
 bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out float t1)
 {
+    t0 = t1 = 0.0;
     float r = length(o);
     float t_ground = ray_sphere_nearest(o, d, bottom_radius());
     float t_in_near = ray_sphere_nearest(o, d, r_in);

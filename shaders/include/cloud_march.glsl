@@ -496,7 +496,7 @@ CloudResult march_clouds(vec3 o, vec3 d, vec3 sun_dir, float jitter, float prima
     res.depth = 0.0;
     if (cloud.march.z < 0.5)
         return res;
-    float lo0, lo1, hi0, hi1, mi0, mi1;
+    float lo0 = 0.0, lo1 = 0.0, hi0 = 0.0, hi1 = 0.0, mi0 = 0.0, mi1 = 0.0;
     bool low = shell_segment(o, d, cloud.low.x, cloud.low.y, lo0, lo1);
     bool high = cloud.high.w > 0.5 && shell_segment(o, d, cloud.high.x, cloud.high.y, hi0, hi1);
     bool mid = cloud.mid.w > 0.5 && shell_segment(o, d, cloud.mid.x, cloud.mid.y, mi0, mi1);

@@ -100,7 +100,7 @@ float pt_shell_bound(int layer)
 // The nearest stretch [t0, t1] of the ray in a cloud shell and the majorant there.
 bool pt_next_segment(vec3 o, vec3 d, out float t0, out float t1, out float majorant)
 {
-    float a0, a1, b0, b1, c0, c1;
+    float a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0, c0 = 0.0, c1 = 0.0;
     bool low = shell_segment(o, d, cloud.low.x, cloud.low.y, a0, a1);
     bool high = cloud.high.w > 0.5 && shell_segment(o, d, cloud.high.x, cloud.high.y, b0, b1);
     bool mid = cloud.mid.w > 0.5 && shell_segment(o, d, cloud.mid.x, cloud.mid.y, c0, c1);
