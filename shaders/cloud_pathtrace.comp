@@ -1,7 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // The clouds' path-traced reference (cloud_pathtrace.glsl): every pixel of the cloud image
-// takes view.samples.y more samples per dispatch, summed over dispatches. Each sample jitters
+// takes view.samples.y more samples per dispatch, summed over dispatches, and a last dispatch
+// without samples (view.target.w 1) writes the image from the sums. Each sample jitters
 // its ray within the pixel; ratio tracking along it gives the transmittance and the
 // transmittance-weighted depth (seed 001 eq. 21), delta tracking on the same proposed
 // collisions the path's first collision. The image it writes holds what the reconstruction
@@ -88,6 +89,20 @@ bool aerial_perspective_froxel(vec2 uv, float depth, out vec3 inscatter, out vec
     return true;
 }
 
+// lavapipe (gallivm) ends every loop of an invocation once their iterations together reach
+// 65535 (LP_MAX_TGSI_LOOP_ITERATIONS, counted per batch of SIMD lanes, never reset): past it
+// each loop runs once more at most, and a path stops where it is, silently darker. A path
+// through a deck toward a low sun (a few hundred collisions, each with a shadow ray) passes
+// it. A loop that can still run twice says the limit was not reached; its trip count comes
+// from the push constants so that no compiler unrolls it away.
+bool loops_intact()
+{
+    int trips = 0;
+    for (int i = 0; i < view.target.z + 2; i++)
+        trips++;
+    return trips == 2;
+}
+
 void main()
 {
     atmo = atmo_block;
@@ -113,12 +128,16 @@ void main()
         vec3 d = camera_ray(uv);
         Primary r = primary_ray(cam, d);
         vec3 L = r.hit ? pt_path(r.p, d) : vec3(0.0);
+        if (!loops_intact())
+            atomicAdd(pt_stats.truncated, 1u);
         sum += vec4(L, r.T);
         depth_sum += vec4(r.depth, 1.0, 0.0);
     }
     imageStore(sum_image, px, sum);
     imageStore(depth_sum_image, px, depth_sum);
     atomicAdd(pt_stats.kilo_samples, (pt_samples + 512u) / 1024u);
+    if (view.target.w != 1)
+        return;
 
     float n = max(depth_sum.z, 1.0);
     vec3 L = sum.rgb / n;

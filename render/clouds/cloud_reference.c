@@ -11,8 +11,10 @@
 #include "clouds_shaders.h"
 
 /* Samples per pixel of one dispatch: each stays short even on a GPU (a sample of a storm
- * cloud follows a path of a few hundred collisions). */
-#define SAMPLES_PER_DISPATCH 4
+ * cloud follows a path of a few hundred collisions), and on lavapipe, whose loops stop once an
+ * invocation's iterations reach 65535 (cloud_pathtrace.comp), each sample has that budget to
+ * itself. */
+#define SAMPLES_PER_DISPATCH 1
 
 struct cloud_reference {
     struct compute_pass pass[2]; /* without, then with the moon's light */
@@ -109,6 +111,14 @@ int cloud_reference_record(struct vk_context *ctx, struct cloud_reference *ref,
         };
         compute_pass_record(cmd, pass, &push, size, local_2d);
     }
+    /* The image from the sums, in a dispatch of its own: its aerial perspective's march needs
+     * loops that no path has used up. */
+    struct sky_cloud_reference_push last = {
+        .samples = { (int32_t)spp, 0, (int32_t)seed, 0 },
+        .target = { (int32_t)e->width, (int32_t)e->height, 0, 1 },
+        .media = { precipitation_ceiling, 0, 0, 0 },
+    };
+    compute_pass_record(cmd, pass, &last, size, local_2d);
     return 0;
 }
 
@@ -124,5 +134,6 @@ void cloud_reference_stats(const struct cloud_reference *ref,
         .bound_violations = s.violations,
         .max_bound_ratio = s.violations ? max_ratio : 0.0,
         .overflows = s.overflows,
+        .truncated = s.truncated,
     };
 }

@@ -330,6 +330,7 @@ struct sky_render_reference_stats {
         bound_violations;   /* of them, above the majorant (0 unless the density's bound broke) */
     double max_bound_ratio; /* the largest density / majorant among those */
     uint32_t overflows;     /* ray segments cut short by the step limit */
+    uint32_t truncated;     /* samples whose paths lavapipe's loop limit cut short (darker) */
 };
 /* Returns 0, or -1 when no reference frame has been rendered. */
 int sky_renderer_cloud_reference_stats(const struct sky_renderer *renderer,

@@ -259,6 +259,13 @@ int renderer_host_render(struct renderer_host *h, const struct render_input *inp
         set_amortization(h, h->params.lut_budget_ms);
     if (status != 0)
         return status;
+    struct sky_render_reference_stats reference;
+    if (h->params.cloud_reference_spp > 0 &&
+        sky_renderer_cloud_reference_stats(h->renderer, &reference) == 0 && reference.truncated > 0)
+        skyd_log(SKYD_LOG_WARNING,
+                 "the path-traced reference lost light: the device's loop limit (lavapipe's) cut "
+                 "%u of its samples short, so its clouds are darker than the truth",
+                 reference.truncated);
     bool settled = stats && stats->atmosphere_settled;
     if (memcmp(&h->atmosphere, &input->frame_atmosphere, sizeof h->atmosphere) != 0) {
         h->atmosphere = input->frame_atmosphere;

@@ -107,7 +107,9 @@ struct sky_cloud_view_push {
 /* Per-dispatch constants of the path-traced reference (cloud_pathtrace.comp). */
 struct sky_cloud_reference_push {
     SKY_IVEC4 samples;     /* x samples per pixel before this dispatch, y in it, z seed */
-    SKY_IVEC4 target;      /* xy size of the cloud image (the output's) */
+    SKY_IVEC4 target;      /* xy size of the cloud image (the output's), z 0 (a loop's trip
+                              count no compiler knows), w 1 in the last dispatch (no samples:
+                              it writes the image) */
     SKY_VEC4 media;        /* x the largest precipitation of the weather map */
 };
 
@@ -117,6 +119,7 @@ struct sky_cloud_reference_stats {
     SKY_UINT max_ratio_bits; /* the largest density / majorant among them (float bits) */
     SKY_UINT kilo_samples;   /* density samples, thousands */
     SKY_UINT overflows;      /* segments that ran out of steps */
+    SKY_UINT truncated;      /* samples whose loops the device's loop limit cut short */
 };
 
 /* Hemisphere averages of the clouds seen from the ground (seed 001 eq. 22 inputs). */

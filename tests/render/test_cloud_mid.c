@@ -431,14 +431,14 @@ static void test_empty_is_nothing(void)
 
 /* The path-traced reference (`skyd render --reference`) traces the middle layer too: no density
  * sample above its majorant (the bound of cloud_pathtrace.glsl's pt_bound_mid), finite, and
- * the renderer's mean luminance near it: cells over a few cumulus within 15 % (measured +7 %),
- * and a sheet of optical depth 5-10 seen from below, away from the sun, within 25 %: measured
- * +21 % against these 4 samples per pixel, +7.5 % against 16 (`skyd render --reference --spp
- * 16` of the same view): the few long paths that carry the light diffused through the sheet
- * are what 4 samples miss most, and 16 would take minutes here. The sheet's base is lit by the
- * ground in the shadow the map knows (cloud_march.glsl's ground_transmission); lit by half the
- * sun and the clear sky, it was +29.5 % (+14.6 % against 16 samples). */
-static const double mid_reference_tolerance[2] = { 0.25, 0.15 }; /* altostratus, altocumulus */
+ * the renderer's mean luminance near it: cells over a few cumulus within 15 % (measured +2.9 %),
+ * and a sheet of optical depth 5-10 seen from below, away from the sun, within 15 % (measured
+ * +3.2 %). Both were further (+7 % and +21 %) when four samples shared a dispatch: lavapipe's
+ * loop limit cut their long paths short (cloud_pathtrace.comp, loops_intact), and still cuts
+ * some (printed), so the reference is a little dark yet. The sheet's base is lit by the ground
+ * in the shadow the map knows (cloud_march.glsl's ground_transmission); lit by half the sun and
+ * the clear sky, it was +29.5 % (+14.6 % against 16 samples). */
+static const double mid_reference_tolerance[2] = { 0.15, 0.15 }; /* altostratus, altocumulus */
 static void render_reference(const struct proto_world_state *s, uint32_t spp, uint64_t key,
                              float *rgba)
 {
@@ -485,9 +485,10 @@ static void test_reference(void)
         CHECK(sky_renderer_cloud_reference_stats(renderer, &st) == 0);
         double fast = mean_luminance(frame_a), reference = mean_luminance(frame_b);
         printf("%s: renderer %.5g, reference %.5g cd/m2 (%+.1f %%); %.3g density samples, %u "
-               "above the majorant\n",
+               "above the majorant, %u cut short by the device's loop limit\n",
                k == 0 ? "altostratus" : "altocumulus over cumulus", fast, reference,
-               100.0 * (fast - reference) / reference, st.density_samples, st.bound_violations);
+               100.0 * (fast - reference) / reference, st.density_samples, st.bound_violations,
+               st.truncated);
         CHECK(st.bound_violations == 0);
         CHECK(st.density_samples > 0);
         CHECK_NEAR(fast / reference, 1.0, mid_reference_tolerance[k]);

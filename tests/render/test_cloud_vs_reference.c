@@ -100,6 +100,12 @@ static bool scene_state(const struct scene *sc, struct proto_world_state *s)
     return ok;
 }
 
+/* Reference paths that lavapipe's loop limit cut short (cloud_pathtrace.comp's loops_intact):
+ * in the isolated clouds, whose references must be whole, at most one in 10^5 (the cumulus
+ * none, the cumulonimbus 8 of 1.2e6); in the decks a share, reported (their references are
+ * darker than the truth by an amount not yet known: docs/ACCURACY.md). */
+static bool paths_may_be_cut;
+
 /* Renders `s` (reference_spp 0: the renderer) into rgba and its luminance into luma. */
 static void render(const struct proto_world_state *s, uint32_t spp, uint32_t seed, float *rgba,
                    float *luma)
@@ -132,8 +138,11 @@ static void render(const struct proto_world_state *s, uint32_t spp, uint32_t see
                   st.overflows);
         if (st.overflows > 0)
             printf("  %u ray segments cut short\n", st.overflows);
-        printf("  reference (seed %u): %.3g density samples, %u above the majorant\n", seed,
-               st.density_samples, st.bound_violations);
+        CHECK_MSG(paths_may_be_cut || st.truncated <= 1e-5 * spp * W * H,
+                  "%u reference samples cut short by the device's loop limit", st.truncated);
+        printf("  reference (seed %u): %.3g density samples, %u above the majorant, %u of %u "
+               "samples cut short by the device's loop limit\n",
+               seed, st.density_samples, st.bound_violations, st.truncated, spp * W * H);
     }
 }
 
@@ -364,11 +373,13 @@ static bool measure_deck(const char *name, const struct proto_world_state *s, ui
                          struct deck_figures *out)
 {
     render(s, 0, 0, rt_rgba, rt);
+    paths_may_be_cut = true;
     for (int k = 0; k < 2; k++)
         if (!load_cached(name, spp, k, ref_rgba[k], ref[k])) {
             render(s, spp, (uint32_t)k + 1, ref_rgba[k], ref[k]);
             save_cached(name, spp, k, ref_rgba[k]);
         }
+    paths_may_be_cut = false;
     for (int i = 0; i < W * H; i++)
         clear[i] = 0.0f; /* every pixel above the horizon is cloud */
     for (int i = 0; i < W * H * 4; i++)
@@ -402,11 +413,13 @@ static bool measure_deck(const char *name, const struct proto_world_state *s, ui
  * by the ground, which the deck itself lights (the Eddington transmission of its column,
  * cloud_march.glsl's ground_transmission), not by the blue sky above it. Over the sky (every
  * pixel above the horizon is deck): mean luminance within MAX_RELATIVE_ERROR of the
- * reference's (measured +1.8 %; with the ground lit by the clear sky's irradiance, -21.1 %),
- * and its colour, blue over red, within MAX_DECK_TINT (measured -10 %, the clear sky's +10.3 %:
- * the sky's light diffused down through the deck from its top is what the renderer lacks). */
+ * reference's (measured -3.7 %; with the ground lit by the clear sky's irradiance, -21.1 % of a
+ * reference that lavapipe cut shorter), and its colour, blue over red, within MAX_DECK_TINT
+ * (measured -9.9 %, the clear sky's +10.3 %: the sky's light diffused down through the deck
+ * from its top is what the renderer lacks). A third of the reference's samples are cut short
+ * (paths_may_be_cut): it is darker than the truth. */
 #define MAX_DECK_TINT 0.12
-#define DECK_SPP 16
+#define DECK_SPP 8
 static void compare_deck_base(void)
 {
     struct proto_world_state s;
@@ -432,12 +445,13 @@ static void compare_deck_base(void)
  * toward a sun 4 degrees up: the sun's ray runs inside the sheet for ten times its depth below
  * the top and more, far past the light march's reach, and the renderer takes the rest of it at
  * the march's mean extinction (cloud_light.glsl, sun_depths). Without that rest the sheet was
- * lit as if it ended at the march: 5.1 times the reference's luminance. Judged: the mean
- * luminance within MAX_MID_DECK_RATIO either way. What is left (measured 1.56, and blue over
- * red 35 % under the reference's: the renderer's diffuse light flows along the sun's ray
- * where a sheet's flows down through it, and the sky's light from above the sheet is short) is
- * printed, not judged. */
-#define MAX_MID_DECK_RATIO 1.7
+ * lit as if it ended at the march: 4.07 times the reference's luminance. Judged: the mean
+ * luminance within MAX_MID_DECK_RATIO either way (measured 1.21). A quarter of the reference's
+ * samples are cut short (paths_may_be_cut): a whole reference is brighter, so the ratio can
+ * only fall. What is left (blue over red 23 % under the reference's: the renderer's diffuse
+ * light flows along the sun's ray where a sheet's flows down through it, and the sky's light
+ * from above the sheet is short) is printed, not judged. */
+#define MAX_MID_DECK_RATIO 1.4
 #define MID_DECK_SPP 4
 static void compare_mid_deck_low_sun(void)
 {
