@@ -238,8 +238,11 @@ int main(void)
         return check_summary();
     if (device_run(&d)) {
         const struct sky_cloud_reference_stats *st = d.stats.mapped;
-        printf("density samples above the majorant %u, segments cut short %u\n", st->violations,
-               st->overflows);
+        printf("density samples above the majorant %u, segments cut short %u, paths cut short by "
+               "the device's loop limit %u\n",
+               st->violations, st->overflows, st->truncated);
+        /* Paths lavapipe's loop limit cut short are printed, not judged: about 1 % of them,
+         * and R and T still meet the Monte Carlo slab's within their noise. */
         CHECK(st->violations == 0 && st->overflows == 0);
         for (int c = 0; c < NCASE; c++)
             compare_case(c, d.results.mapped);
