@@ -89,20 +89,6 @@ bool aerial_perspective_froxel(vec2 uv, float depth, out vec3 inscatter, out vec
     return true;
 }
 
-// lavapipe (gallivm) ends every loop of an invocation once their iterations together reach
-// 65535 (LP_MAX_TGSI_LOOP_ITERATIONS, counted per batch of SIMD lanes, never reset): past it
-// each loop runs once more at most, and a path stops where it is, silently darker. A path
-// through a deck toward a low sun (a few hundred collisions, each with a shadow ray) passes
-// it. A loop that can still run twice says the limit was not reached; its trip count comes
-// from the push constants so that no compiler unrolls it away.
-bool loops_intact()
-{
-    int trips = 0;
-    for (int i = 0; i < view.target.z + 2; i++)
-        trips++;
-    return trips == 2;
-}
-
 void main()
 {
     atmo = atmo_block;
@@ -128,7 +114,7 @@ void main()
         vec3 d = camera_ray(uv);
         Primary r = primary_ray(cam, d);
         vec3 L = r.hit ? pt_path(r.p, d) : vec3(0.0);
-        if (!loops_intact())
+        if (!pt_loops_intact(view.target.z))
             atomicAdd(pt_stats.truncated, 1u);
         sum += vec4(L, r.T);
         depth_sum += vec4(r.depth, 1.0, 0.0);

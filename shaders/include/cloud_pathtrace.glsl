@@ -27,6 +27,20 @@ const float PT_EPS_KM = 2e-3;
 // Below this transmittance ratio tracking plays Russian roulette (unbiased).
 const float PT_ROULETTE_T = 0.1;
 
+// lavapipe (gallivm) ends every loop of an invocation once their iterations together reach
+// 65535 (LP_MAX_TGSI_LOOP_ITERATIONS, counted per batch of SIMD lanes, never reset): past it
+// each loop runs once more at most, and a path stops where it is, silently darker. A path
+// through a deck toward a low sun (a few hundred collisions, each with a shadow ray) passes
+// it. A loop that can still run twice says the limit was not reached; `zero` is 0 from a
+// value no compiler knows (a push constant, a buffer), so that none unrolls the loop away.
+bool pt_loops_intact(int zero)
+{
+    int trips = 0;
+    for (int i = 0; i < zero + 2; i++)
+        trips++;
+    return trips == 2;
+}
+
 // PCG hash (Jarzynski and Olano 2020, "Hash Functions for GPU Rendering").
 uint pt_hash(uint v)
 {

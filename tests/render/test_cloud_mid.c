@@ -434,7 +434,7 @@ static void test_empty_is_nothing(void)
  * the renderer's mean luminance near it: cells over a few cumulus within 15 % (measured +2.9 %),
  * and a sheet of optical depth 5-10 seen from below, away from the sun, within 15 % (measured
  * +3.2 %). Both were further (+7 % and +21 %) when four samples shared a dispatch: lavapipe's
- * loop limit cut their long paths short (cloud_pathtrace.comp, loops_intact), and still cuts
+ * loop limit cut their long paths short (cloud_pathtrace.glsl, pt_loops_intact), and still cuts
  * some (printed), so the reference is a little dark yet. The sheet's base is lit by the ground
  * in the shadow the map knows (cloud_march.glsl's ground_transmission); lit by half the sun and
  * the clear sky, it was +29.5 % (+14.6 % against 16 samples). */

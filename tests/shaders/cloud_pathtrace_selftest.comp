@@ -151,10 +151,7 @@ void main()
     if (pt_track(o, d))
         L = pt_path(o, d).g;
     result[i] = L / frame.sun_illuminance.y;
-    // lavapipe's loop limit (cloud_pathtrace.comp's loops_intact): a path cut short is counted.
-    int trips = 0;
-    for (uint k = 0u; k < 2u + (counts.x >> 31); k++)
-        trips++;
-    if (trips != 2)
+    // lavapipe's loop limit (cloud_pathtrace.glsl): a path cut short is counted.
+    if (!pt_loops_intact(int(counts.x >> 31)))
         atomicAdd(pt_stats.truncated, 1u);
 }
