@@ -12,6 +12,8 @@
 #ifndef CLOUD_DENSITY_GLSL
 #define CLOUD_DENSITY_GLSL
 
+#include "cloud_shell.glsl"
+
 const float CURL_STRENGTH_KM = 0.25;
 
 // False in the pipelines for weather maps with no cloud type above TOWERING_TYPE
@@ -361,35 +363,6 @@ vec2 cloud_rain(vec3 p)
 {
     vec4 wm = sample_weather(cloud_pattern_xy(p));
     return vec2(wm.a, wm.r * cloud.low.z * (cloud.low.y - cloud.low.x));
-}
-
-// Range [t0, t1] of a ray inside the spherical shell [r_in, r_out], first crossing only;
-// false when it misses it or the planet is in the way first.
-bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out float t1)
-{
-    t0 = t1 = 0.0;
-    float r = length(o);
-    float t_ground = ray_sphere_nearest(o, d, bottom_radius());
-    float t_in_near = ray_sphere_nearest(o, d, r_in);
-    if (r < r_in) {
-        // Below: from the exit of the inner sphere to the exit of the outer one.
-        t0 = ray_sphere_far(o, d, r_in);
-        t1 = ray_sphere_far(o, d, r_out);
-        return t_ground < 0.0 && t1 > t0;
-    }
-    if (r <= r_out) {
-        // Inside the shell. A camera on its inner sphere (at the cloud base) meets that sphere
-        // at t = 0 on a level or rising ray: that is no exit.
-        t0 = 0.0;
-        t1 = t_in_near > 1e-4 ? t_in_near : ray_sphere_far(o, d, r_out);
-        return t1 > 0.0;
-    }
-    float t_out = ray_sphere_nearest(o, d, r_out);
-    if (t_out < 0.0)
-        return false;
-    t0 = t_out;
-    t1 = t_in_near >= 0.0 ? t_in_near : ray_sphere_far(o, d, r_out);
-    return t1 > t0;
 }
 
 #endif

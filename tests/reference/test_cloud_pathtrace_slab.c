@@ -241,9 +241,10 @@ int main(void)
         printf("density samples above the majorant %u, segments cut short %u, paths cut short by "
                "the device's loop limit %u\n",
                st->violations, st->overflows, st->truncated);
-        /* Paths lavapipe's loop limit cut short are printed, not judged: about 1 % of them,
-         * and R and T still meet the Monte Carlo slab's within their noise. */
-        CHECK(st->violations == 0 && st->overflows == 0);
+        /* No path cut short by lavapipe's loop limit: about 1 % were while a path that set off
+         * downward from on the shell's base crossed under it, through the planet (before
+         * cloud_shell.glsl's descending exit). */
+        CHECK(st->violations == 0 && st->overflows == 0 && st->truncated == 0);
         for (int c = 0; c < NCASE; c++)
             compare_case(c, d.results.mapped);
     }

@@ -85,29 +85,7 @@ vec2 cloud_rain(vec3 p)
     return vec2(0.0);
 }
 
-// cloud_density.glsl's shell_segment.
-bool shell_segment(vec3 o, vec3 d, float r_in, float r_out, out float t0, out float t1)
-{
-    float r = length(o);
-    float t_ground = ray_sphere_nearest(o, d, bottom_radius());
-    float t_in_near = ray_sphere_nearest(o, d, r_in);
-    if (r < r_in) {
-        t0 = ray_sphere_far(o, d, r_in);
-        t1 = ray_sphere_far(o, d, r_out);
-        return t_ground < 0.0 && t1 > t0;
-    }
-    if (r <= r_out) {
-        t0 = 0.0;
-        t1 = t_in_near > 1e-4 ? t_in_near : ray_sphere_far(o, d, r_out);
-        return t1 > 0.0;
-    }
-    float t_out = ray_sphere_nearest(o, d, r_out);
-    if (t_out < 0.0)
-        return false;
-    t0 = t_out;
-    t1 = t_in_near >= 0.0 ? t_in_near : ray_sphere_far(o, d, r_out);
-    return t1 > t0;
-}
+#include "cloud_shell.glsl"
 
 #include "slab_sun_depth.glsl"
 #include "cloud_march.glsl"
