@@ -87,6 +87,7 @@ int cloud_reference_record(struct vk_context *ctx, struct cloud_reference *ref,
     struct compute_resource g[SKY_LAYOUT_COUNT(SKY_LAYOUT_CLOUD_MAJORANT)] = {
         [SKY_CLOUD_MAJORANT_WEATHER] = r[SKY_CLOUD_MARCH_WEATHER],
         [SKY_CLOUD_MAJORANT_OUT] = img(&ref->grid),
+        [SKY_CLOUD_MAJORANT_CLOUD] = r[SKY_CLOUD_MARCH_CLOUD],
     };
     compute_pass_bind(ctx, &ref->majorant, g);
     const uint32_t grid_size[3] = { SKY_CLOUD_MAJORANT_GRID_SIZE, SKY_CLOUD_MAJORANT_GRID_SIZE, 1 };

@@ -12,6 +12,7 @@
 #ifndef CLOUD_DENSITY_GLSL
 #define CLOUD_DENSITY_GLSL
 
+#include "cloud_profile.glsl"
 #include "cloud_shell.glsl"
 
 const float CURL_STRENGTH_KM = 0.25;
@@ -47,43 +48,6 @@ vec4 sample_weather(vec2 pattern_xy)
     return vec4(clamp(wm.rg, vec2(0.0), vec2(1.0)), wm.ba);
 }
 
-// Shape parameters of a cloud type in [0, 1] (stratus .. cumulonimbus), interpolated between
-// the tabulated types (render/cloud_params.c): x the height fraction of the highest tops,
-// y base rounding, z erosion, w anvil.
-vec4 type_shape(float type)
-{
-    float x = clamp(type, 0.0, 1.0) * float(CLOUD_PROFILE_COUNT - 1);
-    int i = min(int(x), CLOUD_PROFILE_COUNT - 2);
-    return mix(cloud.profiles[i], cloud.profiles[i + 1], x - float(i));
-}
-
-float layer_fraction(float r, vec4 layer)
-{
-    return (r - layer.x) / (layer.y - layer.x);
-}
-
-// The base shape is stored uniformly distributed (cloud_noise.comp), so a coverage c keeps the
-// c of it that lies above 1 - c. Coverage at a height is the column's coverage with its normal
-// score lowered by the profile's rise: Phi(Phi^-1(c) - rise), with the logistic approximation
-// of Phi (s = 1.702): c / (c + (1 - c) exp(s rise)).
-const float LOGISTIC_PROBIT = 1.702;
-float coverage_at(float c, float rise)
-{
-    c = min(c, 0.995);
-    return c / (c + (1.0 - c) * exp(LOGISTIC_PROBIT * rise));
-}
-
-// How far (normal scores) the threshold rises at height fraction h (Schneider 2017's
-// density-height gradient as a threshold): slowly up to RISE_AT_TOP at the type's tops
-// shape.x, then fast, so that only the strongest columns reach them and no top is cut flat by
-// the layer.
-const float RISE_AT_TOP = 2.6;
-float profile_rise(float h, vec4 shape)
-{
-    float x = h / shape.x;
-    return RISE_AT_TOP * x * x + 30.0 * max(h - shape.x, 0.0) + 12.0 * smoothstep(0.9, 1.0, h);
-}
-
 // Extinction ramps from the threshold over this much of the shape's range (with its level of
 // detail, wider): the interior is dense, the edges tens of metres soft.
 const vec2 EDGE_RAMP = vec2(0.12, 0.3);
@@ -97,10 +61,10 @@ const float SHEET_RAMP = 0.6;
 // Coverage below this holds no cloud (so the march can skip it; the specks it would leave are
 // a few voxels).
 const float MIN_COVERAGE = CLOUD_MIN_COVERAGE;
-// Anvils: in the top of a cumulonimbus layer the coverage spreads from the towers around it,
-// the largest of the columns ANVIL_REACH of the layer's thickness around.
+// Anvils: in the top of a cumulonimbus layer (types above CLOUD_ANVIL_TYPE) the coverage
+// spreads from the towers around it, the largest of the columns ANVIL_REACH of the layer's
+// thickness around.
 const float ANVIL_REACH = 0.3;
-const float ANVIL_TYPE = 0.85;
 
 // The low layer's coverage at height fraction h over pattern position xy (0 outside the layer).
 float low_coverage(float h, vec2 xy, vec4 wm, vec4 shape)
@@ -109,7 +73,7 @@ float low_coverage(float h, vec2 xy, vec4 wm, vec4 shape)
         return 0.0;
     float c = coverage_at(wm.r, profile_rise(h, shape));
     // (Cumulonimbus alone: the anvil's four lookups are not spent on the cumulus around it.)
-    if (TOWERING && shape.w > 0.0 && wm.b > ANVIL_TYPE && h > 0.6) {
+    if (TOWERING && shape.w > 0.0 && wm.b > CLOUD_ANVIL_TYPE && h > 0.6) {
         float reach = ANVIL_REACH * (cloud.low.y - cloud.low.x);
         float around = max(max(sample_weather(xy + vec2(reach, 0.0)).r,
                                sample_weather(xy - vec2(reach, 0.0)).r),

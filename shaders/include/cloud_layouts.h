@@ -113,8 +113,10 @@
 #define SKY_CLOUD_MAJORANT_GRID_SIZE 64
 #define SKY_CLOUD_MAJORANT_WEATHER 0
 #define SKY_CLOUD_MAJORANT_OUT 1
+#define SKY_CLOUD_MAJORANT_CLOUD 2
 #define SKY_LAYOUT_CLOUD_MAJORANT(X)                                                      \
-    X(SKY_CLOUD_MAJORANT_WEATHER, SAMPLED) X(SKY_CLOUD_MAJORANT_OUT, IMAGE)
+    X(SKY_CLOUD_MAJORANT_WEATHER, SAMPLED) X(SKY_CLOUD_MAJORANT_OUT, IMAGE)                 \
+    X(SKY_CLOUD_MAJORANT_CLOUD, BLOCK)
 
 /* tests/shaders/cloud_slab_selftest.comp (tests/reference/test_cloud_accuracy.c): one ray per
  * invocation. */

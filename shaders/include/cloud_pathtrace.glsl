@@ -150,11 +150,11 @@ float pt_extinction(vec3 p, float majorant)
     return sigma;
 }
 
-// The majorant over the stretch of a ray around p: the layers' bounds where the majorant grid
-// (cloud_majorant.comp: per cell of the weather map, whether a layer has coverage within a
-// cell of it) says they may hold cloud, 0 elsewhere. A stretch no longer than a cell stays
-// within the cells around its middle, which the grid's cell covers. Without the grid (the
-// self-test), the bounds everywhere.
+// The majorant grid (cloud_majorant.comp) around p: x, y whether the low, high layer may hold
+// cloud within a cell of it, z the largest sheet share of the low layer's cloud there, w the
+// height fraction of the low layer above which it holds none. A stretch no longer than a cell
+// stays within the cells around its middle, which the grid's cell covers. Without the grid
+// (the self-test), every layer everywhere.
 float pt_cell_km()
 {
 #ifdef PT_WITHOUT_GRID
@@ -164,24 +164,40 @@ float pt_cell_km()
 #endif
 }
 
-float pt_local_majorant(vec3 p, float segment_majorant)
+vec4 pt_grid_cell(vec3 p)
 {
 #ifdef PT_WITHOUT_GRID
-    return segment_majorant;
+    return vec4(1.0);
 #else
     // The weather map's coordinates of p, as sample_weather (cloud_density.glsl) reads it.
     vec2 uv = fract(cloud_pattern_xy(p) * cloud.weather.z + 0.5);
     ivec2 n = textureSize(pt_grid, 0);
-    vec3 g = texelFetch(pt_grid, min(ivec2(uv * vec2(n)), n - 1), 0).xyz;
-    // (The middle layer's coverage is the same everywhere: its bound wherever it is on.)
-    return min(segment_majorant, (g.x > 0.0 ? pt_bound_low_sheet(g.z) : 0.0) +
-                                     (g.y > 0.0 ? pt_bound_high() : 0.0) + pt_bound_mid());
+    return texelFetch(pt_grid, min(ivec2(uv * vec2(n)), n - 1), 0);
 #endif
 }
 
+// Above this radius the cell's low layer holds no cloud: its top, raised by PT_TOP_MARGIN_KM
+// for the round-off of planet-centred floats (half a metre) and of the top's bisection.
+const float PT_TOP_MARGIN_KM = 0.02;
+float pt_low_top_radius(vec4 g)
+{
+    return cloud.low.x + g.w * (cloud.low.y - cloud.low.x) + PT_TOP_MARGIN_KM;
+}
+
+// The majorant over a stretch in cell g: the layers' bounds where the grid says they may hold
+// cloud (the low layer's only below its top), 0 elsewhere.
+float pt_local_majorant(vec4 g, bool above_low_top, float segment_majorant)
+{
+    // (The middle layer's coverage is the same everywhere: its bound wherever it is on.)
+    bool low = g.x > 0.0 && !above_low_top;
+    return min(segment_majorant, (low ? pt_bound_low_sheet(g.z) : 0.0) +
+                                     (g.y > 0.0 ? pt_bound_high() : 0.0) + pt_bound_mid());
+}
+
 // Proposed collisions along [t0, t1] of the ray o + t d: exponential flights under a majorant
-// that is constant over each stretch of a cell's length (skipped where it is 0). The state
-// of one walk; pt_propose advances it to the next proposal, false past t1.
+// that is constant over each stretch (skipped where it is 0). A stretch is at most a cell long
+// and ends where the ray crosses the cell's low top, so that it lies wholly above or below
+// it. The state of one walk; pt_propose advances it to the next proposal, false past t1.
 struct PtWalk {
     float t, stretch_end, majorant;
 };
@@ -191,17 +207,31 @@ PtWalk pt_walk(float t0)
     return PtWalk(t0, t0, 0.0);
 }
 
+// Where the stretch that starts at a along o + t d ends, and its majorant.
+void pt_next_stretch(inout PtWalk w, vec3 o, vec3 d, float t1, float segment_majorant)
+{
+    float a = w.stretch_end;
+    float b = min(a + pt_cell_km(), t1);
+    vec3 pa = o + d * a;
+    vec4 g = pt_grid_cell(pa + d * (0.5 * (b - a)));
+    float r_top = pt_low_top_radius(g);
+    // (A crossing closer than a metre is the one the last stretch ended on.)
+    float crossing = ray_sphere_nearest(pa, d, r_top);
+    if (crossing > 1e-3 && a + crossing < b)
+        b = a + crossing;
+    bool above = length(pa + d * (0.5 * (b - a))) > r_top;
+    w.stretch_end = b;
+    w.majorant = pt_local_majorant(g, above, segment_majorant);
+    w.t = w.majorant > 0.0 ? a : b;
+}
+
 bool pt_propose(inout PtWalk w, vec3 o, vec3 d, float t1, float segment_majorant)
 {
-    float cell = pt_cell_km();
     for (int i = 0; i < PT_MAX_STEPS; i++) {
         if (w.t >= w.stretch_end) {
             if (w.stretch_end >= t1)
                 return false;
-            float a = w.stretch_end;
-            w.stretch_end = min(a + cell, t1);
-            w.majorant = pt_local_majorant(o + d * (0.5 * (a + w.stretch_end)), segment_majorant);
-            w.t = w.majorant > 0.0 ? a : w.stretch_end;
+            pt_next_stretch(w, o, d, t1, segment_majorant);
             continue;
         }
         float next = w.t + pt_flight(w.majorant);

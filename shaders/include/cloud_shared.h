@@ -23,6 +23,8 @@
  * so the renderer knows which maps hold towering clouds (cloud_renderer.c). */
 #define CLOUD_TOWERING_TYPE 0.8
 #define CLOUD_TYPE_VARIATION 0.15
+/* Cloud types above this spread an anvil under the layer's top (cloud_density.glsl). */
+#define CLOUD_ANVIL_TYPE 0.85
 
 /* Cloud types from 0 up to the first are sheets (stratus, stratocumulus), up from the second
  * heaped clouds; between them the sheet's share falls smoothly. A sheet's density grows with the
