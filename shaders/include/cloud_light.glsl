@@ -257,15 +257,21 @@ float octave_build_up(float depth)
     return 1.0 - 0.5 * exp(-cloud.build_up.x * depth);
 }
 
+// The sun's cosine to the lit surface (above). Both estimates are too large where they err
+// (below a cloud's top the layer's top is further; the short marches reach past a deck's
+// surface): the smaller.
+float octave_mu0(SunDepth sd, float tau_up, float incidence)
+{
+    return clamp(min(tau_up / max(sd.smooth_to_sun, 1e-6), incidence), MU0_FLOOR, 1.0);
+}
+
 // The light each octave scatters toward the viewer per unit optical depth, per unit
 // illuminance: single scattering p exp(-tau_sun), and the diffuse octaves above, absorbed over
 // the depth below the lit side at the diffusion rate sqrt(3 (1 - albedo) (1 - albedo g)).
-void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence,
+void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence, float flow_cos,
                     out float src[MAX_OCTAVES])
 {
-    // Both estimates of mu0 are too large where they err (below a cloud's top the layer's top
-    // is further; the short marches reach past a deck's surface): the smaller.
-    float mu0 = clamp(min(tau_up / max(sd.smooth_to_sun, 1e-6), incidence), MU0_FLOOR, 1.0);
+    float mu0 = octave_mu0(sd, tau_up, incidence);
     float x_s = mu0 * sd.to_sun, x_b = mu0 * sd.behind;
     src[0] = o.weighted[0] * exp(-sd.to_sun);
     float g = dual_lobe_mean_cosine();
@@ -294,13 +300,14 @@ void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence,
     // came more often: the dark side's share falls with mu0 as the Eddington solution's
     // transmission does, (1/2 + 3/4 mu0) / (5/4) (Joseph, Wiscombe & Weinman 1976).
     float dark_side = DIFFUSE_DARK_SIDE * (0.5 + 0.75 * mu0) / 1.25;
-    // The diffuse light flows away from the sun: its radiance is I (1 + 3/(4 pi) F.w / I)
+    // The diffuse light flows away from the light: its radiance is I (1 + 3/(4 pi) F.w / I)
     // (the diffusion approximation), the flux F = T E mu0 against the mean, which the phase's
     // mean cosine g passes on to the scattered light: brighter toward a viewer who looks at the
-    // dark side with the sun behind it. Not darker the other way: at the lit side the light
-    // leaving toward the sun is what the build-up and the decks fit. With the mean radiance
-    // T (stored) and the flow's term T F_scale, the sum is T (stored + flow).
-    float flow = FLOW_SCALE * g * 0.75 * max(o.cos_theta, 0.0);
+    // dark side with the light behind it (flow_cos: the cosine between the view and the flux).
+    // Not darker the other way: at the lit side the light leaving toward the sun is what the
+    // build-up and the decks fit. With the mean radiance T (stored) and the flow's term
+    // T F_scale, the sum is T (stored + flow).
+    float flow = FLOW_SCALE * g * 0.75 * max(flow_cos, 0.0);
     float b = cloud.octaves.y;
     for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
         float stored = dark_side + kept * s * b * x_b;
@@ -308,6 +315,28 @@ void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence,
                  (PI * (1.0 + s * b * (x_s + x_b)));
         b *= cloud.octaves.y;
     }
+}
+
+// The sky's light diffused through the column as the sun's is (octave_sources' octaves n >= 1:
+// its single scattering is the march's ambient term), per unit radiance of the sky above: the
+// sky's irradiance E = pi L enters the column's lit side as diffuse light does, as a beam at
+// mu0 = 2/3 would (the Eddington closure), through the same column as the sun's (its depths
+// along the normal, x_s and x_b, from the sun's). Without it a deck's base is lit by the sun
+// and the ground alone; the path-traced deck's base (tests/render/test_cloud_vs_reference.c)
+// gets 8 % of its light from the sky, of blue over red about 5, and so does this term.
+const float SKY_MU0 = 2.0 / 3.0;
+float sky_diffuse_source(OctavePhases sky_phases, SunDepth sd, float sun_mu0)
+{
+    float to_normal = sun_mu0 / SKY_MU0;
+    SunDepth sky = SunDepth(to_normal * sd.to_sun, to_normal * sd.behind,
+                            to_normal * sd.smooth_to_sun, sd.support);
+    float src[MAX_OCTAVES];
+    // (Its flux runs straight down: the view's cosine to it is the phases'.)
+    octave_sources(sky_phases, sky, 1e9, SKY_MU0, sky_phases.cos_theta, src);
+    float sum = 0.0;
+    for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++)
+        sum += src[n];
+    return PI / SKY_MU0 * sum;
 }
 
 #endif

@@ -22,6 +22,8 @@ struct CloudResult {
 // atmosphere, seed 001 4.2) and the airglow floor.
 struct CloudAmbient {
     vec3 top, bottom;
+    // The octaves' phases of the sky's light diffused down through the cloud (from the zenith).
+    OctavePhases sky_phases;
     // The parts of bottom that the sun and its sky light on the ground, in a clear sky (bottom
     // holds half the first and all of the second).
     vec3 bottom_sun, bottom_sky;
@@ -84,6 +86,7 @@ bool moon_lights_clouds()
 CloudAmbient cloud_ambient(vec3 sun_dir, vec3 d)
 {
     CloudAmbient a;
+    a.sky_phases = octave_phases(d.z); // at the camera's foot, up is +z
     vec3 sky, direct;
     ground_light_per_lux(sun_dir, sky, direct);
     // The sky-view LUT holds the sky around a camera inside the atmosphere only.
@@ -221,9 +224,10 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
     float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
     float top = layer_shell(layer).y;
     float tau_up = s.sigma_t * max(top - r, 0.0);
-    octave_sources(phases, sun_depth, tau_up, s.sun_incidence, src);
+    octave_sources(phases, sun_depth, tau_up, s.sun_incidence, phases.cos_theta, src);
     if (moon_on)
-        octave_sources(moon_phases, moon_depth, tau_up, s.moon_incidence, moon_src);
+        octave_sources(moon_phases, moon_depth, tau_up, s.moon_incidence, moon_phases.cos_theta,
+                       moon_src);
     float sun_sum = 0.0, moon_sum = 0.0;
     for (int n = 0; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
         sun_sum += src[n];
@@ -236,8 +240,10 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
     // the source falls as exp(-tau) along the view as the view's transmittance does, and
     // over the step int sigma exp(-2 sigma t) dt = (1 - step_t^2) / 2.
     float sky_seen = AMBIENT_SHARE * s.seen_since_entry;
+    vec3 sky_through = amb.top * sky_diffuse_source(amb.sky_phases, sun_depth,
+                                                    octave_mu0(sun_depth, tau_up, s.sun_incidence));
     res.luminance += cloud.media.x * s.transmittance *
-                     ((1.0 - s.step_t) * (sun * sun_sum + moon * moon_sum) +
+                     ((1.0 - s.step_t) * (sun * sun_sum + moon * moon_sum + sky_through) +
                       0.5 * (1.0 - s.step_t * s.step_t) * ambient * sky_seen);
 }
 
