@@ -209,6 +209,7 @@ class Daemon:
                     why = f"exited with status {code} before printing the listening line"
                 except subprocess.TimeoutExpired:
                     why = f"no listening line within {self.ready_timeout:.0f} s"
+                    self.kill()  # no test can use it, and nothing else would stop it
                 raise RuntimeError(f"{self.name}: {why}; log {self.log_path}: "
                                    f"{self.log_tail()}")
             m = re.fullmatch(r"skyd: listening on http://127\.0\.0\.1:(\d+)/", line.rstrip("\n"))
