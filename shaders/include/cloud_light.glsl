@@ -267,11 +267,11 @@ float octave_mu0(SunDepth sd, float tau_up, float incidence)
 
 // The light each octave scatters toward the viewer per unit optical depth, per unit
 // illuminance: single scattering p exp(-tau_sun), and the diffuse octaves above, absorbed over
-// the depth below the lit side at the diffusion rate sqrt(3 (1 - albedo) (1 - albedo g)).
-void octave_sources(OctavePhases o, SunDepth sd, float tau_up, float incidence, float flow_cos,
+// the depth below the lit side at the diffusion rate sqrt(3 (1 - albedo) (1 - albedo g)). mu0:
+// the light's cosine to the lit surface (octave_mu0 for the sun and the moon).
+void octave_sources(OctavePhases o, SunDepth sd, float mu0, float flow_cos,
                     out float src[MAX_OCTAVES])
 {
-    float mu0 = octave_mu0(sd, tau_up, incidence);
     float x_s = mu0 * sd.to_sun, x_b = mu0 * sd.behind;
     src[0] = o.weighted[0] * exp(-sd.to_sun);
     float g = dual_lobe_mean_cosine();
@@ -332,7 +332,7 @@ float sky_diffuse_source(OctavePhases sky_phases, SunDepth sd, float sun_mu0)
                             to_normal * sd.smooth_to_sun, sd.support);
     float src[MAX_OCTAVES];
     // (Its flux runs straight down: the view's cosine to it is the phases'.)
-    octave_sources(sky_phases, sky, 1e9, SKY_MU0, sky_phases.cos_theta, src);
+    octave_sources(sky_phases, sky, SKY_MU0, sky_phases.cos_theta, src);
     float sum = 0.0;
     for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++)
         sum += src[n];

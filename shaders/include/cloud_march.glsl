@@ -224,10 +224,11 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
     float src[MAX_OCTAVES], moon_src[MAX_OCTAVES];
     float top = layer_shell(layer).y;
     float tau_up = s.sigma_t * max(top - r, 0.0);
-    octave_sources(phases, sun_depth, tau_up, s.sun_incidence, phases.cos_theta, src);
+    float sun_mu0 = octave_mu0(sun_depth, tau_up, s.sun_incidence);
+    octave_sources(phases, sun_depth, sun_mu0, phases.cos_theta, src);
     if (moon_on)
-        octave_sources(moon_phases, moon_depth, tau_up, s.moon_incidence, moon_phases.cos_theta,
-                       moon_src);
+        octave_sources(moon_phases, moon_depth, octave_mu0(moon_depth, tau_up, s.moon_incidence),
+                       moon_phases.cos_theta, moon_src);
     float sun_sum = 0.0, moon_sum = 0.0;
     for (int n = 0; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
         sun_sum += src[n];
@@ -240,8 +241,7 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
     // the source falls as exp(-tau) along the view as the view's transmittance does, and
     // over the step int sigma exp(-2 sigma t) dt = (1 - step_t^2) / 2.
     float sky_seen = AMBIENT_SHARE * s.seen_since_entry;
-    vec3 sky_through = amb.top * sky_diffuse_source(amb.sky_phases, sun_depth,
-                                                    octave_mu0(sun_depth, tau_up, s.sun_incidence));
+    vec3 sky_through = amb.top * sky_diffuse_source(amb.sky_phases, sun_depth, sun_mu0);
     res.luminance += cloud.media.x * s.transmittance *
                      ((1.0 - s.step_t) * (sun * sun_sum + moon * moon_sum + sky_through) +
                       0.5 * (1.0 - s.step_t * s.step_t) * ambient * sky_seen);

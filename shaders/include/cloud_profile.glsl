@@ -41,7 +41,6 @@ float profile_rise(float h, vec4 shape)
     return RISE_AT_TOP * x * x + 30.0 * max(h - shape.x, 0.0) + 12.0 * smoothstep(0.9, 1.0, h);
 }
 
-
 // The largest of type_shape(t).x over the types t in [lo, hi]: type_shape is linear between
 // the tabulated types, so the ends and the tabulated types between them.
 float highest_top(float lo, float hi)
