@@ -261,7 +261,9 @@ async def monitor(soak, again=False):
                                   f"real s at time scale {soak.args.time_scale:g}")
                     else:
                         soak.sim_s += step
-                soak.last_sim = (sim, soak.clock_epoch, asked)
+                # A reading whose request overlapped a clock change may show the clock from
+                # before it: it is no baseline for the next.
+                soak.last_sim = (sim, epoch, asked) if soak.clock_epoch == epoch else None
             if soak.elapsed() - last_rss >= soak.args.rss_interval:
                 last_rss = soak.elapsed()
                 pid = soak.daemon.proc.pid
