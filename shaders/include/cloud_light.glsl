@@ -308,8 +308,7 @@ OctavePhases diffuse_phases(OctavePhases toward_light, OctavePhases toward_zenit
 // illuminance: single scattering p exp(-tau_sun), and the diffuse octaves above, absorbed over
 // the depth below the lit side at the diffusion rate sqrt(3 (1 - albedo) (1 - albedo g)). mu0:
 // the light's cosine to the lit surface (octave_mu0 for the sun and the moon).
-void octave_sources(OctavePhases o, SunDepth sd, float mu0, float flow_cos,
-                    out float src[MAX_OCTAVES])
+void octave_sources(OctavePhases o, SunDepth sd, float mu0, out float src[MAX_OCTAVES])
 {
     float x_s = mu0 * sd.to_sun, x_b = mu0 * sd.behind;
     src[0] = o.weighted[0] * exp(-sd.to_sun);
@@ -342,7 +341,7 @@ void octave_sources(OctavePhases o, SunDepth sd, float mu0, float flow_cos,
     // The diffuse light flows away from the light: its radiance is I (1 + 3/(4 pi) F.w / I)
     // (the diffusion approximation), the flux F = T E mu0 against the mean, which the phase's
     // mean cosine g passes on to the scattered light: brighter toward a viewer who looks at the
-    // dark side with the light behind it (flow_cos: the cosine between the view and the flux).
+    // dark side with the light behind it (o.cos_theta: the cosine between the view and the flux).
     // Not darker the other way: at the lit side the light leaving toward the sun is what the
     // build-up and the decks fit. With the mean radiance T (stored) and the flow's term
     // T F_scale, the sum is T (stored + flow).
@@ -351,7 +350,7 @@ void octave_sources(OctavePhases o, SunDepth sd, float mu0, float flow_cos,
     // sample as in the flow; along the light's ray the geometry did that (a grazing flux
     // passes a horizontal surface with about a third, 1/pi, of a vertical one's radiance).
     float flux_factor = mix(dark_side / DIFFUSE_DARK_SIDE, 1.0, o.toward_light);
-    float flow = FLOW_SCALE * g * 0.75 * max(flow_cos, 0.0) * flux_factor;
+    float flow = FLOW_SCALE * g * 0.75 * max(o.cos_theta, 0.0) * flux_factor;
     float b = cloud.octaves.y;
     for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
         float stored = dark_side + kept * s * b * x_b * flux_factor;
@@ -359,6 +358,15 @@ void octave_sources(OctavePhases o, SunDepth sd, float mu0, float flow_cos,
                  (PI * (1.0 + s * b * (x_s + x_b)));
         b *= cloud.octaves.y;
     }
+}
+
+// The octaves of a light toward light_dir at a point whose vertical is up, their flux between
+// the light's ray and the vertical (flux_toward_light, diffuse_phases).
+void light_octave_sources(OctavePhases toward_light, OctavePhases toward_zenith, SunDepth sd,
+                          float mu0, vec3 light_dir, vec3 up, out float src[MAX_OCTAVES])
+{
+    float w = flux_toward_light(light_dir, up, mu0, sd.smooth_to_sun);
+    octave_sources(diffuse_phases(toward_light, toward_zenith, w), sd, mu0, src);
 }
 
 // The sky's light diffused through the column as the sun's is (octave_sources' octaves n >= 1:
@@ -376,7 +384,7 @@ float sky_diffuse_source(OctavePhases sky_phases, SunDepth sd, float sun_mu0)
                             to_normal * sd.smooth_to_sun, sd.support);
     float src[MAX_OCTAVES];
     // (Its flux runs straight down: the view's cosine to it is the phases'.)
-    octave_sources(sky_phases, sky, SKY_MU0, sky_phases.cos_theta, src);
+    octave_sources(sky_phases, sky, SKY_MU0, src);
     float sum = 0.0;
     for (int n = 1; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++)
         sum += src[n];

@@ -225,19 +225,12 @@ void shade_lit_sample(vec3 o, vec3 d, LitSample s, vec3 sun_dir, vec3 sun, vec3 
     float top = layer_shell(layer).y;
     float tau_up = s.sigma_t * max(top - r, 0.0);
     float sun_mu0 = octave_mu0(sun_depth, tau_up, s.sun_incidence);
-    // The octaves' flux runs between the light's ray and the vertical (flux_toward_light).
     vec3 up = p / r;
-    float sun_along = flux_toward_light(sun_dir, up, sun_mu0, sun_depth.smooth_to_sun);
-    OctavePhases sun_flow = diffuse_phases(phases, amb.sky_phases, sun_along);
-    octave_sources(sun_flow, sun_depth, sun_mu0, sun_flow.cos_theta, src);
-    if (moon_on) {
-        float moon_mu0 = octave_mu0(moon_depth, tau_up, s.moon_incidence);
-        OctavePhases moon_flow =
-            diffuse_phases(moon_phases, amb.sky_phases,
-                           flux_toward_light(frame.moon_direction.xyz, up, moon_mu0,
-                                             moon_depth.smooth_to_sun));
-        octave_sources(moon_flow, moon_depth, moon_mu0, moon_flow.cos_theta, moon_src);
-    }
+    light_octave_sources(phases, amb.sky_phases, sun_depth, sun_mu0, sun_dir, up, src);
+    if (moon_on)
+        light_octave_sources(moon_phases, amb.sky_phases, moon_depth,
+                             octave_mu0(moon_depth, tau_up, s.moon_incidence),
+                             frame.moon_direction.xyz, up, moon_src);
     float sun_sum = 0.0, moon_sum = 0.0;
     for (int n = 0; n < MAX_OCTAVES && float(n) < cloud.phase.w; n++) {
         sun_sum += src[n];
